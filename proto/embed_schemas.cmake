@@ -1,0 +1,10 @@
+# Writes every schemas/*.json into a C++ include as {name, raw string} pairs.
+file(GLOB _files ${SCHEMA_DIR}/*.json)
+list(SORT _files)
+set(_out "// generated from proto/schemas by embed_schemas.cmake; do not edit\n")
+foreach(_f ${_files})
+  get_filename_component(_name ${_f} NAME)
+  file(READ ${_f} _content)
+  string(APPEND _out "{\"${_name}\", R\"devsurf_schema(${_content})devsurf_schema\"},\n")
+endforeach()
+file(WRITE ${OUT} "${_out}")

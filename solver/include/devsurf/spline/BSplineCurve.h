@@ -1,0 +1,63 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/spline/KnotVector.h"
+
+namespace devsurf::spline {
+
+/// A (possibly rational) B-spline curve in any dimension.
+/// Control points are rows of `points` (n×dim). `weights` is empty for a polynomial curve or
+/// holds n positive weights for a NURBS curve.
+struct BSplineCurve {
+  KnotVector knots;
+  Eigen::MatrixXd points;   ///< n×dim
+  Eigen::VectorXd weights;  ///< empty, or n positive weights (rational curve)
+
+  int degree() const { return knots.degree(); }
+  int dimension() const { return static_cast<int>(points.cols()); }
+  bool isRational() const { return weights.size() > 0; }
+
+  /// Point (derivative = 0) or the l-th derivative at u, for rational curves too (NURBS Book A4.2).
+  Eigen::VectorXd evaluate(double u, int derivative = 0) const;
+  /// Rows are evaluate(params[k], derivative).
+  Eigen::MatrixXd evaluate(const std::vector<double>& params, int derivative = 0) const;
+};
+
+/// A Bézier piece of degree p: p+1 control points as rows, parameter interval [begin, end].
+struct BezierPiece {
+  Eigen::MatrixXd points;  ///< (p+1)×dim
+  double begin = 0.0;
+  double end = 1.0;
+};
+
+/// Evaluate a Bézier curve (control points as rows) at local parameter t ∈ [0,1] (de Casteljau).
+Eigen::VectorXd evaluateBezier(const Eigen::MatrixXd& points, double t);
+
+/// Insert knot u `times` times (Boehm / NURBS Book A5.1). Rational curves are handled in
+/// homogeneous coordinates. The curve is unchanged as a point set and as a parametrization.
+/// @throws std::invalid_argument if u is outside the domain or multiplicity would exceed degree.
+BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times = 1);
+
+/// Insert every knot in `newKnots` (sorted, with repetition) — knot refinement.
+BSplineCurve refineKnots(const BSplineCurve& curve, const std::vector<double>& newKnots);
+
+/// Split a clamped, non-rational curve into its Bézier pieces, one per non-empty span.
+std::vector<BezierPiece> bezierPieces(const BSplineCurve& curve);
+
+/// Degree elevation of a Bézier curve by t (control points as rows).
+Eigen::MatrixXd elevateBezierDegree(const Eigen::MatrixXd& points, int t);
+
+/// Degree elevation of a clamped, non-rational B-spline curve by t (continuity at interior knots
+/// is preserved: every interior knot's multiplicity grows by t). The curve is unchanged.
+BSplineCurve elevateDegree(const BSplineCurve& curve, int t);
+
+/// Composition c(φ(t)) of a Bézier curve c of degree p (control points as rows, parameter
+/// [0,1]) with a polynomial reparametrization φ of degree q given by its q+1 Bézier
+/// coefficients on [0,1] (values of φ in [0,1] map into c's parameter interval [0,1]).
+/// Returns the p·q+1 Bézier control points of the composite (exact, by blossoming/products).
+Eigen::MatrixXd composeBezier(const Eigen::MatrixXd& points, const Eigen::VectorXd& phi);
+
+}  // namespace devsurf::spline
