@@ -20,6 +20,12 @@ struct BSplineCurve {
   int dimension() const { return static_cast<int>(points.cols()); }
   bool isRational() const { return weights.size() > 0; }
 
+  /// Checks that the parts fit together: a non-empty knot vector, points.rows() ==
+  /// knots.numControlPoints(), at least one column, finite points, and weights empty or n finite
+  /// positive values. Every function below that processes the whole curve calls this.
+  /// @throws std::invalid_argument naming the rule broken.
+  void validate() const;
+
   /// Point (derivative = 0) or the l-th derivative at u, for rational curves too (NURBS Book A4.2).
   Eigen::VectorXd evaluate(double u, int derivative = 0) const;
   /// Rows are evaluate(params[k], derivative).
@@ -38,10 +44,12 @@ Eigen::VectorXd evaluateBezier(const Eigen::MatrixXd& points, double t);
 
 /// Insert knot u `times` times (Boehm / NURBS Book A5.1). Rational curves are handled in
 /// homogeneous coordinates. The curve is unchanged as a point set and as a parametrization.
-/// @throws std::invalid_argument if u is outside the domain or multiplicity would exceed degree.
+/// @throws std::invalid_argument if u is outside the domain, multiplicity would exceed degree,
+///         or the curve is periodic (only clamped knot vectors are supported).
 BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times = 1);
 
 /// Insert every knot in `newKnots` (sorted, with repetition) — knot refinement.
+/// Same requirements and exceptions as insertKnot.
 BSplineCurve refineKnots(const BSplineCurve& curve, const std::vector<double>& newKnots);
 
 /// Split a clamped, non-rational curve into its Bézier pieces, one per non-empty span.

@@ -28,6 +28,8 @@ BasisValues basisFunctions(const KnotVector& knots, double u, int derivatives);
 /// N^{(l)}: the |params|×n matrix whose row k evaluates the l-th derivative at params[k]
 /// when multiplied with the n×dim control-point matrix (003_… §5.2.2 "Implementation").
 /// Built once per topology; columns are wrapped for periodic knot vectors.
+/// \note Row k stores the p+1 entries of the span of params[k] even where a value is zero
+///       (e.g. derivative > degree), so the sparsity pattern depends only on the spans of params.
 EvaluationMatrix evaluationMatrix(const KnotVector& knots, const std::vector<double>& params,
                                   int derivative);
 

@@ -1,0 +1,76 @@
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/models/strip/StripModel.h"
+#include "devsurf/proto/JsonSchemaValidator.h"
+
+namespace devsurf::proto {
+
+/// A document that failed validation: `path` is the JSON path ("model.a.points[3]"), `rule` the
+/// schema keyword or semantic rule broken, what() the full message "path: message".
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(std::string path, std::string rule, const std::string& message);
+  const std::string& path() const { return path_; }
+  const std::string& rule() const { return rule_; }
+
+ private:
+  std::string path_, rule_;
+};
+
+/// The `solver` object of a scene, with the documented defaults of scene.schema.json.
+struct SolverSettings {
+  int iterations = 20;
+  double fairness = 0.01;
+  double fairnessDecay = 0.8;
+  double regularization = 1e-3;
+  double unitNormalWeight = 0.1;
+  double developabilityWeight = 1.0;
+  double handleWeight = 1.0;
+  double timeBudgetMs = 0.0;
+  double residualTolerance = 1e-14;
+  double relativeChangeTolerance = 1e-9;
+  std::string linearSolver = "ldlt";
+  bool normalize = true;
+
+  engine::SolverOptions solverOptions() const;
+  models::strip::StripOptions stripOptions() const;
+};
+
+/// One variant per model kind; later models add alternatives.
+using ModelData = std::variant<models::strip::StripDesign>;
+
+/// A scene document (format "devsurf-scene", version 1): a saved design, a batch job, a CLI
+/// input and a session's starting point.
+struct Scene {
+  std::string name;
+  std::string description;
+  ModelData model;
+  SolverSettings solver;
+};
+
+/// The embedded JSON Schemas of proto/schemas (scene, report, …).
+const SchemaRegistry& schemaRegistry();
+
+/// Validates against scene.schema.json, then checks what a schema cannot say (degrees and knots
+/// that match, indices in range, knot vector rules) and converts.
+/// @throws SceneError naming the JSON path and rule of the first problem found
+Scene sceneFromJson(const nlohmann::json& document);
+/// Parses text first (a parse error is a SceneError with path "(root)" and rule "json").
+Scene sceneFromText(const std::string& text);
+
+/// The scene as a document that sceneFromJson reads back (curves keep their structure; knots are
+/// written only when they differ from the default clamped uniform ones).
+nlohmann::json sceneToJson(const Scene& scene);
+
+/// A curve in the scene's JSON form, and back.
+nlohmann::json curveToJson(const spline::BSplineCurve& curve);
+spline::BSplineCurve curveFromJson(const nlohmann::json& j, const std::string& path);
+
+}  // namespace devsurf::proto

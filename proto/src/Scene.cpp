@@ -1,0 +1,246 @@
+#include "devsurf/proto/Scene.h"
+
+#include <cmath>
+#include <mutex>
+
+namespace devsurf::proto {
+namespace {
+
+using nlohmann::json;
+using models::strip::ControlPointRef;
+using models::strip::Curve;
+using models::strip::Handle;
+using models::strip::NormalRepresentation;
+using models::strip::StripDesign;
+
+const std::pair<const char*, const char*> kEmbeddedSchemas[] = {
+#include "devsurf/proto/EmbeddedSchemas.inc"
+};
+
+/// Splits "b.knots: must equal a.knots" into path and message and prefixes the path.
+SceneError semanticError(const std::string& prefix, const std::string& what, const std::string& rule) {
+  const std::size_t colon = what.find(": ");
+  if (colon == std::string::npos) return SceneError(prefix, rule, what);
+  const std::string path = what.substr(0, colon);
+  return SceneError(prefix.empty() ? path : prefix + "." + path, rule, what.substr(colon + 2));
+}
+
+Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+json point3Json(const Eigen::Vector3d& p) { return json::array({p.x(), p.y(), p.z()}); }
+
+Curve curveRef(const json& j) { return j.get<std::string>() == "a" ? Curve::A : Curve::B; }
+
+bool sameKnots(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (std::abs(x[i] - y[i]) > 1e-15 * std::max(1.0, std::abs(x[i]))) return false;
+  return true;
+}
+
+StripDesign stripFromJson(const json& m) {
+  StripDesign d;
+  d.a = curveFromJson(m.at("a"), "model.a");
+  d.b = curveFromJson(m.at("b"), "model.b");
+  if (m.contains("normals")) {
+    const json& n = m["normals"];
+    if (n.at("type") == "spline") {
+      d.normals.type = NormalRepresentation::Type::Spline;
+      d.normals.degree = n.value("degree", 3);
+      d.normals.points = n.value("points", 0);
+    }
+  }
+  for (const json& f : m.value("fixed", json::array()))
+    d.fixed.push_back({curveRef(f.at("curve")), f.at("index").get<int>()});
+  return d;
+}
+
+}  // namespace
+
+SceneError::SceneError(std::string path, std::string rule, const std::string& message)
+    : std::runtime_error((path.empty() ? std::string("(root)") : path) + ": " + message),
+      path_(std::move(path)),
+      rule_(std::move(rule)) {}
+
+engine::SolverOptions SolverSettings::solverOptions() const {
+  engine::SolverOptions o;
+  o.maxIterations = iterations;
+  o.fairness = fairness;
+  o.fairnessDecay = fairnessDecay;
+  o.regularization = regularization;
+  o.timeBudgetMs = timeBudgetMs;
+  o.residualTolerance = residualTolerance;
+  o.relativeChangeTolerance = relativeChangeTolerance;
+  o.linearSolver = engine::linearSolverKindFromName(linearSolver);
+  return o;
+}
+
+models::strip::StripOptions SolverSettings::stripOptions() const {
+  models::strip::StripOptions o;
+  o.developabilityWeight = developabilityWeight;
+  o.unitNormalWeight = unitNormalWeight;
+  o.normalize = normalize;
+  o.linearSolver = engine::linearSolverKindFromName(linearSolver);
+  return o;
+}
+
+const SchemaRegistry& schemaRegistry() {
+  static const SchemaRegistry registry = [] {
+    SchemaRegistry r;
+    for (const auto& [name, text] : kEmbeddedSchemas) r.add(name, json::parse(text));
+    return r;
+  }();
+  return registry;
+}
+
+spline::BSplineCurve curveFromJson(const json& j, const std::string& path) {
+  spline::BSplineCurve c;
+  const int degree = j.at("degree").get<int>();
+  const json& pts = j.at("points");
+  const int n = static_cast<int>(pts.size());
+  const bool closed = j.value("closed", false);
+  c.points.resize(n, 3);
+  for (int i = 0; i < n; ++i) c.points.row(i) = point3(pts[static_cast<std::size_t>(i)]).transpose();
+  try {
+    if (closed) {
+      if (j.contains("knots"))
+        throw SceneError(path + ".knots", "closed", "closed curves use uniform periodic knots; omit knots");
+      c.knots = spline::KnotVector::periodicUniform(degree, n);
+    } else if (j.contains("knots")) {
+      c.knots = spline::KnotVector::clamped(degree, j["knots"].get<std::vector<double>>(), n);
+    } else {
+      c.knots = spline::KnotVector::clampedUniform(degree, n);
+    }
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    // Knot-vector messages start with "knots:"; a count problem is about the points.
+    if (what.rfind("knots", 0) == 0) throw semanticError(path, what, "knots");
+    throw SceneError(path + ".points", "count",
+                     "a degree-" + std::to_string(degree) + " curve needs at least " +
+                         std::to_string(degree + 1) + " control points, got " + std::to_string(n));
+  }
+  if (j.contains("weights")) {
+    const auto w = j["weights"].get<std::vector<double>>();
+    if (static_cast<int>(w.size()) != n)
+      throw SceneError(path + ".weights", "count",
+                       "expected " + std::to_string(n) + " weights (one per control point), got " +
+                           std::to_string(w.size()));
+    c.weights = Eigen::Map<const Eigen::VectorXd>(w.data(), static_cast<Eigen::Index>(w.size()));
+  }
+  return c;
+}
+
+json curveToJson(const spline::BSplineCurve& c) {
+  json j;
+  j["degree"] = c.degree();
+  json pts = json::array();
+  for (Eigen::Index i = 0; i < c.points.rows(); ++i)
+    pts.push_back(json::array({c.points(i, 0), c.points(i, 1), c.points(i, 2)}));
+  j["points"] = std::move(pts);
+  if (c.knots.kind() == spline::KnotKind::Periodic) {
+    j["closed"] = true;
+  } else if (!sameKnots(c.knots.knots(),
+                        spline::KnotVector::clampedUniform(c.degree(), c.knots.numControlPoints()).knots())) {
+    j["knots"] = c.knots.knots();
+  }
+  if (c.isRational()) j["weights"] = std::vector<double>(c.weights.data(), c.weights.data() + c.weights.size());
+  return j;
+}
+
+Scene sceneFromJson(const json& document) {
+  const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
+  if (!errors.empty()) throw SceneError(errors[0].path, errors[0].rule, errors[0].message);
+
+  Scene scene;
+  scene.name = document.value("name", "");
+  scene.description = document.value("description", "");
+  const json solver = document.value("solver", json::object());
+  SolverSettings& s = scene.solver;
+  s.iterations = solver.value("iterations", s.iterations);
+  s.fairness = solver.value("fairness", s.fairness);
+  s.fairnessDecay = solver.value("fairness_decay", s.fairnessDecay);
+  s.regularization = solver.value("regularization", s.regularization);
+  s.unitNormalWeight = solver.value("unit_normal_weight", s.unitNormalWeight);
+  s.developabilityWeight = solver.value("developability_weight", s.developabilityWeight);
+  s.handleWeight = solver.value("handle_weight", s.handleWeight);
+  s.timeBudgetMs = solver.value("time_budget_ms", s.timeBudgetMs);
+  s.residualTolerance = solver.value("residual_tolerance", s.residualTolerance);
+  s.relativeChangeTolerance = solver.value("relative_change_tolerance", s.relativeChangeTolerance);
+  s.linearSolver = solver.value("linear_solver", s.linearSolver);
+  s.normalize = solver.value("normalize", s.normalize);
+  if (s.linearSolver == "cholmod" && !engine::cholmodAvailable())
+    throw SceneError("solver.linear_solver", "enum", "cholmod is not available in this build");
+
+  const json& model = document.at("model");
+  const std::string kind = model.at("kind").get<std::string>();
+  if (kind == "strip") {
+    StripDesign d = stripFromJson(model);
+    for (const json& h : model.value("handles", json::array()))
+      d.handles.push_back({{curveRef(h.at("curve")), h.at("index").get<int>()},
+                           point3(h.at("position")),
+                           h.value("weight", s.handleWeight)});
+    try {
+      models::strip::StripModel::validateDesign(d);
+    } catch (const std::invalid_argument& e) {
+      throw semanticError("model", e.what(), "model");
+    }
+    scene.model = std::move(d);
+  } else {
+    throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");
+  }
+  return scene;
+}
+
+Scene sceneFromText(const std::string& text) {
+  json document;
+  try {
+    document = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw SceneError("", "json", std::string("not valid JSON: ") + e.what());
+  }
+  return sceneFromJson(document);
+}
+
+json sceneToJson(const Scene& scene) {
+  json j;
+  j["format"] = "devsurf-scene";
+  j["version"] = 1;
+  if (!scene.name.empty()) j["name"] = scene.name;
+  if (!scene.description.empty()) j["description"] = scene.description;
+  const StripDesign& d = std::get<StripDesign>(scene.model);
+  json m;
+  m["kind"] = "strip";
+  m["a"] = curveToJson(d.a);
+  m["b"] = curveToJson(d.b);
+  if (d.normals.type == NormalRepresentation::Type::Spline)
+    m["normals"] = {{"type", "spline"}, {"degree", d.normals.degree}, {"points", d.normals.points}};
+  else
+    m["normals"] = {{"type", "vectors"}};
+  json fixed = json::array();
+  for (const ControlPointRef& f : d.fixed) fixed.push_back({{"curve", models::strip::curveName(f.curve)}, {"index", f.index}});
+  if (!fixed.empty()) m["fixed"] = fixed;
+  json handles = json::array();
+  for (const Handle& h : d.handles)
+    handles.push_back({{"curve", models::strip::curveName(h.point.curve)},
+                       {"index", h.point.index},
+                       {"position", point3Json(h.position)},
+                       {"weight", h.weight}});
+  if (!handles.empty()) m["handles"] = handles;
+  j["model"] = std::move(m);
+  const SolverSettings& s = scene.solver;
+  j["solver"] = {{"iterations", s.iterations},
+                 {"fairness", s.fairness},
+                 {"fairness_decay", s.fairnessDecay},
+                 {"regularization", s.regularization},
+                 {"unit_normal_weight", s.unitNormalWeight},
+                 {"developability_weight", s.developabilityWeight},
+                 {"handle_weight", s.handleWeight},
+                 {"time_budget_ms", s.timeBudgetMs},
+                 {"residual_tolerance", s.residualTolerance},
+                 {"relative_change_tolerance", s.relativeChangeTolerance},
+                 {"linear_solver", s.linearSolver},
+                 {"normalize", s.normalize}};
+  return j;
+}
+
+}  // namespace devsurf::proto

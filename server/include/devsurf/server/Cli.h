@@ -1,0 +1,19 @@
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace devsurf::server {
+
+/// Entry point of the `devsurf` executable: dispatches subcommands.
+/// Exit codes: 0 success, 1 runtime failure (I/O, solver), 2 bad input or usage.
+int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream& out,
+           std::ostream& err);
+
+/// `devsurf solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]…`
+/// SCENE may be "-" for standard input. The report goes to stdout unless --out is given.
+int solveCommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out,
+                 std::ostream& err);
+
+}  // namespace devsurf::server

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/models/strip/StripModel.h"
+#include "devsurf/proto/Report.h"
+#include "devsurf/proto/Scene.h"
+
+namespace devsurf::server {
+
+/// The service behind `devsurf solve` (and later batch jobs and sessions): builds the model a
+/// scene describes, runs guided projection and reports.
+class SceneSolver {
+ public:
+  /// Builds the model (validation happened in proto::sceneFromJson).
+  /// @throws proto::SceneError for designs the model rejects
+  explicit SceneSolver(proto::Scene scene);
+
+  /// Runs the scene's solver settings (iterations overridden when ≥ 0).
+  /// @param[in] onIteration  optional per-iteration callback; return false to abort
+  engine::SolveSummary solve(int iterationsOverride = -1,
+                             std::function<bool(const engine::IterationRecord&)> onIteration = {});
+
+  /// The scene with the current geometry (valid input to solve again).
+  proto::Scene currentScene() const;
+  /// The papers' quality measures plus handle and displacement figures (names carry units).
+  proto::Metrics metrics() const;
+  /// The full report of the last solve.
+  nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
+
+  models::strip::StripModel& stripModel() { return *strip_; }
+  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface).
+  /// @throws std::invalid_argument for an unknown format, std::runtime_error if writing fails
+  void exportTo(const std::string& spec) const;
+
+ private:
+  proto::Scene scene_;
+  models::strip::StripDesign initial_;
+  std::unique_ptr<models::strip::StripModel> strip_;
+};
+
+}  // namespace devsurf::server

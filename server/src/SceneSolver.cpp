@@ -1,0 +1,74 @@
+#include "devsurf/server/SceneSolver.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+namespace devsurf::server {
+
+SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
+  initial_ = std::get<models::strip::StripDesign>(scene_.model);
+  try {
+    strip_ = std::make_unique<models::strip::StripModel>(initial_, scene_.solver.stripOptions());
+  } catch (const std::invalid_argument& e) {
+    throw proto::SceneError("model", "model", e.what());
+  }
+}
+
+engine::SolveSummary SceneSolver::solve(int iterationsOverride,
+                                        std::function<bool(const engine::IterationRecord&)> onIteration) {
+  engine::SolverOptions options = scene_.solver.solverOptions();
+  if (iterationsOverride >= 0) options.maxIterations = iterationsOverride;
+  options.callback = std::move(onIteration);
+  return strip_->solve(options);
+}
+
+proto::Scene SceneSolver::currentScene() const {
+  proto::Scene s = scene_;
+  s.model = strip_->design();
+  return s;
+}
+
+proto::Metrics SceneSolver::metrics() const {
+  const metrics::StripQuality q = strip_->quality(1000);
+  const models::strip::StripDesign d = strip_->design();
+  proto::Metrics m;
+  m["warp_angle_max_deg"] = q.warpAngleMaxDeg;
+  m["warp_angle_mean_deg"] = q.warpAngleMeanDeg;
+  m["developability_residual_max"] = q.developabilityResidualMax;
+  double handleError = 0.0;
+  for (const models::strip::Handle& h : d.handles) {
+    const Eigen::MatrixXd& pts = h.point.curve == models::strip::Curve::A ? d.a.points : d.b.points;
+    handleError = std::max(handleError, (pts.row(h.point.index).transpose() - h.position).norm());
+  }
+  m["handle_distance_max"] = handleError;
+  m["displacement_max_a"] = (d.a.points - initial_.a.points).rowwise().norm().maxCoeff();
+  m["displacement_max_b"] = (d.b.points - initial_.b.points).rowwise().norm().maxCoeff();
+  m["unknowns"] = strip_->numUnknowns();
+  return m;
+}
+
+nlohmann::json SceneSolver::report(const engine::SolveSummary& summary, double timeMs) const {
+  return proto::reportToJson(summary, metrics(), proto::sceneToJson(currentScene()), timeMs);
+}
+
+void SceneSolver::exportTo(const std::string& spec) const {
+  const std::size_t colon = spec.find(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+    throw std::invalid_argument("--export: expected FORMAT:FILE, e.g. obj:strip.obj, got \"" + spec + "\"");
+  const std::string format = spec.substr(0, colon);
+  const std::string path = spec.substr(colon + 1);
+  if (format != "obj" && format != "off" && format != "ply" && format != "stl")
+    throw std::invalid_argument("--export: unknown format \"" + format + "\" (expected obj, off, ply or stl)");
+  // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
+  // exactly the requested path.
+  const std::string staging = path + ".partial." + format;
+  const models::strip::StripGeometry g = strip_->geometry(200, 8, 2);
+  io::writeMesh(g.surface, staging);
+  if (std::rename(staging.c_str(), path.c_str()) != 0) {
+    std::remove(staging.c_str());
+    throw std::runtime_error("cannot write " + path);
+  }
+}
+
+}  // namespace devsurf::server

@@ -1,0 +1,43 @@
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+namespace devsurf::engine {
+
+/// Column-major sparse matrix holding the upper triangle of a symmetric matrix.
+using SymmetricUpper = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+/// Which sparse factorization solves the normal equations.
+enum class LinearSolverKind {
+  SimplicialLDLT,  ///< Eigen SimplicialLDLT (default; no extra dependency)
+  Cholmod,         ///< SuiteSparse CHOLMOD supernodal Cholesky (libsuitesparse-dev)
+};
+
+/// A symmetric positive (semi-)definite solver with a symbolic/numeric split: analyzePattern()
+/// once per topology, factorize() once per iteration with the same pattern.
+/// \note The matrix is already permuted by the assembler (fill-reducing ordering computed once),
+///       so implementations use the natural ordering.
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  virtual std::string name() const = 0;
+  /// Symbolic analysis of the upper-triangular pattern.
+  virtual void analyzePattern(const SymmetricUpper& matrix) = 0;
+  /// Numeric factorization; false if the matrix is not positive definite (numerically).
+  virtual bool factorize(const SymmetricUpper& matrix) = 0;
+  /// Solves with the last factorization; `solution` is preallocated to the same size as rhs.
+  virtual void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) = 0;
+};
+
+/// @throws std::invalid_argument if the kind was not compiled in.
+std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind);
+
+/// "ldlt" / "cholmod".
+LinearSolverKind linearSolverKindFromName(const std::string& name);
+bool cholmodAvailable();
+
+}  // namespace devsurf::engine

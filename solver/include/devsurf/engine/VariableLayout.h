@@ -1,0 +1,55 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace devsurf::engine {
+
+/// A named, contiguous range of the variable vector x.
+struct VariableBlock {
+  std::string name;  ///< e.g. "curve a", "normals"
+  int offset = 0;    ///< first index in x
+  int size = 0;      ///< number of scalars
+  /// Multiplies the Tikhonov weight ε_reg² of this block's scalars. Auxiliary variables that the
+  /// geometry determines (normals) use a small scale so a step prefers rotating them over moving
+  /// the geometry; see docs/architecture.md "Regularization of auxiliary variables".
+  double regularizationScale = 1.0;
+};
+
+/// All unknowns of a problem as named blocks in one vector x (Ceres parameter blocks).
+///
+/// Any scalar may be held fixed — a whole block or a range inside it (a single control point).
+/// Fixed scalars leave the linear system: `freeIndex()` maps every scalar of x to its column in
+/// the reduced system, or −1 when fixed.
+class VariableLayout {
+ public:
+  /// Appends a block of `size` scalars; returns its id. Names must be unique.
+  /// @throws std::invalid_argument on a duplicate name or negative size.
+  int addBlock(const std::string& name, int size);
+
+  int numBlocks() const { return static_cast<int>(blocks_.size()); }
+  const VariableBlock& block(int id) const { return blocks_.at(id); }
+  /// @throws std::out_of_range if there is no block of that name.
+  int blockId(const std::string& name) const;
+  /// Total number of scalars in x (fixed ones included).
+  int numVariables() const { return static_cast<int>(fixed_.size()); }
+
+  /// Sets the block's multiplier of ε_reg² (≥ 0).
+  void setRegularizationScale(int block, double scale);
+
+  /// Holds the scalars [first, first+count) of `block` fixed (or frees them).
+  void setFixed(int block, int first, int count, bool fixed = true);
+  /// Holds a whole block fixed (or frees it).
+  void setBlockFixed(int block, bool fixed = true);
+  bool isFixed(int variable) const { return fixed_[variable] != 0; }
+
+  /// Column of every scalar in the reduced system, −1 for fixed ones.
+  std::vector<int> freeIndex() const;
+  int numFree() const;
+
+ private:
+  std::vector<VariableBlock> blocks_;
+  std::vector<char> fixed_;
+};
+
+}  // namespace devsurf::engine

@@ -1,0 +1,139 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/engine/Normalization.h"
+#include "devsurf/engine/Problem.h"
+#include "devsurf/io/QuadMesh.h"
+#include "devsurf/metrics/StripQuality.h"
+#include "devsurf/spline/Basis.h"
+#include "devsurf/spline/BSplineCurve.h"
+
+namespace devsurf::models::strip {
+
+/// Which boundary curve a control point belongs to.
+enum class Curve { A, B };
+const char* curveName(Curve c);
+
+/// A control point addressed the way the scene does: {"curve": "b", "index": 4}.
+struct ControlPointRef {
+  Curve curve = Curve::A;
+  int index = 0;
+  bool operator==(const ControlPointRef& o) const { return curve == o.curve && index == o.index; }
+};
+
+/// A control point pulled toward a target with a weight (the drag mechanism).
+struct Handle {
+  ControlPointRef point;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double weight = 1.0;
+};
+
+/// How the normals of eq. (3)/(4) are represented (000_… §2.2).
+struct NormalRepresentation {
+  enum class Type { Vectors, Spline };
+  Type type = Type::Vectors;  ///< one free vector per evaluation parameter, or a normal spline
+  int degree = 3;             ///< normal spline degree
+  int points = 0;             ///< normal spline control points (0 = one per curve control point)
+};
+
+/// Everything that defines a strip design: the two boundary curves and the user's constraints.
+/// Curves a and b share degree, knots and closedness; weights (NURBS) are held constant.
+struct StripDesign {
+  spline::BSplineCurve a, b;
+  NormalRepresentation normals;
+  std::vector<ControlPointRef> fixed;
+  std::vector<Handle> handles;
+};
+
+/// Weights and switches of the strip model; defaults as documented in proto/schemas.
+struct StripOptions {
+  double developabilityWeight = 1.0;  ///< hard developability rows (eq. 4)
+  double unitNormalWeight = 0.1;      ///< soft unit length of normals not held hard (ε_unit)
+  /// Multiplier of ε_reg² for the normals (auxiliary variables). Small, so that a step rotates
+  /// normals rather than collapsing the strip (rulings shrinking to zero length also satisfy
+  /// eq. 4 to first order and need no normal to turn).
+  double normalRegularizationScale = 1e-4;
+  bool normalize = true;              ///< centre and scale to unit size while solving (003_… §5.5)
+  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::SimplicialLDLT;
+};
+
+/// Sampled geometry for drawing and export (in the design's coordinates).
+struct StripGeometry {
+  io::QuadMesh surface;               ///< (uSamples)×(vSamples) grid of points s(u,v)
+  Eigen::MatrixX3d curveA, curveB;    ///< polylines of a and b at the u samples
+  Eigen::MatrixX3d rulingStart, rulingEnd;  ///< one row per ruling: a(u), b(u)
+  Eigen::MatrixX3d normals;           ///< unit surface normal per ruling
+};
+
+/// The developable strip of Tang et al. 2016 §2 / Mundilova ch. 5: a ruled B-spline surface
+/// s(u,v) = (1−v)a(u) + v b(u) made developable by guided projection.
+///
+/// Setup/solve split: the constructor validates the design, builds variables and terms and
+/// analyzes the topology once; solve() runs iterations; handle targets and weights can change
+/// between solves without a new analysis.
+///
+/// Variables (normalized coordinates): block "curve a" and "curve b" (3 per control point),
+/// block "normals" (3 per evaluation parameter, or 3 per normal-spline control point).
+/// Terms: "developability" (hard), "unit_normal_hard" (hard), "unit_normal" (soft),
+/// "fairness" (soft, decaying), "handle" (soft, weight per handle).
+class StripModel {
+ public:
+  /// @throws std::invalid_argument with a message naming the offending part ("b.knots: …",
+  ///         "fixed[2].index: …") for designs that cannot be solved.
+  explicit StripModel(StripDesign design, StripOptions options = {});
+
+  /// The checks the constructor makes, without building anything; fills defaults (the normal
+  /// spline's control-point count). Messages start with the path inside the model: "b.knots: …".
+  /// @throws std::invalid_argument
+  static void validateDesign(StripDesign& design);
+
+  /// Runs guided projection from the current state.
+  engine::SolveSummary solve(const engine::SolverOptions& options);
+
+  /// The current design with control points moved (design coordinates).
+  StripDesign design() const;
+  const StripOptions& options() const { return options_; }
+
+  /// Moves handle `i` to a new target (design coordinates); no re-analysis.
+  void setHandleTarget(int i, const Eigen::Vector3d& position);
+  /// Re-initializes the normals from the current curves (e.g. after a large edit).
+  void resetNormals();
+
+  /// Quality over `rulings` rulings equally spaced in u.
+  metrics::StripQuality quality(int rulings = 1000) const;
+  /// Sampled surface, curves and rulings.
+  StripGeometry geometry(int uSamples = 64, int vSamples = 2, int rulings = 32) const;
+
+  /// Evaluation parameters of the developability rows (3m−2 per span; 6m−3 for NURBS).
+  const std::vector<double>& evaluationParameters() const { return params_; }
+  engine::Problem& problem() { return problem_; }
+  const engine::Problem& problem() const { return problem_; }
+  engine::GuidedProjectionSolver& solver() { return *solver_; }
+  int numUnknowns() const { return problem_.layout().numFree(); }
+
+ private:
+  void buildProblem();
+  void initializeNormals();
+  /// Control points of curve c from x, design coordinates (n×3).
+  Eigen::MatrixXd controlPoints(Curve c) const;
+  int pointOffset(const ControlPointRef& p) const;
+
+  StripDesign design_;   ///< curves kept for knots/weights/degree; points live in x
+  StripOptions options_;
+  engine::Normalization normalization_;
+  engine::Problem problem_;
+  std::unique_ptr<engine::GuidedProjectionSolver> solver_;
+  std::vector<double> params_;
+  spline::EvaluationMatrix normalEvaluation_;  ///< normal spline at params_ (spline normals)
+  int blockA_ = -1, blockB_ = -1, blockNormals_ = -1;
+  std::vector<int> handleTerms_;
+};
+
+}  // namespace devsurf::models::strip

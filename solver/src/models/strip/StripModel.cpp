@@ -1,0 +1,338 @@
+#include "devsurf/models/strip/StripModel.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/SparseCholesky>
+
+#include "devsurf/spline/RationalBasis.h"
+#include "devsurf/terms/ControlPolygonFairnessTerm.h"
+#include "devsurf/terms/HandleTargetTerm.h"
+#include "devsurf/terms/LinearPoints.h"
+#include "devsurf/terms/StripDevelopabilityTerm.h"
+#include "devsurf/terms/UnitNormalTerm.h"
+
+namespace devsurf::models::strip {
+namespace {
+
+using engine::Strength;
+using engine::WeightSchedule;
+
+std::string refPath(const std::string& list, std::size_t i) {
+  return list + "[" + std::to_string(i) + "]";
+}
+
+bool allFinite(const Eigen::MatrixXd& m) { return m.allFinite(); }
+
+bool degenerate(const Eigen::MatrixXd& points) {
+  return (points.rowwise() - points.row(0)).rowwise().norm().maxCoeff() == 0.0;
+}
+
+void validateCurve(const spline::BSplineCurve& c, const char* name) {
+  const std::string n(name);
+  if (c.points.cols() != 3) throw std::invalid_argument(n + ".points: expected 3 coordinates per point");
+  if (c.points.rows() != c.knots.numControlPoints())
+    throw std::invalid_argument(n + ".points: knot vector is for " +
+                                std::to_string(c.knots.numControlPoints()) + " control points, got " +
+                                std::to_string(c.points.rows()));
+  if (!allFinite(c.points)) throw std::invalid_argument(n + ".points: coordinates must be finite");
+  if (c.weights.size() > 0) {
+    if (c.weights.size() != c.points.rows())
+      throw std::invalid_argument(n + ".weights: expected one weight per control point");
+    if (!c.weights.allFinite() || (c.weights.array() <= 0.0).any())
+      throw std::invalid_argument(n + ".weights: weights must be finite and positive");
+  }
+}
+
+}  // namespace
+
+const char* curveName(Curve c) { return c == Curve::A ? "a" : "b"; }
+
+void StripModel::validateDesign(StripDesign& design) {
+  const spline::BSplineCurve& a = design.a;
+  const spline::BSplineCurve& b = design.b;
+  validateCurve(a, "a");
+  validateCurve(b, "b");
+  if (a.degree() != b.degree())
+    throw std::invalid_argument("b.degree: must equal a.degree (" + std::to_string(a.degree()) +
+                                "), got " + std::to_string(b.degree()));
+  if (a.knots.kind() != b.knots.kind())
+    throw std::invalid_argument("b.closed: a and b must both be open or both be closed");
+  if (a.points.rows() != b.points.rows())
+    throw std::invalid_argument("b.points: expected " + std::to_string(a.points.rows()) +
+                                " control points like a, got " + std::to_string(b.points.rows()));
+  {
+    const auto& ka = a.knots.knots();
+    const auto& kb = b.knots.knots();
+    const double tol = 1e-12 * std::max(1.0, a.knots.domainEnd() - a.knots.domainBegin());
+    bool same = ka.size() == kb.size();
+    for (std::size_t i = 0; same && i < ka.size(); ++i) same = std::abs(ka[i] - kb[i]) <= tol;
+    if (!same) throw std::invalid_argument("b.knots: must equal a.knots (the strip needs one knot vector)");
+  }
+  if (degenerate(a.points) && degenerate(b.points))
+    throw std::invalid_argument("a.points: a and b are both single points; the strip is degenerate");
+  const int n = static_cast<int>(a.points.rows());
+  auto checkRef = [n](const ControlPointRef& r, const std::string& path) {
+    if (r.index < 0 || r.index >= n)
+      throw std::invalid_argument(path + ".index: " + std::to_string(r.index) +
+                                  " is out of range (curve " + curveName(r.curve) + " has " +
+                                  std::to_string(n) + " control points)");
+  };
+  for (std::size_t i = 0; i < design.fixed.size(); ++i) checkRef(design.fixed[i], refPath("fixed", i));
+  for (std::size_t i = 0; i < design.handles.size(); ++i) {
+    const Handle& h = design.handles[i];
+    checkRef(h.point, refPath("handles", i));
+    if (!h.position.allFinite())
+      throw std::invalid_argument(refPath("handles", i) + ".position: coordinates must be finite");
+    if (!(h.weight > 0.0) || !std::isfinite(h.weight))
+      throw std::invalid_argument(refPath("handles", i) + ".weight: must be a positive number");
+  }
+  if (design.normals.type == NormalRepresentation::Type::Spline) {
+    if (design.normals.degree < 1)
+      throw std::invalid_argument("normals.degree: must be at least 1");
+    if (design.normals.points == 0) design.normals.points = n;
+    if (design.normals.points < design.normals.degree + 1)
+      throw std::invalid_argument("normals.points: need at least degree+1 = " +
+                                  std::to_string(design.normals.degree + 1) + " control points");
+  }
+  const int perSpan = (a.isRational() || b.isRational()) ? 6 * a.degree() - 3 : 3 * a.degree() - 2;
+  const int K = perSpan * a.knots.numSpans();
+  if (design.normals.type == NormalRepresentation::Type::Spline && design.normals.points > K)
+    throw std::invalid_argument("normals.points: at most " + std::to_string(K) +
+                                " (the number of evaluation parameters)");
+}
+
+StripModel::StripModel(StripDesign design, StripOptions options)
+    : design_(std::move(design)), options_(options) {
+  validateDesign(design_);
+  const spline::BSplineCurve& a = design_.a;
+  const spline::BSplineCurve& b = design_.b;
+  const int n = static_cast<int>(a.points.rows());
+  // Normalize: centre and scale to unit size (003_… §5.5).
+  if (options_.normalize) {
+    Eigen::MatrixX3d all(2 * n, 3);
+    all << a.points, b.points;
+    normalization_ = engine::Normalization::fromPoints(all);
+  }
+  buildProblem();
+}
+
+void StripModel::buildProblem() {
+  const spline::BSplineCurve& a = design_.a;
+  const spline::BSplineCurve& b = design_.b;
+  const int n = static_cast<int>(a.points.rows());
+  const int m = a.degree();
+  const bool rational = a.isRational() || b.isRational();
+  // det(b−a, a′, b′) has degree 3m−3 per span, so 3m−2 parameters suffice (000_… §2.1); for
+  // NURBS its numerator has degree ≤ 6m−4 and we use 6m−3.
+  params_ = a.knots.spanSamples(rational ? 6 * m - 3 : 3 * m - 2);
+  const int K = static_cast<int>(params_.size());
+
+  blockA_ = problem_.addBlock("curve a", 3 * n);
+  blockB_ = problem_.addBlock("curve b", 3 * n);
+  const bool vectors = design_.normals.type == NormalRepresentation::Type::Vectors;
+  const int normalCount = vectors ? K : design_.normals.points;
+  blockNormals_ = problem_.addBlock(vectors ? "normals" : "normal spline", 3 * normalCount);
+  problem_.layout().setRegularizationScale(blockNormals_, options_.normalRegularizationScale);
+
+  for (int i = 0; i < n; ++i) {
+    problem_.blockValues(blockA_).segment<3>(3 * i) =
+        normalization_.toNormalized(a.points.row(i).transpose());
+    problem_.blockValues(blockB_).segment<3>(3 * i) =
+        normalization_.toNormalized(b.points.row(i).transpose());
+  }
+  for (const ControlPointRef& f : design_.fixed)
+    problem_.layout().setFixed(f.curve == Curve::A ? blockA_ : blockB_, 3 * f.index, 3);
+
+  const int offA = problem_.layout().block(blockA_).offset;
+  const int offB = problem_.layout().block(blockB_).offset;
+  const int offN = problem_.layout().block(blockNormals_).offset;
+  terms::LinearPoints Pa{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 0), offA};
+  terms::LinearPoints Da{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 1), offA};
+  terms::LinearPoints Pb{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 0), offB};
+  terms::LinearPoints Db{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 1), offB};
+  terms::LinearPoints N;
+  if (vectors) {
+    N = terms::LinearPoints::identity(K, offN);
+  } else {
+    const double u0 = a.knots.domainBegin(), u1 = a.knots.domainEnd();
+    std::vector<double> t(params_.size());
+    for (std::size_t k = 0; k < params_.size(); ++k) t[k] = (params_[k] - u0) / (u1 - u0);
+    const spline::KnotVector nk =
+        a.knots.kind() == spline::KnotKind::Periodic
+            ? spline::KnotVector::periodicUniform(design_.normals.degree, normalCount)
+            : spline::KnotVector::clampedUniform(design_.normals.degree, normalCount);
+    normalEvaluation_ = spline::evaluationMatrix(nk, t, 0);
+    N = terms::LinearPoints{normalEvaluation_, offN};
+  }
+  problem_.addTerm(std::make_unique<terms::StripDevelopabilityTerm>("developability", Pa, Da, Pb,
+                                                                    Db, N),
+                   options_.developabilityWeight, Strength::Hard);
+
+  // Unit normals: hard at the first parameter (or the normal spline's end control points),
+  // soft elsewhere (000_… §2.2, 003_… §5.2.3).
+  std::vector<int> hard, soft;
+  for (int i = 0; i < normalCount; ++i) {
+    const bool isHard = vectors ? i == 0
+                                : (i == 0 || (i == normalCount - 1 &&
+                                              a.knots.kind() != spline::KnotKind::Periodic));
+    (isHard ? hard : soft).push_back(offN + 3 * i);
+  }
+  problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal_hard", hard), 1.0,
+                   Strength::Hard);
+  if (!soft.empty())
+    problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal", soft),
+                     options_.unitNormalWeight, Strength::Soft);
+
+  const bool closed = a.knots.kind() == spline::KnotKind::Periodic;
+  problem_.addTerm(std::make_unique<terms::ControlPolygonFairnessTerm>("fairness", offA, n, 3, closed),
+                   1.0, Strength::Soft, WeightSchedule::Fairness);
+  problem_.addTerm(std::make_unique<terms::ControlPolygonFairnessTerm>("fairness", offB, n, 3, closed),
+                   1.0, Strength::Soft, WeightSchedule::Fairness);
+
+  for (const Handle& h : design_.handles) {
+    handleTerms_.push_back(problem_.addTerm(
+        std::make_unique<terms::HandleTargetTerm>("handle", pointOffset(h.point),
+                                                  normalization_.toNormalized(h.position)),
+        h.weight, Strength::Soft));
+  }
+
+  initializeNormals();
+  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
+}
+
+int StripModel::pointOffset(const ControlPointRef& p) const {
+  return problem_.layout().block(p.curve == Curve::A ? blockA_ : blockB_).offset + 3 * p.index;
+}
+
+void StripModel::initializeNormals() {
+  const spline::BSplineCurve& a = design_.a;
+  const spline::BSplineCurve& b = design_.b;
+  const Eigen::VectorXd& x = problem_.x();
+  const int offA = problem_.layout().block(blockA_).offset;
+  const int offB = problem_.layout().block(blockB_).offset;
+  terms::LinearPoints Pa{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 0), offA};
+  terms::LinearPoints Da{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 1), offA};
+  terms::LinearPoints Pb{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 0), offB};
+  terms::LinearPoints Db{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 1), offB};
+  const int K = static_cast<int>(params_.size());
+  Eigen::MatrixX3d samples(K, 3);
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  for (int k = 0; k < K; ++k) {
+    const Eigen::Vector3d ruling = Pb.point(x, k) - Pa.point(x, k);
+    const Eigen::Vector3d ta = Da.point(x, k), tb = Db.point(x, k);
+    // Tangent plane spanned by the ruling and the (mean) tangent: a′×(b−a) in the limit.
+    Eigen::Vector3d nk = (ta + tb).cross(ruling);
+    if (nk.norm() < 1e-12) nk = ta.cross(tb);
+    if (nk.norm() < 1e-12) nk = previous.norm() > 0 ? previous : Eigen::Vector3d::UnitZ();
+    nk.normalize();
+    if (previous.norm() > 0 && nk.dot(previous) < 0) nk = -nk;
+    samples.row(k) = nk.transpose();
+    previous = nk;
+  }
+  Eigen::Map<Eigen::VectorXd> normals = problem_.blockValues(blockNormals_);
+  if (design_.normals.type == NormalRepresentation::Type::Vectors) {
+    for (int k = 0; k < K; ++k) normals.segment<3>(3 * k) = samples.row(k).transpose();
+    return;
+  }
+  // Normal spline: least-squares fit of its control points to the sampled normals, then unit
+  // control points (a tiny Tikhonov term keeps the fit well posed).
+  const int m = static_cast<int>(normalEvaluation_.cols());
+  Eigen::SparseMatrix<double> M = normalEvaluation_;
+  Eigen::SparseMatrix<double> A = M.transpose() * M;
+  for (int i = 0; i < m; ++i) A.coeffRef(i, i) += 1e-10;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+  const Eigen::MatrixXd rhs = M.transpose() * Eigen::MatrixXd(samples);
+  Eigen::MatrixXd control = ldlt.solve(rhs);
+  for (int i = 0; i < m; ++i) {
+    Eigen::Vector3d c = control.row(i).transpose();
+    if (c.norm() < 1e-12) c = Eigen::Vector3d::UnitZ();
+    normals.segment<3>(3 * i) = c.normalized();
+  }
+}
+
+void StripModel::resetNormals() { initializeNormals(); }
+
+engine::SolveSummary StripModel::solve(const engine::SolverOptions& options) {
+  return solver_->solve(options);
+}
+
+void StripModel::setHandleTarget(int i, const Eigen::Vector3d& position) {
+  if (i < 0 || i >= static_cast<int>(handleTerms_.size()))
+    throw std::out_of_range("handles[" + std::to_string(i) + "]: no such handle");
+  if (!position.allFinite())
+    throw std::invalid_argument("handles[" + std::to_string(i) + "].position: must be finite");
+  design_.handles[static_cast<std::size_t>(i)].position = position;
+  auto* term = static_cast<terms::HandleTargetTerm*>(problem_.term(handleTerms_[i]).term.get());
+  term->setTarget(normalization_.toNormalized(position));
+}
+
+Eigen::MatrixXd StripModel::controlPoints(Curve c) const {
+  const Eigen::Map<const Eigen::VectorXd> v = problem_.blockValues(c == Curve::A ? blockA_ : blockB_);
+  const int n = static_cast<int>(v.size() / 3);
+  Eigen::MatrixXd points(n, 3);
+  for (int i = 0; i < n; ++i)
+    points.row(i) = normalization_.fromNormalized(v.segment<3>(3 * i)).transpose();
+  return points;
+}
+
+StripDesign StripModel::design() const {
+  StripDesign d = design_;
+  d.a.points = controlPoints(Curve::A);
+  d.b.points = controlPoints(Curve::B);
+  return d;
+}
+
+metrics::StripQuality StripModel::quality(int rulings) const {
+  const StripDesign d = design();
+  return metrics::stripQuality(d.a, d.b, rulings);
+}
+
+StripGeometry StripModel::geometry(int uSamples, int vSamples, int rulings) const {
+  if (uSamples < 2 || vSamples < 2 || rulings < 2)
+    throw std::invalid_argument("geometry: need at least 2 samples in u and v and 2 rulings");
+  const StripDesign d = design();
+  const bool closed = d.a.knots.kind() == spline::KnotKind::Periodic;
+  const double u0 = d.a.knots.domainBegin(), u1 = d.a.knots.domainEnd();
+  auto uAt = [u0, u1, closed](int i, int count) {
+    return u0 + (u1 - u0) * static_cast<double>(i) / (closed ? count : count - 1);
+  };
+  StripGeometry g;
+  std::vector<double> us(static_cast<std::size_t>(uSamples));
+  for (int i = 0; i < uSamples; ++i) us[static_cast<std::size_t>(i)] = uAt(i, uSamples);
+  const Eigen::MatrixXd A = d.a.evaluate(us, 0), B = d.b.evaluate(us, 0);
+  g.curveA = A;
+  g.curveB = B;
+  g.surface.vertices.resize(static_cast<Eigen::Index>(uSamples) * vSamples, 3);
+  for (int i = 0; i < uSamples; ++i)
+    for (int j = 0; j < vSamples; ++j) {
+      const double v = static_cast<double>(j) / (vSamples - 1);
+      g.surface.vertices.row(i * vSamples + j) = (1.0 - v) * A.row(i) + v * B.row(i);
+    }
+  const int uQuads = closed ? uSamples : uSamples - 1;
+  g.surface.quads.resize(static_cast<Eigen::Index>(uQuads) * (vSamples - 1), 4);
+  int f = 0;
+  for (int i = 0; i < uQuads; ++i) {
+    const int i1 = (i + 1) % uSamples;
+    for (int j = 0; j + 1 < vSamples; ++j)
+      g.surface.quads.row(f++) << i * vSamples + j, i1 * vSamples + j, i1 * vSamples + j + 1,
+          i * vSamples + j + 1;
+  }
+  std::vector<double> ur(static_cast<std::size_t>(rulings));
+  for (int i = 0; i < rulings; ++i) ur[static_cast<std::size_t>(i)] = uAt(i, rulings);
+  g.rulingStart = d.a.evaluate(ur, 0);
+  g.rulingEnd = d.b.evaluate(ur, 0);
+  const Eigen::MatrixXd Ta = d.a.evaluate(ur, 1);
+  g.normals.resize(rulings, 3);
+  for (int i = 0; i < rulings; ++i) {
+    Eigen::Vector3d nrm = Eigen::Vector3d(Ta.row(i)).cross(
+        Eigen::Vector3d(g.rulingEnd.row(i) - g.rulingStart.row(i)));
+    g.normals.row(i) = (nrm.norm() > 0 ? nrm.normalized() : nrm).transpose();
+  }
+  return g;
+}
+
+}  // namespace devsurf::models::strip

@@ -1,0 +1,100 @@
+#include "devsurf/spline/BSplineCurve.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "devsurf/spline/Basis.h"
+
+namespace devsurf::spline {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+
+/// O(1) shape checks done on every evaluation (the O(n) ones live in validate()).
+void requireShapes(const BSplineCurve& c) {
+  if (c.knots.knots().empty()) fail("curve: knot vector is empty (default-constructed)");
+  const int n = c.knots.numControlPoints();
+  if (c.points.rows() != n) {
+    fail("curve: expected " + std::to_string(n) + " control points (rows of points), got " +
+         std::to_string(c.points.rows()));
+  }
+  if (c.points.cols() < 1) fail("curve: control points need at least one coordinate column");
+  if (c.weights.size() != 0 && c.weights.size() != n) {
+    fail("curve: weights must be empty or hold one value per control point (" + std::to_string(n) +
+         "), got " + std::to_string(c.weights.size()));
+  }
+}
+
+}  // namespace
+
+void BSplineCurve::validate() const {
+  requireShapes(*this);
+  if (!points.allFinite()) fail("curve: control points must be finite");
+  for (Eigen::Index i = 0; i < weights.size(); ++i) {
+    if (!(std::isfinite(weights(i)) && weights(i) > 0.0)) {
+      fail("curve: weights must be finite and positive (weights[" + std::to_string(i) + "] = " +
+           std::to_string(weights(i)) + ")");
+    }
+  }
+}
+
+Eigen::VectorXd BSplineCurve::evaluate(double u, int derivative) const {
+  requireShapes(*this);
+  if (derivative < 0) fail("evaluate: derivative must be >= 0, got " + std::to_string(derivative));
+  const int p = degree();
+  const BasisValues b = basisFunctions(knots, u, derivative);
+  const int dim = dimension();
+
+  if (!isRational()) {
+    Eigen::VectorXd result = Eigen::VectorXd::Zero(dim);
+    if (derivative > p) return result;
+    for (int j = 0; j <= p; ++j) {
+      result += b.values(derivative, j) * points.row(b.controlIndex[j]).transpose();
+    }
+    return result;
+  }
+
+  // Rational curve (The NURBS Book A4.2): derivatives of A(u) = Σ N_i w_i P_i and
+  // w(u) = Σ N_i w_i, then C^{(k)} = (A^{(k)} − Σ_{i=1..k} C(k,i) w^{(i)} C^{(k−i)}) / w.
+  Eigen::MatrixXd aders = Eigen::MatrixXd::Zero(dim, derivative + 1);
+  Eigen::VectorXd wders = Eigen::VectorXd::Zero(derivative + 1);
+  for (int j = 0; j <= p; ++j) {
+    const int ci = b.controlIndex[j];
+    const double w = weights(ci);
+    if (!(w > 0.0)) {
+      fail("curve: weights must be positive (weights[" + std::to_string(ci) + "] = " +
+           std::to_string(w) + ")");
+    }
+    for (int k = 0; k <= derivative; ++k) {
+      const double nw = b.values(k, j) * w;
+      wders(k) += nw;
+      aders.col(k) += nw * points.row(ci).transpose();
+    }
+  }
+  Eigen::MatrixXd ck(dim, derivative + 1);
+  std::vector<double> binom(static_cast<size_t>(derivative + 1), 0.0);  // row k of Pascal
+  binom[0] = 1.0;
+  for (int k = 0; k <= derivative; ++k) {
+    if (k > 0) {
+      for (int i = k; i >= 1; --i) binom[i] += binom[i - 1];
+    }
+    Eigen::VectorXd v = aders.col(k);
+    for (int i = 1; i <= k; ++i) v -= binom[i] * wders(i) * ck.col(k - i);
+    ck.col(k) = v / wders(0);
+  }
+  return ck.col(derivative);
+}
+
+Eigen::MatrixXd BSplineCurve::evaluate(const std::vector<double>& params, int derivative) const {
+  requireShapes(*this);
+  Eigen::MatrixXd result(static_cast<Eigen::Index>(params.size()), dimension());
+  for (size_t k = 0; k < params.size(); ++k) {
+    result.row(static_cast<Eigen::Index>(k)) = evaluate(params[k], derivative).transpose();
+  }
+  return result;
+}
+
+}  // namespace devsurf::spline
