@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cmath>
 #include <set>
+#include <tuple>
+#include <unordered_map>
 #include <stdexcept>
 #include <utility>
 
@@ -93,17 +95,6 @@ bool isIntegral(const json& v) {
   if (!v.is_number_float()) return false;
   const double d = v.get<double>();
   return std::isfinite(d) && std::floor(d) == d;
-}
-
-bool typeMatches(const json& v, const std::string& t) {
-  if (t == "number") return isFiniteNumber(v);
-  if (t == "integer") return isIntegral(v);
-  if (t == "string") return v.is_string();
-  if (t == "object") return v.is_object();
-  if (t == "array") return v.is_array();
-  if (t == "boolean") return v.is_boolean();
-  if (t == "null") return v.is_null();
-  return false;
 }
 
 const std::set<std::string>& typeNames() {
@@ -372,30 +363,177 @@ class SchemaChecker {
   std::map<std::string, std::shared_ptr<const std::regex>>& regex_;
 };
 
-/// Calls `f(schema)` for every schema object holding a "$ref" inside `schema`.
+/// Calls `f(schema)` for `schema` and every subschema inside it.
 template <class F>
-void forEachRef(const json& schema, F&& f) {
+void forEachSchema(const json& schema, F&& f) {
+  f(schema);
   if (!schema.is_object()) return;
-  if (schema.contains("$ref")) f(schema);
   for (auto it = schema.begin(); it != schema.end(); ++it) {
     const std::string& key = it.key();
     const json& v = it.value();
     if (key == "properties" || key == "$defs") {
       if (v.is_object()) {
-        for (const auto& s : v) forEachRef(s, f);
+        for (const auto& s : v) forEachSchema(s, f);
       }
     } else if (key == "additionalProperties" || key == "items" || key == "not" || key == "if" ||
                key == "then" || key == "else") {
-      forEachRef(v, f);
+      forEachSchema(v, f);
     } else if (key == "prefixItems" || key == "allOf" || key == "anyOf" || key == "oneOf") {
       if (v.is_array()) {
-        for (const auto& s : v) forEachRef(s, f);
+        for (const auto& s : v) forEachSchema(s, f);
       }
     }
   }
 }
 
+// Instance type bits, for "type".
+enum : unsigned {
+  kNull = 1, kBoolean = 2, kObject = 4, kArray = 8, kString = 16, kNumber = 32, kInteger = 64
+};
+
+unsigned typeBit(const std::string& t) {
+  if (t == "null") return kNull;
+  if (t == "boolean") return kBoolean;
+  if (t == "object") return kObject;
+  if (t == "array") return kArray;
+  if (t == "string") return kString;
+  if (t == "number") return kNumber;
+  if (t == "integer") return kInteger;
+  return 0;
+}
+
+unsigned instanceBits(const json& v) {
+  switch (v.type()) {
+    case json::value_t::null: return kNull;
+    case json::value_t::boolean: return kBoolean;
+    case json::value_t::object: return kObject;
+    case json::value_t::array: return kArray;
+    case json::value_t::string: return kString;
+    case json::value_t::number_integer:
+    case json::value_t::number_unsigned: return kNumber | kInteger;
+    case json::value_t::number_float: {
+      const double d = v.get<double>();
+      if (!std::isfinite(d)) return 0;
+      return std::floor(d) == d ? (kNumber | kInteger) : kNumber;
+    }
+    default: return 0;
+  }
+}
+
+constexpr std::size_t kNoLimit = static_cast<std::size_t>(-1);
+
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Index: every schema node pre-parsed, so validation does no keyword lookups by name
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+/// One schema (object or boolean) with its keywords looked up once.
+struct Compiled {
+  bool isBoolean = false;
+  bool booleanValue = true;
+  bool trivial = false;  ///< true or {}: accepts everything
+
+  const json* ref = nullptr;          ///< the $ref string
+  const json* refSchema = nullptr;    ///< its target, if it resolved when indexed
+  const json* refDocument = nullptr;
+  const json* type = nullptr;
+  unsigned typeMask = 0;
+  const json* enumValues = nullptr;
+  const json* constValue = nullptr;
+  const json* minimum = nullptr;
+  const json* maximum = nullptr;
+  const json* exclusiveMinimum = nullptr;
+  const json* exclusiveMaximum = nullptr;
+  std::size_t minLength = 0, maxLength = kNoLimit;
+  std::size_t minItems = 0, maxItems = kNoLimit;
+  std::size_t minProperties = 0, maxProperties = kNoLimit;
+  const json* pattern = nullptr;
+  std::shared_ptr<const std::regex> regex;
+  const json* required = nullptr;
+  const json* properties = nullptr;
+  const json* additional = nullptr;
+  const json* items = nullptr;
+  const json* prefixItems = nullptr;
+  const json* allOf = nullptr;
+  const json* anyOf = nullptr;
+  const json* oneOf = nullptr;
+  const json* notSchema = nullptr;
+  const json* ifSchema = nullptr;
+  const json* thenSchema = nullptr;
+  const json* elseSchema = nullptr;
+  const std::string* discriminator = nullptr;
+  const std::string* xError = nullptr;
+};
+
+Compiled compile(const json& schema,
+                 const std::map<std::string, std::shared_ptr<const std::regex>>& regexes) {
+  Compiled c;
+  if (schema.is_boolean()) {
+    c.isBoolean = true;
+    c.booleanValue = schema.get<bool>();
+    c.trivial = c.booleanValue;
+    return c;
+  }
+  if (!schema.is_object()) return c;
+  c.trivial = schema.empty();
+  // add() checked every indexed node; nodes reached otherwise are read defensively.
+  auto size = [](const json& v) { return isIntegral(v) && v.get<double>() >= 0 ? v.get<std::size_t>() : 0; };
+  for (auto it = schema.begin(); it != schema.end(); ++it) {
+    const std::string& k = it.key();
+    const json* v = &it.value();
+    if (k == "$ref") c.ref = v;
+    else if (k == "type") {
+      c.type = v;
+      if (v->is_string()) c.typeMask = typeBit(v->get<std::string>());
+      else if (v->is_array()) for (const auto& t : *v) c.typeMask |= t.is_string() ? typeBit(t.get<std::string>()) : 0;
+    }
+    else if (k == "enum") c.enumValues = v;
+    else if (k == "const") c.constValue = v;
+    else if (k == "minimum") c.minimum = v;
+    else if (k == "maximum") c.maximum = v;
+    else if (k == "exclusiveMinimum") c.exclusiveMinimum = v;
+    else if (k == "exclusiveMaximum") c.exclusiveMaximum = v;
+    else if (k == "minLength") c.minLength = size(*v);
+    else if (k == "maxLength") c.maxLength = size(*v);
+    else if (k == "minItems") c.minItems = size(*v);
+    else if (k == "maxItems") c.maxItems = size(*v);
+    else if (k == "minProperties") c.minProperties = size(*v);
+    else if (k == "maxProperties") c.maxProperties = size(*v);
+    else if (k == "pattern") {
+      c.pattern = v;
+      const auto r = regexes.find(v->get<std::string>());
+      if (r != regexes.end()) c.regex = r->second;
+    }
+    else if (k == "required") c.required = v;
+    else if (k == "properties") c.properties = v;
+    else if (k == "additionalProperties") c.additional = v;
+    else if (k == "items") c.items = v;
+    else if (k == "prefixItems") c.prefixItems = v;
+    else if (k == "allOf") c.allOf = v;
+    else if (k == "anyOf") c.anyOf = v;
+    else if (k == "oneOf") c.oneOf = v;
+    else if (k == "not") c.notSchema = v;
+    else if (k == "if") c.ifSchema = v;
+    else if (k == "then") c.thenSchema = v;
+    else if (k == "else") c.elseSchema = v;
+    else if (k == "discriminator") {
+      const auto p = v->is_object() ? v->find("propertyName") : v->end();
+      if (v->is_object() && p != v->end() && p->is_string()) c.discriminator = &p->get_ref<const std::string&>();
+    }
+    else if (k == "x-error" && v->is_string()) c.xError = &v->get_ref<const std::string&>();
+  }
+  return c;
+}
+
+}  // namespace
+
+struct SchemaRegistry::Index {
+  std::vector<Document> documents;  ///< keeps every indexed node alive
+  std::unordered_map<const json*, Compiled> nodes;
+};
 
 // ---------------------------------------------------------------------------------------------
 // SchemaError
@@ -428,46 +566,55 @@ class SchemaRegistry::Validator {
   /// of document `doc`. Returns whether it is valid; adds errors to `out`. `path` is restored.
   bool node(const json& inst, const json& schema, const json& doc, std::string& path, int depth,
             int hops, Sink& out) {
-    if (schema.is_object()) {
-      const auto xerror = schema.find("x-error");
-      if (xerror != schema.end() && xerror->is_string()) {
-        Sink probe(1);
-        const char* failed = "x-error";
-        if (keywords(inst, schema, doc, path, depth, hops, probe, &failed)) return true;
-        out.add(path, failed, xerror->get<std::string>());
-        return false;
-      }
+    Compiled local;
+    const Compiled& c = compiled(schema, local);
+    if (c.xError != nullptr) {
+      Sink probe(1);
+      const char* failed = "x-error";
+      if (keywords(inst, schema, c, doc, path, depth, hops, probe, &failed)) return true;
+      out.add(path, failed, *c.xError);
+      return false;
     }
-    return keywords(inst, schema, doc, path, depth, hops, out, nullptr);
+    return keywords(inst, schema, c, doc, path, depth, hops, out, nullptr);
   }
 
  private:
-  static bool trivial(const json& schema) {
-    return (schema.is_boolean() && schema.get<bool>()) || (schema.is_object() && schema.empty());
+  /// The pre-parsed form of `schema`; `local` holds it for a node outside the index.
+  const Compiled& compiled(const json& schema, Compiled& local) const {
+    if (reg_.index_) {
+      const auto it = reg_.index_->nodes.find(&schema);
+      if (it != reg_.index_->nodes.end()) return it->second;
+    }
+    local = compile(schema, reg_.regex_);
+    return local;
+  }
+
+  bool trivial(const json& schema) const {
+    Compiled local;
+    return compiled(schema, local).trivial;
   }
 
   /// Validates a member/item of the current instance; `path` already points at it.
   bool descend(const json& inst, const json& schema, const json& doc, std::string& path,
                int depth, Sink& out) {
-    if (trivial(schema)) return true;
     if (depth + 1 > kMaxDepth) {
-      out.add(path, "depth", "nested too deeply (more than " + std::to_string(kMaxDepth) +
-                                 " levels)");
+      if (trivial(schema)) return true;
+      out.add(path, "depth",
+              "nested too deeply (more than " + std::to_string(kMaxDepth) + " levels)");
       return false;
     }
     return node(inst, schema, doc, path, depth + 1, 0, out);
   }
 
-  SchemaRegistry::Target target(const json& schema, const json& doc) const {
-    const auto cached = reg_.refCache_.find(&schema);
-    if (cached != reg_.refCache_.end()) return cached->second;
-    return reg_.resolve(schema["$ref"].get<std::string>(), doc);
+  std::pair<const json*, const json*> target(const Compiled& c, const json& doc) const {
+    if (c.refSchema != nullptr) return {c.refSchema, c.refDocument};
+    return reg_.resolve(c.ref->get<std::string>(), doc);
   }
 
-  bool keywords(const json& inst, const json& schema, const json& doc, std::string& path,
-                int depth, int hops, Sink& out, const char** failed) {
-    if (schema.is_boolean()) {
-      if (schema.get<bool>()) return true;
+  bool keywords(const json& inst, const json& schema, const Compiled& c, const json& doc,
+                std::string& path, int depth, int hops, Sink& out, const char** failed) {
+    if (c.trivial) return true;
+    if (c.isBoolean) {
       if (failed != nullptr) *failed = "false";
       out.add(path, "false", "is not allowed");
       return false;
@@ -480,87 +627,72 @@ class SchemaRegistry::Validator {
       ok = false;
       return out.full();
     };
-    const auto end = schema.end();
 
     // --- $ref ------------------------------------------------------------------------------
-    if (const auto ref = schema.find("$ref"); ref != end) {
+    if (c.ref != nullptr) {
       if (hops + 1 > kMaxRefHops) {
-        throw std::logic_error("JSON Schema: $ref cycle at " + ref->get<std::string>() +
+        throw std::logic_error("JSON Schema: $ref cycle at " + c.ref->get<std::string>() +
                                " (instance path \"" + path + "\")");
       }
-      const auto t = target(schema, doc);
-      if (!node(inst, *t.schema, *t.document, path, depth, hops + 1, out) && fail("$ref")) {
+      const auto [refSchema, refDoc] = target(c, doc);
+      if (!node(inst, *refSchema, *refDoc, path, depth, hops + 1, out) && fail("$ref")) {
         return false;
       }
     }
 
     // --- type ------------------------------------------------------------------------------
-    if (const auto type = schema.find("type"); type != end) {
-      if (!checkType(inst, *type, path, out)) {
-        fail("type");
-        return false;  // the remaining keywords would only add noise
-      }
+    if (c.type != nullptr && (c.typeMask & instanceBits(inst)) == 0) {
+      typeError(inst, *c.type, c.typeMask, path, out);
+      fail("type");
+      return false;  // the remaining keywords would only add noise
     }
 
     // --- enum / const ----------------------------------------------------------------------
-    if (const auto e = schema.find("enum"); e != end) {
-      if (std::find(e->begin(), e->end(), inst) == e->end()) {
-        std::string allowed;
-        for (const auto& v : *e) allowed += (allowed.empty() ? "" : ", ") + listed(v);
-        out.add(path, "enum", "must be one of: " + allowed);
-        if (fail("enum")) return false;
-      }
+    if (c.enumValues != nullptr &&
+        std::find(c.enumValues->begin(), c.enumValues->end(), inst) == c.enumValues->end()) {
+      std::string allowed;
+      for (const auto& v : *c.enumValues) allowed += (allowed.empty() ? "" : ", ") + listed(v);
+      out.add(path, "enum", "must be one of: " + allowed);
+      if (fail("enum")) return false;
     }
-    if (const auto c = schema.find("const"); c != end) {
-      if (inst != *c) {
-        out.add(path, "const", "must be " + brief(*c) + ", got " + brief(inst));
-        if (fail("const")) return false;
-      }
+    if (c.constValue != nullptr && inst != *c.constValue) {
+      out.add(path, "const", "must be " + brief(*c.constValue) + ", got " + brief(inst));
+      if (fail("const")) return false;
     }
 
     // --- numbers ---------------------------------------------------------------------------
     if (inst.is_number()) {
-      struct Bound {
-        const char* keyword;
-        const char* op;
-        bool (*okFor)(int);
+      auto bound = [&](const json* limit, const char* keyword, const char* op, auto okFor) {
+        if (limit == nullptr || okFor(compareNumbers(inst, *limit))) return false;
+        out.add(path, keyword,
+                std::string("must be ") + op + " " + dumpSafe(*limit) + ", got " + dumpSafe(inst));
+        return fail(keyword);
       };
-      static const Bound bounds[] = {
-          {"minimum", "≥", [](int c) { return c >= 0; }},
-          {"maximum", "≤", [](int c) { return c <= 0; }},
-          {"exclusiveMinimum", ">", [](int c) { return c > 0; }},
-          {"exclusiveMaximum", "<", [](int c) { return c < 0; }},
-      };
-      for (const auto& b : bounds) {
-        const auto limit = schema.find(b.keyword);
-        if (limit == end || !limit->is_number()) continue;
-        if (!b.okFor(compareNumbers(inst, *limit))) {
-          out.add(path, b.keyword,
-                  std::string("must be ") + b.op + " " + dumpSafe(*limit) + ", got " + dumpSafe(inst));
-          if (fail(b.keyword)) return false;
-        }
-      }
+      if (bound(c.minimum, "minimum", "≥", [](int r) { return r >= 0; })) return false;
+      if (bound(c.maximum, "maximum", "≤", [](int r) { return r <= 0; })) return false;
+      if (bound(c.exclusiveMinimum, "exclusiveMinimum", ">", [](int r) { return r > 0; })) return false;
+      if (bound(c.exclusiveMaximum, "exclusiveMaximum", "<", [](int r) { return r < 0; })) return false;
     }
 
     // --- strings ---------------------------------------------------------------------------
-    if (inst.is_string()) {
+    if (inst.is_string() && (c.minLength > 0 || c.maxLength != kNoLimit || c.pattern != nullptr)) {
       const std::string& s = inst.get_ref<const std::string&>();
       const std::size_t length = utf8Length(s);
-      bool tooLong = false;
-      if (const auto m = schema.find("minLength"); m != end && length < m->get<std::size_t>()) {
-        out.add(path, "minLength", "expected at least " + plural(m->get<std::size_t>(), "character") +
+      if (length < c.minLength) {
+        out.add(path, "minLength", "expected at least " + plural(c.minLength, "character") +
                                        ", got " + std::to_string(length));
         if (fail("minLength")) return false;
       }
-      if (const auto m = schema.find("maxLength"); m != end && length > m->get<std::size_t>()) {
-        tooLong = true;
-        out.add(path, "maxLength", "expected at most " + plural(m->get<std::size_t>(), "character") +
+      const bool tooLong = length > c.maxLength;
+      if (tooLong) {
+        out.add(path, "maxLength", "expected at most " + plural(c.maxLength, "character") +
                                        ", got " + std::to_string(length));
         if (fail("maxLength")) return false;
       }
-      if (const auto p = schema.find("pattern"); p != end && !tooLong) {
-        if (!std::regex_search(s, regex(p->get_ref<const std::string&>()))) {
-          out.add(path, "pattern", "does not match the pattern " + dumpSafe(*p));
+      if (c.pattern != nullptr && !tooLong) {
+        if (!c.regex) throw std::logic_error("JSON Schema: pattern not compiled: " + c.pattern->dump());
+        if (!std::regex_search(s, *c.regex)) {
+          out.add(path, "pattern", "does not match the pattern " + dumpSafe(*c.pattern));
           if (fail("pattern")) return false;
         }
       }
@@ -569,34 +701,33 @@ class SchemaRegistry::Validator {
     // --- arrays ----------------------------------------------------------------------------
     if (inst.is_array()) {
       const std::size_t n = inst.size();
-      bool tooMany = false;
-      if (const auto m = schema.find("minItems"); m != end && n < m->get<std::size_t>()) {
-        out.add(path, "minItems", "expected at least " + plural(m->get<std::size_t>(), "item") +
-                                      ", got " + std::to_string(n));
+      if (n < c.minItems) {
+        out.add(path, "minItems", "expected at least " + plural(c.minItems, "item") + ", got " +
+                                      std::to_string(n));
         if (fail("minItems")) return false;
       }
-      if (const auto m = schema.find("maxItems"); m != end && n > m->get<std::size_t>()) {
-        tooMany = true;  // do not walk a huge array item by item
-        out.add(path, "maxItems", "expected at most " + plural(m->get<std::size_t>(), "item") +
-                                      ", got " + std::to_string(n));
+      const bool tooMany = n > c.maxItems;  // then do not walk a huge array item by item
+      if (tooMany) {
+        out.add(path, "maxItems", "expected at most " + plural(c.maxItems, "item") + ", got " +
+                                      std::to_string(n));
         if (fail("maxItems")) return false;
       }
       if (!tooMany) {
         std::size_t first = 0;
         const std::size_t base = path.size();
-        if (const auto prefix = schema.find("prefixItems"); prefix != end) {
-          first = prefix->size();
+        if (c.prefixItems != nullptr) {
+          first = c.prefixItems->size();
           for (std::size_t i = 0; i < std::min(n, first); ++i) {
             appendIndex(path, i);
-            const bool itemOk = descend(inst[i], (*prefix)[i], doc, path, depth, out);
+            const bool itemOk = descend(inst[i], (*c.prefixItems)[i], doc, path, depth, out);
             path.resize(base);
             if (!itemOk && fail("prefixItems")) return false;
           }
         }
-        if (const auto items = schema.find("items"); items != end && !trivial(*items)) {
+        if (c.items != nullptr && !trivial(*c.items)) {
           for (std::size_t i = first; i < n; ++i) {
             appendIndex(path, i);
-            const bool itemOk = descend(inst[i], *items, doc, path, depth, out);
+            const bool itemOk = descend(inst[i], *c.items, doc, path, depth, out);
             path.resize(base);
             if (!itemOk && fail("items")) return false;
           }
@@ -606,8 +737,8 @@ class SchemaRegistry::Validator {
 
     // --- objects ---------------------------------------------------------------------------
     if (inst.is_object()) {
-      if (const auto req = schema.find("required"); req != end) {
-        for (const auto& r : *req) {
+      if (c.required != nullptr) {
+        for (const auto& r : *c.required) {
           const std::string& name = r.get_ref<const std::string&>();
           if (!inst.contains(name)) {
             out.add(memberPath(path, name), "required", "is required");
@@ -615,75 +746,70 @@ class SchemaRegistry::Validator {
           }
         }
       }
-      const auto props = schema.find("properties");
-      const auto additional = schema.find("additionalProperties");
-      const std::size_t base = path.size();
-      for (auto it = inst.begin(); it != inst.end(); ++it) {
-        const json* sub = nullptr;
-        const char* keyword = "properties";
-        bool extra = false;
-        if (props != end) {
-          const auto p = props->find(it.key());
-          if (p != props->end()) sub = &*p;
+      if (c.properties != nullptr || c.additional != nullptr) {
+        const std::size_t base = path.size();
+        for (auto it = inst.begin(); it != inst.end(); ++it) {
+          const json* sub = nullptr;
+          if (c.properties != nullptr) {
+            const auto p = c.properties->find(it.key());
+            if (p != c.properties->end()) sub = &*p;
+          }
+          const bool extra = sub == nullptr;
+          if (extra) sub = c.additional;
+          if (sub == nullptr) continue;
+          appendMember(path, it.key());
+          bool memberOk;
+          if (extra && sub->is_boolean() && !sub->get<bool>()) {
+            out.add(path, "additionalProperties", "unknown field");
+            memberOk = false;
+          } else {
+            memberOk = descend(it.value(), *sub, doc, path, depth, out);
+          }
+          path.resize(base);
+          if (!memberOk && fail(extra ? "additionalProperties" : "properties")) return false;
         }
-        if (sub == nullptr && additional != end) {
-          sub = &*additional;
-          keyword = "additionalProperties";
-          extra = true;
-        }
-        if (sub == nullptr) continue;
-        appendMember(path, it.key());
-        bool memberOk;
-        if (extra && sub->is_boolean() && !sub->get<bool>()) {
-          out.add(path, "additionalProperties", "unknown field");
-          memberOk = false;
-        } else {
-          memberOk = descend(it.value(), *sub, doc, path, depth, out);
-        }
-        path.resize(base);
-        if (!memberOk && fail(keyword)) return false;
       }
-      if (const auto m = schema.find("minProperties"); m != end && inst.size() < m->get<std::size_t>()) {
-        out.add(path, "minProperties", "expected at least " + plural(m->get<std::size_t>(), "member") +
+      if (inst.size() < c.minProperties) {
+        out.add(path, "minProperties", "expected at least " + plural(c.minProperties, "member") +
                                            ", got " + std::to_string(inst.size()));
         if (fail("minProperties")) return false;
       }
-      if (const auto m = schema.find("maxProperties"); m != end && inst.size() > m->get<std::size_t>()) {
-        out.add(path, "maxProperties", "expected at most " + plural(m->get<std::size_t>(), "member") +
+      if (inst.size() > c.maxProperties) {
+        out.add(path, "maxProperties", "expected at most " + plural(c.maxProperties, "member") +
                                            ", got " + std::to_string(inst.size()));
         if (fail("maxProperties")) return false;
       }
     }
 
     // --- combinators -----------------------------------------------------------------------
-    if (const auto all = schema.find("allOf"); all != end) {
-      for (const auto& s : *all) {
+    if (c.allOf != nullptr) {
+      for (const auto& s : *c.allOf) {
         if (!node(inst, s, doc, path, depth, hops, out) && fail("allOf")) return false;
       }
     }
-    if (const auto any = schema.find("anyOf"); any != end) {
-      if (!alternatives(inst, *any, false, doc, path, depth, hops, out) && fail("anyOf")) return false;
+    if (c.anyOf != nullptr && !alternatives(inst, *c.anyOf, false, doc, path, depth, hops, out) &&
+        fail("anyOf")) {
+      return false;
     }
-    if (const auto one = schema.find("oneOf"); one != end) {
-      const auto disc = schema.find("discriminator");
+    if (c.oneOf != nullptr) {
       const bool oneOk =
-          disc != end ? discriminated(inst, *one, (*disc)["propertyName"].get<std::string>(), doc,
-                                      path, depth, hops, out)
-                      : alternatives(inst, *one, true, doc, path, depth, hops, out);
+          c.discriminator != nullptr
+              ? discriminated(inst, *c.oneOf, *c.discriminator, doc, path, depth, hops, out)
+              : alternatives(inst, *c.oneOf, true, doc, path, depth, hops, out);
       if (!oneOk && fail("oneOf")) return false;
     }
-    if (const auto n = schema.find("not"); n != end) {
+    if (c.notSchema != nullptr) {
       Sink probe(1);
-      if (node(inst, *n, doc, path, depth, hops, probe)) {
+      if (node(inst, *c.notSchema, doc, path, depth, hops, probe)) {
         out.add(path, "not", "must not match the excluded schema");
         if (fail("not")) return false;
       }
     }
-    if (const auto cond = schema.find("if"); cond != end) {
+    if (c.ifSchema != nullptr) {
       Sink probe(1);
-      const bool holds = node(inst, *cond, doc, path, depth, hops, probe);
-      const auto branch = schema.find(holds ? "then" : "else");
-      if (branch != end && !node(inst, *branch, doc, path, depth, hops, out) &&
+      const bool holds = node(inst, *c.ifSchema, doc, path, depth, hops, probe);
+      const json* branch = holds ? c.thenSchema : c.elseSchema;
+      if (branch != nullptr && !node(inst, *branch, doc, path, depth, hops, out) &&
           fail(holds ? "then" : "else")) {
         return false;
       }
@@ -691,21 +817,18 @@ class SchemaRegistry::Validator {
     return ok;
   }
 
-  bool checkType(const json& inst, const json& type, const std::string& path, Sink& out) {
+  static void typeError(const json& inst, const json& type, unsigned mask, const std::string& path,
+                        Sink& out) {
+    const bool wantsNumber = (mask & (kNumber | kInteger)) != 0;
+    if (wantsNumber && inst.is_number_float() && !std::isfinite(inst.get<double>())) {
+      out.add(path, "type", "expected a finite number");
+      return;
+    }
     std::vector<std::string> allowed;
     if (type.is_array()) {
       for (const auto& t : type) allowed.push_back(t.get<std::string>());
     } else {
       allowed.push_back(type.get<std::string>());
-    }
-    for (const auto& t : allowed) {
-      if (typeMatches(inst, t)) return true;
-    }
-    const bool wantsNumber = std::count(allowed.begin(), allowed.end(), "number") +
-                                 std::count(allowed.begin(), allowed.end(), "integer") > 0;
-    if (wantsNumber && inst.is_number_float() && !std::isfinite(inst.get<double>())) {
-      out.add(path, "type", "expected a finite number");
-      return false;
     }
     std::string expected;
     for (std::size_t i = 0; i < allowed.size(); ++i) {
@@ -714,13 +837,6 @@ class SchemaRegistry::Validator {
     }
     const std::string got = wantsNumber && inst.is_number() ? dumpSafe(inst) : typeName(inst);
     out.add(path, "type", "expected " + expected + ", got " + got);
-    return false;
-  }
-
-  const std::regex& regex(const std::string& pattern) const {
-    const auto it = reg_.regex_.find(pattern);
-    if (it == reg_.regex_.end()) throw std::logic_error("JSON Schema: pattern not compiled: " + pattern);
-    return *it->second;
   }
 
   /// oneOf (exactlyOne) or anyOf without a discriminator.
@@ -743,7 +859,8 @@ class SchemaRegistry::Validator {
                               " and #" + std::to_string(valid[1] + 1) + ")");
       return false;
     }
-    // No branch matched: report the one that got deepest into the instance.
+    // No branch matched: report the one that got deepest into the instance (a missing member
+    // counts as no progress).
     const int here = pathDepth(path);
     int bestDepth = here;
     std::size_t best = results.size();
@@ -752,9 +869,8 @@ class SchemaRegistry::Validator {
       for (const auto& e : results[i].errors) {
         d = std::max(d, pathDepth(e.path) - (e.rule == "required" ? 1 : 0));
       }
-      if (d > bestDepth ||
-          (d == bestDepth && best < results.size() &&
-           results[i].errors.size() < results[best].errors.size())) {
+      if (d > bestDepth || (d == bestDepth && best < results.size() &&
+                            results[i].errors.size() < results[best].errors.size())) {
         bestDepth = d;
         best = i;
       }
@@ -763,6 +879,7 @@ class SchemaRegistry::Validator {
       for (auto& e : results[best].errors) out.add(e.path, e.rule.c_str(), std::move(e.message));
       return false;
     }
+    // Every branch failed at the instance itself: one error listing each complaint.
     std::string why;
     std::set<std::string> seen;
     for (const auto& r : results) {
@@ -809,10 +926,10 @@ class SchemaRegistry::Validator {
     const json* d = &doc;
     for (int hops = 0; hops <= kMaxRefHops; ++hops) {
       if (const json* c = branchConstant(*s, prop)) return c;
-      if (!s->is_object() || !s->contains("$ref")) break;
-      const auto t = target(*s, *d);
-      s = t.schema;
-      d = t.document;
+      Compiled local;
+      const Compiled& c = compiled(*s, local);
+      if (c.ref == nullptr) break;
+      std::tie(s, d) = target(c, *d);
     }
     throw std::logic_error("JSON Schema: discriminator branch without properties." + prop + ".const");
   }
@@ -836,7 +953,28 @@ void SchemaRegistry::add(const std::string& name, json schema) {
     }
   }
   regex_ = std::move(regex);
-  rebuildRefCache();
+
+  // Re-index everything: a new document may resolve other documents' cross-document $refs.
+  auto index = std::make_shared<Index>();
+  for (const auto& entry : documents_) {
+    const Document& d = entry.second;
+    if (std::find(index->documents.begin(), index->documents.end(), d) != index->documents.end()) {
+      continue;
+    }
+    index->documents.push_back(d);
+    forEachSchema(*d, [&](const json& s) {
+      Compiled c = compile(s, regex_);
+      if (c.ref != nullptr) {
+        try {
+          std::tie(c.refSchema, c.refDocument) = resolve(c.ref->get<std::string>(), *d);
+        } catch (const std::out_of_range&) {
+          // cross-document target not registered (yet): resolved, or reported, when used
+        }
+      }
+      index->nodes.emplace(&s, std::move(c));
+    });
+  }
+  index_ = std::move(index);
 }
 
 bool SchemaRegistry::contains(const std::string& name) const { return documents_.count(name) != 0; }
@@ -852,7 +990,8 @@ const json* SchemaRegistry::findDocument(const std::string& name) const {
   return it == documents_.end() ? nullptr : it->second.get();
 }
 
-SchemaRegistry::Target SchemaRegistry::resolve(const std::string& ref, const json& document) const {
+std::pair<const json*, const json*> SchemaRegistry::resolve(const std::string& ref,
+                                                            const json& document) const {
   const auto [docName, fragment] = splitRef(ref);
   const json* doc = &document;
   if (!docName.empty()) {
@@ -864,24 +1003,7 @@ SchemaRegistry::Target SchemaRegistry::resolve(const std::string& ref, const jso
   }
   const json* schema = resolveFragment(*doc, fragment);
   if (schema == nullptr) throw std::out_of_range("JSON Schema $ref \"" + ref + "\" does not resolve");
-  return Target{schema, doc};
-}
-
-void SchemaRegistry::rebuildRefCache() {
-  refCache_.clear();
-  std::set<const json*> done;
-  for (const auto& [name, doc] : documents_) {
-    if (!done.insert(doc.get()).second) continue;
-    forEachRef(*doc, [&](const json& s) {
-      const json& ref = s["$ref"];
-      if (!ref.is_string()) return;
-      try {
-        refCache_[&s] = resolve(ref.get<std::string>(), *doc);
-      } catch (const std::out_of_range&) {
-        // cross-document target not registered (yet): resolved, or reported, when used
-      }
-    });
-  }
+  return {schema, doc};
 }
 
 std::vector<SchemaError> SchemaRegistry::validate(const json& instance, const std::string& schemaName,
@@ -897,10 +1019,10 @@ std::vector<SchemaError> SchemaRegistry::validateRef(const json& instance, const
                                                      std::size_t maxErrors) const {
   const auto [docName, fragment] = splitRef(ref);
   const json& doc = get(docName);
-  const Target t = resolve("#" + fragment, doc);
+  const auto [schema, schemaDoc] = resolve("#" + fragment, doc);
   Validator::Sink out(maxErrors);
   std::string path;
-  Validator(*this).node(instance, *t.schema, *t.document, path, 0, 0, out);
+  Validator(*this).node(instance, *schema, *schemaDoc, path, 0, 0, out);
   return std::move(out.errors);
 }
 

@@ -165,7 +165,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       summary.reason = TerminationReason::ResidualTolerance;
       break;
     }
-    if (k >= 1 && std::abs(previousObjective - rec.objective) <=
+    if (k >= 1 && previousObjective > 0.0 &&
+        std::abs(previousObjective - rec.objective) <=
                       options.relativeChangeTolerance * previousObjective) {
       summary.reason = TerminationReason::RelativeChange;
       break;

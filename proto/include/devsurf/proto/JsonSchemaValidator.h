@@ -5,6 +5,7 @@
 #include <memory>
 #include <regex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -111,25 +112,19 @@ class SchemaRegistry {
 
  private:
   class Validator;
+  struct Index;  ///< every registered schema node in a pre-parsed form (defined in the .cpp)
   using Document = std::shared_ptr<const nlohmann::json>;
-
-  struct Target {
-    const nlohmann::json* schema = nullptr;
-    const nlohmann::json* document = nullptr;
-  };
 
   /// The document registered under `name`, or nullptr.
   const nlohmann::json* findDocument(const std::string& name) const;
-  /// Resolves a $ref string relative to `document` (its root schema).
-  /// @throws std::out_of_range if it does not resolve.
-  Target resolve(const std::string& ref, const nlohmann::json& document) const;
-  /// Re-resolves every $ref of every document into refCache_ (refs that do not resolve yet
-  /// are left to resolve() at validation time).
-  void rebuildRefCache();
+  /// Resolves a $ref string relative to `document` (its root schema) and returns the target
+  /// schema and its document. @throws std::out_of_range if it does not resolve.
+  std::pair<const nlohmann::json*, const nlohmann::json*> resolve(
+      const std::string& ref, const nlohmann::json& document) const;
 
   std::map<std::string, Document> documents_;                      ///< by name and by $id
-  std::map<const nlohmann::json*, Target> refCache_;               ///< $ref-holding schema -> target
   std::map<std::string, std::shared_ptr<const std::regex>> regex_;  ///< compiled patterns
+  std::shared_ptr<const Index> index_;                             ///< rebuilt by add()
 };
 
 }  // namespace devsurf::proto

@@ -29,7 +29,7 @@ struct SolverSettings {
   int iterations = 20;
   double fairness = 0.01;
   double fairnessDecay = 0.8;
-  double regularization = 1e-3;
+  double regularization = 1e-2;
   double unitNormalWeight = 0.1;
   double developabilityWeight = 1.0;
   double handleWeight = 1.0;

@@ -46,7 +46,7 @@ struct SolverOptions {
   int maxIterations = 20;                ///< iterations to run at most
   double fairness = 0.01;                ///< ε_fair: weight of Fairness-scheduled terms at k = 0
   double fairnessDecay = 0.8;            ///< ε_fair is multiplied by this every iteration
-  double regularization = 1e-3;          ///< ε_reg: Tikhonov weight of ‖x − x_k‖²
+  double regularization = 1e-2;          ///< ε_reg: Tikhonov weight of ‖x − x_k‖² (Tang Fig. 17)
   double timeBudgetMs = 0.0;             ///< stop after this much wall time (0 = no budget)
   double residualTolerance = 1e-14;      ///< stop when the objective Σ(w r)² falls below
   double relativeChangeTolerance = 1e-9; ///< stop when |E_k − E_{k−1}| ≤ tol · E_{k−1}

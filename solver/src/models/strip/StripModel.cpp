@@ -172,14 +172,13 @@ void StripModel::buildProblem() {
                                                                     Db, N),
                    options_.developabilityWeight, Strength::Hard);
 
-  // Unit normals: hard at the first parameter (or the normal spline's end control points),
-  // soft elsewhere (000_… §2.2, 003_… §5.2.3).
+  // Unit normals: hard at the first parameter (the normal spline's first control point), soft
+  // elsewhere (000_… §2.2). Mundilova (003_… §5.2.3) also holds the spline's last control point
+  // hard; that over-constrains exact developables whose normal field a′×(b−a) has different
+  // lengths at the two ends, so we follow Tang et al.
   std::vector<int> hard, soft;
   for (int i = 0; i < normalCount; ++i) {
-    const bool isHard = vectors ? i == 0
-                                : (i == 0 || (i == normalCount - 1 &&
-                                              a.knots.kind() != spline::KnotKind::Periodic));
-    (isHard ? hard : soft).push_back(offN + 3 * i);
+    (i == 0 ? hard : soft).push_back(offN + 3 * i);
   }
   problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal_hard", hard), 1.0,
                    Strength::Hard);
@@ -238,8 +237,8 @@ void StripModel::initializeNormals() {
     for (int k = 0; k < K; ++k) normals.segment<3>(3 * k) = samples.row(k).transpose();
     return;
   }
-  // Normal spline: least-squares fit of its control points to the sampled normals, then unit
-  // control points (a tiny Tikhonov term keeps the fit well posed).
+  // Normal spline: least-squares fit of its control points to the sampled unit normals (a tiny
+  // Tikhonov term keeps the fit well posed).
   const int m = static_cast<int>(normalEvaluation_.cols());
   Eigen::SparseMatrix<double> M = normalEvaluation_;
   Eigen::SparseMatrix<double> A = M.transpose() * M;
@@ -247,11 +246,10 @@ void StripModel::initializeNormals() {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
   const Eigen::MatrixXd rhs = M.transpose() * Eigen::MatrixXd(samples);
   Eigen::MatrixXd control = ldlt.solve(rhs);
-  for (int i = 0; i < m; ++i) {
-    Eigen::Vector3d c = control.row(i).transpose();
-    if (c.norm() < 1e-12) c = Eigen::Vector3d::UnitZ();
-    normals.segment<3>(3 * i) = c.normalized();
-  }
+  // The first control point is held at unit length (hard): scale the fit so it starts there.
+  const double first = control.row(0).norm();
+  if (first > 1e-12) control /= first;
+  for (int i = 0; i < m; ++i) normals.segment<3>(3 * i) = control.row(i).transpose();
 }
 
 void StripModel::resetNormals() { initializeNormals(); }
@@ -271,11 +269,19 @@ void StripModel::setHandleTarget(int i, const Eigen::Vector3d& position) {
 }
 
 Eigen::MatrixXd StripModel::controlPoints(Curve c) const {
-  const Eigen::Map<const Eigen::VectorXd> v = problem_.blockValues(c == Curve::A ? blockA_ : blockB_);
+  const int block = c == Curve::A ? blockA_ : blockB_;
+  const Eigen::Map<const Eigen::VectorXd> v = problem_.blockValues(block);
+  const int offset = problem_.layout().block(block).offset;
+  const Eigen::MatrixXd& original = c == Curve::A ? design_.a.points : design_.b.points;
   const int n = static_cast<int>(v.size() / 3);
   Eigen::MatrixXd points(n, 3);
-  for (int i = 0; i < n; ++i)
-    points.row(i) = normalization_.fromNormalized(v.segment<3>(3 * i)).transpose();
+  for (int i = 0; i < n; ++i) {
+    // A fixed point is returned exactly as given (the normalization round trip would perturb
+    // it in the last bit).
+    const bool fixed = problem_.layout().isFixed(offset + 3 * i);
+    points.row(i) = fixed ? Eigen::RowVector3d(original.row(i))
+                          : normalization_.fromNormalized(v.segment<3>(3 * i)).transpose();
+  }
   return points;
 }
 

@@ -1,0 +1,218 @@
+#include "devsurf/engine/GuidedProjectionSolver.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <memory>
+
+#include "solver/engine/TestTerms.h"
+
+namespace devsurf::engine {
+namespace {
+
+using testing::LinearRowsTerm;
+using testing::ProductTerm;
+using testing::SqrtTerm;
+
+TEST(GuidedProjectionSolver, SolvesALinearLeastSquaresProblemInOneStep) {
+  Problem problem;
+  problem.addBlock("x", 3);
+  Eigen::MatrixXd A(4, 3);
+  A << 1, 2, 0, 0, 1, 1, 1, 0, 1, 2, 1, 1;
+  const Eigen::VectorXd b = Eigen::Vector4d(1, -2, 3, 0.5);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("fit", A, b), 1.0, Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 1;
+  options.regularization = 0.0;
+  solver.solve(options);
+  const Eigen::VectorXd expected = (A.transpose() * A).ldlt().solve(A.transpose() * b);
+  EXPECT_LT((problem.x() - expected).norm(), 1e-12);
+}
+
+TEST(GuidedProjectionSolver, FixedVariablesLeaveTheSystemAndNeverMove) {
+  Problem problem;
+  const int block = problem.addBlock("x", 3);
+  problem.x() << 5.0, 0.0, 0.0;
+  problem.layout().setFixed(block, 0, 1);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(3, 3);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("target", A, Eigen::Vector3d(1, 2, 3)), 1.0,
+                  Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  EXPECT_EQ(solver.numFree(), 2);
+  SolverOptions options;
+  options.maxIterations = 5;
+  options.regularization = 1e-6;
+  solver.solve(options);
+  EXPECT_EQ(problem.x()[0], 5.0);
+  EXPECT_NEAR(problem.x()[1], 2.0, 1e-9);
+  EXPECT_NEAR(problem.x()[2], 3.0, 1e-9);
+}
+
+TEST(GuidedProjectionSolver, ConvergesQuadraticallyOnAQuadraticConstraint) {
+  // x0·x1 = 2 with a soft target pulling x0 to 1: solution near (1, 2).
+  Problem problem;
+  problem.addBlock("x", 2);
+  problem.x() << 1.0, 1.0;
+  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 2.0), 1.0, Strength::Hard);
+  Eigen::MatrixXd A(1, 2);
+  A << 1, 0;
+  problem.addTerm(std::make_unique<LinearRowsTerm>("anchor", A, Eigen::VectorXd::Ones(1)), 1e-3,
+                  Strength::Soft);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 30;
+  options.regularization = 1e-4;
+  options.residualTolerance = -1.0;        // run all iterations
+  options.relativeChangeTolerance = -1.0;
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_NEAR(problem.x()[0] * problem.x()[1], 2.0, 1e-10);
+  EXPECT_EQ(terminationReasonName(summary.reason), std::string("max_iterations"));
+  ASSERT_EQ(summary.iterations.size(), 31u);
+  EXPECT_LT(summary.iterations.back().hardResidual, 1e-20);
+}
+
+TEST(GuidedProjectionSolver, FairnessWeightDecaysGeometrically) {
+  Problem problem;
+  problem.addBlock("x", 1);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("fair", Eigen::MatrixXd::Ones(1, 1),
+                                                   Eigen::VectorXd::Zero(1)),
+                  2.0, Strength::Soft, WeightSchedule::Fairness);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.fairness = 0.5;
+  options.fairnessDecay = 0.8;
+  const std::vector<double> w3 = solver.effectiveWeights(options, 3);
+  EXPECT_DOUBLE_EQ(w3[0], 2.0 * 0.5 * std::pow(0.8, 3));
+}
+
+TEST(GuidedProjectionSolver, SummaryRecordsEveryIterationWithTimesAndTermResiduals) {
+  Problem problem;
+  problem.addBlock("x", 2);
+  problem.x() << 3.0, 1.0;
+  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 4;
+  options.residualTolerance = 0.0;
+  options.relativeChangeTolerance = 0.0;
+  const SolveSummary summary = solver.solve(options);
+  ASSERT_EQ(summary.stepsTaken(), 4);
+  EXPECT_EQ(summary.reason, TerminationReason::MaxIterations);
+  EXPECT_EQ(summary.termNames, std::vector<std::string>{"product"});
+  EXPECT_DOUBLE_EQ(summary.iterations[0].termResiduals[0], 4.0);  // (3·1 − 1)²
+  for (int k = 1; k <= 4; ++k) {
+    const IterationRecord& r = summary.iterations[k];
+    EXPECT_EQ(r.iteration, k);
+    EXPECT_GT(r.stepNorm, 0.0);
+    EXPECT_GE(r.assemblyMs, 0.0);
+    EXPECT_GE(r.totalMs, r.factorizationMs);
+    EXPECT_LT(r.termResiduals[0], summary.iterations[k - 1].termResiduals[0]);
+  }
+}
+
+TEST(GuidedProjectionSolver, StopsOnResidualTolerance) {
+  Problem problem;
+  problem.addBlock("x", 1);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("t", Eigen::MatrixXd::Ones(1, 1),
+                                                   Eigen::VectorXd::Ones(1)),
+                  1.0, Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 50;
+  options.regularization = 1e-8;
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.reason, TerminationReason::ResidualTolerance);
+  EXPECT_TRUE(summary.converged);
+  EXPECT_LE(summary.stepsTaken(), 3);
+}
+
+TEST(GuidedProjectionSolver, CallbackCanAbortTheSolve) {
+  Problem problem;
+  problem.addBlock("x", 2);
+  problem.x() << 3.0, 1.0;
+  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 20;
+  int calls = 0;
+  options.callback = [&calls](const IterationRecord& r) { return ++calls < 3; };
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.reason, TerminationReason::Aborted);
+  EXPECT_EQ(calls, 3);  // iteration 0, 1 and 2
+  EXPECT_EQ(summary.stepsTaken(), 2);
+}
+
+TEST(GuidedProjectionSolver, DivergingStepRestoresThePreviousIterate) {
+  // sqrt(x) − 1 from x = 9: the Newton step δ = −2/(1/6) = −12 lands at x = −3 (NaN residual).
+  Problem problem;
+  problem.addBlock("x", 1);
+  problem.x() << 9.0;
+  problem.addTerm(std::make_unique<SqrtTerm>("sqrt"), 1.0, Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.regularization = 0.0;
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.reason, TerminationReason::Diverged);
+  EXPECT_FALSE(summary.converged);
+  EXPECT_EQ(problem.x()[0], 9.0);
+  EXPECT_EQ(summary.stepsTaken(), 0);
+}
+
+TEST(GuidedProjectionSolver, StopsWhenTheTimeBudgetRunsOut) {
+  Problem problem;
+  problem.addBlock("x", 2);
+  problem.x() << 3.0, 1.0;
+  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 1000000;
+  options.residualTolerance = -1.0;          // never satisfied
+  options.relativeChangeTolerance = -1.0;    // never satisfied
+  options.timeBudgetMs = 1e-9;               // any positive budget ends after one step
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.reason, TerminationReason::TimeBudget);
+  EXPECT_EQ(summary.stepsTaken(), 1);
+}
+
+TEST(GuidedProjectionSolver, StopsWhenTheObjectiveNoLongerChanges) {
+  // An inconsistent pair of targets: the objective settles at a positive value.
+  Problem problem;
+  problem.addBlock("x", 1);
+  Eigen::MatrixXd A(2, 1);
+  A << 1, 1;
+  problem.addTerm(std::make_unique<LinearRowsTerm>("targets", A, Eigen::Vector2d(0, 2)), 1.0,
+                  Strength::Hard);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 100;
+  options.relativeChangeTolerance = 1e-9;
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.reason, TerminationReason::RelativeChange);
+  EXPECT_NEAR(problem.x()[0], 1.0, 1e-6);
+}
+
+TEST(GuidedProjectionSolver, CholmodAndLdltTakeTheSameStep) {
+  if (!cholmodAvailable()) GTEST_SKIP() << "CHOLMOD not compiled in";
+  auto build = [](Problem& p) {
+    p.addBlock("x", 3);
+    p.x() << 0.5, 2.0, -1.0;
+    p.addTerm(std::make_unique<ProductTerm>("p01", 0, 1, 1.0), 1.0, Strength::Hard);
+    p.addTerm(std::make_unique<ProductTerm>("p12", 1, 2, -3.0), 1.0, Strength::Hard);
+  };
+  Problem p1, p2;
+  build(p1);
+  build(p2);
+  GuidedProjectionSolver s1(p1, LinearSolverKind::SimplicialLDLT);
+  GuidedProjectionSolver s2(p2, LinearSolverKind::Cholmod);
+  SolverOptions options;
+  options.maxIterations = 3;
+  s1.solve(options);
+  s2.solve(options);
+  EXPECT_LT((p1.x() - p2.x()).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace devsurf::engine
