@@ -71,7 +71,6 @@ engine::SolverOptions SolverSettings::solverOptions() const {
   o.timeBudgetMs = timeBudgetMs;
   o.residualTolerance = residualTolerance;
   o.relativeChangeTolerance = relativeChangeTolerance;
-  o.linearSolver = engine::linearSolverKindFromName(linearSolver);
   return o;
 }
 

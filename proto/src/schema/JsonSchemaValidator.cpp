@@ -4,9 +4,9 @@
 #include <cctype>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 #include <tuple>
 #include <unordered_map>
-#include <stdexcept>
 #include <utility>
 
 namespace devsurf::proto {
@@ -50,11 +50,14 @@ std::string utf8Truncate(const std::string& s, std::size_t max) {
   return s;
 }
 
-std::string dumpSafe(const json& v) { return v.dump(-1, ' ', false, json::error_handler_t::replace); }
+std::string dumpSafe(const json& v) {
+  return v.dump(-1, ' ', false, json::error_handler_t::replace);
+}
 
 /// A value as quoted in a message: JSON text (strings in quotes), shortened.
 std::string brief(const json& v) {
-  if (v.is_string()) return dumpSafe(json(utf8Truncate(v.get_ref<const std::string&>(), kMaxQuoted)));
+  if (v.is_string())
+    return dumpSafe(json(utf8Truncate(v.get_ref<const std::string&>(), kMaxQuoted)));
   if (v.is_object()) return v.empty() ? "{}" : "an object";
   if (v.is_array()) return v.empty() ? "[]" : "an array";
   return dumpSafe(v);
@@ -68,15 +71,22 @@ std::string listed(const json& v) {
 
 std::string typeName(const json& v) {
   switch (v.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return "boolean";
-    case json::value_t::object: return "object";
-    case json::value_t::array: return "array";
-    case json::value_t::string: return "string";
+    case json::value_t::null:
+      return "null";
+    case json::value_t::boolean:
+      return "boolean";
+    case json::value_t::object:
+      return "object";
+    case json::value_t::array:
+      return "array";
+    case json::value_t::string:
+      return "string";
     case json::value_t::number_integer:
     case json::value_t::number_unsigned:
-    case json::value_t::number_float: return "number";
-    default: return "unknown";
+    case json::value_t::number_float:
+      return "number";
+    default:
+      return "unknown";
   }
 }
 
@@ -98,8 +108,8 @@ bool isIntegral(const json& v) {
 }
 
 const std::set<std::string>& typeNames() {
-  static const std::set<std::string> names{"null", "boolean", "object", "array",
-                                           "string", "number", "integer"};
+  static const std::set<std::string> names{"null",   "boolean", "object", "array",
+                                           "string", "number",  "integer"};
   return names;
 }
 
@@ -155,8 +165,10 @@ int pathDepth(const std::string& path) {
   for (std::size_t i = 0; i < path.size(); ++i) {
     const char c = path[i];
     if (quoted) {
-      if (c == '\\') ++i;
-      else if (c == '"') quoted = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        quoted = false;
     } else if (c == '"') {
       quoted = true;
     } else if (c == '.' || c == '[') {
@@ -170,8 +182,7 @@ std::string percentDecode(const std::string& s) {
   std::string out;
   out.reserve(s.size());
   for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s[i] == '%' && i + 2 < s.size() &&
-        std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
         std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
       out += static_cast<char>(std::stoi(s.substr(i + 1, 2), nullptr, 16));
       i += 2;
@@ -277,18 +288,21 @@ class SchemaChecker {
 
  private:
   static bool isAnnotation(const std::string& key) {
-    static const std::set<std::string> keys{
-        "$schema", "$id",      "$comment", "title",    "description", "default",
-        "examples", "deprecated", "readOnly", "writeOnly", "format"};
+    static const std::set<std::string> keys{"$schema",     "$id",       "$comment", "title",
+                                            "description", "default",   "examples", "deprecated",
+                                            "readOnly",    "writeOnly", "format"};
     return keys.count(key) != 0;
   }
 
   static std::string escape(const std::string& key) {
     std::string out;
     for (char c : key) {
-      if (c == '~') out += "~0";
-      else if (c == '/') out += "~1";
-      else out += c;
+      if (c == '~')
+        out += "~0";
+      else if (c == '/')
+        out += "~1";
+      else
+        out += c;
     }
     return out;
   }
@@ -353,8 +367,10 @@ class SchemaChecker {
       }
       if (branch == nullptr) continue;  // cross-document: checked when used
       const json* c = branchConstant(*branch, prop);
-      if (c == nullptr) fail(branchAt, "discriminator branch without properties." + prop + ".const");
-      if (!seen.insert(dumpSafe(*c)).second) fail(branchAt, "duplicate " + prop + " " + dumpSafe(*c));
+      if (c == nullptr)
+        fail(branchAt, "discriminator branch without properties." + prop + ".const");
+      if (!seen.insert(dumpSafe(*c)).second)
+        fail(branchAt, "duplicate " + prop + " " + dumpSafe(*c));
     }
   }
 
@@ -388,7 +404,13 @@ void forEachSchema(const json& schema, F&& f) {
 
 // Instance type bits, for "type".
 enum : unsigned {
-  kNull = 1, kBoolean = 2, kObject = 4, kArray = 8, kString = 16, kNumber = 32, kInteger = 64
+  kNull = 1,
+  kBoolean = 2,
+  kObject = 4,
+  kArray = 8,
+  kString = 16,
+  kNumber = 32,
+  kInteger = 64
 };
 
 unsigned typeBit(const std::string& t) {
@@ -404,19 +426,26 @@ unsigned typeBit(const std::string& t) {
 
 unsigned instanceBits(const json& v) {
   switch (v.type()) {
-    case json::value_t::null: return kNull;
-    case json::value_t::boolean: return kBoolean;
-    case json::value_t::object: return kObject;
-    case json::value_t::array: return kArray;
-    case json::value_t::string: return kString;
+    case json::value_t::null:
+      return kNull;
+    case json::value_t::boolean:
+      return kBoolean;
+    case json::value_t::object:
+      return kObject;
+    case json::value_t::array:
+      return kArray;
+    case json::value_t::string:
+      return kString;
     case json::value_t::number_integer:
-    case json::value_t::number_unsigned: return kNumber | kInteger;
+    case json::value_t::number_unsigned:
+      return kNumber | kInteger;
     case json::value_t::number_float: {
       const double d = v.get<double>();
       if (!std::isfinite(d)) return 0;
       return std::floor(d) == d ? (kNumber | kInteger) : kNumber;
     }
-    default: return 0;
+    default:
+      return 0;
   }
 }
 
@@ -436,8 +465,8 @@ struct Compiled {
   bool booleanValue = true;
   bool trivial = false;  ///< true or {}: accepts everything
 
-  const json* ref = nullptr;          ///< the $ref string
-  const json* refSchema = nullptr;    ///< its target, if it resolved when indexed
+  const json* ref = nullptr;        ///< the $ref string
+  const json* refSchema = nullptr;  ///< its target, if it resolved when indexed
   const json* refDocument = nullptr;
   const json* type = nullptr;
   unsigned typeMask = 0;
@@ -480,50 +509,78 @@ Compiled compile(const json& schema,
   if (!schema.is_object()) return c;
   c.trivial = schema.empty();
   // add() checked every indexed node; nodes reached otherwise are read defensively.
-  auto size = [](const json& v) { return isIntegral(v) && v.get<double>() >= 0 ? v.get<std::size_t>() : 0; };
+  auto size = [](const json& v) {
+    return isIntegral(v) && v.get<double>() >= 0 ? v.get<std::size_t>() : 0;
+  };
   for (auto it = schema.begin(); it != schema.end(); ++it) {
     const std::string& k = it.key();
     const json* v = &it.value();
-    if (k == "$ref") c.ref = v;
+    if (k == "$ref")
+      c.ref = v;
     else if (k == "type") {
       c.type = v;
-      if (v->is_string()) c.typeMask = typeBit(v->get<std::string>());
-      else if (v->is_array()) for (const auto& t : *v) c.typeMask |= t.is_string() ? typeBit(t.get<std::string>()) : 0;
-    }
-    else if (k == "enum") c.enumValues = v;
-    else if (k == "const") c.constValue = v;
-    else if (k == "minimum") c.minimum = v;
-    else if (k == "maximum") c.maximum = v;
-    else if (k == "exclusiveMinimum") c.exclusiveMinimum = v;
-    else if (k == "exclusiveMaximum") c.exclusiveMaximum = v;
-    else if (k == "minLength") c.minLength = size(*v);
-    else if (k == "maxLength") c.maxLength = size(*v);
-    else if (k == "minItems") c.minItems = size(*v);
-    else if (k == "maxItems") c.maxItems = size(*v);
-    else if (k == "minProperties") c.minProperties = size(*v);
-    else if (k == "maxProperties") c.maxProperties = size(*v);
+      if (v->is_string())
+        c.typeMask = typeBit(v->get<std::string>());
+      else if (v->is_array())
+        for (const auto& t : *v) c.typeMask |= t.is_string() ? typeBit(t.get<std::string>()) : 0;
+    } else if (k == "enum")
+      c.enumValues = v;
+    else if (k == "const")
+      c.constValue = v;
+    else if (k == "minimum")
+      c.minimum = v;
+    else if (k == "maximum")
+      c.maximum = v;
+    else if (k == "exclusiveMinimum")
+      c.exclusiveMinimum = v;
+    else if (k == "exclusiveMaximum")
+      c.exclusiveMaximum = v;
+    else if (k == "minLength")
+      c.minLength = size(*v);
+    else if (k == "maxLength")
+      c.maxLength = size(*v);
+    else if (k == "minItems")
+      c.minItems = size(*v);
+    else if (k == "maxItems")
+      c.maxItems = size(*v);
+    else if (k == "minProperties")
+      c.minProperties = size(*v);
+    else if (k == "maxProperties")
+      c.maxProperties = size(*v);
     else if (k == "pattern") {
       c.pattern = v;
       const auto r = regexes.find(v->get<std::string>());
       if (r != regexes.end()) c.regex = r->second;
-    }
-    else if (k == "required") c.required = v;
-    else if (k == "properties") c.properties = v;
-    else if (k == "additionalProperties") c.additional = v;
-    else if (k == "items") c.items = v;
-    else if (k == "prefixItems") c.prefixItems = v;
-    else if (k == "allOf") c.allOf = v;
-    else if (k == "anyOf") c.anyOf = v;
-    else if (k == "oneOf") c.oneOf = v;
-    else if (k == "not") c.notSchema = v;
-    else if (k == "if") c.ifSchema = v;
-    else if (k == "then") c.thenSchema = v;
-    else if (k == "else") c.elseSchema = v;
+    } else if (k == "required")
+      c.required = v;
+    else if (k == "properties")
+      c.properties = v;
+    else if (k == "additionalProperties")
+      c.additional = v;
+    else if (k == "items")
+      c.items = v;
+    else if (k == "prefixItems")
+      c.prefixItems = v;
+    else if (k == "allOf")
+      c.allOf = v;
+    else if (k == "anyOf")
+      c.anyOf = v;
+    else if (k == "oneOf")
+      c.oneOf = v;
+    else if (k == "not")
+      c.notSchema = v;
+    else if (k == "if")
+      c.ifSchema = v;
+    else if (k == "then")
+      c.thenSchema = v;
+    else if (k == "else")
+      c.elseSchema = v;
     else if (k == "discriminator") {
       const auto p = v->is_object() ? v->find("propertyName") : v->end();
-      if (v->is_object() && p != v->end() && p->is_string()) c.discriminator = &p->get_ref<const std::string&>();
-    }
-    else if (k == "x-error" && v->is_string()) c.xError = &v->get_ref<const std::string&>();
+      if (v->is_object() && p != v->end() && p->is_string())
+        c.discriminator = &p->get_ref<const std::string&>();
+    } else if (k == "x-error" && v->is_string())
+      c.xError = &v->get_ref<const std::string&>();
   }
   return c;
 }
@@ -595,8 +652,8 @@ class SchemaRegistry::Validator {
   }
 
   /// Validates a member/item of the current instance; `path` already points at it.
-  bool descend(const json& inst, const json& schema, const json& doc, std::string& path,
-               int depth, Sink& out) {
+  bool descend(const json& inst, const json& schema, const json& doc, std::string& path, int depth,
+               Sink& out) {
     if (depth + 1 > kMaxDepth) {
       if (trivial(schema)) return true;
       out.add(path, "depth",
@@ -670,8 +727,10 @@ class SchemaRegistry::Validator {
       };
       if (bound(c.minimum, "minimum", "≥", [](int r) { return r >= 0; })) return false;
       if (bound(c.maximum, "maximum", "≤", [](int r) { return r <= 0; })) return false;
-      if (bound(c.exclusiveMinimum, "exclusiveMinimum", ">", [](int r) { return r > 0; })) return false;
-      if (bound(c.exclusiveMaximum, "exclusiveMaximum", "<", [](int r) { return r < 0; })) return false;
+      if (bound(c.exclusiveMinimum, "exclusiveMinimum", ">", [](int r) { return r > 0; }))
+        return false;
+      if (bound(c.exclusiveMaximum, "exclusiveMaximum", "<", [](int r) { return r < 0; }))
+        return false;
     }
 
     // --- strings ---------------------------------------------------------------------------
@@ -679,18 +738,21 @@ class SchemaRegistry::Validator {
       const std::string& s = inst.get_ref<const std::string&>();
       const std::size_t length = utf8Length(s);
       if (length < c.minLength) {
-        out.add(path, "minLength", "expected at least " + plural(c.minLength, "character") +
-                                       ", got " + std::to_string(length));
+        out.add(path, "minLength",
+                "expected at least " + plural(c.minLength, "character") + ", got " +
+                    std::to_string(length));
         if (fail("minLength")) return false;
       }
       const bool tooLong = length > c.maxLength;
       if (tooLong) {
-        out.add(path, "maxLength", "expected at most " + plural(c.maxLength, "character") +
-                                       ", got " + std::to_string(length));
+        out.add(path, "maxLength",
+                "expected at most " + plural(c.maxLength, "character") + ", got " +
+                    std::to_string(length));
         if (fail("maxLength")) return false;
       }
       if (c.pattern != nullptr && !tooLong) {
-        if (!c.regex) throw std::logic_error("JSON Schema: pattern not compiled: " + c.pattern->dump());
+        if (!c.regex)
+          throw std::logic_error("JSON Schema: pattern not compiled: " + c.pattern->dump());
         if (!std::regex_search(s, *c.regex)) {
           out.add(path, "pattern", "does not match the pattern " + dumpSafe(*c.pattern));
           if (fail("pattern")) return false;
@@ -702,14 +764,14 @@ class SchemaRegistry::Validator {
     if (inst.is_array()) {
       const std::size_t n = inst.size();
       if (n < c.minItems) {
-        out.add(path, "minItems", "expected at least " + plural(c.minItems, "item") + ", got " +
-                                      std::to_string(n));
+        out.add(path, "minItems",
+                "expected at least " + plural(c.minItems, "item") + ", got " + std::to_string(n));
         if (fail("minItems")) return false;
       }
       const bool tooMany = n > c.maxItems;  // then do not walk a huge array item by item
       if (tooMany) {
-        out.add(path, "maxItems", "expected at most " + plural(c.maxItems, "item") + ", got " +
-                                      std::to_string(n));
+        out.add(path, "maxItems",
+                "expected at most " + plural(c.maxItems, "item") + ", got " + std::to_string(n));
         if (fail("maxItems")) return false;
       }
       if (!tooMany) {
@@ -770,13 +832,15 @@ class SchemaRegistry::Validator {
         }
       }
       if (inst.size() < c.minProperties) {
-        out.add(path, "minProperties", "expected at least " + plural(c.minProperties, "member") +
-                                           ", got " + std::to_string(inst.size()));
+        out.add(path, "minProperties",
+                "expected at least " + plural(c.minProperties, "member") + ", got " +
+                    std::to_string(inst.size()));
         if (fail("minProperties")) return false;
       }
       if (inst.size() > c.maxProperties) {
-        out.add(path, "maxProperties", "expected at most " + plural(c.maxProperties, "member") +
-                                           ", got " + std::to_string(inst.size()));
+        out.add(path, "maxProperties",
+                "expected at most " + plural(c.maxProperties, "member") + ", got " +
+                    std::to_string(inst.size()));
         if (fail("maxProperties")) return false;
       }
     }
@@ -855,8 +919,9 @@ class SchemaRegistry::Validator {
     }
     if (exactlyOne ? valid.size() == 1 : !valid.empty()) return true;
     if (valid.size() > 1) {
-      out.add(path, rule, "matches more than one alternative (#" + std::to_string(valid[0] + 1) +
-                              " and #" + std::to_string(valid[1] + 1) + ")");
+      out.add(path, rule,
+              "matches more than one alternative (#" + std::to_string(valid[0] + 1) + " and #" +
+                  std::to_string(valid[1] + 1) + ")");
       return false;
     }
     // No branch matched: report the one that got deepest into the instance (a missing member
@@ -931,7 +996,8 @@ class SchemaRegistry::Validator {
       if (c.ref == nullptr) break;
       std::tie(s, d) = target(c, *d);
     }
-    throw std::logic_error("JSON Schema: discriminator branch without properties." + prop + ".const");
+    throw std::logic_error("JSON Schema: discriminator branch without properties." + prop +
+                           ".const");
   }
 
   const SchemaRegistry& reg_;
@@ -1002,11 +1068,13 @@ std::pair<const json*, const json*> SchemaRegistry::resolve(const std::string& r
     }
   }
   const json* schema = resolveFragment(*doc, fragment);
-  if (schema == nullptr) throw std::out_of_range("JSON Schema $ref \"" + ref + "\" does not resolve");
+  if (schema == nullptr)
+    throw std::out_of_range("JSON Schema $ref \"" + ref + "\" does not resolve");
   return {schema, doc};
 }
 
-std::vector<SchemaError> SchemaRegistry::validate(const json& instance, const std::string& schemaName,
+std::vector<SchemaError> SchemaRegistry::validate(const json& instance,
+                                                  const std::string& schemaName,
                                                   std::size_t maxErrors) const {
   const json& doc = get(schemaName);
   Validator::Sink out(maxErrors);

@@ -1,7 +1,5 @@
 // Unit tests of the JSON Schema subset interpreter: every keyword, the path format and the
 // two extensions (x-error, discriminator).
-#include "devsurf/proto/JsonSchemaValidator.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "devsurf/proto/JsonSchemaValidator.h"
+
 using devsurf::proto::SchemaError;
 using devsurf::proto::SchemaRegistry;
 using nlohmann::json;
@@ -17,7 +17,8 @@ using nlohmann::json;
 namespace {
 
 /// Validates `instance` against `schema` (registered as "t.json").
-std::vector<SchemaError> check(const json& schema, const json& instance, std::size_t maxErrors = 20) {
+std::vector<SchemaError> check(const json& schema, const json& instance,
+                               std::size_t maxErrors = 20) {
   SchemaRegistry reg;
   reg.add("t.json", schema);
   return reg.validate(instance, "t.json", maxErrors);
@@ -82,14 +83,19 @@ TEST(SchemaRegistry, AddRejectsUnsupportedOrMalformedSchemas) {
   EXPECT_THROW(reg.add("a", json{{"minItems", -1}}), std::invalid_argument);
   EXPECT_THROW(reg.add("a", json{{"pattern", "("}}), std::invalid_argument);
   EXPECT_THROW(reg.add("a", json{{"$ref", "#/$defs/nope"}}), std::invalid_argument);
-  EXPECT_THROW(reg.add("a", json{{"discriminator", {{"propertyName", "k"}}}}), std::invalid_argument);
+  EXPECT_THROW(reg.add("a", json{{"discriminator", {{"propertyName", "k"}}}}),
+               std::invalid_argument);
   EXPECT_THROW(reg.add("a", json{{"discriminator", {{"propertyName", "k"}}},
                                  {"oneOf", {{{"type", "object"}}}}}),
                std::invalid_argument);
   EXPECT_THROW(reg.add("a", json::array()), std::invalid_argument);
   // annotations and x- extensions are fine
-  EXPECT_NO_THROW(reg.add("a", json{{"title", "t"}, {"description", "d"}, {"default", 1},
-                                    {"examples", {1}}, {"$comment", "c"}, {"x-ui", "slider"},
+  EXPECT_NO_THROW(reg.add("a", json{{"title", "t"},
+                                    {"description", "d"},
+                                    {"default", 1},
+                                    {"examples", {1}},
+                                    {"$comment", "c"},
+                                    {"x-ui", "slider"},
                                     {"$schema", "https://json-schema.org/draft/2020-12/schema"}}));
   EXPECT_FALSE(reg.contains("b"));
 }
@@ -106,7 +112,8 @@ TEST(SchemaRegistry, MaxErrorsLimitsTheList) {
 TEST(SchemaRegistry, BooleanSchemas) {
   EXPECT_TRUE(valid(true, json{{"x", 1}}));
   expectOne(check(false, 1), "", "false", "is not allowed");
-  expectOne(check({{"properties", {{"x", false}}}}, json{{"x", 1}}), "x", "false", "is not allowed");
+  expectOne(check({{"properties", {{"x", false}}}}, json{{"x", 1}}), "x", "false",
+            "is not allowed");
 }
 
 // --- path format -----------------------------------------------------------------------------
@@ -116,9 +123,11 @@ TEST(Paths, MembersJoinedByDotsIndicesInBrackets) {
       {"properties",
        {{"model",
          {{"properties",
-           {{"a", {{"properties", {{"points", {{"items", {{"items", {{"type", "number"}}}}}}}}}}}}}}}}}};
+           {{"a",
+             {{"properties", {{"points", {{"items", {{"items", {{"type", "number"}}}}}}}}}}}}}}}}}};
   const json instance = {{"model", {{"a", {{"points", {{0, 0}, {1, 1}, {2, 2}, {3, "x"}}}}}}}};
-  expectOne(check(schema, instance), "model.a.points[3][1]", "type", "expected a number, got string");
+  expectOne(check(schema, instance), "model.a.points[3][1]", "type",
+            "expected a number, got string");
 }
 
 TEST(Paths, RootArrayIndexHasNoLeadingDot) {
@@ -128,7 +137,8 @@ TEST(Paths, RootArrayIndexHasNoLeadingDot) {
 
 TEST(Paths, OddMemberNamesAreQuoted) {
   const json schema = {{"additionalProperties", {{"type", "number"}}}};
-  expectOne(check(schema, json{{"a.b", "x"}}), "[\"a.b\"]", "type", "expected a number, got string");
+  expectOne(check(schema, json{{"a.b", "x"}}), "[\"a.b\"]", "type",
+            "expected a number, got string");
   const json nested = {{"properties", {{"m", schema}}}};
   expectOne(check(nested, json{{"m", {{"", true}}}}), "m[\"\"]", "type",
             "expected a number, got boolean");
@@ -145,11 +155,13 @@ TEST(Type, EachType) {
   EXPECT_TRUE(valid({{"type", "object"}}, json::object()));
   EXPECT_TRUE(valid({{"type", "array"}}, json::array()));
   expectOne(check({{"type", "number"}}, "3"), "", "type", "expected a number, got string");
-  expectOne(check({{"type", "object"}}, json::array()), "", "type", "expected an object, got array");
+  expectOne(check({{"type", "object"}}, json::array()), "", "type",
+            "expected an object, got array");
   expectOne(check({{"type", "array"}}, nullptr), "", "type", "expected an array, got null");
   expectOne(check({{"type", "boolean"}}, 0), "", "type", "expected a boolean, got number");
   expectOne(check({{"type", "null"}}, true), "", "type", "expected null, got boolean");
-  expectOne(check({{"type", "string"}}, json::object()), "", "type", "expected a string, got object");
+  expectOne(check({{"type", "string"}}, json::object()), "", "type",
+            "expected a string, got object");
 }
 
 TEST(Type, ArrayOfTypes) {
@@ -273,7 +285,8 @@ TEST(Arrays, MinAndMaxItems) {
   EXPECT_TRUE(valid(schema, json{1, 2}));
   expectOne(check(schema, json{1}), "", "minItems", "expected at least 2 items, got 1");
   expectOne(check(schema, json{1, 2, 3, 4}), "", "maxItems", "expected at most 3 items, got 4");
-  expectOne(check({{"minItems", 1}}, json::array()), "", "minItems", "expected at least 1 item, got 0");
+  expectOne(check({{"minItems", 1}}, json::array()), "", "minItems",
+            "expected at least 1 item, got 0");
 }
 
 TEST(Arrays, TooManyItemsAreNotWalked) {
@@ -328,7 +341,8 @@ TEST(Objects, AdditionalPropertiesFalse) {
   const json schema = {{"properties", {{"iterations", {{"type", "integer"}}}}},
                        {"additionalProperties", false}};
   EXPECT_TRUE(valid(schema, json{{"iterations", 3}}));
-  expectOne(check(schema, json{{"iteratons", 3}}), "iteratons", "additionalProperties", "unknown field");
+  expectOne(check(schema, json{{"iteratons", 3}}), "iteratons", "additionalProperties",
+            "unknown field");
   const json nested = {{"properties", {{"solver", schema}}}};
   expectOne(check(nested, json{{"solver", {{"foo", 1}}}}), "solver.foo", "additionalProperties",
             "unknown field");
@@ -338,13 +352,15 @@ TEST(Objects, AdditionalPropertiesSchema) {
   const json schema = {{"properties", {{"name", {{"type", "string"}}}}},
                        {"additionalProperties", {{"type", "number"}}}};
   EXPECT_TRUE(valid(schema, json{{"name", "x"}, {"warp_angle_max_deg", 1.5}}));
-  expectOne(check(schema, json{{"name", "x"}, {"y", "z"}}), "y", "type", "expected a number, got string");
+  expectOne(check(schema, json{{"name", "x"}, {"y", "z"}}), "y", "type",
+            "expected a number, got string");
 }
 
 TEST(Objects, MinAndMaxProperties) {
   const json schema = {{"minProperties", 1}, {"maxProperties", 2}};
   EXPECT_TRUE(valid(schema, json{{"a", 1}}));
-  expectOne(check(schema, json::object()), "", "minProperties", "expected at least 1 member, got 0");
+  expectOne(check(schema, json::object()), "", "minProperties",
+            "expected at least 1 member, got 0");
   expectOne(check(schema, json{{"a", 1}, {"b", 2}, {"c", 3}}), "", "maxProperties",
             "expected at most 2 members, got 3");
 }
@@ -366,8 +382,9 @@ TEST(Combinators, AnyOf) {
   const json schema = {{"anyOf", {{{"type", "string"}}, {{"type", "integer"}, {"minimum", 0}}}}};
   EXPECT_TRUE(valid(schema, "x"));
   EXPECT_TRUE(valid(schema, 3));
-  expectOne(check(schema, -1), "", "anyOf",
-            "matches none of the alternatives: expected a string, got number; or must be ≥ 0, got -1");
+  expectOne(
+      check(schema, -1), "", "anyOf",
+      "matches none of the alternatives: expected a string, got number; or must be ≥ 0, got -1");
 }
 
 TEST(Combinators, OneOfExactlyOne) {
@@ -375,16 +392,19 @@ TEST(Combinators, OneOfExactlyOne) {
   EXPECT_TRUE(valid(schema, 1));
   EXPECT_TRUE(valid(schema, 2.5));
   expectOne(check(schema, 3), "", "oneOf", "matches more than one alternative (#1 and #2)");
-  expectOne(check(schema, 0.5), "", "oneOf",
-            "matches none of the alternatives: expected an integer, got 0.5; or must be ≥ 2, got 0.5");
+  expectOne(
+      check(schema, 0.5), "", "oneOf",
+      "matches none of the alternatives: expected an integer, got 0.5; or must be ≥ 2, got 0.5");
 }
 
 TEST(Combinators, OneOfReportsTheBranchThatGotFurthest) {
-  const json pointBranch = {{"type", "object"},
-                            {"required", {"x"}},
-                            {"properties", {{"x", {{"type", "number"}}}, {"y", {{"type", "number"}}}}}};
+  const json pointBranch = {
+      {"type", "object"},
+      {"required", {"x"}},
+      {"properties", {{"x", {{"type", "number"}}}, {"y", {{"type", "number"}}}}}};
   const json schema = {{"oneOf", {{{"type", "string"}}, pointBranch}}};
-  expectOne(check(schema, json{{"x", 1}, {"y", "2"}}), "y", "type", "expected a number, got string");
+  expectOne(check(schema, json{{"x", 1}, {"y", "2"}}), "y", "type",
+            "expected a number, got string");
   // a missing member is no progress: both branches fail at the instance itself
   expectOne(check(schema, json::object()), "", "oneOf",
             "matches none of the alternatives: expected a string, got object; or x: is required");
@@ -403,7 +423,8 @@ TEST(Combinators, IfThenElse) {
   EXPECT_TRUE(valid(schema, json{{"type", "spline"}, {"degree", 3}}));
   EXPECT_TRUE(valid(schema, json{{"type", "vectors"}}));
   expectOne(check(schema, json{{"type", "spline"}}), "degree", "required", "is required");
-  expectOne(check(schema, json{{"type", "vectors"}, {"degree", 3}}), "degree", "false", "is not allowed");
+  expectOne(check(schema, json{{"type", "vectors"}, {"degree", 3}}), "degree", "false",
+            "is not allowed");
   EXPECT_TRUE(valid({{"if", {{"type", "string"}}}}, 1));  // if alone constrains nothing
 }
 
@@ -418,7 +439,8 @@ TEST(Ref, LocalDefs) {
 }
 
 TEST(Ref, SiblingKeywordsApplyToo) {
-  const json schema = {{"$defs", {{"n", {{"type", "number"}}}}}, {"$ref", "#/$defs/n"}, {"maximum", 5}};
+  const json schema = {
+      {"$defs", {{"n", {{"type", "number"}}}}}, {"$ref", "#/$defs/n"}, {"maximum", 5}};
   EXPECT_TRUE(valid(schema, 5));
   expectOne(check(schema, 6), "", "maximum", "must be ≤ 5, got 6");
   expectOne(check(schema, "x"), "", "type", "expected a number, got string");
@@ -426,12 +448,14 @@ TEST(Ref, SiblingKeywordsApplyToo) {
 
 TEST(Ref, RecursiveSchemaAndDepthLimit) {
   // a tree: {"children": [tree...]}
-  const json schema = {{"$defs",
-                        {{"tree",
-                          {{"type", "object"},
-                           {"additionalProperties", false},
-                           {"properties", {{"children", {{"type", "array"}, {"items", {{"$ref", "#/$defs/tree"}}}}}}}}}}},
-                       {"$ref", "#/$defs/tree"}};
+  const json schema = {
+      {"$defs",
+       {{"tree",
+         {{"type", "object"},
+          {"additionalProperties", false},
+          {"properties",
+           {{"children", {{"type", "array"}, {"items", {{"$ref", "#/$defs/tree"}}}}}}}}}}},
+      {"$ref", "#/$defs/tree"}};
   json shallow = json::object();
   for (int i = 0; i < 10; ++i) shallow = json{{"children", {shallow}}};
   EXPECT_TRUE(valid(schema, shallow));
@@ -454,15 +478,16 @@ TEST(Ref, CycleWithoutProgressThrows) {
 TEST(Ref, CrossDocumentByNameAndId) {
   SchemaRegistry reg;
   // the referencing document may be added before its target
-  reg.add("outer.json", json{{"type", "object"},
-                             {"properties",
-                              {{"p", {{"$ref", "common.json#/$defs/point3"}}},
-                               {"q", {{"$ref", "urn:inner"}}}}}});
+  reg.add("outer.json",
+          json{{"type", "object"},
+               {"properties",
+                {{"p", {{"$ref", "common.json#/$defs/point3"}}}, {"q", {{"$ref", "urn:inner"}}}}}});
   EXPECT_THROW(reg.validate(json{{"p", {1, 2, 3}}}, "outer.json"), std::out_of_range);
-  reg.add("common.json", json{{"$defs",
-                               {{"point3",
-                                 {{"type", "array"}, {"items", {{"$ref", "#/$defs/num"}}}, {"minItems", 3}}},
-                                {"num", {{"type", "number"}}}}}});
+  reg.add(
+      "common.json",
+      json{{"$defs",
+            {{"point3", {{"type", "array"}, {"items", {{"$ref", "#/$defs/num"}}}, {"minItems", 3}}},
+             {"num", {{"type", "number"}}}}}});
   reg.add("inner-file.json", json{{"$id", "urn:inner"}, {"type", "string"}});
   EXPECT_TRUE(reg.validate(json{{"p", {1, 2, 3}}, {"q", "x"}}, "outer.json").empty());
   // "#/$defs/num" inside common.json resolves in common.json, not in outer.json
@@ -476,7 +501,8 @@ TEST(Ref, CrossDocumentByNameAndId) {
 
 TEST(Ref, ValidateRefSelectsASubschema) {
   SchemaRegistry reg;
-  reg.add("s.json", json{{"$defs", {{"pos", {{"type", "number"}, {"minimum", 0}}}}}, {"type", "object"}});
+  reg.add("s.json",
+          json{{"$defs", {{"pos", {{"type", "number"}, {"minimum", 0}}}}}, {"type", "object"}});
   EXPECT_TRUE(reg.validateRef(1, "s.json#/$defs/pos").empty());
   EXPECT_TRUE(reg.validateRef(1, "s.json#/%24defs/pos").empty());  // percent-encoded
   expectOne(reg.validateRef(-1, "s.json#/$defs/pos"), "", "minimum", "must be ≥ 0, got -1");
@@ -488,8 +514,11 @@ TEST(Ref, ValidateRefSelectsASubschema) {
 // --- x-error ---------------------------------------------------------------------------------
 
 TEST(XError, ReplacesErrorsUnderneathWithOneMessage) {
-  const json point3 = {{"type", "array"}, {"items", {{"type", "number"}}}, {"minItems", 3},
-                       {"maxItems", 3}, {"x-error", "expected 3 numbers"}};
+  const json point3 = {{"type", "array"},
+                       {"items", {{"type", "number"}}},
+                       {"minItems", 3},
+                       {"maxItems", 3},
+                       {"x-error", "expected 3 numbers"}};
   const json schema = {{"items", point3}};
   EXPECT_TRUE(valid(schema, json{{1, 2, 3}}));
   expectOne(check(schema, json{{1, 2, 3}, {1, 2}}), "[1]", "minItems", "expected 3 numbers");
@@ -501,8 +530,10 @@ TEST(XError, ReplacesErrorsUnderneathWithOneMessage) {
 }
 
 TEST(XError, WorksThroughRef) {
-  const json schema = {{"$defs", {{"pos", {{"type", "number"}, {"minimum", 0}, {"x-error", "expected a position ≥ 0"}}}}},
-                       {"properties", {{"p", {{"$ref", "#/$defs/pos"}}}}}};
+  const json schema = {
+      {"$defs",
+       {{"pos", {{"type", "number"}, {"minimum", 0}, {"x-error", "expected a position ≥ 0"}}}}},
+      {"properties", {{"p", {{"$ref", "#/$defs/pos"}}}}}};
   expectOne(check(schema, json{{"p", -2}}), "p", "minimum", "expected a position ≥ 0");
 }
 
@@ -530,18 +561,20 @@ json discriminated() {
 
 TEST(Discriminator, SelectsTheBranchByItsConstant) {
   EXPECT_TRUE(valid(discriminated(), json{{"model", {{"kind", "strip"}, {"a", 1}}}}));
-  EXPECT_TRUE(valid(discriminated(), json{{"model", {{"kind", "mesh"}, {"faces", json::array()}}}}));
+  EXPECT_TRUE(
+      valid(discriminated(), json{{"model", {{"kind", "mesh"}, {"faces", json::array()}}}}));
   // only the chosen branch's errors
   const auto errors = check(discriminated(), json{{"model", {{"kind", "mesh"}, {"a", 1}}}});
   ASSERT_EQ(errors.size(), 2u) << all(errors);
   EXPECT_EQ(errors[0].toString(), "model.faces: is required");
   EXPECT_EQ(errors[1].toString(), "model.a: unknown field");
-  expectOne(check(discriminated(), json{{"model", {{"kind", "strip"}, {"a", "1"}}}}), "model.a", "type",
-            "expected a number, got string");
+  expectOne(check(discriminated(), json{{"model", {{"kind", "strip"}, {"a", "1"}}}}), "model.a",
+            "type", "expected a number, got string");
 }
 
 TEST(Discriminator, MissingProperty) {
-  expectOne(check(discriminated(), json{{"model", {{"a", 1}}}}), "model.kind", "required", "is required");
+  expectOne(check(discriminated(), json{{"model", {{"a", 1}}}}), "model.kind", "required",
+            "is required");
 }
 
 TEST(Discriminator, UnknownValueListsTheAllowedOnes) {
@@ -558,16 +591,19 @@ TEST(Discriminator, NonObject) {
 
 TEST(Discriminator, InlineBranchesAndCrossDocumentBranches) {
   SchemaRegistry reg;
-  reg.add("models.json", json{{"$defs",
-                               {{"quad_mesh",
-                                 {{"required", {"faces"}},
-                                  {"properties", {{"kind", {{"const", "quad_mesh"}}}, {"faces", {{"type", "array"}}}}}}}}}});
+  reg.add("models.json",
+          json{{"$defs",
+                {{"quad_mesh",
+                  {{"required", {"faces"}},
+                   {"properties",
+                    {{"kind", {{"const", "quad_mesh"}}}, {"faces", {{"type", "array"}}}}}}}}}});
   reg.add("t.json", json{{"discriminator", {{"propertyName", "kind"}}},
                          {"oneOf",
                           {{{"properties", {{"kind", {{"enum", {"strip"}}}}}}},
                            {{"$ref", "models.json#/$defs/quad_mesh"}}}}});
   EXPECT_TRUE(reg.validate(json{{"kind", "strip"}}, "t.json").empty());
-  expectOne(reg.validate(json{{"kind", "quad_mesh"}}, "t.json"), "faces", "required", "is required");
+  expectOne(reg.validate(json{{"kind", "quad_mesh"}}, "t.json"), "faces", "required",
+            "is required");
   expectOne(reg.validate(json{{"kind", "x"}}, "t.json"), "kind", "enum",
             "unknown kind \"x\" (expected one of: strip, quad_mesh)");
 }

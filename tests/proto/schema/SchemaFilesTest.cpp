@@ -1,14 +1,16 @@
 // The real schema files proto/schemas/*.schema.json: valid documents pass, each kind of
 // mistake gives exactly the expected error path.
-#include "devsurf/proto/JsonSchemaValidator.h"
-
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include "devsurf/proto/JsonSchemaValidator.h"
 
 using devsurf::proto::SchemaError;
 using devsurf::proto::SchemaRegistry;
@@ -113,7 +115,8 @@ TEST_F(SchemaFiles, MinimalSceneAndFullSolverPass) {
   EXPECT_TRUE(scene(doc).empty()) << all(scene(doc));
   doc["model"]["normals"] = {{"type", "spline"}, {"degree", 3}, {"points", 5}};
   doc["solver"] = json::object();
-  for (const auto& [name, property] : registry_->get("scene.schema.json")["$defs"]["solver"]["properties"].items()) {
+  for (const auto& [name, property] :
+       registry_->get("scene.schema.json")["$defs"]["solver"]["properties"].items()) {
     ASSERT_TRUE(property.contains("default")) << name;
     ASSERT_TRUE(property.contains("description")) << name;
     doc["solver"][name] = property["default"];
@@ -126,7 +129,8 @@ TEST_F(SchemaFiles, EveryDefaultIsValidForItsOwnSchema) {
   for (const char* def : {"solver", "normals_spline", "handle", "curve"}) {
     for (const auto& [name, property] : defs[def]["properties"].items()) {
       if (!property.contains("default")) continue;
-      const std::string ref = std::string("scene.schema.json#/$defs/") + def + "/properties/" + name;
+      const std::string ref =
+          std::string("scene.schema.json#/$defs/") + def + "/properties/" + name;
       const auto errors = registry_->validateRef(property["default"], ref);
       EXPECT_TRUE(errors.empty()) << ref << ": " << all(errors);
     }
@@ -134,7 +138,8 @@ TEST_F(SchemaFiles, EveryDefaultIsValidForItsOwnSchema) {
 }
 
 TEST_F(SchemaFiles, SubschemasByRef) {
-  EXPECT_TRUE(registry_->validateRef(scene()["model"]["a"], "scene.schema.json#/$defs/curve").empty());
+  EXPECT_TRUE(
+      registry_->validateRef(scene()["model"]["a"], "scene.schema.json#/$defs/curve").empty());
   const auto errors = registry_->validateRef(json{{"degree", 0}, {"points", {{0, 0, 0}}}},
                                              "scene.schema.json#/$defs/curve");
   ASSERT_EQ(errors.size(), 2u) << all(errors);
@@ -151,7 +156,8 @@ TEST_F(SchemaFiles, MissingModelKind) {
 TEST_F(SchemaFiles, UnknownModelKind) {
   json doc = scene();
   doc["model"]["kind"] = "sphere";
-  EXPECT_EQ(expectOne(scene(doc), "model.kind", "enum"), "unknown kind \"sphere\" (expected one of: strip)");
+  EXPECT_EQ(expectOne(scene(doc), "model.kind", "enum"),
+            "unknown kind \"sphere\" (expected one of: strip)");
 }
 
 TEST_F(SchemaFiles, PointWithTwoNumbers) {
@@ -231,7 +237,8 @@ TEST_F(SchemaFiles, BadNormalsType) {
 TEST_F(SchemaFiles, HandleWithWeightZero) {
   json doc = scene();
   doc["model"]["handles"][0]["weight"] = 0;
-  EXPECT_EQ(expectOne(scene(doc), "model.handles[0].weight", "exclusiveMinimum"), "must be > 0, got 0");
+  EXPECT_EQ(expectOne(scene(doc), "model.handles[0].weight", "exclusiveMinimum"),
+            "must be > 0, got 0");
 }
 
 TEST_F(SchemaFiles, FixedWithUnknownCurve) {
@@ -313,7 +320,8 @@ TEST_F(SchemaFiles, ValidReportPasses) {
 TEST_F(SchemaFiles, ReportMistakes) {
   json doc = report();
   doc["scene"]["model"]["a"]["points"][3] = {3, 0};  // via the cross-file $ref
-  EXPECT_EQ(expectOne(registry_->validate(doc, "report.schema.json"), "scene.model.a.points[3]", "minItems"),
+  EXPECT_EQ(expectOne(registry_->validate(doc, "report.schema.json"), "scene.model.a.points[3]",
+                      "minItems"),
             "expected 3 numbers");
   doc = report();
   doc["termination"] = "bored";
@@ -323,11 +331,32 @@ TEST_F(SchemaFiles, ReportMistakes) {
   expectOne(registry_->validate(doc, "report.schema.json"), "metrics.warp_angle_max_deg", "type");
   doc = report();
   doc["history"][1]["time_ms"]["assembly"] = -1;
-  expectOne(registry_->validate(doc, "report.schema.json"), "history[1].time_ms.assembly", "minimum");
+  expectOne(registry_->validate(doc, "report.schema.json"), "history[1].time_ms.assembly",
+            "minimum");
   doc = report();
   doc["history"][0].erase("total");
   expectOne(registry_->validate(doc, "report.schema.json"), "history[0].total", "required");
   doc = report();
   doc.erase("scene");
   expectOne(registry_->validate(doc, "report.schema.json"), "scene", "required");
+}
+
+TEST_F(SchemaFiles, ConcurrentValidationAndCopies) {
+  const SchemaRegistry copy = *registry_;  // copies share the immutable schemas
+  json bad = scene();
+  bad["model"]["fixed"][0]["curve"] = "c";
+  std::vector<std::thread> threads;
+  std::atomic<int> failures{0};
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      const SchemaRegistry& reg = t % 2 == 0 ? *registry_ : copy;
+      for (int i = 0; i < 50; ++i) {
+        if (!reg.validate(scene(), "scene.schema.json").empty()) ++failures;
+        const auto errors = reg.validate(bad, "scene.schema.json");
+        if (errors.size() != 1 || errors[0].path != "model.fixed[0].curve") ++failures;
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  EXPECT_EQ(failures.load(), 0);
 }

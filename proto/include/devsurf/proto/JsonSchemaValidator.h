@@ -3,12 +3,11 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace devsurf::proto {
 
@@ -122,9 +121,9 @@ class SchemaRegistry {
   std::pair<const nlohmann::json*, const nlohmann::json*> resolve(
       const std::string& ref, const nlohmann::json& document) const;
 
-  std::map<std::string, Document> documents_;                      ///< by name and by $id
+  std::map<std::string, Document> documents_;                       ///< by name and by $id
   std::map<std::string, std::shared_ptr<const std::regex>> regex_;  ///< compiled patterns
-  std::shared_ptr<const Index> index_;                             ///< rebuilt by add()
+  std::shared_ptr<const Index> index_;                              ///< rebuilt by add()
 };
 
 }  // namespace devsurf::proto

@@ -51,7 +51,6 @@ struct SolverOptions {
   double residualTolerance = 1e-14;      ///< stop when the objective Σ(w r)² falls below
   double relativeChangeTolerance = 1e-9; ///< stop when |E_k − E_{k−1}| ≤ tol · E_{k−1}
                                          ///< (E = objective; checked from the second step on)
-  LinearSolverKind linearSolver = LinearSolverKind::SimplicialLDLT;
   /// Called after every iteration (and for iteration 0); return false to abort the solve.
   std::function<bool(const IterationRecord&)> callback;
 };
