@@ -194,7 +194,7 @@ Scene sceneFromText(const std::string& text) {
   json document;
   try {
     document = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
     throw SceneError("", "json", std::string("not valid JSON: ") + e.what());
   }
   return sceneFromJson(document);

@@ -254,6 +254,7 @@ class SchemaChecker {
       } else if (key == "enum") {
         if (!v.is_array() || v.empty()) fail(at, "must be a non-empty array");
       } else if (key == "const") {
+        // any value
       } else if (key == "minimum" || key == "maximum" || key == "exclusiveMinimum" ||
                  key == "exclusiveMaximum") {
         if (!isFiniteNumber(v)) fail(at, "must be a number");
@@ -279,7 +280,7 @@ class SchemaChecker {
       } else if (key == "$ref") {
         checkRef(v, at);
       } else if (key == "discriminator") {
-        checkDiscriminator(schema, v, at);
+        checkDiscriminator(schema, v, where, at);
       } else {
         fail(at, "unsupported keyword \"" + key + "\"");
       }
@@ -297,12 +298,13 @@ class SchemaChecker {
   static std::string escape(const std::string& key) {
     std::string out;
     for (char c : key) {
-      if (c == '~')
+      if (c == '~') {
         out += "~0";
-      else if (c == '/')
+      } else if (c == '/') {
         out += "~1";
-      else
+      } else {
         out += c;
+      }
     }
     return out;
   }
@@ -348,7 +350,8 @@ class SchemaChecker {
 
   void checkRef(const json& v, const std::string& at) const { local(v, at); }
 
-  void checkDiscriminator(const json& schema, const json& v, const std::string& at) const {
+  void checkDiscriminator(const json& schema, const json& v, const std::string& where,
+                          const std::string& at) const {
     if (!v.is_object() || !v.contains("propertyName") || !v["propertyName"].is_string() ||
         v.size() != 1) {
       fail(at, "must be {\"propertyName\": \"<name>\"}");
@@ -359,7 +362,7 @@ class SchemaChecker {
     std::set<std::string> seen;
     for (std::size_t i = 0; i < oneOf->size(); ++i) {
       const json* branch = &(*oneOf)[i];
-      const std::string branchAt = at + "/../oneOf/" + std::to_string(i);
+      const std::string branchAt = where + "/oneOf/" + std::to_string(i);
       int hops = 0;
       while (branch != nullptr && branch->is_object() && branchConstant(*branch, prop) == nullptr &&
              branch->contains("$ref") && ++hops <= kMaxRefHops) {
@@ -499,6 +502,34 @@ struct Compiled {
 
 Compiled compile(const json& schema,
                  const std::map<std::string, std::shared_ptr<const std::regex>>& regexes) {
+  static const std::map<std::string, const json * Compiled::*> kSchemaValued{
+      {"$ref", &Compiled::ref},
+      {"enum", &Compiled::enumValues},
+      {"const", &Compiled::constValue},
+      {"minimum", &Compiled::minimum},
+      {"maximum", &Compiled::maximum},
+      {"exclusiveMinimum", &Compiled::exclusiveMinimum},
+      {"exclusiveMaximum", &Compiled::exclusiveMaximum},
+      {"pattern", &Compiled::pattern},
+      {"required", &Compiled::required},
+      {"properties", &Compiled::properties},
+      {"additionalProperties", &Compiled::additional},
+      {"items", &Compiled::items},
+      {"prefixItems", &Compiled::prefixItems},
+      {"allOf", &Compiled::allOf},
+      {"anyOf", &Compiled::anyOf},
+      {"oneOf", &Compiled::oneOf},
+      {"not", &Compiled::notSchema},
+      {"if", &Compiled::ifSchema},
+      {"then", &Compiled::thenSchema},
+      {"else", &Compiled::elseSchema},
+  };
+  static const std::map<std::string, std::size_t Compiled::*> kCounts{
+      {"minLength", &Compiled::minLength},         {"maxLength", &Compiled::maxLength},
+      {"minItems", &Compiled::minItems},           {"maxItems", &Compiled::maxItems},
+      {"minProperties", &Compiled::minProperties}, {"maxProperties", &Compiled::maxProperties},
+  };
+
   Compiled c;
   if (schema.is_boolean()) {
     c.isBoolean = true;
@@ -508,80 +539,33 @@ Compiled compile(const json& schema,
   }
   if (!schema.is_object()) return c;
   c.trivial = schema.empty();
-  // add() checked every indexed node; nodes reached otherwise are read defensively.
-  auto size = [](const json& v) {
-    return isIntegral(v) && v.get<double>() >= 0 ? v.get<std::size_t>() : 0;
-  };
+  // add() checked every indexed node; anything else (validateRef into an odd place) is read
+  // defensively: malformed keyword values are ignored.
   for (auto it = schema.begin(); it != schema.end(); ++it) {
-    const std::string& k = it.key();
-    const json* v = &it.value();
-    if (k == "$ref")
-      c.ref = v;
-    else if (k == "type") {
-      c.type = v;
-      if (v->is_string())
-        c.typeMask = typeBit(v->get<std::string>());
-      else if (v->is_array())
-        for (const auto& t : *v) c.typeMask |= t.is_string() ? typeBit(t.get<std::string>()) : 0;
-    } else if (k == "enum")
-      c.enumValues = v;
-    else if (k == "const")
-      c.constValue = v;
-    else if (k == "minimum")
-      c.minimum = v;
-    else if (k == "maximum")
-      c.maximum = v;
-    else if (k == "exclusiveMinimum")
-      c.exclusiveMinimum = v;
-    else if (k == "exclusiveMaximum")
-      c.exclusiveMaximum = v;
-    else if (k == "minLength")
-      c.minLength = size(*v);
-    else if (k == "maxLength")
-      c.maxLength = size(*v);
-    else if (k == "minItems")
-      c.minItems = size(*v);
-    else if (k == "maxItems")
-      c.maxItems = size(*v);
-    else if (k == "minProperties")
-      c.minProperties = size(*v);
-    else if (k == "maxProperties")
-      c.maxProperties = size(*v);
-    else if (k == "pattern") {
-      c.pattern = v;
-      const auto r = regexes.find(v->get<std::string>());
-      if (r != regexes.end()) c.regex = r->second;
-    } else if (k == "required")
-      c.required = v;
-    else if (k == "properties")
-      c.properties = v;
-    else if (k == "additionalProperties")
-      c.additional = v;
-    else if (k == "items")
-      c.items = v;
-    else if (k == "prefixItems")
-      c.prefixItems = v;
-    else if (k == "allOf")
-      c.allOf = v;
-    else if (k == "anyOf")
-      c.anyOf = v;
-    else if (k == "oneOf")
-      c.oneOf = v;
-    else if (k == "not")
-      c.notSchema = v;
-    else if (k == "if")
-      c.ifSchema = v;
-    else if (k == "then")
-      c.thenSchema = v;
-    else if (k == "else")
-      c.elseSchema = v;
-    else if (k == "discriminator") {
-      const auto p = v->is_object() ? v->find("propertyName") : v->end();
-      if (v->is_object() && p != v->end() && p->is_string())
-        c.discriminator = &p->get_ref<const std::string&>();
-    } else if (k == "x-error" && v->is_string())
-      c.xError = &v->get_ref<const std::string&>();
+    const json& v = it.value();
+    if (const auto p = kSchemaValued.find(it.key()); p != kSchemaValued.end()) {
+      c.*(p->second) = &v;
+    } else if (const auto n = kCounts.find(it.key()); n != kCounts.end()) {
+      if (isIntegral(v) && v.get<double>() >= 0) c.*(n->second) = v.get<std::size_t>();
+    } else if (it.key() == "type") {
+      c.type = &v;
+      if (v.is_string()) c.typeMask = typeBit(v.get<std::string>());
+      for (const auto& t : v.is_array() ? v : json::array()) {
+        if (t.is_string()) c.typeMask |= typeBit(t.get<std::string>());
+      }
+    } else if (it.key() == "discriminator") {
+      if (v.is_object() && v.contains("propertyName") && v["propertyName"].is_string()) {
+        c.discriminator = &v["propertyName"].get_ref<const std::string&>();
+      }
+    } else if (it.key() == "x-error" && v.is_string()) {
+      c.xError = &v.get_ref<const std::string&>();
+    }
   }
+  if (c.pattern != nullptr && c.pattern->is_string()) {
+    const auto r = regexes.find(c.pattern->get<std::string>());
+    if (r != regexes.end()) c.regex = r->second;
+  }
+  if (c.ref != nullptr && !c.ref->is_string()) c.ref = nullptr;
   return c;
 }
 
@@ -628,11 +612,11 @@ class SchemaRegistry::Validator {
     if (c.xError != nullptr) {
       Sink probe(1);
       const char* failed = "x-error";
-      if (keywords(inst, schema, c, doc, path, depth, hops, probe, &failed)) return true;
+      if (keywords(inst, c, doc, path, depth, hops, probe, &failed)) return true;
       out.add(path, failed, *c.xError);
       return false;
     }
-    return keywords(inst, schema, c, doc, path, depth, hops, out, nullptr);
+    return keywords(inst, c, doc, path, depth, hops, out, nullptr);
   }
 
  private:
@@ -668,8 +652,8 @@ class SchemaRegistry::Validator {
     return reg_.resolve(c.ref->get<std::string>(), doc);
   }
 
-  bool keywords(const json& inst, const json& schema, const Compiled& c, const json& doc,
-                std::string& path, int depth, int hops, Sink& out, const char** failed) {
+  bool keywords(const json& inst, const Compiled& c, const json& doc, std::string& path, int depth,
+                int hops, Sink& out, const char** failed) {
     if (c.trivial) return true;
     if (c.isBoolean) {
       if (failed != nullptr) *failed = "false";

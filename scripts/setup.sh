@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs what devsurf needs on Debian 12 (idempotent) and builds what is stale.
+# Usage: scripts/setup.sh            (dependencies + Release build in ./build)
+# Environment: DEVSURF_BUILD_DIR (default build), DEVSURF_JOBS (default: number of cores).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+APT_PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libeigen3-dev nlohmann-json3-dev libspdlog-dev libopenmesh-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libcpp-httplib-dev libboost-dev libsqlite3-dev libsuitesparse-dev
+)
+
+missing=()
+for p in "${APT_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+BUILD_DIR="${DEVSURF_BUILD_DIR:-build}"
+JOBS="${DEVSURF_JOBS:-$(nproc)}"
+if [ ! -f "$BUILD_DIR/build.ninja" ]; then
+  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release
+fi
+# Ninja rebuilds only what is stale (and re-runs CMake when a CMakeLists or globbed folder changed).
+cmake --build "$BUILD_DIR" -j "$JOBS"

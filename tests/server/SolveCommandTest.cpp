@@ -1,0 +1,97 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "devsurf/io/QuadMesh.h"
+#include "devsurf/proto/Scene.h"
+#include "devsurf/server/Cli.h"
+
+namespace devsurf::server {
+namespace {
+
+struct CliRun {
+  int code;
+  std::string out, err;
+};
+
+CliRun run(const std::vector<std::string>& args, const std::string& input = "") {
+  std::istringstream in(input);
+  std::ostringstream out, err;
+  const int code = runCli(args, in, out, err);
+  return {code, out.str(), err.str()};
+}
+
+std::string example(const std::string& name) {
+  return std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name;
+}
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("devsurf_cli_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+TEST(SolveCommand, WritesAValidReportForTheTwistedStripExample) {
+  const CliRun r = run({"solve", example("strip-twisted.json")});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  const auto errors = proto::schemaRegistry().validate(report, "report.schema.json");
+  EXPECT_TRUE(errors.empty()) << errors[0].toString();
+  EXPECT_LT(report["metrics"]["warp_angle_max_deg"].get<double>(), 0.05);
+  EXPECT_LE(report["iterations"].get<int>(), 20);
+  EXPECT_EQ(report["history"].size(), report["iterations"].get<std::size_t>() + 1);
+  // The solved scene is valid input again, with the same structure.
+  const proto::Scene again = proto::sceneFromJson(report["scene"]);
+  EXPECT_EQ(std::get<models::strip::StripDesign>(again.model).b.points.rows(), 7);
+}
+
+TEST(SolveCommand, HonoursIterationsOutAndExport) {
+  const std::string reportPath = tempPath("report.json");
+  const std::string objPath = tempPath("surface.mesh");  // any name: the format says OBJ
+  const CliRun r = run({"solve", example("strip-lifted-corner.json"), "--iterations", "3", "--out",
+                     reportPath, "--export", "obj:" + objPath});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out.empty());
+  std::ifstream file(reportPath);
+  const nlohmann::json report = nlohmann::json::parse(file);
+  EXPECT_EQ(report["iterations"], 3);
+  std::filesystem::copy_file(objPath, objPath + ".obj", std::filesystem::copy_options::overwrite_existing);
+  const io::QuadMesh mesh = io::readQuadMesh(objPath + ".obj");
+  EXPECT_EQ(mesh.vertices.rows(), 200 * 8);
+  EXPECT_EQ(mesh.quads.rows(), 199 * 7);
+  for (const std::string& p : {reportPath, objPath, objPath + ".obj"}) std::remove(p.c_str());
+}
+
+TEST(SolveCommand, ReadsTheSceneFromStandardInput) {
+  std::ifstream file(example("strip-cylinder.json"));
+  std::stringstream text;
+  text << file.rdbuf();
+  const CliRun r = run({"solve", "-"}, text.str());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_LT(nlohmann::json::parse(r.out)["metrics"]["displacement_max_b"].get<double>(), 1e-9);
+}
+
+TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
+  const CliRun notJson = run({"solve", "-"}, "{ this is not json");
+  EXPECT_EQ(notJson.code, 2);
+  EXPECT_NE(notJson.err.find("not valid JSON"), std::string::npos) << notJson.err;
+
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(example("strip-twisted.json")));
+  doc["model"]["a"]["points"][3] = {1, 2};
+  const CliRun badPoint = run({"solve", "-"}, doc.dump());
+  EXPECT_EQ(badPoint.code, 2);
+  EXPECT_NE(badPoint.err.find("model.a.points[3]: expected 3 numbers"), std::string::npos) << badPoint.err;
+
+  EXPECT_EQ(run({"solve"}).code, 2);
+  EXPECT_EQ(run({"solve", "/nonexistent.json"}).code, 2);
+  EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--iterations", "many"}).code, 2);
+  EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--export", "step:x.step"}).code, 2);
+  EXPECT_EQ(run({"frobnicate"}).code, 2);
+  EXPECT_EQ(run({"help"}).code, 0);
+}
+
+}  // namespace
+}  // namespace devsurf::server

@@ -1,0 +1,47 @@
+#include "devsurf/io/QuadMesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace devsurf::io {
+namespace {
+
+std::string tempPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("devsurf_io_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+QuadMesh grid() {
+  QuadMesh m;
+  m.vertices.resize(6, 3);
+  m.vertices << 0, 0, 0, 0, 1, 0, 1, 0, 0.5, 1, 1, 0.5, 2, 0, 0, 2, 1, 0;
+  m.quads.resize(2, 4);
+  m.quads << 0, 2, 3, 1, 2, 4, 5, 3;
+  return m;
+}
+
+TEST(QuadMesh, ObjRoundTripKeepsQuadsAndCoordinates) {
+  const std::string path = tempPath("grid.obj");
+  writeMesh(grid(), path);
+  std::ifstream file(path);
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("f 1 3 4 2"), std::string::npos) << text;  // OBJ is 1-based
+  const QuadMesh back = readQuadMesh(path);
+  EXPECT_EQ(back.quads, grid().quads);
+  EXPECT_LT((back.vertices - grid().vertices).cwiseAbs().maxCoeff(), 1e-12);
+  std::remove(path.c_str());
+}
+
+TEST(QuadMesh, BadIndicesAndUnwritablePathsThrow) {
+  QuadMesh m = grid();
+  m.quads(1, 2) = 17;
+  EXPECT_THROW(writeMesh(m, tempPath("bad.obj")), std::runtime_error);
+  EXPECT_THROW(writeMesh(grid(), "/nonexistent-dir/x.obj"), std::runtime_error);
+  EXPECT_THROW(readQuadMesh("/nonexistent-dir/x.obj"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace devsurf::io
