@@ -45,12 +45,7 @@ KnotVector KnotVector::clampedUniform(int degree, int numControlPoints) {
   for (int i = 1; i < spans; ++i) {
     knots[p + i] = static_cast<double>(i) / spans;
   }
-  KnotVector kv;
-  kv.degree_ = p;
-  kv.numControlPoints_ = n;
-  kv.kind_ = KnotKind::Clamped;
-  kv.knots_ = std::move(knots);
-  return kv;
+  return KnotVector(p, n, KnotKind::Clamped, std::move(knots));
 }
 
 KnotVector KnotVector::clamped(int degree, std::vector<double> knots, int numControlPoints) {
@@ -99,12 +94,7 @@ KnotVector KnotVector::clamped(int degree, std::vector<double> knots, int numCon
     }
     i = j;
   }
-  KnotVector kv;
-  kv.degree_ = p;
-  kv.numControlPoints_ = n;
-  kv.kind_ = KnotKind::Clamped;
-  kv.knots_ = std::move(knots);
-  return kv;
+  return KnotVector(p, n, KnotKind::Clamped, std::move(knots));
 }
 
 KnotVector KnotVector::periodicUniform(int degree, int numControlPoints) {
@@ -118,12 +108,7 @@ KnotVector KnotVector::periodicUniform(int degree, int numControlPoints) {
   }
   knots[p] = 0.0;
   knots[n + p] = 1.0;
-  KnotVector kv;
-  kv.degree_ = p;
-  kv.numControlPoints_ = n;
-  kv.kind_ = KnotKind::Periodic;
-  kv.knots_ = std::move(knots);
-  return kv;
+  return KnotVector(p, n, KnotKind::Periodic, std::move(knots));
 }
 
 namespace {

@@ -16,6 +16,15 @@ using testing::LinearRowsTerm;
 using testing::ProductTerm;
 using testing::SqrtTerm;
 
+/// The hard constraint x0·x1 = 1 from x = (3, 1).
+Problem productProblem() {
+  Problem problem;
+  problem.addBlock("x", 2);
+  problem.x() << 3.0, 1.0;
+  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  return problem;
+}
+
 TEST(GuidedProjectionSolver, SolvesALinearLeastSquaresProblemInOneStep) {
   Problem problem;
   problem.addBlock("x", 3);
@@ -89,10 +98,7 @@ TEST(GuidedProjectionSolver, FairnessWeightDecaysGeometrically) {
 }
 
 TEST(GuidedProjectionSolver, SummaryRecordsEveryIterationWithTimesAndTermResiduals) {
-  Problem problem;
-  problem.addBlock("x", 2);
-  problem.x() << 3.0, 1.0;
-  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  Problem problem = productProblem();
   GuidedProjectionSolver solver(problem);
   SolverOptions options;
   options.maxIterations = 4;
@@ -130,10 +136,7 @@ TEST(GuidedProjectionSolver, StopsOnResidualTolerance) {
 }
 
 TEST(GuidedProjectionSolver, CallbackCanAbortTheSolve) {
-  Problem problem;
-  problem.addBlock("x", 2);
-  problem.x() << 3.0, 1.0;
-  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  Problem problem = productProblem();
   GuidedProjectionSolver solver(problem);
   SolverOptions options;
   options.maxIterations = 20;
@@ -162,10 +165,7 @@ TEST(GuidedProjectionSolver, DivergingStepRestoresThePreviousIterate) {
 }
 
 TEST(GuidedProjectionSolver, StopsWhenTheTimeBudgetRunsOut) {
-  Problem problem;
-  problem.addBlock("x", 2);
-  problem.x() << 3.0, 1.0;
-  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  Problem problem = productProblem();
   GuidedProjectionSolver solver(problem);
   SolverOptions options;
   options.maxIterations = 1000000;

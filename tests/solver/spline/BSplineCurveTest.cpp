@@ -6,6 +6,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "support/ExpectError.h"
+
 #include "devsurf/spline/BSplineCurve.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/spline/KnotVector.h"
@@ -173,33 +175,24 @@ TEST(PeriodicCurve, EvaluationIsContinuousAcrossEveryKnot) {
   }
 }
 
-template <class F>
-void expectInvalid(F call, const std::string& fragment) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument mentioning \"" << fragment << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
-        << "message was: " << e.what();
-  }
-}
+using devsurf::testing::expectThrowMentioning;
 
 TEST(BSplineCurve, EvaluationRejectsInconsistentParts) {
   const KnotVector kv = KnotVector::clampedUniform(2, 4);
-  expectInvalid([&] { BSplineCurve{kv, Eigen::MatrixXd::Zero(3, 2), {}}.evaluate(0.5); },
+  expectThrowMentioning([&] { BSplineCurve{kv, Eigen::MatrixXd::Zero(3, 2), {}}.evaluate(0.5); },
                 "expected 4 control points");
-  expectInvalid(
+  expectThrowMentioning(
       [&] { BSplineCurve{kv, Eigen::MatrixXd::Zero(4, 2), Eigen::VectorXd::Ones(3)}.evaluate(0.5); },
       "weights must be empty or hold one value per control point");
-  expectInvalid(
+  expectThrowMentioning(
       [&] {
         BSplineCurve{kv, Eigen::MatrixXd::Zero(4, 2), -Eigen::VectorXd::Ones(4)}.evaluate(0.5);
       },
       "weights must be positive");
-  expectInvalid([&] { BSplineCurve{kv, Eigen::MatrixXd::Zero(4, 2), {}}.evaluate(0.5, -1); },
+  expectThrowMentioning([&] { BSplineCurve{kv, Eigen::MatrixXd::Zero(4, 2), {}}.evaluate(0.5, -1); },
                 "derivative must be >= 0");
-  expectInvalid([] { BSplineCurve{}.evaluate(0.0); }, "knot vector is empty");
-  expectInvalid(
+  expectThrowMentioning([] { BSplineCurve{}.evaluate(0.0); }, "knot vector is empty");
+  expectThrowMentioning(
       [&] {
         BSplineCurve{kv, Eigen::MatrixXd::Zero(4, 2), Eigen::VectorXd::Zero(4)}.validate();
       },

@@ -7,6 +7,8 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "support/ExpectError.h"
+
 #include "devsurf/spline/BSplineCurve.h"
 #include "devsurf/spline/KnotVector.h"
 
@@ -57,16 +59,7 @@ BSplineCurve randomClampedCurve(int p, unsigned seed) {
   return BSplineCurve{KnotVector::clamped(p, knots, n), pts, {}};
 }
 
-template <class F>
-void expectInvalid(F call, const std::string& fragment) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument mentioning \"" << fragment << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
-        << "message was: " << e.what();
-  }
-}
+using devsurf::testing::expectThrowMentioning;
 
 // ---- Bézier --------------------------------------------------------------------------------
 
@@ -180,11 +173,11 @@ TEST(KnotInsertion, RefinementLeavesTheCurveUnchanged) {
 
 TEST(KnotInsertion, RejectsBadRequestsWithAClearMessage) {
   const BSplineCurve c = nonUniformCubic();
-  expectInvalid([&] { insertKnot(c, 1.5); }, "outside the domain");
-  expectInvalid([&] { insertKnot(c, 0.4, 2); }, "would become 4, more than the degree 3");
-  expectInvalid([&] { insertKnot(c, 1.0); }, "more than the degree");
+  expectThrowMentioning([&] { insertKnot(c, 1.5); }, "outside the domain");
+  expectThrowMentioning([&] { insertKnot(c, 0.4, 2); }, "would become 4, more than the degree 3");
+  expectThrowMentioning([&] { insertKnot(c, 1.0); }, "more than the degree");
   BSplineCurve periodic{KnotVector::periodicUniform(3, 5), Eigen::MatrixXd::Zero(5, 2), {}};
-  expectInvalid([&] { insertKnot(periodic, 0.5); }, "only clamped curves");
+  expectThrowMentioning([&] { insertKnot(periodic, 0.5); }, "only clamped curves");
   EXPECT_EQ(insertKnot(c, 0.3, 0).points, c.points);
 }
 
@@ -213,9 +206,9 @@ TEST(BezierPieces, EachPieceEvaluatesLikeTheCurveOnItsInterval) {
 }
 
 TEST(BezierPieces, RejectsRationalAndPeriodicCurves) {
-  expectInvalid([] { bezierPieces(rationalCubic()); }, "only non-rational curves");
+  expectThrowMentioning([] { bezierPieces(rationalCubic()); }, "only non-rational curves");
   BSplineCurve periodic{KnotVector::periodicUniform(3, 5), Eigen::MatrixXd::Zero(5, 2), {}};
-  expectInvalid([&] { bezierPieces(periodic); }, "only clamped curves");
+  expectThrowMentioning([&] { bezierPieces(periodic); }, "only clamped curves");
 }
 
 // ---- degree elevation ----------------------------------------------------------------------
@@ -249,11 +242,11 @@ TEST(DegreeElevation, ElevatedSplineIsTheSameCurveWithHigherMultiplicities) {
 TEST(DegreeElevation, ZeroElevationIsTheIdentityAndBadInputIsRejected) {
   const BSplineCurve c = nonUniformCubic();
   EXPECT_EQ(elevateDegree(c, 0).points, c.points);
-  expectInvalid([&] { elevateDegree(c, -1); }, "t must be >= 0");
-  expectInvalid([] { elevateDegree(rationalCubic(), 1); }, "only non-rational curves");
+  expectThrowMentioning([&] { elevateDegree(c, -1); }, "t must be >= 0");
+  expectThrowMentioning([] { elevateDegree(rationalCubic(), 1); }, "only non-rational curves");
   BSplineCurve periodic{KnotVector::periodicUniform(3, 5), Eigen::MatrixXd::Zero(5, 2), {}};
-  expectInvalid([&] { elevateDegree(periodic, 1); }, "only clamped curves");
-  expectInvalid([&] { elevateBezierDegree(c.points, -2); }, "t must be >= 0");
+  expectThrowMentioning([&] { elevateDegree(periodic, 1); }, "only clamped curves");
+  expectThrowMentioning([&] { elevateBezierDegree(c.points, -2); }, "t must be >= 0");
 }
 
 }  // namespace

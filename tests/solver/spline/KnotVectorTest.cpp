@@ -6,22 +6,15 @@
 
 #include <gtest/gtest.h>
 
+#include "support/ExpectError.h"
+
 #include "devsurf/spline/KnotVector.h"
 
 namespace devsurf::spline {
 namespace {
 
 /// Expects `call` to throw std::invalid_argument whose message contains `fragment`.
-template <class F>
-void expectInvalid(F call, const std::string& fragment) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument mentioning \"" << fragment << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
-        << "message was: " << e.what();
-  }
-}
+using devsurf::testing::expectThrowMentioning;
 
 TEST(KnotVector, ClampedUniformHasRepeatedEndsAndEqualSpans) {
   const KnotVector kv = KnotVector::clampedUniform(3, 7);
@@ -98,58 +91,58 @@ TEST(KnotVector, UniformSamplesIncludeBothEnds) {
   const std::vector<double> s = kv.uniformSamples(5);
   const std::vector<double> expected = {2, 2.5, 3, 3.5, 4};
   EXPECT_EQ(s, expected);
-  expectInvalid([&] { kv.uniformSamples(1); }, "count must be at least 2");
+  expectThrowMentioning([&] { kv.uniformSamples(1); }, "count must be at least 2");
 }
 
 TEST(KnotVector, ClampedRejectsTheWrongLength) {
-  expectInvalid([] { KnotVector::clamped(3, {0, 0, 0, 0, 0.5, 1, 1, 1, 1}, 7); },
+  expectThrowMentioning([] { KnotVector::clamped(3, {0, 0, 0, 0, 0.5, 1, 1, 1, 1}, 7); },
                 "knots: expected 11 values (control points + degree + 1), got 9");
 }
 
 TEST(KnotVector, ClampedRejectsDecreasingKnots) {
-  expectInvalid([] { KnotVector::clamped(3, {0, 0, 0, 0, 0.6, 0.4, 1, 1, 1, 1}, 6); },
+  expectThrowMentioning([] { KnotVector::clamped(3, {0, 0, 0, 0, 0.6, 0.4, 1, 1, 1, 1}, 6); },
                 "knots: must be non-decreasing (knots[5] < knots[4])");
 }
 
 TEST(KnotVector, ClampedRejectsNonFiniteKnots) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  expectInvalid([&] { KnotVector::clamped(2, {0, 0, 0, nan, 1, 1, 1}, 4); },
+  expectThrowMentioning([&] { KnotVector::clamped(2, {0, 0, 0, nan, 1, 1, 1}, 4); },
                 "knots: must be finite");
-  expectInvalid([&] { KnotVector::clamped(2, {0, 0, 0, 0.5, inf, inf, inf}, 4); },
+  expectThrowMentioning([&] { KnotVector::clamped(2, {0, 0, 0, 0.5, inf, inf, inf}, 4); },
                 "knots: must be finite");
 }
 
 TEST(KnotVector, ClampedRejectsEndsWithoutMultiplicityDegreePlusOne) {
-  expectInvalid([] { KnotVector::clamped(3, {0, 0, 0, 0.2, 0.5, 0.8, 1, 1, 1, 1}, 6); },
+  expectThrowMentioning([] { KnotVector::clamped(3, {0, 0, 0, 0.2, 0.5, 0.8, 1, 1, 1, 1}, 6); },
                 "knots: clamped ends need multiplicity degree+1");
-  expectInvalid([] { KnotVector::clamped(2, {0, 0, 0, 0, 0.5, 1, 1}, 4); },
+  expectThrowMentioning([] { KnotVector::clamped(2, {0, 0, 0, 0, 0.5, 1, 1}, 4); },
                 "knots: clamped ends need multiplicity degree+1");
 }
 
 TEST(KnotVector, ClampedRejectsInteriorMultiplicityAboveDegree) {
-  expectInvalid([] { KnotVector::clamped(2, {0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1}, 6); },
+  expectThrowMentioning([] { KnotVector::clamped(2, {0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1}, 6); },
                 "interior multiplicity must not exceed degree");
 }
 
 TEST(KnotVector, ClampedRejectsAnEmptyDomain) {
-  expectInvalid([] { KnotVector::clamped(1, {2, 2, 2, 2}, 2); }, "domain must be non-empty");
+  expectThrowMentioning([] { KnotVector::clamped(1, {2, 2, 2, 2}, 2); }, "domain must be non-empty");
 }
 
 TEST(KnotVector, FactoriesRejectDegreeZeroAndTooFewControlPoints) {
-  expectInvalid([] { KnotVector::clampedUniform(0, 4); }, "degree: must be at least 1");
-  expectInvalid([] { KnotVector::periodicUniform(0, 4); }, "degree: must be at least 1");
-  expectInvalid([] { KnotVector::clamped(0, {0, 1}, 1); }, "degree: must be at least 1");
-  expectInvalid([] { KnotVector::clampedUniform(3, 3); },
+  expectThrowMentioning([] { KnotVector::clampedUniform(0, 4); }, "degree: must be at least 1");
+  expectThrowMentioning([] { KnotVector::periodicUniform(0, 4); }, "degree: must be at least 1");
+  expectThrowMentioning([] { KnotVector::clamped(0, {0, 1}, 1); }, "degree: must be at least 1");
+  expectThrowMentioning([] { KnotVector::clampedUniform(3, 3); },
                 "control points: need at least degree+1 = 4, got 3");
-  expectInvalid([] { KnotVector::periodicUniform(3, 2); },
+  expectThrowMentioning([] { KnotVector::periodicUniform(3, 2); },
                 "control points: need at least degree+1 = 4, got 2");
 }
 
 TEST(KnotVector, DefaultConstructedVectorIsRejectedByQueries) {
   const KnotVector kv;
-  expectInvalid([&] { kv.spanIndex(0.5); }, "empty");
-  expectInvalid([&] { kv.breakpoints(); }, "empty");
+  expectThrowMentioning([&] { kv.spanIndex(0.5); }, "empty");
+  expectThrowMentioning([&] { kv.breakpoints(); }, "empty");
   EXPECT_EQ(kv.multiplicity(0.0), 0);
 }
 

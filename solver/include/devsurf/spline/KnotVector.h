@@ -66,6 +66,9 @@ class KnotVector {
   std::vector<double> uniformSamples(int count) const;
 
  private:
+  KnotVector(int degree, int numControlPoints, KnotKind kind, std::vector<double> knots)
+      : degree_(degree), numControlPoints_(numControlPoints), kind_(kind), knots_(std::move(knots)) {}
+
   int degree_ = 0;
   int numControlPoints_ = 0;
   KnotKind kind_ = KnotKind::Clamped;

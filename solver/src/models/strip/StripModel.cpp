@@ -150,10 +150,12 @@ void StripModel::buildProblem() {
   const int offA = problem_.layout().block(blockA_).offset;
   const int offB = problem_.layout().block(blockB_).offset;
   const int offN = problem_.layout().block(blockNormals_).offset;
-  terms::LinearPoints Pa{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 0), offA};
-  terms::LinearPoints Da{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 1), offA};
-  terms::LinearPoints Pb{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 0), offB};
-  terms::LinearPoints Db{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 1), offB};
+  curveRows_ = {
+      terms::LinearPoints{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 0), offA},
+      terms::LinearPoints{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 1), offA},
+      terms::LinearPoints{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 0), offB},
+      terms::LinearPoints{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 1), offB}};
+  const auto& [Pa, Da, Pb, Db] = curveRows_;
   terms::LinearPoints N;
   if (vectors) {
     N = terms::LinearPoints::identity(K, offN);
@@ -208,15 +210,8 @@ int StripModel::pointOffset(const ControlPointRef& p) const {
 }
 
 void StripModel::initializeNormals() {
-  const spline::BSplineCurve& a = design_.a;
-  const spline::BSplineCurve& b = design_.b;
   const Eigen::VectorXd& x = problem_.x();
-  const int offA = problem_.layout().block(blockA_).offset;
-  const int offB = problem_.layout().block(blockB_).offset;
-  terms::LinearPoints Pa{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 0), offA};
-  terms::LinearPoints Da{spline::curveEvaluationMatrix(a.knots, a.weights, params_, 1), offA};
-  terms::LinearPoints Pb{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 0), offB};
-  terms::LinearPoints Db{spline::curveEvaluationMatrix(b.knots, b.weights, params_, 1), offB};
+  const auto& [Pa, Da, Pb, Db] = curveRows_;
   const int K = static_cast<int>(params_.size());
   Eigen::MatrixX3d samples(K, 3);
   Eigen::Vector3d previous = Eigen::Vector3d::Zero();

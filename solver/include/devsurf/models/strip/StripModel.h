@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 #include "devsurf/metrics/StripQuality.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/spline/BSplineCurve.h"
+#include "devsurf/terms/LinearPoints.h"
 
 namespace devsurf::models::strip {
 
@@ -132,6 +134,8 @@ class StripModel {
   std::unique_ptr<engine::GuidedProjectionSolver> solver_;
   std::vector<double> params_;
   spline::EvaluationMatrix normalEvaluation_;  ///< normal spline at params_ (spline normals)
+  /// a, a′, b, b′ at params_ as linear functions of the control points in x.
+  std::array<terms::LinearPoints, 4> curveRows_;
   int blockA_ = -1, blockB_ = -1, blockNormals_ = -1;
   std::vector<int> handleTerms_;
 };
