@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 namespace devsurf::io {
@@ -15,9 +16,16 @@ struct DoubleTraits : public OpenMesh::DefaultTraits {
 };
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
 
+/// OpenMesh reports every read and write on its log streams; errors surface as our exceptions.
+void silenceOpenMeshLogs() {
+  omlog().disable();
+  omout().disable();
+}
+
 }  // namespace
 
 void writeMesh(const QuadMesh& mesh, const std::string& path) {
+  silenceOpenMeshLogs();
   PolyMesh out;
   std::vector<PolyMesh::VertexHandle> handles;
   handles.reserve(static_cast<std::size_t>(mesh.vertices.rows()));
@@ -41,6 +49,7 @@ void writeMesh(const QuadMesh& mesh, const std::string& path) {
 }
 
 QuadMesh readQuadMesh(const std::string& path) {
+  silenceOpenMeshLogs();
   PolyMesh in;
   if (!OpenMesh::IO::read_mesh(in, path)) throw std::runtime_error("cannot read mesh file " + path);
   QuadMesh mesh;
