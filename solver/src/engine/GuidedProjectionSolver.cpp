@@ -4,6 +4,7 @@
 #include <cmath>
 #include <algorithm>
 #include <map>
+#include <utility>
 
 namespace devsurf::engine {
 namespace {
@@ -44,7 +45,7 @@ std::vector<std::pair<std::string, double>> SolveSummary::finalResidualsByName()
 GuidedProjectionSolver::GuidedProjectionSolver(Problem& problem, LinearSolverKind kind)
     : problem_(problem), equations_(problem), linear_(makeLinearSolver(kind)), kind_(kind) {
   linear_->analyzePattern(equations_.matrix());
-  delta_.setZero(equations_.numFree());
+  delta_.setZero(equations_.numReduced());
   previousX_.setZero(problem.x().size());
 }
 
@@ -72,9 +73,13 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   for (int t = 0; t < problem_.numTerms(); ++t) summary.termNames.push_back(problem_.term(t).term->name());
   summary.iterations.reserve(static_cast<std::size_t>(std::max(0, options.maxIterations)) + 1);
 
-  // Per-iteration work buffers, allocated once.
+  // Per-iteration work buffers, allocated once; so is every record's residual vector (the loop
+  // itself allocates nothing).
   std::vector<double> weights(problem_.numTerms());
   std::vector<double> assembled(problem_.numTerms());
+  std::vector<std::vector<double>> residualStore(
+      static_cast<std::size_t>(std::max(0, options.maxIterations)),
+      std::vector<double>(static_cast<std::size_t>(problem_.numTerms()), 0.0));
   auto fillWeights = [this, &options, &weights](int k) {
     const double fairness = options.fairness * std::pow(options.fairnessDecay, k);
     for (int t = 0; t < problem_.numTerms(); ++t) {
@@ -101,13 +106,13 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     equations_.residuals(problem_, problem_.x(), weights, rec.termResiduals);
     record(rec);
     rec.totalMs = millisecondsSince(start);
-    summary.iterations.push_back(rec);
+    summary.iterations.push_back(std::move(rec));
     if (options.callback && !options.callback(summary.iterations.back())) {
       summary.reason = TerminationReason::Aborted;
       summary.totalMs = millisecondsSince(start);
       return summary;
     }
-    if (!std::isfinite(rec.totalResidual)) {
+    if (!std::isfinite(summary.iterations.back().totalResidual)) {
       summary.reason = TerminationReason::Diverged;
       summary.totalMs = millisecondsSince(start);
       return summary;
@@ -119,6 +124,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     const Clock::time_point iterStart = Clock::now();
     IterationRecord rec;
     rec.iteration = k + 1;
+    rec.termResiduals = std::move(residualStore[static_cast<std::size_t>(k)]);
     fillWeights(k);
     rec.fairnessWeight = options.fairness * std::pow(options.fairnessDecay, k);
 
@@ -126,8 +132,10 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     equations_.assemble(problem_, weights, options.regularization, assembled);
     rec.assemblyMs = millisecondsSince(t0);
 
+    // Factorization of H: block elimination of the elimination groups (Schur complement, see
+    // NormalEquations), then the sparse factorization of the reduced matrix.
     t0 = Clock::now();
-    const bool factored = linear_->factorize(equations_.matrix());
+    const bool factored = equations_.eliminate() && linear_->factorize(equations_.matrix());
     rec.factorizationMs = millisecondsSince(t0);
     if (!factored) {
       summary.reason = TerminationReason::Diverged;
@@ -136,13 +144,14 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
 
     t0 = Clock::now();
     linear_->solve(equations_.rhs(), delta_);
-    rec.stepNorm = delta_.norm();
+    previousX_ = problem_.x();
+    // Kept variables from delta_, eliminated ones by back-substitution; ‖δ‖ over all of them.
+    rec.stepNorm = std::sqrt(equations_.applyStep(delta_, problem_.x()));
     if (!std::isfinite(rec.stepNorm)) {
+      problem_.x() = previousX_;
       summary.reason = TerminationReason::Diverged;
       break;
     }
-    previousX_ = problem_.x();
-    equations_.applyStep(delta_, problem_.x());
     rec.solveMs = millisecondsSince(t0);
 
     // Residuals at the new iterate, with this iteration's weights (residual-only path).
@@ -155,7 +164,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     }
     rec.totalMs = millisecondsSince(iterStart);
     const double previousObjective = summary.iterations.back().objective;
-    summary.iterations.push_back(rec);
+    summary.iterations.push_back(std::move(rec));
 
     if (options.callback && !options.callback(summary.iterations.back())) {
       summary.reason = TerminationReason::Aborted;

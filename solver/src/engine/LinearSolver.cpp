@@ -11,13 +11,13 @@ namespace devsurf::engine {
 namespace {
 
 /// Eigen SimplicialLDLT in natural ordering: the assembler already applied a fill-reducing
-/// permutation, and with Upper storage Eigen factorizes the matrix without copying it.
+/// permutation and stores the upper triangle, which is the layout Eigen's numeric kernel works on.
 class SimplicialLdltSolver final : public LinearSolver {
  public:
   std::string name() const override { return "ldlt"; }
   void analyzePattern(const SymmetricUpper& matrix) override { ldlt_.analyzePattern(matrix); }
   bool factorize(const SymmetricUpper& matrix) override {
-    ldlt_.factorize(matrix);
+    ldlt_.factorizeUpper(matrix);
     if (ldlt_.info() != Eigen::Success) return false;
     return (ldlt_.vectorD().array() > 0.0).all();
   }
@@ -26,17 +26,33 @@ class SimplicialLdltSolver final : public LinearSolver {
   }
 
  private:
-  Eigen::SimplicialLDLT<SymmetricUpper, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt_;
+  /// SimplicialLDLT::factorize() builds an (unused, here) n×n temporary on the heap on every
+  /// call; with natural ordering and upper storage it then factors the input as is, so call that
+  /// numeric kernel directly. Its own work arrays (3n scalars) live on the stack while they fit
+  /// EIGEN_STACK_ALLOCATION_LIMIT (n ≤ 16 384) and are heap-allocated per call beyond that.
+  struct Ldlt : Eigen::SimplicialLDLT<SymmetricUpper, Eigen::Upper, Eigen::NaturalOrdering<int>> {
+    void factorizeUpper(const SymmetricUpper& upper) { this->factorize_preordered<true>(upper); }
+  };
+  Ldlt ldlt_;
 };
 
 #ifdef DEVSURF_HAVE_CHOLMOD
-/// CHOLMOD supernodal Cholesky, natural ordering (see above).
+/// CHOLMOD in natural ordering (see above). CHOLMOD picks a supernodal or a simplicial (LDLᵀ)
+/// factorization itself from the flop count per nonzero of L (its `supernodal_switch`): banded
+/// systems like the strip's reduced matrix go simplicial, which is ~2× faster there than
+/// supernodal with a reference BLAS. Solves reuse their workspaces (cholmod_solve2).
 class CholmodSolver final : public LinearSolver {
  public:
   CholmodSolver() {
+    llt_.setMode(Eigen::CholmodAuto);
     llt_.cholmod().nmethods = 1;
     llt_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
     llt_.cholmod().postorder = 0;
+  }
+  ~CholmodSolver() override {
+    cholmod_free_dense(&x_, &llt_.cholmod());
+    cholmod_free_dense(&y_, &llt_.cholmod());
+    cholmod_free_dense(&e_, &llt_.cholmod());
   }
   std::string name() const override { return "cholmod"; }
   void analyzePattern(const SymmetricUpper& matrix) override { llt_.analyzePattern(matrix); }
@@ -45,11 +61,22 @@ class CholmodSolver final : public LinearSolver {
     return llt_.info() == Eigen::Success;
   }
   void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
-    solution = llt_.solve(rhs);
+    const Eigen::Index n = rhs.size();
+    solution.resize(n);
+    if (n == 0) return;
+    cholmod_dense b = Eigen::viewAsCholmod(const_cast<Eigen::VectorXd&>(rhs));  // read only
+    cholmod_solve2(CHOLMOD_A, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, &llt_.cholmod());
+    solution = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), n);
   }
 
  private:
-  Eigen::CholmodSupernodalLLT<SymmetricUpper, Eigen::Upper> llt_;
+  struct Decomposition : Eigen::CholmodDecomposition<SymmetricUpper, Eigen::Upper> {
+    cholmod_factor* factor() { return this->m_cholmodFactor; }
+  };
+  Decomposition llt_;
+  cholmod_dense* x_ = nullptr;  // solve2 workspaces, allocated by the first solve
+  cholmod_dense* y_ = nullptr;
+  cholmod_dense* e_ = nullptr;
 };
 #endif
 

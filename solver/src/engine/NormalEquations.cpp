@@ -2,210 +2,742 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/OrderingMethods>
 
 namespace devsurf::engine {
+namespace {
+
+// Automatic elimination only takes small groups with few rows and neighbours (dense work per
+// group is O(rows · (m + c)²)); declared groups (VariableLayout::setEliminable) have no limits.
+constexpr int kMaxAutoGroupSize = 8;
+constexpr int kMaxAutoGroupRows = 64;
+constexpr int kMaxAutoNeighbours = 128;
+
+/// Row stride of the dense elimination buffers: c rounded up to whole chunks, so the kernels
+/// below run on fixed-width chunks that the compiler vectorizes (the padding stays zero).
+constexpr int kChunk = 8;
+int paddedStride(int c) { return (c + kChunk - 1) / kChunk * kChunk; }
+
+/// S[a][b] = Σ_k Jc[k][a] Y[k][b] for a ≤ b (row-major, stride ld, K rows). Two rows of S and
+/// one chunk of columns at a time are accumulated in registers; entries left of the diagonal in
+/// a chunk are computed too and ignored.
+void blockProductUpper(const double* Jc, const double* Y, double* S, int c, int ld, int K) {
+  int a = 0;
+  for (; a + 1 < c; a += 2) {
+    for (int b0 = a / kChunk * kChunk; b0 < c; b0 += kChunk) {
+      double acc0[kChunk] = {}, acc1[kChunk] = {};
+      for (int k = 0; k < K; ++k) {
+        const double v0 = Jc[k * ld + a], v1 = Jc[k * ld + a + 1];
+        const double* y = Y + k * ld + b0;
+        for (int q = 0; q < kChunk; ++q) {
+          acc0[q] += v0 * y[q];
+          acc1[q] += v1 * y[q];
+        }
+      }
+      for (int q = 0; q < kChunk; ++q) {
+        S[a * ld + b0 + q] = acc0[q];
+        S[(a + 1) * ld + b0 + q] = acc1[q];
+      }
+    }
+  }
+  if (a < c) {
+    for (int b0 = a / kChunk * kChunk; b0 < c; b0 += kChunk) {
+      double acc[kChunk] = {};
+      for (int k = 0; k < K; ++k) {
+        const double v = Jc[k * ld + a];
+        const double* y = Y + k * ld + b0;
+        for (int q = 0; q < kChunk; ++q) acc[q] += v * y[q];
+      }
+      for (int q = 0; q < kChunk; ++q) S[a * ld + b0 + q] = acc[q];
+    }
+  }
+}
+
+/// Sorts and deduplicates every list; returns the total length.
+long sortUnique(std::vector<std::vector<int>>& lists) {
+  long total = 0;
+  for (std::vector<int>& list : lists) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    total += static_cast<long>(list.size());
+  }
+  return total;
+}
+
+}  // namespace
 
 NormalEquations::NormalEquations(const Problem& problem) {
   const VariableLayout& layout = problem.layout();
   const int numVariables = layout.numVariables();
   const std::vector<int> natural = layout.freeIndex();  // variable → natural free column
   numFree_ = layout.numFree();
+  const int numTerms = problem.numTerms();
 
-  // 1. Per term: entries grouped by row, free entries only, with natural columns.
-  plans_.resize(problem.numTerms());
-  residualBuffers_.resize(problem.numTerms());
-  jacobianBuffers_.resize(problem.numTerms());
+  // 1. Per term: the structure, validated; free entries grouped by row with natural columns.
+  plans_.resize(numTerms);
+  termResidualOffset_.assign(numTerms + 1, 0);
+  termJacobianOffset_.assign(numTerms + 1, 0);
+  std::vector<std::vector<int>> rowStarts(numTerms), rowOrders(numTerms), entryColumns(numTerms);
   std::vector<JacobianEntry> entries;
   std::vector<int> marker(numVariables, -1);
-  for (int t = 0; t < problem.numTerms(); ++t) {
+  for (int t = 0; t < numTerms; ++t) {
     const Term& term = *problem.term(t).term;
     TermPlan& plan = plans_[t];
     entries.clear();
     term.jacobianStructure(entries);
     plan.numResiduals = term.numResiduals();
     plan.numEntries = static_cast<int>(entries.size());
-    residualBuffers_[t].setZero(plan.numResiduals);
-    jacobianBuffers_[t].setZero(plan.numEntries);
+    termResidualOffset_[t + 1] = termResidualOffset_[t] + plan.numResiduals;
+    termJacobianOffset_[t + 1] = termJacobianOffset_[t] + plan.numEntries;
 
-    std::vector<int> count(plan.numResiduals + 1, 0);
+    std::vector<int>& start = rowStarts[t];
+    std::vector<int>& order = rowOrders[t];
+    std::vector<int>& column = entryColumns[t];
+    start.assign(plan.numResiduals + 1, 0);
     for (const JacobianEntry& e : entries) {
       if (e.row < 0 || e.row >= plan.numResiduals || e.variable < 0 || e.variable >= numVariables)
         throw std::logic_error("term '" + term.name() + "': Jacobian entry out of range");
-      if (natural[e.variable] >= 0) ++count[e.row + 1];
+      if (natural[e.variable] >= 0) ++start[e.row + 1];
     }
-    for (int r = 0; r < plan.numResiduals; ++r) count[r + 1] += count[r];
-    plan.rowStart = count;
-    plan.order.assign(count.back(), -1);
-    plan.column.assign(entries.size(), -1);
-    std::vector<int> fill(count.begin(), count.end() - 1);
+    for (int r = 0; r < plan.numResiduals; ++r) start[r + 1] += start[r];
+    order.assign(start.back(), -1);
+    column.assign(entries.size(), -1);
+    std::vector<int> fill(start.begin(), start.end() - 1);
     for (int e = 0; e < plan.numEntries; ++e) {
       const int c = natural[entries[e].variable];
-      plan.column[e] = c;
-      if (c >= 0) plan.order[fill[entries[e].row]++] = e;
+      column[e] = c;
+      if (c >= 0) order[fill[entries[e].row]++] = e;
     }
-    // A row must not list a variable twice (the scatter map assumes distinct columns per row).
+    // A row must not list a variable twice (the scatter maps assume distinct columns per row).
     for (int r = 0; r < plan.numResiduals; ++r) {
-      for (int k = plan.rowStart[r]; k < plan.rowStart[r + 1]; ++k) {
-        const int v = entries[plan.order[k]].variable;
-        if (marker[v] == r + t * 0x100000) {
+      const int globalRow = termResidualOffset_[t] + r;
+      for (int k = start[r]; k < start[r + 1]; ++k) {
+        const int v = entries[order[k]].variable;
+        if (marker[v] == globalRow) {
           throw std::logic_error("term '" + term.name() + "': row " + std::to_string(r) +
                                  " lists variable " + std::to_string(v) + " twice");
         }
-        marker[v] = r + t * 0x100000;
-      }
-      for (int k = plan.rowStart[r]; k < plan.rowStart[r + 1]; ++k)
-        marker[entries[plan.order[k]].variable] = -1;
-    }
-  }
-
-  // 2. Symbolic pattern of JᵀJ + I (upper triangle, natural columns): column j lists the rows
-  //    i ≤ j coupled through some residual row. Built with per-column neighbour lists.
-  std::vector<std::vector<int>> neighbours(numFree_);
-  for (int c = 0; c < numFree_; ++c) neighbours[c].push_back(c);
-  for (const TermPlan& plan : plans_) {
-    for (int r = 0; r < plan.numResiduals; ++r) {
-      for (int ka = plan.rowStart[r]; ka < plan.rowStart[r + 1]; ++ka) {
-        const int ca = plan.column[plan.order[ka]];
-        for (int kb = ka + 1; kb < plan.rowStart[r + 1]; ++kb) {
-          const int cb = plan.column[plan.order[kb]];
-          neighbours[std::max(ca, cb)].push_back(std::min(ca, cb));
-        }
+        marker[v] = globalRow;
       }
     }
   }
-  long nnz = 0;
-  for (std::vector<int>& list : neighbours) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    list.shrink_to_fit();
-    nnz += static_cast<long>(list.size());
-  }
+  const int numRows = termResidualOffset_[numTerms];
+  residual_.setZero(numRows);
+  jacobian_.setZero(termJacobianOffset_[numTerms]);
+  weights_.assign(numTerms, 0.0);
 
-  // 3. Fill-reducing ordering (AMD) on the symmetric pattern, computed once.
-  SymmetricUpper pattern(numFree_, numFree_);
+  // 2. Incidence over all terms: global row → natural columns, column → rows (ascending).
+  std::vector<int> rowTerm(numRows), rowPtr(numRows + 1, 0), rowCols;
+  for (int t = 0; t < numTerms; ++t) {
+    for (int r = 0; r < plans_[t].numResiduals; ++r) {
+      const int g = termResidualOffset_[t] + r;
+      rowTerm[g] = t;
+      rowPtr[g + 1] = rowPtr[g] + rowStarts[t][r + 1] - rowStarts[t][r];
+    }
+  }
+  rowCols.resize(rowPtr[numRows]);
+  for (int t = 0; t < numTerms; ++t) {
+    for (int r = 0; r < plans_[t].numResiduals; ++r) {
+      int* out = rowCols.data() + rowPtr[termResidualOffset_[t] + r];
+      for (int k = rowStarts[t][r]; k < rowStarts[t][r + 1]; ++k)
+        *out++ = entryColumns[t][rowOrders[t][k]];
+    }
+  }
+  std::vector<int> colPtr(numFree_ + 1, 0), colRows(rowCols.size());
+  for (int c : rowCols) ++colPtr[c + 1];
+  for (int c = 0; c < numFree_; ++c) colPtr[c + 1] += colPtr[c];
   {
-    std::vector<Eigen::Triplet<double, int>> triplets;
-    triplets.reserve(static_cast<std::size_t>(nnz));
-    for (int j = 0; j < numFree_; ++j)
-      for (int i : neighbours[j]) triplets.emplace_back(i, j, 1.0);
-    pattern.setFromTriplets(triplets.begin(), triplets.end());
+    std::vector<int> fill(colPtr.begin(), colPtr.end() - 1);
+    for (int g = 0; g < numRows; ++g)
+      for (int k = rowPtr[g]; k < rowPtr[g + 1]; ++k) colRows[fill[rowCols[k]]++] = g;
   }
-  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> newToOld;
-  if (numFree_ > 0) {
-    Eigen::AMDOrdering<int> amd;
-    SymmetricUpper full = pattern.selfadjointView<Eigen::Upper>();
-    amd(full, newToOld);
-  }
-  std::vector<int> oldToNew(numFree_);
-  for (int k = 0; k < numFree_; ++k) oldToNew[newToOld.indices()[k]] = k;
-
-  // 4. The permuted upper-triangular pattern of H with sorted row indices per column.
-  std::vector<std::vector<int>> permuted(numFree_);
-  for (int j = 0; j < numFree_; ++j) {
-    for (int i : neighbours[j]) {
-      const int pi = oldToNew[i], pj = oldToNew[j];
-      permuted[std::max(pi, pj)].push_back(std::min(pi, pj));
-    }
-    std::vector<int>().swap(neighbours[j]);
-  }
-  H_.resize(numFree_, numFree_);
-  {
-    Eigen::VectorXi sizes(numFree_);
-    for (int j = 0; j < numFree_; ++j) {
-      std::sort(permuted[j].begin(), permuted[j].end());
-      sizes[j] = static_cast<int>(permuted[j].size());
-    }
-    H_.reserve(sizes);
-    for (int j = 0; j < numFree_; ++j)
-      for (int i : permuted[j]) H_.insert(i, j) = 0.0;
-    H_.makeCompressed();
-  }
-  auto slotOf = [this](int i, int j) {
-    // (i, j) in the permuted upper triangle, i ≤ j: binary search in column j.
-    const int* begin = H_.innerIndexPtr() + H_.outerIndexPtr()[j];
-    const int* end = H_.innerIndexPtr() + H_.outerIndexPtr()[j + 1];
-    const int* it = std::lower_bound(begin, end, i);
-    assert(it != end && *it == i && "pair missing from the symbolic pattern");
-    return static_cast<int>(it - H_.innerIndexPtr());
-  };
-  diagonalSlot_.resize(numFree_);
-  for (int c = 0; c < numFree_; ++c) diagonalSlot_[c] = slotOf(c, c);
-
-  // 5. Scatter map: every pair (a ≤ b) of free entries in a row gets its slot in H.
-  for (TermPlan& plan : plans_) {
-    for (int& c : plan.column)
-      if (c >= 0) c = oldToNew[c];
-    long pairs = 0;
-    for (int r = 0; r < plan.numResiduals; ++r) {
-      const long e = plan.rowStart[r + 1] - plan.rowStart[r];
-      pairs += e * (e + 1) / 2;
-    }
-    plan.pairSlot.resize(static_cast<std::size_t>(pairs));
-    long s = 0;
-    for (int r = 0; r < plan.numResiduals; ++r) {
-      for (int ka = plan.rowStart[r]; ka < plan.rowStart[r + 1]; ++ka) {
-        const int ca = plan.column[plan.order[ka]];
-        for (int kb = ka; kb < plan.rowStart[r + 1]; ++kb) {
-          const int cb = plan.column[plan.order[kb]];
-          plan.pairSlot[s++] = slotOf(std::min(ca, cb), std::max(ca, cb));
-        }
-      }
-    }
-  }
-
-  freeIndex_.assign(numVariables, -1);
-  regularizationScale_.assign(numFree_, 1.0);
+  std::vector<int> colVariable(numFree_), colBlock(numFree_);
   for (int b = 0; b < layout.numBlocks(); ++b) {
     const VariableBlock& block = layout.block(b);
     for (int v = block.offset; v < block.offset + block.size; ++v) {
       if (natural[v] < 0) continue;
-      freeIndex_[v] = oldToNew[natural[v]];
-      regularizationScale_[freeIndex_[v]] = block.regularizationScale;
+      colVariable[natural[v]] = v;
+      colBlock[natural[v]] = b;
     }
   }
-  rhs_.setZero(numFree_);
+
+  // 3. Elimination groups. groupOf: natural column → group id or −1.
+  std::vector<int> groupOf(numFree_, -1);
+  std::vector<std::vector<int>> groupCols;  // natural columns per group, ascending
+  std::vector<char> groupDeclared;
+  // 3a. Declared groups (VariableLayout::setEliminable).
+  for (int b = 0; b < layout.numBlocks(); ++b) {
+    const VariableBlock& block = layout.block(b);
+    const int size = block.eliminationGroupSize;
+    if (size <= 0) continue;
+    for (int first = block.offset; first < block.offset + block.size; first += size) {
+      std::vector<int> cols;
+      for (int v = first; v < first + size; ++v)
+        if (natural[v] >= 0) cols.push_back(natural[v]);
+      if (cols.empty()) continue;
+      for (int c : cols) groupOf[c] = static_cast<int>(groupCols.size());
+      groupCols.push_back(std::move(cols));
+      groupDeclared.push_back(1);
+    }
+  }
+  for (int g = 0; g < numRows; ++g) {
+    int seen = -1;
+    for (int k = rowPtr[g]; k < rowPtr[g + 1]; ++k) {
+      const int group = groupOf[rowCols[k]];
+      if (group < 0 || group == seen) continue;
+      if (seen >= 0) {
+        const int t = rowTerm[g];
+        throw std::logic_error("term '" + problem.term(t).term->name() + "': row " +
+                               std::to_string(g - termResidualOffset_[t]) +
+                               " couples two elimination groups (VariableLayout::setEliminable)");
+      }
+      seen = group;
+    }
+  }
+  // 3b. Automatic groups: columns of an auto block with identical row lists ("supervariables")
+  //     whose neighbours all lie in one of their rows (eliminating them creates no fill),
+  //     chosen greedily by fewest neighbours so that no row touches two groups.
+  {
+    auto rowsOf = [&](int c) {
+      return std::make_pair(colRows.begin() + colPtr[c], colRows.begin() + colPtr[c + 1]);
+    };
+    std::vector<int> cand;
+    for (int c = 0; c < numFree_; ++c) {
+      if (groupOf[c] >= 0 || colPtr[c + 1] == colPtr[c]) continue;
+      if (layout.block(colBlock[c]).eliminationGroupSize != VariableBlock::kAutoElimination) continue;
+      if (colPtr[c + 1] - colPtr[c] > kMaxAutoGroupRows) continue;
+      cand.push_back(c);
+    }
+    auto sameRows = [&](int a, int b) {
+      const auto ra = rowsOf(a), rb = rowsOf(b);
+      return colBlock[a] == colBlock[b] && std::equal(ra.first, ra.second, rb.first, rb.second);
+    };
+    std::sort(cand.begin(), cand.end(), [&](int a, int b) {
+      if (colBlock[a] != colBlock[b]) return colBlock[a] < colBlock[b];
+      const auto ra = rowsOf(a), rb = rowsOf(b);
+      if (ra.second - ra.first != rb.second - rb.first)
+        return ra.second - ra.first < rb.second - rb.first;
+      const auto mis = std::mismatch(ra.first, ra.second, rb.first);
+      if (mis.first != ra.second) return *mis.first < *mis.second;
+      return a < b;
+    });
+    struct Candidate {
+      int neighbours;
+      std::vector<int> cols;
+    };
+    std::vector<Candidate> candidates;
+    std::vector<int> colMark(numFree_, -1);
+    for (std::size_t i = 0; i < cand.size();) {
+      std::size_t j = i + 1;
+      while (j < cand.size() && sameRows(cand[i], cand[j])) ++j;
+      const int m = static_cast<int>(j - i);
+      if (m <= kMaxAutoGroupSize) {
+        // Union of the columns of the rows; the group creates no fill iff one row holds them all.
+        int unionSize = 0;
+        bool covered = false;
+        const auto rows = rowsOf(cand[i]);
+        for (auto it = rows.first; it != rows.second; ++it) {
+          for (int k = rowPtr[*it]; k < rowPtr[*it + 1]; ++k) {
+            if (colMark[rowCols[k]] != static_cast<int>(i)) {
+              colMark[rowCols[k]] = static_cast<int>(i);
+              ++unionSize;
+            }
+          }
+        }
+        for (auto it = rows.first; it != rows.second && !covered; ++it)
+          covered = rowPtr[*it + 1] - rowPtr[*it] == unionSize;
+        if (covered && unionSize - m <= kMaxAutoNeighbours) {
+          std::vector<int> cols(cand.begin() + static_cast<long>(i), cand.begin() + static_cast<long>(j));
+          std::sort(cols.begin(), cols.end());
+          candidates.push_back({unionSize - m, std::move(cols)});
+        }
+      }
+      i = j;
+    }
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& a, const Candidate& b) {
+                       if (a.neighbours != b.neighbours) return a.neighbours < b.neighbours;
+                       return a.cols.front() < b.cols.front();
+                     });
+    for (Candidate& cnd : candidates) {
+      bool free = true;
+      for (auto it = rowsOf(cnd.cols.front()).first; free && it != rowsOf(cnd.cols.front()).second;
+           ++it)
+        for (int k = rowPtr[*it]; free && k < rowPtr[*it + 1]; ++k)
+          free = groupOf[rowCols[k]] < 0;
+      if (!free) continue;
+      for (int c : cnd.cols) groupOf[c] = static_cast<int>(groupCols.size());
+      groupCols.push_back(std::move(cnd.cols));
+      groupDeclared.push_back(0);
+    }
+  }
+  const int numGroups = static_cast<int>(groupCols.size());
+
+  // 4. Kept columns (natural order) and the rows of every group.
+  std::vector<int> keptOf(numFree_, -1), keptNatural;
+  for (int c = 0; c < numFree_; ++c) {
+    if (groupOf[c] >= 0) continue;
+    keptOf[c] = static_cast<int>(keptNatural.size());
+    keptNatural.push_back(c);
+  }
+  numReduced_ = static_cast<int>(keptNatural.size());
+  std::vector<int> rowGroup(numRows, -1);
+  std::vector<std::vector<int>> groupRows(numGroups), groupKept(numGroups);
+  for (int g = 0; g < numGroups; ++g) {
+    for (int c : groupCols[g])
+      for (int k = colPtr[c]; k < colPtr[c + 1]; ++k) groupRows[g].push_back(colRows[k]);
+    std::sort(groupRows[g].begin(), groupRows[g].end());
+    groupRows[g].erase(std::unique(groupRows[g].begin(), groupRows[g].end()), groupRows[g].end());
+    for (int row : groupRows[g]) {
+      assert(rowGroup[row] < 0 && "a row touches two elimination groups");
+      rowGroup[row] = g;
+      for (int k = rowPtr[row]; k < rowPtr[row + 1]; ++k)
+        if (keptOf[rowCols[k]] >= 0) groupKept[g].push_back(keptOf[rowCols[k]]);
+    }
+    std::sort(groupKept[g].begin(), groupKept[g].end());
+    groupKept[g].erase(std::unique(groupKept[g].begin(), groupKept[g].end()), groupKept[g].end());
+  }
+  // Processing order: groups with the same kept columns next to each other (one block each).
+  std::vector<int> groupOrder(numGroups);
+  for (int g = 0; g < numGroups; ++g) groupOrder[g] = g;
+  std::stable_sort(groupOrder.begin(), groupOrder.end(), [&](int a, int b) {
+    return groupKept[a] < groupKept[b];
+  });
+
+  // 5. Pattern of the reduced matrix over kept columns (natural order): pairs of kept columns
+  //    that share a row (this is H's pattern there), then the cliques of declared groups' kept
+  //    columns (fill; automatic groups have none).
+  std::vector<std::vector<int>> neighbours(numReduced_);
+  for (int c = 0; c < numReduced_; ++c) neighbours[c].push_back(c);
+  auto addClique = [&neighbours](const std::vector<int>& cols) {
+    for (std::size_t a = 0; a < cols.size(); ++a)
+      for (std::size_t b = a + 1; b < cols.size(); ++b) neighbours[cols[b]].push_back(cols[a]);
+  };
+  std::vector<int> rowKept;
+  for (int row = 0; row < numRows; ++row) {
+    const int g = rowGroup[row];
+    if (g >= 0 && !groupDeclared[g]) continue;  // covered by the group's clique below
+    rowKept.clear();
+    for (int k = rowPtr[row]; k < rowPtr[row + 1]; ++k)
+      if (keptOf[rowCols[k]] >= 0) rowKept.push_back(keptOf[rowCols[k]]);
+    std::sort(rowKept.begin(), rowKept.end());
+    addClique(rowKept);
+  }
+  for (std::size_t i = 0; i < groupOrder.size(); ++i) {
+    const int g = groupOrder[i];
+    if (groupDeclared[g]) continue;
+    if (i > 0 && !groupDeclared[groupOrder[i - 1]] && groupKept[groupOrder[i - 1]] == groupKept[g])
+      continue;  // same clique as the previous group
+    addClique(groupKept[g]);
+  }
+  const long keptNonZerosOfH = sortUnique(neighbours);
+  bool anyDeclared = false;
+  for (int g = 0; g < numGroups; ++g) {
+    if (!groupDeclared[g]) continue;
+    addClique(groupKept[g]);
+    anyDeclared = true;
+  }
+  if (anyDeclared) sortUnique(neighbours);
+  long nnz = 0;
+  for (std::vector<int>& list : neighbours) {
+    list.shrink_to_fit();
+    nnz += static_cast<long>(list.size());
+  }
+
+  // Structural nonzeros of the full H: kept part plus, per eliminated column u, u's diagonal,
+  // the kept columns and the later columns of its own group that share a row with u.
+  nonZerosFull_ = keptNonZerosOfH;
+  {
+    std::vector<int> mark(numFree_, -1);
+    for (int g = 0; g < numGroups; ++g) {
+      for (std::size_t iu = 0; iu < groupCols[g].size(); ++iu) {
+        const int u = groupCols[g][iu];
+        mark[u] = u;
+        long count = 1;
+        for (int k = colPtr[u]; k < colPtr[u + 1]; ++k) {
+          const int row = colRows[k];
+          for (int q = rowPtr[row]; q < rowPtr[row + 1]; ++q) {
+            const int c = rowCols[q];
+            if (mark[c] == u) continue;
+            mark[c] = u;
+            if (keptOf[c] >= 0 || (groupOf[c] == g && c > u)) ++count;
+          }
+        }
+        nonZerosFull_ += count;
+      }
+    }
+  }
+
+  // 6. Fill-reducing ordering (AMD) of the reduced pattern, computed once.
+  std::vector<int> oldToNew(numReduced_);
+  {
+    SymmetricUpper pattern(numReduced_, numReduced_);
+    std::vector<Eigen::Triplet<double, int>> triplets;
+    triplets.reserve(static_cast<std::size_t>(nnz));
+    for (int j = 0; j < numReduced_; ++j)
+      for (int i : neighbours[j]) triplets.emplace_back(i, j, 1.0);
+    pattern.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> newToOld;
+    if (numReduced_ > 0) {
+      Eigen::AMDOrdering<int> amd;
+      SymmetricUpper full = pattern.selfadjointView<Eigen::Upper>();
+      amd(full, newToOld);
+    }
+    for (int k = 0; k < numReduced_; ++k) oldToNew[newToOld.indices()[k]] = k;
+  }
+
+  // 7. The permuted upper-triangular pattern with sorted row indices per column.
+  {
+    std::vector<std::vector<int>> permuted(numReduced_);
+    for (int j = 0; j < numReduced_; ++j) {
+      for (int i : neighbours[j]) {
+        const int pi = oldToNew[i], pj = oldToNew[j];
+        permuted[std::max(pi, pj)].push_back(std::min(pi, pj));
+      }
+      std::vector<int>().swap(neighbours[j]);
+    }
+    S_.resize(numReduced_, numReduced_);
+    Eigen::VectorXi sizes(numReduced_);
+    for (int j = 0; j < numReduced_; ++j) {
+      std::sort(permuted[j].begin(), permuted[j].end());
+      sizes[j] = static_cast<int>(permuted[j].size());
+    }
+    S_.reserve(sizes);
+    for (int j = 0; j < numReduced_; ++j)
+      for (int i : permuted[j]) S_.insert(i, j) = 0.0;
+    S_.makeCompressed();
+  }
+  auto slotOf = [this](int i, int j) {
+    // (i, j) in the permuted upper triangle, i ≤ j: binary search in column j.
+    const int* begin = S_.innerIndexPtr() + S_.outerIndexPtr()[j];
+    const int* end = S_.innerIndexPtr() + S_.outerIndexPtr()[j + 1];
+    const int* it = std::lower_bound(begin, end, i);
+    assert(it != end && *it == i && "pair missing from the symbolic pattern");
+    return static_cast<int>(it - S_.innerIndexPtr());
+  };
+  diagonalSlot_.resize(numReduced_);
+  for (int c = 0; c < numReduced_; ++c) diagonalSlot_[c] = slotOf(c, c);
+  auto reducedColumn = [&](int naturalColumn) {
+    const int k = keptOf[naturalColumn];
+    return k >= 0 ? oldToNew[k] : -1;
+  };
+
+  // 8. Direct rows (no eliminated variable): entries with reduced columns and the pair slots.
+  for (int t = 0; t < numTerms; ++t) {
+    TermPlan& plan = plans_[t];
+    const std::vector<int>& start = rowStarts[t];
+    const std::vector<int>& order = rowOrders[t];
+    plan.directStart.assign(1, 0);
+    long pairs = 0;
+    for (int r = 0; r < plan.numResiduals; ++r) {
+      if (rowGroup[termResidualOffset_[t] + r] >= 0) continue;
+      plan.directRow.push_back(r);
+      for (int k = start[r]; k < start[r + 1]; ++k) {
+        plan.directEntry.push_back(order[k]);
+        plan.directColumn.push_back(reducedColumn(entryColumns[t][order[k]]));
+      }
+      plan.directStart.push_back(static_cast<int>(plan.directEntry.size()));
+      const long e = start[r + 1] - start[r];
+      pairs += e * (e + 1) / 2;
+    }
+    plan.pairSlot.reserve(static_cast<std::size_t>(pairs));
+    for (std::size_t i = 0; i + 1 < plan.directStart.size(); ++i) {
+      for (int ka = plan.directStart[i]; ka < plan.directStart[i + 1]; ++ka) {
+        const int ca = plan.directColumn[ka];
+        for (int kb = ka; kb < plan.directStart[i + 1]; ++kb) {
+          const int cb = plan.directColumn[kb];
+          plan.pairSlot.push_back(slotOf(std::min(ca, cb), std::max(ca, cb)));
+        }
+      }
+    }
+  }
+
+  // 9. Elimination blocks and groups in processing order.
+  int maxRows = 0, maxSize = 0, maxKept = 0, maxBlockRows = 0;
+  std::vector<int> localColumn(numFree_, -1);
+  std::vector<int> own, kept;
+  for (std::size_t i = 0; i < groupOrder.size();) {
+    std::size_t j = i + 1;
+    while (j < groupOrder.size() && groupKept[groupOrder[j]] == groupKept[groupOrder[i]]) ++j;
+    EliminationBlock block;
+    block.groupBegin = static_cast<int>(groups_.size());
+    block.keptOffset = static_cast<int>(blockColumn_.size());
+    block.slotOffset = static_cast<int>(blockSlot_.size());
+    // The block's kept columns in ascending reduced order, so pair (a ≤ b) is slot (col a, col b).
+    std::vector<int> cols;
+    for (int k : groupKept[groupOrder[i]]) cols.push_back(oldToNew[k]);
+    std::sort(cols.begin(), cols.end());
+    const int c = static_cast<int>(cols.size());
+    block.numKept = c;
+    blockColumn_.insert(blockColumn_.end(), cols.begin(), cols.end());
+    const int ld = paddedStride(c);
+    for (int b = 0; b < c; ++b)  // column by column: ascending slots within a column of S
+      for (int a = 0; a <= b; ++a) blockSlot_.push_back(slotOf(cols[a], cols[b]));
+    for (int k : groupKept[groupOrder[i]]) {  // kept column → its position in the block
+      const auto it = std::lower_bound(cols.begin(), cols.end(), oldToNew[k]);
+      localColumn[keptNatural[k]] = static_cast<int>(it - cols.begin());
+    }
+    for (std::size_t q = i; q < j; ++q) {
+      const int g = groupOrder[q];
+      EliminationGroup group;
+      const int m = static_cast<int>(groupCols[g].size());
+      group.size = m;
+      group.varOffset = static_cast<int>(groupVariable_.size());
+      group.factorOffset = static_cast<int>(factors_.size());
+      group.rowOffset = static_cast<int>(groupRowTerm_.size());
+      group.keptRowOffset = block.numKeptRows;
+      for (int a = 0; a < m; ++a) {
+        const int col = groupCols[g][a];
+        localColumn[col] = a;
+        groupVariable_.push_back(colVariable[col]);
+        groupRegularization_.push_back(layout.block(colBlock[col]).regularizationScale);
+      }
+      factors_.resize(factors_.size() + static_cast<std::size_t>(m * m + m + m * ld), 0.0);
+      // Rows with kept entries first, then rows on the group's own scalars only.
+      std::vector<int> rows;
+      for (int pass = 0; pass < 2; ++pass) {
+        for (int row : groupRows[g]) {
+          bool hasKept = false;
+          for (int k = rowPtr[row]; k < rowPtr[row + 1] && !hasKept; ++k)
+            hasKept = keptOf[rowCols[k]] >= 0;
+          if (hasKept == (pass == 0)) rows.push_back(row);
+        }
+        if (pass == 0) group.numKeptRows = static_cast<int>(rows.size());
+      }
+      group.numRows = static_cast<int>(rows.size());
+      for (int lr = 0; lr < group.numRows; ++lr) {
+        const int row = rows[lr];
+        const int t = rowTerm[row];
+        const int r = row - termResidualOffset_[t];
+        groupRowTerm_.push_back(t);
+        groupRowResidual_.push_back(row);
+        own.clear();
+        kept.clear();
+        for (int k = rowStarts[t][r]; k < rowStarts[t][r + 1]; ++k) {
+          const int e = rowOrders[t][k];
+          const int col = entryColumns[t][e];
+          (keptOf[col] >= 0 ? kept : own).push_back(e);
+        }
+        groupRowStart_.push_back(static_cast<int>(groupEntrySource_.size()));
+        for (int e : own) {
+          groupEntrySource_.push_back(termJacobianOffset_[t] + e);
+          groupEntryDest_.push_back(lr * m + localColumn[entryColumns[t][e]]);
+        }
+        groupRowSplit_.push_back(static_cast<int>(groupEntrySource_.size()));
+        for (int e : kept) {
+          groupEntrySource_.push_back(termJacobianOffset_[t] + e);
+          groupEntryDest_.push_back((group.keptRowOffset + lr) * ld +
+                                    localColumn[entryColumns[t][e]]);
+        }
+      }
+      block.numKeptRows += group.numKeptRows;
+      maxRows = std::max(maxRows, group.numRows);
+      maxSize = std::max(maxSize, m);
+      groups_.push_back(group);
+    }
+    maxKept = std::max(maxKept, ld);
+    maxBlockRows = std::max(maxBlockRows, block.numKeptRows);
+    block.groupEnd = static_cast<int>(groups_.size());
+    blocks_.push_back(block);
+    i = j;
+  }
+  groupRowStart_.push_back(static_cast<int>(groupEntrySource_.size()));
+  jn_.assign(static_cast<std::size_t>(maxRows * maxSize), 0.0);
+  localResidual_.assign(static_cast<std::size_t>(maxRows), 0.0);
+  v_.assign(static_cast<std::size_t>(maxRows * maxSize), 0.0);
+  pr_.assign(static_cast<std::size_t>(maxRows), 0.0);
+  jstack_.assign(static_cast<std::size_t>(maxBlockRows) * static_cast<std::size_t>(maxKept), 0.0);
+  ystack_.assign(jstack_.size(), 0.0);
+  blockMatrix_.assign(static_cast<std::size_t>(maxKept) * static_cast<std::size_t>(maxKept), 0.0);
+  blockRhs_.assign(static_cast<std::size_t>(maxKept), 0.0);
+  work_.assign(static_cast<std::size_t>(2 * maxSize), 0.0);
+
+  freeIndex_.assign(numVariables, -1);
+  regularizationScale_.assign(numReduced_, 1.0);
+  for (int k = 0; k < numReduced_; ++k) {
+    const int col = keptNatural[k];
+    freeIndex_[colVariable[col]] = oldToNew[k];
+    regularizationScale_[oldToNew[k]] = layout.block(colBlock[col]).regularizationScale;
+  }
+  rhs_.setZero(numReduced_);
 }
 
 void NormalEquations::assemble(Problem& problem, const std::vector<double>& termWeights,
                                double regularization, std::vector<double>& termResiduals) {
   assert(static_cast<int>(termWeights.size()) == problem.numTerms() && "one weight per term");
-  double* H = H_.valuePtr();
-  std::fill(H, H + H_.nonZeros(), 0.0);
+  double* H = S_.valuePtr();
+  std::fill(H, H + S_.nonZeros(), 0.0);
   rhs_.setZero();
   termResiduals.assign(problem.numTerms(), 0.0);
+  std::copy(termWeights.begin(), termWeights.end(), weights_.begin());
+  eps2_ = regularization * regularization;
   const Eigen::VectorXd& x = problem.x();
+  double* rhs = rhs_.data();
 
   for (int t = 0; t < problem.numTerms(); ++t) {
     Term& term = *problem.term(t).term;
-    TermPlan& plan = plans_[t];
-    double* r = residualBuffers_[t].data();
-    double* J = jacobianBuffers_[t].data();
+    const TermPlan& plan = plans_[t];
+    double* r = residual_.data() + termResidualOffset_[t];
+    double* J = jacobian_.data() + termJacobianOffset_[t];
     term.linearizeAt(x);
     term.evaluate(x, r, J);
     const double w2 = termWeights[t] * termWeights[t];
     double energy = 0.0;
+    for (int row = 0; row < plan.numResiduals; ++row) energy += r[row] * r[row];
+    termResiduals[t] = w2 * energy;
+
     const int* slot = plan.pairSlot.data();
-    const int* order = plan.order.data();
-    const int* column = plan.column.data();
-    for (int row = 0; row < plan.numResiduals; ++row) {
-      const double ri = r[row];
-      energy += ri * ri;
-      const int begin = plan.rowStart[row], end = plan.rowStart[row + 1];
+    const int* entry = plan.directEntry.data();
+    const int* column = plan.directColumn.data();
+    const int numDirect = static_cast<int>(plan.directRow.size());
+    for (int i = 0; i < numDirect; ++i) {
+      const double ri = r[plan.directRow[i]];
+      const int begin = plan.directStart[i], end = plan.directStart[i + 1];
       for (int ka = begin; ka < end; ++ka) {
-        const int a = order[ka];
-        const double wja = w2 * J[a];
-        rhs_[column[a]] -= wja * ri;
-        for (int kb = ka; kb < end; ++kb) H[*slot++] += wja * J[order[kb]];
+        const double wja = w2 * J[entry[ka]];
+        rhs[column[ka]] -= wja * ri;
+        for (int kb = ka; kb < end; ++kb) H[*slot++] += wja * J[entry[kb]];
       }
     }
-    termResiduals[t] = w2 * energy;
   }
-  const double eps2 = regularization * regularization;
-  for (int c = 0; c < numFree_; ++c) H[diagonalSlot_[c]] += eps2 * regularizationScale_[c];
+  for (int c = 0; c < numReduced_; ++c) H[diagonalSlot_[c]] += eps2_ * regularizationScale_[c];
+}
+
+template <int M>
+bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y,
+                                     double* rb) {
+  const int m = M > 0 ? M : g.size;
+  const int nr = g.numRows, nk = g.numKeptRows;
+  const double* J = jacobian_.data();
+  const int* source = groupEntrySource_.data();
+  const int* dest = groupEntryDest_.data();
+  double* Jn = jn_.data();
+  double* rl = localResidual_.data();
+  double* V = v_.data();
+  double* pr = pr_.data();
+  double* inv = work_.data();
+  // Gather the weighted rows: J_n (nr × m), the group's rows of J_c, w r.
+  std::fill(Jn, Jn + nr * m, 0.0);
+  for (int lr = 0; lr < nr; ++lr) {
+    const int row = g.rowOffset + lr;
+    const double w = weights_[groupRowTerm_[row]];
+    rl[lr] = w * residual_[groupRowResidual_[row]];
+    for (int k = groupRowStart_[row]; k < groupRowSplit_[row]; ++k) Jn[dest[k]] = w * J[source[k]];
+    for (int k = groupRowSplit_[row]; k < groupRowStart_[row + 1]; ++k) Jc[dest[k]] = w * J[source[k]];
+  }
+  // A_nn = J_nᵀJ_n + ε²D_n = LLᵀ (row-major lower triangle; inv = 1 / diag L).
+  double* L = factors_.data() + g.factorOffset;
+  double* tn = L + m * m;
+  double* U = tn + m;
+  for (int a = 0; a < m; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      double s = 0.0;
+      for (int lr = 0; lr < nr; ++lr) s += Jn[lr * m + a] * Jn[lr * m + b];
+      L[a * m + b] = s;
+    }
+    L[a * m + a] += eps2_ * groupRegularization_[g.varOffset + a];
+  }
+  for (int a = 0; a < m; ++a) {
+    for (int b = 0; b < a; ++b) {
+      double s = L[a * m + b];
+      for (int k = 0; k < b; ++k) s -= L[a * m + k] * L[b * m + k];
+      L[a * m + b] = s * inv[b];
+    }
+    double d = L[a * m + a];
+    for (int k = 0; k < a; ++k) d -= L[a * m + k] * L[a * m + k];
+    if (!(d > 0.0) || !std::isfinite(d)) return false;
+    L[a * m + a] = std::sqrt(d);
+    inv[a] = 1.0 / L[a * m + a];
+  }
+  // V = J_n L⁻ᵀ (row by row: L vᵀ = J_n[row]ᵀ) and t = Vᵀ w r = L⁻¹ J_nᵀ w r.
+  for (int a = 0; a < m; ++a) tn[a] = 0.0;
+  for (int lr = 0; lr < nr; ++lr) {
+    double* v = V + lr * m;
+    for (int a = 0; a < m; ++a) {
+      double s = Jn[lr * m + a];
+      for (int k = 0; k < a; ++k) s -= L[a * m + k] * v[k];
+      v[a] = s * inv[a];
+      tn[a] += v[a] * rl[lr];
+    }
+  }
+  if (ld == 0) return true;
+  for (int i = 0; i < nk; ++i) {  // P w r on the kept rows: w r − V t
+    double p = rl[i];
+    for (int a = 0; a < m; ++a) p -= V[i * m + a] * tn[a];
+    pr[i] = p;
+  }
+  // Chunk by chunk of kept columns: U = Vᵀ J_c = L⁻¹ J_nᵀ J_c (m × ld, kept for the
+  // back-substitution), Y = J_c − V U = (I − V Vᵀ) J_c, rhs_block −= J_cᵀ P w r.
+  const double* jc = Jc + g.keptRowOffset * ld;
+  double* y = Y + g.keptRowOffset * ld;
+  for (int b0 = 0; b0 < ld; b0 += kChunk) {
+    double acc[kChunk];
+    for (int a = 0; a < m; ++a) {
+      for (int q = 0; q < kChunk; ++q) acc[q] = 0.0;
+      for (int i = 0; i < nk; ++i) {
+        const double via = V[i * m + a];
+        const double* ji = jc + i * ld + b0;
+        for (int q = 0; q < kChunk; ++q) acc[q] += via * ji[q];
+      }
+      for (int q = 0; q < kChunk; ++q) U[a * ld + b0 + q] = acc[q];
+    }
+    for (int q = 0; q < kChunk; ++q) acc[q] = 0.0;
+    for (int i = 0; i < nk; ++i) {
+      const double* ji = jc + i * ld + b0;
+      double yi[kChunk];
+      for (int q = 0; q < kChunk; ++q) yi[q] = ji[q];
+      for (int a = 0; a < m; ++a) {
+        const double via = V[i * m + a];
+        const double* u = U + a * ld + b0;
+        for (int q = 0; q < kChunk; ++q) yi[q] -= via * u[q];
+      }
+      for (int q = 0; q < kChunk; ++q) y[i * ld + b0 + q] = yi[q];
+      const double p = pr[i];
+      for (int q = 0; q < kChunk; ++q) acc[q] += ji[q] * p;
+    }
+    for (int q = 0; q < kChunk; ++q) rb[b0 + q] -= acc[q];
+  }
+  return true;
+}
+
+bool NormalEquations::eliminate() {
+  double* H = S_.valuePtr();
+  double* rhs = rhs_.data();
+  double* Sb = blockMatrix_.data();
+  double* rb = blockRhs_.data();
+  for (const EliminationBlock& block : blocks_) {
+    const int c = block.numKept, K = block.numKeptRows, ld = paddedStride(c);
+    double* Jc = jstack_.data();  // K × ld: the kept Jacobian rows of all groups of the block
+    double* Y = ystack_.data();   // K × ld: (I − V Vᵀ) J_c per group
+    std::fill(Jc, Jc + K * ld, 0.0);
+    std::fill(rb, rb + ld, 0.0);
+    for (int gi = block.groupBegin; gi < block.groupEnd; ++gi) {
+      const EliminationGroup& g = groups_[gi];
+      bool ok;
+      switch (g.size) {  // the common small sizes with compile-time loop bounds
+        case 1: ok = eliminateGroup<1>(g, ld, Jc, Y, rb); break;
+        case 2: ok = eliminateGroup<2>(g, ld, Jc, Y, rb); break;
+        case 3: ok = eliminateGroup<3>(g, ld, Jc, Y, rb); break;
+        case 4: ok = eliminateGroup<4>(g, ld, Jc, Y, rb); break;
+        default: ok = eliminateGroup<0>(g, ld, Jc, Y, rb); break;
+      }
+      if (!ok) return false;
+    }
+    if (c == 0) continue;
+    // S_block = J_cᵀ Y over the stacked rows (upper triangle), scattered into S column by column.
+    blockProductUpper(Jc, Y, Sb, c, ld, K);
+    const int* slot = blockSlot_.data() + block.slotOffset;
+    const int* cols = blockColumn_.data() + block.keptOffset;
+    for (int b = 0; b < c; ++b) {
+      for (int a = 0; a <= b; ++a) H[*slot++] += Sb[a * ld + b];
+      rhs[cols[b]] += rb[b];
+    }
+  }
+  return true;
 }
 
 void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x,
@@ -213,16 +745,49 @@ void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x
                                 std::vector<double>& termResiduals) {
   termResiduals.assign(problem.numTerms(), 0.0);
   for (int t = 0; t < problem.numTerms(); ++t) {
-    double* r = residualBuffers_[t].data();
+    double* r = residual_.data() + termResidualOffset_[t];
     problem.term(t).term->evaluate(x, r, nullptr);
     const double w2 = termWeights[t] * termWeights[t];
-    termResiduals[t] = w2 * residualBuffers_[t].squaredNorm();
+    double energy = 0.0;
+    for (int row = 0; row < plans_[t].numResiduals; ++row) energy += r[row] * r[row];
+    termResiduals[t] = w2 * energy;
   }
 }
 
-void NormalEquations::applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd& x) const {
+double NormalEquations::applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd& x) {
   for (std::size_t v = 0; v < freeIndex_.size(); ++v)
     if (freeIndex_[v] >= 0) x[static_cast<Eigen::Index>(v)] += delta[freeIndex_[v]];
+  double normSquared = delta.squaredNorm();
+  // Back-substitution per group: δ_n = −L⁻ᵀ(t + U δ_c).
+  double* dc = blockRhs_.data();
+  double* z = work_.data();
+  for (const EliminationBlock& block : blocks_) {
+    const int c = block.numKept, ld = paddedStride(c);
+    const int* cols = blockColumn_.data() + block.keptOffset;
+    for (int a = 0; a < c; ++a) dc[a] = delta[cols[a]];
+    for (int gi = block.groupBegin; gi < block.groupEnd; ++gi) {
+      const EliminationGroup& g = groups_[gi];
+      const int m = g.size;
+      const double* L = factors_.data() + g.factorOffset;
+      const double* tn = L + m * m;
+      const double* U = tn + m;
+      for (int a = 0; a < m; ++a) {
+        const double* u = U + a * ld;
+        double s = tn[a];
+        for (int b = 0; b < c; ++b) s += u[b] * dc[b];
+        z[a] = s;
+      }
+      double* dn = z + m;
+      for (int a = m - 1; a >= 0; --a) {
+        double s = z[a];
+        for (int k = a + 1; k < m; ++k) s -= L[k * m + a] * dn[k];
+        dn[a] = s / L[a * m + a];
+        x[groupVariable_[g.varOffset + a]] -= dn[a];
+        normSquared += dn[a] * dn[a];
+      }
+    }
+  }
+  return normSquared;
 }
 
 }  // namespace devsurf::engine

@@ -8,7 +8,7 @@ int VariableLayout::addBlock(const std::string& name, int size) {
   if (size < 0) throw std::invalid_argument("variable block '" + name + "': negative size");
   for (const VariableBlock& b : blocks_)
     if (b.name == name) throw std::invalid_argument("variable block '" + name + "' exists already");
-  blocks_.push_back({name, numVariables(), size, 1.0});
+  blocks_.push_back({name, numVariables(), size, 1.0, VariableBlock::kAutoElimination});
   fixed_.resize(fixed_.size() + static_cast<std::size_t>(size), 0);
   return numBlocks() - 1;
 }
@@ -29,6 +29,17 @@ void VariableLayout::setFixed(int block, int first, int count, bool fixed) {
 void VariableLayout::setRegularizationScale(int block, double scale) {
   if (!(scale >= 0.0)) throw std::invalid_argument("regularization scale must be ≥ 0");
   blocks_.at(block).regularizationScale = scale;
+}
+
+void VariableLayout::setEliminable(int block, int groupSize) {
+  VariableBlock& b = blocks_.at(block);
+  if (groupSize < VariableBlock::kAutoElimination)
+    throw std::invalid_argument("variable block '" + b.name + "': elimination group size < -1");
+  if (groupSize > 0 && b.size % groupSize != 0)
+    throw std::invalid_argument("variable block '" + b.name + "': elimination group size " +
+                                std::to_string(groupSize) + " does not divide the block size " +
+                                std::to_string(b.size));
+  b.eliminationGroupSize = groupSize;
 }
 
 void VariableLayout::setBlockFixed(int block, bool fixed) {

@@ -4,9 +4,11 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <memory>
 #include <random>
 
+#include "solver/engine/TestProblems.h"
 #include "solver/engine/TestTerms.h"
 
 namespace devsurf::engine {
@@ -15,8 +17,87 @@ namespace {
 using testing::LinearRowsTerm;
 using testing::ProductTerm;
 
-/// Dense reference: H = Σ w² JᵀJ + ε² I and g over the free variables, natural order.
-TEST(NormalEquations, MatchDenseJacobianProductsInAnyOrdering) {
+/// Dense H = Σ w² JᵀJ + ε² D and g = Σ w² Jᵀr over the free variables in natural order.
+struct DenseSystem {
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  std::vector<int> freeVariables;
+};
+
+DenseSystem denseNormalEquations(Problem& problem, const std::vector<double>& weights, double eps) {
+  const VariableLayout& layout = problem.layout();
+  const std::vector<int> column = layout.freeIndex();
+  DenseSystem d;
+  for (int v = 0; v < layout.numVariables(); ++v)
+    if (column[v] >= 0) d.freeVariables.push_back(v);
+  const int n = layout.numFree();
+  d.H = Eigen::MatrixXd::Zero(n, n);
+  d.g = Eigen::VectorXd::Zero(n);
+  for (int b = 0; b < layout.numBlocks(); ++b) {
+    const VariableBlock& block = layout.block(b);
+    for (int v = block.offset; v < block.offset + block.size; ++v)
+      if (column[v] >= 0) d.H(column[v], column[v]) += eps * eps * block.regularizationScale;
+  }
+  for (int t = 0; t < problem.numTerms(); ++t) {
+    Term& term = *problem.term(t).term;
+    std::vector<JacobianEntry> entries;
+    term.jacobianStructure(entries);
+    Eigen::VectorXd r(term.numResiduals());
+    std::vector<double> values(entries.size());
+    term.linearizeAt(problem.x());
+    term.evaluate(problem.x(), r.data(), values.data());
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(term.numResiduals(), n);
+    for (std::size_t e = 0; e < entries.size(); ++e)
+      if (column[entries[e].variable] >= 0) J(entries[e].row, column[entries[e].variable]) = values[e];
+    const double w2 = weights[t] * weights[t];
+    d.H += w2 * J.transpose() * J;
+    d.g += w2 * J.transpose() * r;
+  }
+  return d;
+}
+
+/// The step −H⁻¹g from the dense reference, per free variable in natural order.
+Eigen::VectorXd referenceStep(Problem& problem, const std::vector<double>& weights, double eps) {
+  const DenseSystem d = denseNormalEquations(problem, weights, eps);
+  return d.H.ldlt().solve(-d.g);
+}
+
+/// The engine's step: assemble, eliminate, dense solve of the reduced system, back-substitution.
+Eigen::VectorXd engineStep(NormalEquations& eq, Problem& problem, const std::vector<double>& weights,
+                           double eps, double* stepNormSquared = nullptr) {
+  std::vector<double> residuals;
+  eq.assemble(problem, weights, eps, residuals);
+  EXPECT_TRUE(eq.eliminate());
+  const Eigen::MatrixXd S = Eigen::MatrixXd(SymmetricUpper(eq.matrix().selfadjointView<Eigen::Upper>()));
+  const Eigen::VectorXd delta = S.ldlt().solve(eq.rhs());
+  Eigen::VectorXd stepped = problem.x();
+  const double norm2 = eq.applyStep(delta, stepped);
+  if (stepNormSquared) *stepNormSquared = norm2;
+  const std::vector<int> column = problem.layout().freeIndex();
+  Eigen::VectorXd step(problem.layout().numFree());
+  for (int v = 0; v < problem.layout().numVariables(); ++v) {
+    if (column[v] >= 0) step[column[v]] = stepped[v] - problem.x()[v];
+    else EXPECT_EQ(stepped[v], problem.x()[v]) << "fixed variable " << v << " moved";
+  }
+  return step;
+}
+
+std::vector<double> unitWeights(const Problem& problem) {
+  return std::vector<double>(static_cast<std::size_t>(problem.numTerms()), 1.0);
+}
+
+void disableElimination(Problem& problem) {
+  for (int b = 0; b < problem.layout().numBlocks(); ++b) problem.layout().setEliminable(b, 0);
+}
+
+/// Sorted eigenvalues (ordering independent).
+Eigen::VectorXd eigenvalues(const Eigen::MatrixXd& A) {
+  Eigen::VectorXd ev = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A).eigenvalues();
+  std::sort(ev.data(), ev.data() + ev.size());
+  return ev;
+}
+
+Problem denseTestProblem() {
   Problem problem;
   const int block = problem.addBlock("x", 6);
   std::mt19937 rng(7);
@@ -30,16 +111,34 @@ TEST(NormalEquations, MatchDenseJacobianProductsInAnyOrdering) {
                   Strength::Soft);
   problem.addTerm(std::make_unique<ProductTerm>("p", 0, 5, 1.0), 2.0, Strength::Hard);
   problem.addTerm(std::make_unique<ProductTerm>("q", 3, 4, -1.0), 1.0, Strength::Hard);
+  return problem;
+}
 
+/// Dense reference: H = Σ w² JᵀJ + ε² I and g over the free variables, natural order.
+TEST(NormalEquations, MatchDenseJacobianProductsInAnyOrdering) {
+  Problem problem = denseTestProblem();
+  disableElimination(problem);  // matrix() is all of H
   NormalEquations eq(problem);
+  EXPECT_EQ(eq.numReduced(), 5);
+  EXPECT_EQ(eq.numEliminated(), 0);
   std::vector<double> weights = {0.5, 2.0, 1.0};
   std::vector<double> residuals;
   eq.assemble(problem, weights, 0.1, residuals);
+  EXPECT_TRUE(eq.eliminate());
 
   // Dense J and r with weights applied.
   const Eigen::VectorXd& x = problem.x();
+  Eigen::MatrixXd A(3, 6);
   Eigen::MatrixXd J = Eigen::MatrixXd::Zero(5, 6);
   Eigen::VectorXd r(5);
+  {
+    std::vector<JacobianEntry> e;
+    problem.term(0).term->jacobianStructure(e);
+    std::vector<double> values(e.size());
+    Eigen::Vector3d r0;
+    problem.term(0).term->evaluate(x, r0.data(), values.data());
+    for (std::size_t k = 0; k < e.size(); ++k) A(e[k].row, e[k].variable) = values[k];
+  }
   J.topRows(3) = 0.5 * A;
   r.head(3) = 0.5 * (A * x - Eigen::Vector3d(1, 2, 3));
   J(3, 0) = 2.0 * x[5];
@@ -58,9 +157,10 @@ TEST(NormalEquations, MatchDenseJacobianProductsInAnyOrdering) {
   const Eigen::MatrixXd Hperm = Eigen::MatrixXd(SymmetricUpper(eq.matrix().selfadjointView<Eigen::Upper>()));
   const Eigen::VectorXd deltaPerm = Hperm.ldlt().solve(eq.rhs());
   Eigen::VectorXd stepped = x;
-  eq.applyStep(deltaPerm, stepped);
+  const double norm2 = eq.applyStep(deltaPerm, stepped);
   const Eigen::VectorXd deltaRef = Href.ldlt().solve(rhsRef);
   for (int c = 0; c < 5; ++c) EXPECT_NEAR(stepped[freeVars[c]] - x[freeVars[c]], deltaRef[c], 1e-12);
+  EXPECT_NEAR(norm2, deltaRef.squaredNorm(), 1e-10);
   EXPECT_EQ(stepped[2], x[2]);
   // Residuals per term are the weighted squared norms.
   EXPECT_NEAR(residuals[0], r.head(3).squaredNorm(), 1e-12);
@@ -69,6 +169,23 @@ TEST(NormalEquations, MatchDenseJacobianProductsInAnyOrdering) {
   // And the matrix itself, entry by entry, up to the permutation.
   EXPECT_NEAR(Hperm.trace(), Href.trace(), 1e-12);
   EXPECT_NEAR(Hperm.squaredNorm(), Href.squaredNorm(), 1e-10);
+  EXPECT_EQ(eq.nonZeros(), eq.reducedNonZeros());
+}
+
+TEST(NormalEquations, AutomaticEliminationTakesTheSameStep) {
+  Problem problem = denseTestProblem();
+  const std::vector<double> weights = {0.5, 2.0, 1.0};
+  NormalEquations eq(problem);
+  Problem twin = denseTestProblem();
+  disableElimination(twin);
+  NormalEquations full(twin);
+  EXPECT_EQ(eq.numFree(), 5);
+  EXPECT_EQ(eq.nonZeros(), full.nonZeros());  // nonZeros() counts all of H either way
+  double norm2 = 0.0;
+  const Eigen::VectorXd step = engineStep(eq, problem, weights, 0.1, &norm2);
+  const Eigen::VectorXd ref = referenceStep(problem, weights, 0.1);
+  EXPECT_LT((step - ref).norm(), 1e-12 * (1.0 + ref.norm()));
+  EXPECT_NEAR(norm2, ref.squaredNorm(), 1e-10 * (1.0 + ref.squaredNorm()));
 }
 
 TEST(NormalEquations, RejectATermThatListsAVariableTwiceInOneRow) {
@@ -86,14 +203,122 @@ TEST(NormalEquations, RegularizationScalesPerBlock) {
   problem.addTerm(std::make_unique<LinearRowsTerm>("zero", Eigen::MatrixXd::Zero(1, 2),
                                                    Eigen::VectorXd::Zero(1)),
                   1.0, Strength::Hard);
+  disableElimination(problem);
   NormalEquations eq(problem);
   std::vector<double> residuals;
   eq.assemble(problem, {1.0}, 2.0, residuals);
+  EXPECT_TRUE(eq.eliminate());
   const Eigen::MatrixXd H = Eigen::MatrixXd(SymmetricUpper(eq.matrix().selfadjointView<Eigen::Upper>()));
   (void)a;
   // Diagonal entries 4 and 1 in some order.
   EXPECT_NEAR(H.diagonal().sum(), 5.0, 1e-15);
   EXPECT_NEAR(H.diagonal().prod(), 4.0, 1e-15);
+}
+
+/// The strip's structure: every normal is a group of 3, eliminated exactly; the reduced matrix
+/// is the Schur complement on the control points and has the pattern of H there (no fill).
+TEST(NormalEquations, StripLikeNormalsAreEliminatedWithoutFill) {
+  const int spans = 3, samples = 4;
+  Problem problem;
+  testing::buildStripLike(problem, spans, samples, 11);
+  const std::vector<double> weights = {1.0, 0.1, 0.05};
+  NormalEquations eq(problem);
+  const int numKept = 3 * (spans + 3) - 3;
+  EXPECT_EQ(eq.numEliminationGroups(), spans * samples);
+  EXPECT_EQ(eq.numEliminated(), 3 * spans * samples);
+  EXPECT_EQ(eq.numReduced(), numKept);
+
+  Problem twin;
+  testing::buildStripLike(twin, spans, samples, 11);
+  disableElimination(twin);
+  NormalEquations full(twin);
+  EXPECT_EQ(full.numEliminationGroups(), 0);
+  EXPECT_EQ(eq.nonZeros(), full.nonZeros());
+
+  const double eps = 0.01;
+  const Eigen::VectorXd step = engineStep(eq, problem, weights, eps);
+  const Eigen::VectorXd ref = referenceStep(problem, weights, eps);
+  EXPECT_LT((step - ref).norm(), 1e-9 * (1.0 + ref.norm()));
+  const Eigen::VectorXd stepFull = engineStep(full, twin, weights, eps);
+  EXPECT_LT((stepFull - ref).norm(), 1e-9 * (1.0 + ref.norm()));
+
+  // The reduced matrix is the Schur complement H_cc − H_cn H_nn⁻¹ H_nc (up to the ordering) and
+  // stores exactly the nonzeros of H_cc.
+  const DenseSystem d = denseNormalEquations(problem, weights, eps);
+  const int offN = problem.layout().block(problem.layout().blockId("normals")).offset;
+  std::vector<int> kept, elim;
+  for (std::size_t c = 0; c < d.freeVariables.size(); ++c)
+    (d.freeVariables[c] < offN ? kept : elim).push_back(static_cast<int>(c));
+  ASSERT_EQ(static_cast<int>(kept.size()), numKept);
+  const Eigen::MatrixXd Hcc = d.H(kept, kept), Hcn = d.H(kept, elim), Hnn = d.H(elim, elim);
+  const Eigen::MatrixXd schur = Hcc - Hcn * Hnn.ldlt().solve(Hcn.transpose());
+  const Eigen::MatrixXd S = Eigen::MatrixXd(SymmetricUpper(eq.matrix().selfadjointView<Eigen::Upper>()));
+  const Eigen::VectorXd evS = eigenvalues(S), evRef = eigenvalues(schur);
+  EXPECT_LT((evS - evRef).norm(), 1e-9 * evRef.norm());
+  const Eigen::VectorXd reducedRhs = -(d.g(kept) - Hcn * Hnn.ldlt().solve(d.g(elim)));
+  EXPECT_NEAR(eq.rhs().norm(), reducedRhs.norm(), 1e-9 * (1.0 + reducedRhs.norm()));
+  long keptNonZeros = 0;
+  for (int j = 0; j < numKept; ++j)
+    for (int i = 0; i <= j; ++i) keptNonZeros += Hcc(i, j) != 0.0 ? 1 : 0;
+  EXPECT_EQ(eq.reducedNonZeros(), keptNonZeros);
+}
+
+/// Without a row that covers all of a normal's neighbours, the automatic rule keeps the normals
+/// (eliminating them would create fill); declaring them eliminable still eliminates them exactly.
+TEST(NormalEquations, DeclaredGroupsAreEliminatedEvenWithFill) {
+  const int spans = 3, samples = 2;
+  const std::vector<double> weights = {1.0, 0.1, 0.05};
+  Problem automatic;
+  testing::buildStripLike(automatic, spans, samples, 5, false);
+  EXPECT_EQ(NormalEquations(automatic).numEliminationGroups(), 0);
+
+  Problem declared;
+  testing::buildStripLike(declared, spans, samples, 5, false);
+  declared.layout().setEliminable(declared.layout().blockId("normals"), 3);
+  NormalEquations eq(declared);
+  EXPECT_EQ(eq.numEliminationGroups(), spans * samples);
+  EXPECT_EQ(eq.numReduced(), 3 * (spans + 3) - 3);
+  const Eigen::VectorXd step = engineStep(eq, declared, weights, 0.01);
+  const Eigen::VectorXd ref = referenceStep(declared, weights, 0.01);
+  EXPECT_LT((step - ref).norm(), 1e-9 * (1.0 + ref.norm()));
+}
+
+TEST(NormalEquations, RowsCouplingTwoDeclaredGroupsAreRejected) {
+  Problem problem;
+  const int block = problem.addBlock("pairs", 4);
+  problem.layout().setEliminable(block, 2);
+  problem.addTerm(std::make_unique<ProductTerm>("couples", 1, 2, 1.0), 1.0, Strength::Hard);
+  EXPECT_THROW(NormalEquations eq(problem), std::logic_error);
+}
+
+TEST(NormalEquations, EverythingMayBeEliminated) {
+  Problem problem;
+  problem.addBlock("x", 2);
+  problem.x() << 3.0, 1.0;
+  problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 1.0), 1.0, Strength::Hard);
+  NormalEquations eq(problem);
+  EXPECT_EQ(eq.numReduced(), 0);
+  EXPECT_EQ(eq.numEliminationGroups(), 1);
+  EXPECT_EQ(eq.nonZeros(), 3);
+  const Eigen::VectorXd step = engineStep(eq, problem, {1.0}, 0.1);
+  const Eigen::VectorXd ref = referenceStep(problem, {1.0}, 0.1);
+  EXPECT_LT((step - ref).norm(), 1e-12);
+}
+
+TEST(NormalEquations, ASingularGroupBlockFailsTheElimination) {
+  Problem problem;
+  problem.addBlock("a", 1);
+  const int idle = problem.addBlock("idle", 1);  // in no row, and not regularized
+  problem.layout().setRegularizationScale(idle, 0.0);
+  problem.layout().setEliminable(idle, 1);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("fit", Eigen::MatrixXd::Ones(1, 1),
+                                                   Eigen::VectorXd::Ones(1)),
+                  1.0, Strength::Hard);
+  NormalEquations eq(problem);
+  EXPECT_EQ(eq.numEliminationGroups(), 2);  // "a" automatically, "idle" as declared
+  std::vector<double> residuals;
+  eq.assemble(problem, {1.0}, 0.1, residuals);
+  EXPECT_FALSE(eq.eliminate());
 }
 
 }  // namespace

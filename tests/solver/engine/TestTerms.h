@@ -3,7 +3,10 @@
 // Small terms used only by the engine tests.
 
 #include <cmath>
+#include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "devsurf/engine/Term.h"
 
@@ -77,6 +80,93 @@ class SqrtTerm final : public Term {
     r[0] = std::sqrt(x[0]) - 1.0;
     if (J) J[0] = 0.5 / std::sqrt(x[0]);
   }
+};
+
+/// Rows r_i = ⟨Σ_j W_i(·, j) x_{p_ij}, n_i⟩ − c_i: a 3-vector depending linearly on some scalars,
+/// dotted with a free 3-vector n_i = x[normal_i .. normal_i + 2] (the shape of the strip's
+/// developability rows ⟨b − a, n⟩).
+class DotTerm final : public Term {
+ public:
+  struct Row {
+    std::vector<int> scalars;  ///< p_i: indices in x
+    Eigen::Matrix3Xd weights;  ///< W_i: 3 × scalars.size()
+    int normal = 0;            ///< index of n_i's first scalar
+    double target = 0.0;       ///< c_i
+  };
+  DotTerm(std::string name, std::vector<Row> rows) : Term(std::move(name)), rows_(std::move(rows)) {}
+  int numResiduals() const override { return static_cast<int>(rows_.size()); }
+  void jacobianStructure(std::vector<JacobianEntry>& e) const override {
+    for (int i = 0; i < numResiduals(); ++i) {
+      for (int p : rows_[i].scalars) e.push_back({i, p});
+      for (int c = 0; c < 3; ++c) e.push_back({i, rows_[i].normal + c});
+    }
+  }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    for (const Row& row : rows_) {
+      Eigen::Vector3d v = Eigen::Vector3d::Zero();
+      for (std::size_t j = 0; j < row.scalars.size(); ++j) v += row.weights.col(j) * x[row.scalars[j]];
+      const Eigen::Vector3d n = x.segment<3>(row.normal);
+      *r++ = v.dot(n) - row.target;
+      if (!J) continue;
+      for (std::size_t j = 0; j < row.scalars.size(); ++j) *J++ = row.weights.col(j).dot(n);
+      for (int c = 0; c < 3; ++c) *J++ = v[c];
+    }
+  }
+
+ private:
+  std::vector<Row> rows_;
+};
+
+/// r_i = |x[o_i .. o_i + 2]|² − 1 (unit length of a 3-vector).
+class SquaredNormTerm final : public Term {
+ public:
+  SquaredNormTerm(std::string name, std::vector<int> offsets)
+      : Term(std::move(name)), offsets_(std::move(offsets)) {}
+  int numResiduals() const override { return static_cast<int>(offsets_.size()); }
+  void jacobianStructure(std::vector<JacobianEntry>& e) const override {
+    for (int i = 0; i < numResiduals(); ++i)
+      for (int c = 0; c < 3; ++c) e.push_back({i, offsets_[i] + c});
+  }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    for (int o : offsets_) {
+      const Eigen::Vector3d n = x.segment<3>(o);
+      *r++ = n.squaredNorm() - 1.0;
+      if (J)
+        for (int c = 0; c < 3; ++c) *J++ = 2.0 * n[c];
+    }
+  }
+
+ private:
+  std::vector<int> offsets_;
+};
+
+/// Sparse linear rows r_i = Σ_k a_ik x_{j_ik} − b_i.
+class SparseLinearTerm final : public Term {
+ public:
+  struct Row {
+    std::vector<std::pair<int, double>> coefficients;  ///< (index in x, a_ik)
+    double target = 0.0;
+  };
+  SparseLinearTerm(std::string name, std::vector<Row> rows)
+      : Term(std::move(name)), rows_(std::move(rows)) {}
+  int numResiduals() const override { return static_cast<int>(rows_.size()); }
+  void jacobianStructure(std::vector<JacobianEntry>& e) const override {
+    for (int i = 0; i < numResiduals(); ++i)
+      for (const auto& [j, a] : rows_[i].coefficients) e.push_back({i, j});
+  }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    for (const Row& row : rows_) {
+      double s = -row.target;
+      for (const auto& [j, a] : row.coefficients) {
+        s += a * x[j];
+        if (J) *J++ = a;
+      }
+      *r++ = s;
+    }
+  }
+
+ private:
+  std::vector<Row> rows_;
 };
 
 }  // namespace devsurf::engine::testing

@@ -18,6 +18,19 @@ TEST(VariableLayout, BlocksAreContiguousAndNamed) {
   EXPECT_THROW(layout.blockId("nothing"), std::out_of_range);
 }
 
+TEST(VariableLayout, EliminationGroupSizeIsValidated) {
+  VariableLayout layout;
+  const int normals = layout.addBlock("normals", 9);
+  EXPECT_EQ(layout.block(normals).eliminationGroupSize, VariableBlock::kAutoElimination);
+  layout.setEliminable(normals, 3);
+  EXPECT_EQ(layout.block(normals).eliminationGroupSize, 3);
+  layout.setEliminable(normals, 0);
+  EXPECT_EQ(layout.block(normals).eliminationGroupSize, 0);
+  EXPECT_THROW(layout.setEliminable(normals, 2), std::invalid_argument);   // 9 % 2 ≠ 0
+  EXPECT_THROW(layout.setEliminable(normals, -2), std::invalid_argument);
+  EXPECT_THROW(layout.setEliminable(3, 1), std::out_of_range);
+}
+
 TEST(VariableLayout, FixedScalarsGetNoColumn) {
   VariableLayout layout;
   const int a = layout.addBlock("a", 6);

@@ -35,7 +35,8 @@ struct IterationRecord {
   double stepNorm = 0.0;               ///< ‖δ‖ (0 for iteration 0)
   double fairnessWeight = 0.0;         ///< ε_fair · decay^k used for this step
   double assemblyMs = 0.0;             ///< linearize, evaluate, fill H and g
-  double factorizationMs = 0.0;        ///< numeric factorization
+  double factorizationMs = 0.0;        ///< numeric factorization (incl. the block elimination
+                                       ///< of elimination groups, see NormalEquations)
   double solveMs = 0.0;                ///< triangular solves and the update of x
   double totalMs = 0.0;                ///< whole iteration including residual evaluation
 };

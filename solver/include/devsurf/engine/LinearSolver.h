@@ -14,13 +14,16 @@ using SymmetricUpper = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 /// Which sparse factorization solves the normal equations.
 enum class LinearSolverKind {
   SimplicialLDLT,  ///< Eigen SimplicialLDLT (default; no extra dependency)
-  Cholmod,         ///< SuiteSparse CHOLMOD supernodal Cholesky (libsuitesparse-dev)
+  Cholmod,         ///< SuiteSparse CHOLMOD (libsuitesparse-dev); supernodal or simplicial by
+                   ///< CHOLMOD's own flop heuristic
 };
 
 /// A symmetric positive (semi-)definite solver with a symbolic/numeric split: analyzePattern()
 /// once per topology, factorize() once per iteration with the same pattern.
 /// \note The matrix is already permuted by the assembler (fill-reducing ordering computed once),
-///       so implementations use the natural ordering.
+///       so implementations use the natural ordering. It is the reduced matrix of
+///       NormalEquations (eliminated variables removed).
+/// \note factorize() and solve() are called inside the iteration loop and should not allocate.
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;

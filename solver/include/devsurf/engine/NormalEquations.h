@@ -10,59 +10,146 @@
 namespace devsurf::engine {
 
 /// The normal equations of one guided-projection step on a fixed sparsity pattern:
-/// H = Σ_terms w_t² J_tᵀJ_t + ε_reg² I and g = Σ_terms w_t² J_tᵀ r_t over the free variables.
+/// H = Σ_terms w_t² J_tᵀJ_t + ε_reg² D and g = Σ_terms w_t² J_tᵀ r_t over the free variables
+/// (D: per-block regularization scales), solved as H δ = −g.
 ///
 /// The constructor does all per-topology work (Tang et al. 2016 §3.2 on a fixed pattern):
-/// collects every term's Jacobian structure, drops fixed variables, computes a fill-reducing
-/// (AMD) ordering, builds the upper-triangular pattern of H in that order and a scatter map from
-/// every pair of Jacobian entries that share a row to its slot in H. `assemble()` then only fills
-/// numbers into preallocated storage.
+/// collects every term's Jacobian structure, drops fixed variables, chooses the variables to
+/// eliminate (below), computes a fill-reducing (AMD) ordering of the rest, builds the
+/// upper-triangular pattern of the reduced matrix in that ordering and the maps from Jacobian
+/// entries to its slots. Per iteration nothing allocates and only numbers are filled in.
+///
+/// Schur elimination (the bundle-adjustment trick). Free variables split into *kept* ones and
+/// *elimination groups*: small sets of variables no residual row couples with another group, so
+/// H restricted to them is block diagonal. For the strip these are the normals (one 3×3 block per
+/// evaluation parameter, coupled only to the 8 control points of its span). Per group the
+/// assembler forms the dense weighted Jacobian of the group's rows [J_n J_c] (group columns,
+/// kept columns), factors A_nn = J_nᵀJ_n + ε²D_n = LLᵀ and adds J_cᵀ(I − V Vᵀ)J_c with
+/// V = J_n L⁻ᵀ (= H_cc − H_cn H_nn⁻¹ H_nc for these rows) to the reduced matrix S; groups with the
+/// same kept columns are accumulated densely before one scatter. The linear solver factors only S
+/// (for the strip 9 015 instead of 40 515 unknowns, no fill); `applyStep` back-substitutes
+/// δ_n = −A_nn⁻¹ J_nᵀ(r + J_c δ_c). Which variables are eliminated: see
+/// VariableLayout::setEliminable (default: groups of scalars sharing all their rows whose
+/// elimination creates no fill-in). Without groups S = H and the path is the plain one.
+///
+/// Per iteration: assemble() → eliminate() → factor matrix() / solve with rhs() → applyStep().
 class NormalEquations {
  public:
+  /// @throws std::logic_error if a term lists a variable twice in one row, an entry is out of
+  ///         range, or a row couples two declared elimination groups.
   explicit NormalEquations(const Problem& problem);
 
-  /// Evaluates every term at x (after linearizeAt) and fills H and g.
+  /// Evaluates every term at x (after linearizeAt) and fills the part of the reduced system that
+  /// involves no eliminated variable; eliminate() completes it.
   /// @param[in] termWeights  effective weight per term id (schedule applied)
-  /// @param[in] regularization  ε_reg (Tikhonov, added to the diagonal as ε_reg²)
+  /// @param[in] regularization  ε_reg (Tikhonov, added to the diagonal as ε_reg² · block scale)
   /// @param[out] termResiduals  per term id: Σ (w r)² at x
   void assemble(Problem& problem, const std::vector<double>& termWeights, double regularization,
                 std::vector<double>& termResiduals);
+
+  /// Eliminates every elimination group (block Gaussian elimination of H, the first stage of its
+  /// factorization) into matrix() and rhs(), using the Jacobian of the last assemble(). Returns
+  /// false if a group's diagonal block is not numerically positive definite (then H is not).
+  /// A no-op (true) without groups.
+  bool eliminate();
 
   /// Residual-only evaluation: per term id Σ (w r)² at x (no Jacobians, no linearizeAt).
   void residuals(const Problem& problem, const Eigen::VectorXd& x,
                  const std::vector<double>& termWeights, std::vector<double>& termResiduals);
 
-  /// Upper triangle of H in the solver ordering.
-  const SymmetricUpper& matrix() const { return H_; }
-  /// −g in the solver ordering (the right-hand side of H δ = −g).
+  /// Upper triangle of the reduced matrix S in the solver ordering (after eliminate()).
+  const SymmetricUpper& matrix() const { return S_; }
+  /// Right-hand side of S δ_c = rhs in the solver ordering (after eliminate()).
   const Eigen::VectorXd& rhs() const { return rhs_; }
+  /// Free (not fixed) scalars: kept plus eliminated.
   int numFree() const { return numFree_; }
-  /// Number of stored (upper-triangular) nonzeros of H.
-  long nonZeros() const { return static_cast<long>(H_.nonZeros()); }
-  /// Adds the solution δ (solver ordering) to the free variables of x.
-  void applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd& x) const;
-  /// Euclidean norm of a step in solver ordering (same as in variable ordering).
+  /// Size of matrix(): the free scalars that are not eliminated.
+  int numReduced() const { return numReduced_; }
+  int numEliminated() const { return numFree_ - numReduced_; }
+  int numEliminationGroups() const { return static_cast<int>(groups_.size()); }
+  /// Structural upper-triangular nonzeros of the full normal matrix H over all free scalars
+  /// (what a solver without elimination would store).
+  long nonZeros() const { return nonZerosFull_; }
+  /// Stored upper-triangular nonzeros of matrix().
+  long reducedNonZeros() const { return static_cast<long>(S_.nonZeros()); }
+  /// Adds the step to the free variables of x: the kept ones from `delta` (solution of
+  /// matrix() δ = rhs(), solver ordering), the eliminated ones by back-substitution with the
+  /// Jacobian of the last assemble()/eliminate(). Returns ‖δ‖² over all free scalars.
+  double applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd& x);
 
  private:
   struct TermPlan {
     int numResiduals = 0;
     int numEntries = 0;
-    std::vector<int> rowStart;    ///< CSR over rows: entries of row r are order[rowStart[r]..rowStart[r+1])
-    std::vector<int> order;       ///< entry ids grouped by row
-    std::vector<int> column;      ///< per entry: permuted free column, −1 if fixed
-    std::vector<int> pairSlot;    ///< per row, per free pair (a ≤ b in row order): slot in H values
+    // Rows that touch no eliminated variable, as CSR over their free entries.
+    std::vector<int> directRow;        ///< residual row of each direct row
+    std::vector<int> directStart;      ///< entries of direct row i: [directStart[i], directStart[i+1])
+    std::vector<int> directEntry;      ///< entry id (index into this term's Jacobian values)
+    std::vector<int> directColumn;     ///< reduced column of that entry
+    std::vector<int> pairSlot;         ///< per direct row, per pair (a ≤ b in row order): slot in S
+  };
+  /// A run of groups with the same kept columns: their kept Jacobian rows are stacked and the
+  /// update of S is one dense product, scattered once.
+  struct EliminationBlock {
+    int groupBegin = 0, groupEnd = 0;
+    int numKept = 0;      ///< c: kept columns the groups couple to
+    int numKeptRows = 0;  ///< K: Σ over the groups of their rows with kept entries
+    int keptOffset = 0;   ///< into blockColumn_ (c reduced columns, ascending)
+    int slotOffset = 0;   ///< into blockSlot_ (c(c+1)/2 slots, pairs a ≤ b row by row)
+  };
+  struct EliminationGroup {
+    int size = 0;          ///< m eliminated scalars
+    int numRows = 0;       ///< rows touching the group; those with kept entries come first
+    int numKeptRows = 0;   ///< rows with at least one kept entry
+    int rowOffset = 0;     ///< into groupRow*_ arrays
+    int keptRowOffset = 0; ///< first of its kept rows in the block's stacked rows
+    int varOffset = 0;     ///< into groupVariable_ / groupRegularization_
+    int factorOffset = 0;  ///< into factors_: L (m×m, row-major lower), t = L⁻¹J_nᵀr (m),
+                           ///< U = L⁻¹J_nᵀJ_c (m×c, row-major)
   };
 
+  /// Eliminates one group into the block's stacked rows Jc / Y and rhs_block; M = group size
+  /// when known at compile time (0: any). False if A_nn is not positive definite.
+  template <int M>
+  bool eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y, double* rb);
+
   std::vector<TermPlan> plans_;
-  std::vector<int> freeIndex_;    ///< variable → permuted column or −1
-  std::vector<int> diagonalSlot_; ///< column → slot of its diagonal entry
-  std::vector<double> regularizationScale_;  ///< column → multiplier of ε_reg²
+  std::vector<int> termResidualOffset_;  ///< term → first index in residual_
+  std::vector<int> termJacobianOffset_;  ///< term → first index in jacobian_
+  Eigen::VectorXd residual_;             ///< all terms' residuals of the last evaluation
+  Eigen::VectorXd jacobian_;             ///< all terms' Jacobian values of the last assemble()
+  std::vector<double> weights_;          ///< term weights of the last assemble()
+  double eps2_ = 0.0;                    ///< ε_reg² of the last assemble()
+
+  std::vector<int> freeIndex_;    ///< variable → reduced column, −1 if fixed or eliminated
+  std::vector<int> diagonalSlot_; ///< reduced column → slot of its diagonal entry
+  std::vector<double> regularizationScale_;  ///< reduced column → multiplier of ε_reg²
   int numFree_ = 0;
-  SymmetricUpper H_;
+  int numReduced_ = 0;
+  long nonZerosFull_ = 0;
+  SymmetricUpper S_;
   Eigen::VectorXd rhs_;
-  // per-term scratch storage, allocated once
-  std::vector<Eigen::VectorXd> residualBuffers_;
-  std::vector<Eigen::VectorXd> jacobianBuffers_;
+
+  // Elimination groups, in processing order.
+  std::vector<EliminationBlock> blocks_;
+  std::vector<EliminationGroup> groups_;
+  std::vector<int> blockColumn_;
+  std::vector<int> blockSlot_;
+  std::vector<int> groupRowTerm_;        ///< per group row: term id (its weight)
+  std::vector<int> groupRowResidual_;    ///< per group row: index into residual_
+  /// Per group row: its entries on the group's own scalars are [start, split), its entries on
+  /// kept columns [split, next start) (last row: a sentinel start).
+  std::vector<int> groupRowStart_, groupRowSplit_;
+  std::vector<int> groupEntrySource_;    ///< index into jacobian_
+  /// Own-scalar entry: index into the group's J_n (numRows × m, row-major); kept entry: index
+  /// into the block's stacked J_c rows (K × c, row-major).
+  std::vector<int> groupEntryDest_;
+  std::vector<int> groupVariable_;       ///< per eliminated scalar: index in x
+  std::vector<double> groupRegularization_;  ///< per eliminated scalar: multiplier of ε_reg²
+  std::vector<double> factors_;
+  // Scratch, sized for the largest group/block at construction.
+  std::vector<double> jn_, localResidual_, v_, pr_, jstack_, ystack_, blockMatrix_, blockRhs_,
+      work_;
 };
 
 }  // namespace devsurf::engine

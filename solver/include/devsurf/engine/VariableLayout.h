@@ -14,6 +14,11 @@ struct VariableBlock {
   /// geometry determines (normals) use a small scale so a step prefers rotating them over moving
   /// the geometry; see docs/architecture.md "Regularization of auxiliary variables".
   double regularizationScale = 1.0;
+  /// Schur elimination of this block's scalars before factorization (see NormalEquations):
+  /// kAutoElimination (default) lets the assembler decide, 0 never eliminates, g > 0 eliminates
+  /// every consecutive group of g scalars (see VariableLayout::setEliminable).
+  int eliminationGroupSize = -1;
+  static constexpr int kAutoElimination = -1;
 };
 
 /// All unknowns of a problem as named blocks in one vector x (Ceres parameter blocks).
@@ -36,6 +41,19 @@ class VariableLayout {
 
   /// Sets the block's multiplier of ε_reg² (≥ 0).
   void setRegularizationScale(int block, double scale);
+
+  /// Declares how the assembler may eliminate the block's free scalars from the linear system
+  /// before factorization (exact block Gaussian elimination / Schur complement, the
+  /// bundle-adjustment trick; the step is back-substituted for them after the solve):
+  /// - groupSize > 0: every consecutive group of `groupSize` scalars (0..g−1, g..2g−1, …) is
+  ///   eliminated as one dense block. No residual row may couple two different groups of
+  ///   eliminated scalars (of this or any other block); the solver's constructor throws
+  ///   std::logic_error if one does. Use it for auxiliary per-element variables (normals, …).
+  /// - groupSize = 0: never eliminate this block's scalars.
+  /// - VariableBlock::kAutoElimination (the default): the assembler eliminates small groups of
+  ///   scalars that appear in exactly the same rows when that creates no fill-in.
+  /// @throws std::invalid_argument if groupSize < −1 or does not divide the block size.
+  void setEliminable(int block, int groupSize);
 
   /// Holds the scalars [first, first+count) of `block` fixed (or frees them).
   void setFixed(int block, int first, int count, bool fixed = true);

@@ -1,0 +1,163 @@
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "devsurf/proto/Scene.h"
+#include "devsurf/server/SceneSolver.h"
+
+namespace devsurf::server {
+
+/// How a message to a participant may be treated by a slow connection.
+enum class Delivery {
+  Reliable,  ///< in order, never dropped
+  Latest,    ///< may be replaced by a newer message with the same key (iterates)
+};
+
+/// Where a session's messages to one participant go (a WebSocket connection, a test).
+using MessageSink = std::function<void(std::string text, Delivery delivery, const std::string& key)>;
+
+/// What a session writes so that a restarted daemon can restore it.
+class SessionJournal {
+ public:
+  virtual ~SessionJournal() = default;
+  /// Durable on return: only then is the edit acknowledged.
+  virtual void appendEdit(const std::string& session, std::int64_t seq, const nlohmann::json& edit) = 0;
+  virtual void saveSnapshot(const std::string& session, std::int64_t seq, const nlohmann::json& scene) = 0;
+};
+
+enum class Role { None, View, Edit };
+
+/// Settings of a session (limits and interaction defaults).
+struct SessionSettings {
+  int dragIterations = 1;           ///< iterations per drag message (000_… §4.1: one round)
+  int releaseIterations = 10;       ///< after drag_end (000_… §4.1: 10)
+  int maxIterationsPerRequest = 1000;
+  int maxParticipants = 32;
+  int undoDepth = 100;
+  int snapshotEvery = 50;           ///< edits between snapshots in the journal
+  int surfaceSamples = 96;          ///< u samples of the streamed surface
+};
+
+/// Counters the daemon exports on /api/metrics.
+struct SessionCounters {
+  std::atomic<std::uint64_t> iterations{0};
+  std::atomic<std::uint64_t> messages{0};
+  std::atomic<std::uint64_t> errors{0};
+};
+
+/// One editing session: a scene, its model and solver, its participants and its edit history.
+///
+/// Threading: `post()` and `join()`/`leave()` may be called from any thread. Work runs on the
+/// session's own executor (a strand: one worker at a time), which the owner supplies as
+/// `schedule`. Drags that arrive while the solver is busy replace the queued drag of the same
+/// target (latest wins); any queued work interrupts a running solve between iterations.
+class Session : public std::enable_shared_from_this<Session> {
+ public:
+  struct Tokens {
+    std::string edit;
+    std::string view;
+  };
+  using Scheduler = std::function<void(std::function<void()>)>;
+
+  /// @throws proto::SceneError when the scene's model cannot be built
+  Session(std::string id, proto::Scene scene, Tokens tokens, SessionSettings settings,
+          Scheduler schedule, SessionJournal* journal, SessionCounters* counters,
+          bool demo = false);
+
+  /// Restores a session: the scene of the last snapshot, then every journalled edit after it.
+  void replay(const std::vector<std::pair<std::int64_t, nlohmann::json>>& edits, std::int64_t lastSeq);
+
+  const std::string& id() const { return id_; }
+  bool demo() const { return demo_; }
+  const std::string& name() const { return name_; }
+  const Tokens& tokens() const { return tokens_; }
+  /// The role a token grants (constant-time comparisons).
+  Role authenticate(const std::string& token) const;
+
+  /// Adds a participant; sends it the full state and tells everyone who is there.
+  /// @returns the participant id, or −1 when the session is full (an error is sent)
+  int join(Role role, const std::string& name, MessageSink sink);
+  void leave(int participant);
+  int participantCount() const;
+
+  /// Queues a schema-valid client message from a participant for the session's worker.
+  void post(int participant, nlohmann::json message);
+
+  /// Current scene (with handles the user placed; temporary drag handles left out).
+  nlohmann::json sceneJson() const;
+  nlohmann::json metricsJson() const;
+  /// Sampled surface etc. for exports and REST.
+  void exportObj(const std::string& path) const;
+  std::int64_t seq() const { return seq_.load(); }
+
+ private:
+  struct Participant {
+    int id;
+    std::string name, color;
+    Role role;
+    MessageSink sink;
+    nlohmann::json selection;  // null or a target
+    nlohmann::json dragging;   // null or a target
+  };
+  struct Work {
+    int participant;
+    nlohmann::json message;
+    std::vector<nlohmann::json> coalescedOps;  // ops of drags this one replaced
+  };
+
+  void drain();
+  void handle(const Work& work);
+  void send(int participant, const nlohmann::json& message, Delivery d = Delivery::Reliable, const std::string& key = {});
+  void broadcast(const nlohmann::json& message, Delivery d = Delivery::Reliable, const std::string& key = {});
+  void error(int participant, const nlohmann::json& op, const std::string& code, const std::string& message, const std::string& path = "");
+  nlohmann::json stateMessage(int participant) const;
+  nlohmann::json presenceMessage() const;
+  nlohmann::json participantsJson() const;
+
+  /// Applies an edit to the model; returns false (after sending an error) if it is rejected.
+  bool apply(int participant, const nlohmann::json& edit, bool replaying);
+  /// Records an applied edit: seq, journal (durable), ack to the sender, edit to the others.
+  void commit(int participant, const nlohmann::json& edit, const std::vector<nlohmann::json>& ops);
+  /// Runs iterations, streaming iterates; returns false if interrupted by queued work.
+  bool runSolver(int iterations, bool final);
+  void rebuild(const proto::Scene& scene);
+  proto::Scene persistentScene() const;
+  void pushUndo();
+  bool hasQueuedWork() const;
+  int targetIndex(const nlohmann::json& target, std::string& path) const;
+
+  std::string id_, name_;
+  Tokens tokens_;
+  SessionSettings settings_;
+  Scheduler schedule_;
+  SessionJournal* journal_;
+  SessionCounters* counters_;
+  bool demo_;
+
+  proto::Scene initialScene_;
+  std::unique_ptr<SceneSolver> solver_;
+  std::vector<models::strip::ControlPointRef> dragHandles_;  // temporary handles of active drags
+  std::deque<proto::Scene> undo_, redo_;
+  std::atomic<std::int64_t> seq_{0};
+  std::int64_t editsSinceSnapshot_ = 0;
+
+  mutable std::mutex mutex_;  // guards participants_, queue_, scheduled_, cached json
+  std::map<int, Participant> participants_;
+  int nextParticipant_ = 1;
+  std::deque<std::shared_ptr<Work>> queue_;
+  bool scheduled_ = false;
+  nlohmann::json cachedScene_, cachedMetrics_;
+};
+
+}  // namespace devsurf::server

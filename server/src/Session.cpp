@@ -1,0 +1,557 @@
+#include "devsurf/server/Session.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "devsurf/proto/Geometry.h"
+#include "devsurf/proto/Report.h"
+
+namespace devsurf::server {
+namespace {
+
+using nlohmann::json;
+using models::strip::ControlPointRef;
+using models::strip::Curve;
+using models::strip::StripDesign;
+
+const char* kPalette[] = {"#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4",
+                          "#42d4f4", "#f032e6", "#9a6324", "#800000", "#469990"};
+
+/// Constant-time comparison (length leaks, content does not).
+bool sameToken(const std::string& a, const std::string& b) {
+  if (a.size() != b.size()) return false;
+  unsigned char diff = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
+  return diff == 0;
+}
+
+ControlPointRef refOf(const json& target) {
+  return {target.at("curve").get<std::string>() == "a" ? Curve::A : Curve::B,
+          target.at("index").get<int>()};
+}
+
+json targetJson(const ControlPointRef& r) {
+  return {{"curve", models::strip::curveName(r.curve)}, {"index", r.index}};
+}
+
+bool isEdit(const std::string& type) {
+  return type != "presence" && type != "ping" && type != "join";
+}
+
+}  // namespace
+
+Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSettings settings,
+                 Scheduler schedule, SessionJournal* journal, SessionCounters* counters, bool demo)
+    : id_(std::move(id)),
+      name_(scene.name),
+      tokens_(std::move(tokens)),
+      settings_(settings),
+      schedule_(std::move(schedule)),
+      journal_(journal),
+      counters_(counters),
+      demo_(demo),
+      initialScene_(scene) {
+  rebuild(scene);
+}
+
+Role Session::authenticate(const std::string& token) const {
+  // Compare against both so the time does not tell which one matched.
+  const bool edit = sameToken(token, tokens_.edit);
+  const bool view = sameToken(token, tokens_.view);
+  return edit ? Role::Edit : (view ? Role::View : Role::None);
+}
+
+void Session::rebuild(const proto::Scene& scene) {
+  auto next = std::make_unique<SceneSolver>(scene);  // throws SceneError on a bad design
+  solver_ = std::move(next);
+  std::lock_guard<std::mutex> lock(mutex_);
+  cachedScene_ = proto::sceneToJson(persistentScene());
+  cachedMetrics_ = json(solver_->metrics());
+}
+
+proto::Scene Session::persistentScene() const {
+  proto::Scene s = solver_->currentScene();
+  auto& d = std::get<StripDesign>(s.model);
+  d.handles.erase(std::remove_if(d.handles.begin(), d.handles.end(),
+                                 [this](const models::strip::Handle& h) {
+                                   return std::find(dragHandles_.begin(), dragHandles_.end(),
+                                                    h.point) != dragHandles_.end();
+                                 }),
+                  d.handles.end());
+  return s;
+}
+
+json Session::sceneJson() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return cachedScene_;
+}
+
+json Session::metricsJson() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return cachedMetrics_;
+}
+
+void Session::exportObj(const std::string& path) const {
+  const proto::Scene scene = proto::sceneFromJson(sceneJson());
+  SceneSolver(scene).exportTo("obj:" + path);
+}
+
+int Session::participantCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return static_cast<int>(participants_.size());
+}
+
+int Session::join(Role role, const std::string& name, MessageSink sink) {
+  int pid;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (static_cast<int>(participants_.size()) >= settings_.maxParticipants) {
+      sink(json{{"type", "error"}, {"code", "session_full"},
+                {"message", "this session has the maximum of " + std::to_string(settings_.maxParticipants) + " participants"},
+                {"path", "session"}}.dump(),
+           Delivery::Reliable, "");
+      return -1;
+    }
+    pid = nextParticipant_++;
+    Participant p{pid, name.empty() ? "guest " + std::to_string(pid) : name,
+                  kPalette[(pid - 1) % (sizeof(kPalette) / sizeof(kPalette[0]))], role, std::move(sink),
+                  nullptr, nullptr};
+    participants_.emplace(pid, std::move(p));
+  }
+  // The state is built on the session's worker so it is consistent with the edit order.
+  post(pid, json{{"type", "_state"}});
+  return pid;
+}
+
+void Session::leave(int participant) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (participants_.erase(participant) == 0) return;
+  }
+  post(0, json{{"type", "_presence"}});
+}
+
+void Session::post(int participant, json message) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (counters_) ++counters_->messages;
+    bool coalesced = false;
+    if (message.value("type", "") == "drag") {
+      // Latest wins per target: replace a queued, unprocessed drag of the same target.
+      for (auto& w : queue_) {
+        if (w->message.value("type", "") == "drag" && w->participant == participant &&
+            w->message["target"] == message["target"]) {
+          w->coalescedOps.push_back(w->message.value("op", json()));
+          w->message = std::move(message);
+          coalesced = true;
+          break;
+        }
+      }
+    }
+    if (!coalesced) queue_.push_back(std::make_shared<Work>(Work{participant, std::move(message), {}}));
+    if (scheduled_) return;
+    scheduled_ = true;
+  }
+  schedule_([self = shared_from_this()]() { self->drain(); });
+}
+
+bool Session::hasQueuedWork() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return !queue_.empty();
+}
+
+void Session::drain() {
+  for (;;) {
+    std::shared_ptr<Work> work;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (queue_.empty()) {
+        scheduled_ = false;
+        return;
+      }
+      work = queue_.front();
+      queue_.pop_front();
+    }
+    try {
+      handle(*work);
+    } catch (const std::exception& e) {
+      // Never let one message take the session down: back to the last committed scene.
+      if (counters_) ++counters_->errors;
+      error(work->participant, work->message.value("op", json()), "internal", e.what());
+      try {
+        rebuild(proto::sceneFromJson(sceneJson()));
+      } catch (const std::exception&) {
+      }
+    }
+  }
+}
+
+void Session::send(int participant, const json& message, Delivery d, const std::string& key) {
+  MessageSink sink;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = participants_.find(participant);
+    if (it == participants_.end()) return;
+    sink = it->second.sink;
+  }
+  sink(message.dump(), d, key);
+}
+
+void Session::broadcast(const json& message, Delivery d, const std::string& key) {
+  const std::string text = message.dump();
+  std::vector<MessageSink> sinks;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& [id, p] : participants_) sinks.push_back(p.sink);
+  }
+  for (auto& s : sinks) s(text, d, key);
+}
+
+void Session::error(int participant, const json& op, const std::string& code,
+                    const std::string& message, const std::string& path) {
+  json e{{"type", "error"}, {"code", code}, {"message", message}};
+  if (!op.is_null()) e["op"] = op;
+  if (!path.empty()) e["path"] = path;
+  if (counters_) ++counters_->errors;
+  send(participant, e);
+}
+
+json Session::participantsJson() const {
+  json list = json::array();
+  for (const auto& [id, p] : participants_)
+    list.push_back({{"id", id}, {"name", p.name}, {"color", p.color},
+                    {"role", p.role == Role::Edit ? "edit" : "view"},
+                    {"selection", p.selection}, {"dragging", p.dragging}});
+  return list;
+}
+
+json Session::presenceMessage() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {{"type", "presence"}, {"participants", participantsJson()}};
+}
+
+json Session::stateMessage(int participant) const {
+  const auto& d = std::get<StripDesign>(solver_->currentScene().model);
+  json fixed = json::array(), handles = json::array();
+  for (const auto& f : d.fixed) fixed.push_back(targetJson(f));
+  for (const auto& h : d.handles)
+    handles.push_back({{"target", targetJson(h.point)},
+                       {"position", {h.position.x(), h.position.y(), h.position.z()}},
+                       {"weight", h.weight},
+                       {"temporary", std::find(dragHandles_.begin(), dragHandles_.end(), h.point) != dragHandles_.end()}});
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = participants_.find(participant);
+  return {{"type", "state"},
+          {"session", id_},
+          {"seq", seq_.load()},
+          {"you", participant},
+          {"role", it != participants_.end() && it->second.role == Role::Edit ? "edit" : "view"},
+          {"scene", cachedScene_},
+          {"metrics", cachedMetrics_},
+          {"geometry", proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples)},
+          {"constraints", {{"fixed", fixed}, {"handles", handles}}},
+          {"participants", participantsJson()},
+          {"settings", {{"drag_iterations", settings_.dragIterations},
+                        {"release_iterations", settings_.releaseIterations}}},
+          {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}};
+}
+
+int Session::targetIndex(const json& target, std::string& path) const {
+  const auto& d = std::get<StripDesign>(solver_->currentScene().model);
+  const ControlPointRef r = refOf(target);
+  const int n = static_cast<int>((r.curve == Curve::A ? d.a.points : d.b.points).rows());
+  if (r.index >= n) {
+    path = "target.index";
+    return -1;
+  }
+  return r.index;
+}
+
+void Session::pushUndo() {
+  undo_.push_back(persistentScene());
+  if (static_cast<int>(undo_.size()) > settings_.undoDepth) undo_.pop_front();
+  redo_.clear();
+}
+
+void Session::commit(int participant, const json& edit, const std::vector<json>& ops) {
+  const std::int64_t seq = ++seq_;
+  json logged = edit;
+  logged.erase("op");
+  if (journal_) journal_->appendEdit(id_, seq, logged);  // durable before the ack
+  for (const json& op : ops) {
+    json ack{{"type", "ack"}, {"seq", seq}};
+    if (!op.is_null()) ack["op"] = op;
+    send(participant, ack);
+  }
+  json notice{{"type", "edit"}, {"seq", seq}, {"by", participant}, {"edit", logged}};
+  std::vector<MessageSink> others;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& [id, p] : participants_)
+      if (id != participant) others.push_back(p.sink);
+  }
+  const std::string text = notice.dump();
+  for (auto& s : others) s(text, Delivery::Reliable, "");
+}
+
+bool Session::apply(int participant, const json& edit, bool replaying) {
+  const std::string type = edit.at("type").get<std::string>();
+  const json op = edit.value("op", json());
+  std::string path;
+  auto scene = [this]() { return proto::sceneToJson(persistentScene()); };
+  auto rebuildFrom = [this](const json& doc) { rebuild(proto::sceneFromJson(doc)); };
+
+  if (edit.contains("target") && targetIndex(edit["target"], path) < 0) {
+    if (!replaying) error(participant, op, "invalid", "no such control point", path);
+    return false;
+  }
+  if (type == "drag") {
+    const ControlPointRef r = refOf(edit["target"]);
+    const Eigen::Vector3d pos(edit["position"][0].get<double>(), edit["position"][1].get<double>(),
+                              edit["position"][2].get<double>());
+    const auto& d = std::get<StripDesign>(solver_->currentScene().model);
+    const auto it = std::find_if(d.handles.begin(), d.handles.end(),
+                                 [&r](const models::strip::Handle& h) { return h.point == r; });
+    const bool active = std::find(dragHandles_.begin(), dragHandles_.end(), r) != dragHandles_.end();
+    if (it == d.handles.end()) {
+      pushUndo();
+      proto::Scene s = solver_->currentScene();
+      std::get<StripDesign>(s.model).handles.push_back({r, pos, s.solver.handleWeight});
+      dragHandles_.push_back(r);
+      rebuild(s);
+    } else {
+      if (!active && !replaying) {
+        bool started = true;  // the first drag of a permanent handle is one undo step
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          const auto p = participants_.find(participant);
+          started = p == participants_.end() || p->second.dragging != edit["target"];
+        }
+        if (started) pushUndo();
+      }
+      solver_->stripModel().setHandleTarget(static_cast<int>(it - d.handles.begin()), pos);
+    }
+    return true;
+  }
+  if (type == "drag_end") {
+    return true;  // the handle is released after the release iterations (handle())
+  }
+  if (type == "solve") return true;
+  if (type == "undo" || type == "redo") {
+    auto& from = type == "undo" ? undo_ : redo_;
+    auto& to = type == "undo" ? redo_ : undo_;
+    if (from.empty()) {
+      if (!replaying) error(participant, op, "conflict", "nothing to " + type, "type");
+      return false;
+    }
+    to.push_back(persistentScene());
+    const proto::Scene target = from.back();
+    from.pop_back();
+    dragHandles_.clear();
+    rebuild(target);
+    return true;
+  }
+  if (type == "reset") {
+    pushUndo();
+    dragHandles_.clear();
+    rebuild(initialScene_);
+    return true;
+  }
+  // Structural edits go through the scene document, so the model's own validation applies.
+  json doc = scene();
+  json& model = doc["model"];
+  if (type == "add_handle") {
+    json handles = model.value("handles", json::array());
+    json h{{"curve", edit["target"]["curve"]}, {"index", edit["target"]["index"]}, {"position", edit["position"]}};
+    if (edit.contains("weight")) h["weight"] = edit["weight"];
+    auto same = [&edit](const json& x) { return x["curve"] == edit["target"]["curve"] && x["index"] == edit["target"]["index"]; };
+    handles.erase(std::remove_if(handles.begin(), handles.end(), same), handles.end());
+    handles.push_back(h);
+    model["handles"] = handles;
+  } else if (type == "remove_handle") {
+    json handles = model.value("handles", json::array());
+    const auto before = handles.size();
+    handles.erase(std::remove_if(handles.begin(), handles.end(), [&edit](const json& x) {
+                    return x["curve"] == edit["target"]["curve"] && x["index"] == edit["target"]["index"];
+                  }), handles.end());
+    if (handles.size() == before) {
+      if (!replaying) error(participant, op, "invalid", "that control point has no handle", "target");
+      return false;
+    }
+    model["handles"] = handles;
+  } else if (type == "set_fixed") {
+    json fixed = model.value("fixed", json::array());
+    const json t{{"curve", edit["target"]["curve"]}, {"index", edit["target"]["index"]}};
+    fixed.erase(std::remove(fixed.begin(), fixed.end(), t), fixed.end());
+    if (edit["fixed"].get<bool>()) fixed.push_back(t);
+    model["fixed"] = fixed;
+  } else if (type == "set_solver") {
+    for (const auto& [k, v] : edit["solver"].items()) doc["solver"][k] = v;
+    if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
+    if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
+  } else {
+    if (!replaying) error(participant, op, "invalid", "unknown message type \"" + type + "\"", "type");
+    return false;
+  }
+  try {
+    const proto::Scene next = proto::sceneFromJson(doc);
+    pushUndo();
+    dragHandles_.clear();
+    rebuild(next);
+  } catch (const proto::SceneError& e) {
+    if (!replaying) error(participant, op, "invalid", e.what(), e.path());
+    return false;
+  }
+  return true;
+}
+
+bool Session::runSolver(int iterations, bool final) {
+  const std::int64_t seq = seq_.load();
+  bool interrupted = false;
+  auto onIteration = [this, seq, &interrupted](const engine::IterationRecord& r) {
+    if (r.iteration == 0) return !(interrupted = hasQueuedWork());
+    if (counters_) ++counters_->iterations;
+    const metrics::StripQuality q = solver_->stripModel().quality(200);
+    json residuals = json::object();
+    // Per-term residuals by name (terms of the same name summed).
+    const auto& problem = solver_->stripModel().problem();
+    for (int t = 0; t < problem.numTerms(); ++t) {
+      const std::string& n = problem.term(t).term->name();
+      residuals[n] = residuals.value(n, 0.0) + r.termResiduals[t];
+    }
+    broadcast({{"type", "iterate"}, {"seq", seq}, {"iteration", r.iteration},
+               {"residuals", residuals},
+               {"metrics", {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg}}},
+               {"time_ms", r.totalMs},
+               {"geometry", proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples)}},
+              Delivery::Latest, "iterate");
+    return !(interrupted = hasQueuedWork());
+  };
+  const engine::SolveSummary summary = solver_->solve(iterations, onIteration);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cachedMetrics_ = json(solver_->metrics());
+  }
+  if (summary.reason == engine::TerminationReason::Diverged) {
+    broadcast({{"type", "error"}, {"code", "diverged"}, {"seq", seq},
+               {"message", "the solver diverged; the session keeps its last good state"}});
+  }
+  if (final && !interrupted) {
+    broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metricsJson()},
+               {"reason", engine::terminationReasonName(summary.reason)},
+               {"iterations", summary.stepsTaken()}});
+  }
+  return !interrupted;
+}
+
+void Session::handle(const Work& work) {
+  const json& m = work.message;
+  const std::string type = m.value("type", "");
+  const json op = m.value("op", json());
+  const int pid = work.participant;
+
+  if (type == "_state") {
+    send(pid, stateMessage(pid));
+    broadcast(presenceMessage());
+    return;
+  }
+  if (type == "_presence") {
+    broadcast(presenceMessage());
+    return;
+  }
+  if (type == "ping") {
+    json pong{{"type", "pong"}, {"seq", seq_.load()}};
+    if (!op.is_null()) pong["op"] = op;
+    send(pid, pong);
+    return;
+  }
+  Role role = Role::None;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = participants_.find(pid);
+    if (it == participants_.end()) return;  // left meanwhile
+    role = it->second.role;
+    if (type == "presence") {
+      if (m.contains("selection")) it->second.selection = m["selection"];
+      if (m.contains("name")) it->second.name = m["name"];
+    }
+  }
+  if (type == "presence") {
+    broadcast(presenceMessage());
+    return;
+  }
+  if (isEdit(type) && role != Role::Edit) {
+    error(pid, op, "forbidden", "this connection joined with a view-only token", "type");
+    return;
+  }
+  if (!apply(pid, m, false)) return;
+  std::vector<json> ops = work.coalescedOps;
+  ops.push_back(op);
+  commit(pid, m, ops);
+
+  if (type == "drag") {
+    bool started = false;  // first drag message of this target by this participant
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = participants_.find(pid);
+      started = it != participants_.end() && it->second.dragging != m["target"];
+      if (it != participants_.end()) it->second.dragging = m["target"];
+    }
+    if (started) broadcast(presenceMessage());
+    runSolver(settings_.dragIterations, false);
+  } else if (type == "drag_end") {
+    const int iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
+    runSolver(iterations, true);
+    const ControlPointRef r = refOf(m["target"]);
+    const auto active = std::find(dragHandles_.begin(), dragHandles_.end(), r);
+    if (active != dragHandles_.end()) {
+      const proto::Scene s = persistentScene();  // without the temporary handle
+      dragHandles_.erase(active);
+      rebuild(s);
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = participants_.find(pid);
+      if (it != participants_.end()) it->second.dragging = nullptr;
+    }
+    broadcast(presenceMessage());
+  } else if (type == "solve") {
+    runSolver(std::min(m.value("iterations", 10), settings_.maxIterationsPerRequest), true);
+  } else {
+    broadcast({{"type", "update"}, {"seq", seq_.load()}, {"scene", sceneJson()}, {"metrics", metricsJson()},
+               {"geometry", proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples)},
+               {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cachedScene_ = proto::sceneToJson(persistentScene());
+  }
+  if (journal_ && ++editsSinceSnapshot_ >= settings_.snapshotEvery && dragHandles_.empty()) {
+    journal_->saveSnapshot(id_, seq_.load(), sceneJson());
+    editsSinceSnapshot_ = 0;
+  }
+}
+
+void Session::replay(const std::vector<std::pair<std::int64_t, json>>& edits, std::int64_t lastSeq) {
+  for (const auto& [seq, edit] : edits) {
+    const std::string type = edit.value("type", "");
+    if (!apply(0, edit, true)) continue;
+    if (type == "drag") solver_->solve(settings_.dragIterations);
+    else if (type == "drag_end") {
+      solver_->solve(edit.value("iterations", settings_.releaseIterations));
+      const ControlPointRef r = refOf(edit["target"]);
+      const auto active = std::find(dragHandles_.begin(), dragHandles_.end(), r);
+      if (active != dragHandles_.end()) {
+        const proto::Scene s = persistentScene();
+        dragHandles_.erase(active);
+        rebuild(s);
+      }
+    } else if (type == "solve") solver_->solve(edit.value("iterations", 10));
+  }
+  seq_ = lastSeq;
+  std::lock_guard<std::mutex> lock(mutex_);
+  cachedScene_ = proto::sceneToJson(persistentScene());
+  cachedMetrics_ = json(solver_->metrics());
+}
+
+}  // namespace devsurf::server
