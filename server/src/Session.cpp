@@ -231,7 +231,8 @@ json Session::presenceMessage() const {
 }
 
 json Session::stateMessage(int participant) const {
-  const auto& d = std::get<StripDesign>(solver_->currentScene().model);
+  const proto::Scene current = solver_->currentScene();
+  const auto& d = std::get<StripDesign>(current.model);
   json fixed = json::array(), handles = json::array();
   for (const auto& f : d.fixed) fixed.push_back(targetJson(f));
   for (const auto& h : d.handles)
@@ -257,7 +258,8 @@ json Session::stateMessage(int participant) const {
 }
 
 int Session::targetIndex(const json& target, std::string& path) const {
-  const auto& d = std::get<StripDesign>(solver_->currentScene().model);
+  const proto::Scene current = solver_->currentScene();
+  const auto& d = std::get<StripDesign>(current.model);
   const ControlPointRef r = refOf(target);
   const int n = static_cast<int>((r.curve == Curve::A ? d.a.points : d.b.points).rows());
   if (r.index >= n) {
@@ -309,7 +311,8 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     const ControlPointRef r = refOf(edit["target"]);
     const Eigen::Vector3d pos(edit["position"][0].get<double>(), edit["position"][1].get<double>(),
                               edit["position"][2].get<double>());
-    const auto& d = std::get<StripDesign>(solver_->currentScene().model);
+    const proto::Scene current = solver_->currentScene();
+  const auto& d = std::get<StripDesign>(current.model);
     const auto it = std::find_if(d.handles.begin(), d.handles.end(),
                                  [&r](const models::strip::Handle& h) { return h.point == r; });
     const bool active = std::find(dragHandles_.begin(), dragHandles_.end(), r) != dragHandles_.end();

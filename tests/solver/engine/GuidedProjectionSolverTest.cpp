@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 
+#include "solver/engine/TestProblems.h"
 #include "solver/engine/TestTerms.h"
 
 namespace devsurf::engine {
@@ -212,6 +213,39 @@ TEST(GuidedProjectionSolver, CholmodAndLdltTakeTheSameStep) {
   s1.solve(options);
   s2.solve(options);
   EXPECT_LT((p1.x() - p2.x()).norm(), 1e-12);
+}
+
+/// Eliminating the normals (Schur complement) is exact: the iterates, step norms and residuals
+/// are those of the solver that factors all of H, with either linear solver.
+TEST(GuidedProjectionSolver, EliminationLeavesTheIteratesUnchanged) {
+  std::vector<LinearSolverKind> kinds{LinearSolverKind::SimplicialLDLT};
+  if (cholmodAvailable()) kinds.push_back(LinearSolverKind::Cholmod);
+  for (LinearSolverKind kind : kinds) {
+    Problem eliminated, full;
+    testing::buildStripLike(eliminated, 5, 7, 3);
+    testing::buildStripLike(full, 5, 7, 3);
+    for (int b = 0; b < full.layout().numBlocks(); ++b) full.layout().setEliminable(b, 0);
+    GuidedProjectionSolver s1(eliminated, kind);
+    GuidedProjectionSolver s2(full, kind);
+    EXPECT_EQ(s1.numFree(), s2.numFree());
+    EXPECT_EQ(s1.normalMatrixNonZeros(), s2.normalMatrixNonZeros());
+    SolverOptions options;
+    options.maxIterations = 6;
+    options.residualTolerance = 0.0;
+    options.relativeChangeTolerance = 0.0;
+    const SolveSummary a = s1.solve(options);
+    const SolveSummary b = s2.solve(options);
+    ASSERT_EQ(a.stepsTaken(), 6);
+    ASSERT_EQ(b.stepsTaken(), 6);
+    EXPECT_LT((eliminated.x() - full.x()).norm(), 1e-9 * full.x().norm());
+    for (int k = 1; k <= 6; ++k) {
+      EXPECT_NEAR(a.iterations[k].stepNorm, b.iterations[k].stepNorm,
+                  1e-9 * (1.0 + b.iterations[k].stepNorm));
+      EXPECT_NEAR(a.iterations[k].totalResidual, b.iterations[k].totalResidual,
+                  1e-9 * (1e-12 + b.iterations[k].totalResidual));
+    }
+    EXPECT_LT(a.iterations[6].hardResidual, a.iterations[0].hardResidual);
+  }
 }
 
 }  // namespace
