@@ -5,6 +5,7 @@
 
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Report.h"
+#include "devsurf/server/Tokens.h"
 
 namespace devsurf::server {
 namespace {
@@ -16,14 +17,6 @@ using models::strip::StripDesign;
 
 const char* kPalette[] = {"#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4",
                           "#42d4f4", "#f032e6", "#9a6324", "#800000", "#469990"};
-
-/// Constant-time comparison (length leaks, content does not).
-bool sameToken(const std::string& a, const std::string& b) {
-  if (a.size() != b.size()) return false;
-  unsigned char diff = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
-  return diff == 0;
-}
 
 ControlPointRef refOf(const json& target) {
   return {target.at("curve").get<std::string>() == "a" ? Curve::A : Curve::B,
@@ -56,8 +49,9 @@ Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSetti
 
 Role Session::authenticate(const std::string& token) const {
   // Compare against both so the time does not tell which one matched.
-  const bool edit = sameToken(token, tokens_.edit);
-  const bool view = sameToken(token, tokens_.view);
+  const std::string hash = sha1Hex(token);
+  const bool edit = constantTimeEquals(hash, tokens_.editHash);
+  const bool view = constantTimeEquals(hash, tokens_.viewHash);
   return edit ? Role::Edit : (view ? Role::View : Role::None);
 }
 

@@ -1,5 +1,7 @@
 #include "devsurf/server/Session.h"
 
+#include "devsurf/server/Tokens.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -53,7 +55,7 @@ proto::Scene liftedCornerScene() {
 }
 
 std::shared_ptr<Session> makeSession(ManualExecutor& ex, SessionJournal* journal = nullptr) {
-  return std::make_shared<Session>("s1", liftedCornerScene(), Session::Tokens{"edit-token", "view-token"},
+  return std::make_shared<Session>("s1", liftedCornerScene(), Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
@@ -220,6 +222,23 @@ TEST(Session, ReplayingTheJournalRestoresTheScene) {
   for (int i = 0; i < 7; ++i)
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(a["model"]["b"]["points"][i][c].get<double>(), b["model"]["b"]["points"][i][c].get<double>(), 1e-9);
+}
+
+}  // namespace
+}  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+TEST(Tokens, AreRandom128BitHexAndHashStably) {
+  const std::string a = randomToken(), b = randomToken();
+  EXPECT_EQ(a.size(), 32u);
+  EXPECT_NE(a, b);
+  EXPECT_EQ(a.find_first_not_of("0123456789abcdef"), std::string::npos);
+  EXPECT_EQ(sha1Hex("abc"), "a9993e364706816aba3e25717850c26c9cd0d89d");  // FIPS 180-1 test vector
+  EXPECT_TRUE(constantTimeEquals("x1", "x1"));
+  EXPECT_FALSE(constantTimeEquals("x1", "x2"));
+  EXPECT_FALSE(constantTimeEquals("x1", "x12"));
 }
 
 }  // namespace

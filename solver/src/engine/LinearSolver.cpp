@@ -15,11 +15,14 @@ namespace {
 class SimplicialLdltSolver final : public LinearSolver {
  public:
   std::string name() const override { return "ldlt"; }
-  void analyzePattern(const SymmetricUpper& matrix) override { ldlt_.analyzePattern(matrix); }
+  void analyzePattern(const SymmetricUpper& matrix) override {
+    ldlt_.analyzePattern(matrix);
+    ldlt_.sizeDiagonal(matrix.rows());  // else the first factorization allocates it
+  }
   bool factorize(const SymmetricUpper& matrix) override {
     ldlt_.factorizeUpper(matrix);
     if (ldlt_.info() != Eigen::Success) return false;
-    return (ldlt_.vectorD().array() > 0.0).all();
+    return (ldlt_.diagonal().array() > 0.0).all();
   }
   void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
     solution = ldlt_.solve(rhs);
@@ -30,8 +33,11 @@ class SimplicialLdltSolver final : public LinearSolver {
   /// call; with natural ordering and upper storage it then factors the input as is, so call that
   /// numeric kernel directly. Its own work arrays (3n scalars) live on the stack while they fit
   /// EIGEN_STACK_ALLOCATION_LIMIT (n ≤ 16 384) and are heap-allocated per call beyond that.
+  /// vectorD() returns D by value (a copy per call), so D is read by reference.
   struct Ldlt : Eigen::SimplicialLDLT<SymmetricUpper, Eigen::Upper, Eigen::NaturalOrdering<int>> {
     void factorizeUpper(const SymmetricUpper& upper) { this->factorize_preordered<true>(upper); }
+    const Eigen::VectorXd& diagonal() const { return this->m_diag; }
+    void sizeDiagonal(Eigen::Index n) { this->m_diag.resize(n); }
   };
   Ldlt ldlt_;
 };
@@ -55,7 +61,21 @@ class CholmodSolver final : public LinearSolver {
     cholmod_free_dense(&e_, &llt_.cholmod());
   }
   std::string name() const override { return "cholmod"; }
-  void analyzePattern(const SymmetricUpper& matrix) override { llt_.analyzePattern(matrix); }
+  void analyzePattern(const SymmetricUpper& matrix) override {
+    llt_.analyzePattern(matrix);
+    // Size the solve workspaces now (shapes as cholmod_solve2 wants them for one right-hand side).
+    const std::size_t n = static_cast<std::size_t>(matrix.rows());
+    cholmod_factor* factor = llt_.factor();
+    cholmod_common* common = &llt_.cholmod();
+    if (n == 0 || !factor) return;
+    cholmod_ensure_dense(&x_, n, 1, n, CHOLMOD_REAL, common);
+    if (factor->is_super) {
+      cholmod_ensure_dense(&y_, n, 1, n, CHOLMOD_REAL, common);
+      cholmod_ensure_dense(&e_, 1, factor->maxesize, 1, CHOLMOD_REAL, common);
+    } else {
+      cholmod_ensure_dense(&y_, 4, n, 4, CHOLMOD_REAL, common);
+    }
+  }
   bool factorize(const SymmetricUpper& matrix) override {
     llt_.factorize(matrix);
     return llt_.info() == Eigen::Success;
@@ -65,6 +85,14 @@ class CholmodSolver final : public LinearSolver {
     solution.resize(n);
     if (n == 0) return;
     cholmod_dense b = Eigen::viewAsCholmod(const_cast<Eigen::VectorXd&>(rhs));  // read only
+    // A simplicial solve wants Y as 4×n but leaves it reshaped to the columns it used; restore the
+    // shape (the storage is large enough) or cholmod_solve2 reallocates Y on every call.
+    const std::size_t rows = static_cast<std::size_t>(n);
+    if (y_ && !llt_.factor()->is_super && y_->nzmax >= 4 * rows) {
+      y_->nrow = 4;
+      y_->ncol = rows;
+      y_->d = 4;
+    }
     cholmod_solve2(CHOLMOD_A, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, &llt_.cholmod());
     solution = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), n);
   }
@@ -74,7 +102,7 @@ class CholmodSolver final : public LinearSolver {
     cholmod_factor* factor() { return this->m_cholmodFactor; }
   };
   Decomposition llt_;
-  cholmod_dense* x_ = nullptr;  // solve2 workspaces, allocated by the first solve
+  cholmod_dense* x_ = nullptr;  // solve2 workspaces, sized by analyzePattern
   cholmod_dense* y_ = nullptr;
   cholmod_dense* e_ = nullptr;
 };

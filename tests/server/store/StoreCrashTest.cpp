@@ -179,7 +179,9 @@ void runCrashTrials(Durability durabilityA, Durability durabilityB, bool snapsho
 
     // Contiguous chain: snapshot (if any) then every later seq exactly once, with its payload.
     std::int64_t base = r->snapshot ? r->snapshot->seq : 0;
-    if (r->snapshot) ASSERT_EQ(r->snapshot->scene["through"], base);
+    if (r->snapshot) {
+      ASSERT_EQ(r->snapshot->scene["through"], base);
+    }
     std::int64_t expected = base + 1;
     for (const EditRecord& e : r->editsAfterSnapshot) {
       ASSERT_EQ(e.seq, expected) << "trial " << trial << ": gap in the edit log";
@@ -193,7 +195,9 @@ void runCrashTrials(Durability durabilityA, Durability durabilityB, bool snapsho
     for (std::int64_t s : t.acked) {
       ASSERT_TRUE(s <= base || present.count(s)) << "trial " << trial << ": seq " << s << " lost";
     }
-    if (!snapshots) ASSERT_EQ(base, 0);
+    if (!snapshots) {
+      ASSERT_EQ(base, 0);
+    }
     previousLast = r->lastSeq;
   }
   EXPECT_GT(totalAcked, 100) << "the children hardly wrote anything; the test proves little";

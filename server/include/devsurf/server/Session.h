@@ -64,9 +64,11 @@ struct SessionCounters {
 /// target (latest wins); any queued work interrupts a running solve between iterations.
 class Session : public std::enable_shared_from_this<Session> {
  public:
+  /// SHA-1 hex digests of the session's capability tokens (the tokens themselves are only ever
+  /// shown to the creator).
   struct Tokens {
-    std::string edit;
-    std::string view;
+    std::string editHash;
+    std::string viewHash;
   };
   using Scheduler = std::function<void(std::function<void()>)>;
 

@@ -1,0 +1,123 @@
+#include "devsurf/server/JobQueue.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "devsurf/proto/Scene.h"
+
+namespace devsurf::server {
+namespace {
+
+using nlohmann::json;
+using store::JobState;
+
+std::string freshDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("devsurf_jobs_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+json exampleScene(const std::string& name) {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
+  return json::parse(file);
+}
+
+/// A strip big enough that 10 000 iterations take a while (for cancellation).
+json slowScene() {
+  json doc = exampleScene("strip-twisted.json");
+  json a = json::array(), b = json::array();
+  for (int i = 0; i < 400; ++i) {
+    const double t = 1.0 * i / 399;
+    a.push_back({i * 0.05, 0.0, 0.0});
+    b.push_back({i * 0.05, std::cos(t), std::sin(t)});
+  }
+  doc["model"]["a"]["points"] = a;
+  doc["model"]["b"]["points"] = b;
+  doc["model"].erase("fixed");
+  doc["solver"] = {{"iterations", 10000}, {"residual_tolerance", 0}, {"relative_change_tolerance", 0}};
+  return doc;
+}
+
+std::optional<store::JobRecord> waitFor(JobQueue& q, const std::string& id, JobState state) {
+  for (int i = 0; i < 600; ++i) {
+    auto j = q.job(id);
+    if (j && j->state == state) return j;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return q.job(id);
+}
+
+TEST(JobQueue, SolvesASubmittedSceneAndKeepsTheReport) {
+  store::Store store(freshDir("solve"));
+  JobQueue q(store, {});
+  const auto s = q.submit(exampleScene("strip-twisted.json"), std::nullopt);
+  EXPECT_TRUE(s.created);
+  const auto j = waitFor(q, s.id, JobState::Succeeded);
+  ASSERT_TRUE(j && j->state == JobState::Succeeded);
+  ASSERT_TRUE(j->report.has_value());
+  EXPECT_LT((*j->report)["metrics"]["warp_angle_max_deg"].get<double>(), 0.05);
+  EXPECT_TRUE(proto::schemaRegistry().validate(*j->report, "report.schema.json").empty());
+}
+
+TEST(JobQueue, IdempotencyKeyReturnsTheSameJobAndRejectsADifferentBody) {
+  store::Store store(freshDir("idem"));
+  JobQueue q(store, {});
+  const auto first = q.submit(exampleScene("strip-cone.json"), std::string("key-1"));
+  const auto again = q.submit(exampleScene("strip-cone.json"), std::string("key-1"));
+  EXPECT_TRUE(first.created);
+  EXPECT_FALSE(again.created);
+  EXPECT_EQ(first.id, again.id);
+  EXPECT_THROW(q.submit(exampleScene("strip-cylinder.json"), std::string("key-1")), IdempotencyMismatchError);
+}
+
+TEST(JobQueue, CancelsRunningAndQueuedJobs) {
+  store::Store store(freshDir("cancel"));
+  JobQueue q(store, {1, 8, 600000.0, 10000});
+  const auto running = q.submit(slowScene(), std::nullopt);
+  const auto queued = q.submit(slowScene(), std::nullopt);
+  ASSERT_TRUE(waitFor(q, running.id, JobState::Running));
+  EXPECT_TRUE(q.cancel(queued.id));
+  EXPECT_EQ(q.job(queued.id)->state, JobState::Cancelled);
+  EXPECT_TRUE(q.cancel(running.id));
+  const auto j = waitFor(q, running.id, JobState::Cancelled);
+  EXPECT_EQ(j->state, JobState::Cancelled);
+  EXPECT_FALSE(q.cancel(running.id));  // finished: nothing to cancel
+  EXPECT_THROW(q.cancel("nope"), store::NotFoundError);
+}
+
+TEST(JobQueue, RejectsInvalidScenesAndAFullQueue) {
+  store::Store store(freshDir("full"));
+  JobQueue q(store, {1, 1, 600000.0, 10000});
+  json bad = exampleScene("strip-cone.json");
+  bad["model"]["a"]["degree"] = "three";
+  EXPECT_THROW(q.submit(bad, std::nullopt), proto::SceneError);
+  const auto running = q.submit(slowScene(), std::nullopt);
+  ASSERT_TRUE(waitFor(q, running.id, JobState::Running));
+  q.submit(slowScene(), std::nullopt);
+  EXPECT_THROW(q.submit(slowScene(), std::nullopt), QueueFullError);
+}
+
+TEST(JobQueue, ARestartedQueueFinishesJobsThatWereRunning) {
+  const std::string dir = freshDir("restart");
+  std::string id;
+  {
+    store::Store store(dir);
+    JobQueue q(store, {1, 8, 600000.0, 10000});
+    id = q.submit(slowScene(), std::nullopt).id;
+    ASSERT_TRUE(waitFor(q, id, JobState::Running));
+  }  // shutdown while running
+  store::Store store(dir);
+  EXPECT_EQ(store.job(id)->state, JobState::Running);
+  JobQueue q(store, {1, 8, 2000.0, 10000});  // a short run limit so the re-run ends soon
+  q.restore();
+  const auto j = waitFor(q, id, JobState::Succeeded);
+  EXPECT_EQ(j->state, JobState::Succeeded);
+}
+
+}  // namespace
+}  // namespace devsurf::server
