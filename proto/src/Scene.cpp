@@ -1,6 +1,7 @@
 #include "devsurf/proto/Scene.h"
 
 #include <cmath>
+#include <map>
 #include <mutex>
 
 namespace devsurf::proto {
@@ -86,10 +87,24 @@ models::strip::StripOptions SolverSettings::stripOptions() const {
 const SchemaRegistry& schemaRegistry() {
   static const SchemaRegistry registry = [] {
     SchemaRegistry r;
-    for (const auto& [name, text] : kEmbeddedSchemas) r.add(name, json::parse(text));
+    for (const auto& [name, text] : kEmbeddedSchemas) {
+      const std::string n(name);
+      if (n.size() > 12 && n.compare(n.size() - 12, 12, ".schema.json") == 0) r.add(n, json::parse(text));
+    }
     return r;
   }();
   return registry;
+}
+
+const json& embeddedDocument(const std::string& name) {
+  static const std::map<std::string, json> documents = [] {
+    std::map<std::string, json> d;
+    for (const auto& [n, text] : kEmbeddedSchemas) d.emplace(n, json::parse(text));
+    return d;
+  }();
+  const auto it = documents.find(name);
+  if (it == documents.end()) throw std::out_of_range("no embedded document " + name);
+  return it->second;
 }
 
 spline::BSplineCurve curveFromJson(const json& j, const std::string& path) {

@@ -7,7 +7,17 @@
 #include <stdexcept>
 
 #include "devsurf/proto/Scene.h"
+#include "devsurf/server/Daemon.h"
 #include "devsurf/server/SceneSolver.h"
+
+#include <csignal>
+#include <thread>
+
+#include <httplib.h>
+#include <pthread.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
 
 namespace devsurf::server {
 namespace {
@@ -19,6 +29,14 @@ constexpr const char* kUsage =
     "  solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]...\n"
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
     "        FORMAT is obj, off, ply or stl (the sampled surface as quads).\n"
+    "  serve [--port 8080] [--bind 127.0.0.1] [--data DIR] [--api-key KEY] [--web DIR]\n"
+    "        [--demo SCENE]... [--workers N] [--max-sessions N] [--max-clients N]\n"
+    "        [--max-body BYTES] [--max-message BYTES] [--message-rate PER_S]\n"
+    "        [--max-control-points N] [--max-iterations N] [--job-workers N]\n"
+    "        [--max-jobs N] [--job-timeout-ms MS] [--drag-iterations N] [--release-iterations N]\n"
+    "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
+    "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
+    "        Submit a batch job; with --wait, show progress and write the report.\n"
     "  version   Print the version.\n"
     "  help      Print this text.\n";
 
@@ -115,6 +133,170 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   }
 }
 
+namespace {
+
+/// Parses "--flag value" pairs for serve; throws std::invalid_argument naming the flag.
+long parseNumber(const std::string& flag, const std::string& value, long lo, long hi) {
+  std::size_t used = 0;
+  long n = 0;
+  try {
+    n = std::stol(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != value.size() || n < lo || n > hi)
+    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", got \"" + value + "\"");
+  return n;
+}
+
+}  // namespace
+
+int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  DaemonOptions o;
+  try {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      auto value = [&args, &i, &a]() -> const std::string& {
+        if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
+        return args[++i];
+      };
+      if (a == "--port") o.port = static_cast<int>(parseNumber(a, value(), 0, 65535));
+      else if (a == "--bind") o.bind = value();
+      else if (a == "--data") o.dataDir = value();
+      else if (a == "--api-key") o.apiKey = value();
+      else if (a == "--web") o.webRoot = value();
+      else if (a == "--demo") o.demoScenes.push_back(value());
+      else if (a == "--workers") o.workerThreads = static_cast<int>(parseNumber(a, value(), 0, 256));
+      else if (a == "--max-sessions") o.maxSessions = static_cast<int>(parseNumber(a, value(), 1, 100000));
+      else if (a == "--max-clients") o.maxClientsPerSession = static_cast<int>(parseNumber(a, value(), 1, 10000));
+      else if (a == "--max-body") o.maxBodyBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 30));
+      else if (a == "--max-message") o.maxMessageBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 28));
+      else if (a == "--message-rate") o.messageRate = static_cast<double>(parseNumber(a, value(), 1, 100000));
+      else if (a == "--max-control-points") o.maxControlPoints = static_cast<int>(parseNumber(a, value(), 4, 10000000));
+      else if (a == "--max-iterations") o.maxIterationsPerRequest = static_cast<int>(parseNumber(a, value(), 1, 1000000));
+      else if (a == "--job-workers") o.jobs.workers = static_cast<int>(parseNumber(a, value(), 1, 256));
+      else if (a == "--max-jobs") o.jobs.maxQueued = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
+      else if (a == "--job-timeout-ms") o.jobs.maxRunMs = static_cast<double>(parseNumber(a, value(), 1, 86400000));
+      else if (a == "--drag-iterations") o.session.dragIterations = static_cast<int>(parseNumber(a, value(), 1, 100));
+      else if (a == "--release-iterations") o.session.releaseIterations = static_cast<int>(parseNumber(a, value(), 0, 1000));
+      else throw std::invalid_argument("unknown option " + a);
+    }
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf serve: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  // Logs go to stderr; stdout carries only the line with the URL (scripts read it).
+  if (!spdlog::get("devsurf")) spdlog::set_default_logger(spdlog::stderr_color_mt("devsurf"));
+  // SIGINT/SIGTERM are taken by a thread of their own (blocked everywhere else).
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  try {
+    Daemon daemon(o);
+    const int port = daemon.start();
+    out << "devsurf serving on http://" << (o.bind == "0.0.0.0" ? "localhost" : o.bind) << ":" << port << "/" << std::endl;
+    std::thread waiter([&signals, &daemon]() {
+      int sig = 0;
+      sigwait(&signals, &sig);
+      spdlog::info("signal {}: shutting down", sig);
+      daemon.stop();
+    });
+    daemon.run();
+    pthread_kill(waiter.native_handle(), SIGTERM);  // wake it if the server stopped by itself
+    waiter.join();
+    spdlog::info("stopped");
+    return 0;
+  } catch (const std::exception& e) {
+    err << "devsurf serve: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  std::string scenePath, server, apiKey, idemKey, outPath;
+  bool wait = false;
+  try {
+    if (args.empty() || args[0] != "submit") throw std::invalid_argument("expected: job submit SCENE --server URL");
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      auto value = [&args, &i, &a]() -> const std::string& {
+        if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
+        return args[++i];
+      };
+      if (a == "--server") server = value();
+      else if (a == "--api-key") apiKey = value();
+      else if (a == "--idempotency-key") idemKey = value();
+      else if (a == "--out") outPath = value();
+      else if (a == "--wait") wait = true;
+      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else if (scenePath.empty()) scenePath = a;
+      else throw std::invalid_argument("unexpected argument " + a);
+    }
+    if (scenePath.empty() || server.empty()) throw std::invalid_argument("need SCENE and --server URL");
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf job: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  std::ifstream file(scenePath, std::ios::binary);
+  if (!file) {
+    err << "devsurf job: cannot open " << scenePath << "\n";
+    return 2;
+  }
+  const std::string body = readAll(file);
+  httplib::Client client(server);
+  client.set_connection_timeout(5);
+  client.set_read_timeout(60);
+  httplib::Headers headers;
+  if (!apiKey.empty()) headers.emplace("Authorization", "Bearer " + apiKey);
+  if (!idemKey.empty()) headers.emplace("Idempotency-Key", idemKey);
+  auto res = client.Post("/api/jobs", headers, body, "application/json");
+  if (!res) {
+    err << "devsurf job: cannot reach " << server << ": " << httplib::to_string(res.error()) << "\n";
+    return 1;
+  }
+  if (res->status != 202 && res->status != 200) {
+    err << "devsurf job: server answered " << res->status << ": " << res->body << "\n";
+    return res->status >= 400 && res->status < 500 ? 2 : 1;
+  }
+  const nlohmann::json submitted = nlohmann::json::parse(res->body);
+  const std::string id = submitted["id"];
+  if (!wait) {
+    out << nlohmann::json{{"id", id}, {"location", "/api/jobs/" + id}}.dump() << "\n";
+    return 0;
+  }
+  const bool terminal = isatty(STDERR_FILENO);
+  for (;;) {
+    auto r = client.Get(("/api/jobs/" + id).c_str(), headers);
+    if (!r || r->status != 200) {
+      err << "devsurf job: lost the job " << id << "\n";
+      return 1;
+    }
+    const nlohmann::json job = nlohmann::json::parse(r->body);
+    const std::string state = job["state"];
+    const int it = job["progress"]["iteration"], of = std::max(1, job["progress"]["of"].get<int>());
+    if (terminal) {
+      const int width = 30, filled = std::min(width, it * width / of);
+      err << "\r" << id << " [" << std::string(filled, '#') << std::string(width - filled, ' ') << "] "
+          << it << "/" << of << " " << state << "   " << std::flush;
+    }
+    if (state == "succeeded" || state == "failed" || state == "cancelled") {
+      if (terminal) err << "\n";
+      if (state != "succeeded") {
+        err << "devsurf job: " << state << (job.contains("error") ? ": " + job["error"].get<std::string>() : "") << "\n";
+        return 1;
+      }
+      const std::string report = job["report"].dump(2);
+      if (outPath.empty()) out << report << "\n";
+      else std::ofstream(outPath) << report << "\n";
+      return 0;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+}
+
 int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream& out,
            std::ostream& err) {
   if (args.empty()) {
@@ -124,6 +306,8 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   const std::string& command = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   if (command == "solve") return solveCommand(rest, in, out, err);
+  if (command == "serve") return serveCommand(rest, out, err);
+  if (command == "job") return jobCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";
     return 0;

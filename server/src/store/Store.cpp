@@ -675,3 +675,6 @@ int Store::pruneFinishedJobs(std::int64_t olderThanMs) {
 }
 
 }  // namespace devsurf::server::store
+
+#undef DEVSURF_SESSION_COLUMNS
+#undef DEVSURF_JOB_COLUMNS

@@ -1,5 +1,6 @@
 #include "devsurf/engine/LinearSolver.h"
 
+#include <cstddef>
 #include <stdexcept>
 
 #include <Eigen/SparseCholesky>
@@ -62,12 +63,14 @@ class CholmodSolver final : public LinearSolver {
   }
   std::string name() const override { return "cholmod"; }
   void analyzePattern(const SymmetricUpper& matrix) override {
+    empty_ = matrix.rows() == 0;  // CHOLMOD rejects a 0×0 matrix (everything eliminated)
+    if (empty_) return;
     llt_.analyzePattern(matrix);
     // Size the solve workspaces now (shapes as cholmod_solve2 wants them for one right-hand side).
     const std::size_t n = static_cast<std::size_t>(matrix.rows());
     cholmod_factor* factor = llt_.factor();
     cholmod_common* common = &llt_.cholmod();
-    if (n == 0 || !factor) return;
+    if (!factor) return;
     cholmod_ensure_dense(&x_, n, 1, n, CHOLMOD_REAL, common);
     if (factor->is_super) {
       cholmod_ensure_dense(&y_, n, 1, n, CHOLMOD_REAL, common);
@@ -77,13 +80,24 @@ class CholmodSolver final : public LinearSolver {
     }
   }
   bool factorize(const SymmetricUpper& matrix) override {
+    if (empty_) return true;
     llt_.factorize(matrix);
-    return llt_.info() == Eigen::Success;
+    if (llt_.info() != Eigen::Success) return false;
+    // An LLᵀ factorization fails on a non-positive pivot, but CHOLMOD's simplicial LDLᵀ only on
+    // a zero one: require D > 0 (stored first in every column of L) as the Eigen solver does.
+    const cholmod_factor* L = llt_.factor();
+    if (!L->is_super && !L->is_ll) {
+      const double* values = static_cast<const double*>(L->x);
+      const int* columns = static_cast<const int*>(L->p);
+      for (std::size_t k = 0; k < L->n; ++k)
+        if (!(values[columns[k]] > 0.0)) return false;
+    }
+    return true;
   }
   void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
     const Eigen::Index n = rhs.size();
     solution.resize(n);
-    if (n == 0) return;
+    if (empty_ || n == 0) return;
     cholmod_dense b = Eigen::viewAsCholmod(const_cast<Eigen::VectorXd&>(rhs));  // read only
     // A simplicial solve wants Y as 4×n but leaves it reshaped to the columns it used; restore the
     // shape (the storage is large enough) or cholmod_solve2 reallocates Y on every call.
@@ -102,6 +116,7 @@ class CholmodSolver final : public LinearSolver {
     cholmod_factor* factor() { return this->m_cholmodFactor; }
   };
   Decomposition llt_;
+  bool empty_ = false;
   cholmod_dense* x_ = nullptr;  // solve2 workspaces, sized by analyzePattern
   cholmod_dense* y_ = nullptr;
   cholmod_dense* e_ = nullptr;

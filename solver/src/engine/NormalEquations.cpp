@@ -456,6 +456,13 @@ NormalEquations::NormalEquations(const Problem& problem) {
     }
   }
 
+  std::size_t longestDirectRow = 0;
+  for (const TermPlan& plan : plans_)
+    for (std::size_t i = 0; i + 1 < plan.directStart.size(); ++i)
+      longestDirectRow = std::max(longestDirectRow,
+                                  static_cast<std::size_t>(plan.directStart[i + 1] - plan.directStart[i]));
+  rowValues_.assign(longestDirectRow, 0.0);
+
   // 9. Elimination blocks and groups in processing order.
   int maxRows = 0, maxSize = 0, maxKept = 0, maxBlockRows = 0;
   std::vector<int> localColumn(numFree_, -1);
@@ -556,11 +563,11 @@ NormalEquations::NormalEquations(const Problem& problem) {
   blockRhs_.assign(static_cast<std::size_t>(maxKept), 0.0);
   work_.assign(static_cast<std::size_t>(2 * maxSize), 0.0);
 
-  freeIndex_.assign(numVariables, -1);
+  keptVariable_.assign(numReduced_, -1);
   regularizationScale_.assign(numReduced_, 1.0);
   for (int k = 0; k < numReduced_; ++k) {
     const int col = keptNatural[k];
-    freeIndex_[colVariable[col]] = oldToNew[k];
+    keptVariable_[oldToNew[k]] = colVariable[col];
     regularizationScale_[oldToNew[k]] = layout.block(colBlock[col]).regularizationScale;
   }
   rhs_.setZero(numReduced_);
@@ -594,13 +601,15 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
     const int* entry = plan.directEntry.data();
     const int* column = plan.directColumn.data();
     const int numDirect = static_cast<int>(plan.directRow.size());
+    double* jr = rowValues_.data();
     for (int i = 0; i < numDirect; ++i) {
       const double ri = r[plan.directRow[i]];
-      const int begin = plan.directStart[i], end = plan.directStart[i + 1];
-      for (int ka = begin; ka < end; ++ka) {
-        const double wja = w2 * J[entry[ka]];
-        rhs[column[ka]] -= wja * ri;
-        for (int kb = ka; kb < end; ++kb) H[*slot++] += wja * J[entry[kb]];
+      const int begin = plan.directStart[i], n = plan.directStart[i + 1] - begin;
+      for (int k = 0; k < n; ++k) jr[k] = J[entry[begin + k]];  // the row's values, contiguous
+      for (int a = 0; a < n; ++a) {
+        const double wja = w2 * jr[a];
+        rhs[column[begin + a]] -= wja * ri;
+        for (int b = a; b < n; ++b) H[*slot++] += wja * jr[b];
       }
     }
   }
@@ -755,8 +764,7 @@ void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x
 }
 
 double NormalEquations::applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd& x) {
-  for (std::size_t v = 0; v < freeIndex_.size(); ++v)
-    if (freeIndex_[v] >= 0) x[static_cast<Eigen::Index>(v)] += delta[freeIndex_[v]];
+  for (int c = 0; c < numReduced_; ++c) x[keptVariable_[c]] += delta[c];
   double normSquared = delta.squaredNorm();
   // Back-substitution per group: δ_n = −L⁻ᵀ(t + U δ_c).
   double* dc = blockRhs_.data();
@@ -765,16 +773,20 @@ double NormalEquations::applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd&
     const int c = block.numKept, ld = paddedStride(c);
     const int* cols = blockColumn_.data() + block.keptOffset;
     for (int a = 0; a < c; ++a) dc[a] = delta[cols[a]];
+    for (int a = c; a < ld; ++a) dc[a] = 0.0;
     for (int gi = block.groupBegin; gi < block.groupEnd; ++gi) {
       const EliminationGroup& g = groups_[gi];
       const int m = g.size;
       const double* L = factors_.data() + g.factorOffset;
       const double* tn = L + m * m;
       const double* U = tn + m;
-      for (int a = 0; a < m; ++a) {
+      for (int a = 0; a < m; ++a) {  // z = t + U δ_c, in chunks (independent partial sums)
         const double* u = U + a * ld;
+        double acc[kChunk] = {};
+        for (int b0 = 0; b0 < ld; b0 += kChunk)
+          for (int q = 0; q < kChunk; ++q) acc[q] += u[b0 + q] * dc[b0 + q];
         double s = tn[a];
-        for (int b = 0; b < c; ++b) s += u[b] * dc[b];
+        for (int q = 0; q < kChunk; ++q) s += acc[q];
         z[a] = s;
       }
       double* dn = z + m;

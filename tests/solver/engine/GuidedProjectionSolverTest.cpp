@@ -249,5 +249,23 @@ TEST(GuidedProjectionSolver, EliminationLeavesTheIteratesUnchanged) {
   }
 }
 
+/// x0·x1 = 1 has one row touching both variables: both are eliminated as one group and the
+/// linear solver sees an empty system.
+TEST(GuidedProjectionSolver, AnEmptyReducedSystemWorksWithEitherSolver) {
+  std::vector<LinearSolverKind> kinds{LinearSolverKind::SimplicialLDLT};
+  if (cholmodAvailable()) kinds.push_back(LinearSolverKind::Cholmod);
+  for (LinearSolverKind kind : kinds) {
+    Problem problem = productProblem();
+    GuidedProjectionSolver solver(problem, kind);
+    EXPECT_EQ(solver.numFree(), 2);
+    SolverOptions options;
+    options.maxIterations = 30;
+    options.regularization = 1e-4;
+    const SolveSummary summary = solver.solve(options);
+    EXPECT_TRUE(summary.converged);
+    EXPECT_NEAR(problem.x()[0] * problem.x()[1], 1.0, 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace devsurf::engine

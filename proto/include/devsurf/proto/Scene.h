@@ -55,8 +55,11 @@ struct Scene {
   SolverSettings solver;
 };
 
-/// The embedded JSON Schemas of proto/schemas (scene, report, …).
+/// The embedded JSON Schemas of proto/schemas (every *.schema.json).
 const SchemaRegistry& schemaRegistry();
+/// Any embedded document of proto/schemas by file name (e.g. "openapi.json").
+/// @throws std::out_of_range
+const nlohmann::json& embeddedDocument(const std::string& name);
 
 /// Validates against scene.schema.json, then checks what a schema cannot say (degrees and knots
 /// that match, indices in range, knot vector rules) and converts.

@@ -16,4 +16,10 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
 int solveCommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out,
                  std::ostream& err);
 
+/// `devsurf serve …`: the daemon, until SIGINT/SIGTERM.
+int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+/// `devsurf job submit SCENE --server URL [--wait] …`
+int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
 }  // namespace devsurf::server

@@ -121,7 +121,7 @@ class NormalEquations {
   std::vector<double> weights_;          ///< term weights of the last assemble()
   double eps2_ = 0.0;                    ///< ε_reg² of the last assemble()
 
-  std::vector<int> freeIndex_;    ///< variable → reduced column, −1 if fixed or eliminated
+  std::vector<int> keptVariable_; ///< reduced column → variable (index in x)
   std::vector<int> diagonalSlot_; ///< reduced column → slot of its diagonal entry
   std::vector<double> regularizationScale_;  ///< reduced column → multiplier of ε_reg²
   int numFree_ = 0;
@@ -148,6 +148,7 @@ class NormalEquations {
   std::vector<double> groupRegularization_;  ///< per eliminated scalar: multiplier of ε_reg²
   std::vector<double> factors_;
   // Scratch, sized for the largest group/block at construction.
+  std::vector<double> rowValues_;  ///< one direct row's Jacobian values
   std::vector<double> jn_, localResidual_, v_, pr_, jstack_, ystack_, blockMatrix_, blockRhs_,
       work_;
 };

@@ -14,11 +14,11 @@ struct VariableBlock {
   /// geometry determines (normals) use a small scale so a step prefers rotating them over moving
   /// the geometry; see docs/architecture.md "Regularization of auxiliary variables".
   double regularizationScale = 1.0;
+  static constexpr int kAutoElimination = -1;
   /// Schur elimination of this block's scalars before factorization (see NormalEquations):
   /// kAutoElimination (default) lets the assembler decide, 0 never eliminates, g > 0 eliminates
   /// every consecutive group of g scalars (see VariableLayout::setEliminable).
-  int eliminationGroupSize = -1;
-  static constexpr int kAutoElimination = -1;
+  int eliminationGroupSize = kAutoElimination;
 };
 
 /// All unknowns of a problem as named blocks in one vector x (Ceres parameter blocks).

@@ -23,7 +23,8 @@
 // serialised by a mutex) and one reader (every const method, serialised by another mutex). In WAL
 // mode the reader never waits for the writer, and it sees every transaction committed before the
 // read started. Other processes may open the same file (busy_timeout applies), but the daemon is
-// expected to be its only writer.
+// expected to be its only writer. WAL needs shared memory between connections, so DIR must be
+// on a local file system (not NFS/SMB).
 //
 // Schema
 // ------

@@ -2,7 +2,9 @@
 // Small synchronous WebSocket client (tests, CLI). Not thread-safe: use one Client from one
 // thread. Network I/O happens only inside its calls: once receive() has been called, frames
 // that arrive while send()/receive() run are read and kept in an inbox; before the first
-// receive() nothing is read (so a test can play a client that never reads).
+// receive() nothing is read (so a test can play a client that never reads). Pings are answered
+// only while a call runs: a long-lived client should call receive() at least every
+// TransportLimits::idleTimeout / 2, or the server drops it as idle.
 
 #include <chrono>
 #include <cstdint>

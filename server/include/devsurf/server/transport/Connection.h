@@ -80,7 +80,8 @@ class Connection {
 struct WebSocketHandlers {
   /// After the handshake; send() may be called from here.
   std::function<void(const std::shared_ptr<Connection>&)> onOpen;
-  /// One complete text message; sequential and in order for one connection.
+  /// One complete text message; sequential and in order for one connection. Messages that
+  /// arrive after a close was requested (isOpen() == false) are discarded.
   std::function<void(const std::shared_ptr<Connection>&, std::string message)> onMessage;
   /// Exactly once per opened connection, whatever ended it (close frame from either side,
   /// TCP drop, protocol error, Server::stop()).

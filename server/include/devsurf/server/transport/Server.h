@@ -24,6 +24,10 @@
 // and returns at once, without closing it; the worker is free again. Beast then reads the
 // upgrade request itself.
 //
+// Threads: REST and static files run on httplib's worker pool (as with a plain httplib::Server);
+// WebSocket I/O and the WebSocketHandlers run on TransportLimits::ioThreads threads of the
+// transport's own io_context, each connection on its own strand (see Connection.h).
+//
 // Use bind()/serve()/stop() rather than httplib's listen()/stop(). A Server serves once: after
 // stop() it cannot serve again.
 

@@ -1,0 +1,90 @@
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <boost/asio/thread_pool.hpp>
+#include <nlohmann/json.hpp>
+
+#include "devsurf/server/JobQueue.h"
+#include "devsurf/server/Session.h"
+#include "devsurf/server/store/Store.h"
+#include "devsurf/server/transport/Server.h"
+
+namespace devsurf::server {
+
+/// Everything `devsurf serve` can be told; every limit has a flag (see `devsurf help`).
+struct DaemonOptions {
+  std::string bind = "127.0.0.1";
+  int port = 8080;                          ///< 0 = ephemeral (tests)
+  std::string dataDir = "./var";            ///< SQLite database and nothing else
+  std::string apiKey;                       ///< when set, creating sessions and jobs needs it
+  std::string webRoot;                      ///< built web app served at / (empty = none)
+  std::vector<std::string> demoScenes;      ///< scene files opened as public demo sessions
+  std::size_t maxBodyBytes = 16u << 20;     ///< REST request bodies
+  std::size_t maxMessageBytes = 1u << 20;   ///< one WebSocket message
+  double messageRate = 200.0;               ///< WebSocket messages per second per connection (burst 2×)
+  int maxSessions = 256;
+  int maxClientsPerSession = 32;
+  int maxControlPoints = 20000;             ///< per scene (sum over curves)
+  int maxIterationsPerRequest = 1000;
+  int workerThreads = 0;                    ///< session workers; 0 = hardware concurrency
+  JobLimits jobs;
+  SessionSettings session;
+};
+
+/// The daemon: one port for REST, the web app and the WebSocket (transport::Server), sessions on
+/// a worker pool, a batch job queue, SQLite persistence. Thin route handlers; the work happens in
+/// Session, JobQueue and SceneSolver.
+class Daemon {
+ public:
+  explicit Daemon(DaemonOptions options);
+  ~Daemon();
+
+  /// Opens the store, restores sessions and jobs, opens demo sessions, binds. Returns the port.
+  int start();
+  /// Serves until stop() (blocking).
+  void run();
+  /// Graceful: closes WebSockets (1001), stops accepting, finishes the current iteration.
+  void stop();
+
+  std::size_t sessionCount() const;
+
+ private:
+  struct Client;  // per WebSocket connection
+  void routes();
+  void restoreSessions();
+  void openDemos();
+  std::shared_ptr<Session> createSession(const proto::Scene& scene, const std::string& editToken,
+                                         const std::string& viewToken, bool demo, const std::string& id);
+  std::shared_ptr<Session> findSession(const std::string& id) const;
+  void onMessage(const std::shared_ptr<transport::Connection>& c, std::string text);
+  void onClose(const std::shared_ptr<transport::Connection>& c);
+  nlohmann::json openApi() const;
+  std::string prometheus() const;
+  void checkSceneLimits(const nlohmann::json& scene) const;
+
+  DaemonOptions options_;
+  std::unique_ptr<store::Store> store_;
+  std::unique_ptr<SessionJournal> journal_;
+  std::unique_ptr<JobQueue> jobs_;
+  boost::asio::thread_pool pool_;
+  SessionCounters counters_;
+  std::unique_ptr<transport::Server> http_;
+
+  mutable std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<Session>> sessions_;
+  std::map<std::string, std::pair<std::string, std::string>> demoTokens_;  ///< id → edit, view
+  std::map<std::uint64_t, std::shared_ptr<Client>> clients_;
+  std::atomic<std::uint64_t> httpRequests_{0};
+};
+
+/// Demo sessions are public: their tokens derive from the scene's file name.
+std::string demoToken(const std::string& scenePath, const std::string& role);
+
+}  // namespace devsurf::server

@@ -1,0 +1,495 @@
+#include "devsurf/server/Daemon.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <boost/asio/post.hpp>
+#include <spdlog/spdlog.h>
+
+#include "devsurf/proto/Scene.h"
+#include "devsurf/server/Tokens.h"
+
+namespace devsurf::server {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+/// The store as a session journal.
+class StoreJournal final : public SessionJournal {
+ public:
+  explicit StoreJournal(store::Store& store) : store_(store) {}
+  void appendEdit(const std::string& session, std::int64_t seq, const json& edit) override {
+    store_.appendEdit(session, seq, edit);
+  }
+  void saveSnapshot(const std::string& session, std::int64_t seq, const json& scene) override {
+    store_.saveSnapshot(session, seq, scene);
+  }
+
+ private:
+  store::Store& store_;
+};
+
+void replyError(httplib::Response& res, int status, const std::string& code, const std::string& message,
+                const std::string& path = "") {
+  json e{{"code", code}, {"message", message}};
+  if (!path.empty()) e["path"] = path;
+  res.status = status;
+  res.set_content(json{{"error", e}}.dump(), "application/json");
+}
+
+void replyJson(httplib::Response& res, int status, const json& body) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+std::string bearer(const httplib::Request& req) {
+  const std::string h = req.get_header_value("Authorization");
+  const std::string prefix = "Bearer ";
+  return h.rfind(prefix, 0) == 0 ? h.substr(prefix.size()) : std::string();
+}
+
+/// Parses a JSON body; on failure answers 400 and returns nullopt.
+std::optional<json> parseBody(const httplib::Request& req, httplib::Response& res) {
+  try {
+    return json::parse(req.body);
+  } catch (const json::exception& e) {
+    replyError(res, 400, "invalid_json", std::string("body is not valid JSON: ") + e.what());
+    return std::nullopt;
+  }
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+transport::Delivery toTransport(Delivery d) {
+  return d == Delivery::Latest ? transport::Delivery::Latest : transport::Delivery::Reliable;
+}
+
+}  // namespace
+
+std::string demoToken(const std::string& scenePath, const std::string& role) {
+  return sha1Hex("devsurf demo " + role + " " + std::filesystem::path(scenePath).stem().string()).substr(0, 32);
+}
+
+/// Per WebSocket connection: which session it joined, and its message budget.
+struct Daemon::Client {
+  std::weak_ptr<Session> session;
+  int participant = -1;
+  double tokens = 0.0;
+  Clock::time_point refilled = Clock::now();
+  std::mutex mutex;
+};
+
+Daemon::Daemon(DaemonOptions options)
+    : options_(std::move(options)),
+      pool_(options_.workerThreads > 0 ? options_.workerThreads
+                                       : std::max(1u, std::thread::hardware_concurrency())) {
+  options_.session.maxParticipants = options_.maxClientsPerSession;
+  options_.session.maxIterationsPerRequest = options_.maxIterationsPerRequest;
+}
+
+Daemon::~Daemon() {
+  stop();
+  pool_.join();
+}
+
+std::size_t Daemon::sessionCount() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return sessions_.size();
+}
+
+int Daemon::start() {
+  store_ = std::make_unique<store::Store>(options_.dataDir);
+  journal_ = std::make_unique<StoreJournal>(*store_);
+  jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs);
+  restoreSessions();
+  openDemos();
+  jobs_->restore();
+
+  transport::TransportLimits limits;
+  limits.maxMessageBytes = options_.maxMessageBytes * 4;  // beyond this: close 1009; below: error message
+  transport::WebSocketHandlers handlers;
+  handlers.onOpen = [this](const std::shared_ptr<transport::Connection>& c) {
+    auto client = std::make_shared<Client>();
+    client->tokens = 2.0 * options_.messageRate;
+    std::lock_guard<std::mutex> lock(mutex_);
+    clients_[c->id()] = client;
+  };
+  handlers.onMessage = [this](const std::shared_ptr<transport::Connection>& c, std::string text) {
+    onMessage(c, std::move(text));
+  };
+  handlers.onClose = [this](const std::shared_ptr<transport::Connection>& c) { onClose(c); };
+  http_ = std::make_unique<transport::Server>(handlers, limits);
+  http_->set_payload_max_length(options_.maxBodyBytes);
+  routes();
+  const int port = http_->bind(options_.bind, options_.port);
+  spdlog::info("devsurf listening on http://{}:{} (data in {}, {} sessions)", options_.bind, port,
+               options_.dataDir, sessionCount());
+  return port;
+}
+
+void Daemon::run() { http_->serve(); }
+
+void Daemon::stop() {
+  if (http_) http_->stop();
+  jobs_.reset();
+}
+
+void Daemon::restoreSessions() {
+  for (const store::RestoredSession& r : store_->loadSessions()) {
+    try {
+      const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
+      auto session = std::make_shared<Session>(
+          r.session.id, proto::sceneFromJson(scene), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
+          options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
+          journal_.get(), &counters_, r.session.demo);
+      std::vector<std::pair<std::int64_t, json>> edits;
+      for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
+      session->replay(edits, r.lastSeq);
+      std::lock_guard<std::mutex> lock(mutex_);
+      sessions_[r.session.id] = session;
+    } catch (const std::exception& e) {
+      spdlog::error("session {} could not be restored: {}", r.session.id, e.what());
+    }
+  }
+}
+
+void Daemon::openDemos() {
+  for (const std::string& path : options_.demoScenes) {
+    const std::string id = "demo-" + std::filesystem::path(path).stem().string();
+    const std::string edit = demoToken(path, "edit"), view = demoToken(path, "view");
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      demoTokens_[id] = {edit, view};
+      if (sessions_.count(id)) continue;  // restored with its edits
+    }
+    try {
+      createSession(proto::sceneFromText(readFile(path)), edit, view, true, id);
+    } catch (const std::exception& e) {
+      spdlog::error("demo scene {}: {}", path, e.what());
+    }
+  }
+}
+
+std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const std::string& editToken,
+                                               const std::string& viewToken, bool demo, const std::string& id) {
+  const Session::Tokens tokens{sha1Hex(editToken), sha1Hex(viewToken)};
+  auto session = std::make_shared<Session>(
+      id, scene, tokens, options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
+      journal_.get(), &counters_, demo);
+  store::SessionRecord record;
+  record.id = id;
+  record.editTokenHash = tokens.editHash;
+  record.viewTokenHash = tokens.viewHash;
+  record.name = scene.name;
+  record.demo = demo;
+  record.initialScene = proto::sceneToJson(scene);
+  record.createdMs = store::wallClockMs();
+  store_->createSession(record);
+  std::lock_guard<std::mutex> lock(mutex_);
+  sessions_[id] = session;
+  return session;
+}
+
+std::shared_ptr<Session> Daemon::findSession(const std::string& id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = sessions_.find(id);
+  return it == sessions_.end() ? nullptr : it->second;
+}
+
+void Daemon::checkSceneLimits(const json& scene) const {
+  int points = 0;
+  if (scene.contains("model") && scene["model"].is_object())
+    for (const char* c : {"a", "b"})
+      if (scene["model"].contains(c) && scene["model"][c].contains("points") && scene["model"][c]["points"].is_array())
+        points += static_cast<int>(scene["model"][c]["points"].size());
+  if (points > options_.maxControlPoints)
+    throw proto::SceneError("model", "limit",
+                            "too many control points (" + std::to_string(points) + "; this server allows " +
+                                std::to_string(options_.maxControlPoints) + ")");
+  const int iterations = scene.value("solver", json::object()).value("iterations", 0);
+  if (iterations > options_.maxIterationsPerRequest && iterations > options_.jobs.maxIterations)
+    throw proto::SceneError("solver.iterations", "limit", "at most " + std::to_string(options_.jobs.maxIterations));
+}
+
+void Daemon::routes() {
+  httplib::Server& s = *http_;
+  auto needApiKey = [this](const httplib::Request& req, httplib::Response& res) {
+    if (options_.apiKey.empty() || constantTimeEquals(bearer(req), options_.apiKey)) return true;
+    replyError(res, 401, "unauthorized", "this server needs an API key (Authorization: Bearer KEY)");
+    return false;
+  };
+  s.set_logger([this](const httplib::Request& req, const httplib::Response& res) {
+    ++httpRequests_;
+    spdlog::debug("{} {} → {}", req.method, req.path, res.status);
+  });
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+    std::string what = "internal error";
+    try {
+      std::rethrow_exception(ep);
+    } catch (const std::exception& e) {
+      what = e.what();
+    } catch (...) {
+    }
+    replyError(res, 500, "internal", what);
+  });
+
+  s.Get("/api/health", [this](const httplib::Request&, httplib::Response& res) {
+    replyJson(res, 200, {{"status", "ok"}, {"sessions", sessionCount()}, {"jobs_queued", jobs_->queued()}});
+  });
+  s.Get("/api/metrics", [this](const httplib::Request&, httplib::Response& res) {
+    res.set_content(prometheus(), "text/plain; version=0.0.4");
+  });
+  s.Get("/api/openapi.json", [this](const httplib::Request&, httplib::Response& res) { replyJson(res, 200, openApi()); });
+
+  // --- sessions ---
+  s.Get("/api/sessions", [this](const httplib::Request&, httplib::Response& res) {
+    json list = json::array();
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [id, session] : sessions_) {
+      if (!session->demo()) continue;
+      const auto& t = demoTokens_[id];
+      list.push_back({{"id", id}, {"name", session->name()}, {"participants", session->participantCount()},
+                      {"edit_token", t.first}, {"view_token", t.second}});
+    }
+    replyJson(res, 200, {{"sessions", list}});
+  });
+  s.Post("/api/sessions", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
+    const auto body = parseBody(req, res);
+    if (!body) return;
+    if (static_cast<int>(sessionCount()) >= options_.maxSessions)
+      return replyError(res, 503, "limit", "this server holds its maximum of " + std::to_string(options_.maxSessions) + " sessions");
+    try {
+      checkSceneLimits(*body);
+      const proto::Scene scene = proto::sceneFromJson(*body);
+      const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
+      createSession(scene, edit, view, false, id);
+      res.set_header("Location", "/api/sessions/" + id);
+      replyJson(res, 201, {{"id", id}, {"edit_token", edit}, {"view_token", view},
+                           {"links", {{"edit", "/?session=" + id + "&token=" + edit},
+                                      {"view", "/?session=" + id + "&token=" + view}}}});
+    } catch (const proto::SceneError& e) {
+      replyError(res, 400, "invalid", e.what(), e.path());
+    }
+  });
+  auto sessionFor = [this](const httplib::Request& req, httplib::Response& res, Role need) -> std::shared_ptr<Session> {
+    auto session = findSession(req.matches[1]);
+    const Role role = session ? session->authenticate(bearer(req)) : Role::None;
+    if (!session || role == Role::None) {
+      replyError(res, 404, "not_found", "no such session, or the token does not open it");
+      return nullptr;
+    }
+    if (need == Role::Edit && role != Role::Edit) {
+      replyError(res, 403, "forbidden", "this needs the session's edit token");
+      return nullptr;
+    }
+    return session;
+  };
+  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+))", [sessionFor](const httplib::Request& req, httplib::Response& res) {
+    auto session = sessionFor(req, res, Role::View);
+    if (!session) return;
+    replyJson(res, 200, {{"id", session->id()}, {"seq", session->seq()}, {"scene", session->sceneJson()},
+                         {"metrics", session->metricsJson()}, {"participants", session->participantCount()}});
+  });
+  s.Delete(R"(/api/sessions/([A-Za-z0-9_-]+))", [this, sessionFor](const httplib::Request& req, httplib::Response& res) {
+    auto session = sessionFor(req, res, Role::Edit);
+    if (!session) return;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      sessions_.erase(session->id());
+    }
+    store_->deleteSession(session->id());
+    res.status = 204;
+  });
+  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+)/export)", [sessionFor](const httplib::Request& req, httplib::Response& res) {
+    auto session = sessionFor(req, res, Role::View);
+    if (!session) return;
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
+    if (format == "json") {
+      res.set_header("Content-Disposition", "attachment; filename=\"" + session->id() + ".json\"");
+      return replyJson(res, 200, session->sceneJson());
+    }
+    if (format == "obj") {
+      const std::string path = (std::filesystem::temp_directory_path() / ("devsurf-export-" + randomToken() + ".obj")).string();
+      session->exportObj(path);
+      res.set_content(readFile(path), "model/obj");
+      std::remove(path.c_str());
+      res.set_header("Content-Disposition", "attachment; filename=\"" + session->id() + ".obj\"");
+      return;
+    }
+    replyError(res, 400, "invalid", "format: expected json or obj, got \"" + format + "\"", "format");
+  });
+
+  // --- jobs ---
+  s.Post("/api/jobs", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
+    const auto body = parseBody(req, res);
+    if (!body) return;
+    std::optional<std::string> key;
+    if (req.has_header("Idempotency-Key")) key = req.get_header_value("Idempotency-Key");
+    if (key && (key->empty() || key->size() > 200))
+      return replyError(res, 400, "invalid", "Idempotency-Key: 1 to 200 characters", "Idempotency-Key");
+    try {
+      checkSceneLimits(*body);
+      const JobQueue::Submitted s = jobs_->submit(*body, key);
+      res.set_header("Location", "/api/jobs/" + s.id);
+      replyJson(res, s.created ? 202 : 200, {{"id", s.id}, {"state", store::jobStateName(jobs_->job(s.id)->state)}});
+    } catch (const proto::SceneError& e) {
+      replyError(res, 400, "invalid", e.what(), e.path());
+    } catch (const QueueFullError& e) {
+      res.set_header("Retry-After", "5");
+      replyError(res, 503, "queue_full", e.what());
+    } catch (const IdempotencyMismatchError& e) {
+      replyError(res, 422, "idempotency_mismatch", e.what(), "Idempotency-Key");
+    }
+  });
+  s.Get(R"(/api/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = jobs_->job(req.matches[1]);
+    if (!job) return replyError(res, 404, "not_found", "no such job");
+    json body{{"id", job->id}, {"state", store::jobStateName(job->state)},
+              {"progress", {{"iteration", job->progressIteration}, {"of", job->progressOf}}}};
+    if (job->report) body["report"] = *job->report;
+    if (job->error) body["error"] = *job->error;
+    if (!store::isFinished(job->state)) res.set_header("Retry-After", "1");
+    replyJson(res, 200, body);
+  });
+  s.Post(R"(/api/jobs/([A-Za-z0-9_-]+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
+    try {
+      if (!jobs_->cancel(req.matches[1])) return replyError(res, 409, "conflict", "the job has already finished");
+      replyJson(res, 202, {{"id", std::string(req.matches[1])}, {"state", store::jobStateName(jobs_->job(req.matches[1])->state)}});
+    } catch (const store::NotFoundError&) {
+      replyError(res, 404, "not_found", "no such job");
+    }
+  });
+  s.Get(R"(/api/jobs/([A-Za-z0-9_-]+)/result)", [this](const httplib::Request& req, httplib::Response& res) {
+    const auto job = jobs_->job(req.matches[1]);
+    if (!job) return replyError(res, 404, "not_found", "no such job");
+    if (job->state != store::JobState::Succeeded || !job->report) {
+      if (!store::isFinished(job->state)) res.set_header("Retry-After", "1");
+      return replyError(res, 409, "not_ready", "the job is " + store::jobStateName(job->state));
+    }
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
+    if (format == "json") return replyJson(res, 200, *job->report);
+    if (format == "obj") {
+      const std::string path = (std::filesystem::temp_directory_path() / ("devsurf-job-" + randomToken() + ".obj")).string();
+      SceneSolver(proto::sceneFromJson((*job->report)["scene"])).exportTo("obj:" + path);
+      res.set_content(readFile(path), "model/obj");
+      std::remove(path.c_str());
+      return;
+    }
+    replyError(res, 400, "invalid", "format: expected json or obj, got \"" + format + "\"", "format");
+  });
+
+  if (!options_.webRoot.empty() && std::filesystem::is_directory(options_.webRoot)) s.set_mount_point("/", options_.webRoot);
+}
+
+void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::string text) {
+  std::shared_ptr<Client> client;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = clients_.find(c->id());
+    if (it == clients_.end()) return;
+    client = it->second;
+  }
+  auto reply = [&c](const json& m) { c->send(m.dump()); };
+  auto fail = [&reply](const json& op, const std::string& code, const std::string& message, const std::string& path) {
+    json e{{"type", "error"}, {"code", code}, {"message", message}};
+    if (!op.is_null()) e["op"] = op;
+    if (!path.empty()) e["path"] = path;
+    reply(e);
+  };
+  ++counters_.messages;
+  std::lock_guard<std::mutex> clientLock(client->mutex);
+  // Rate limit: a token bucket of 2× the rate, refilled continuously.
+  const auto now = Clock::now();
+  client->tokens = std::min(2.0 * options_.messageRate,
+                            client->tokens + options_.messageRate * std::chrono::duration<double>(now - client->refilled).count());
+  client->refilled = now;
+  if (client->tokens < 1.0) return fail(nullptr, "rate_limited", "too many messages; the limit is " + std::to_string(static_cast<int>(options_.messageRate)) + " per second", "");
+  client->tokens -= 1.0;
+  if (text.size() > options_.maxMessageBytes)
+    return fail(nullptr, "too_large", "message of " + std::to_string(text.size()) + " bytes; the limit is " + std::to_string(options_.maxMessageBytes), "");
+  json message;
+  try {
+    message = json::parse(text);
+  } catch (const json::exception& e) {
+    return fail(nullptr, "invalid_json", std::string("not valid JSON: ") + e.what(), "");
+  }
+  const json op = message.is_object() && message.contains("op") ? message["op"] : json();
+  const auto errors = proto::schemaRegistry().validate(message, "ws-client.schema.json", 1);
+  if (!errors.empty()) return fail(op, "invalid", errors[0].toString(), errors[0].path);
+
+  const std::string type = message["type"];
+  if (type == "join") {
+    if (client->participant >= 0) return fail(op, "conflict", "already joined a session on this connection", "type");
+    auto session = findSession(message["session"]);
+    const Role role = session ? session->authenticate(message["token"]) : Role::None;
+    if (role == Role::None) {
+      fail(op, "unauthorized", "unknown session or wrong token", "token");
+      c->close(transport::CloseCode::PolicyViolation, "unauthorized");
+      return;
+    }
+    std::weak_ptr<transport::Connection> weak = c;
+    const int pid = session->join(role, message.value("name", ""), [weak](std::string text, Delivery d, const std::string& key) {
+      if (auto conn = weak.lock()) conn->send(std::move(text), toTransport(d), key);
+    });
+    if (pid < 0) {
+      c->close(transport::CloseCode::PolicyViolation, "session full");
+      return;
+    }
+    client->session = session;
+    client->participant = pid;
+    return;
+  }
+  auto session = client->session.lock();
+  if (!session || client->participant < 0) return fail(op, "not_joined", "send a join message first", "type");
+  session->post(client->participant, std::move(message));
+}
+
+void Daemon::onClose(const std::shared_ptr<transport::Connection>& c) {
+  std::shared_ptr<Client> client;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = clients_.find(c->id());
+    if (it == clients_.end()) return;
+    client = it->second;
+    clients_.erase(it);
+  }
+  std::lock_guard<std::mutex> lock(client->mutex);
+  if (auto session = client->session.lock()) session->leave(client->participant);
+}
+
+nlohmann::json Daemon::openApi() const { return proto::embeddedDocument("openapi.json"); }
+
+std::string Daemon::prometheus() const {
+  std::ostringstream out;
+  std::size_t clients = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    clients = clients_.size();
+    out << "# HELP devsurf_sessions Open editing sessions.\n# TYPE devsurf_sessions gauge\ndevsurf_sessions " << sessions_.size() << "\n";
+  }
+  out << "# HELP devsurf_clients Open WebSocket connections.\n# TYPE devsurf_clients gauge\ndevsurf_clients " << clients << "\n";
+  out << "# HELP devsurf_jobs Batch jobs by state.\n# TYPE devsurf_jobs gauge\n";
+  for (const auto& [state, n] : jobs_->counts()) out << "devsurf_jobs{state=\"" << store::jobStateName(state) << "\"} " << n << "\n";
+  out << "# HELP devsurf_iterations_total Guided-projection iterations run in sessions.\n# TYPE devsurf_iterations_total counter\n"
+      << "devsurf_iterations_total " << counters_.iterations.load() << "\n";
+  out << "# HELP devsurf_ws_messages_total WebSocket messages received.\n# TYPE devsurf_ws_messages_total counter\n"
+      << "devsurf_ws_messages_total " << counters_.messages.load() << "\n";
+  out << "# HELP devsurf_errors_total Error replies sent.\n# TYPE devsurf_errors_total counter\n"
+      << "devsurf_errors_total " << counters_.errors.load() << "\n";
+  out << "# HELP devsurf_http_requests_total HTTP requests served.\n# TYPE devsurf_http_requests_total counter\n"
+      << "devsurf_http_requests_total " << httpRequests_.load() << "\n";
+  return out.str();
+}
+
+}  // namespace devsurf::server
