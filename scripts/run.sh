@@ -1,22 +1,15 @@
 #!/usr/bin/env bash
-# The main job. Until the daemon lands (issue 3) it installs, builds and solves the demo scenes
-# in examples/, printing a summary line and the full report of each.
+# The main job: installs and builds what is stale, then starts the daemon with the demo sessions
+# of examples/ on http://localhost:8080 (Ctrl-C or SIGTERM stops it gracefully).
+# Environment: DEVSURF_PORT (8080), DEVSURF_BIND (127.0.0.1), DEVSURF_DATA (./var),
+#              DEVSURF_API_KEY (unset: anyone may create sessions and jobs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 BUILD_DIR="${DEVSURF_BUILD_DIR:-build}"
-mkdir -p "$BUILD_DIR/reports"
-for scene in examples/*.json; do
-  name="$(basename "$scene" .json)"
-  report="$BUILD_DIR/reports/$name.report.json"
-  "$BUILD_DIR/server/devsurf" solve "$scene" --out "$report" --export "obj:$BUILD_DIR/reports/$name.obj"
-  python3 - "$scene" "$report" <<'PY'
-import json, sys
-r = json.load(open(sys.argv[2]))
-m = r["metrics"]
-print(f"{sys.argv[1]}: {r['iterations']} iterations, {r['termination']}, {r['time_ms']:.1f} ms, "
-      f"warp max {m['warp_angle_max_deg']:.2e} deg, mean {m['warp_angle_mean_deg']:.2e} deg, "
-      f"developability residual {m['developability_residual_max']:.1e}")
-PY
-done
-echo "reports and OBJ surfaces in $BUILD_DIR/reports/"
+args=(serve --port "${DEVSURF_PORT:-8080}" --bind "${DEVSURF_BIND:-127.0.0.1}" --data "${DEVSURF_DATA:-./var}")
+for scene in examples/*.json; do args+=(--demo "$scene"); done
+if [ -d web/dist ]; then args+=(--web web/dist); fi
+if [ -n "${DEVSURF_API_KEY:-}" ]; then args+=(--api-key "$DEVSURF_API_KEY"); fi
+echo "demo sessions: GET http://localhost:${DEVSURF_PORT:-8080}/api/sessions"
+exec "$BUILD_DIR/server/devsurf" "${args[@]}"
