@@ -109,7 +109,7 @@ int Session::join(Role role, const std::string& name, MessageSink sink) {
     pid = nextParticipant_++;
     Participant p{pid, name.empty() ? "guest " + std::to_string(pid) : name,
                   kPalette[(pid - 1) % (sizeof(kPalette) / sizeof(kPalette[0]))], role, std::move(sink),
-                  nullptr, nullptr};
+                  nullptr, nullptr, false};
     participants_.emplace(pid, std::move(p));
   }
   // The state is built on the session's worker so it is consistent with the edit order.
@@ -196,7 +196,8 @@ void Session::broadcast(const json& message, Delivery d, const std::string& key)
   std::vector<MessageSink> sinks;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (auto& [id, p] : participants_) sinks.push_back(p.sink);
+    for (auto& [id, p] : participants_)
+      if (p.ready) sinks.push_back(p.sink);
   }
   for (auto& s : sinks) s(text, d, key);
 }
@@ -284,7 +285,7 @@ void Session::commit(int participant, const json& edit, const std::vector<json>&
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (auto& [id, p] : participants_)
-      if (id != participant) others.push_back(p.sink);
+      if (id != participant && p.ready) others.push_back(p.sink);
   }
   const std::string text = notice.dump();
   for (auto& s : others) s(text, Delivery::Reliable, "");
@@ -448,7 +449,12 @@ void Session::handle(const Work& work) {
   const int pid = work.participant;
 
   if (type == "_state") {
-    send(pid, stateMessage(pid));
+    send(pid, stateMessage(pid));  // first message the participant sees …
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto it = participants_.find(pid);
+      if (it != participants_.end()) it->second.ready = true;  // … then everything after it
+    }
     broadcast(presenceMessage());
     return;
   }

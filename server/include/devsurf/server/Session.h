@@ -111,6 +111,7 @@ class Session : public std::enable_shared_from_this<Session> {
     MessageSink sink;
     nlohmann::json selection;  // null or a target
     nlohmann::json dragging;   // null or a target
+    bool ready = false;        // got its state: from then on it receives broadcasts
   };
   struct Work {
     int participant;
