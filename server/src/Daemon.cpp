@@ -483,6 +483,17 @@ std::string Daemon::prometheus() const {
   for (const auto& [state, n] : jobs_->counts()) out << "devsurf_jobs{state=\"" << store::jobStateName(state) << "\"} " << n << "\n";
   out << "# HELP devsurf_iterations_total Guided-projection iterations run in sessions.\n# TYPE devsurf_iterations_total counter\n"
       << "devsurf_iterations_total " << counters_.iterations.load() << "\n";
+  out << "# HELP devsurf_iteration_seconds Wall time of one guided-projection iteration in a session.\n"
+      << "# TYPE devsurf_iteration_seconds histogram\n";
+  std::uint64_t cumulative = 0;
+  for (std::size_t b = 0; b <= std::size(SessionCounters::kBucketsMs); ++b) {
+    cumulative += counters_.iterationBuckets[b].load();
+    out << "devsurf_iteration_seconds_bucket{le=\""
+        << (b < std::size(SessionCounters::kBucketsMs) ? std::to_string(SessionCounters::kBucketsMs[b] / 1000.0) : std::string("+Inf"))
+        << "\"} " << cumulative << "\n";
+  }
+  out << "devsurf_iteration_seconds_sum " << counters_.iterationMicros.load() / 1e6 << "\n"
+      << "devsurf_iteration_seconds_count " << cumulative << "\n";
   out << "# HELP devsurf_ws_messages_total WebSocket messages received.\n# TYPE devsurf_ws_messages_total counter\n"
       << "devsurf_ws_messages_total " << counters_.messages.load() << "\n";
   out << "# HELP devsurf_errors_total Error replies sent.\n# TYPE devsurf_errors_total counter\n"

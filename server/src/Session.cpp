@@ -408,7 +408,7 @@ bool Session::runSolver(int iterations, bool final) {
   bool interrupted = false;
   auto onIteration = [this, seq, &interrupted](const engine::IterationRecord& r) {
     if (r.iteration == 0) return !(interrupted = hasQueuedWork());
-    if (counters_) ++counters_->iterations;
+    if (counters_) counters_->recordIteration(r.totalMs);
     const metrics::StripQuality q = solver_->stripModel().quality(200);
     json residuals = json::object();
     // Per-term residuals by name (terms of the same name summed).

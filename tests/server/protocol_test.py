@@ -316,8 +316,28 @@ class ProtocolTest(unittest.TestCase):
         status, headers, raw = self.daemon.request("GET", "/api/metrics")
         self.assertEqual(status, 200)
         text = raw.decode()
-        for name in ["devsurf_sessions", "devsurf_clients", "devsurf_jobs{state=\"queued\"}", "devsurf_iterations_total"]:
+        for name in ["devsurf_sessions", "devsurf_clients", "devsurf_jobs{state=\"queued\"}", "devsurf_iterations_total",
+                     "devsurf_iteration_seconds_bucket{le=\"+Inf\"}", "devsurf_iteration_seconds_count"]:
             self.assertIn(name, text)
+        # Every operation of the OpenAPI document is well formed.
+        for path, item in doc["paths"].items():
+            for method, operation in item.items():
+                self.assertIn(method, {"get", "post", "delete"}, path)
+                self.assertIn("responses", operation, f"{method} {path}")
+                self.assertTrue(all(re.fullmatch(r"\d{3}", code) for code in operation["responses"]), f"{method} {path}")
+
+    def test_job_submit_cli_waits_for_the_report(self):
+        out = subprocess.run([BIN, "job", "submit", os.path.join(ROOT, "examples", "strip-cone.json"),
+                              "--server", f"http://127.0.0.1:{self.daemon.port}", "--wait"],
+                             capture_output=True, text=True, timeout=120)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        report = json.loads(out.stdout)
+        self.assertEqual(report["format"], "devsurf-report")
+        self.assertLess(report["metrics"]["warp_angle_max_deg"], 1e-9)
+        bad = subprocess.run([BIN, "job", "submit", DEMO, "--server", "http://127.0.0.1:1"],
+                             capture_output=True, text=True, timeout=60)
+        self.assertEqual(bad.returncode, 1)
+        self.assertIn("cannot reach", bad.stderr)
 
 
 class RestartTest(unittest.TestCase):

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -54,6 +55,18 @@ struct SessionCounters {
   std::atomic<std::uint64_t> iterations{0};
   std::atomic<std::uint64_t> messages{0};
   std::atomic<std::uint64_t> errors{0};
+  /// Histogram of the wall time of session solver iterations (milliseconds, cumulative buckets
+  /// are formed when exported).
+  static constexpr double kBucketsMs[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000};
+  std::atomic<std::uint64_t> iterationBuckets[std::size(kBucketsMs) + 1] = {};
+  std::atomic<std::uint64_t> iterationMicros{0};  ///< sum, for the histogram's _sum
+  void recordIteration(double ms) {
+    std::size_t b = 0;
+    while (b < std::size(kBucketsMs) && ms > kBucketsMs[b]) ++b;
+    ++iterationBuckets[b];
+    iterationMicros += static_cast<std::uint64_t>(ms * 1000.0);
+    ++iterations;
+  }
 };
 
 /// One editing session: a scene, its model and solver, its participants and its edit history.
