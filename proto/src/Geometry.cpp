@@ -115,6 +115,43 @@ Eigen::MatrixXd decodeFloat32Array(const nlohmann::json& j) {
   return m;
 }
 
+Eigen::MatrixXd unrollRulingGrid(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {
+  const Eigen::Index n = a.rows();
+  Eigen::MatrixXd out(2 * n, 2);  // rows 2i: a_i, 2i+1: b_i
+  if (n == 0) return out;
+  Eigen::Vector2d A(0.0, 0.0), B(0.0, (b.row(0) - a.row(0)).norm());
+  out.row(0) = A.transpose();
+  out.row(1) = B.transpose();
+  for (Eigen::Index i = 0; i + 1 < n; ++i) {
+    const Eigen::Vector3d ai = a.row(i), bi = b.row(i), an = a.row(i + 1), bn = b.row(i + 1);
+    // A frame of the quad (a_i, a_{i+1}, b_{i+1}, b_i): e1 along the ruling, e2 in the quad's plane
+    // pointing to where the strip continues.
+    Eigen::Vector3d e1 = bi - ai;
+    const double len = e1.norm();
+    e1 = len > 0 ? Eigen::Vector3d(e1 / len) : Eigen::Vector3d::UnitY();
+    Eigen::Vector3d step = 0.5 * ((an - ai) + (bn - bi));
+    Eigen::Vector3d e2 = step - step.dot(e1) * e1;
+    if (e2.norm() < 1e-300) e2 = e1.unitOrthogonal();
+    e2.normalize();
+    // The 2D frame at the unrolled ruling: d1 along B − A, d2 perpendicular to it on the side
+    // the strip advances to (+x at the start).
+    Eigen::Vector2d d1 = B - A;
+    const double l2 = d1.norm();
+    d1 = l2 > 0 ? Eigen::Vector2d(d1 / l2) : Eigen::Vector2d(0.0, 1.0);
+    const Eigen::Vector2d d2(d1.y(), -d1.x());
+    auto place = [&](const Eigen::Vector3d& p) -> Eigen::Vector2d {
+      const Eigen::Vector3d q = p - ai;
+      return A + q.dot(e1) * d1 + q.dot(e2) * d2;
+    };
+    const Eigen::Vector2d nextA = place(an), nextB = place(bn);
+    A = nextA;
+    B = nextB;
+    out.row(2 * (i + 1)) = A.transpose();
+    out.row(2 * (i + 1) + 1) = B.transpose();
+  }
+  return out;
+}
+
 nlohmann::json stripGeometryJson(const models::strip::StripModel& model, int uSamples,
                                  int vSamples, int rulings) {
   const models::strip::StripGeometry g = model.geometry(uSamples, vSamples, rulings);
@@ -131,6 +168,19 @@ nlohmann::json stripGeometryJson(const models::strip::StripModel& model, int uSa
   }
   Eigen::MatrixXd rulingSegments(g.rulingStart.rows(), 6);
   rulingSegments << g.rulingStart, g.rulingEnd;
+  // The development: the sampled quads unrolled face after face (000_… §5); interior samples of a
+  // ruling are interpolated along its unrolled image.
+  const Eigen::MatrixXd ends = unrollRulingGrid(g.curveA, g.curveB);
+  Eigen::MatrixXd flat(static_cast<Eigen::Index>(uSamples) * vSamples, 2);
+  for (int i = 0; i < uSamples; ++i)
+    for (int j = 0; j < vSamples; ++j) {
+      const double v = static_cast<double>(j) / (vSamples - 1);
+      flat.row(i * vSamples + j) = (1.0 - v) * ends.row(2 * i) + v * ends.row(2 * i + 1);
+    }
+  Eigen::MatrixXi flatQuads((uSamples - 1) * (vSamples - 1), 4);
+  for (int i = 0, f = 0; i + 1 < uSamples; ++i)
+    for (int j = 0; j + 1 < vSamples; ++j)
+      flatQuads.row(f++) << i * vSamples + j, (i + 1) * vSamples + j, (i + 1) * vSamples + j + 1, i * vSamples + j + 1;
   return {{"kind", "strip"},
           {"surface",
            {{"vertices", float32Array(g.surface.vertices)},
@@ -141,6 +191,7 @@ nlohmann::json stripGeometryJson(const models::strip::StripModel& model, int uSa
           {"curves", {{"a", float32Array(g.curveA)}, {"b", float32Array(g.curveB)}}},
           {"control_points", {{"a", float32Array(d.a.points)}, {"b", float32Array(d.b.points)}}},
           {"rulings", float32Array(rulingSegments)},
+          {"development", {{"vertices", float32Array(flat)}, {"quads", int32Array(flatQuads)}}},
           {"normals", float32Array(g.normals)}};
 }
 

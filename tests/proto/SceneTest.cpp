@@ -186,3 +186,44 @@ TEST(Report, ValidatesAgainstTheReportSchema) {
 
 }  // namespace
 }  // namespace devsurf::proto
+
+#include <Eigen/Geometry>
+
+#include "devsurf/proto/Geometry.h"
+
+namespace devsurf::proto {
+namespace {
+
+TEST(Geometry, Base64RoundTripsAndMatchesTheRfcVectors) {
+  EXPECT_EQ(base64Encode("foobar", 6), "Zm9vYmFy");
+  EXPECT_EQ(base64Encode("fooba", 5), "Zm9vYmE=");
+  EXPECT_EQ(base64Encode("foob", 4), "Zm9vYg==");
+  EXPECT_EQ(base64Decode("Zm9vYg=="), "foob");
+  EXPECT_THROW(base64Decode("Zm9v!g=="), std::invalid_argument);
+  Eigen::MatrixXd m(2, 3);
+  m << 1.5, -2, 3, 0.25, 1e-3, 7;
+  EXPECT_LT((decodeFloat32Array(float32Array(m)) - m).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(Geometry, UnrollingACylinderKeepsEveryLengthOfItsQuads) {
+  // A cylinder over a circle arc is developable: its unrolled rulings are parallel, spaced by
+  // arc length, and every quad keeps its edge and diagonal lengths.
+  const int n = 20;
+  Eigen::MatrixX3d a(n, 3), b(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double t = 1.5 * i / (n - 1);
+    a.row(i) << std::cos(t), std::sin(t), 0.0;
+    b.row(i) << std::cos(t), std::sin(t), 2.0;
+  }
+  const Eigen::MatrixXd flat = unrollRulingGrid(a, b);
+  for (int i = 0; i + 1 < n; ++i) {
+    EXPECT_NEAR((flat.row(2 * i + 2) - flat.row(2 * i)).norm(), (a.row(i + 1) - a.row(i)).norm(), 1e-12);
+    EXPECT_NEAR((flat.row(2 * i + 3) - flat.row(2 * i)).norm(), (b.row(i + 1) - a.row(i)).norm(), 1e-12);
+    EXPECT_NEAR((flat.row(2 * i + 1) - flat.row(2 * i)).norm(), 2.0, 1e-12);
+  }
+  // Total width = arc length 1.5 (chords sum to slightly less).
+  EXPECT_NEAR((flat.row(2 * (n - 1)) - flat.row(0)).norm(), 2 * (n - 1) * std::sin(0.75 / (n - 1)), 1e-12);
+}
+
+}  // namespace
+}  // namespace devsurf::proto
