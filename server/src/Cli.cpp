@@ -48,16 +48,24 @@ std::string readAll(std::istream& in) {
   return buffer.str();
 }
 
-int parseIterations(const std::string& value) {
+/// The value after the flag at args[i] (advancing i). @throws std::invalid_argument if missing.
+const std::string& flagValue(const std::vector<std::string>& args, std::size_t& i) {
+  if (i + 1 >= args.size()) throw std::invalid_argument(args[i] + ": missing value");
+  return args[++i];
+}
+
+/// An integer flag value in [lo, hi]. @throws std::invalid_argument naming the flag.
+long parseNumber(const std::string& flag, const std::string& value, long lo, long hi) {
   std::size_t used = 0;
-  int n = -1;
+  long n = 0;
   try {
-    n = std::stoi(value, &used);
+    n = std::stol(value, &used);
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != value.size() || n < 0 || n > 10000)
-    throw std::invalid_argument("--iterations: expected an integer from 0 to 10000, got \"" + value + "\"");
+  if (used != value.size() || n < lo || n > hi)
+    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", got \"" + value + "\"");
   return n;
 }
 
@@ -71,11 +79,8 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
-      auto value = [&args, &i, &a]() -> const std::string& {
-        if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
-        return args[++i];
-      };
-      if (a == "--iterations") iterations = parseIterations(value());
+      auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
+      if (a == "--iterations") iterations = static_cast<int>(parseNumber(a, value(), 0, 10000));
       else if (a == "--out") outPath = value();
       else if (a == "--export") exports.push_back(value());
       else if (!a.empty() && a[0] == '-' && a != "-") throw std::invalid_argument("unknown option " + a);
@@ -133,34 +138,12 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   }
 }
 
-namespace {
-
-/// Parses "--flag value" pairs for serve; throws std::invalid_argument naming the flag.
-long parseNumber(const std::string& flag, const std::string& value, long lo, long hi) {
-  std::size_t used = 0;
-  long n = 0;
-  try {
-    n = std::stol(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || n < lo || n > hi)
-    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
-                                std::to_string(hi) + ", got \"" + value + "\"");
-  return n;
-}
-
-}  // namespace
-
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   DaemonOptions o;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
-      auto value = [&args, &i, &a]() -> const std::string& {
-        if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
-        return args[++i];
-      };
+      auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
       if (a == "--port") o.port = static_cast<int>(parseNumber(a, value(), 0, 65535));
       else if (a == "--bind") o.bind = value();
       else if (a == "--data") o.dataDir = value();
@@ -222,10 +205,7 @@ int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
     if (args.empty() || args[0] != "submit") throw std::invalid_argument("expected: job submit SCENE --server URL");
     for (std::size_t i = 1; i < args.size(); ++i) {
       const std::string& a = args[i];
-      auto value = [&args, &i, &a]() -> const std::string& {
-        if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
-        return args[++i];
-      };
+      auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
       if (a == "--server") server = value();
       else if (a == "--api-key") apiKey = value();
       else if (a == "--idempotency-key") idemKey = value();

@@ -59,6 +59,20 @@ std::shared_ptr<Session> makeSession(ManualExecutor& ex, SessionJournal* journal
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
+/// A session with one joined editor whose state has arrived.
+struct JoinedEditor {
+  ManualExecutor ex;
+  MemoryJournal journal;
+  std::shared_ptr<Session> session = makeSession(ex, &journal);
+  Inbox inbox;
+  int pid = session->join(Role::Edit, "", inbox.sink());
+  JoinedEditor() { ex.runAll(); }
+  void send(const json& message) {
+    session->post(pid, message);
+    ex.runAll();
+  }
+};
+
 json drag(int op, double z) {
   return {{"type", "drag"}, {"op", op}, {"target", {{"curve", "b"}, {"index", 6}}}, {"position", {6.0, 1.0, z}}};
 }
@@ -90,12 +104,8 @@ TEST(Session, JoinSendsTheFullStateThenPresence) {
 }
 
 TEST(Session, DragStreamsIteratesAndDragEndSolvesToDevelopability) {
-  ManualExecutor ex;
-  MemoryJournal journal;
-  auto s = makeSession(ex, &journal);
-  Inbox inbox;
-  const int pid = s->join(Role::Edit, "", inbox.sink());
-  ex.runAll();
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
   for (int k = 1; k <= 6; ++k) {
     s->post(pid, drag(k, 0.3 * k));
     ex.runAll();
@@ -121,11 +131,8 @@ TEST(Session, DragStreamsIteratesAndDragEndSolvesToDevelopability) {
 }
 
 TEST(Session, DragsQueuedWhileBusyAreCoalescedLatestWins) {
-  ManualExecutor ex;
-  auto s = makeSession(ex);
-  Inbox inbox;
-  const int pid = s->join(Role::Edit, "", inbox.sink());
-  ex.runAll();
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
   for (int k = 1; k <= 5; ++k) s->post(pid, drag(k, 0.1 * k));  // nothing runs in between
   ex.runAll();
   const auto acks = inbox.ofType("ack");
@@ -154,11 +161,8 @@ TEST(Session, ViewersWatchButCannotEdit) {
 }
 
 TEST(Session, UndoRedoAndResetRestoreScenes) {
-  ManualExecutor ex;
-  auto s = makeSession(ex);
-  Inbox inbox;
-  const int pid = s->join(Role::Edit, "", inbox.sink());
-  ex.runAll();
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
   const json initial = s->sceneJson();
   s->post(pid, {{"type", "set_fixed"}, {"op", 1}, {"target", {{"curve", "a"}, {"index", 6}}}, {"fixed", true}});
   ex.runAll();
@@ -179,11 +183,8 @@ TEST(Session, UndoRedoAndResetRestoreScenes) {
 }
 
 TEST(Session, RejectedEditsNameTheFieldAndChangeNothing) {
-  ManualExecutor ex;
-  auto s = makeSession(ex);
-  Inbox inbox;
-  const int pid = s->join(Role::Edit, "", inbox.sink());
-  ex.runAll();
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
   const json before = s->sceneJson();
   s->post(pid, {{"type", "drag"}, {"op", "x"}, {"target", {{"curve", "a"}, {"index", 70}}}, {"position", {0, 0, 0}}});
   s->post(pid, {{"type", "remove_handle"}, {"op", "y"}, {"target", {{"curve", "a"}, {"index", 2}}}});
@@ -199,12 +200,8 @@ TEST(Session, RejectedEditsNameTheFieldAndChangeNothing) {
 }
 
 TEST(Session, ReplayingTheJournalRestoresTheScene) {
-  ManualExecutor ex;
-  MemoryJournal journal;
-  auto s = makeSession(ex, &journal);
-  Inbox inbox;
-  const int pid = s->join(Role::Edit, "", inbox.sink());
-  ex.runAll();
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
   s->post(pid, {{"type", "add_handle"}, {"op", 1}, {"target", {{"curve", "a"}, {"index", 6}}}, {"position", {5.5, 0, 1.0}}});
   ex.runAll();
   for (int k = 1; k <= 3; ++k) {

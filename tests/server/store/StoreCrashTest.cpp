@@ -6,6 +6,8 @@
 #include "devsurf/server/store/Store.h"
 
 #include <gtest/gtest.h>
+
+#include "support/TempDir.h"
 #include <poll.h>
 #include <signal.h>
 #include <sqlite3.h>
@@ -25,21 +27,10 @@ using namespace devsurf::server::store;
 
 namespace {
 
-class TempDir {
+/// A fresh directory per test.
+class TempDir : public devsurf::testing::TempDir {
  public:
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "devsurf-crash-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
+  TempDir() : devsurf::testing::TempDir("devsurf-crash") {}
 };
 
 const char* const kSession = "crash";

@@ -1,6 +1,8 @@
 #include "devsurf/server/store/Store.h"
 
 #include <gtest/gtest.h>
+
+#include "support/TempDir.h"
 #include <sqlite3.h>
 #include <stdlib.h>
 
@@ -17,22 +19,10 @@ using namespace devsurf::server::store;
 namespace {
 
 /// A fresh directory under the system temp dir, removed afterwards.
-class TempDir {
+/// A fresh directory per test.
+class TempDir : public devsurf::testing::TempDir {
  public:
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "devsurf-store-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
+  TempDir() : devsurf::testing::TempDir("devsurf-store") {}
 };
 
 /// Runs a single-value query directly on DIR/devsurf.db (bypassing the Store).
