@@ -11,19 +11,34 @@ APT_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcpp-httplib-dev libboost-dev libsqlite3-dev libsuitesparse-dev
   python3 python3-websockets
+  chromium fonts-liberation fonts-dejavu-core
 )
 
+# Node.js and npm for the web app: the machine image has Node 20; Debian's otherwise.
+command -v npm >/dev/null 2>&1 || APT_PACKAGES+=(nodejs npm)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if ((${#missing[@]})); then
   echo "setup: installing ${missing[*]}"
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
   export DEBIAN_FRONTEND=noninteractive
   $SUDO apt-get update -q
   $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# The web app: npm packages when the lock file changed, a Vite build when a source is newer.
+if [ -f web/package.json ]; then
+  if [ ! -d web/node_modules ] || [ web/package-lock.json -nt web/node_modules/.package-lock.json ]; then
+    (cd web && npm ci --no-audit --no-fund)
+  fi
+  if [ ! -f web/dist/index.html ] || [ -n "$(find web/src web/index.html web/vite.config.js web/package.json examples \
+        -newer web/dist/index.html -print -quit 2>/dev/null)" ]; then
+    (cd web && npm run build)
+  fi
 fi
 
 BUILD_DIR="${DEVSURF_BUILD_DIR:-build}"
