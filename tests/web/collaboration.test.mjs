@@ -1,0 +1,123 @@
+// 3. Two browser contexts share a session through the edit link; 4. a view link cannot edit.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('collaboration');
+
+const participantIds = (st) => (st.participants || []).map((p) => String(p.id)).sort();
+
+test('two contexts on the edit link see each other and each other\'s edits', { timeout: 180000 }, () =>
+  ctx.guard('collab', async () => {
+    const { daemon } = ctx;
+    const s = await daemon.createSession(h.freeStrip());
+    const idx = await daemon.lastIndex(s.id, s.edit_token, 'b');
+
+    const a = await ctx.page();
+    await h.openEditor(a, daemon.editorUrl(s.id, s.edit_token));
+    const link = await h.inputValueWhenSet(a, 'share-edit');
+    const url = new URL(link, daemon.url);
+    assert.equal(url.searchParams.get('session'), s.id, `share-edit link ${link}`);
+    assert.equal(url.searchParams.get('token'), s.edit_token, 'share-edit carries the edit token');
+
+    const b = await ctx.page();
+    await h.openEditor(b, new URL(`/?session=${url.searchParams.get('session')}&token=${url.searchParams.get('token')}`, daemon.url).href);
+    assert.equal((await h.state(b)).role, 'edit');
+
+    for (const p of [a, b]) {
+      await h.waitState(p, (st) => (st.participants || []).length === 2, undefined, { what: 'two participants' });
+      await p.waitForFunction(() => document.querySelectorAll('[data-testid="participants"] [data-testid="participant"]').length === 2);
+    }
+    const [sa, sb] = [await h.state(a), await h.state(b)];
+    assert.deepEqual(participantIds(sa), participantIds(sb), 'both list the same participants');
+    const domIds = await b.locator('[data-testid="participant"]').evaluateAll((els) => els.map((e) => e.getAttribute('data-participant-id')).sort());
+    assert.deepEqual(domIds, participantIds(sb), 'the participant list shows the presence ids');
+    const server = await daemon.session(s.id, s.view_token);
+    assert.equal(server.participants.length ?? server.participants, 2);
+
+    const beforeB = await h.screenshotViewport(b, '03-b-before');
+    const from = await h.controlPointPagePosition(a, 'b', idx);
+    await h.dragBy(a, from, { dy: -60, steps: 12, pauseMs: 40 });
+    await h.waitState(b, (st, n) => st.seq > n.seq && st.iterateCount > n.iterateCount, sb, { what: 'B sees A\'s edit' });
+    await h.waitQuiet(b);
+    const done = await h.poll(async () => {
+      const [ea, eb] = [await h.state(a), await h.state(b)];
+      const srv = await daemon.session(s.id, s.view_token);
+      return { ea, eb, srv, ok: ea.seq === srv.seq && eb.seq === srv.seq };
+    });
+    console.log(`B: seq ${sb.seq} → ${done.eb.seq}, iterates ${sb.iterateCount} → ${done.eb.iterateCount}; A: iterates ${done.ea.iterateCount}`);
+    assert.ok(done.eb.seq > sb.seq, 'B\'s seq advanced');
+    assert.ok(done.eb.iterateCount > sb.iterateCount, 'B applied iterates');
+    assert.equal(done.eb.seq, done.srv.seq, 'B has seen every edit');
+    assert.equal(done.ea.seq, done.srv.seq, 'A has seen every edit');
+    assert.ok(Math.abs(done.eb.metrics.warp_angle_max_deg - done.ea.metrics.warp_angle_max_deg) < 1e-9, 'same metrics on both');
+
+    await h.settleFrames(b);
+    const afterB = await h.screenshotViewport(b, '03-b-after');
+    await h.screenshotViewport(a, '03-a-after');
+    const changed = h.diffFraction(beforeB.image, afterB.image);
+    console.log(`B's viewport pixels changed by A's drag: ${(100 * changed).toFixed(2)} %`);
+    assert.ok(changed > 0.01, `B's picture changed by ${(100 * changed).toFixed(2)} %`);
+    await h.screenshotPage(b, '03-b-editor');
+  }));
+
+test('a view-only link cannot edit', { timeout: 180000 }, () =>
+  ctx.guard('view-only', async () => {
+    const { daemon } = ctx;
+    // The creator of a session knows both links: make one from the start page's example list.
+    const a = await ctx.page();
+    await a.goto(daemon.url);
+    await a.getByTestId('start-page').waitFor();
+    const select = a.getByTestId('preset-select');
+    const options = await select.locator('option').evaluateAll((els) => els.map((o) => ({ value: o.value, label: o.textContent })));
+    const preset = options.find((o) => /lifted/i.test(`${o.value} ${o.label}`)) || options[0];
+    await select.selectOption(preset.value);
+    await a.getByTestId('new-session').click();
+    await a.getByTestId('editor').waitFor({ timeout: 30000 });
+    await h.waitForConnected(a);
+    const sa = await h.state(a);
+    assert.equal(sa.role, 'edit', 'the creator edits');
+    const listed = (await daemon.api('GET', '/api/sessions')).body.sessions.map((x) => x.id);
+    assert.ok(!listed.includes(sa.session), 'a new session is not one of the public demos');
+
+    const editLink = new URL(await h.inputValueWhenSet(a, 'share-edit'), daemon.url);
+    const link = await h.inputValueWhenSet(a, 'share-view');
+    const url = new URL(link, daemon.url);
+    const viewToken = url.searchParams.get('token');
+    assert.equal(url.searchParams.get('session'), sa.session, `share-view link ${link}`);
+    assert.equal(editLink.searchParams.get('session'), sa.session);
+    assert.ok(viewToken && viewToken !== editLink.searchParams.get('token'), 'the view link has its own token');
+    const id = sa.session;
+    const first = await daemon.session(id, viewToken);     // 200: the server accepts it as a token
+    const idx = first.scene.model.b.points.length - 1;
+
+    const v = await ctx.page();
+    await h.openEditor(v, url.href);
+    const sv = await h.state(v);
+    assert.equal(sv.role, 'view');
+    assert.equal(sv.session, id);
+    const seqBefore = (await daemon.session(id, viewToken)).seq;
+    const pointBefore = (await daemon.session(id, viewToken)).scene.model.b.points[idx];
+    const aBefore = await h.state(a);
+
+    const from = await h.controlPointPagePosition(v, 'b', idx);
+    await h.dragBy(v, from, { dy: -60, steps: 12, pauseMs: 40 });
+    // Either the server answers forbidden (shown as an error), or the UI does not send the drag at all.
+    await h.poll(async () => (await h.state(v)).lastError, { timeout: 3000 });
+    await h.sleep(500);
+    const after = await h.state(v);
+    const server = await daemon.session(id, viewToken);
+    if (after.lastError) {
+      assert.equal(after.lastError.code, 'forbidden', `lastError ${JSON.stringify(after.lastError)}`);
+      const msg = v.getByTestId('error-message');
+      await msg.first().waitFor({ state: 'visible' });
+      console.log(`view-only drag: forbidden, shown as ${JSON.stringify((await msg.first().textContent()).trim())}`);
+    } else {
+      console.log('view-only drag: the UI sent nothing (no error); checking the server did not change');
+    }
+    await h.screenshotPage(v, '04-view-only-after-drag');
+    assert.equal(server.seq, seqBefore, 'the server applied no edit');
+    assert.deepEqual(server.scene.model.b.points[idx], pointBefore, 'the control point did not move');
+    assert.equal(after.seq, seqBefore, 'the view page saw no edit');
+    assert.equal((await h.state(a)).seq, aBefore.seq, 'the editor saw no edit');
+  }));

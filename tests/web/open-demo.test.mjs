@@ -1,0 +1,55 @@
+// 1. A demo session opened from the start page: editor, connected, a 3D view that is not blank.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('open-demo');
+
+test('a demo opened from the start page shows the editor, connected, with a rendered strip', { timeout: 120000 }, () =>
+  ctx.guard('open-demo', async () => {
+    const { daemon } = ctx;
+    const listed = (await daemon.api('GET', '/api/sessions')).body.sessions;
+    assert.equal(listed.length, h.DEMOS.length, 'one demo session per example scene');
+
+    const page = await ctx.page();
+    await page.goto(daemon.url);
+    await page.getByTestId('start-page').waitFor();
+    const demos = page.getByTestId('demo-session');
+    await demos.first().waitFor();
+    assert.equal(await demos.count(), listed.length, 'the start page lists every demo session');
+    const ids = await demos.evaluateAll((els) => els.map((e) => e.getAttribute('data-session-id')));
+    assert.deepEqual([...ids].sort(), listed.map((s) => s.id).sort());
+    await h.screenshotPage(page, '01-start-page');
+
+    const demo = listed.find((s) => /lifted/.test(s.id)) || listed[0];
+    await page.locator(`[data-testid="demo-session"][data-session-id="${demo.id}"]`).click();
+    await page.getByTestId('editor').waitFor({ timeout: 30000 });
+    await h.waitForConnected(page);
+
+    const s = await h.state(page);
+    assert.equal(s.session, demo.id);
+    assert.equal(s.role, 'edit', 'a demo opens with its (public) edit token');
+    assert.equal(s.lastError, null);
+    assert.match((await page.getByTestId('status-connection').textContent()).trim(), /^connected$/i);
+    const server = await daemon.session(demo.id, demo.view_token);
+    assert.equal(s.seq, server.seq, 'the page has seen the server seq');
+    assert.ok(Number.isFinite(s.metrics?.warp_angle_max_deg), 'metrics arrived with the state');
+
+    // The 3D view: many colours, no single colour covering (nearly) all of it.
+    const shot = await h.poll(async () => {
+      await h.settleFrames(page);
+      const sh = await h.screenshotViewport(page, '01-viewport');
+      const st = h.pixelStats(sh.image);
+      return { ...sh, st, ok: st.distinct >= 64 && st.dominantShare < 0.97 && st.lumaStd > 4 };
+    });
+    console.log(`viewport ${shot.image.width}x${shot.image.height}: ${shot.st.distinct} colours, `
+      + `dominant ${(100 * shot.st.dominantShare).toFixed(1)} %, luma σ ${shot.st.lumaStd.toFixed(1)}`);
+    assert.ok(shot.image.width >= 300 && shot.image.height >= 200, 'the viewport has a usable size');
+    assert.ok(shot.st.distinct >= 64, `the 3D canvas has ${shot.st.distinct} distinct colours`);
+    assert.ok(shot.st.dominantShare < 0.97, `one colour covers ${(100 * shot.st.dominantShare).toFixed(1)} % of the canvas`);
+    assert.ok(shot.st.lumaStd > 4, `luminance σ ${shot.st.lumaStd}`);
+
+    await page.getByTestId('development-view').waitFor();
+    await h.screenshotPage(page, '01-editor');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));

@@ -1,0 +1,64 @@
+// 5. The page reconnects after the daemon is killed and restarted on the same port and data dir.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('reconnect');
+
+const statusText = (page) => page.getByTestId('status-connection').textContent().then((t) => t.trim().toLowerCase());
+
+test('after SIGKILL and a restart the page reconnects and catches up with the server', { timeout: 240000 }, () =>
+  ctx.guard('reconnect', async () => {
+    const { daemon } = ctx;
+    const s = await daemon.createSession(h.freeStrip());
+    const idx = await daemon.lastIndex(s.id, s.edit_token, 'b');
+
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(s.id, s.edit_token));
+    // Some edits first, so that the restarted daemon has a journal to replay.
+    await h.dragBy(page, await h.controlPointPagePosition(page, 'b', idx), { dy: -50, steps: 10, pauseMs: 40 });
+    await h.waitQuiet(page);
+    const seqBefore = (await daemon.session(s.id, s.edit_token)).seq;
+    await h.poll(async () => ({ ok: (await h.state(page)).seq === seqBefore }));
+    assert.equal((await h.state(page)).seq, seqBefore);
+    assert.ok(seqBefore > 0, 'the drag was journalled');
+    const port = daemon.port;
+
+    await daemon.kill();
+    await h.waitState(page, (st) => st.connection === 'reconnecting' || st.connection === 'offline', undefined,
+      { timeout: 20000, what: 'reconnecting/offline after SIGKILL' });
+    await page.waitForFunction(() => /reconnecting|offline/i.test(document.querySelector('[data-testid="status-connection"]').textContent),
+      null, { timeout: 20000 });
+    const down = await statusText(page);
+    console.log(`daemon killed: status shows ${JSON.stringify(down)}`);
+    await h.screenshotPage(page, '05-daemon-down');
+    await h.sleep(1500);   // a few failed reconnect attempts
+
+    await daemon.restart();
+    assert.equal(daemon.port, port, 'restarted on the same port');
+    await h.waitForConnected(page, 90000);
+    const done = await h.poll(async () => {
+      const st = await h.state(page);
+      const server = await daemon.session(s.id, s.edit_token);
+      return { st, server, ok: st.seq === server.seq };
+    });
+    console.log(`reconnected: status ${JSON.stringify(await statusText(page))}, page seq ${done.st.seq}, server seq ${done.server.seq}`);
+    assert.equal(done.server.seq, seqBefore, 'the restarted daemon replayed the journal');
+    assert.equal(done.st.seq, done.server.seq, 'the page seq matches the server\'s');
+    assert.equal(done.st.session, s.id);
+    assert.equal(done.st.connection, 'connected');
+    await h.screenshotPage(page, '05-reconnected');
+
+    // And editing works again.
+    const c0 = done.st.iterateCount;
+    await h.dragBy(page, await h.controlPointPagePosition(page, 'b', idx), { dy: 40, steps: 8, pauseMs: 40 });
+    await h.waitState(page, (st, n) => st.iterateCount > n, c0, { what: 'iterates after reconnecting' });
+    await h.waitQuiet(page);
+    const again = await h.poll(async () => {
+      const st = await h.state(page);
+      const server = await daemon.session(s.id, s.edit_token);
+      return { st, server, ok: st.seq === server.seq && server.seq > seqBefore };
+    });
+    assert.ok(again.server.seq > seqBefore, 'edits after the reconnect are applied');
+    assert.equal(again.st.seq, again.server.seq);
+  }));

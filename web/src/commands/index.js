@@ -1,0 +1,13 @@
+export { Command, targetLabel } from './Command.js';
+export { DragCommand } from './DragCommand.js';
+export { DragEndCommand } from './DragEndCommand.js';
+export { SolveCommand } from './SolveCommand.js';
+export { AddHandleCommand } from './AddHandleCommand.js';
+export { RemoveHandleCommand } from './RemoveHandleCommand.js';
+export { SetFixedCommand } from './SetFixedCommand.js';
+export { SetSolverCommand, SOLVER_KEYS } from './SetSolverCommand.js';
+export { UndoCommand } from './UndoCommand.js';
+export { RedoCommand } from './RedoCommand.js';
+export { ResetCommand } from './ResetCommand.js';
+export { PresenceCommand } from './PresenceCommand.js';
+export { JoinCommand, PingCommand } from './JoinCommand.js';

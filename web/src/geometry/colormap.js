@@ -1,0 +1,71 @@
+// Colour map for the warp angle (degrees per vertex): 0° (developable) is a calm blue-green,
+// larger warp goes through yellow to red. The upper end of the scale is a "nice" number at or
+// above the current maximum, at least MIN_RANGE_DEG, so a developable surface reads as uniform.
+
+// Stops of a perceptually ordered map (approximately "viridis" into "inferno"'s warm end).
+const STOPS = [
+  [0.0, [0.16, 0.45, 0.68]],
+  [0.25, [0.13, 0.63, 0.6]],
+  [0.5, [0.55, 0.78, 0.32]],
+  [0.75, [0.99, 0.75, 0.2]],
+  [1.0, [0.86, 0.2, 0.16]],
+];
+
+export const MIN_RANGE_DEG = 1;
+
+/** Writes the colour for t ∈ [0, 1] into out[offset..offset+2] (linear 0..1 floats). */
+export function colorAt(t, out, offset = 0) {
+  if (!(t > 0)) t = 0;
+  else if (t > 1) t = 1;
+  let k = 1;
+  while (k < STOPS.length - 1 && STOPS[k][0] < t) k++;
+  const [t0, c0] = STOPS[k - 1];
+  const [t1, c1] = STOPS[k];
+  const s = (t - t0) / (t1 - t0);
+  out[offset] = c0[0] + (c1[0] - c0[0]) * s;
+  out[offset + 1] = c0[1] + (c1[1] - c0[1]) * s;
+  out[offset + 2] = c0[2] + (c1[2] - c0[2]) * s;
+  return out;
+}
+
+/** CSS colour string for t ∈ [0, 1]. */
+export function cssColorAt(t) {
+  const c = colorAt(t, [0, 0, 0]);
+  return `rgb(${Math.round(c[0] * 255)}, ${Math.round(c[1] * 255)}, ${Math.round(c[2] * 255)})`;
+}
+
+/** The smallest of 1, 2, 2.5, 5 × 10^k that is ≥ value (and ≥ MIN_RANGE_DEG). */
+export function niceRange(value) {
+  const v = Math.max(Number.isFinite(value) ? value : 0, MIN_RANGE_DEG);
+  const p = Math.pow(10, Math.floor(Math.log10(v)));
+  for (const m of [1, 2, 2.5, 5, 10]) if (m * p >= v - 1e-12) return m * p;
+  return 10 * p;
+}
+
+/**
+ * Fills `colors` (length 3n) from `values` (length n) over [0, range].
+ * Colours are in the renderer's working (linear) space: three.js vertex colours are linear.
+ */
+export function fillColors(values, colors, range, toLinear = true) {
+  const n = values.length;
+  for (let i = 0; i < n; i++) {
+    colorAt(values[i] / range, colors, 3 * i);
+    if (toLinear) {
+      colors[3 * i] = srgbToLinear(colors[3 * i]);
+      colors[3 * i + 1] = srgbToLinear(colors[3 * i + 1]);
+      colors[3 * i + 2] = srgbToLinear(colors[3 * i + 2]);
+    }
+  }
+  return colors;
+}
+
+export function srgbToLinear(c) {
+  return c < 0.04045 ? c * 0.0773993808 : Math.pow(c * 0.9478672986 + 0.0521327014, 2.4);
+}
+
+/** CSS linear-gradient() for a legend bar, left (0) to right (1). */
+export function cssGradient(direction = 'to right') {
+  const parts = [];
+  for (let i = 0; i <= 10; i++) parts.push(`${cssColorAt(i / 10)} ${i * 10}%`);
+  return `linear-gradient(${direction}, ${parts.join(', ')})`;
+}

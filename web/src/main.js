@@ -1,0 +1,37 @@
+// Entry point: the start page at `/`, the editor at `/?session=ID&token=TOKEN`.
+// window.__devsurf is the test hook described in CONTRACT.md.
+
+import './styles.css';
+import { EditorState } from './state/EditorState.js';
+import { StartPage } from './ui/StartPage.js';
+import { Editor } from './ui/Editor.js';
+import { accessibility } from './ui/preferences.js';
+
+const state = new EditorState();
+let editor = null;
+
+window.__devsurf = {
+  state,
+  controlPointScreenPosition(curve, index) {
+    return editor ? editor.controlPointScreenPosition(curve, index) : null;
+  },
+  iterateApplyTimes() {
+    return editor ? editor.applyTimes.slice() : [];
+  },
+  get editor() {
+    return editor;
+  },
+};
+
+const root = document.getElementById('app');
+document.documentElement.classList.toggle('a11y', accessibility());
+const params = new URLSearchParams(window.location.search);
+const session = params.get('session');
+const token = params.get('token');
+if (session && token) {
+  document.body.classList.add('editor-page');
+  editor = new Editor(root, { state, session, token });
+} else {
+  document.body.classList.add('start');
+  new StartPage(root, { state });
+}

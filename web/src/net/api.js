@@ -1,0 +1,54 @@
+// REST helpers (docs/protocol.md): sessions and exports.
+
+export class ApiError extends Error {
+  constructor(status, body) {
+    const e = (body && body.error) || {};
+    const text = e.message || `HTTP ${status}`;
+    super(e.path && !text.includes(e.path) ? `${e.path}: ${text}` : text);
+    this.status = status;
+    this.code = e.code || `http_${status}`;
+    this.path = e.path;
+  }
+}
+
+async function readJson(res) {
+  const text = await res.text();
+  if (!text) return null;
+  try {
+    return JSON.parse(text);
+  } catch {
+    return { error: { code: 'invalid_response', message: text.slice(0, 200) } };
+  }
+}
+
+function apiUrl(path, base = './') {
+  // Relative to the page so the app also works under a path prefix.
+  return new URL(`api/${path}`, new URL(base, globalThis.location.href)).toString();
+}
+
+/** GET /api/sessions → [{id, name, participants, edit_token, view_token}] */
+export async function listSessions() {
+  const res = await fetch(apiUrl('sessions'));
+  const body = await readJson(res);
+  if (!res.ok) throw new ApiError(res.status, body);
+  return (body && body.sessions) || [];
+}
+
+/** POST /api/sessions (scene) → {id, edit_token, view_token, links} */
+export async function createSession(scene, apiKey) {
+  const headers = { 'Content-Type': 'application/json' };
+  if (apiKey) headers.Authorization = `Bearer ${apiKey}`;
+  const res = await fetch(apiUrl('sessions'), { method: 'POST', headers, body: typeof scene === 'string' ? scene : JSON.stringify(scene) });
+  const body = await readJson(res);
+  if (!res.ok) throw new ApiError(res.status, body);
+  return body;
+}
+
+/** GET /api/sessions/{id}/export?format=json|obj with the token as Bearer → Blob */
+export async function exportSession(id, token, format) {
+  const res = await fetch(apiUrl(`sessions/${encodeURIComponent(id)}/export?format=${format}`), {
+    headers: { Authorization: `Bearer ${token}` },
+  });
+  if (!res.ok) throw new ApiError(res.status, await readJson(res));
+  return res.blob();
+}

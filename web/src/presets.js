@@ -1,0 +1,10 @@
+// The example scenes of ../examples, bundled into the build (Vite JSON import).
+
+const modules = import.meta.glob('../../examples/*.json', { eager: true, import: 'default' });
+
+export const PRESETS = Object.entries(modules)
+  .map(([path, scene]) => {
+    const file = path.split('/').pop();
+    return { file, id: file.replace(/\.json$/, ''), name: scene.name || file.replace(/\.json$/, ''), description: scene.description || '', scene };
+  })
+  .sort((a, b) => a.file.localeCompare(b.file));

@@ -1,0 +1,234 @@
+// The editor's single state object: everything the UI shows is read from here, and every change
+// is announced with a signal (`on(event, fn)` / `emit(event, data)`).
+//
+// Signals: connection, session (a fresh `state` after join or resync), scene (scene, constraints
+// or settings changed), geometry ({geometry, source}), iterate (the iterate message), solved,
+// metrics, presence, selection, undo, ack ({message, command}), error ({message, command}),
+// settings, accessibility, change (after any of the above).
+
+export const RESIDUAL_HISTORY_LIMIT = 400;
+
+export class EditorState {
+  constructor() {
+    this._listeners = new Map();
+    this.reset();
+  }
+
+  reset() {
+    /** 'connected' | 'connecting' | 'reconnecting' | 'offline' */
+    this.connection = 'offline';
+    this.session = null;
+    this.role = null;
+    /** Our own participant id (from `state.you`). */
+    this.you = null;
+    this.seq = 0;
+    this.metrics = null;
+    this.participants = [];
+    this.iterateCount = 0;
+    this.lastError = null;
+    this.scene = null;
+    this.constraints = { fixed: [], handles: [] };
+    this.settings = { drag_iterations: 1, release_iterations: 10 };
+    this.undo = { available: 0, redo_available: 0 };
+    this.selection = null;
+    /** Last iterate: {iteration, time_ms, residuals, seq}. */
+    this.lastIterate = null;
+    /** Last `solved`: {reason, iterations, seq}. */
+    this.lastSolved = null;
+    /** Residual history across solves: {x: number[], terms: {name: number[]}}. */
+    this.residualHistory = { x: [], terms: {} };
+    this.residualStep = 0;
+    /** Tokens known for this session (edit/view), for the share links. */
+    this.tokens = { edit: null, view: null };
+    this.name = '';
+  }
+
+  on(event, fn) {
+    if (!this._listeners.has(event)) this._listeners.set(event, new Set());
+    this._listeners.get(event).add(fn);
+    return () => this.off(event, fn);
+  }
+
+  off(event, fn) {
+    const set = this._listeners.get(event);
+    if (set) set.delete(fn);
+  }
+
+  emit(event, data) {
+    const set = this._listeners.get(event);
+    if (set) for (const fn of [...set]) fn(data, this);
+    if (event !== 'change') {
+      const all = this._listeners.get('change');
+      if (all) for (const fn of [...all]) fn({ event, data }, this);
+    }
+  }
+
+  // ---- local changes -------------------------------------------------------------------------
+
+  setConnection(connection, detail) {
+    if (this.connection === connection) return;
+    this.connection = connection;
+    this.emit('connection', { connection, detail });
+  }
+
+  setSelection(target) {
+    const same = (a, b) => (a === b) || (a && b && a.curve === b.curve && a.index === b.index);
+    if (same(this.selection, target)) return false;
+    this.selection = target ? { curve: target.curve, index: target.index } : null;
+    this.emit('selection', this.selection);
+    return true;
+  }
+
+  setTokens(tokens) {
+    this.tokens = { ...this.tokens, ...tokens };
+    this.emit('tokens', this.tokens);
+  }
+
+  // ---- server messages ------------------------------------------------------------------------
+
+  /** Dispatches one server message (except ack/error, which ProtocolClient matches to commands). */
+  applyServerMessage(msg) {
+    switch (msg.type) {
+      case 'state': return this.applyState(msg);
+      case 'iterate': return this.applyIterate(msg);
+      case 'solved': return this.applySolved(msg);
+      case 'update': return this.applyUpdate(msg);
+      case 'edit': return this.applyEdit(msg);
+      case 'presence': return this.applyPresence(msg);
+      case 'pong': return this._seenSeq(msg.seq);
+      default: return undefined;
+    }
+  }
+
+  _seenSeq(seq) {
+    if (Number.isInteger(seq) && seq > this.seq) this.seq = seq;
+  }
+
+  applyState(msg) {
+    this.session = msg.session;
+    this.role = msg.role;
+    this.you = msg.you;
+    this.seq = msg.seq;
+    this.metrics = msg.metrics || null;
+    this.participants = msg.participants || [];
+    if (msg.settings) this.settings = { ...this.settings, ...msg.settings };
+    if (msg.undo) this.undo = msg.undo;
+    this._setScene(msg.scene, msg.constraints);
+    this.emit('session', msg);
+    this.emit('scene', this.scene);
+    this.emit('metrics', this.metrics);
+    this.emit('presence', this.participants);
+    this.emit('undo', this.undo);
+    this.emit('settings', this.settings);
+    if (msg.geometry) this.emit('geometry', { geometry: msg.geometry, source: 'state' });
+  }
+
+  _setScene(scene, constraints) {
+    if (scene) this.scene = scene;
+    const model = (scene && scene.model) || {};
+    this.constraints = {
+      fixed: (constraints && constraints.fixed) || model.fixed || [],
+      handles: (constraints && constraints.handles) || model.handles || [],
+    };
+  }
+
+  applyIterate(msg) {
+    this._seenSeq(msg.seq);
+    this.metrics = { ...(this.metrics || {}), ...(msg.metrics || {}) };
+    this.lastIterate = { iteration: msg.iteration, time_ms: msg.time_ms, residuals: msg.residuals || {}, seq: msg.seq };
+    this._pushResiduals(msg.residuals || {});
+    this.emit('iterate', msg);
+    this.emit('metrics', this.metrics);
+    // Listeners of 'geometry' decode, update the buffers and render synchronously.
+    if (msg.geometry) this.emit('geometry', { geometry: msg.geometry, source: 'iterate', message: msg });
+    this.iterateCount++;
+  }
+
+  _pushResiduals(residuals) {
+    const h = this.residualHistory;
+    this.residualStep++;
+    const n = h.x.length;
+    for (const name of Object.keys(residuals)) {
+      if (!h.terms[name]) h.terms[name] = new Array(n).fill(null);
+    }
+    h.x.push(this.residualStep);
+    for (const [name, values] of Object.entries(h.terms)) {
+      const v = residuals[name];
+      values.push(typeof v === 'number' && v > 0 && Number.isFinite(v) ? v : null);
+    }
+    if (h.x.length > RESIDUAL_HISTORY_LIMIT) {
+      const drop = h.x.length - RESIDUAL_HISTORY_LIMIT;
+      h.x.splice(0, drop);
+      for (const values of Object.values(h.terms)) values.splice(0, drop);
+    }
+  }
+
+  applySolved(msg) {
+    this._seenSeq(msg.seq);
+    if (msg.metrics) this.metrics = { ...(this.metrics || {}), ...msg.metrics };
+    this.lastSolved = { reason: msg.reason, iterations: msg.iterations, seq: msg.seq };
+    this.emit('solved', msg);
+    this.emit('metrics', this.metrics);
+  }
+
+  applyUpdate(msg) {
+    this._seenSeq(msg.seq);
+    if (msg.metrics) this.metrics = msg.metrics;
+    if (msg.undo) this.undo = msg.undo;
+    if (msg.scene) this._setScene(msg.scene, msg.constraints);
+    this.emit('scene', this.scene);
+    this.emit('metrics', this.metrics);
+    this.emit('undo', this.undo);
+    if (msg.geometry) this.emit('geometry', { geometry: msg.geometry, source: 'update' });
+  }
+
+  /**
+   * A drag starts an undo step on the server without an `update` (structural edits, undo, redo
+   * and reset send one with the exact counts): note that there is something to undo.
+   */
+  _noteDragHistory(type) {
+    if (type !== 'drag') return;
+    if (this.undo.available > 0 && this.undo.redo_available === 0) return;
+    this.undo = { available: Math.max(1, this.undo.available), redo_available: 0 };
+    this.emit('undo', this.undo);
+  }
+
+  applyEdit(msg) {
+    this._seenSeq(msg.seq);
+    const e = msg.edit || {};
+    this._noteDragHistory(e.type);
+    if (e.type === 'set_solver') {
+      const s = { ...this.settings };
+      if (e.drag_iterations !== undefined) s.drag_iterations = e.drag_iterations;
+      if (e.release_iterations !== undefined) s.release_iterations = e.release_iterations;
+      this.settings = s;
+      this.emit('settings', this.settings);
+    }
+    this.emit('edit', msg);
+  }
+
+  applyPresence(msg) {
+    this.participants = msg.participants || [];
+    this.emit('presence', this.participants);
+  }
+
+  /** Our own command was applied (ProtocolClient matched the ack to it). */
+  applyAck(msg, command) {
+    this._seenSeq(msg.seq);
+    if (command) this._noteDragHistory(command.type);
+    if (command && command.type === 'set_solver') {
+      const s = { ...this.settings };
+      if (command.drag_iterations !== undefined) s.drag_iterations = command.drag_iterations;
+      if (command.release_iterations !== undefined) s.release_iterations = command.release_iterations;
+      this.settings = s;
+      this.emit('settings', this.settings);
+    }
+    this.emit('ack', { message: msg, command });
+  }
+
+  /** A server error (or a local one, e.g. "not connected"), with the command that caused it. */
+  applyError(msg, command) {
+    this.lastError = msg;
+    this.emit('error', { message: msg, command });
+  }
+}

@@ -1,0 +1,373 @@
+// The editor page: layout, wiring of state ↔ client ↔ views ↔ panels, keyboard shortcuts.
+
+import { h } from './dom.js';
+import { StripBuffers } from '../geometry/StripBuffers.js';
+import { ProtocolClient, defaultSocketUrl } from '../net/ProtocolClient.js';
+import { listSessions } from '../net/api.js';
+import { Viewport } from '../view/Viewport.js';
+import { DevelopmentView } from '../view/DevelopmentView.js';
+import { SolverPanel } from './SolverPanel.js';
+import { ResidualPlot } from './ResidualPlot.js';
+import { HelpOverlay } from './HelpOverlay.js';
+import { ErrorSlots, Toasts, describeError } from './Toast.js';
+import { ExportPanel, Legend, ParticipantsPanel, SelectionPanel, SharePanel, StatusBar } from './panels.js';
+import { accessibility, displayName, rememberSessionTokens, sessionTokens, setAccessibility } from './preferences.js';
+import {
+  AddHandleCommand, PresenceCommand, RedoCommand, RemoveHandleCommand, ResetCommand, SetFixedCommand,
+  SolveCommand, UndoCommand,
+} from '../commands/index.js';
+
+const APPLY_TIMES_KEPT = 500;
+
+export class Editor {
+  /**
+   * @param {HTMLElement} root
+   * @param {object} options {state, session, token}
+   */
+  constructor(root, { state, session, token }) {
+    this.state = state;
+    this.session = session;
+    this.token = token;
+    this.applyTimes = [];
+    this.buffers = new StripBuffers();
+    this.errorSlots = new ErrorSlots();
+    state.name = displayName();
+    const known = sessionTokens(session);
+    state.setTokens({ edit: known.edit || null, view: known.view || null });
+
+    this.client = new ProtocolClient({ url: defaultSocketUrl(), state });
+    this._buildLayout(root);
+    this._wire();
+    this._updateToolbar();
+    this._bindKeyboard();
+    this._applyAccessibility(accessibility());
+
+    this.client.connect(session, token, state.name);
+    this._lookUpDemoTokens();
+    window.addEventListener('online', () => this.client.reconnectNow());
+  }
+
+  // ---- layout ---------------------------------------------------------------------------------
+
+  _buildLayout(root) {
+    const st = this.state;
+    const tb = (label, title, onclick, source, testid) => {
+      const b = h('button', { class: 'btn tool', title, onclick, testid, 'aria-label': title }, label);
+      if (source) b.dataset.source = source;
+      return b;
+    };
+    this.undoButton = tb('↶ Undo', 'Undo (Ctrl+Z)', () => this.undo(), 'toolbar:undo', 'undo');
+    this.redoButton = tb('↷ Redo', 'Redo (Ctrl+Shift+Z)', () => this.redo(), 'toolbar:redo', 'redo');
+    this.solveButton = tb('Solve 10', 'Run 10 solver iterations (S)', () => this.solve(10), 'toolbar:solve', 'solve');
+    this.resetButton = tb('Reset', 'Back to the scene the session started with (undoable)', () => this.reset(), 'toolbar:reset', 'reset');
+    this.a11yButton = h('button', { class: 'btn tool', title: 'Large text and high contrast', 'aria-pressed': 'false', testid: 'toggle-a11y',
+      onclick: () => this._applyAccessibility(!document.documentElement.classList.contains('a11y'), true) }, 'Aa');
+    this.helpButton = h('button', { class: 'btn tool', title: 'Keyboard shortcuts (?)', 'aria-label': 'Help', onclick: () => this.help.toggle() }, '?');
+    this.sceneName = h('span', { class: 'scene-name' }, '');
+    this.roleBadge = h('span', { class: 'badge role-badge', hidden: true }, '');
+
+    const header = h('header', { class: 'topbar' },
+      h('a', { class: 'brand', href: './', title: 'Back to the start page' }, 'devsurf'),
+      this.sceneName, this.roleBadge,
+      h('div', { class: 'toolbar' },
+        h('div', { class: 'tool-group' }, this.undoButton, this.redoButton),
+        h('div', { class: 'tool-group' }, this.solveButton, this.resetButton),
+        h('div', { class: 'tool-group' }, this.a11yButton, this.helpButton)),
+      h('div', { class: 'toolbar-errors' }, ['toolbar:undo', 'toolbar:redo', 'toolbar:solve', 'toolbar:reset'].map((s) => this.errorSlots.slot(s))));
+
+    // 3D view with its overlays.
+    this.viewportEl = h('div', { class: 'viewport', testid: 'viewport' });
+    const toggle = (label, option, initial, key) => {
+      const input = h('input', { type: 'checkbox', checked: initial });
+      input.addEventListener('change', () => this.viewport.setOption(option, input.checked));
+      return h('label', { class: 'chip', title: key ? `${label}` : label }, input, label);
+    };
+    this.viewOptions = h('div', { class: 'view-options' },
+      toggle('Surface', 'surface', true), toggle('Rulings', 'rulings', true), toggle('Normals', 'normals', false), toggle('Control polygons', 'polygons', true),
+      h('button', { class: 'btn small', title: 'Fit the strip into the view (Space)', onclick: () => this.viewport.fit() }, 'Fit (Space)'));
+    this.banner = h('div', { class: 'banner', hidden: true, role: 'status' });
+    const viewportWrap = h('div', { class: 'viewport-wrap' }, this.viewportEl, this.viewOptions, this.banner,
+      h('div', { class: 'viewport-errors' }, this.errorSlots.slot('viewport')),
+      h('div', { class: 'hint' }, 'drag points · F fix · H handle · S solve · ? help'));
+
+    this.developmentEl = h('div', { class: 'development', testid: 'development-view' });
+    this.plotEl = h('div', { class: 'plot' });
+    const bottom = h('div', { class: 'bottom-panels' },
+      h('section', { class: 'subpanel' }, h('h3', {}, 'Development ', h('span', { class: 'muted small' }, '(unrolled; double-click to refit)')), this.developmentEl),
+      h('section', { class: 'subpanel' }, h('h3', {}, 'Residuals ', h('span', { class: 'muted small' }, '(weighted squared, per term)')), this.plotEl));
+
+    this.sidebar = h('aside', { class: 'sidebar' });
+    const main = h('main', { class: 'main' }, viewportWrap, bottom);
+    this.root = h('div', { class: 'editor', testid: 'editor' }, header, main, this.sidebar);
+    root.appendChild(this.root);
+
+    // Views.
+    this.viewport = new Viewport(this.viewportEl, {
+      state: st, buffers: this.buffers, send: (c) => this.send(c), select: (t) => this.select(t),
+    });
+    this.legend = new Legend(viewportWrap);
+    this.development = new DevelopmentView(this.developmentEl, { buffers: this.buffers });
+    this.plot = new ResidualPlot(this.plotEl, { state: st });
+
+    // Sidebar panels.
+    this.selectionPanel = new SelectionPanel(this.sidebar, {
+      state: st, buffers: this.buffers, errorSlots: this.errorSlots,
+      toggleFixed: () => this.toggleFixed(), toggleHandle: () => this.toggleHandle(),
+    });
+    const solverSection = h('section', { class: 'panel panel-gui' });
+    this.sidebar.appendChild(solverSection);
+    this.solverPanel = new SolverPanel(solverSection, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
+    this.participants = new ParticipantsPanel(this.sidebar, { state: st, send: (c) => this.send(c) });
+    this.share = new SharePanel(this.sidebar, { state: st });
+    this.exportPanel = new ExportPanel(this.sidebar, {
+      state: st, toasts: null, errorSlots: this.errorSlots, token: this.token, currentScene: () => this.currentScene(),
+    });
+
+    this.status = new StatusBar(this.root, { state: st, client: this.client, applyTimes: () => this.applyTimes });
+    this.help = new HelpOverlay(this.root);
+    this.toasts = new Toasts(document.body);
+    this.exportPanel.toasts = this.toasts;
+  }
+
+  // ---- wiring ---------------------------------------------------------------------------------
+
+  _wire() {
+    const st = this.state;
+    st.on('geometry', ({ geometry, source }) => this._applyGeometry(geometry, source));
+    st.on('session', (msg) => {
+      this.sceneName.textContent = (msg.scene && msg.scene.name) || msg.session;
+      document.title = `${(msg.scene && msg.scene.name) || msg.session} — devsurf`;
+      this.roleBadge.textContent = msg.role === 'view' ? 'view only' : 'editing';
+      this.roleBadge.hidden = false;
+      this.roleBadge.classList.toggle('badge-view', msg.role === 'view');
+      const tokens = msg.role === 'edit' ? { edit: this.token } : { view: this.token };
+      st.setTokens(rememberSessionTokens(msg.session, tokens));
+      this._updateToolbar();
+      // A resync keeps the selection if the point still exists; tell the others again.
+      if (st.selection && !this.buffers.point(st.selection.curve, st.selection.index)) st.setSelection(null);
+      if (st.selection) this.send(new PresenceCommand(st.selection));
+    });
+    st.on('undo', () => this._updateToolbar());
+    st.on('connection', ({ connection, detail }) => this._updateBanner(connection, detail));
+    st.on('error', ({ message, command }) => this._showError(message, command));
+    st.on('selection', (sel) => {
+      this.viewport.requestRender();
+      if (st.connection === 'connected') this.send(new PresenceCommand(sel));
+    });
+    st.on('presence', () => this.viewport.requestRender());
+    st.on('solved', () => this.development.refit());
+    st.on('scene', () => this.viewport.requestRender());
+  }
+
+  /** Decode + buffer update + render, measured as 'iterate-apply' for iterates. */
+  _applyGeometry(geometry, source) {
+    const timed = source === 'iterate' && typeof performance !== 'undefined' && performance.mark;
+    if (timed) performance.mark('iterate-apply-start');
+    try {
+      this.buffers.apply(geometry);
+    } catch (e) {
+      console.error('devsurf: cannot apply geometry', e);
+      this.toasts.showError({ code: 'geometry', message: String(e.message || e) });
+      return;
+    }
+    if (!this.viewport.hasFit) this.viewport.fit();
+    this.legend.update(this.buffers.colorRange, this.buffers.warpMax);
+    this.viewport.renderNow();
+    this.development.render();
+    if (timed) {
+      performance.mark('iterate-apply-end');
+      const m = performance.measure('iterate-apply', 'iterate-apply-start', 'iterate-apply-end');
+      const duration = m && typeof m.duration === 'number' ? m.duration : 0;
+      this.applyTimes.push(duration);
+      if (this.applyTimes.length > APPLY_TIMES_KEPT) this.applyTimes.splice(0, this.applyTimes.length - APPLY_TIMES_KEPT);
+      performance.clearMarks('iterate-apply-start');
+      performance.clearMarks('iterate-apply-end');
+      if (performance.getEntriesByName('iterate-apply').length > 2 * APPLY_TIMES_KEPT) performance.clearMeasures('iterate-apply');
+    }
+  }
+
+  _showError(message, command) {
+    const context = command ? command.name : null;
+    this.toasts.showError(message, context);
+    if (command && command.source) this.errorSlots.show(command.source, describeError(message));
+  }
+
+  _updateToolbar() {
+    const st = this.state;
+    const edit = st.role === 'edit';
+    this.undoButton.disabled = !edit || !(st.undo && st.undo.available > 0);
+    this.redoButton.disabled = !edit || !(st.undo && st.undo.redo_available > 0);
+    this.solveButton.disabled = !edit;
+    this.resetButton.disabled = !edit;
+    this.undoButton.title = `Undo (Ctrl+Z) — ${st.undo ? st.undo.available : 0} step(s)`;
+    this.redoButton.title = `Redo (Ctrl+Shift+Z) — ${st.undo ? st.undo.redo_available : 0} step(s)`;
+  }
+
+  _updateBanner(connection, detail) {
+    const b = this.banner;
+    b.replaceChildren();
+    if (connection === 'reconnecting') {
+      b.append('Connection lost: reconnecting… ', h('button', { class: 'btn small', onclick: () => this.client.reconnectNow() }, 'Retry now'));
+      b.hidden = false;
+    } else if (connection === 'offline') {
+      const reason = (detail && detail.reason) || 'Disconnected from the server.';
+      b.append(`${reason} `, h('a', { href: './', class: 'btn small' }, 'Start page'));
+      b.hidden = false;
+    } else if (connection === 'connecting') {
+      b.append('Connecting…');
+      b.hidden = false;
+    } else {
+      b.hidden = true;
+    }
+  }
+
+  async _lookUpDemoTokens() {
+    // Demo sessions publish both tokens: complete the share links.
+    try {
+      const sessions = await listSessions();
+      const s = sessions.find((x) => x.id === this.session);
+      if (s) this.state.setTokens(rememberSessionTokens(s.id, { edit: s.edit_token, view: s.view_token }));
+    } catch {
+      /* the links we know stay */
+    }
+  }
+
+  _applyAccessibility(on, store = false) {
+    document.documentElement.classList.toggle('a11y', on);
+    this.a11yButton.setAttribute('aria-pressed', String(on));
+    if (store) setAccessibility(on);
+    this.viewport.setLargePoints(on);
+    this.development.highContrast = on;
+    this.development.render();
+    this.plot.setLarge(on);
+    // Layout sizes change with the font size.
+    requestAnimationFrame(() => {
+      this.viewport.resize();
+      this.development.resize();
+    });
+  }
+
+  // ---- actions --------------------------------------------------------------------------------
+
+  send(command) {
+    return this.client.send(command);
+  }
+
+  select(target) {
+    this.state.setSelection(target);
+  }
+
+  solve(iterations = 10) {
+    this.send(new SolveCommand(iterations, { source: 'toolbar:solve' }));
+  }
+
+  undo() {
+    this.send(new UndoCommand({ source: 'toolbar:undo' }));
+  }
+
+  redo() {
+    this.send(new RedoCommand({ source: 'toolbar:redo' }));
+  }
+
+  reset() {
+    this.send(new ResetCommand({ source: 'toolbar:reset' }));
+  }
+
+  _requireSelection() {
+    const sel = this.state.selection;
+    if (!sel) this.toasts.showInfo('Select a control point first (click it in the 3D view).');
+    return sel;
+  }
+
+  toggleFixed() {
+    const sel = this._requireSelection();
+    if (!sel) return;
+    const fixed = this.state.constraints.fixed.some((f) => f.curve === sel.curve && f.index === sel.index);
+    this.send(new SetFixedCommand(sel, !fixed, { source: 'selection:fix' }));
+  }
+
+  toggleHandle() {
+    const sel = this._requireSelection();
+    if (!sel) return;
+    const has = this.state.constraints.handles.some((x) => x.curve === sel.curve && x.index === sel.index);
+    if (has) {
+      this.send(new RemoveHandleCommand(sel, { source: 'selection:handle' }));
+    } else {
+      const p = this.buffers.point(sel.curve, sel.index);
+      if (p) this.send(new AddHandleCommand(sel, p, undefined, { source: 'selection:handle' }));
+    }
+  }
+
+  /** The scene as currently shown: the session's scene with the latest control points. */
+  currentScene() {
+    const st = this.state;
+    if (!st.scene) return null;
+    const scene = JSON.parse(JSON.stringify(st.scene));
+    const model = scene.model || {};
+    for (const c of ['a', 'b']) {
+      const n = this.buffers.count(c);
+      if (model[c] && model[c].points && model[c].points.length === n) {
+        model[c].points = Array.from({ length: n }, (_, i) => this.buffers.point(c, i).map((v) => Number(v.toPrecision(7))));
+      }
+    }
+    model.fixed = st.constraints.fixed;
+    model.handles = st.constraints.handles;
+    if (!model.handles.length) delete model.handles;
+    if (!model.fixed.length) delete model.fixed;
+    return scene;
+  }
+
+  controlPointScreenPosition(curve, index) {
+    return this.viewport.controlPointScreenPosition(curve, index);
+  }
+
+  // ---- keyboard -------------------------------------------------------------------------------
+
+  _bindKeyboard() {
+    window.addEventListener('keydown', (e) => {
+      const t = e.target;
+      const typing = t && (t.tagName === 'INPUT' || t.tagName === 'TEXTAREA' || t.tagName === 'SELECT' || t.isContentEditable);
+      if (e.key === 'Escape') {
+        if (this.help.visible) this.help.hide();
+        else if (!typing) this.select(null);
+        return;
+      }
+      if (typing) return;
+      const ctrl = e.ctrlKey || e.metaKey;
+      const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
+      if (ctrl && key === 'z') {
+        e.preventDefault();
+        if (e.shiftKey) this.redo();
+        else this.undo();
+        return;
+      }
+      if (ctrl && key === 'y') {
+        e.preventDefault();
+        this.redo();
+        return;
+      }
+      if (ctrl && key === 's') {
+        e.preventDefault();
+        this.exportPanel.saveScene(() => this.currentScene());
+        return;
+      }
+      if (ctrl || e.altKey) return;
+      if (e.key === '?') {
+        e.preventDefault();
+        this.help.toggle();
+      } else if (key === 'f') {
+        e.preventDefault();
+        this.toggleFixed();
+      } else if (key === 'h') {
+        e.preventDefault();
+        this.toggleHandle();
+      } else if (key === 's') {
+        e.preventDefault();
+        this.solve(10);
+      } else if (e.key === ' ' || e.code === 'Space') {
+        e.preventDefault();
+        this.viewport.fit();
+      }
+    });
+  }
+}

@@ -1,0 +1,42 @@
+import { h } from './dom.js';
+
+const SHORTCUTS = [
+  ['Drag a control point', 'pull it; the solver follows live (view-plane drag)'],
+  ['Drag elsewhere / wheel', 'orbit / zoom (right button: pan)'],
+  ['Click', 'select a control point (others see it in your colour)'],
+  ['F', 'fix / unfix the selected point'],
+  ['H', 'add / remove a handle at the selected point'],
+  ['S', 'solve 10 iterations'],
+  ['Ctrl+Z', 'undo (the session’s shared history)'],
+  ['Ctrl+Shift+Z / Ctrl+Y', 'redo'],
+  ['Space', 'fit the view'],
+  ['Ctrl+S', 'save the scene file'],
+  ['Esc', 'clear the selection / close this help'],
+  ['?', 'show / hide this help'],
+];
+
+export class HelpOverlay {
+  constructor(parent) {
+    this.root = h('div', { class: 'overlay', testid: 'help-overlay', hidden: true, role: 'dialog', 'aria-modal': 'true', 'aria-label': 'Keyboard shortcuts',
+      onclick: (e) => { if (e.target === this.root) this.hide(); } },
+    h('div', { class: 'overlay-card' },
+      h('h2', {}, 'Keyboard and mouse'),
+      h('table', { class: 'shortcuts' },
+        SHORTCUTS.map(([k, d]) => h('tr', {}, h('th', {}, h('kbd', {}, k)), h('td', {}, d)))),
+      h('p', { class: 'muted' }, 'Colours: the surface is shaded by warp angle (0° = developable). Cubes are fixed points, magenta points have a handle (its target is the wire diamond).'),
+      h('button', { class: 'btn', onclick: () => this.hide() }, 'Close')));
+    parent.appendChild(this.root);
+  }
+
+  get visible() {
+    return !this.root.hidden;
+  }
+
+  toggle() {
+    this.root.hidden = !this.root.hidden;
+  }
+
+  hide() {
+    this.root.hidden = true;
+  }
+}

@@ -1,0 +1,97 @@
+// Solver settings (lil-gui). Each change is a SetSolverCommand; the control shows "pending"
+// until the server acks it; an error reverts the control to the server's value and is shown
+// right under it.
+
+import GUI from 'lil-gui';
+import { SetSolverCommand } from '../commands/SetSolverCommand.js';
+import { describeError } from './Toast.js';
+
+// [key, label, kind, options]; kind: 'solver' (scene solver object) or 'session' (drag settings)
+const FIELDS = [
+  ['fairness', 'fairness', 'solver', { min: 0, step: 0.001 }],
+  ['fairness_decay', 'fairness decay', 'solver', { min: 0.05, max: 1, step: 0.01 }],
+  ['regularization', 'regularization', 'solver', { min: 0, step: 0.0005 }],
+  ['unit_normal_weight', 'unit-normal weight', 'solver', { min: 0, step: 0.01 }],
+  ['developability_weight', 'developability weight', 'solver', { min: 0, step: 0.1 }],
+  ['handle_weight', 'handle weight', 'solver', { min: 0, step: 0.1 }],
+  ['drag_iterations', 'iterations per drag', 'session', { min: 1, max: 20, step: 1 }],
+  ['release_iterations', 'iterations on release', 'session', { min: 0, max: 100, step: 1 }],
+];
+
+const DEFAULTS = {
+  fairness: 0.01, fairness_decay: 0.8, regularization: 0.01, unit_normal_weight: 0.1,
+  developability_weight: 1, handle_weight: 1, drag_iterations: 1, release_iterations: 10,
+};
+
+export class SolverPanel {
+  constructor(parent, { state, send, errorSlots }) {
+    this.state = state;
+    this.send = send;
+    this.params = { ...DEFAULTS };
+    this.controllers = new Map();
+    this.pending = new Map(); // key → number of commands in flight
+    this.gui = new GUI({ container: parent, title: 'Solver' });
+    this.gui.domElement.classList.add('solver-gui');
+    for (const [key, label, kind, o] of FIELDS) {
+      const c = o.max !== undefined ? this.gui.add(this.params, key, o.min, o.max, o.step) : this.gui.add(this.params, key).min(o.min).step(o.step);
+      c.name(label);
+      c.domElement.dataset.setting = key;
+      c.onFinishChange((value) => this._changed(key, kind, value));
+      const slot = errorSlots.slot(`solver:${key}`);
+      c.domElement.after(slot);
+      this.controllers.set(key, c);
+    }
+    state.on('scene', () => this.refresh());
+    state.on('settings', () => this.refresh());
+    state.on('session', () => this.refresh());
+    state.on('ack', ({ command }) => this._settled(command, null));
+    state.on('error', ({ command, message }) => this._settled(command, message));
+    this.refresh();
+  }
+
+  _changed(key, kind, value) {
+    if (typeof value !== 'number' || !Number.isFinite(value)) return;
+    const command = kind === 'solver'
+      ? new SetSolverCommand({ [key]: value }, {}, { source: `solver:${key}` })
+      : new SetSolverCommand({}, { [key]: Math.round(value) }, { source: `solver:${key}` });
+    const op = this.send(command);
+    if (op === null || op === undefined) {
+      this.refresh(true);
+      return;
+    }
+    this.pending.set(key, (this.pending.get(key) || 0) + 1);
+    this.controllers.get(key).domElement.classList.add('pending');
+  }
+
+  _settled(command, error) {
+    if (!command || command.type !== 'set_solver' || !command.source || !command.source.startsWith('solver:')) return;
+    const key = command.source.slice('solver:'.length);
+    const n = (this.pending.get(key) || 1) - 1;
+    if (n <= 0) {
+      this.pending.delete(key);
+      const c = this.controllers.get(key);
+      if (c) c.domElement.classList.remove('pending');
+    } else {
+      this.pending.set(key, n);
+    }
+    if (error) {
+      // Back to the server's value; the message shows under the control (ErrorSlots).
+      this.refresh(true);
+      this.lastError = describeError(error);
+    }
+  }
+
+  /** Shows the server's values (controls with a change in flight keep the user's value). */
+  refresh(force = false) {
+    const solver = (this.state.scene && this.state.scene.solver) || {};
+    const settings = this.state.settings || {};
+    for (const [key, , kind] of FIELDS) {
+      if (!force && this.pending.has(key)) continue;
+      const v = kind === 'solver' ? solver[key] : settings[key];
+      if (typeof v === 'number') this.params[key] = v;
+    }
+    for (const c of this.controllers.values()) c.updateDisplay();
+    const editable = this.state.role === 'edit';
+    for (const c of this.controllers.values()) c.enable(editable);
+  }
+}

@@ -1,0 +1,83 @@
+// Toasts: one error toast (data-testid="error-message", the latest server error with its text)
+// and one info toast for local hints.
+
+import { h } from './dom.js';
+
+export function describeError(msg) {
+  if (!msg) return '';
+  const text = msg.message || msg.code || 'error';
+  // The daemon's messages usually name the path already.
+  const path = msg.path && msg.path !== 'type' && !text.includes(msg.path) ? ` (${msg.path})` : '';
+  return `${text}${path}`;
+}
+
+export class Toasts {
+  constructor(parent) {
+    this.errorText = h('span', { class: 'toast-text' });
+    this.errorTitle = h('strong', { class: 'toast-title' });
+    // The test id is on the text only (not the close button).
+    this.error = h('div', { class: 'toast toast-error', role: 'alert', hidden: true },
+      h('div', { testid: 'error-message' }, this.errorTitle, ' ', this.errorText),
+      h('button', { class: 'toast-close', 'aria-label': 'Dismiss', title: 'Dismiss', onclick: () => this.hideError() }, '×'));
+    this.info = h('div', { class: 'toast toast-info', role: 'status', hidden: true });
+    this.root = h('div', { class: 'toasts' }, this.info, this.error);
+    parent.appendChild(this.root);
+    this._errorTimer = 0;
+    this._infoTimer = 0;
+  }
+
+  /** Shows a server (or connection) error; `context` names the action that caused it. */
+  showError(msg, context) {
+    this.errorTitle.textContent = `${context ? `${context}: ` : ''}${msg.code || 'error'}`;
+    this.errorText.textContent = describeError(msg);
+    this.error.hidden = false;
+    clearTimeout(this._errorTimer);
+    this._errorTimer = setTimeout(() => this.hideError(), 10000);
+  }
+
+  hideError() {
+    this.error.hidden = true;
+  }
+
+  showInfo(text, ms = 3000) {
+    this.info.textContent = text;
+    this.info.hidden = false;
+    clearTimeout(this._infoTimer);
+    this._infoTimer = setTimeout(() => { this.info.hidden = true; }, ms);
+  }
+}
+
+/** Error slots next to controls: a command's `source` names the slot its error shows in. */
+export class ErrorSlots {
+  constructor() {
+    this.slots = new Map();
+    this.timers = new Map();
+  }
+
+  /** Creates (or reuses) the slot element for `source`. */
+  slot(source) {
+    let el = this.slots.get(source);
+    if (!el) {
+      el = h('div', { class: 'field-error', role: 'alert', hidden: true, dataset: { source } });
+      this.slots.set(source, el);
+    }
+    return el;
+  }
+
+  /** Shows `text` in the slot of `source` (or of its prefix, e.g. "solver" for "solver:x"). */
+  show(source, text) {
+    let el = this.slots.get(source);
+    if (!el && source && source.includes(':')) el = this.slots.get(source.split(':')[0]);
+    if (!el) return false;
+    el.textContent = text;
+    el.hidden = false;
+    clearTimeout(this.timers.get(el));
+    this.timers.set(el, setTimeout(() => { el.hidden = true; }, 8000));
+    return true;
+  }
+
+  clear(source) {
+    const el = this.slots.get(source);
+    if (el) el.hidden = true;
+  }
+}

@@ -1,0 +1,268 @@
+// The editor's smaller panels: status line, participants, share links, export, selection, legend.
+
+import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
+import { targetLabel } from '../commands/Command.js';
+import { PresenceCommand } from '../commands/PresenceCommand.js';
+import { exportSession } from '../net/api.js';
+import { cssGradient } from '../geometry/colormap.js';
+import { displayName, setDisplayName } from './preferences.js';
+
+/** Status line: connection, iteration, max warp, time per iteration, last solve, seq. */
+export class StatusBar {
+  constructor(parent, { state, client, applyTimes }) {
+    this.state = state;
+    this.client = client;
+    this.applyTimes = applyTimes;
+    this.dot = h('span', { class: 'conn-dot', 'aria-hidden': 'true' });
+    this.connection = h('span', { testid: 'status-connection' }, state.connection);
+    this.retry = h('span', { class: 'muted' });
+    this.iteration = h('span', { testid: 'status-iteration', class: 'num' }, '0');
+    this.warp = h('span', { testid: 'status-warp', class: 'num' }, '–');
+    this.warpMean = h('span', { class: 'num' }, '–');
+    this.time = h('span', { class: 'num' }, '–');
+    this.apply = h('span', { class: 'num' }, '–');
+    this.solved = h('span', { class: 'muted' }, '');
+    this.seq = h('span', { class: 'num' }, '0');
+    this.root = h('footer', { class: 'statusbar', role: 'status', 'aria-live': 'polite' },
+      h('span', { class: 'status-item conn', title: 'Connection to the daemon' }, this.dot, this.connection, this.retry),
+      h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
+      h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
+      h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
+      h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
+      h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
+      h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
+      this.solved);
+    parent.appendChild(this.root);
+    state.on('connection', () => this.render());
+    state.on('metrics', () => this.render());
+    state.on('iterate', () => this.render());
+    state.on('solved', () => this.render());
+    state.on('session', () => this.render());
+    state.on('ack', () => this.render());
+    setInterval(() => this._renderRetry(), 500);
+    this.render();
+  }
+
+  _renderRetry() {
+    const at = this.client && this.client.nextRetryAt;
+    if (this.state.connection === 'reconnecting' && at) {
+      this.retry.textContent = ` (retry in ${Math.max(0, Math.ceil((at - Date.now()) / 1000))} s)`;
+    } else {
+      this.retry.textContent = '';
+    }
+  }
+
+  render() {
+    const st = this.state;
+    this.connection.textContent = st.connection;
+    this.dot.dataset.state = st.connection;
+    this._renderRetry();
+    const m = st.metrics || {};
+    if (typeof m.warp_angle_max_deg === 'number') this.warp.textContent = formatNumber(m.warp_angle_max_deg);
+    if (typeof m.warp_angle_mean_deg === 'number') this.warpMean.textContent = formatNumber(m.warp_angle_mean_deg);
+    if (st.lastIterate) {
+      this.iteration.textContent = String(st.lastIterate.iteration);
+      if (typeof st.lastIterate.time_ms === 'number') this.time.textContent = st.lastIterate.time_ms.toFixed(2);
+    }
+    const times = this.applyTimes();
+    if (times.length) {
+      const recent = times.slice(-20);
+      this.apply.textContent = (recent.reduce((a, b) => a + b, 0) / recent.length).toFixed(1);
+    }
+    this.seq.textContent = String(st.seq);
+    if (st.lastSolved) this.solved.textContent = `solved: ${st.lastSolved.reason.replace(/_/g, ' ')} after ${st.lastSolved.iterations} iterations`;
+  }
+}
+
+/** Participant list, your display name, and a short activity log of others' edits. */
+export class ParticipantsPanel {
+  constructor(parent, { state, send }) {
+    this.state = state;
+    this.send = send;
+    this.list = h('ul', { class: 'participants', testid: 'participants' });
+    this.nameInput = h('input', { type: 'text', maxlength: 40, value: displayName(), 'aria-label': 'Your display name', class: 'input small' });
+    this.nameInput.addEventListener('change', () => {
+      const name = this.nameInput.value.trim().slice(0, 40);
+      if (!name) return;
+      setDisplayName(name);
+      state.name = name;
+      if (state.connection === 'connected') this.send(new PresenceCommand(state.selection, name, { source: 'presence' }));
+    });
+    this.activity = h('ul', { class: 'activity' });
+    this.root = h('section', { class: 'panel' },
+      h('h3', {}, 'Participants'),
+      this.list,
+      h('label', { class: 'row' }, h('span', { class: 'muted' }, 'Your name'), this.nameInput),
+      this.activity);
+    parent.appendChild(this.root);
+    state.on('presence', () => this.render());
+    state.on('session', () => this.render());
+    state.on('edit', (msg) => this._logEdit(msg));
+    this.render();
+  }
+
+  render() {
+    const st = this.state;
+    clear(this.list);
+    for (const p of st.participants) {
+      const doing = p.dragging ? `dragging ${targetLabel(p.dragging)}` : p.selection ? `selected ${targetLabel(p.selection)}` : '';
+      this.list.appendChild(h('li', { class: 'participant', testid: 'participant', dataset: { participantId: String(p.id) } },
+        h('span', { class: 'swatch', style: { background: p.color || '#888' } }),
+        h('span', { class: 'pname' }, p.name || `guest ${p.id}`, p.id === st.you ? h('span', { class: 'muted' }, ' (you)') : null),
+        h('span', { class: `badge ${p.role === 'view' ? 'badge-view' : ''}` }, p.role || ''),
+        doing ? h('span', { class: 'muted doing' }, doing) : null));
+    }
+  }
+
+  _logEdit(msg) {
+    const p = this.state.participants.find((x) => x.id === msg.by);
+    const who = p ? p.name : `participant ${msg.by}`;
+    const e = msg.edit || {};
+    const what = {
+      set_fixed: () => `${e.fixed ? 'fixed' : 'freed'} ${targetLabel(e.target)}`,
+      add_handle: () => `added a handle at ${targetLabel(e.target)}`,
+      remove_handle: () => `removed the handle of ${targetLabel(e.target)}`,
+      set_solver: () => `changed ${[...Object.keys(e.solver || {}), ...['drag_iterations', 'release_iterations'].filter((k) => k in e)].join(', ').replace(/_/g, ' ')}`,
+      solve: () => `solved ${e.iterations || 10} iterations`,
+      undo: () => 'undid an edit',
+      redo: () => 'redid an edit',
+      reset: () => 'reset the scene',
+      drag_end: () => `moved ${targetLabel(e.target)}`,
+    }[e.type];
+    if (!what) return; // drags are shown live in the view
+    this.activity.prepend(h('li', {}, h('span', { class: 'swatch', style: { background: (p && p.color) || '#888' } }), `${who} ${what()}`));
+    while (this.activity.children.length > 5) this.activity.lastChild.remove();
+  }
+}
+
+/** Edit/view links (readonly inputs + copy). */
+export class SharePanel {
+  constructor(parent, { state }) {
+    this.state = state;
+    const row = (label, testid) => {
+      const input = h('input', { type: 'text', readonly: true, class: 'input share', testid, 'aria-label': `${label} link`, onfocus: (e) => e.target.select() });
+      const status = h('span', { class: 'copied', 'aria-live': 'polite' });
+      const button = h('button', { class: 'btn small', onclick: async () => {
+        if (!input.value) return;
+        status.textContent = (await copyText(input.value, input)) ? 'copied' : 'select + Ctrl+C';
+        setTimeout(() => { status.textContent = ''; }, 2000);
+      } }, 'Copy');
+      return { input, el: h('div', { class: 'share-row' }, h('span', { class: 'share-label' }, label), input, button, status) };
+    };
+    this.edit = row('Edit', 'share-edit');
+    this.view = row('View', 'share-view');
+    this.root = h('section', { class: 'panel' }, h('h3', {}, 'Share'), this.edit.el, this.view.el,
+      h('p', { class: 'muted small' }, 'Anyone with the edit link can change the strip; the view link is read-only.'));
+    parent.appendChild(this.root);
+    state.on('tokens', () => this.render());
+    state.on('session', () => this.render());
+    this.render();
+  }
+
+  link(token) {
+    const url = new URL(window.location.href);
+    url.search = '';
+    url.hash = '';
+    url.searchParams.set('session', this.state.session || '');
+    url.searchParams.set('token', token);
+    return url.toString();
+  }
+
+  render() {
+    const { edit, view } = this.state.tokens;
+    this.edit.input.value = edit && this.state.session ? this.link(edit) : '';
+    this.edit.input.placeholder = this.state.role === 'view' ? 'not available with a view link' : '';
+    this.view.input.value = view && this.state.session ? this.link(view) : '';
+    this.view.input.placeholder = 'unknown here (ask whoever created the session)';
+  }
+}
+
+/** Export (server route, Bearer token) and save-scene buttons. */
+export class ExportPanel {
+  constructor(parent, { state, toasts, errorSlots, token, currentScene }) {
+    this.state = state;
+    const run = (format) => async () => {
+      try {
+        const blob = await exportSession(state.session, token, format);
+        download(blob, `${slug(state.scene && state.scene.name, state.session)}.${format === 'obj' ? 'obj' : 'json'}`);
+      } catch (e) {
+        const msg = { code: e.code || 'error', message: e.message };
+        errorSlots.show('export', msg.message);
+        toasts.showError(msg, `export ${format}`);
+      }
+    };
+    this.root = h('section', { class: 'panel' },
+      h('h3', {}, 'Export'),
+      h('div', { class: 'button-row' },
+        h('button', { class: 'btn', testid: 'export-json', title: 'The current scene as a devsurf scene file (from the server)', onclick: run('json') }, 'Export JSON'),
+        h('button', { class: 'btn', testid: 'export-obj', title: 'The sampled surface as OBJ quads (from the server)', onclick: run('obj') }, 'Export OBJ'),
+        h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
+      errorSlots.slot('export'));
+    parent.appendChild(this.root);
+  }
+
+  saveScene(currentScene) {
+    const scene = currentScene();
+    if (!scene) return;
+    download(`${JSON.stringify(scene, null, 2)}\n`, `${slug(scene.name, this.state.session)}.devsurf.json`, 'application/json');
+  }
+}
+
+/** The selected control point: position, fixed/handle state, buttons (F / H). */
+export class SelectionPanel {
+  constructor(parent, { state, buffers, errorSlots, toggleFixed, toggleHandle }) {
+    this.state = state;
+    this.buffers = buffers;
+    this.title = h('div', { class: 'sel-title' });
+    this.coords = h('div', { class: 'sel-coords num' });
+    this.fixButton = h('button', { class: 'btn', testid: 'toggle-fixed', title: 'Fix / unfix the selected point (F)', onclick: toggleFixed }, 'Fix');
+    this.handleButton = h('button', { class: 'btn', testid: 'toggle-handle', title: 'Add / remove a handle at the selected point (H)', onclick: toggleHandle }, 'Add handle');
+    this.hint = h('p', { class: 'muted small' }, 'Click a control point to select it; drag it to reshape the strip. The solver keeps the strip developable.');
+    this.buttons = h('div', { class: 'button-row' }, this.fixButton, this.handleButton);
+    this.root = h('section', { class: 'panel' }, h('h3', {}, 'Selection'), this.title, this.coords, this.buttons,
+      errorSlots.slot('selection:fix'), errorSlots.slot('selection:handle'), this.hint);
+    parent.appendChild(this.root);
+    for (const ev of ['selection', 'scene', 'session', 'iterate']) state.on(ev, () => this.render());
+    this.render();
+  }
+
+  render() {
+    const st = this.state;
+    const sel = st.selection;
+    const p = sel && this.buffers.point(sel.curve, sel.index);
+    this.buttons.hidden = !p;
+    this.coords.hidden = !p;
+    this.hint.hidden = !!p;
+    if (!p) {
+      this.title.textContent = 'Nothing selected';
+      return;
+    }
+    const fixed = st.constraints.fixed.some((f) => f.curve === sel.curve && f.index === sel.index);
+    const handle = st.constraints.handles.find((x) => x.curve === sel.curve && x.index === sel.index);
+    this.title.textContent = `Control point ${targetLabel(sel)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;
+    this.coords.textContent = `x ${p[0].toFixed(3)}   y ${p[1].toFixed(3)}   z ${p[2].toFixed(3)}`;
+    this.fixButton.textContent = fixed ? 'Unfix (F)' : 'Fix (F)';
+    this.handleButton.textContent = handle ? 'Remove handle (H)' : 'Add handle (H)';
+    const editable = st.role === 'edit';
+    this.fixButton.disabled = !editable;
+    this.handleButton.disabled = !editable;
+  }
+}
+
+/** Warp-angle colour legend over the 3D view. */
+export class Legend {
+  constructor(parent) {
+    this.max = h('span', {}, '1°');
+    this.current = h('span', { class: 'legend-current' });
+    this.root = h('div', { class: 'legend', 'aria-label': 'Warp angle colour scale' },
+      h('div', { class: 'legend-title' }, 'warp angle'),
+      h('div', { class: 'legend-bar', style: { background: cssGradient() } }),
+      h('div', { class: 'legend-labels' }, h('span', {}, '0°'), this.current, this.max));
+    parent.appendChild(this.root);
+  }
+
+  update(range, max) {
+    this.max.textContent = `${range}°`;
+    this.current.textContent = `max ${formatNumber(max, 2)}°`;
+  }
+}

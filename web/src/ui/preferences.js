@@ -1,0 +1,70 @@
+// Per-browser preferences (localStorage; everything works without it).
+
+function get(key, fallback) {
+  try {
+    const v = localStorage.getItem(key);
+    return v === null ? fallback : JSON.parse(v);
+  } catch {
+    return fallback;
+  }
+}
+
+function set(key, value) {
+  try {
+    localStorage.setItem(key, JSON.stringify(value));
+  } catch {
+    /* private mode etc. */
+  }
+}
+
+export function displayName() {
+  let name = get('devsurf.name', null);
+  if (!name) {
+    name = `guest-${Math.floor(Math.random() * 0xffff).toString(16).padStart(4, '0')}`;
+    set('devsurf.name', name);
+  }
+  return name;
+}
+
+export function setDisplayName(name) {
+  set('devsurf.name', String(name).slice(0, 40));
+}
+
+export function accessibility() {
+  return !!get('devsurf.a11y', false);
+}
+
+export function setAccessibility(on) {
+  set('devsurf.a11y', !!on);
+}
+
+/** Tokens we know for a session (from creating it or from the demo list). */
+export function sessionTokens(id) {
+  return get(`devsurf.tokens.${id}`, {});
+}
+
+export function rememberSessionTokens(id, tokens) {
+  const known = sessionTokens(id);
+  const merged = { ...known };
+  if (tokens.edit) merged.edit = tokens.edit;
+  if (tokens.view) merged.view = tokens.view;
+  if (tokens.name) merged.name = tokens.name;
+  set(`devsurf.tokens.${id}`, merged);
+  return merged;
+}
+
+export function apiKey() {
+  try {
+    return sessionStorage.getItem('devsurf.apiKey') || '';
+  } catch {
+    return '';
+  }
+}
+
+export function setApiKey(key) {
+  try {
+    sessionStorage.setItem('devsurf.apiKey', key);
+  } catch {
+    /* ignore */
+  }
+}

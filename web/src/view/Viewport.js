@@ -1,0 +1,617 @@
+// The 3D view: shaded strip coloured by warp angle, boundary curves a/b, control polygons and
+// control points (free: spheres; fixed: cubes; handles: magenta with their target), rulings and
+// normals (toggles), other participants' selection/drag in their colour. Control points are
+// picked with a Raycaster and dragged in the view plane with pointer events: pointerdown on a
+// point disables orbiting, pointermove sends at most one DragCommand per animation frame
+// (latest wins), pointerup sends the last position and a DragEndCommand.
+
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { DragCommand } from '../commands/DragCommand.js';
+import { DragEndCommand } from '../commands/DragEndCommand.js';
+import { targetLabel } from '../commands/Command.js';
+import { PointSprites, SHAPE_CUBE, SHAPE_SPHERE } from './PointSprites.js';
+
+export const COLORS = {
+  background: 0x161a21,
+  curveA: 0xff9f43,
+  curveB: 0x48cae4,
+  polygon: 0xb8c0cc,
+  point: 0xf4f6f8,
+  fixed: 0x8d99ae,
+  handle: 0xff4fd8,
+  selected: 0xffd60a,
+  hover: 0xffffff,
+  rulings: 0x10131a,
+  normals: 0x9be15d,
+  ghost: 0xffd60a,
+};
+
+const POINT_RADIUS_PX = 7;
+const PICK_TOLERANCE_PX = 12;
+const CURVES = ['a', 'b'];
+
+const tmpV = new THREE.Vector3();
+const tmpV2 = new THREE.Vector3();
+const tmpM = new THREE.Matrix4();
+const tmpQ = new THREE.Quaternion();
+const tmpS = new THREE.Vector3();
+const tmpC = new THREE.Color();
+const tmpW = new THREE.Vector3();
+const tmpDir = new THREE.Vector3();
+
+/** True when WebGL is rendered in software (probed on a throw-away context). */
+function isSoftwareGL() {
+  try {
+    const canvas = document.createElement('canvas');
+    const gl = canvas.getContext('webgl2') || canvas.getContext('webgl');
+    if (!gl) return false;
+    const ext = gl.getExtension('WEBGL_debug_renderer_info');
+    const name = String(ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+    const lose = gl.getExtension('WEBGL_lose_context');
+    if (lose) lose.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  } catch {
+    return false;
+  }
+}
+
+function sameTarget(a, b) {
+  return !!a && !!b && a.curve === b.curve && a.index === b.index;
+}
+
+/** An InstancedMesh that grows (is recreated) when more instances are needed. */
+class InstancePool {
+  constructor(parent, geometry, material, name, renderOrder = 0) {
+    this.parent = parent;
+    this.renderOrder = renderOrder;
+    this.geometry = geometry;
+    this.material = material;
+    this.name = name;
+    this.capacity = 0;
+    this.mesh = null;
+    /** instance → payload (e.g. {curve, index}) */
+    this.items = [];
+    this._ensure(16);
+  }
+
+  _ensure(n) {
+    if (n <= this.capacity) return;
+    let cap = Math.max(16, this.capacity);
+    while (cap < n) cap *= 2;
+    if (this.mesh) {
+      this.parent.remove(this.mesh);
+      this.mesh.dispose();
+    }
+    this.mesh = new THREE.InstancedMesh(this.geometry, this.material, cap);
+    this.mesh.name = this.name;
+    this.mesh.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
+    this.mesh.setColorAt(0, tmpC.set(0xffffff));
+    this.mesh.frustumCulled = false;
+    this.mesh.renderOrder = this.renderOrder;
+    this.mesh.count = 0;
+    this.capacity = cap;
+    this.parent.add(this.mesh);
+  }
+
+  begin(n) {
+    this._ensure(n);
+    this.items.length = 0;
+    this.mesh.count = 0;
+  }
+
+  push(position, scale, color, item) {
+    const i = this.mesh.count++;
+    tmpM.compose(position, tmpQ.identity(), tmpS.setScalar(scale));
+    this.mesh.setMatrixAt(i, tmpM);
+    this.mesh.setColorAt(i, tmpC.set(color));
+    this.items[i] = item;
+  }
+
+  end() {
+    this.mesh.instanceMatrix.needsUpdate = true;
+    if (this.mesh.instanceColor) this.mesh.instanceColor.needsUpdate = true;
+    this.mesh.computeBoundingSphere();
+  }
+}
+
+export class Viewport {
+  /**
+   * @param {HTMLElement} container  the element holding the canvas (data-testid="viewport")
+   * @param {object} deps  {state, buffers (StripBuffers), send(command), select(target|null)}
+   */
+  constructor(container, deps) {
+    this.container = container;
+    this.state = deps.state;
+    this.buffers = deps.buffers;
+    this.send = deps.send;
+    this.select = deps.select;
+    this.options = { rulings: true, normals: false, polygons: true, surface: true };
+    this.pointRadiusPx = POINT_RADIUS_PX;
+    this.dirty = true;
+    this.hovered = null;
+    this.drag = null;
+    this.hasFit = false;
+    this.webgl = true;
+
+    try {
+      // Multisampling is cheap on a GPU but expensive with software GL (SwiftShader, llvmpipe).
+      this.softwareGL = isSoftwareGL();
+      this.renderer = new THREE.WebGLRenderer({ antialias: !this.softwareGL, powerPreference: 'high-performance' });
+    } catch (e) {
+      this.webgl = false;
+      this.renderer = null;
+      const msg = document.createElement('div');
+      msg.className = 'viewport-fallback';
+      msg.textContent = 'WebGL is not available in this browser: the 3D view is off (the development and panels still work).';
+      container.appendChild(msg);
+    }
+    this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(3, -6, 4);
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(COLORS.background);
+    this._buildScene();
+
+    if (this.renderer) {
+      this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
+      this.points.setPixelRatio(this.renderer.getPixelRatio());
+      this.canvas = this.renderer.domElement;
+      this.canvas.className = 'viewport-canvas';
+      container.appendChild(this.canvas);
+      this.controls = new OrbitControls(this.camera, this.canvas);
+      this.controls.enableDamping = true;
+      this.controls.dampingFactor = 0.12;
+      this.controls.addEventListener('change', () => this.requestRender());
+      this._bindPointer();
+    } else {
+      this.canvas = null;
+      this.controls = { target: new THREE.Vector3(), update: () => false, enabled: true };
+    }
+
+    this.labels = document.createElement('div');
+    this.labels.className = 'viewport-labels';
+    container.appendChild(this.labels);
+    this._labelEls = new Map();
+
+    this._resizeObserver = new ResizeObserver(() => this.resize());
+    this._resizeObserver.observe(container);
+    this.resize();
+
+    this._loop = this._loop.bind(this);
+    this._raf = requestAnimationFrame(this._loop);
+  }
+
+  _buildScene() {
+    const b = this.buffers;
+    const scene = this.scene;
+    scene.add(new THREE.HemisphereLight(0xffffff, 0x3a4050, 1.4));
+    const head = new THREE.DirectionalLight(0xffffff, 1.8);
+    head.position.set(0.3, 0.6, 1);
+    this.camera.add(head);
+    scene.add(this.camera);
+
+    this.surfaceMaterial = new THREE.MeshStandardMaterial({
+      vertexColors: true, side: THREE.DoubleSide, roughness: 0.65, metalness: 0.0,
+      polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+    });
+    this.surfaceMesh = new THREE.Mesh(b.surface, this.surfaceMaterial);
+    this.surfaceMesh.frustumCulled = false;
+    scene.add(this.surfaceMesh);
+
+    this.curveLines = {};
+    this.polygonLines = {};
+    for (const c of CURVES) {
+      const color = c === 'a' ? COLORS.curveA : COLORS.curveB;
+      this.curveLines[c] = new THREE.Line(b.curves[c], new THREE.LineBasicMaterial({ color }));
+      this.curveLines[c].frustumCulled = false;
+      this.curveLines[c].renderOrder = 2;
+      scene.add(this.curveLines[c]);
+      this.polygonLines[c] = new THREE.Line(b.polygons[c], new THREE.LineBasicMaterial({ color: COLORS.polygon, transparent: true, opacity: 0.7, depthTest: false }));
+      this.polygonLines[c].frustumCulled = false;
+      this.polygonLines[c].renderOrder = 3;
+      scene.add(this.polygonLines[c]);
+    }
+    this.rulingLines = new THREE.LineSegments(b.rulings, new THREE.LineBasicMaterial({ color: COLORS.rulings, transparent: true, opacity: 0.45 }));
+    this.rulingLines.frustumCulled = false;
+    this.rulingLines.renderOrder = 1;
+    scene.add(this.rulingLines);
+    this.normalLines = new THREE.LineSegments(b.normals, new THREE.LineBasicMaterial({ color: COLORS.normals }));
+    this.normalLines.frustumCulled = false;
+    this.normalLines.visible = false;
+    scene.add(this.normalLines);
+
+    // Control points: sprites drawn on top of the surface so they can always be grabbed
+    // (spheres; fixed points as cubes).
+    this.points = new PointSprites(scene);
+    const targetMaterial = new THREE.MeshBasicMaterial({ wireframe: true, depthTest: false, transparent: true });
+    this.handleTargets = new InstancePool(scene, new THREE.OctahedronGeometry(1.4), targetMaterial, 'handle-targets', 5);
+    const haloMaterial = new THREE.MeshBasicMaterial({ transparent: true, opacity: 0.38, depthTest: false, depthWrite: false });
+    this.halos = new InstancePool(scene, new THREE.SphereGeometry(1, 16, 10), haloMaterial, 'presence-halos', 4);
+
+    this.handleLinkGeometry = new THREE.BufferGeometry();
+    this.handleLinks = new THREE.LineSegments(this.handleLinkGeometry, new THREE.LineBasicMaterial({ color: COLORS.handle, transparent: true, opacity: 0.8, depthTest: false }));
+    this.handleLinks.frustumCulled = false;
+    scene.add(this.handleLinks);
+
+    this.ghost = new THREE.Mesh(new THREE.SphereGeometry(1, 20, 12), new THREE.MeshBasicMaterial({ color: COLORS.ghost, wireframe: true, depthTest: false, transparent: true, opacity: 0.9 }));
+    this.ghost.visible = false;
+    this.ghost.renderOrder = 6;
+    scene.add(this.ghost);
+  }
+
+  // ---- options -----------------------------------------------------------------------------
+
+  setOption(name, value) {
+    this.options[name] = value;
+    this.rulingLines.visible = this.options.rulings;
+    this.normalLines.visible = this.options.normals;
+    for (const c of CURVES) this.polygonLines[c].visible = this.options.polygons;
+    this.surfaceMesh.visible = this.options.surface;
+    this.requestRender();
+  }
+
+  setLargePoints(large) {
+    this.pointRadiusPx = large ? POINT_RADIUS_PX * 1.35 : POINT_RADIUS_PX;
+    this.requestRender();
+  }
+
+  // ---- rendering -----------------------------------------------------------------------------
+
+  requestRender() {
+    this.dirty = true;
+  }
+
+  _loop() {
+    this._raf = requestAnimationFrame(this._loop);
+    const moved = this.controls.update();
+    if (moved || this.dirty) this.renderNow();
+  }
+
+  /** Renders synchronously (used when applying an iterate, so its cost is measured). */
+  /** Near/far planes follow the orbit distance (zooming never clips the strip). */
+  _updateClipping() {
+    const d = this.camera.position.distanceTo(this.controls.target) || 1;
+    const near = d / 100;
+    const far = d * 100;
+    if (Math.abs(this.camera.near - near) > near * 0.05 || Math.abs(this.camera.far - far) > far * 0.05) {
+      this.camera.near = near;
+      this.camera.far = far;
+      this.camera.updateProjectionMatrix();
+    }
+  }
+
+  renderNow() {
+    this.dirty = false;
+    this._updateClipping();
+    this._layoutInstances();
+    if (this.renderer) this.renderer.render(this.scene, this.camera);
+    this._updateLabels();
+  }
+
+  resize() {
+    const w = Math.max(1, this.container.clientWidth);
+    const h = Math.max(1, this.container.clientHeight);
+    this.width = w;
+    this.height = h;
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    if (this.renderer) this.renderer.setSize(w, h);
+    this.renderNow();
+  }
+
+  /** World units per CSS pixel at the depth of `p`. */
+  _worldPerPixel(p) {
+    const d = tmpW.copy(p).sub(this.camera.position).dot(this.camera.getWorldDirection(tmpDir));
+    const h = 2 * Math.max(d, 1e-6) * Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    return h / this.height;
+  }
+
+  /** Places the control-point, handle and presence instances (screen-constant sizes). */
+  _layoutInstances() {
+    const b = this.buffers;
+    const st = this.state;
+    if (!b.hasData) return;
+    const fixedSet = new Set(st.constraints.fixed.map((f) => `${f.curve}${f.index}`));
+    const handleMap = new Map(st.constraints.handles.map((h) => [`${h.curve}${h.index}`, h]));
+    const total = b.count('a') + b.count('b');
+    // Dense control polygons get smaller points so they stay apart.
+    const density = total > 120 ? 0.55 : total > 40 ? 0.75 : 1;
+    const radiusPx = this.pointRadiusPx * density;
+    this.points.begin(total);
+    this.handleTargets.begin(handleMap.size);
+    const links = [];
+    const dragging = this.drag && this.drag.target;
+    for (const c of CURVES) {
+      const n = b.count(c);
+      const pts = b.controlPoints[c];
+      for (let i = 0; i < n; i++) {
+        tmpV.set(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
+        const key = `${c}${i}`;
+        const item = { curve: c, index: i };
+        const selected = sameTarget(st.selection, item) || sameTarget(dragging, item);
+        const hovered = sameTarget(this.hovered, item);
+        const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1);
+        const handle = handleMap.get(key);
+        const fixed = fixedSet.has(key);
+        let color = c === 'a' ? 0xffd9b0 : 0xc8f1fa;
+        if (fixed) color = COLORS.fixed;
+        if (handle) color = COLORS.handle;
+        if (selected) color = COLORS.selected;
+        this.points.push(tmpV, r, color, fixed ? SHAPE_CUBE : SHAPE_SPHERE, item);
+        if (handle) {
+          const t = handle.position;
+          tmpV2.set(t[0], t[1], t[2]);
+          this.handleTargets.push(tmpV2, radiusPx * this._worldPerPixel(tmpV2), COLORS.handle, item);
+          links.push(tmpV.x, tmpV.y, tmpV.z, t[0], t[1], t[2]);
+        }
+      }
+    }
+    this.points.end();
+    this.handleTargets.end();
+    this._setLinks(links);
+
+    // Other participants' selection / drag, in their colour.
+    const others = st.participants.filter((p) => p.id !== st.you && (p.dragging || p.selection));
+    this.halos.begin(others.length);
+    for (const p of others) {
+      const t = p.dragging || p.selection;
+      const q = b.point(t.curve, t.index);
+      if (!q) continue;
+      tmpV.set(q[0], q[1], q[2]);
+      this.halos.push(tmpV, this.pointRadiusPx * this._worldPerPixel(tmpV) * (p.dragging ? 2.3 : 1.9), p.color || '#ffffff', { participant: p, target: t });
+    }
+    this.halos.end();
+
+    if (this.drag && this.drag.position) {
+      this.ghost.visible = true;
+      this.ghost.position.copy(this.drag.position);
+      this.ghost.scale.setScalar(this.pointRadiusPx * 0.8 * this._worldPerPixel(this.drag.position));
+    } else {
+      this.ghost.visible = false;
+    }
+  }
+
+  _setLinks(values) {
+    const g = this.handleLinkGeometry;
+    const attr = g.getAttribute('position');
+    if (!attr || attr.array.length < values.length) {
+      g.dispose();
+      g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(Math.max(6, values.length * 2)), 3).setUsage(THREE.DynamicDrawUsage));
+    }
+    const a = g.getAttribute('position');
+    a.array.set(values);
+    a.needsUpdate = true;
+    g.setDrawRange(0, values.length / 3);
+  }
+
+  /** Name tags of other participants next to what they selected or drag. */
+  _updateLabels() {
+    const st = this.state;
+    const seen = new Set();
+    if (this.buffers.hasData) {
+      for (const p of st.participants) {
+        if (p.id === st.you || !(p.dragging || p.selection)) continue;
+        const t = p.dragging || p.selection;
+        const s = this.controlPointScreenPosition(t.curve, t.index);
+        if (!s) continue;
+        seen.add(p.id);
+        let el = this._labelEls.get(p.id);
+        if (!el) {
+          el = document.createElement('div');
+          el.className = 'presence-tag';
+          this.labels.appendChild(el);
+          this._labelEls.set(p.id, el);
+        }
+        el.textContent = `${p.name || 'guest'}${p.dragging ? ' · dragging' : ''} ${targetLabel(t)}`;
+        el.style.borderColor = p.color || '#fff';
+        // To the right of the point, or to the left where it would leave the view.
+        const w = el.offsetWidth;
+        const x = s.x + 14 + w > this.width - 4 ? s.x - 14 - w : s.x + 14;
+        const y = Math.min(Math.max(s.y - 28, 2), this.height - 24);
+        el.style.transform = `translate(${Math.round(Math.max(2, x))}px, ${Math.round(y)}px)`;
+      }
+    }
+    for (const [id, el] of this._labelEls) {
+      if (!seen.has(id)) {
+        el.remove();
+        this._labelEls.delete(id);
+      }
+    }
+  }
+
+  // ---- camera ---------------------------------------------------------------------------------
+
+  /** Fits the whole strip (surface, control points, handle targets) into the view. */
+  fit() {
+    const b = this.buffers;
+    if (!b.hasData) return;
+    const pts = [];
+    const pos = b.surface.getAttribute('position');
+    if (pos) for (let i = 0; i < pos.array.length; i += 3) pts.push(new THREE.Vector3(pos.array[i], pos.array[i + 1], pos.array[i + 2]));
+    for (const c of CURVES) {
+      const p = b.controlPoints[c];
+      for (let i = 0; i < p.length; i += 3) pts.push(new THREE.Vector3(p[i], p[i + 1], p[i + 2]));
+    }
+    for (const h of this.state.constraints.handles) pts.push(new THREE.Vector3().fromArray(h.position));
+    if (!pts.length) return;
+    const box = new THREE.Box3().setFromPoints(pts);
+    const center = box.getCenter(new THREE.Vector3());
+    let dir = this.camera.position.clone().sub(this.controls.target);
+    if (!this.hasFit || dir.lengthSq() < 1e-12) dir = new THREE.Vector3(0.35, -1, 0.8);
+    dir.normalize();
+    // Camera basis looking along −dir with z up.
+    const forward = dir.clone().negate();
+    let right = new THREE.Vector3().crossVectors(forward, this.camera.up);
+    if (right.lengthSq() < 1e-10) right = new THREE.Vector3(1, 0, 0);
+    right.normalize();
+    const up = new THREE.Vector3().crossVectors(right, forward).normalize();
+    const tanV = Math.tan(THREE.MathUtils.degToRad(this.camera.fov) / 2);
+    const tanH = tanV * this.camera.aspect;
+    // Smallest distance at which every point is inside the frustum (with a margin).
+    const margin = 1.2;
+    let distance = 1e-3;
+    const q = new THREE.Vector3();
+    for (const p of pts) {
+      q.copy(p).sub(center);
+      const toward = q.dot(dir);
+      distance = Math.max(distance, toward + (Math.abs(q.dot(right)) * margin) / tanH, toward + (Math.abs(q.dot(up)) * margin) / tanV);
+    }
+    this.controls.target.copy(center);
+    this.camera.position.copy(center).addScaledVector(dir, distance);
+    this.camera.lookAt(center);
+    this._updateClipping();
+    this.hasFit = true;
+    this.requestRender();
+  }
+
+  /** CSS px position (relative to the viewport element) of a control point, or null. */
+  controlPointScreenPosition(curve, index) {
+    const p = this.buffers.point(curve, index);
+    if (!p) return null;
+    this.camera.updateMatrixWorld();
+    tmpV.set(p[0], p[1], p[2]).project(this.camera);
+    return { x: ((tmpV.x + 1) / 2) * this.width, y: ((1 - tmpV.y) / 2) * this.height };
+  }
+
+  // ---- picking and dragging -------------------------------------------------------------------
+
+  _ndc(event) {
+    const rect = this.canvas.getBoundingClientRect();
+    return new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
+  }
+
+  /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
+  pick(event) {
+    if (!this.buffers.hasData || !this.canvas) return null;
+    this._layoutInstances();
+    this.camera.updateMatrixWorld();
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(this._ndc(event), this.camera);
+    return this.points.pick(raycaster, (p) => this._worldPerPixel(p), PICK_TOLERANCE_PX - POINT_RADIUS_PX);
+  }
+
+  _bindPointer() {
+    const canvas = this.canvas;
+    // Capture phase on the container: runs before OrbitControls' listener on the canvas, so a
+    // press on a control point can switch orbiting off before it starts.
+    this.container.addEventListener('pointerdown', (e) => this._onPointerDown(e), { capture: true });
+    canvas.addEventListener('pointermove', (e) => this._onPointerMove(e));
+    canvas.addEventListener('pointerup', (e) => this._onPointerUp(e));
+    canvas.addEventListener('pointercancel', (e) => this._onPointerUp(e));
+    canvas.addEventListener('pointerleave', () => {
+      if (!this.drag && this.hovered) {
+        this.hovered = null;
+        this.requestRender();
+      }
+    });
+    canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+  }
+
+  _onPointerDown(e) {
+    if (e.target !== this.canvas) return;
+    this._downAt = { x: e.clientX, y: e.clientY };
+    if (e.button !== 0 || e.ctrlKey || e.metaKey || e.shiftKey) return;
+    const hit = this.pick(e);
+    if (!hit) {
+      this.controls.enabled = true;
+      return;
+    }
+    e.preventDefault();
+    this.controls.enabled = false;
+    this.select(hit);
+    const p = this.buffers.point(hit.curve, hit.index);
+    const point = new THREE.Vector3(p[0], p[1], p[2]);
+    const normal = this.camera.getWorldDirection(new THREE.Vector3());
+    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point);
+    const onPlane = this._rayOnPlane(e, plane) || point.clone();
+    this.drag = {
+      target: hit,
+      plane,
+      offset: point.clone().sub(onPlane),
+      pointerId: e.pointerId,
+      position: null,
+      pending: null,
+      raf: 0,
+      moved: false,
+    };
+    try { this.canvas.setPointerCapture(e.pointerId); } catch { /* synthetic events */ }
+    this.canvas.style.cursor = 'grabbing';
+    this.requestRender();
+  }
+
+  _rayOnPlane(e, plane) {
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(this._ndc(e), this.camera);
+    return raycaster.ray.intersectPlane(plane, new THREE.Vector3());
+  }
+
+  _onPointerMove(e) {
+    const d = this.drag;
+    if (d) {
+      if (e.pointerId !== d.pointerId) return;
+      const hit = this._rayOnPlane(e, d.plane);
+      if (!hit) return;
+      d.position = hit.add(d.offset);
+      d.pending = d.position.clone();
+      d.moved = true;
+      // At most one drag message per animation frame; the latest position wins.
+      if (!d.raf) d.raf = requestAnimationFrame(() => this._flushDrag());
+      this.requestRender();
+      return;
+    }
+    if (e.buttons) return;
+    // Hover feedback, at most once per frame.
+    this._hoverEvent = e;
+    if (!this._hoverRaf) {
+      this._hoverRaf = requestAnimationFrame(() => {
+        this._hoverRaf = 0;
+        const hit = this.pick(this._hoverEvent);
+        this.canvas.style.cursor = hit ? 'grab' : '';
+        if (!sameTarget(hit, this.hovered)) {
+          this.hovered = hit;
+          this.requestRender();
+        }
+      });
+    }
+  }
+
+  _flushDrag() {
+    const d = this.drag;
+    if (!d) return;
+    d.raf = 0;
+    if (!d.pending) return;
+    const p = d.pending;
+    d.pending = null;
+    this.send(new DragCommand(d.target, [p.x, p.y, p.z], { source: 'viewport' }));
+  }
+
+  _onPointerUp(e) {
+    const d = this.drag;
+    if (d) {
+      if (e.pointerId !== d.pointerId) return;
+      if (d.raf) cancelAnimationFrame(d.raf);
+      d.raf = 0;
+      if (d.pending) this._flushDrag();
+      if (d.moved) this.send(new DragEndCommand(d.target, undefined, { source: 'viewport' }));
+      this.drag = null;
+      this.controls.enabled = true;
+      try { this.canvas.releasePointerCapture(e.pointerId); } catch { /* ignore */ }
+      this.canvas.style.cursor = 'grab';
+      this.requestRender();
+      return;
+    }
+    this.controls.enabled = true;
+    // A click (no orbit) on empty space clears the selection.
+    if (this._downAt && e.button === 0 && Math.hypot(e.clientX - this._downAt.x, e.clientY - this._downAt.y) < 4) {
+      if (!this.pick(e)) this.select(null);
+    }
+    this._downAt = null;
+  }
+
+  dispose() {
+    cancelAnimationFrame(this._raf);
+    this._resizeObserver.disconnect();
+    if (this.renderer) this.renderer.dispose();
+  }
+}

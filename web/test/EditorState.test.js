@@ -1,0 +1,63 @@
+import { describe, expect, it } from 'vitest';
+import { EditorState, RESIDUAL_HISTORY_LIMIT } from '../src/state/EditorState.js';
+import { DragCommand, SetSolverCommand } from '../src/commands/index.js';
+import { decadeRange, decadeSplits } from '../src/ui/logScale.js';
+
+describe('EditorState', () => {
+  it('signals changes with on/emit and can unsubscribe', () => {
+    const s = new EditorState();
+    const seen = [];
+    const off = s.on('selection', (sel) => seen.push(sel));
+    const changes = [];
+    s.on('change', ({ event }) => changes.push(event));
+    expect(s.setSelection({ curve: 'a', index: 1 })).toBe(true);
+    expect(s.setSelection({ curve: 'a', index: 1 })).toBe(false);
+    off();
+    s.setSelection(null);
+    expect(seen).toEqual([{ curve: 'a', index: 1 }]);
+    expect(changes).toEqual(['selection', 'selection']);
+  });
+
+  it('keeps a bounded per-term residual history with gaps for zero terms', () => {
+    const s = new EditorState();
+    s.applyIterate({ type: 'iterate', seq: 1, iteration: 1, residuals: { developability: 1 }, metrics: {} });
+    s.applyIterate({ type: 'iterate', seq: 1, iteration: 2, residuals: { developability: 0.5, handle: 0 }, metrics: {} });
+    expect(s.residualHistory.x).toEqual([1, 2]);
+    expect(s.residualHistory.terms.developability).toEqual([1, 0.5]);
+    expect(s.residualHistory.terms.handle).toEqual([null, null]);
+    for (let i = 0; i < RESIDUAL_HISTORY_LIMIT + 10; i++) s.applyIterate({ type: 'iterate', seq: 1, iteration: i, residuals: { developability: 1 }, metrics: {} });
+    expect(s.residualHistory.x.length).toBe(RESIDUAL_HISTORY_LIMIT);
+    expect(s.residualHistory.terms.handle.length).toBe(RESIDUAL_HISTORY_LIMIT);
+    expect(s.iterateCount).toBe(RESIDUAL_HISTORY_LIMIT + 12);
+  });
+
+  it('notes the undo step a drag starts (drags send no update)', () => {
+    const s = new EditorState();
+    s.applyUpdate({ type: 'update', seq: 2, undo: { available: 0, redo_available: 2 } });
+    s.applyAck({ type: 'ack', op: 1, seq: 3 }, new DragCommand({ curve: 'b', index: 0 }, [0, 0, 0]));
+    expect(s.undo).toEqual({ available: 1, redo_available: 0 });
+    s.applyEdit({ type: 'edit', seq: 4, by: 2, edit: { type: 'drag' } });
+    expect(s.undo).toEqual({ available: 1, redo_available: 0 });
+  });
+
+  it('takes the drag settings from acked and others\' set_solver edits', () => {
+    const s = new EditorState();
+    s.applyAck({ type: 'ack', op: 1, seq: 1 }, new SetSolverCommand({}, { drag_iterations: 3 }));
+    expect(s.settings.drag_iterations).toBe(3);
+    s.applyEdit({ type: 'edit', seq: 2, by: 5, edit: { type: 'set_solver', solver: {}, release_iterations: 40 } });
+    expect(s.settings).toEqual({ drag_iterations: 3, release_iterations: 40 });
+  });
+});
+
+describe('residual plot log scale', () => {
+  it('spans whole decades around the data', () => {
+    expect(decadeRange([[0.5, null, 2e-7], [0, 3]])).toEqual([1e-7, 10]);
+    expect(decadeRange([[null, 0]])).toEqual([1e-12, 1]);
+    expect(decadeRange([[1]])).toEqual([1, 10]);
+  });
+  it('thins decade ticks', () => {
+    expect(decadeSplits(1e-6, 1, 10).length).toBe(7);
+    expect(decadeSplits(1e-30, 1, 6).length).toBeLessThanOrEqual(6);
+    expect(decadeSplits(1e-30, 1, 6).at(-1)).toBe(1);
+  });
+});

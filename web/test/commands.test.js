@@ -1,0 +1,96 @@
+import { readFileSync } from 'node:fs';
+import { fileURLToPath } from 'node:url';
+import { describe, expect, it } from 'vitest';
+import {
+  AddHandleCommand, DragCommand, DragEndCommand, JoinCommand, PingCommand, PresenceCommand, RedoCommand,
+  RemoveHandleCommand, ResetCommand, SetFixedCommand, SetSolverCommand, SolveCommand, UndoCommand, SOLVER_KEYS,
+} from '../src/commands/index.js';
+import { makeValidator } from './helpers/jsonschema.js';
+
+const schemaDir = fileURLToPath(new URL('../../proto/schemas/', import.meta.url));
+const load = (name) => JSON.parse(readFileSync(schemaDir + name, 'utf8'));
+const schemas = { 'ws-client.schema.json': load('ws-client.schema.json'), 'scene.schema.json': load('scene.schema.json') };
+const validate = makeValidator(schemas);
+const validClient = (msg) => validate(JSON.parse(JSON.stringify(msg)), 'ws-client.schema.json');
+
+const t = { curve: 'b', index: 4 };
+
+// Every command the app sends, in the variants it uses.
+const cases = [
+  ['DragCommand', new DragCommand(t, [1, 2.5, -3])],
+  ['DragEndCommand', new DragEndCommand(t)],
+  ['DragEndCommand with iterations', new DragEndCommand({ curve: 'a', index: 0 }, 25)],
+  ['SolveCommand default', new SolveCommand()],
+  ['SolveCommand 100', new SolveCommand(100)],
+  ['AddHandleCommand', new AddHandleCommand(t, new Float32Array([1, 2, 3]))],
+  ['AddHandleCommand with weight', new AddHandleCommand(t, [1, 2, 3], 2.5)],
+  ['RemoveHandleCommand', new RemoveHandleCommand(t)],
+  ['SetFixedCommand fix', new SetFixedCommand(t, true)],
+  ['SetFixedCommand free', new SetFixedCommand(t, false)],
+  ['SetSolverCommand weights', new SetSolverCommand({ fairness: 0.02, fairness_decay: 0.8, regularization: 0.001, unit_normal_weight: 0.1, developability_weight: 1, handle_weight: 3 })],
+  ['SetSolverCommand drag settings', new SetSolverCommand({}, { drag_iterations: 2, release_iterations: 20 })],
+  ['SetSolverCommand one key', new SetSolverCommand({ developability_weight: 2 })],
+  ['UndoCommand', new UndoCommand()],
+  ['RedoCommand', new RedoCommand()],
+  ['ResetCommand', new ResetCommand()],
+  ['PresenceCommand selection', new PresenceCommand(t)],
+  ['PresenceCommand none + name', new PresenceCommand(null, 'ada')],
+  ['JoinCommand', new JoinCommand('8f3c', 'tok', 'ada')],
+  ['PingCommand', new PingCommand()],
+];
+
+describe('commands match ws-client.schema.json', () => {
+  it('the validator rejects what the schema rejects', () => {
+    expect(validClient({ type: 'drag', op: 1, target: t })).toContain('$.position: is required');
+    expect(validClient({ type: 'drag', op: 1, target: t, position: [1, 2] }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'solve', op: 1, iterations: 0 }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'undo', op: 1, extra: true }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'set_fixed', op: 1, target: { curve: 'c', index: 1 }, fixed: true }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'set_solver', op: 1, solver: { fairness: -1 } }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'set_solver', op: 1, solver: { nope: 1 } }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'nope' }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'undo', op: 'x' })).toEqual([]);
+  });
+
+  for (const [name, command] of cases) {
+    it(`${name} validates, with integer and string op ids`, () => {
+      for (const op of [1, 'c-17']) {
+        const msg = command.toMessage(op);
+        expect(msg.type).toBe(command.type);
+        expect(msg.op).toBe(op);
+        expect(validClient(msg)).toEqual([]);
+      }
+      expect(validClient(command.toMessage())).toEqual([]);
+    });
+  }
+
+  it('covers every message type of the schema', () => {
+    const types = schemas['ws-client.schema.json'].oneOf.map((r) => r.$ref.split('/').pop());
+    const sent = new Set(cases.map(([, c]) => c.type));
+    expect([...sent].sort()).toEqual([...types].sort());
+  });
+
+  it('builds the exact JSON', () => {
+    expect(new DragCommand(t, [1, 2, 3]).toMessage(7)).toEqual({ type: 'drag', op: 7, target: { curve: 'b', index: 4 }, position: [1, 2, 3] });
+    expect(new DragEndCommand(t).toMessage(8)).toEqual({ type: 'drag_end', op: 8, target: { curve: 'b', index: 4 } });
+    expect(new SolveCommand().toMessage(9)).toEqual({ type: 'solve', op: 9, iterations: 10 });
+    expect(new SetFixedCommand(t, true).toMessage(1)).toEqual({ type: 'set_fixed', op: 1, target: t, fixed: true });
+    expect(new PresenceCommand(null).toMessage(2)).toEqual({ type: 'presence', op: 2, selection: null });
+    expect(new SetSolverCommand({ fairness: 0 }, { drag_iterations: 3 }).toMessage(3)).toEqual({ type: 'set_solver', op: 3, solver: { fairness: 0 }, drag_iterations: 3 });
+    expect(new UndoCommand().toMessage(4)).toEqual({ type: 'undo', op: 4 });
+    expect(new AddHandleCommand(t, new Float32Array([0.5, 1, 2])).toMessage(5).position).toEqual([0.5, 1, 2]);
+  });
+
+  it('every solver key the panel can set is in the scene schema', () => {
+    const keys = Object.keys(schemas['scene.schema.json'].$defs.solver.properties);
+    expect([...SOLVER_KEYS].sort()).toEqual([...keys].sort());
+  });
+
+  it('rejects malformed arguments early', () => {
+    expect(() => new DragCommand({ curve: 'c', index: 0 }, [0, 0, 0])).toThrow();
+    expect(() => new DragCommand(t, [0, NaN, 0])).toThrow();
+    expect(() => new SolveCommand(0)).toThrow();
+    expect(() => new SetSolverCommand({ bogus: 1 })).toThrow();
+    expect(() => new AddHandleCommand(t, [0, 0, 0], 0)).toThrow();
+  });
+});
