@@ -387,6 +387,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     for (const auto& [k, v] : edit["solver"].items()) doc["solver"][k] = v;
     if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
     if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
+    if (edit.contains("normals")) model["normals"] = edit["normals"];
   } else {
     if (!replaying) error(participant, op, "invalid", "unknown message type \"" + type + "\"", "type");
     return false;

@@ -182,6 +182,19 @@ TEST(Session, UndoRedoAndResetRestoreScenes) {
   EXPECT_EQ(inbox.ofType("error")[0]["code"], "conflict");
 }
 
+TEST(Session, NormalRepresentationCanSwitchToASplineAndBack) {
+  JoinedEditor e;
+  e.send({{"type", "set_solver"}, {"op", 1}, {"solver", json::object()},
+          {"normals", {{"type", "spline"}, {"degree", 3}, {"points", 6}}}});
+  EXPECT_EQ(e.session->sceneJson()["model"]["normals"]["type"], "spline");
+  EXPECT_EQ(e.session->sceneJson()["model"]["normals"]["points"], 6);
+  e.send({{"type", "set_solver"}, {"op", 2}, {"solver", json::object()}, {"normals", {{"type", "spline"}, {"points", 1000}}}});
+  ASSERT_EQ(e.inbox.ofType("error").size(), 1u);
+  EXPECT_EQ(e.inbox.ofType("error")[0]["path"], "model.normals.points");
+  e.send({{"type", "set_solver"}, {"op", 3}, {"solver", json::object()}, {"normals", {{"type", "vectors"}}}});
+  EXPECT_EQ(e.session->sceneJson()["model"]["normals"]["type"], "vectors");
+}
+
 TEST(Session, RejectedEditsNameTheFieldAndChangeNothing) {
   JoinedEditor e;
   auto& [ex, journal, s, inbox, pid] = e;

@@ -29,6 +29,8 @@ const cases = [
   ['SetFixedCommand free', new SetFixedCommand(t, false)],
   ['SetSolverCommand weights', new SetSolverCommand({ fairness: 0.02, fairness_decay: 0.8, regularization: 0.001, unit_normal_weight: 0.1, developability_weight: 1, handle_weight: 3 })],
   ['SetSolverCommand drag settings', new SetSolverCommand({}, { drag_iterations: 2, release_iterations: 20 })],
+  ['SetSolverCommand normal spline', new SetSolverCommand({}, { normals: { type: 'spline', degree: 3, points: 12 } })],
+  ['SetSolverCommand normal vectors', new SetSolverCommand({}, { normals: { type: 'vectors' } })],
   ['SetSolverCommand one key', new SetSolverCommand({ developability_weight: 2 })],
   ['UndoCommand', new UndoCommand()],
   ['RedoCommand', new RedoCommand()],
@@ -48,6 +50,7 @@ describe('commands match ws-client.schema.json', () => {
     expect(validClient({ type: 'set_fixed', op: 1, target: { curve: 'c', index: 1 }, fixed: true }).length).toBeGreaterThan(0);
     expect(validClient({ type: 'set_solver', op: 1, solver: { fairness: -1 } }).length).toBeGreaterThan(0);
     expect(validClient({ type: 'set_solver', op: 1, solver: { nope: 1 } }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'set_solver', op: 1, solver: {}, normals: { type: 'quaternions' } }).length).toBeGreaterThan(0);
     expect(validClient({ type: 'nope' }).length).toBeGreaterThan(0);
     expect(validClient({ type: 'undo', op: 'x' })).toEqual([]);
   });

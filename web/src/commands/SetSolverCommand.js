@@ -9,7 +9,8 @@ export const SOLVER_KEYS = [
 
 /**
  * Change any subset of the solver settings, and/or the session's drag settings
- * ({drag_iterations, release_iterations}).
+ * ({drag_iterations, release_iterations}), and/or the normal representation
+ * (session.normals = {type: 'vectors'} | {type: 'spline', degree, points}).
  */
 export class SetSolverCommand extends Command {
   constructor(solver = {}, session = {}, options) {
@@ -21,11 +22,16 @@ export class SetSolverCommand extends Command {
     }
     if (session.drag_iterations !== undefined) this.drag_iterations = session.drag_iterations;
     if (session.release_iterations !== undefined) this.release_iterations = session.release_iterations;
-    const keys = [...Object.keys(this.solver), ...['drag_iterations', 'release_iterations'].filter((k) => this[k] !== undefined)];
+    if (session.normals !== undefined) {
+      const n = session.normals;
+      if (n.type !== 'vectors' && n.type !== 'spline') throw new TypeError(`unknown normal representation ${n.type}`);
+      this.normals = n.type === 'vectors' ? { type: 'vectors' } : { type: 'spline', ...(n.degree !== undefined ? { degree: n.degree } : {}), ...(n.points !== undefined ? { points: n.points } : {}) };
+    }
+    const keys = [...Object.keys(this.solver), ...['drag_iterations', 'release_iterations', 'normals'].filter((k) => this[k] !== undefined)];
     this.name = `set ${keys.join(', ') || 'solver'}`;
   }
 
   fields() {
-    return { solver: { ...this.solver }, drag_iterations: this.drag_iterations, release_iterations: this.release_iterations };
+    return { solver: { ...this.solver }, drag_iterations: this.drag_iterations, release_iterations: this.release_iterations, normals: this.normals };
   }
 }

@@ -41,6 +41,24 @@ export class SolverPanel {
       c.domElement.after(slot);
       this.controllers.set(key, c);
     }
+    // Normal representation (000_… §2.2): free vectors per parameter, or a normal spline.
+    this.normals = { normals: 'vectors', 'spline points': 8 };
+    const normalsChanged = () => {
+      const spline = this.normals.normals === 'spline';
+      const command = new SetSolverCommand({}, {
+        normals: spline ? { type: 'spline', degree: 3, points: Math.round(this.normals['spline points']) } : { type: 'vectors' },
+      }, { source: 'solver:normals' });
+      const op = this.send(command);
+      if (op !== null && op !== undefined) {
+        this.pending.set('normals', (this.pending.get('normals') || 0) + 1);
+        this.normalsType.domElement.classList.add('pending');
+      }
+    };
+    this.normalsType = this.gui.add(this.normals, 'normals', ['vectors', 'spline']).onFinishChange(normalsChanged);
+    this.normalsType.domElement.dataset.setting = 'normals';
+    this.normalsPoints = this.gui.add(this.normals, 'spline points', 4, 200, 1).onFinishChange(normalsChanged);
+    this.normalsType.domElement.after(errorSlots.slot('solver:normals'));
+    this.controllers.set('normals', this.normalsType);
     state.on('scene', () => this.refresh());
     state.on('settings', () => this.refresh());
     state.on('session', () => this.refresh());
@@ -90,8 +108,17 @@ export class SolverPanel {
       const v = kind === 'solver' ? solver[key] : settings[key];
       if (typeof v === 'number') this.params[key] = v;
     }
+    const normals = this.state.scene && this.state.scene.model && this.state.scene.model.normals;
+    if (normals && (force || !this.pending.has('normals'))) {
+      this.normals.normals = normals.type === 'spline' ? 'spline' : 'vectors';
+      if (normals.type === 'spline' && typeof normals.points === 'number') this.normals['spline points'] = normals.points;
+    }
     for (const c of this.controllers.values()) c.updateDisplay();
     const editable = this.state.role === 'edit';
     for (const c of this.controllers.values()) c.enable(editable);
+    if (this.normalsPoints) {
+      this.normalsPoints.updateDisplay();
+      this.normalsPoints.enable(editable && this.normals.normals === 'spline');
+    }
   }
 }
