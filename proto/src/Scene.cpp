@@ -56,6 +56,129 @@ StripDesign stripFromJson(const json& m) {
   return d;
 }
 
+namespace composite = models::composite;
+
+std::string indexPath(const std::string& list, std::size_t i) { return list + "[" + std::to_string(i) + "]"; }
+
+/// {"vertex": i} or {"edge": e, "index": k}; `path` names the object for errors.
+composite::PointRef compositePointFromJson(const json& j, const std::string& path) {
+  const bool vertex = j.contains("vertex"), edge = j.contains("edge"), index = j.contains("index");
+  if (vertex && !edge && !index) return composite::PointRef::ofVertex(j["vertex"].get<int>());
+  if (!vertex && edge && index) return composite::PointRef::ofEdgePoint(j["edge"].get<int>(), j["index"].get<int>());
+  if (!vertex && edge) throw SceneError(path + ".index", "required", "is required with \"edge\"");
+  if (!vertex && index) throw SceneError(path + ".edge", "required", "is required with \"index\"");
+  throw SceneError(path, "point", "give either \"vertex\" or \"edge\" with \"index\"");
+}
+
+json compositePointJson(const composite::PointRef& r) {
+  if (r.isVertex()) return {{"vertex", r.vertex}};
+  return {{"edge", r.edge}, {"index", r.index}};
+}
+
+composite::CreaseKind creaseFromName(const std::string& name) {
+  if (name == "fold") return composite::CreaseKind::Fold;
+  if (name == "geodesic") return composite::CreaseKind::Geodesic;
+  if (name == "smooth") return composite::CreaseKind::Smooth;
+  return composite::CreaseKind::None;
+}
+
+composite::CompositeDesign compositeFromJson(const json& m, double handleWeight) {
+  composite::CompositeDesign d;
+  const json& vertices = m.at("vertices");
+  const int nv = static_cast<int>(vertices.size());
+  d.vertices.resize(nv, 3);
+  for (int v = 0; v < nv; ++v) d.vertices.row(v) = point3(vertices[static_cast<std::size_t>(v)]).transpose();
+  const json& edges = m.at("edges");
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const json& je = edges[e];
+    const std::string path = indexPath("model.edges", e);
+    composite::CompositeEdge edge;
+    edge.v0 = je.at("v")[0].get<int>();
+    edge.v1 = je.at("v")[1].get<int>();
+    edge.crease = creaseFromName(je.value("crease", "none"));
+    for (int v : {edge.v0, edge.v1})
+      if (v >= nv)
+        throw SceneError(path + ".v", "vertex", "vertex " + std::to_string(v) + " does not exist (" +
+                                                    std::to_string(nv) + " vertices)");
+    if (je.at("type").get<std::string>() == "R") {
+      edge.type = composite::EdgeType::Ruling;
+      for (const char* key : {"points", "degree", "knots"})
+        if (je.contains(key))
+          throw SceneError(path + "." + key, "ruling", "an R edge (ruling) is straight and has no spline");
+    } else {
+      edge.type = composite::EdgeType::Spline;
+      const int degree = je.value("degree", 3);
+      const json points = je.value("points", json::array());
+      const int n = static_cast<int>(points.size()) + 2;
+      spline::BSplineCurve& c = edge.curve;
+      c.points.resize(n, 3);
+      c.points.row(0) = d.vertices.row(edge.v0);
+      for (int i = 1; i + 1 < n; ++i) c.points.row(i) = point3(points[static_cast<std::size_t>(i - 1)]).transpose();
+      c.points.row(n - 1) = d.vertices.row(edge.v1);
+      try {
+        if (je.contains("knots"))
+          c.knots = spline::KnotVector::clamped(degree, je["knots"].get<std::vector<double>>(), n);
+        else
+          c.knots = spline::KnotVector::clampedUniform(degree, n);
+      } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        if (what.rfind("knots", 0) == 0) throw semanticError(path, what, "knots");
+        throw SceneError(path + ".points", "count",
+                         "a degree-" + std::to_string(degree) + " edge needs at least " + std::to_string(degree - 1) +
+                             " interior control points, got " + std::to_string(n - 2));
+      }
+    }
+    d.edges.push_back(std::move(edge));
+  }
+  for (const json& f : m.at("faces")) d.faces.push_back(f.get<std::vector<int>>());
+  const json fixed = m.value("fixed", json::array());
+  for (std::size_t i = 0; i < fixed.size(); ++i)
+    d.fixed.push_back(compositePointFromJson(fixed[i], indexPath("model.fixed", i)));
+  const json handles = m.value("handles", json::array());
+  for (std::size_t i = 0; i < handles.size(); ++i)
+    d.handles.push_back({compositePointFromJson(handles[i], indexPath("model.handles", i)),
+                         point3(handles[i].at("position")), handles[i].value("weight", handleWeight)});
+  return d;
+}
+
+json compositeToJson(const composite::CompositeDesign& d) {
+  json m;
+  m["kind"] = "composite";
+  json vertices = json::array();
+  for (Eigen::Index v = 0; v < d.vertices.rows(); ++v) vertices.push_back(point3Json(d.vertices.row(v).transpose()));
+  m["vertices"] = std::move(vertices);
+  json edges = json::array();
+  for (const composite::CompositeEdge& e : d.edges) {
+    json je = {{"v", {e.v0, e.v1}}, {"type", composite::edgeTypeName(e.type)}};
+    if (e.type == composite::EdgeType::Spline) {
+      const spline::BSplineCurve& c = e.curve;
+      je["degree"] = c.degree();
+      json pts = json::array();
+      for (Eigen::Index i = 1; i + 1 < c.points.rows(); ++i) pts.push_back(point3Json(c.points.row(i).transpose()));
+      je["points"] = std::move(pts);
+      if (!sameKnots(c.knots.knots(),
+                     spline::KnotVector::clampedUniform(c.degree(), c.knots.numControlPoints()).knots()))
+        je["knots"] = c.knots.knots();
+    }
+    if (e.crease != composite::CreaseKind::None) je["crease"] = composite::creaseKindName(e.crease);
+    edges.push_back(std::move(je));
+  }
+  m["edges"] = std::move(edges);
+  m["faces"] = d.faces;
+  json fixed = json::array();
+  for (const composite::PointRef& r : d.fixed) fixed.push_back(compositePointJson(r));
+  if (!fixed.empty()) m["fixed"] = std::move(fixed);
+  json handles = json::array();
+  for (const composite::Handle& h : d.handles) {
+    json jh = compositePointJson(h.point);
+    jh["position"] = point3Json(h.position);
+    jh["weight"] = h.weight;
+    handles.push_back(std::move(jh));
+  }
+  if (!handles.empty()) m["handles"] = std::move(handles);
+  return m;
+}
+
 }  // namespace
 
 SceneError::SceneError(std::string path, std::string rule, const std::string& message)
@@ -77,6 +200,15 @@ engine::SolverOptions SolverSettings::solverOptions() const {
 
 models::strip::StripOptions SolverSettings::stripOptions() const {
   models::strip::StripOptions o;
+  o.developabilityWeight = developabilityWeight;
+  o.unitNormalWeight = unitNormalWeight;
+  o.normalize = normalize;
+  o.linearSolver = engine::linearSolverKindFromName(linearSolver);
+  return o;
+}
+
+models::composite::CompositeOptions SolverSettings::compositeOptions() const {
+  models::composite::CompositeOptions o;
   o.developabilityWeight = developabilityWeight;
   o.unitNormalWeight = unitNormalWeight;
   o.normalize = normalize;
@@ -199,6 +331,14 @@ Scene sceneFromJson(const json& document) {
       throw semanticError("model", e.what(), "model");
     }
     scene.model = std::move(d);
+  } else if (kind == "composite") {
+    composite::CompositeDesign d = compositeFromJson(model, s.handleWeight);
+    try {
+      composite::CompositeModel::validateDesign(d);
+    } catch (const std::invalid_argument& e) {
+      throw semanticError("model", e.what(), "model");
+    }
+    scene.model = std::move(d);
   } else {
     throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");
   }
@@ -221,26 +361,30 @@ json sceneToJson(const Scene& scene) {
   j["version"] = 1;
   if (!scene.name.empty()) j["name"] = scene.name;
   if (!scene.description.empty()) j["description"] = scene.description;
-  const StripDesign& d = std::get<StripDesign>(scene.model);
-  json m;
-  m["kind"] = "strip";
-  m["a"] = curveToJson(d.a);
-  m["b"] = curveToJson(d.b);
-  if (d.normals.type == NormalRepresentation::Type::Spline)
-    m["normals"] = {{"type", "spline"}, {"degree", d.normals.degree}, {"points", d.normals.points}};
-  else
-    m["normals"] = {{"type", "vectors"}};
-  json fixed = json::array();
-  for (const ControlPointRef& f : d.fixed) fixed.push_back({{"curve", models::strip::curveName(f.curve)}, {"index", f.index}});
-  if (!fixed.empty()) m["fixed"] = fixed;
-  json handles = json::array();
-  for (const Handle& h : d.handles)
-    handles.push_back({{"curve", models::strip::curveName(h.point.curve)},
-                       {"index", h.point.index},
-                       {"position", point3Json(h.position)},
-                       {"weight", h.weight}});
-  if (!handles.empty()) m["handles"] = handles;
-  j["model"] = std::move(m);
+  if (const auto* c = std::get_if<composite::CompositeDesign>(&scene.model)) {
+    j["model"] = compositeToJson(*c);
+  } else {
+    const StripDesign& d = std::get<StripDesign>(scene.model);
+    json m;
+    m["kind"] = "strip";
+    m["a"] = curveToJson(d.a);
+    m["b"] = curveToJson(d.b);
+    if (d.normals.type == NormalRepresentation::Type::Spline)
+      m["normals"] = {{"type", "spline"}, {"degree", d.normals.degree}, {"points", d.normals.points}};
+    else
+      m["normals"] = {{"type", "vectors"}};
+    json fixed = json::array();
+    for (const ControlPointRef& f : d.fixed) fixed.push_back({{"curve", models::strip::curveName(f.curve)}, {"index", f.index}});
+    if (!fixed.empty()) m["fixed"] = fixed;
+    json handles = json::array();
+    for (const Handle& h : d.handles)
+      handles.push_back({{"curve", models::strip::curveName(h.point.curve)},
+                         {"index", h.point.index},
+                         {"position", point3Json(h.position)},
+                         {"weight", h.weight}});
+    if (!handles.empty()) m["handles"] = handles;
+    j["model"] = std::move(m);
+  }
   const SolverSettings& s = scene.solver;
   j["solver"] = {{"iterations", s.iterations},
                  {"fairness", s.fairness},

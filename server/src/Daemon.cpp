@@ -172,7 +172,12 @@ void Daemon::openDemos() {
       if (sessions_.count(id)) continue;  // restored with its edits
     }
     try {
-      createSession(proto::sceneFromText(readFile(path)), edit, view, true, id);
+      const proto::Scene scene = proto::sceneFromText(readFile(path));
+      if (!std::holds_alternative<models::strip::StripDesign>(scene.model)) {
+        spdlog::info("demo scene {}: not a strip; sessions edit strips (solve it with devsurf solve or a job)", path);
+        continue;
+      }
+      createSession(scene, edit, view, true, id);
     } catch (const std::exception& e) {
       spdlog::error("demo scene {}: {}", path, e.what());
     }
@@ -271,6 +276,9 @@ void Daemon::routes() {
     try {
       checkSceneLimits(*body);
       const proto::Scene scene = proto::sceneFromJson(*body);
+      if (!std::holds_alternative<models::strip::StripDesign>(scene.model))
+        throw proto::SceneError("model.kind", "kind",
+                                "sessions edit strips; solve other models with devsurf solve or POST /api/jobs");
       const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);

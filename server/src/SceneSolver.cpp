@@ -7,6 +7,16 @@
 namespace devsurf::server {
 
 SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
+  if (const auto* c = std::get_if<models::composite::CompositeDesign>(&scene_.model)) {
+    initialComposite_ = *c;
+    try {
+      composite_ = std::make_unique<models::composite::CompositeModel>(initialComposite_,
+                                                                       scene_.solver.compositeOptions());
+    } catch (const std::invalid_argument& e) {
+      throw proto::SceneError("model", "model", e.what());
+    }
+    return;
+  }
   initial_ = std::get<models::strip::StripDesign>(scene_.model);
   try {
     strip_ = std::make_unique<models::strip::StripModel>(initial_, scene_.solver.stripOptions());
@@ -15,21 +25,66 @@ SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
   }
 }
 
+models::strip::StripModel& SceneSolver::stripModel() {
+  if (!strip_) throw std::logic_error("SceneSolver: the scene is not a strip");
+  return *strip_;
+}
+
+models::composite::CompositeModel& SceneSolver::compositeModel() {
+  if (!composite_) throw std::logic_error("SceneSolver: the scene is not a composite");
+  return *composite_;
+}
+
 engine::SolveSummary SceneSolver::solve(int iterationsOverride,
                                         std::function<bool(const engine::IterationRecord&)> onIteration) {
   engine::SolverOptions options = scene_.solver.solverOptions();
   if (iterationsOverride >= 0) options.maxIterations = iterationsOverride;
   options.callback = std::move(onIteration);
+  if (composite_) return composite_->solve(options);
   return strip_->solve(options);
 }
 
 proto::Scene SceneSolver::currentScene() const {
   proto::Scene s = scene_;
+  if (composite_) {
+    s.model = composite_->design();
+    return s;
+  }
   s.model = strip_->design();
   return s;
 }
 
 proto::Metrics SceneSolver::metrics() const {
+  if (composite_) {
+    const models::composite::CompositeQuality q = composite_->quality();
+    const models::composite::CompositeDesign d = composite_->design();
+    proto::Metrics m;
+    m["face_flatness_max"] = q.faceFlatnessMax;
+    m["face_flatness_mean"] = q.faceFlatnessMean;
+    m["vertex_curvature_max"] = q.vertexCurvatureMax;
+    m["crease_fold_residual_max"] = q.creaseFoldResidualMax;
+    m["crease_fold_angle_max_deg"] = q.foldAngleMaxDeg;
+    m["warp_angle_max_deg"] = q.warpAngleMaxDeg;
+    m["warp_angle_mean_deg"] = q.warpAngleMeanDeg;
+    auto point = [&d](const models::composite::PointRef& r) -> Eigen::Vector3d {
+      if (r.isVertex()) return d.vertices.row(r.vertex).transpose();
+      return d.edges[static_cast<std::size_t>(r.edge)].curve.points.row(r.index).transpose();
+    };
+    double handleError = 0.0;
+    for (const models::composite::Handle& h : d.handles)
+      handleError = std::max(handleError, (point(h.point) - h.position).norm());
+    m["handle_distance_max"] = handleError;
+    double moved = 0.0;
+    if (d.vertices.rows() > 0) moved = (d.vertices - initialComposite_.vertices).rowwise().norm().maxCoeff();
+    for (std::size_t e = 0; e < d.edges.size(); ++e) {
+      const Eigen::MatrixXd& now = d.edges[e].curve.points;
+      if (now.rows() > 0)
+        moved = std::max(moved, (now - initialComposite_.edges[e].curve.points).rowwise().norm().maxCoeff());
+    }
+    m["displacement_max"] = moved;
+    m["unknowns"] = composite_->numUnknowns();
+    return m;
+  }
   const metrics::StripQuality q = strip_->quality(1000);
   const models::strip::StripDesign d = strip_->design();
   proto::Metrics m;
@@ -63,8 +118,12 @@ void SceneSolver::exportTo(const std::string& spec) const {
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
-  const models::strip::StripGeometry g = strip_->geometry(200, 8, 2);
-  io::writeMesh(g.surface, staging);
+  if (composite_) {
+    io::writeMesh(composite_->geometry(50, 8).merged, staging);
+  } else {
+    const models::strip::StripGeometry g = strip_->geometry(200, 8, 2);
+    io::writeMesh(g.surface, staging);
+  }
   if (std::rename(staging.c_str(), path.c_str()) != 0) {
     std::remove(staging.c_str());
     throw std::runtime_error("cannot write " + path);

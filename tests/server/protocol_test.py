@@ -255,6 +255,10 @@ class ProtocolTest(unittest.TestCase):
         self.assertEqual((status, body["error"]["code"]), (400, "invalid_json"))
         status, _, body = self.daemon.json("POST", "/api/sessions", {"format": "devsurf-scene", "version": 1, "model": {"kind": "sphere"}})
         self.assertEqual((status, body["error"]["path"]), (400, "model.kind"))
+        with open(os.path.join(ROOT, "examples", "composite-curved-fold.json")) as f:
+            composite = json.load(f)
+        status, _, body = self.daemon.json("POST", "/api/sessions", composite)
+        self.assertEqual((status, body["error"]["path"]), (400, "model.kind"))
         demos = self.daemon.json("GET", "/api/sessions")[2]["sessions"]
         self.assertEqual(demos[0]["id"], "demo-strip-lifted-corner")
 

@@ -19,8 +19,10 @@ export const WEB = process.env.DEVSURF_WEB || path.join(ROOT, 'web', 'dist');
 export const CHROMIUM = process.env.DEVSURF_CHROMIUM || '/usr/bin/chromium';
 export const ARTIFACTS = path.join(ROOT, 'test-artifacts', 'web');
 export const EXAMPLES = path.join(ROOT, 'examples');
+// The example scenes that open as demo sessions (sessions edit strips; the daemon skips others).
 export const DEMOS = fs.readdirSync(EXAMPLES).filter((f) => f.endsWith('.json')).sort()
-  .map((f) => path.join(EXAMPLES, f));
+  .map((f) => path.join(EXAMPLES, f))
+  .filter((f) => JSON.parse(fs.readFileSync(f, 'utf8')).model.kind === 'strip');
 
 fs.mkdirSync(ARTIFACTS, { recursive: true });
 

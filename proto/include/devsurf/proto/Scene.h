@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/JsonSchemaValidator.h"
 
@@ -41,10 +42,11 @@ struct SolverSettings {
 
   engine::SolverOptions solverOptions() const;
   models::strip::StripOptions stripOptions() const;
+  models::composite::CompositeOptions compositeOptions() const;
 };
 
-/// One variant per model kind; later models add alternatives.
-using ModelData = std::variant<models::strip::StripDesign>;
+/// One variant per model kind ("strip", "composite"); later models add alternatives.
+using ModelData = std::variant<models::strip::StripDesign, models::composite::CompositeDesign>;
 
 /// A scene document (format "devsurf-scene", version 1): a saved design, a batch job, a CLI
 /// input and a session's starting point.

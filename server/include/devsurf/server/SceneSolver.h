@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/Report.h"
 #include "devsurf/proto/Scene.h"
@@ -14,7 +15,7 @@
 namespace devsurf::server {
 
 /// The service behind `devsurf solve` (and later batch jobs and sessions): builds the model a
-/// scene describes, runs guided projection and reports.
+/// scene describes ("strip" or "composite"), runs guided projection and reports.
 class SceneSolver {
  public:
   /// Builds the model (validation happened in proto::sceneFromJson).
@@ -33,8 +34,14 @@ class SceneSolver {
   /// The full report of the last solve.
   nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
 
-  models::strip::StripModel& stripModel() { return *strip_; }
-  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface).
+  /// Whether the scene is a strip (sessions edit strips only, for now).
+  bool isStrip() const { return strip_ != nullptr; }
+  /// @throws std::logic_error if the scene is not a strip
+  models::strip::StripModel& stripModel();
+  /// @throws std::logic_error if the scene is not a composite
+  models::composite::CompositeModel& compositeModel();
+  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface; composites:
+  /// all faces in one mesh, see CompositeGeometry::merged).
   /// @throws std::invalid_argument for an unknown format, std::runtime_error if writing fails
   void exportTo(const std::string& spec) const;
 
@@ -42,6 +49,8 @@ class SceneSolver {
   proto::Scene scene_;
   models::strip::StripDesign initial_;
   std::unique_ptr<models::strip::StripModel> strip_;
+  models::composite::CompositeDesign initialComposite_;
+  std::unique_ptr<models::composite::CompositeModel> composite_;
 };
 
 }  // namespace devsurf::server

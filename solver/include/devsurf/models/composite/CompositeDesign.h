@@ -1,0 +1,74 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/spline/BSplineCurve.h"
+
+namespace devsurf::models::composite {
+
+/// Label of an edge of the composite's mesh (000_… §3.1): a ruling (straight segment) or a spline
+/// curve.
+enum class EdgeType { Ruling, Spline };
+const char* edgeTypeName(EdgeType t);  ///< "R" or "S"
+
+/// What joins the two faces along an interior edge (scene "crease").
+enum class CreaseKind {
+  None,      ///< no condition: the edge may fold or not (an R edge always folds freely)
+  Fold,      ///< curved fold, 000_… eq. (7): the edge unfolds to one planar curve on both sides
+  Geodesic,  ///< geodesic property, 000_… eq. (8): the two developed boundaries are mirror images
+  Smooth,    ///< tangent-plane continuity: the normals of the two faces agree along the edge
+};
+const char* creaseKindName(CreaseKind k);  ///< "none", "fold", "geodesic", "smooth"
+
+/// One edge of the composite: its end vertices, label, and for S edges the spline. The spline's
+/// control sequence runs from vertex v0 to vertex v1 and its first and last control points ARE
+/// those vertices (000_… §3.1 vertex–edge consistency): the model keeps one variable block per
+/// vertex and one per S edge for the interior control points only.
+struct CompositeEdge {
+  int v0 = -1, v1 = -1;
+  EdgeType type = EdgeType::Ruling;
+  /// S edges: clamped, polynomial (no weights), control points as rows from v0 to v1.
+  /// Empty (no knots, no points) for R edges.
+  spline::BSplineCurve curve;
+  CreaseKind crease = CreaseKind::None;
+};
+
+/// A point the scene addresses: a vertex, or control point `index` of an S edge's curve (index 0
+/// and n−1 are the edge's vertices v0 and v1).
+struct PointRef {
+  int vertex = -1;  ///< ≥ 0 for a vertex
+  int edge = -1;    ///< ≥ 0 for an edge control point
+  int index = 0;
+  static PointRef ofVertex(int v) { return {v, -1, 0}; }
+  static PointRef ofEdgePoint(int e, int k) { return {-1, e, k}; }
+  bool isVertex() const { return vertex >= 0; }
+  bool operator==(const PointRef& o) const {
+    return vertex == o.vertex && edge == o.edge && (vertex >= 0 || index == o.index);
+  }
+};
+
+/// A point pulled softly toward a target (the drag mechanism).
+struct Handle {
+  PointRef point;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  double weight = 1.0;
+};
+
+/// A composite developable (000_… §3.1): a labelled polygon mesh whose faces are spline
+/// developables (S R S R), the same with one ruling degenerated to a point (S R S), cones (S R R)
+/// and planar polygons (R … R).
+struct CompositeDesign {
+  Eigen::MatrixX3d vertices;            ///< one row per vertex
+  std::vector<CompositeEdge> edges;
+  /// Every face as its boundary edges (indices into edges) in order; the order fixes the face's
+  /// orientation (counterclockwise seen from the side its normal points to). All faces must be
+  /// oriented consistently (a shared edge is traversed in opposite directions).
+  std::vector<std::vector<int>> faces;
+  std::vector<PointRef> fixed;
+  std::vector<Handle> handles;
+};
+
+}  // namespace devsurf::models::composite

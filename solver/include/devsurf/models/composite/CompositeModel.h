@@ -1,0 +1,173 @@
+#pragma once
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/engine/Normalization.h"
+#include "devsurf/engine/Problem.h"
+#include "devsurf/io/QuadMesh.h"
+#include "devsurf/models/composite/CompositeDesign.h"
+#include "devsurf/models/composite/CompositeTopology.h"
+#include "devsurf/spline/BSplineCurve.h"
+#include "devsurf/terms/LinearPoints.h"
+
+namespace devsurf::models::composite {
+
+/// Weights and switches of the composite model (the strip model's, applied to every face).
+struct CompositeOptions {
+  double developabilityWeight = 1.0;  ///< hard rows: developability (eq. 4), planarity, creases (eqs. 7/8), smoothness
+  double unitNormalWeight = 0.1;      ///< soft unit length of the normals not held hard
+  double normalRegularizationScale = 1e-4;  ///< ε_reg² multiplier of the normals (see StripOptions)
+  bool normalize = true;              ///< centre and scale to unit size while solving (003_… §5.5)
+  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::SimplicialLDLT;
+};
+
+/// An interior edge of the composite as extracted: where it runs and how it is folded.
+///
+/// Fold angle convention (the FOLD format's edges_foldAngle): seen from the side the face normals
+/// point to — the side from which every face's boundary runs counterclockwise — a valley fold has
+/// a positive angle, a mountain fold a negative one; 0 is flat, ±180° folded flat. At each sample,
+/// with t the unit tangent of the edge from v0 to v1 and n1, n2 the unit normals of the face that
+/// runs along v0→v1 (EdgeInfo::faces[0]) and of the other face, θ = atan2(⟨t, n1×n2⟩, ⟨n1, n2⟩)
+/// is the rotation of n1 to n2 about t; θ > 0 turns the second face away from the normals' side
+/// (mountain), so foldAngleDeg = −θ in degrees.
+struct CreaseGeometry {
+  int edge = -1;
+  EdgeType type = EdgeType::Spline;
+  CreaseKind kind = CreaseKind::None;
+  Eigen::MatrixX3d polyline;    ///< samples from v0 to v1 (2 for an R edge)
+  Eigen::VectorXd foldAngleDeg; ///< per sample, valley > 0
+  char assignment = 'F';        ///< 'M', 'V' (sign of the mean fold angle) or 'F' (|mean| < 0.01°)
+};
+
+/// Sampled geometry (design coordinates) for drawing and export.
+struct CompositeGeometry {
+  /// Per face: strip-like faces as a (U × vSamples) grid of s(u, v) (U = spans·samplesPerSpan + 1,
+  /// quads with a degenerate side where a ruling degenerates); planar faces as a fan of quads
+  /// (centroid, corner, edge midpoint, next corner). Quads run counterclockwise seen from the
+  /// face normal.
+  std::vector<io::QuadMesh> faces;
+  /// All faces in one mesh; vertices are not shared between faces, so creases stay sharp and
+  /// degenerate rulings remain valid (index-distinct) quads.
+  io::QuadMesh merged;
+  std::vector<CreaseGeometry> creases;  ///< every interior edge
+};
+
+/// Quality measures (000_… Fig. 17) of the current state; report names in brackets.
+///
+/// They are taken on the auxiliary mesh of 000_… §5: every strip-like face sampled at
+/// U = spans·samplesPerSpan + 1 parameters equally spaced over its domain, one quad per pair of
+/// consecutive rulings (a(u_i), a(u_i+1), b(u_i+1), b(u_i)), planar faces as their polygon; the
+/// samples along shared edges are shared.
+struct CompositeQuality {
+  double faceFlatnessMax = 0.0;    ///< [face_flatness_max] δ = distance of the diagonals' lines /
+                                   ///< mean of the two shortest edges, per quad (planar N-gons:
+                                   ///< max over quadruples of consecutive corners); triangles 0
+  double faceFlatnessMean = 0.0;   ///< [face_flatness_mean]
+  double vertexCurvatureMax = 0.0; ///< [vertex_curvature_max] |angle sum − 2π| at interior vertices (rad)
+  double creaseFoldResidualMax = 0.0;  ///< [crease_fold_residual_max] max over the samples of
+                                   ///< "fold"/"geodesic" creases of |⟨c′, n1 ± n2⟩|/|c′| and
+                                   ///< |⟨c″, n1 ± n2⟩|/|c″| (eq. 7/8 rows scaled as the solver does,
+                                   ///< with the surfaces' unit normals, not the auxiliary variables)
+  double warpAngleMaxDeg = 0.0;    ///< [warp_angle_max_deg] over all strip-like faces (1000 rulings each)
+  double warpAngleMeanDeg = 0.0;   ///< [warp_angle_mean_deg]
+  double foldAngleMaxDeg = 0.0;    ///< [crease_fold_angle_max_deg] max |fold angle| over interior edges
+  int quads = 0;
+  int interiorVertices = 0;
+};
+
+/// Composite developables of Tang et al. 2016 §3 / Mundilova ch. 5: faces that are ruled spline
+/// developables, cones and planar polygons, joined along creases (curved folds, eq. 7), geodesic
+/// seams (eq. 8) or smoothly.
+///
+/// Setup/solve split as StripModel: the constructor validates, builds variables and terms and
+/// analyzes the topology once; solve() runs iterations; handle targets move without re-analysis.
+///
+/// Variables (normalized coordinates): block "vertex i" (3) per vertex, "edge e points" per S edge
+/// with interior control points (3 each), "face f normals" (3 per evaluation parameter) per
+/// strip-like face, "face f normal" (3) per planar face. A face's curves are linear in the shared
+/// blocks (terms::LinearPoints with offset 0 whose columns are 3D points of x), so a reversed S
+/// edge is a permutation of columns and an S edge's ends are its vertices' blocks.
+///
+/// Evaluation parameters of a strip-like face: both ends of the domain and 3m−2 per span
+/// (000_… §2.1) — the ends give every ruling edge a normal for smoothness and folds there.
+/// Terms: "developability" (hard, per strip-like face; cones included: their third row vanishes),
+/// "planarity" (hard, PlanarPolygonTerm), "unit_normal_hard" (first normal of every face),
+/// "unit_normal" (soft), "crease_fold"/"crease_geodesic" (hard, CurvedFoldTerm at the edge's own
+/// parameters), "smooth" (hard, NormalMatchTerm along S edges or at R edges labelled smooth),
+/// "fairness" (soft, decaying, per S edge including its end vertices), "handle" (soft).
+class CompositeModel {
+ public:
+  /// @throws std::invalid_argument naming the path ("faces[2]: …", "fixed[0].index: …")
+  explicit CompositeModel(CompositeDesign design, CompositeOptions options = {});
+
+  /// The checks the constructor makes (topology and references), without building anything.
+  /// @throws std::invalid_argument
+  static void validateDesign(const CompositeDesign& design);
+
+  engine::SolveSummary solve(const engine::SolverOptions& options);
+
+  /// The current design (design coordinates); fixed points are returned exactly as given.
+  CompositeDesign design() const;
+  const CompositeOptions& options() const { return options_; }
+  const CompositeTopology& topology() const { return *topology_; }
+
+  /// Moves handle `i` (design coordinates); no re-analysis.
+  void setHandleTarget(int i, const Eigen::Vector3d& position);
+  /// Re-initializes all normals from the current geometry.
+  void resetNormals();
+
+  CompositeQuality quality(int samplesPerSpan = 10) const;
+  CompositeGeometry geometry(int samplesPerSpan = 16, int vSamples = 3) const;
+  /// Every interior edge with its fold angles.
+  std::vector<CreaseGeometry> creases(int samplesPerSpan = 16) const;
+
+  /// Curves a and b of a strip-like face in the direction of u (design coordinates; a cone's b is
+  /// the constant apex).
+  std::pair<spline::BSplineCurve, spline::BSplineCurve> faceCurves(int f) const;
+  /// Unit normal of face f at parameter u (strip-like) from the geometry: (a′ + b′) × (b − a), or
+  /// a′ × b′ where the ruling degenerates; planar faces: the polygon's (Newell) normal.
+  Eigen::Vector3d faceNormal(int f, double u) const;
+
+  const std::vector<double>& evaluationParameters(int f) const { return faceParams_.at(f); }
+  engine::Problem& problem() { return problem_; }
+  const engine::Problem& problem() const { return problem_; }
+  engine::GuidedProjectionSolver& solver() { return *solver_; }
+  int numUnknowns() const { return problem_.layout().numFree(); }
+
+ private:
+  struct FaceRows {
+    terms::LinearPoints a, da, b, db;  ///< at the face's parameters, columns = points of x
+  };
+  void buildProblem();
+  void initializeNormals();
+  /// Index of a slot's 3D point in x (x offset / 3).
+  int pointIndex(const PointSlot& s) const;
+  PointSlot slotOf(const PointRef& r) const;
+  terms::LinearPoints curveRows(const spline::KnotVector& knots, const std::vector<PointSlot>& slots,
+                                const std::vector<double>& params, int derivative) const;
+  /// Normals of strip-like face f at the parameters of S edge e (stored direction) or at one
+  /// ruling end (end = 0, 1); a planar face's normal.
+  terms::LinearPoints normalsAlongEdge(int f, int e) const;
+  terms::LinearPoints normalAtRuling(int f, int e) const;
+  Eigen::Vector3d pointValue(const PointSlot& s) const;  ///< design coordinates
+  Eigen::Vector3d normalVariable(int f, int k) const;
+
+  CompositeDesign design_;
+  CompositeOptions options_;
+  std::unique_ptr<CompositeTopology> topology_;
+  engine::Normalization normalization_;
+  engine::Problem problem_;
+  std::unique_ptr<engine::GuidedProjectionSolver> solver_;
+  std::vector<int> vertexBlock_, edgeBlock_, normalBlock_;
+  std::vector<std::vector<double>> faceParams_;
+  std::vector<FaceRows> faceRows_;
+  std::vector<int> handleTerms_;
+  double scale_ = 1.0;  ///< bounding-box diagonal of the input (design coordinates)
+};
+
+}  // namespace devsurf::models::composite

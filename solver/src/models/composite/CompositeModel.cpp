@@ -1,0 +1,751 @@
+#include "devsurf/models/composite/CompositeModel.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "devsurf/metrics/StripQuality.h"
+#include "devsurf/models/composite/PolygonFairnessTerm.h"
+#include "devsurf/spline/Basis.h"
+#include "devsurf/terms/CurvedFoldTerm.h"
+#include "devsurf/terms/HandleTargetTerm.h"
+#include "devsurf/terms/NormalMatchTerm.h"
+#include "devsurf/terms/PlanarPolygonTerm.h"
+#include "devsurf/terms/StripDevelopabilityTerm.h"
+#include "devsurf/terms/UnitNormalTerm.h"
+
+namespace devsurf::models::composite {
+namespace {
+
+using engine::Strength;
+using engine::WeightSchedule;
+using spline::EvaluationMatrix;
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string refPath(const std::string& list, std::size_t i) { return list + "[" + std::to_string(i) + "]"; }
+
+bool stripLike(const FaceInfo& f) { return f.type != FaceType::Planar; }
+
+/// [begin] + 3m−2 per span + [end] (000_… §2.1, plus both ends for ruling edges).
+std::vector<double> evaluationParams(const spline::KnotVector& k) {
+  std::vector<double> p;
+  p.push_back(k.domainBegin());
+  const std::vector<double> inner = k.spanSamples(3 * k.degree() - 2);
+  p.insert(p.end(), inner.begin(), inner.end());
+  p.push_back(k.domainEnd());
+  return p;
+}
+
+EvaluationMatrix emptyRows(int rows, int cols) {
+  EvaluationMatrix m(rows, cols);
+  m.makeCompressed();
+  return m;
+}
+
+Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& poly) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < poly.size(); ++i) n += poly[i].cross(poly[(i + 1) % poly.size()]);
+  return n;
+}
+
+/// Tang et al. 2016 Fig. 17: distance of the diagonals (as lines) over the mean of the two shortest
+/// edges; 0 for quads with a degenerate side (triangles).
+double quadFlatness(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                    const Eigen::Vector3d& p3, double tiny) {
+  double e[4] = {(p1 - p0).norm(), (p2 - p1).norm(), (p3 - p2).norm(), (p0 - p3).norm()};
+  std::sort(e, e + 4);
+  if (e[0] <= tiny) return 0.0;
+  const Eigen::Vector3d d1 = p2 - p0, d2 = p3 - p1;
+  const Eigen::Vector3d c = d1.cross(d2);
+  double dist;
+  if (c.norm() <= 1e-14 * d1.norm() * d2.norm()) {
+    dist = (p1 - p0).cross(d1).norm() / std::max(d1.norm(), tiny);  // parallel diagonals
+  } else {
+    dist = std::abs((p1 - p0).dot(c)) / c.norm();
+  }
+  return dist / (0.5 * (e[0] + e[1]));
+}
+
+double angleAt(const Eigen::Vector3d& prev, const Eigen::Vector3d& p, const Eigen::Vector3d& next) {
+  const Eigen::Vector3d u = prev - p, v = next - p;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// validation and setup
+
+void CompositeModel::validateDesign(const CompositeDesign& design) {
+  if (design.vertices.rows() > 0 && !design.vertices.allFinite()) {
+    for (Eigen::Index v = 0; v < design.vertices.rows(); ++v)
+      if (!design.vertices.row(v).allFinite())
+        throw std::invalid_argument(refPath("vertices", static_cast<std::size_t>(v)) + ": coordinates must be finite");
+  }
+  const CompositeTopology topology(design);
+  auto checkRef = [&](const PointRef& r, const std::string& path) {
+    if (r.vertex >= 0) {
+      if (r.vertex >= topology.numVertices())
+        throw std::invalid_argument(path + ".vertex: vertex " + std::to_string(r.vertex) + " does not exist (" +
+                                    std::to_string(topology.numVertices()) + " vertices)");
+      return;
+    }
+    if (r.edge < 0 || r.edge >= topology.numEdges())
+      throw std::invalid_argument(path + ".edge: edge " + std::to_string(r.edge) + " does not exist (" +
+                                  std::to_string(topology.numEdges()) + " edges)");
+    if (topology.edgeType(r.edge) != EdgeType::Spline)
+      throw std::invalid_argument(path + ".edge: edge " + std::to_string(r.edge) +
+                                  " is a ruling (R) and has no control points; refer to its vertices");
+    const int n = topology.interiorPoints(r.edge) + 2;
+    if (r.index < 0 || r.index >= n)
+      throw std::invalid_argument(path + ".index: " + std::to_string(r.index) + " is out of range (edge " +
+                                  std::to_string(r.edge) + " has " + std::to_string(n) +
+                                  " control points; 0 and " + std::to_string(n - 1) + " are its vertices)");
+  };
+  for (std::size_t i = 0; i < design.fixed.size(); ++i) checkRef(design.fixed[i], refPath("fixed", i));
+  for (std::size_t i = 0; i < design.handles.size(); ++i) {
+    const Handle& h = design.handles[i];
+    checkRef(h.point, refPath("handles", i));
+    if (!h.position.allFinite())
+      throw std::invalid_argument(refPath("handles", i) + ".position: coordinates must be finite");
+    if (!(h.weight > 0.0) || !std::isfinite(h.weight))
+      throw std::invalid_argument(refPath("handles", i) + ".weight: must be a positive number");
+  }
+}
+
+CompositeModel::CompositeModel(CompositeDesign design, CompositeOptions options)
+    : design_(std::move(design)), options_(options) {
+  validateDesign(design_);
+  topology_ = std::make_unique<CompositeTopology>(design_);
+  std::vector<Eigen::Vector3d> all;
+  for (Eigen::Index v = 0; v < design_.vertices.rows(); ++v) all.push_back(design_.vertices.row(v).transpose());
+  for (const CompositeEdge& e : design_.edges)
+    for (Eigen::Index i = 0; i < e.curve.points.rows(); ++i) all.push_back(e.curve.points.row(i).transpose());
+  Eigen::MatrixX3d pts(static_cast<Eigen::Index>(all.size()), 3);
+  for (std::size_t i = 0; i < all.size(); ++i) pts.row(static_cast<Eigen::Index>(i)) = all[i].transpose();
+  scale_ = std::max((pts.colwise().maxCoeff() - pts.colwise().minCoeff()).norm(), 1e-300);
+  if (options_.normalize) normalization_ = engine::Normalization::fromPoints(pts);
+  buildProblem();
+}
+
+int CompositeModel::pointIndex(const PointSlot& s) const {
+  if (s.vertex >= 0) return problem_.layout().block(vertexBlock_[s.vertex]).offset / 3;
+  return problem_.layout().block(edgeBlock_[s.edge]).offset / 3 + s.index;
+}
+
+PointSlot CompositeModel::slotOf(const PointRef& r) const {
+  if (r.vertex >= 0) return {r.vertex, -1, 0};
+  const auto ends = topology_->edgeVertices(r.edge);
+  const int n = topology_->interiorPoints(r.edge) + 2;
+  if (r.index == 0) return {ends[0], -1, 0};
+  if (r.index == n - 1) return {ends[1], -1, 0};
+  return {-1, r.edge, r.index - 1};
+}
+
+terms::LinearPoints CompositeModel::curveRows(const spline::KnotVector& knots, const std::vector<PointSlot>& slots,
+                                              const std::vector<double>& params, int derivative) const {
+  const EvaluationMatrix M = spline::evaluationMatrix(knots, params, derivative);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < M.rows(); ++k)
+    for (EvaluationMatrix::InnerIterator it(M, k); it; ++it)
+      t.emplace_back(k, pointIndex(slots[static_cast<std::size_t>(it.col())]), it.value());
+  EvaluationMatrix W(M.rows(), problem_.x().size() / 3);
+  W.setFromTriplets(t.begin(), t.end());
+  W.makeCompressed();
+  return {W, 0};
+}
+
+terms::LinearPoints CompositeModel::normalsAlongEdge(int f, int e) const {
+  const int K = static_cast<int>(faceParams_[f].size());
+  const bool runs = topology_->edgeRunsWithU(f, e);
+  EvaluationMatrix W(K, K);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < K; ++k) t.emplace_back(k, runs ? k : K - 1 - k, 1.0);
+  W.setFromTriplets(t.begin(), t.end());
+  W.makeCompressed();
+  return {W, problem_.layout().block(normalBlock_[f]).offset};
+}
+
+terms::LinearPoints CompositeModel::normalAtRuling(int f, int e) const {
+  const int offset = problem_.layout().block(normalBlock_[f]).offset;
+  if (!stripLike(topology_->face(f))) return terms::LinearPoints::identity(1, offset);
+  const int K = static_cast<int>(faceParams_[f].size());
+  const int end = topology_->rulingEnd(f, e);
+  if (end < 0) throw std::logic_error("edge " + std::to_string(e) + " is not a ruling of face " + std::to_string(f));
+  EvaluationMatrix W(1, K);
+  W.insert(0, end == 0 ? 0 : K - 1) = 1.0;
+  W.makeCompressed();
+  return {W, offset};
+}
+
+void CompositeModel::buildProblem() {
+  const CompositeTopology& topo = *topology_;
+  const int V = topo.numVertices(), E = topo.numEdges(), F = topo.numFaces();
+  vertexBlock_.assign(V, -1);
+  edgeBlock_.assign(E, -1);
+  normalBlock_.assign(F, -1);
+  faceParams_.assign(F, {});
+  faceRows_.assign(F, {});
+  for (int v = 0; v < V; ++v) vertexBlock_[v] = problem_.addBlock("vertex " + std::to_string(v), 3);
+  for (int e = 0; e < E; ++e)
+    if (topo.edgeType(e) == EdgeType::Spline && topo.interiorPoints(e) > 0)
+      edgeBlock_[e] = problem_.addBlock("edge " + std::to_string(e) + " points", 3 * topo.interiorPoints(e));
+  for (int f = 0; f < F; ++f) {
+    const FaceInfo& info = topo.face(f);
+    if (stripLike(info)) {
+      faceParams_[f] = evaluationParams(info.knots);
+      normalBlock_[f] = problem_.addBlock("face " + std::to_string(f) + " normals",
+                                          3 * static_cast<int>(faceParams_[f].size()));
+    } else {
+      normalBlock_[f] = problem_.addBlock("face " + std::to_string(f) + " normal", 3);
+    }
+    problem_.layout().setRegularizationScale(normalBlock_[f], options_.normalRegularizationScale);
+  }
+
+  // Values (normalized coordinates).
+  for (int v = 0; v < V; ++v)
+    problem_.blockValues(vertexBlock_[v]) = normalization_.toNormalized(design_.vertices.row(v).transpose());
+  for (int e = 0; e < E; ++e) {
+    if (edgeBlock_[e] < 0) continue;
+    Eigen::Map<Eigen::VectorXd> values = problem_.blockValues(edgeBlock_[e]);
+    for (int i = 0; i < topo.interiorPoints(e); ++i)
+      values.segment<3>(3 * i) = normalization_.toNormalized(design_.edges[e].curve.points.row(i + 1).transpose());
+  }
+  for (const PointRef& r : design_.fixed) {
+    const PointSlot s = slotOf(r);
+    if (s.vertex >= 0)
+      problem_.layout().setFixed(vertexBlock_[s.vertex], 0, 3);
+    else
+      problem_.layout().setFixed(edgeBlock_[s.edge], 3 * s.index, 3);
+  }
+
+  const int P = static_cast<int>(problem_.x().size() / 3);
+  std::vector<int> hardUnit, softUnit;
+  for (int f = 0; f < F; ++f) {
+    const FaceInfo& info = topo.face(f);
+    const int offN = problem_.layout().block(normalBlock_[f]).offset;
+    if (!stripLike(info)) {
+      std::vector<int> corners;
+      for (int c : info.corners) corners.push_back(3 * pointIndex({c, -1, 0}));
+      problem_.addTerm(std::make_unique<terms::PlanarPolygonTerm>("planarity", offN, corners),
+                       options_.developabilityWeight, Strength::Hard);
+      hardUnit.push_back(offN);
+      continue;
+    }
+    const std::vector<double>& params = faceParams_[f];
+    const int K = static_cast<int>(params.size());
+    FaceRows& rows = faceRows_[f];
+    const std::vector<PointSlot> slotsA = topo.controlSlots(info.a.edge, info.a.reversed);
+    rows.a = curveRows(info.knots, slotsA, params, 0);
+    rows.da = curveRows(info.knots, slotsA, params, 1);
+    if (info.type == FaceType::Cone) {
+      EvaluationMatrix W(K, P);
+      const int apex = pointIndex({info.apex, -1, 0});
+      for (int k = 0; k < K; ++k) W.insert(k, apex) = 1.0;
+      W.makeCompressed();
+      rows.b = {W, 0};
+      rows.db = {emptyRows(K, P), 0};
+    } else {
+      const std::vector<PointSlot> slotsB = topo.controlSlots(info.b.edge, info.b.reversed);
+      const spline::KnotVector knotsB = topo.knots(info.b.edge, info.b.reversed);
+      rows.b = curveRows(knotsB, slotsB, params, 0);
+      rows.db = curveRows(knotsB, slotsB, params, 1);
+    }
+    // b − a as one linear map: where a and b share a control point (the vertex of a degenerate
+    // ruling) the coefficients merge, so no row lists a variable twice.
+    EvaluationMatrix diff = rows.b.weights - rows.a.weights;
+    diff.makeCompressed();
+    problem_.addTerm(std::make_unique<terms::StripDevelopabilityTerm>(
+                         "developability", terms::LinearPoints{emptyRows(K, P), 0}, rows.da,
+                         terms::LinearPoints{diff, 0}, rows.db, terms::LinearPoints::identity(K, offN)),
+                     options_.developabilityWeight, Strength::Hard);
+    hardUnit.push_back(offN);
+    for (int k = 1; k < K; ++k) softUnit.push_back(offN + 3 * k);
+  }
+  problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal_hard", hardUnit), 1.0, Strength::Hard);
+  if (!softUnit.empty())
+    problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal", softUnit), options_.unitNormalWeight,
+                     Strength::Soft);
+
+  for (int e = 0; e < E; ++e) {
+    const CreaseKind kind = design_.edges[e].crease;
+    const EdgeInfo& info = topo.edge(e);
+    if (topo.edgeType(e) == EdgeType::Spline) {
+      const std::vector<PointSlot> slots = topo.controlSlots(e);
+      if (slots.size() >= 3) {
+        std::vector<int> offsets;
+        for (const PointSlot& s : slots) offsets.push_back(3 * pointIndex(s));
+        problem_.addTerm(std::make_unique<PolygonFairnessTerm>("fairness", offsets), 1.0, Strength::Soft,
+                         WeightSchedule::Fairness);
+      }
+      if (!info.interior() || kind == CreaseKind::None) continue;
+      const spline::KnotVector knots = topo.knots(e);
+      const std::vector<double> params = evaluationParams(knots);
+      terms::LinearPoints n1 = normalsAlongEdge(info.faces[0], e);
+      terms::LinearPoints n2 = normalsAlongEdge(info.faces[1], e);
+      if (n1.rows() != static_cast<int>(params.size()) || n2.rows() != static_cast<int>(params.size()))
+        throw std::logic_error("edge " + std::to_string(e) + ": crease and face parameters differ");
+      if (kind == CreaseKind::Smooth) {
+        problem_.addTerm(std::make_unique<terms::NormalMatchTerm>("smooth", n1, n2), options_.developabilityWeight,
+                         Strength::Hard);
+      } else {
+        const bool fold = kind == CreaseKind::Fold;
+        problem_.addTerm(std::make_unique<terms::CurvedFoldTerm>(
+                             fold ? "crease_fold" : "crease_geodesic", curveRows(knots, slots, params, 1),
+                             curveRows(knots, slots, params, 2), n1, n2,
+                             fold ? terms::CurvedFoldTerm::Mode::CurvedFold : terms::CurvedFoldTerm::Mode::Geodesic),
+                         options_.developabilityWeight, Strength::Hard);
+      }
+    } else if (kind == CreaseKind::Smooth) {
+      problem_.addTerm(std::make_unique<terms::NormalMatchTerm>("smooth", normalAtRuling(info.faces[0], e),
+                                                                normalAtRuling(info.faces[1], e)),
+                       options_.developabilityWeight, Strength::Hard);
+    }
+  }
+
+  for (const Handle& h : design_.handles)
+    handleTerms_.push_back(problem_.addTerm(
+        std::make_unique<terms::HandleTargetTerm>("handle", 3 * pointIndex(slotOf(h.point)),
+                                                  normalization_.toNormalized(h.position)),
+        h.weight, Strength::Soft));
+
+  initializeNormals();
+  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
+}
+
+void CompositeModel::initializeNormals() {
+  const Eigen::VectorXd& x = problem_.x();
+  const CompositeTopology& topo = *topology_;
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    const FaceInfo& info = topo.face(f);
+    std::vector<Eigen::Vector3d> corners;
+    for (int c : info.corners) corners.push_back(x.segment<3>(3 * pointIndex({c, -1, 0})));
+    Eigen::Vector3d polygonNormal = newellNormal(corners);
+    if (polygonNormal.norm() < 1e-300) polygonNormal = Eigen::Vector3d::UnitZ();
+    polygonNormal.normalize();
+    Eigen::Map<Eigen::VectorXd> normals = problem_.blockValues(normalBlock_[f]);
+    if (!stripLike(info)) {
+      normals = polygonNormal;
+      continue;
+    }
+    const FaceRows& rows = faceRows_[f];
+    const int K = static_cast<int>(faceParams_[f].size());
+    std::vector<Eigen::Vector3d> n(static_cast<std::size_t>(K));
+    std::vector<bool> ok(static_cast<std::size_t>(K), false);
+    for (int k = 0; k < K; ++k) {
+      const Eigen::Vector3d ruling = rows.b.point(x, k) - rows.a.point(x, k);
+      const Eigen::Vector3d ta = rows.da.point(x, k), tb = rows.db.point(x, k);
+      Eigen::Vector3d nk = (ta + tb).cross(ruling);
+      const double ref = (ta.norm() + tb.norm()) * std::max(ruling.norm(), 1e-300);
+      if (nk.norm() <= 1e-9 * ref) nk = ta.cross(tb);  // a degenerate ruling: the limit a′ × b′
+      if (nk.norm() > 1e-12 * std::max(ta.squaredNorm() + tb.squaredNorm(), 1e-300)) {
+        n[k] = nk.normalized();
+        ok[k] = true;
+      }
+    }
+    // Fill gaps from the nearest good parameter; keep one orientation along the face.
+    for (int k = 0; k < K; ++k) {
+      if (ok[k]) continue;
+      int best = -1;
+      for (int d = 1; d < K && best < 0; ++d) {
+        if (k - d >= 0 && ok[k - d]) best = k - d;
+        else if (k + d < K && ok[k + d]) best = k + d;
+      }
+      n[k] = best >= 0 ? n[best] : polygonNormal;
+    }
+    for (int k = 0; k < K; ++k) normals.segment<3>(3 * k) = n[k];
+  }
+}
+
+void CompositeModel::resetNormals() { initializeNormals(); }
+
+engine::SolveSummary CompositeModel::solve(const engine::SolverOptions& options) { return solver_->solve(options); }
+
+void CompositeModel::setHandleTarget(int i, const Eigen::Vector3d& position) {
+  if (i < 0 || i >= static_cast<int>(handleTerms_.size()))
+    throw std::out_of_range("handles[" + std::to_string(i) + "]: no such handle");
+  if (!position.allFinite())
+    throw std::invalid_argument("handles[" + std::to_string(i) + "].position: must be finite");
+  design_.handles[static_cast<std::size_t>(i)].position = position;
+  auto* term = static_cast<terms::HandleTargetTerm*>(problem_.term(handleTerms_[i]).term.get());
+  term->setTarget(normalization_.toNormalized(position));
+}
+
+// ---------------------------------------------------------------------------------------------
+// results
+
+Eigen::Vector3d CompositeModel::pointValue(const PointSlot& s) const {
+  const int offset = 3 * pointIndex(s);
+  if (problem_.layout().isFixed(offset)) {
+    if (s.vertex >= 0) return design_.vertices.row(s.vertex).transpose();
+    return design_.edges[s.edge].curve.points.row(s.index + 1).transpose();
+  }
+  return normalization_.fromNormalized(problem_.x().segment<3>(offset));
+}
+
+Eigen::Vector3d CompositeModel::normalVariable(int f, int k) const {
+  return problem_.x().segment<3>(problem_.layout().block(normalBlock_[f]).offset + 3 * k);
+}
+
+CompositeDesign CompositeModel::design() const {
+  CompositeDesign d = design_;
+  for (int v = 0; v < topology_->numVertices(); ++v) d.vertices.row(v) = pointValue({v, -1, 0}).transpose();
+  for (int e = 0; e < topology_->numEdges(); ++e) {
+    if (topology_->edgeType(e) != EdgeType::Spline) continue;
+    const std::vector<PointSlot> slots = topology_->controlSlots(e);
+    for (std::size_t i = 0; i < slots.size(); ++i)
+      d.edges[e].curve.points.row(static_cast<Eigen::Index>(i)) = pointValue(slots[i]).transpose();
+  }
+  return d;
+}
+
+namespace {
+
+spline::BSplineCurve orientedCurve(const CompositeTopology& topo, const CompositeDesign& d, const OrientedEdge& oe) {
+  spline::BSplineCurve c;
+  c.knots = topo.knots(oe.edge, oe.reversed);
+  c.points = d.edges[oe.edge].curve.points;
+  if (oe.reversed) c.points = c.points.colwise().reverse().eval();
+  return c;
+}
+
+std::pair<spline::BSplineCurve, spline::BSplineCurve> curvesOf(const CompositeTopology& topo,
+                                                               const CompositeDesign& d, int f) {
+  const FaceInfo& info = topo.face(f);
+  if (info.type == FaceType::Planar) throw std::logic_error("face " + std::to_string(f) + " is planar");
+  spline::BSplineCurve a = orientedCurve(topo, d, info.a);
+  spline::BSplineCurve b;
+  if (info.type == FaceType::Cone) {
+    b.knots = a.knots;
+    b.points = d.vertices.row(info.apex).replicate(a.points.rows(), 1);
+  } else {
+    b = orientedCurve(topo, d, info.b);
+  }
+  return {std::move(a), std::move(b)};
+}
+
+Eigen::Vector3d geometricNormal(const std::pair<spline::BSplineCurve, spline::BSplineCurve>& c, double u) {
+  const Eigen::Vector3d a = c.first.evaluate(u, 0), b = c.second.evaluate(u, 0);
+  const Eigen::Vector3d ta = c.first.evaluate(u, 1), tb = c.second.evaluate(u, 1);
+  const Eigen::Vector3d r = b - a;
+  Eigen::Vector3d n = (ta + tb).cross(r);
+  if (n.norm() <= 1e-9 * (ta.norm() + tb.norm()) * std::max(r.norm(), 1e-300)) n = ta.cross(tb);
+  const double len = n.norm();
+  return len > 0 ? Eigen::Vector3d(n / len) : n;
+}
+
+}  // namespace
+
+std::pair<spline::BSplineCurve, spline::BSplineCurve> CompositeModel::faceCurves(int f) const {
+  return curvesOf(*topology_, design(), f);
+}
+
+Eigen::Vector3d CompositeModel::faceNormal(int f, double u) const {
+  const FaceInfo& info = topology_->face(f);
+  const CompositeDesign d = design();
+  if (info.type == FaceType::Planar) {
+    std::vector<Eigen::Vector3d> corners;
+    for (int c : info.corners) corners.push_back(d.vertices.row(c).transpose());
+    return newellNormal(corners).normalized();
+  }
+  return geometricNormal(curvesOf(*topology_, d, f), u);
+}
+
+namespace {
+
+/// Everything the metrics and the extraction need, computed once from the current state.
+struct Evaluation {
+  const CompositeTopology& topo;
+  CompositeDesign d;
+  std::vector<std::pair<spline::BSplineCurve, spline::BSplineCurve>> curves;  ///< per face (planar: empty)
+  std::vector<Eigen::Vector3d> planarNormal;                                   ///< per face (planar)
+  /// Variable normals per face (orientation reference), with their parameters.
+  std::vector<std::vector<Eigen::Vector3d>> varNormals;
+  std::vector<std::vector<double>> varParams;
+
+  Evaluation(const CompositeTopology& t, CompositeDesign design) : topo(t), d(std::move(design)) {}
+
+  /// Unit normal of face f at its parameter u, oriented like the face's normal variables.
+  Eigen::Vector3d normal(int f, double u) const {
+    const FaceInfo& info = topo.face(f);
+    if (info.type == FaceType::Planar) return planarNormal[f];
+    Eigen::Vector3d n = geometricNormal(curves[f], u);
+    const std::vector<double>& p = varParams[f];
+    const auto it = std::lower_bound(p.begin(), p.end(), u);
+    std::size_t k = static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - p.begin(), static_cast<std::ptrdiff_t>(p.size()) - 1));
+    if (k > 0 && std::abs(p[k - 1] - u) < std::abs(p[k] - u)) --k;
+    if (n.dot(varNormals[f][k]) < 0) n = -n;
+    return n;
+  }
+};
+
+}  // namespace
+
+std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
+  if (samplesPerSpan < 1) throw std::invalid_argument("creases: need at least 1 sample per span");
+  const CompositeTopology& topo = *topology_;
+  Evaluation ev(topo, design());
+  ev.curves.resize(topo.numFaces());
+  ev.planarNormal.resize(topo.numFaces());
+  ev.varNormals.resize(topo.numFaces());
+  ev.varParams = faceParams_;
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    const FaceInfo& info = topo.face(f);
+    if (info.type == FaceType::Planar) {
+      std::vector<Eigen::Vector3d> corners;
+      for (int c : info.corners) corners.push_back(ev.d.vertices.row(c).transpose());
+      Eigen::Vector3d n = newellNormal(corners);
+      ev.planarNormal[f] = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+      continue;
+    }
+    ev.curves[f] = curvesOf(topo, ev.d, f);
+    for (std::size_t k = 0; k < faceParams_[f].size(); ++k)
+      ev.varNormals[f].push_back(normalVariable(f, static_cast<int>(k)));
+  }
+  std::vector<CreaseGeometry> out;
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    const EdgeInfo& info = topo.edge(e);
+    if (!info.interior()) continue;
+    CreaseGeometry c;
+    c.edge = e;
+    c.type = topo.edgeType(e);
+    c.kind = ev.d.edges[e].crease;
+    const int f1 = info.faces[0], f2 = info.faces[1];
+    std::vector<Eigen::Vector3d> pts, tangents, n1s, n2s;
+    if (c.type == EdgeType::Spline) {
+      const spline::BSplineCurve& curve = ev.d.edges[e].curve;
+      const int count = curve.knots.numSpans() * samplesPerSpan + 1;
+      const std::vector<double> us = curve.knots.uniformSamples(count);
+      const double sum = curve.knots.domainBegin() + curve.knots.domainEnd();
+      for (double u : us) {
+        pts.push_back(curve.evaluate(u, 0));
+        tangents.push_back(curve.evaluate(u, 1));
+        n1s.push_back(ev.normal(f1, topo.edgeRunsWithU(f1, e) ? u : sum - u));
+        n2s.push_back(ev.normal(f2, topo.edgeRunsWithU(f2, e) ? u : sum - u));
+      }
+    } else {
+      const auto ends = topo.edgeVertices(e);
+      const Eigen::Vector3d p0 = ev.d.vertices.row(ends[0]).transpose(), p1 = ev.d.vertices.row(ends[1]).transpose();
+      auto endNormal = [&](int f) {
+        const FaceInfo& fi = topo.face(f);
+        if (fi.type == FaceType::Planar) return ev.normal(f, 0.0);
+        const int end = topo.rulingEnd(f, e);
+        return ev.normal(f, end == 0 ? fi.knots.domainBegin() : fi.knots.domainEnd());
+      };
+      const Eigen::Vector3d n1 = endNormal(f1), n2 = endNormal(f2);
+      for (const Eigen::Vector3d& p : {p0, p1}) {
+        pts.push_back(p);
+        tangents.push_back(p1 - p0);
+        n1s.push_back(n1);
+        n2s.push_back(n2);
+      }
+    }
+    const int S = static_cast<int>(pts.size());
+    c.polyline.resize(S, 3);
+    c.foldAngleDeg.resize(S);
+    double mean = 0.0;
+    for (int i = 0; i < S; ++i) {
+      c.polyline.row(i) = pts[i].transpose();
+      const Eigen::Vector3d t = tangents[i].norm() > 0 ? Eigen::Vector3d(tangents[i].normalized()) : tangents[i];
+      const double theta = std::atan2(t.dot(n1s[i].cross(n2s[i])), n1s[i].dot(n2s[i]));
+      c.foldAngleDeg[i] = -theta * 180.0 / kPi;
+      mean += c.foldAngleDeg[i] / S;
+    }
+    c.assignment = mean > 0.01 ? 'V' : (mean < -0.01 ? 'M' : 'F');
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
+  if (samplesPerSpan < 1) throw std::invalid_argument("quality: need at least 1 sample per span");
+  const CompositeTopology& topo = *topology_;
+  const CompositeDesign d = design();
+  const double tiny = 1e-12 * scale_;
+  CompositeQuality q;
+
+  // The welded auxiliary mesh: vertices, S-edge samples, one quad per pair of rulings.
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 0; v < topo.numVertices(); ++v) points.push_back(d.vertices.row(v).transpose());
+  std::vector<int> edgeBase(topo.numEdges(), -1), edgeCount(topo.numEdges(), 0);
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (topo.edgeType(e) != EdgeType::Spline) continue;
+    const spline::BSplineCurve& c = d.edges[e].curve;
+    const int U = c.knots.numSpans() * samplesPerSpan + 1;
+    edgeCount[e] = U;
+    edgeBase[e] = static_cast<int>(points.size());
+    const Eigen::MatrixXd s = c.evaluate(c.knots.uniformSamples(U), 0);
+    for (int i = 1; i + 1 < U; ++i) points.push_back(s.row(i).transpose());
+  }
+  auto sampleId = [&](const OrientedEdge& oe, int i) {
+    const int U = edgeCount[oe.edge];
+    const int stored = oe.reversed ? U - 1 - i : i;
+    const auto ends = topo.edgeVertices(oe.edge);
+    if (stored == 0) return ends[0];
+    if (stored == U - 1) return ends[1];
+    return edgeBase[oe.edge] + stored - 1;
+  };
+  std::vector<std::vector<int>> polygons;
+  double flatSum = 0.0;
+  int flatCount = 0;
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    const FaceInfo& info = topo.face(f);
+    if (info.type == FaceType::Planar) {
+      polygons.push_back(info.corners);
+      const int N = static_cast<int>(info.corners.size());
+      double delta = 0.0;
+      if (N >= 4)
+        for (int i = 0; i < N; ++i)
+          delta = std::max(delta, quadFlatness(points[info.corners[i]], points[info.corners[(i + 1) % N]],
+                                               points[info.corners[(i + 2) % N]], points[info.corners[(i + 3) % N]],
+                                               tiny));
+      q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);
+      flatSum += delta;
+      ++flatCount;
+      continue;
+    }
+    const int U = edgeCount[info.a.edge];
+    for (int i = 0; i + 1 < U; ++i) {
+      const int a0 = sampleId(info.a, i), a1 = sampleId(info.a, i + 1);
+      const int b0 = info.type == FaceType::Cone ? info.apex : sampleId(info.b, i);
+      const int b1 = info.type == FaceType::Cone ? info.apex : sampleId(info.b, i + 1);
+      std::vector<int> poly;
+      for (int id : {a0, a1, b1, b0})
+        if (poly.empty() || poly.back() != id) poly.push_back(id);
+      while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+      const double delta = poly.size() == 4 ? quadFlatness(points[a0], points[a1], points[b1], points[b0], tiny) : 0.0;
+      q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);
+      flatSum += delta;
+      ++flatCount;
+      if (poly.size() >= 3) polygons.push_back(poly);
+    }
+  }
+  q.faceFlatnessMean = flatCount > 0 ? flatSum / flatCount : 0.0;
+  q.quads = flatCount;
+
+  // Angle sums at interior vertices.
+  std::vector<double> angleSum(points.size(), 0.0);
+  std::map<std::pair<int, int>, int> edgeUse;
+  for (const std::vector<int>& poly : polygons) {
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const int prev = poly[(i + n - 1) % n], cur = poly[i], next = poly[(i + 1) % n];
+      angleSum[cur] += angleAt(points[prev], points[cur], points[next]);
+      ++edgeUse[std::minmax(cur, next)];
+    }
+  }
+  std::vector<bool> boundary(points.size(), false), used(points.size(), false);
+  for (const auto& [edge, count] : edgeUse) {
+    used[edge.first] = used[edge.second] = true;
+    if (count == 1) boundary[edge.first] = boundary[edge.second] = true;
+  }
+  for (std::size_t v = 0; v < points.size(); ++v) {
+    if (!used[v] || boundary[v]) continue;
+    ++q.interiorVertices;
+    q.vertexCurvatureMax = std::max(q.vertexCurvatureMax, std::abs(angleSum[v] - 2.0 * kPi));
+  }
+
+  // Warp angles over all strip-like faces.
+  double warpSum = 0.0;
+  int warpFaces = 0;
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    if (topo.face(f).type == FaceType::Planar) continue;
+    const auto curves = curvesOf(topo, d, f);
+    const metrics::StripQuality sq = metrics::stripQuality(curves.first, curves.second, 1000);
+    q.warpAngleMaxDeg = std::max(q.warpAngleMaxDeg, sq.warpAngleMaxDeg);
+    warpSum += sq.warpAngleMeanDeg;
+    ++warpFaces;
+  }
+  q.warpAngleMeanDeg = warpFaces > 0 ? warpSum / warpFaces : 0.0;
+
+  // Crease rows (eq. 7/8) with the surfaces' unit normals; fold angles.
+  const std::vector<CreaseGeometry> cs = creases(samplesPerSpan);
+  for (const CreaseGeometry& c : cs) {
+    if (c.foldAngleDeg.size() > 0) q.foldAngleMaxDeg = std::max(q.foldAngleMaxDeg, c.foldAngleDeg.cwiseAbs().maxCoeff());
+    if (c.kind != CreaseKind::Fold && c.kind != CreaseKind::Geodesic) continue;
+    const double sign = c.kind == CreaseKind::Fold ? 1.0 : -1.0;
+    const EdgeInfo& info = topo.edge(c.edge);
+    const spline::BSplineCurve& curve = d.edges[c.edge].curve;
+    const double sum = curve.knots.domainBegin() + curve.knots.domainEnd();
+    const auto c1 = curvesOf(topo, d, info.faces[0]), c2 = curvesOf(topo, d, info.faces[1]);
+    const std::vector<double> us = curve.knots.uniformSamples(curve.knots.numSpans() * samplesPerSpan + 1);
+    for (double u : us) {
+      Eigen::Vector3d n1 = geometricNormal(c1, topo.edgeRunsWithU(info.faces[0], c.edge) ? u : sum - u);
+      Eigen::Vector3d n2 = geometricNormal(c2, topo.edgeRunsWithU(info.faces[1], c.edge) ? u : sum - u);
+      const Eigen::Vector3d m = n1 + sign * n2;
+      const Eigen::Vector3d t1 = curve.evaluate(u, 1), t2 = curve.evaluate(u, 2);
+      const double s1 = t1.norm() > 1e-12 ? 1.0 / t1.norm() : 1.0;
+      const double s2 = t2.norm() > 1e-12 ? 1.0 / t2.norm() : 1.0;
+      q.creaseFoldResidualMax = std::max({q.creaseFoldResidualMax, std::abs(s1 * t1.dot(m)), std::abs(s2 * t2.dot(m))});
+    }
+  }
+  return q;
+}
+
+CompositeGeometry CompositeModel::geometry(int samplesPerSpan, int vSamples) const {
+  if (samplesPerSpan < 1 || vSamples < 2)
+    throw std::invalid_argument("geometry: need at least 1 sample per span and 2 across the rulings");
+  const CompositeTopology& topo = *topology_;
+  const CompositeDesign d = design();
+  CompositeGeometry g;
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    const FaceInfo& info = topo.face(f);
+    io::QuadMesh mesh;
+    if (info.type == FaceType::Planar) {
+      const int N = static_cast<int>(info.corners.size());
+      mesh.vertices.resize(2 * N + 1, 3);
+      Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+      for (int i = 0; i < N; ++i) {
+        const Eigen::RowVector3d p = d.vertices.row(info.corners[i]);
+        const Eigen::RowVector3d next = d.vertices.row(info.corners[(i + 1) % N]);
+        mesh.vertices.row(2 * i) = p;
+        mesh.vertices.row(2 * i + 1) = 0.5 * (p + next);
+        centre += p / N;
+      }
+      mesh.vertices.row(2 * N) = centre;
+      mesh.quads.resize(N, 4);
+      for (int i = 0; i < N; ++i) mesh.quads.row(i) << 2 * N, 2 * i, 2 * i + 1, (2 * i + 2) % (2 * N);
+    } else {
+      const auto curves = curvesOf(topo, d, f);
+      const int U = info.knots.numSpans() * samplesPerSpan + 1;
+      const std::vector<double> us = info.knots.uniformSamples(U);
+      const Eigen::MatrixXd A = curves.first.evaluate(us, 0), B = curves.second.evaluate(us, 0);
+      mesh.vertices.resize(static_cast<Eigen::Index>(U) * vSamples, 3);
+      for (int i = 0; i < U; ++i)
+        for (int j = 0; j < vSamples; ++j) {
+          const double v = static_cast<double>(j) / (vSamples - 1);
+          mesh.vertices.row(i * vSamples + j) = (1.0 - v) * A.row(i) + v * B.row(i);
+        }
+      mesh.quads.resize(static_cast<Eigen::Index>(U - 1) * (vSamples - 1), 4);
+      int q = 0;
+      for (int i = 0; i + 1 < U; ++i)
+        for (int j = 0; j + 1 < vSamples; ++j)
+          mesh.quads.row(q++) << i * vSamples + j, (i + 1) * vSamples + j, (i + 1) * vSamples + j + 1,
+              i * vSamples + j + 1;
+    }
+    g.faces.push_back(std::move(mesh));
+  }
+  Eigen::Index nv = 0, nq = 0;
+  for (const io::QuadMesh& m : g.faces) {
+    nv += m.vertices.rows();
+    nq += m.quads.rows();
+  }
+  g.merged.vertices.resize(nv, 3);
+  g.merged.quads.resize(nq, 4);
+  nv = nq = 0;
+  for (const io::QuadMesh& m : g.faces) {
+    g.merged.vertices.middleRows(nv, m.vertices.rows()) = m.vertices;
+    g.merged.quads.middleRows(nq, m.quads.rows()) = m.quads.array() + static_cast<int>(nv);
+    nv += m.vertices.rows();
+    nq += m.quads.rows();
+  }
+  g.creases = creases(samplesPerSpan);
+  return g;
+}
+
+}  // namespace devsurf::models::composite
