@@ -9,7 +9,7 @@
 #include <string>
 
 #include "devsurf/metrics/StripQuality.h"
-#include "devsurf/models/composite/PolygonFairnessTerm.h"
+#include "devsurf/terms/PolygonFairnessTerm.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
@@ -280,7 +280,7 @@ void CompositeModel::buildProblem() {
       if (slots.size() >= 3) {
         std::vector<int> offsets;
         for (const PointSlot& s : slots) offsets.push_back(3 * pointIndex(s));
-        problem_.addTerm(std::make_unique<PolygonFairnessTerm>("fairness", offsets), 1.0, Strength::Soft,
+        problem_.addTerm(std::make_unique<terms::PolygonFairnessTerm>("fairness", offsets), 1.0, Strength::Soft,
                          WeightSchedule::Fairness);
       }
       if (!info.interior() || kind == CreaseKind::None) continue;

@@ -8,7 +8,6 @@
 
 #include "CompositeFixtures.h"
 #include "devsurf/engine/JacobianCheck.h"
-#include "devsurf/models/composite/PolygonFairnessTerm.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -48,20 +47,6 @@ void expectJacobiansMatch(CompositeModel& model) {
     EXPECT_LT(r.maxRelativeError, 1e-6) << term.name();
     EXPECT_TRUE(r.structureComplete) << term.name();
   }
-}
-
-TEST(PolygonFairnessTerm, SecondDifferencesOverScatteredPoints) {
-  PolygonFairnessTerm term("fairness", {9, 0, 3, 15});
-  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(18, 0.0, 1.0).array().square();
-  const auto r = engine::checkJacobian(term, x);
-  EXPECT_LT(r.maxAbsoluteError, 1e-8);
-  EXPECT_TRUE(r.structureComplete);
-  ASSERT_EQ(term.numResiduals(), 6);
-  std::vector<double> res(6);
-  term.evaluate(x, res.data(), nullptr);
-  EXPECT_DOUBLE_EQ(res[0], x[9] - 2 * x[0] + x[3]);
-  EXPECT_DOUBLE_EQ(res[5], x[0 + 2] - 2 * x[3 + 2] + x[15 + 2]);
-  EXPECT_THROW(PolygonFairnessTerm("f", {0, 3, 0}), std::invalid_argument);
 }
 
 TEST(CompositeModel, VariablesAreSharedBlocksAndTermsAreConsistent) {

@@ -4,7 +4,7 @@
 
 #include "devsurf/engine/Term.h"
 
-namespace devsurf::models::composite {
+namespace devsurf::terms {
 
 /// Second differences p_{i−1} − 2p_i + p_{i+1} of a control polygon whose 3D points live anywhere
 /// in x (000_… §3.2, 003_… §5.2.6): an S edge's polygon starts and ends at vertex blocks and has its
@@ -24,4 +24,4 @@ class PolygonFairnessTerm final : public engine::Term {
   std::vector<int> points_;
 };
 
-}  // namespace devsurf::models::composite
+}  // namespace devsurf::terms

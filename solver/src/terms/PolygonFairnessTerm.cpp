@@ -1,8 +1,8 @@
-#include "devsurf/models/composite/PolygonFairnessTerm.h"
+#include "devsurf/terms/PolygonFairnessTerm.h"
 
 #include <stdexcept>
 
-namespace devsurf::models::composite {
+namespace devsurf::terms {
 
 PolygonFairnessTerm::PolygonFairnessTerm(std::string name, std::vector<int> pointOffsets)
     : Term(std::move(name)), points_(std::move(pointOffsets)) {
@@ -38,4 +38,4 @@ void PolygonFairnessTerm::evaluate(const Eigen::VectorXd& x, double* residuals, 
     }
 }
 
-}  // namespace devsurf::models::composite
+}  // namespace devsurf::terms
