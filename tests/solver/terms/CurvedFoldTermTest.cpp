@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/TermTesting.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -19,37 +21,10 @@
 namespace devsurf::terms {
 namespace {
 
-Eigen::VectorXd randomVector(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Eigen::VectorXd x(n);
-  for (int i = 0; i < n; ++i) x[i] = uni(rng);
-  return x;
-}
-
-void expectJacobianMatches(engine::Term& term, const Eigen::VectorXd& x) {
-  const engine::JacobianCheckResult r = engine::checkJacobian(term, x, 1e-6);
-  EXPECT_LT(r.maxRelativeError, 1e-7) << term.name() << ": worst row " << r.worstRow
-                                      << ", variable " << r.worstVariable;
-  EXPECT_TRUE(r.structureComplete) << term.name() << ": derivative outside the structure "
-                                   << r.maxOutsideStructure;
-}
-
-void expectNoDuplicateEntries(const engine::Term& term) {
-  std::vector<engine::JacobianEntry> entries;
-  term.jacobianStructure(entries);
-  std::vector<std::pair<int, int>> keys;
-  for (const auto& e : entries) keys.emplace_back(e.row, e.variable);
-  std::sort(keys.begin(), keys.end());
-  EXPECT_EQ(std::adjacent_find(keys.begin(), keys.end()), keys.end()) << term.name();
-}
-
-Eigen::VectorXd residuals(engine::Term& term, const Eigen::VectorXd& x) {
-  term.linearizeAt(x);
-  Eigen::VectorXd r(term.numResiduals());
-  term.evaluate(x, r.data(), nullptr);
-  return r;
-}
+using devsurf::testing::randomVector;
+using devsurf::testing::expectJacobianMatches;
+using devsurf::testing::expectNoDuplicateEntries;
+using devsurf::testing::residuals;
 
 /// Crease a (6 control points) and two normal blocks laid out as [a | n1 | n2].
 struct CreaseFixture {

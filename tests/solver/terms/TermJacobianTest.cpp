@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/TermTesting.h"
+
 #include <random>
 
 #include <Eigen/Geometry>
@@ -18,21 +20,8 @@
 namespace devsurf::terms {
 namespace {
 
-Eigen::VectorXd randomVector(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Eigen::VectorXd x(n);
-  for (int i = 0; i < n; ++i) x[i] = uni(rng);
-  return x;
-}
-
-void expectJacobianMatches(engine::Term& term, const Eigen::VectorXd& x) {
-  const engine::JacobianCheckResult r = engine::checkJacobian(term, x, 1e-6);
-  EXPECT_LT(r.maxRelativeError, 1e-7) << term.name() << ": worst row " << r.worstRow
-                                      << ", variable " << r.worstVariable;
-  EXPECT_TRUE(r.structureComplete) << term.name() << ": derivative outside the structure "
-                                   << r.maxOutsideStructure;
-}
+using devsurf::testing::randomVector;
+using devsurf::testing::expectJacobianMatches;
 
 /// Curves a (n points), b (n points) and normals laid out as [a | b | normals].
 struct StripFixture {
