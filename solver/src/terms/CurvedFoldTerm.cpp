@@ -4,16 +4,6 @@
 #include <stdexcept>
 
 namespace devsurf::terms {
-namespace {
-
-/// 1/|v|, or 1 where |v| vanishes (as in StripDevelopabilityTerm).
-double inverseLength(const Eigen::Vector3d& v) {
-  const double n = v.norm();
-  return n > 1e-12 ? 1.0 / n : 1.0;
-}
-
-}  // namespace
-
 CurvedFoldTerm::CurvedFoldTerm(std::string name, LinearPoints da, LinearPoints dda,
                                LinearPoints n1, LinearPoints n2, Mode mode,
                                std::vector<double> rowMultipliers)
@@ -31,13 +21,7 @@ CurvedFoldTerm::CurvedFoldTerm(std::string name, LinearPoints da, LinearPoints d
   if (multipliers_.empty()) multipliers_.assign(count_, 1.0);
   if (static_cast<int>(multipliers_.size()) != count_)
     throw std::invalid_argument("CurvedFoldTerm: need one row multiplier per parameter");
-  std::vector<engine::JacobianEntry> entries;
-  jacobianStructure(entries);
-  std::vector<std::pair<int, int>> keys;
-  keys.reserve(entries.size());
-  for (const auto& e : entries) keys.emplace_back(e.row, e.variable);
-  std::sort(keys.begin(), keys.end());
-  if (std::adjacent_find(keys.begin(), keys.end()) != keys.end())
+  if (hasDuplicateEntries(*this))
     throw std::invalid_argument("CurvedFoldTerm: crease and normals share variables");
 }
 
@@ -54,8 +38,8 @@ void CurvedFoldTerm::jacobianStructure(std::vector<engine::JacobianEntry>& entri
 
 void CurvedFoldTerm::linearizeAt(const Eigen::VectorXd& x) {
   for (int k = 0; k < count_; ++k) {
-    scales_[2 * k] = inverseLength(da_.point(x, k));
-    scales_[2 * k + 1] = inverseLength(dda_.point(x, k));
+    scales_[2 * k] = inverseLengthOrOne(da_.point(x, k));
+    scales_[2 * k + 1] = inverseLengthOrOne(dda_.point(x, k));
   }
 }
 

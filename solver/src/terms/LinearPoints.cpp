@@ -1,5 +1,7 @@
 #include "devsurf/terms/LinearPoints.h"
 
+#include <algorithm>
+#include <utility>
 #include <vector>
 
 namespace devsurf::terms {
@@ -34,6 +36,16 @@ double* LinearPoints::writeJacobian(int k, const Eigen::Vector3d& v, double scal
     *out++ = w * v[2];
   }
   return out;
+}
+
+bool hasDuplicateEntries(const engine::Term& term) {
+  std::vector<engine::JacobianEntry> entries;
+  term.jacobianStructure(entries);
+  std::vector<std::pair<int, int>> keys;
+  keys.reserve(entries.size());
+  for (const auto& e : entries) keys.emplace_back(e.row, e.variable);
+  std::sort(keys.begin(), keys.end());
+  return std::adjacent_find(keys.begin(), keys.end()) != keys.end();
 }
 
 }  // namespace devsurf::terms

@@ -4,16 +4,6 @@
 #include <stdexcept>
 
 namespace devsurf::terms {
-namespace {
-
-/// 1/|v|, or 1 where |v| vanishes (as in StripDevelopabilityTerm).
-double inverseLength(const Eigen::Vector3d& v) {
-  const double n = v.norm();
-  return n > 1e-12 ? 1.0 / n : 1.0;
-}
-
-}  // namespace
-
 StraightUnfoldingTerm::StraightUnfoldingTerm(std::string name, LinearPoints da, LinearPoints dda,
                                              LinearPoints nLeft, LinearPoints nOsc)
     : Term(std::move(name)),
@@ -25,13 +15,7 @@ StraightUnfoldingTerm::StraightUnfoldingTerm(std::string name, LinearPoints da, 
       scales_(2 * static_cast<std::size_t>(count_), 1.0) {
   if (dda_.rows() != count_ || left_.rows() != count_ || osc_.rows() != count_)
     throw std::invalid_argument("StraightUnfoldingTerm: all point sets need the same rows");
-  std::vector<engine::JacobianEntry> entries;
-  jacobianStructure(entries);
-  std::vector<std::pair<int, int>> keys;
-  keys.reserve(entries.size());
-  for (const auto& e : entries) keys.emplace_back(e.row, e.variable);
-  std::sort(keys.begin(), keys.end());
-  if (std::adjacent_find(keys.begin(), keys.end()) != keys.end())
+  if (hasDuplicateEntries(*this))
     throw std::invalid_argument("StraightUnfoldingTerm: a row lists a variable twice");
 }
 
@@ -49,8 +33,8 @@ void StraightUnfoldingTerm::jacobianStructure(std::vector<engine::JacobianEntry>
 
 void StraightUnfoldingTerm::linearizeAt(const Eigen::VectorXd& x) {
   for (int k = 0; k < count_; ++k) {
-    scales_[2 * k] = inverseLength(da_.point(x, k));
-    scales_[2 * k + 1] = inverseLength(dda_.point(x, k));
+    scales_[2 * k] = inverseLengthOrOne(da_.point(x, k));
+    scales_[2 * k + 1] = inverseLengthOrOne(dda_.point(x, k));
   }
 }
 

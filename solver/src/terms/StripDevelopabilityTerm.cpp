@@ -5,16 +5,6 @@
 #include <stdexcept>
 
 namespace devsurf::terms {
-namespace {
-
-/// 1/|v|, or 1 where |v| vanishes (a cone's apex curve has b′ ≡ 0: its row is identically zero).
-double inverseLength(const Eigen::Vector3d& v) {
-  const double n = v.norm();
-  return n > 1e-12 ? 1.0 / n : 1.0;
-}
-
-}  // namespace
-
 StripDevelopabilityTerm::StripDevelopabilityTerm(std::string name, LinearPoints a, LinearPoints da,
                                                  LinearPoints b, LinearPoints db,
                                                  LinearPoints normals)
@@ -45,9 +35,9 @@ void StripDevelopabilityTerm::jacobianStructure(std::vector<engine::JacobianEntr
 
 void StripDevelopabilityTerm::linearizeAt(const Eigen::VectorXd& x) {
   for (int k = 0; k < count_; ++k) {
-    scales_[3 * k] = inverseLength(b_.point(x, k) - a_.point(x, k));
-    scales_[3 * k + 1] = inverseLength(da_.point(x, k));
-    scales_[3 * k + 2] = inverseLength(db_.point(x, k));
+    scales_[3 * k] = inverseLengthOrOne(b_.point(x, k) - a_.point(x, k));
+    scales_[3 * k + 1] = inverseLengthOrOne(da_.point(x, k));
+    scales_[3 * k + 2] = inverseLengthOrOne(db_.point(x, k));
   }
 }
 

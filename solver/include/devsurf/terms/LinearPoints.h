@@ -30,4 +30,15 @@ struct LinearPoints {
   double* writeJacobian(int k, const Eigen::Vector3d& v, double scale, double* out) const;
 };
 
+/// Row scale 1/|v| of 003_… §5.2.1, or 1 where |v| vanishes (a cone's apex curve has b′ ≡ 0 and
+/// its row is identically zero).
+inline double inverseLengthOrOne(const Eigen::Vector3d& v) {
+  const double n = v.norm();
+  return n > 1e-12 ? 1.0 / n : 1.0;
+}
+
+/// True if a term's Jacobian structure lists some (row, variable) twice (the assembler forbids
+/// it; happens when two point sets of one row share control points).
+bool hasDuplicateEntries(const engine::Term& term);
+
 }  // namespace devsurf::terms
