@@ -138,6 +138,7 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
   for (std::size_t i = 0; i < handles.size(); ++i)
     d.handles.push_back({compositePointFromJson(handles[i], indexPath("model.handles", i)),
                          point3(handles[i].at("position")), handles[i].value("weight", handleWeight)});
+  if (m.contains("development")) d.developmentSamples = m["development"].at("samples").get<int>();
   return d;
 }
 
@@ -176,6 +177,7 @@ json compositeToJson(const composite::CompositeDesign& d) {
     handles.push_back(std::move(jh));
   }
   if (!handles.empty()) m["handles"] = std::move(handles);
+  if (d.developmentSamples > 0) m["development"] = {{"samples", d.developmentSamples}};
   return m;
 }
 

@@ -4,6 +4,9 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "devsurf/io/FoldWriter.h"
+#include "devsurf/io/SvgFoldPattern.h"
+
 namespace devsurf::server {
 
 SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
@@ -82,6 +85,7 @@ proto::Metrics SceneSolver::metrics() const {
         moved = std::max(moved, (now - initialComposite_.edges[e].curve.points).rowwise().norm().maxCoeff());
     }
     m["displacement_max"] = moved;
+    if (composite_->hasDevelopment()) m["development_length_error"] = composite_->developmentLengthError();
     m["unknowns"] = composite_->numUnknowns();
     return m;
   }
@@ -113,8 +117,19 @@ void SceneSolver::exportTo(const std::string& spec) const {
     throw std::invalid_argument("--export: expected FORMAT:FILE, e.g. obj:strip.obj, got \"" + spec + "\"");
   const std::string format = spec.substr(0, colon);
   const std::string path = spec.substr(colon + 1);
+  if (format == "fold" || format == "svg") {
+    if (!composite_ || !composite_->hasDevelopment())
+      throw std::invalid_argument("--export: fold/svg export needs \"development\" in the composite model");
+    const io::CreasePattern cp = composite_->creasePattern(scene_.name);
+    if (format == "fold")
+      io::writeFold(cp, path);
+    else
+      io::writeSvgFoldPattern(cp, path);
+    return;
+  }
   if (format != "obj" && format != "off" && format != "ply" && format != "stl")
-    throw std::invalid_argument("--export: unknown format \"" + format + "\" (expected obj, off, ply or stl)");
+    throw std::invalid_argument("--export: unknown format \"" + format +
+                                "\" (expected obj, off, ply, stl, or fold, svg for composites with a development)");
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;

@@ -65,6 +65,37 @@ TEST(SolveCommand, HonoursIterationsOutAndExport) {
   for (const std::string& p : {reportPath, objPath, objPath + ".obj"}) std::remove(p.c_str());
 }
 
+TEST(SolveCommand, ExportsTheFoldPatternOfACompositeWithADevelopment) {
+  const std::string fold = tempPath("pattern.fold"), svg = tempPath("pattern.svg");
+  const CliRun r = run({"solve", example("composite-curved-fold.json"), "--export", "fold:" + fold,
+                        "--export", "svg:" + svg});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(r.out);
+  EXPECT_LT(report["metrics"]["development_length_error"].get<double>(), 1e-3);
+  EXPECT_LT(report["metrics"]["warp_angle_max_deg"].get<double>(), 0.05);
+  const nlohmann::json doc = nlohmann::json::parse(std::ifstream(fold));
+  EXPECT_EQ(doc["file_spec"], 1.2);
+  int creases = 0;
+  for (std::size_t e = 0; e < doc["edges_assignment"].size(); ++e) {
+    const std::string a = doc["edges_assignment"][e];
+    if (a == "M" || a == "V") {
+      ++creases;
+      const double angle = doc["edges_foldAngle"][e];
+      EXPECT_EQ(a == "V", angle > 0) << "FOLD: valley folds have positive angles";
+    }
+  }
+  EXPECT_GT(creases, 0);
+  std::ifstream svgFile(svg);
+  const std::string text((std::istreambuf_iterator<char>(svgFile)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  EXPECT_NE(text.find("curve-"), std::string::npos);
+  // Without a development there is no fold pattern.
+  const CliRun no = run({"solve", example("composite-two-creases.json"), "--export", "svg:" + svg});
+  EXPECT_EQ(no.code, 2);
+  EXPECT_NE(no.err.find("development"), std::string::npos);
+  for (const std::string& p : {fold, svg}) std::remove(p.c_str());
+}
+
 TEST(SolveCommand, ReadsTheSceneFromStandardInput) {
   std::ifstream file(example("strip-cylinder.json"));
   std::stringstream text;

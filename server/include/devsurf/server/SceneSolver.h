@@ -41,7 +41,8 @@ class SceneSolver {
   /// @throws std::logic_error if the scene is not a composite
   models::composite::CompositeModel& compositeModel();
   /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface; composites:
-  /// all faces in one mesh, see CompositeGeometry::merged).
+  /// all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
+  /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm).
   /// @throws std::invalid_argument for an unknown format, std::runtime_error if writing fails
   void exportTo(const std::string& spec) const;
 

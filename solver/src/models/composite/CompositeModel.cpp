@@ -87,6 +87,9 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
       if (!design.vertices.row(v).allFinite())
         throw std::invalid_argument(refPath("vertices", static_cast<std::size_t>(v)) + ": coordinates must be finite");
   }
+  if (design.developmentSamples < 0 || design.developmentSamples > 64)
+    throw std::invalid_argument("development.samples: must be between 1 and 64 (0: no development), got " +
+                                std::to_string(design.developmentSamples));
   const CompositeTopology topology(design);
   auto checkRef = [&](const PointRef& r, const std::string& path) {
     if (r.vertex >= 0) {
@@ -206,6 +209,10 @@ void CompositeModel::buildProblem() {
     }
     problem_.layout().setRegularizationScale(normalBlock_[f], options_.normalRegularizationScale);
   }
+  if (design_.developmentSamples > 0) {
+    buildDevelopmentMesh();
+    developmentBlock_ = problem_.addBlock("development", 2 * devSpatial_.rows());
+  }
 
   // Values (normalized coordinates).
   for (int v = 0; v < V; ++v)
@@ -307,6 +314,8 @@ void CompositeModel::buildProblem() {
                        options_.developabilityWeight, Strength::Hard);
     }
   }
+
+  if (developmentBlock_ >= 0) addDevelopmentTerms();
 
   for (const Handle& h : design_.handles)
     handleTerms_.push_back(problem_.addTerm(

@@ -69,6 +69,10 @@ struct CompositeDesign {
   std::vector<std::vector<int>> faces;
   std::vector<PointRef> fixed;
   std::vector<Handle> handles;
+  /// Development management (scene "development": {"samples": n}; 003_… §5.2.5): samples per
+  /// span along the S edges of the sampled mesh whose planar development is solved for together
+  /// with the surface (eq. 12). 0 = no development (the default).
+  int developmentSamples = 0;
 };
 
 }  // namespace devsurf::models::composite

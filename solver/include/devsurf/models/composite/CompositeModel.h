@@ -1,6 +1,8 @@
 #pragma once
 
+#include <array>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -9,6 +11,7 @@
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/engine/Normalization.h"
 #include "devsurf/engine/Problem.h"
+#include "devsurf/io/CreasePattern.h"
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/models/composite/CompositeDesign.h"
 #include "devsurf/models/composite/CompositeTopology.h"
@@ -80,6 +83,35 @@ struct CompositeQuality {
   int interiorVertices = 0;
 };
 
+/// The sampled mesh of development management (design.developmentSamples > 0) and its planar
+/// development.
+///
+/// Vertices: the composite's vertices first, then the interior samples of every S edge (in edge
+/// order, stored direction); every S edge of a strip-like face is sampled at U = spans·samples + 1
+/// equally spaced parameters, rulings only at their ends, so a strip face is a U×2 grid, a cone a
+/// fan to its apex, a planar face its polygon. Shared edges share their samples.
+struct CompositeDevelopment {
+  /// A pair of sample vertices whose distance the development keeps (eq. 12).
+  enum class PairKind {
+    Spline,    ///< segment `segment` (stored direction) of S edge `edge`
+    Ruling,    ///< the composite's R edge `edge`
+    Interior,  ///< a sampled ruling inside face `face` (a_i b_i, or a_i to a cone's apex)
+    Diagonal,  ///< a diagonal of a sampled quad of face `face` (or of a planar polygon)
+  };
+  struct Pair {
+    int v0 = -1, v1 = -1;
+    PairKind kind = PairKind::Diagonal;
+    int edge = -1, segment = -1, face = -1;
+  };
+  Eigen::MatrixX3d vertices3d;  ///< design coordinates
+  Eigen::MatrixX2d vertices2d;  ///< development, design units
+  std::vector<std::vector<int>> polygons;  ///< sampled quads (triangles where a ruling degenerates), planar faces; CCW
+  std::vector<int> polygonFace;             ///< composite face of each polygon
+  std::vector<Pair> pairs;                  ///< every edge and diagonal, each once
+  std::vector<int> vertexSource;            ///< ≥ 0: composite vertex; −1: an S edge sample
+  int anchor0 = -1, anchor1 = -1;           ///< fixed vertex (both coordinates) and the one with fixed y
+};
+
 /// Composite developables of Tang et al. 2016 §3 / Mundilova ch. 5: faces that are ruled spline
 /// developables, cones and planar polygons, joined along creases (curved folds, eq. 7), geodesic
 /// seams (eq. 8) or smoothly.
@@ -123,6 +155,25 @@ class CompositeModel {
 
   CompositeQuality quality(int samplesPerSpan = 10) const;
   CompositeGeometry geometry(int samplesPerSpan = 16, int vSamples = 3) const;
+  /// Whether the model manages a development (design.developmentSamples > 0).
+  bool hasDevelopment() const { return developmentBlock_ >= 0; }
+  /// The sampled mesh and its development (current state).
+  /// @throws std::logic_error without a development
+  CompositeDevelopment development() const;
+  /// [development_length_error] sqrt(Σ(l3 − l2)²)/sqrt(Σ l3²) over all pairs (sampled edges and
+  /// quad diagonals) of the sampled mesh (l3) and the development (l2). 0 without a development.
+  double developmentLengthError() const;
+  /// Unfolds the current 3D sampled mesh face after face (BFS over faces through shared edges,
+  /// each quad as two triangles keeping its edges and one diagonal), anchor0 at the origin and
+  /// anchor1 on the +x axis; design units. What the development variables start from.
+  Eigen::MatrixX2d unfoldedDevelopment() const;
+  /// The crease pattern of the development: vertices2d/vertices3d of development(), edges =
+  /// sampled edges (boundary B; interior S edges and R edges M/V by the sign of their fold angle
+  /// per segment (creases(samples)), F when |angle| < 1e-6°; sampled rulings inside faces F),
+  /// faces = polygons, rulings = the sampled interior rulings, curves = every S edge (id = edge
+  /// index).
+  /// @throws std::logic_error without a development
+  io::CreasePattern creasePattern(const std::string& title = {}) const;
   /// Every interior edge with its fold angles.
   std::vector<CreaseGeometry> creases(int samplesPerSpan = 16) const;
 
@@ -168,6 +219,15 @@ class CompositeModel {
   std::vector<FaceRows> faceRows_;
   std::vector<int> handleTerms_;
   double scale_ = 1.0;  ///< bounding-box diagonal of the input (design coordinates)
+  // development management
+  void buildDevelopmentMesh();
+  void addDevelopmentTerms();
+  Eigen::MatrixX2d unfold(const Eigen::VectorXd& x) const;  ///< normalized units
+  int developmentBlock_ = -1;
+  CompositeDevelopment devMesh_;  ///< combinatorics (coordinates filled on demand)
+  terms::LinearPoints devSpatial_;  ///< 3D sample vertices, columns = points of x
+  std::vector<std::array<int, 3>> devTriangles_;
+  std::vector<int> devTriangleFace_;
 };
 
 }  // namespace devsurf::models::composite

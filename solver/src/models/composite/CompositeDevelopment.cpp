@@ -1,0 +1,392 @@
+// Development management of the composite model (000_… §5 eq. 12, 003_… §5.2.5): a sampled
+// quad-dominant mesh of the whole composite, its planar development as variables, the isometry
+// between the two, and the crease pattern built from them.
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/spline/Basis.h"
+#include "devsurf/terms/EdgeIsometryTerm.h"
+
+namespace devsurf::models::composite {
+namespace {
+
+/// Second differences of a polyline of 2D points anywhere in x (the developed boundary and crease
+/// curves): one row per interior point and coordinate; linear. The 2D counterpart of
+/// terms::PolygonFairnessTerm.
+class PlanarPolylineFairnessTerm final : public engine::Term {
+ public:
+  PlanarPolylineFairnessTerm(std::string name, std::vector<int> pointOffsets)
+      : Term(std::move(name)), points_(std::move(pointOffsets)) {}
+  int numResiduals() const override { return points_.size() < 3 ? 0 : 2 * static_cast<int>(points_.size() - 2); }
+  void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override {
+    for (std::size_t i = 1; i + 1 < points_.size(); ++i)
+      for (int c = 0; c < 2; ++c) {
+        const int row = 2 * static_cast<int>(i - 1) + c;
+        entries.push_back({row, points_[i - 1] + c});
+        entries.push_back({row, points_[i] + c});
+        entries.push_back({row, points_[i + 1] + c});
+      }
+  }
+  void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override {
+    for (std::size_t i = 1; i + 1 < points_.size(); ++i)
+      for (int c = 0; c < 2; ++c) {
+        const std::size_t row = 2 * (i - 1) + static_cast<std::size_t>(c);
+        residuals[row] = x[points_[i - 1] + c] - 2.0 * x[points_[i] + c] + x[points_[i + 1] + c];
+        if (jacobian) {
+          jacobian[3 * row] = 1.0;
+          jacobian[3 * row + 1] = -2.0;
+          jacobian[3 * row + 2] = 1.0;
+        }
+      }
+  }
+
+ private:
+  std::vector<int> points_;
+};
+
+using PairKind = CompositeDevelopment::PairKind;
+
+int sampleCount(const CompositeTopology& topo, int e, int samples) {
+  return topo.knots(e).numSpans() * samples + 1;
+}
+
+}  // namespace
+
+void CompositeModel::buildDevelopmentMesh() {
+  const CompositeTopology& topo = *topology_;
+  const int samples = design_.developmentSamples;
+  const int V = topo.numVertices(), E = topo.numEdges(), F = topo.numFaces();
+  CompositeDevelopment& m = devMesh_;
+  m = {};
+  std::vector<int> edgeBase(E, -1), edgeCount(E, 0);
+  int n = V;
+  for (int v = 0; v < V; ++v) m.vertexSource.push_back(v);
+  for (int e = 0; e < E; ++e) {
+    if (topo.edgeType(e) != EdgeType::Spline) continue;
+    edgeCount[e] = sampleCount(topo, e, samples);
+    edgeBase[e] = n;
+    for (int i = 1; i + 1 < edgeCount[e]; ++i) m.vertexSource.push_back(-1);
+    n += edgeCount[e] - 2;
+  }
+  // 3D rows: vertices are their blocks, samples are evaluation rows of the edge's curve.
+  const int P = static_cast<int>(problem_.x().size() / 3);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int v = 0; v < V; ++v) t.emplace_back(v, pointIndex({v, -1, 0}), 1.0);
+  for (int e = 0; e < E; ++e) {
+    if (edgeBase[e] < 0 || edgeCount[e] <= 2) continue;
+    const spline::KnotVector knots = topo.knots(e);
+    const std::vector<double> all = knots.uniformSamples(edgeCount[e]);
+    const std::vector<double> inner(all.begin() + 1, all.end() - 1);
+    const spline::EvaluationMatrix M = spline::evaluationMatrix(knots, inner, 0);
+    const std::vector<PointSlot> slots = topo.controlSlots(e);
+    for (int k = 0; k < M.rows(); ++k)
+      for (spline::EvaluationMatrix::InnerIterator it(M, k); it; ++it)
+        t.emplace_back(edgeBase[e] + k, pointIndex(slots[static_cast<std::size_t>(it.col())]), it.value());
+  }
+  spline::EvaluationMatrix W(n, P);
+  W.setFromTriplets(t.begin(), t.end());
+  W.makeCompressed();
+  devSpatial_ = {W, 0};
+
+  auto sampleId = [&](const OrientedEdge& oe, int i) {
+    const int U = edgeCount[oe.edge];
+    const int stored = oe.reversed ? U - 1 - i : i;
+    const auto ends = topo.edgeVertices(oe.edge);
+    if (stored == 0) return ends[0];
+    if (stored == U - 1) return ends[1];
+    return edgeBase[oe.edge] + stored - 1;
+  };
+  std::map<std::pair<int, int>, int> rulingEdge;
+  for (int e = 0; e < E; ++e)
+    if (topo.edgeType(e) == EdgeType::Ruling) {
+      const auto ends = topo.edgeVertices(e);
+      rulingEdge[std::minmax(ends[0], ends[1])] = e;
+    }
+  // Candidate pairs; the first (by kind priority) of each vertex pair wins.
+  std::vector<CompositeDevelopment::Pair> candidates;
+  auto addPair = [&](int i, int j, PairKind kind, int edge, int segment, int face) {
+    if (i == j) return;
+    candidates.push_back({i, j, kind, edge, segment, face});
+  };
+  devTriangles_.clear();
+  devTriangleFace_.clear();
+  auto addTriangle = [&](int a, int b, int c, int f) {
+    if (a == b || b == c || a == c) return;
+    devTriangles_.push_back({a, b, c});
+    devTriangleFace_.push_back(f);
+  };
+  for (int f = 0; f < F; ++f) {
+    const FaceInfo& info = topo.face(f);
+    if (info.type == FaceType::Planar) {
+      const std::vector<int>& c = info.corners;
+      const int N = static_cast<int>(c.size());
+      m.polygons.push_back(c);
+      m.polygonFace.push_back(f);
+      for (int i = 0; i < N; ++i) {
+        const int e = info.loop[static_cast<std::size_t>(i)].edge;
+        addPair(c[i], c[(i + 1) % N], PairKind::Ruling, e, -1, f);
+        for (int j = i + 2; j < N; ++j)
+          if (!(i == 0 && j == N - 1)) addPair(c[i], c[j], PairKind::Diagonal, -1, -1, f);
+      }
+      for (int i = 1; i + 1 < N; ++i) addTriangle(c[0], c[i], c[i + 1], f);
+      continue;
+    }
+    const int U = edgeCount[info.a.edge];
+    auto bId = [&](int i) { return info.type == FaceType::Cone ? info.apex : sampleId(info.b, i); };
+    for (int i = 0; i < U; ++i) {
+      const int a = sampleId(info.a, i), b = bId(i);
+      const auto r = rulingEdge.find(std::minmax(a, b));
+      if ((i == 0 || i == U - 1) && r != rulingEdge.end())
+        addPair(a, b, PairKind::Ruling, r->second, -1, f);
+      else
+        addPair(a, b, PairKind::Interior, -1, -1, f);
+    }
+    for (int i = 0; i + 1 < U; ++i) {
+      const int a0 = sampleId(info.a, i), a1 = sampleId(info.a, i + 1), b0 = bId(i), b1 = bId(i + 1);
+      addPair(a0, a1, PairKind::Spline, info.a.edge, info.a.reversed ? U - 2 - i : i, f);
+      if (info.type != FaceType::Cone)
+        addPair(b0, b1, PairKind::Spline, info.b.edge, info.b.reversed ? U - 2 - i : i, f);
+      addPair(a0, b1, PairKind::Diagonal, -1, -1, f);
+      addPair(a1, b0, PairKind::Diagonal, -1, -1, f);
+      std::vector<int> poly;
+      for (int id : {a0, a1, b1, b0})
+        if (poly.empty() || poly.back() != id) poly.push_back(id);
+      while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+      if (poly.size() >= 3) {
+        m.polygons.push_back(poly);
+        m.polygonFace.push_back(f);
+      }
+      addTriangle(a0, a1, b1, f);
+      addTriangle(a0, b1, b0, f);
+    }
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& p, const auto& q) { return static_cast<int>(p.kind) < static_cast<int>(q.kind); });
+  std::map<std::pair<int, int>, bool> seen;
+  for (const auto& p : candidates)
+    if (seen.emplace(std::minmax(p.v0, p.v1), true).second) m.pairs.push_back(p);
+  if (devTriangles_.empty()) throw std::invalid_argument("development: the sampled mesh has no faces");
+  m.anchor0 = devTriangles_[0][0];
+  m.anchor1 = devTriangles_[0][1];
+}
+
+Eigen::MatrixX2d CompositeModel::unfold(const Eigen::VectorXd& x) const {
+  const CompositeTopology& topo = *topology_;
+  const int n = devSpatial_.rows();
+  std::vector<Eigen::Vector3d> p3(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) p3[k] = devSpatial_.point(x, k);
+  Eigen::MatrixX2d out = Eigen::MatrixX2d::Zero(n, 2);
+  std::vector<bool> placed(static_cast<std::size_t>(n), false);
+  auto pt = [&](int i) -> Eigen::Vector2d { return out.row(i).transpose(); };
+  // r to the left of p → q (the triangle (p, q, r) is counterclockwise), keeping |pr| and |qr|.
+  auto place = [&](int p, int q, int r) {
+    const Eigen::Vector2d P = pt(p), Q = pt(q);
+    const double L = (Q - P).norm();
+    const double lpr = (p3[r] - p3[p]).norm(), lqr = (p3[r] - p3[q]).norm();
+    Eigen::Vector2d e = L > 0 ? Eigen::Vector2d((Q - P) / L) : Eigen::Vector2d(1.0, 0.0);
+    const Eigen::Vector2d nrm(-e.y(), e.x());
+    const double along = L > 0 ? (lpr * lpr - lqr * lqr + L * L) / (2.0 * L) : 0.0;
+    const double perp = std::sqrt(std::max(0.0, lpr * lpr - along * along));
+    out.row(r) = (P + along * e + perp * nrm).transpose();
+    placed[r] = true;
+  };
+  const int T = static_cast<int>(devTriangles_.size());
+  std::vector<std::vector<int>> faceTriangles(static_cast<std::size_t>(topo.numFaces()));
+  for (int k = 0; k < T; ++k) faceTriangles[devTriangleFace_[k]].push_back(k);
+  std::vector<bool> done(static_cast<std::size_t>(T), false);
+  auto tryTriangle = [&](int k) {
+    if (done[k]) return false;
+    const auto& tri = devTriangles_[k];
+    int missing = -1, count = 0;
+    for (int c = 0; c < 3; ++c)
+      if (!placed[tri[c]]) {
+        missing = c;
+        ++count;
+      }
+    if (count == 0) {
+      done[k] = true;
+      return true;
+    }
+    if (count > 1) return false;
+    place(tri[(missing + 1) % 3], tri[(missing + 2) % 3], tri[missing]);
+    done[k] = true;
+    return true;
+  };
+  std::vector<bool> visited(static_cast<std::size_t>(topo.numFaces()), false);
+  for (int root = 0; root < topo.numFaces(); ++root) {
+    if (visited[root] || faceTriangles[root].empty()) continue;
+    // Seed a component: its first triangle, vertex 0 at the origin (for the first component the
+    // anchors), the first edge along +x.
+    const auto& tri = devTriangles_[faceTriangles[root][0]];
+    if (!placed[tri[0]] && !placed[tri[1]]) {
+      out.row(tri[0]).setZero();
+      placed[tri[0]] = true;
+      out.row(tri[1]) << (p3[tri[1]] - p3[tri[0]]).norm(), 0.0;
+      placed[tri[1]] = true;
+    }
+    std::deque<int> queue{root};
+    visited[root] = true;
+    while (!queue.empty()) {
+      const int f = queue.front();
+      queue.pop_front();
+      const std::vector<int>& ts = faceTriangles[f];
+      for (bool progress = true; progress;) {
+        progress = false;
+        for (int k : ts) progress = tryTriangle(k) || progress;
+        for (auto it = ts.rbegin(); it != ts.rend(); ++it) progress = tryTriangle(*it) || progress;
+      }
+      for (const OrientedEdge& oe : topo.face(f).loop) {
+        const EdgeInfo& info = topo.edge(oe.edge);
+        for (int g : info.faces)
+          if (g >= 0 && !visited[g]) {
+            visited[g] = true;
+            queue.push_back(g);
+          }
+      }
+    }
+  }
+  return out;
+}
+
+Eigen::MatrixX2d CompositeModel::unfoldedDevelopment() const {
+  if (!hasDevelopment()) throw std::logic_error("the composite has no development");
+  return unfold(problem_.x()) * normalization_.scale;
+}
+
+CompositeDevelopment CompositeModel::development() const {
+  if (!hasDevelopment()) throw std::logic_error("the composite has no development");
+  CompositeDevelopment d = devMesh_;
+  const Eigen::VectorXd& x = problem_.x();
+  const int n = devSpatial_.rows();
+  d.vertices3d.resize(n, 3);
+  d.vertices2d.resize(n, 2);
+  const int offset = problem_.layout().block(developmentBlock_).offset;
+  for (int k = 0; k < n; ++k) {
+    d.vertices3d.row(k) = normalization_.fromNormalized(devSpatial_.point(x, k)).transpose();
+    d.vertices2d.row(k) = normalization_.scale * x.segment<2>(offset + 2 * k).transpose();
+  }
+  return d;
+}
+
+double CompositeModel::developmentLengthError() const {
+  if (!hasDevelopment()) return 0.0;
+  const Eigen::VectorXd& x = problem_.x();
+  const int offset = problem_.layout().block(developmentBlock_).offset;
+  double num = 0.0, den = 0.0;
+  for (const CompositeDevelopment::Pair& p : devMesh_.pairs) {
+    const double l3 = (devSpatial_.point(x, p.v0) - devSpatial_.point(x, p.v1)).norm();
+    const double l2 = (x.segment<2>(offset + 2 * p.v0) - x.segment<2>(offset + 2 * p.v1)).norm();
+    num += (l3 - l2) * (l3 - l2);
+    den += l3 * l3;
+  }
+  return den > 0 ? std::sqrt(num / den) : 0.0;
+}
+
+void CompositeModel::addDevelopmentTerms() {
+  const CompositeTopology& topo = *topology_;
+  const int n = devSpatial_.rows();
+  const int offset = problem_.layout().block(developmentBlock_).offset;
+  const Eigen::MatrixX2d start = unfold(problem_.x());
+  Eigen::Map<Eigen::VectorXd> values = problem_.blockValues(developmentBlock_);
+  for (int k = 0; k < n; ++k) values.segment<2>(2 * k) = start.row(k).transpose();
+  problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor0, 2);
+  problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor1 + 1, 1);
+  std::vector<int> offsets;
+  for (int k = 0; k < n; ++k) offsets.push_back(offset + 2 * k);
+  std::vector<std::pair<int, int>> pairs;
+  for (const CompositeDevelopment::Pair& p : devMesh_.pairs) pairs.emplace_back(p.v0, p.v1);
+  problem_.addTerm(std::make_unique<terms::EdgeIsometryTerm>("development_isometry", devSpatial_, offsets, pairs),
+                   1.0, engine::Strength::Hard);
+  // Fairness of the developed S edges (boundary and crease polylines), decaying.
+  std::vector<int> edgeBase(topo.numEdges(), -1);
+  int next = topo.numVertices();
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (topo.edgeType(e) != EdgeType::Spline) continue;
+    const int U = sampleCount(topo, e, design_.developmentSamples);
+    if (U >= 3) {
+      const auto ends = topo.edgeVertices(e);
+      std::vector<int> poly{offset + 2 * ends[0]};
+      for (int i = 1; i + 1 < U; ++i) poly.push_back(offset + 2 * (next + i - 1));
+      poly.push_back(offset + 2 * ends[1]);
+      problem_.addTerm(std::make_unique<PlanarPolylineFairnessTerm>("development_fairness", poly), 1.0,
+                       engine::Strength::Soft, engine::WeightSchedule::Fairness);
+    }
+    next += U - 2;
+  }
+}
+
+io::CreasePattern CompositeModel::creasePattern(const std::string& title) const {
+  const CompositeDevelopment d = development();
+  const CompositeTopology& topo = *topology_;
+  const CompositeDesign des = design();
+  io::CreasePattern cp;
+  cp.title = title;
+  cp.vertices2d = d.vertices2d;
+  cp.vertices3d = d.vertices3d;
+  std::map<int, Eigen::VectorXd> angles;
+  for (const CreaseGeometry& c : creases(design_.developmentSamples)) angles[c.edge] = c.foldAngleDeg;
+  auto assign = [](double angle) {
+    if (angle > 1e-6) return io::EdgeAssignment::Valley;
+    if (angle < -1e-6) return io::EdgeAssignment::Mountain;
+    return io::EdgeAssignment::Flat;
+  };
+  std::vector<Eigen::Vector4d> rulings;
+  for (const CompositeDevelopment::Pair& p : d.pairs) {
+    io::CreaseEdge ce;
+    ce.v0 = p.v0;
+    ce.v1 = p.v1;
+    double angle = 0.0;
+    switch (p.kind) {
+      case PairKind::Diagonal:
+        continue;
+      case PairKind::Interior: {
+        ce.assignment = io::EdgeAssignment::Flat;
+        Eigen::Vector4d r;
+        r << d.vertices2d(p.v0, 0), d.vertices2d(p.v0, 1), d.vertices2d(p.v1, 0), d.vertices2d(p.v1, 1);
+        rulings.push_back(r);
+        break;
+      }
+      case PairKind::Spline:
+      case PairKind::Ruling: {
+        if (p.kind == PairKind::Spline) ce.curve = p.edge;
+        const auto it = angles.find(p.edge);
+        if (!topo.edge(p.edge).interior() || it == angles.end()) {
+          ce.assignment = io::EdgeAssignment::Boundary;
+        } else {
+          const Eigen::VectorXd& a = it->second;
+          const int s = p.kind == PairKind::Spline ? p.segment : 0;
+          angle = 0.5 * (a[std::min<Eigen::Index>(s, a.size() - 1)] + a[std::min<Eigen::Index>(s + 1, a.size() - 1)]);
+          angle = std::clamp(angle, -180.0, 180.0);
+          ce.assignment = assign(angle);
+          if (ce.assignment == io::EdgeAssignment::Flat) angle = 0.0;
+        }
+        break;
+      }
+    }
+    ce.foldAngle = angle;
+    cp.edges.push_back(ce);
+  }
+  cp.faces = d.polygons;
+  cp.rulings.resize(static_cast<Eigen::Index>(rulings.size()), 4);
+  for (std::size_t i = 0; i < rulings.size(); ++i) cp.rulings.row(static_cast<Eigen::Index>(i)) = rulings[i].transpose();
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (topo.edgeType(e) != EdgeType::Spline) continue;
+    io::CreaseCurve c;
+    c.id = e;
+    c.degree = des.edges[e].curve.degree();
+    c.knots = des.edges[e].curve.knots.knots();
+    c.controlPoints = des.edges[e].curve.points;
+    cp.curves.push_back(std::move(c));
+  }
+  cp.validate();
+  return cp;
+}
+
+}  // namespace devsurf::models::composite
