@@ -454,6 +454,8 @@ TEST(TransportTest, ConnectionsBeyondTheLimitGet503) {
   Client a, b, c;
   a.connect("127.0.0.1", h.port);
   b.connect("127.0.0.1", h.port);
+  // The client sees the handshake before the server has counted the connection: wait for it.
+  ASSERT_TRUE(h.recorder.waitFor([&] { return h.server->connectionCount() == 2u; }));
   try {
     c.connect("127.0.0.1", h.port);
     FAIL() << "third connection accepted";
@@ -465,6 +467,7 @@ TEST(TransportTest, ConnectionsBeyondTheLimitGet503) {
   // A slot frees up when a connection ends.
   a.close();
   ASSERT_TRUE(h.recorder.waitFor([&] { return h.recorder.totalCloses() == 1; }));
+  ASSERT_TRUE(h.recorder.waitFor([&] { return h.server->connectionCount() == 1u; }));
   Client d;
   d.connect("127.0.0.1", h.port);
   d.send("x");
