@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <algorithm>
+
+#include "devsurf/models/HandleValidation.h"
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -110,15 +112,7 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
                                   std::to_string(r.edge) + " has " + std::to_string(n) +
                                   " control points; 0 and " + std::to_string(n - 1) + " are its vertices)");
   };
-  for (std::size_t i = 0; i < design.fixed.size(); ++i) checkRef(design.fixed[i], refPath("fixed", i));
-  for (std::size_t i = 0; i < design.handles.size(); ++i) {
-    const Handle& h = design.handles[i];
-    checkRef(h.point, refPath("handles", i));
-    if (!h.position.allFinite())
-      throw std::invalid_argument(refPath("handles", i) + ".position: coordinates must be finite");
-    if (!(h.weight > 0.0) || !std::isfinite(h.weight))
-      throw std::invalid_argument(refPath("handles", i) + ".weight: must be a positive number");
-  }
+  validateUserConstraints(design.fixed, design.handles, checkRef);
 }
 
 CompositeModel::CompositeModel(CompositeDesign design, CompositeOptions options)

@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+
+#include "devsurf/models/HandleValidation.h"
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -20,10 +22,6 @@ namespace {
 
 using engine::Strength;
 using engine::WeightSchedule;
-
-std::string refPath(const std::string& list, std::size_t i) {
-  return list + "[" + std::to_string(i) + "]";
-}
 
 bool allFinite(const Eigen::MatrixXd& m) { return m.allFinite(); }
 
@@ -81,15 +79,7 @@ void StripModel::validateDesign(StripDesign& design) {
                                   " is out of range (curve " + curveName(r.curve) + " has " +
                                   std::to_string(n) + " control points)");
   };
-  for (std::size_t i = 0; i < design.fixed.size(); ++i) checkRef(design.fixed[i], refPath("fixed", i));
-  for (std::size_t i = 0; i < design.handles.size(); ++i) {
-    const Handle& h = design.handles[i];
-    checkRef(h.point, refPath("handles", i));
-    if (!h.position.allFinite())
-      throw std::invalid_argument(refPath("handles", i) + ".position: coordinates must be finite");
-    if (!(h.weight > 0.0) || !std::isfinite(h.weight))
-      throw std::invalid_argument(refPath("handles", i) + ".weight: must be a positive number");
-  }
+  validateUserConstraints(design.fixed, design.handles, checkRef);
   if (design.normals.type == NormalRepresentation::Type::Spline) {
     if (design.normals.degree < 1)
       throw std::invalid_argument("normals.degree: must be at least 1");
