@@ -596,6 +596,7 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
   std::vector<std::vector<int>> polygons;
   double flatSum = 0.0;
   int flatCount = 0;
+  q.faceFlatness.assign(topo.numFaces(), 0.0);
   for (int f = 0; f < topo.numFaces(); ++f) {
     const FaceInfo& info = topo.face(f);
     if (info.type == FaceType::Planar) {
@@ -608,6 +609,7 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
                                                points[info.corners[(i + 2) % N]], points[info.corners[(i + 3) % N]],
                                                tiny));
       q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);
+      q.faceFlatness[f] = delta;
       flatSum += delta;
       ++flatCount;
       continue;
@@ -623,6 +625,7 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
       while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
       const double delta = poly.size() == 4 ? quadFlatness(points[a0], points[a1], points[b1], points[b0], tiny) : 0.0;
       q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);
+      q.faceFlatness[f] = std::max(q.faceFlatness[f], delta);
       flatSum += delta;
       ++flatCount;
       if (poly.size() >= 3) polygons.push_back(poly);
@@ -647,10 +650,13 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
     used[edge.first] = used[edge.second] = true;
     if (count == 1) boundary[edge.first] = boundary[edge.second] = true;
   }
+  q.vertexCurvature.assign(topo.numVertices(), 0.0);
   for (std::size_t v = 0; v < points.size(); ++v) {
     if (!used[v] || boundary[v]) continue;
     ++q.interiorVertices;
-    q.vertexCurvatureMax = std::max(q.vertexCurvatureMax, std::abs(angleSum[v] - 2.0 * kPi));
+    const double k = std::abs(angleSum[v] - 2.0 * kPi);
+    if (v < static_cast<std::size_t>(topo.numVertices())) q.vertexCurvature[v] = k;
+    q.vertexCurvatureMax = std::max(q.vertexCurvatureMax, k);
   }
 
   // Warp angles over all strip-like faces.

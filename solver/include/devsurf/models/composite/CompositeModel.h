@@ -81,6 +81,11 @@ struct CompositeQuality {
   double foldAngleMaxDeg = 0.0;    ///< [crease_fold_angle_max_deg] max |fold angle| over interior edges
   int quads = 0;
   int interiorVertices = 0;
+  /// Per composite vertex: |angle sum − 2π| (rad) on the auxiliary mesh, 0 at boundary vertices
+  /// (for colouring).
+  std::vector<double> vertexCurvature;
+  /// Per face: the largest δ of its quads (planar faces: of their corner quadruples).
+  std::vector<double> faceFlatness;
 };
 
 /// The sampled mesh of development management (design.developmentSamples > 0) and its planar
