@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Runs the strip_iteration benchmark and prints Markdown tables of the medians, compared with
-# the interactive budget and with Tang et al. 2016 (Fig. 17).
+# Runs the strip_iteration and composite_iteration benchmarks and prints Markdown tables of the
+# medians, compared with the interactive budget and with Tang et al. 2016 (Fig. 17).
 #
 # Usage: bench/paper_tables.sh [path/to/strip_iteration] [extra benchmark args...]
-#        (default binary: build/bench/strip_iteration)
+#        (default binary: build/bench/strip_iteration; the extra args go to it only)
+# The composite table comes from composite_iteration next to it (or $COMPOSITE_BIN), run with
+# $COMPOSITE_ARGS (e.g. COMPOSITE_ARGS=--benchmark_filter=CompositeSheet); skipped if absent.
 set -euo pipefail
 
 bin="${1:-build/bench/strip_iteration}"
@@ -15,7 +17,9 @@ if [[ ! -x "$bin" ]]; then
 fi
 
 json="$(mktemp "${TMPDIR:-/tmp}/strip_iteration.XXXXXX.json")"
-trap 'rm -f "$json"' EXIT
+composite_json="$(mktemp "${TMPDIR:-/tmp}/composite_iteration.XXXXXX.json")"
+trap 'rm -f "$json" "$composite_json"' EXIT
+composite_bin="${COMPOSITE_BIN:-$(dirname "$bin")/composite_iteration}"
 
 "$bin" --benchmark_format=json "$@" >"$json"
 
@@ -105,4 +109,72 @@ for solver, b in sorted(by_solver.items(), key=lambda kv: order.get(kv[0], 9)):
           f"{PAPER_MS:.0f} ms for {PAPER_VARS} variables on an i5-3320M → "
           f"{PAPER_MS / ms:.0f}× faster (≈ {PAPER_MS / scaled:.0f}× at {PAPER_VARS} "
           f"variables, linear scaling).")
+PY
+
+if [[ ! -x "$composite_bin" ]]; then
+  echo
+  echo "(composite table skipped: $composite_bin not built; cmake --build <build-dir> --target composite_iteration)"
+  exit 0
+fi
+
+# shellcheck disable=SC2086  # COMPOSITE_ARGS is a list of words on purpose
+"$composite_bin" --benchmark_format=json ${COMPOSITE_ARGS:-} >"$composite_json"
+
+python3 - "$composite_json" <<'PY'
+import json
+import sys
+
+PAPER_MS = 800.0          # Tang et al. 2016, Fig. 17
+PAPER_VARS = 39648        # on an Intel i5-3320M
+
+with open(sys.argv[1]) as f:
+    data = json.load(f)
+
+rows = []
+for b in data.get("benchmarks", []):
+    if b.get("run_type") != "aggregate" or b.get("aggregate_name") != "median":
+        continue
+    if b.get("error_occurred"):
+        print(f"> error in {b.get('run_name')}: {b.get('error_message')}")
+        continue
+    # "CompositePreset/composite-column/dev" or "CompositeSheet/40x40/nodev/cholmod"
+    parts = b.get("run_name", b["name"]).split("/")
+    b["solver"] = parts[3] if len(parts) > 3 and not parts[3].startswith(("min_time", "repeats")) else "ldlt"
+    rows.append((parts[0], parts[1] if len(parts) > 1 else "", parts[2] if len(parts) > 2 else "", b))
+
+def fmt_ms(v):
+    return f"{v:.3f}" if v < 10 else f"{v:.1f}"
+
+print()
+print("### One guided-projection iteration (composite developables)")
+print()
+print("Presets (examples/composite-*.json) as `devsurf solve` builds them, and flat sheets with many "
+      "parallel curved creases (strips × cubic spans per S edge) lifted at a corner; *dev*: development "
+      "management on (the preset's samples, else 4 per span), *nodev*: off.")
+print()
+print("| model | development | unknowns | nnz(H) | assembly ms | factorization ms | solve ms | iteration ms | solver |")
+print("|---|---|---:|---:|---:|---:|---:|---:|---|")
+kind_order = {"CompositePreset": 0, "CompositeSheet": 1}
+solver_order = {"ldlt": 0, "cholmod": 1}
+rows.sort(key=lambda r: (kind_order.get(r[0], 9), solver_order.get(r[3]["solver"], 9),
+                         r[1] if r[0] == "CompositePreset" else "", r[3]["unknowns"], r[2]))
+for kind, name, variant, b in rows:
+    dev = f"{int(b['development'])} samples" if b.get("development", 0) else "off"
+    label = name.replace("composite-", "") if kind == "CompositePreset" else f"sheet {name.replace('x', ' strips × ')} spans"
+    print(f"| {label} | {dev} | {int(b['unknowns'])} | {int(b['nnz'])} | {fmt_ms(b['assembly_ms'])} "
+          f"| {fmt_ms(b['factorization_ms'])} | {fmt_ms(b['solve_ms'])} | {fmt_ms(b['iteration_ms'])} "
+          f"| {b['solver']} |")
+print()
+print(f"Tang et al. 2016 Fig. 17: {PAPER_MS:.0f} ms per iteration for {PAPER_VARS} variables (i5-3320M).")
+sheets = [r for r in rows if r[0] == "CompositeSheet"]
+for solver in ("ldlt", "cholmod"):
+    for variant in ("nodev", "dev"):
+        cand = [r for r in sheets if r[2] == variant and r[3]["solver"] == solver]
+        if not cand:
+            continue
+        kind, name, _, b = min(cand, key=lambda r: abs(r[3]["unknowns"] - PAPER_VARS))
+        ms = b["iteration_ms"]
+        print(f"- {solver}, sheet {name} ({'with' if variant == 'dev' else 'without'} development), {int(b['unknowns'])} unknowns: "
+              f"{fmt_ms(ms)} ms per iteration — {PAPER_MS / ms:.1f}× the paper's speed "
+              f"(≈ {PAPER_MS / (ms * PAPER_VARS / b['unknowns']):.1f}× scaled linearly to {PAPER_VARS} variables).")
 PY

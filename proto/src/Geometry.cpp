@@ -1,5 +1,7 @@
 #include "devsurf/proto/Geometry.h"
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -7,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "devsurf/io/CreasePattern.h"
 #include "devsurf/metrics/StripQuality.h"
 
 namespace devsurf::proto {
@@ -193,6 +196,188 @@ nlohmann::json stripGeometryJson(const models::strip::StripModel& model, int uSa
           {"rulings", float32Array(rulingSegments)},
           {"development", {{"vertices", float32Array(flat)}, {"quads", int32Array(flatQuads)}}},
           {"normals", float32Array(g.normals)}};
+}
+
+nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& model,
+                                     const models::composite::CompositeQuality& quality,
+                                     int samplesPerSpan, int vSamples) {
+  namespace composite = models::composite;
+  const composite::CompositeDesign d = model.design();
+  const composite::CompositeGeometry g = model.geometry(samplesPerSpan, vSamples);
+  const int numFaces = static_cast<int>(d.faces.size());
+  const int numVertices = static_cast<int>(d.vertices.rows());
+  auto faceValue = [](const std::vector<double>& values, std::size_t i) { return i < values.size() ? values[i] : 0.0; };
+
+  // The surface: faces concatenated in face order.
+  Eigen::Index nv = 0, nq = 0;
+  for (const io::QuadMesh& f : g.faces) {
+    nv += f.vertices.rows();
+    nq += f.quads.rows();
+  }
+  Eigen::MatrixXd vertices(nv, 3), flatness(nv, 1), curvature(nv, 1);
+  Eigen::MatrixXi quads(nq, 4), quadFace(nq, 1);
+  // Radius of each composite vertex's curvature spot: 0.35 × its shortest edge chord.
+  std::vector<double> radius(static_cast<std::size_t>(numVertices), 0.0);
+  for (const composite::CompositeEdge& e : d.edges) {
+    const double chord = (d.vertices.row(e.v0) - d.vertices.row(e.v1)).norm();
+    for (int v : {e.v0, e.v1}) {
+      double& r = radius[static_cast<std::size_t>(v)];
+      r = r == 0.0 ? 0.35 * chord : std::min(r, 0.35 * chord);
+    }
+  }
+  Eigen::Index vOffset = 0, qOffset = 0;
+  for (std::size_t f = 0; f < g.faces.size(); ++f) {
+    const io::QuadMesh& m = g.faces[f];
+    for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) {
+      const Eigen::Vector3d p = m.vertices.row(i).transpose();
+      vertices.row(vOffset + i) = p.transpose();
+      flatness(vOffset + i, 0) = faceValue(quality.faceFlatness, f);
+      double k = 0.0;
+      for (int v = 0; v < numVertices; ++v) {
+        const double kv = faceValue(quality.vertexCurvature, static_cast<std::size_t>(v));
+        const double r = radius[static_cast<std::size_t>(v)];
+        if (kv <= 0.0 || r <= 0.0) continue;
+        const double dist = (p - d.vertices.row(v).transpose()).norm();
+        k = std::max(k, kv * std::max(0.0, 1.0 - dist / r));
+      }
+      curvature(vOffset + i, 0) = k;
+    }
+    for (Eigen::Index q = 0; q < m.quads.rows(); ++q) {
+      quads.row(qOffset + q) = m.quads.row(q).array() + static_cast<int>(vOffset);
+      quadFace(qOffset + q, 0) = static_cast<int>(f);
+    }
+    vOffset += m.vertices.rows();
+    qOffset += m.quads.rows();
+  }
+
+  Eigen::MatrixXd vertexCurvature(numVertices, 1), faceFlatness(numFaces, 1);
+  for (int v = 0; v < numVertices; ++v) vertexCurvature(v, 0) = faceValue(quality.vertexCurvature, static_cast<std::size_t>(v));
+  for (int f = 0; f < numFaces; ++f) faceFlatness(f, 0) = faceValue(quality.faceFlatness, static_cast<std::size_t>(f));
+
+  // Edges: interior ones with their fold angles (CompositeModel::creases), boundary ones sampled.
+  std::vector<const composite::CreaseGeometry*> creaseOf(d.edges.size(), nullptr);
+  for (const composite::CreaseGeometry& c : g.creases)
+    if (c.edge >= 0 && static_cast<std::size_t>(c.edge) < creaseOf.size()) creaseOf[static_cast<std::size_t>(c.edge)] = &c;
+  nlohmann::json edges = nlohmann::json::array();
+  std::vector<std::array<int, 3>> refs;
+  std::vector<Eigen::Vector3d> positions;
+  for (int v = 0; v < numVertices; ++v) {
+    refs.push_back({v, -1, -1});
+    positions.push_back(d.vertices.row(v).transpose());
+  }
+  for (std::size_t e = 0; e < d.edges.size(); ++e) {
+    const composite::CompositeEdge& edge = d.edges[e];
+    const bool spline = edge.type == composite::EdgeType::Spline;
+    nlohmann::json je{{"edge", e},
+                      {"v", {edge.v0, edge.v1}},
+                      {"type", composite::edgeTypeName(edge.type)},
+                      {"crease", composite::creaseKindName(edge.crease)}};
+    if (const composite::CreaseGeometry* c = creaseOf[e]) {
+      je["interior"] = true;
+      je["assignment"] = std::string(1, c->assignment);
+      je["polyline"] = float32Array(c->polyline);
+      je["fold_angle_deg"] = float32Array(c->foldAngleDeg);
+    } else {
+      je["interior"] = false;
+      je["assignment"] = "B";
+      Eigen::MatrixXd polyline;
+      if (spline) {
+        const int count = std::max(2, edge.curve.knots.numSpans() * samplesPerSpan + 1);
+        polyline = edge.curve.evaluate(edge.curve.knots.uniformSamples(count), 0);
+      } else {
+        polyline.resize(2, 3);
+        polyline << d.vertices.row(edge.v0), d.vertices.row(edge.v1);
+      }
+      je["polyline"] = float32Array(polyline);
+    }
+    if (spline) {
+      je["control_points"] = float32Array(edge.curve.points);
+      for (Eigen::Index k = 1; k + 1 < edge.curve.points.rows(); ++k) {
+        refs.push_back({-1, static_cast<int>(e), static_cast<int>(k)});
+        positions.push_back(edge.curve.points.row(k).transpose());
+      }
+    }
+    edges.push_back(std::move(je));
+  }
+  Eigen::MatrixXd pointPositions(static_cast<Eigen::Index>(positions.size()), 3);
+  Eigen::MatrixXi pointRefs(static_cast<Eigen::Index>(refs.size()), 3);
+  for (std::size_t i = 0; i < refs.size(); ++i) {
+    pointPositions.row(static_cast<Eigen::Index>(i)) = positions[i].transpose();
+    pointRefs.row(static_cast<Eigen::Index>(i)) << refs[i][0], refs[i][1], refs[i][2];
+  }
+
+  nlohmann::json development = nullptr;
+  if (model.hasDevelopment()) {
+    const composite::CompositeDevelopment dev = model.development();
+    // The crease pattern validates the development (e.g. every face counterclockwise); while a
+    // solve passes through a state it rejects, draw the development's own edges instead: sampled
+    // S and R edges with their composite edge's assignment (B on the boundary), interior rulings F.
+    io::CreasePattern cp;
+    try {
+      cp = model.creasePattern();
+    } catch (const std::exception&) {
+      cp.vertices2d = dev.vertices2d;
+      std::vector<char> letter(d.edges.size(), 'B');
+      for (const composite::CreaseGeometry& c : g.creases)
+        if (c.edge >= 0 && static_cast<std::size_t>(c.edge) < letter.size()) letter[static_cast<std::size_t>(c.edge)] = c.assignment;
+      std::vector<double> rulings;
+      for (const composite::CompositeDevelopment::Pair& pair : dev.pairs) {
+        using Kind = composite::CompositeDevelopment::PairKind;
+        if (pair.kind == Kind::Interior) {
+          for (int v : {pair.v0, pair.v1}) {
+            rulings.push_back(dev.vertices2d(v, 0));
+            rulings.push_back(dev.vertices2d(v, 1));
+          }
+        } else if (pair.kind != Kind::Diagonal) {
+          io::CreaseEdge edge;
+          edge.v0 = pair.v0;
+          edge.v1 = pair.v1;
+          const char a = pair.edge >= 0 ? letter[static_cast<std::size_t>(pair.edge)] : 'F';
+          edge.assignment = io::parseFoldAssignment(std::string(1, a));
+          cp.edges.push_back(edge);
+        }
+      }
+      cp.rulings.resize(static_cast<Eigen::Index>(rulings.size() / 4), 4);
+      for (std::size_t k = 0; k < rulings.size(); ++k) cp.rulings(static_cast<Eigen::Index>(k / 4), static_cast<Eigen::Index>(k % 4)) = rulings[k];
+    }
+    std::vector<std::array<int, 4>> triangles;  // three corners and the face
+    for (std::size_t p = 0; p < dev.polygons.size(); ++p) {
+      const std::vector<int>& poly = dev.polygons[p];
+      const int face = p < dev.polygonFace.size() ? dev.polygonFace[p] : -1;
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k) triangles.push_back({poly[0], poly[k], poly[k + 1], face});
+    }
+    Eigen::MatrixXi tri(static_cast<Eigen::Index>(triangles.size()), 3), triFace(static_cast<Eigen::Index>(triangles.size()), 1);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      tri.row(static_cast<Eigen::Index>(t)) << triangles[t][0], triangles[t][1], triangles[t][2];
+      triFace(static_cast<Eigen::Index>(t), 0) = triangles[t][3];
+    }
+    Eigen::MatrixXi cpEdges(static_cast<Eigen::Index>(cp.edges.size()), 2);
+    std::string assignment;
+    for (std::size_t k = 0; k < cp.edges.size(); ++k) {
+      cpEdges.row(static_cast<Eigen::Index>(k)) << cp.edges[k].v0, cp.edges[k].v1;
+      assignment += io::foldAssignmentLetter(cp.edges[k].assignment);
+    }
+    development = {{"vertices", float32Array(cp.vertices2d)},
+                   {"triangles", int32Array(tri)},
+                   {"triangle_face", int32Array(triFace)},
+                   {"edges", int32Array(cpEdges)},
+                   {"assignment", assignment},
+                   {"rulings", float32Array(cp.rulings)}};
+  }
+
+  return {{"kind", "composite"},
+          {"surface",
+           {{"vertices", float32Array(vertices)},
+            {"quads", int32Array(quads)},
+            {"quad_face", int32Array(quadFace)},
+            {"face_flatness", float32Array(flatness)},
+            {"vertex_curvature", float32Array(curvature)}}},
+          {"vertices", float32Array(d.vertices)},
+          {"vertex_curvature", float32Array(vertexCurvature)},
+          {"face_flatness", float32Array(faceFlatness)},
+          {"edges", std::move(edges)},
+          {"points", {{"positions", float32Array(pointPositions)}, {"refs", int32Array(pointRefs)}}},
+          {"development", std::move(development)}};
 }
 
 }  // namespace devsurf::proto

@@ -138,7 +138,24 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
   for (std::size_t i = 0; i < handles.size(); ++i)
     d.handles.push_back({compositePointFromJson(handles[i], indexPath("model.handles", i)),
                          point3(handles[i].at("position")), handles[i].value("weight", handleWeight)});
-  if (m.contains("development")) d.developmentSamples = m["development"].at("samples").get<int>();
+  if (m.contains("development")) {
+    const json& dev = m["development"];
+    d.developmentSamples = dev.at("samples").get<int>();
+    if (dev.contains("domain")) {
+      const json& domain = dev["domain"];
+      auto point2 = [](const json& j) { return Eigen::Vector2d(j[0].get<double>(), j[1].get<double>()); };
+      for (const json& c : domain.value("boundary", json::array())) {
+        composite::DomainCurve curve;
+        const json& pts = c.at("points");
+        curve.points.resize(static_cast<Eigen::Index>(pts.size()), 2);
+        for (std::size_t i = 0; i < pts.size(); ++i) curve.points.row(static_cast<Eigen::Index>(i)) = point2(pts[i]).transpose();
+        curve.closed = c.value("closed", false);
+        d.developmentDomain.boundary.push_back(std::move(curve));
+      }
+      for (const json& c : domain.value("corners", json::array()))
+        d.developmentDomain.corners.push_back({c.at("vertex").get<int>(), point2(c.at("at"))});
+    }
+  }
   return d;
 }
 
@@ -177,7 +194,25 @@ json compositeToJson(const composite::CompositeDesign& d) {
     handles.push_back(std::move(jh));
   }
   if (!handles.empty()) m["handles"] = std::move(handles);
-  if (d.developmentSamples > 0) m["development"] = {{"samples", d.developmentSamples}};
+  if (d.developmentSamples > 0) {
+    json dev = {{"samples", d.developmentSamples}};
+    if (!d.developmentDomain.empty()) {
+      json domain = json::object();
+      json boundary = json::array();
+      for (const composite::DomainCurve& c : d.developmentDomain.boundary) {
+        json pts = json::array();
+        for (Eigen::Index i = 0; i < c.points.rows(); ++i) pts.push_back({c.points(i, 0), c.points(i, 1)});
+        boundary.push_back({{"points", std::move(pts)}, {"closed", c.closed}});
+      }
+      if (!boundary.empty()) domain["boundary"] = std::move(boundary);
+      json corners = json::array();
+      for (const composite::DomainCorner& c : d.developmentDomain.corners)
+        corners.push_back({{"vertex", c.vertex}, {"at", {c.at.x(), c.at.y()}}});
+      if (!corners.empty()) domain["corners"] = std::move(corners);
+      dev["domain"] = std::move(domain);
+    }
+    m["development"] = std::move(dev);
+  }
   return m;
 }
 

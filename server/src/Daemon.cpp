@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <boost/asio/post.hpp>
@@ -67,6 +68,21 @@ std::string readFile(const std::string& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+/// Answers an export (SceneSolver::exportAs) as an attachment named `stem`.`extension`; a format
+/// that does not apply is a 400 naming "format".
+void replyExport(httplib::Response& res, const std::string& stem, const std::function<ExportedFile()>& produce) {
+  try {
+    const ExportedFile file = produce();
+    res.set_header("Content-Disposition", "attachment; filename=\"" + stem + "." + file.extension + "\"");
+    res.set_content(file.content, file.mediaType);
+  } catch (const ExportUnavailable& e) {
+    std::string message = e.what();
+    const std::string prefix = "format: ";
+    if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+    replyError(res, 400, "invalid", "format: " + message, "format");
+  }
 }
 
 transport::Delivery toTransport(Delivery d) {
@@ -173,10 +189,6 @@ void Daemon::openDemos() {
     }
     try {
       const proto::Scene scene = proto::sceneFromText(readFile(path));
-      if (!std::holds_alternative<models::strip::StripDesign>(scene.model)) {
-        spdlog::info("demo scene {}: not a strip; sessions edit strips (solve it with devsurf solve or a job)", path);
-        continue;
-      }
       createSession(scene, edit, view, true, id);
     } catch (const std::exception& e) {
       spdlog::error("demo scene {}: {}", path, e.what());
@@ -212,10 +224,17 @@ std::shared_ptr<Session> Daemon::findSession(const std::string& id) const {
 
 void Daemon::checkSceneLimits(const json& scene) const {
   int points = 0;
-  if (scene.contains("model") && scene["model"].is_object())
+  auto count = [](const json& list) { return list.is_array() ? static_cast<int>(list.size()) : 0; };
+  if (scene.contains("model") && scene["model"].is_object()) {
+    const json& model = scene["model"];
     for (const char* c : {"a", "b"})
-      if (scene["model"].contains(c) && scene["model"][c].contains("points") && scene["model"][c]["points"].is_array())
-        points += static_cast<int>(scene["model"][c]["points"].size());
+      if (model.contains(c) && model[c].is_object() && model[c].contains("points")) points += count(model[c]["points"]);
+    // Composites: vertices and the S edges' interior control points.
+    if (model.contains("vertices")) points += count(model["vertices"]);
+    if (model.contains("edges") && model["edges"].is_array())
+      for (const json& e : model["edges"])
+        if (e.is_object() && e.contains("points")) points += count(e["points"]);
+  }
   if (points > options_.maxControlPoints)
     throw proto::SceneError("model", "limit",
                             "too many control points (" + std::to_string(points) + "; this server allows " +
@@ -276,9 +295,6 @@ void Daemon::routes() {
     try {
       checkSceneLimits(*body);
       const proto::Scene scene = proto::sceneFromJson(*body);
-      if (!std::holds_alternative<models::strip::StripDesign>(scene.model))
-        throw proto::SceneError("model.kind", "kind",
-                                "sessions edit strips; solve other models with devsurf solve or POST /api/jobs");
       const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);
@@ -326,15 +342,7 @@ void Daemon::routes() {
       res.set_header("Content-Disposition", "attachment; filename=\"" + session->id() + ".json\"");
       return replyJson(res, 200, session->sceneJson());
     }
-    if (format == "obj") {
-      const std::string path = (std::filesystem::temp_directory_path() / ("devsurf-export-" + randomToken() + ".obj")).string();
-      session->exportObj(path);
-      res.set_content(readFile(path), "model/obj");
-      std::remove(path.c_str());
-      res.set_header("Content-Disposition", "attachment; filename=\"" + session->id() + ".obj\"");
-      return;
-    }
-    replyError(res, 400, "invalid", "format: expected json or obj, got \"" + format + "\"", "format");
+    replyExport(res, session->id(), [&session, &format]() { return session->exportAs(format); });
   });
 
   // --- jobs ---
@@ -387,14 +395,9 @@ void Daemon::routes() {
     }
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
     if (format == "json") return replyJson(res, 200, *job->report);
-    if (format == "obj") {
-      const std::string path = (std::filesystem::temp_directory_path() / ("devsurf-job-" + randomToken() + ".obj")).string();
-      SceneSolver(proto::sceneFromJson((*job->report)["scene"])).exportTo("obj:" + path);
-      res.set_content(readFile(path), "model/obj");
-      std::remove(path.c_str());
-      return;
-    }
-    replyError(res, 400, "invalid", "format: expected json or obj, got \"" + format + "\"", "format");
+    replyExport(res, job->id, [&job, &format]() {
+      return SceneSolver(proto::sceneFromJson((*job->report)["scene"])).exportAs(format);
+    });
   });
 
   if (!options_.webRoot.empty() && std::filesystem::is_directory(options_.webRoot)) s.set_mount_point("/", options_.webRoot);

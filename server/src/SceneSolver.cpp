@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <sstream>
 #include <stdexcept>
 
 #include "devsurf/io/FoldWriter.h"
@@ -143,6 +144,41 @@ void SceneSolver::exportTo(const std::string& spec) const {
     std::remove(staging.c_str());
     throw std::runtime_error("cannot write " + path);
   }
+}
+
+namespace {
+
+/// Wavefront OBJ text of a quad mesh (1-based indices, one "f" line per quad).
+std::string objText(const io::QuadMesh& mesh, const std::string& title) {
+  std::ostringstream out;
+  out.precision(9);
+  out << "# devsurf: " << title << "\n";
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+    out << "v " << mesh.vertices(i, 0) << ' ' << mesh.vertices(i, 1) << ' ' << mesh.vertices(i, 2) << "\n";
+  for (Eigen::Index q = 0; q < mesh.quads.rows(); ++q)
+    out << "f " << mesh.quads(q, 0) + 1 << ' ' << mesh.quads(q, 1) + 1 << ' ' << mesh.quads(q, 2) + 1 << ' '
+        << mesh.quads(q, 3) + 1 << "\n";
+  return out.str();
+}
+
+}  // namespace
+
+ExportedFile SceneSolver::exportAs(const std::string& format) const {
+  if (format == "obj") {
+    const io::QuadMesh mesh = composite_ ? composite_->geometry(50, 8).merged : strip_->geometry(200, 8, 2).surface;
+    return {objText(mesh, scene_.name), "model/obj", "obj"};
+  }
+  if (format == "fold" || format == "svg") {
+    if (!composite_)
+      throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a strip");
+    if (!composite_->hasDevelopment())
+      throw ExportUnavailable("format: " + format +
+                              " needs a development; add \"development\": {\"samples\": n} to the composite model");
+    const io::CreasePattern cp = composite_->creasePattern(scene_.name);
+    if (format == "fold") return {io::foldString(cp), "application/json", "fold"};
+    return {io::svgFoldPattern(cp), "image/svg+xml", "svg"};
+  }
+  throw ExportUnavailable("format: expected json, obj, fold or svg, got \"" + format + "\"");
 }
 
 }  // namespace devsurf::server

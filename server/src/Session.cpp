@@ -14,6 +14,7 @@ using nlohmann::json;
 using models::strip::ControlPointRef;
 using models::strip::Curve;
 using models::strip::StripDesign;
+namespace composite = models::composite;
 
 const char* kPalette[] = {"#e6194b", "#3cb44b", "#4363d8", "#f58231", "#911eb4",
                           "#42d4f4", "#f032e6", "#9a6324", "#800000", "#469990"};
@@ -26,6 +27,23 @@ ControlPointRef refOf(const json& target) {
 json targetJson(const ControlPointRef& r) {
   return {{"curve", models::strip::curveName(r.curve)}, {"index", r.index}};
 }
+
+/// A composite point reference of a target or scene entry ({"vertex"} or {"edge","index"}).
+composite::PointRef compositeRefOf(const json& target) {
+  if (target.contains("vertex")) return composite::PointRef::ofVertex(target["vertex"].get<int>());
+  return composite::PointRef::ofEdgePoint(target.at("edge").get<int>(), target.at("index").get<int>());
+}
+
+/// Canonical target of a valid composite point: an S edge's end control points are its vertices.
+json compositeTargetJson(const composite::CompositeDesign& d, const composite::PointRef& r) {
+  if (r.isVertex()) return {{"vertex", r.vertex}};
+  const composite::CompositeEdge& e = d.edges.at(static_cast<std::size_t>(r.edge));
+  if (r.index == 0) return {{"vertex", e.v0}};
+  if (r.index == e.curve.points.rows() - 1) return {{"vertex", e.v1}};
+  return {{"edge", r.edge}, {"index", r.index}};
+}
+
+json point3Json(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
 bool isEdit(const std::string& type) {
   return type != "presence" && type != "ping" && type != "join";
@@ -65,14 +83,155 @@ void Session::rebuild(const proto::Scene& scene) {
 
 proto::Scene Session::persistentScene() const {
   proto::Scene s = solver_->currentScene();
+  if (auto* c = std::get_if<composite::CompositeDesign>(&s.model)) {
+    const composite::CompositeDesign& design = *c;
+    c->handles.erase(std::remove_if(c->handles.begin(), c->handles.end(),
+                                    [this, &design](const composite::Handle& h) {
+                                      return isDragHandle(compositeTargetJson(design, h.point));
+                                    }),
+                     c->handles.end());
+    return s;
+  }
   auto& d = std::get<StripDesign>(s.model);
   d.handles.erase(std::remove_if(d.handles.begin(), d.handles.end(),
-                                 [this](const models::strip::Handle& h) {
-                                   return std::find(dragHandles_.begin(), dragHandles_.end(),
-                                                    h.point) != dragHandles_.end();
-                                 }),
+                                 [this](const models::strip::Handle& h) { return isDragHandle(targetJson(h.point)); }),
                   d.handles.end());
   return s;
+}
+
+bool Session::isDragHandle(const json& target) const {
+  return std::find(dragHandles_.begin(), dragHandles_.end(), target) != dragHandles_.end();
+}
+
+const engine::Problem& Session::problem() const {
+  if (isComposite()) return solver_->compositeModel().problem();
+  return solver_->stripModel().problem();
+}
+
+json Session::geometryJson(json* iterateMetrics) const {
+  if (isComposite()) {
+    const composite::CompositeModel& model = solver_->compositeModel();
+    const composite::CompositeQuality q = model.quality();
+    if (iterateMetrics)
+      *iterateMetrics = {{"face_flatness_max", q.faceFlatnessMax}, {"face_flatness_mean", q.faceFlatnessMean},
+                         {"vertex_curvature_max", q.vertexCurvatureMax},
+                         {"crease_fold_residual_max", q.creaseFoldResidualMax},
+                         {"crease_fold_angle_max_deg", q.foldAngleMaxDeg},
+                         {"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg}};
+    return proto::compositeGeometryJson(model, q, settings_.compositeSamplesPerSpan);
+  }
+  if (iterateMetrics) {
+    const metrics::StripQuality q = solver_->stripModel().quality(200);
+    *iterateMetrics = {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg}};
+  }
+  return proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples);
+}
+
+json Session::constraintsJson() const {
+  const proto::Scene current = solver_->currentScene();
+  json fixed = json::array(), handles = json::array();
+  auto addHandle = [this, &handles](const json& target, const Eigen::Vector3d& position, double weight) {
+    handles.push_back({{"target", target}, {"position", point3Json(position)}, {"weight", weight},
+                       {"temporary", isDragHandle(target)}});
+  };
+  if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
+    for (const auto& f : c->fixed) fixed.push_back(compositeTargetJson(*c, f));
+    for (const auto& h : c->handles) addHandle(compositeTargetJson(*c, h.point), h.position, h.weight);
+  } else {
+    const auto& d = std::get<StripDesign>(current.model);
+    for (const auto& f : d.fixed) fixed.push_back(targetJson(f));
+    for (const auto& h : d.handles) addHandle(targetJson(h.point), h.position, h.weight);
+  }
+  return {{"fixed", fixed}, {"handles", handles}};
+}
+
+json Session::canonicalTarget(const json& target, std::string& path, std::string& message) const {
+  const proto::Scene current = solver_->currentScene();
+  if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
+    if (target.contains("curve")) {
+      path = "target";
+      message = "this session edits a composite; address points as {\"vertex\": i} or {\"edge\": e, \"index\": k}";
+      return nullptr;
+    }
+    const composite::PointRef r = compositeRefOf(target);
+    const int nv = static_cast<int>(c->vertices.rows()), ne = static_cast<int>(c->edges.size());
+    if (r.isVertex()) {
+      if (r.vertex >= nv) {
+        path = "target.vertex";
+        message = "no vertex " + std::to_string(r.vertex) + " (the composite has " + std::to_string(nv) + ")";
+        return nullptr;
+      }
+      return compositeTargetJson(*c, r);
+    }
+    if (r.edge >= ne) {
+      path = "target.edge";
+      message = "no edge " + std::to_string(r.edge) + " (the composite has " + std::to_string(ne) + ")";
+      return nullptr;
+    }
+    const composite::CompositeEdge& e = c->edges[static_cast<std::size_t>(r.edge)];
+    if (e.type != composite::EdgeType::Spline) {
+      path = "target.edge";
+      message = "edge " + std::to_string(r.edge) + " is a ruling (R) and has no control points; address its vertices";
+      return nullptr;
+    }
+    if (r.index >= e.curve.points.rows()) {
+      path = "target.index";
+      message = "edge " + std::to_string(r.edge) + " has " + std::to_string(e.curve.points.rows()) +
+                " control points (index 0 … " + std::to_string(e.curve.points.rows() - 1) + ")";
+      return nullptr;
+    }
+    return compositeTargetJson(*c, r);
+  }
+  if (!target.contains("curve")) {
+    path = "target";
+    message = "this session edits a strip; address control points as {\"curve\": \"a\"|\"b\", \"index\": i}";
+    return nullptr;
+  }
+  const auto& d = std::get<StripDesign>(current.model);
+  const ControlPointRef r = refOf(target);
+  const int n = static_cast<int>((r.curve == Curve::A ? d.a.points : d.b.points).rows());
+  if (r.index >= n) {
+    path = "target.index";
+    message = "no such control point (curve " + std::string(models::strip::curveName(r.curve)) + " has " +
+              std::to_string(n) + ")";
+    return nullptr;
+  }
+  return targetJson(r);
+}
+
+json Session::pointKey(const proto::Scene& current, const json& entry) const {
+  if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model))
+    return compositeTargetJson(*c, compositeRefOf(entry));
+  return {{"curve", entry.at("curve")}, {"index", entry.at("index")}};
+}
+
+int Session::handleIndex(const proto::Scene& current, const json& target) const {
+  if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
+    for (std::size_t i = 0; i < c->handles.size(); ++i)
+      if (compositeTargetJson(*c, c->handles[i].point) == target) return static_cast<int>(i);
+    return -1;
+  }
+  const auto& d = std::get<StripDesign>(current.model);
+  for (std::size_t i = 0; i < d.handles.size(); ++i)
+    if (targetJson(d.handles[i].point) == target) return static_cast<int>(i);
+  return -1;
+}
+
+void Session::setHandleTarget(int handle, const Eigen::Vector3d& position) {
+  if (isComposite())
+    solver_->compositeModel().setHandleTarget(handle, position);
+  else
+    solver_->stripModel().setHandleTarget(handle, position);
+}
+
+void Session::releaseDragHandle(const json& target) {
+  std::string path, message;
+  const json canonical = canonicalTarget(target, path, message);
+  const auto active = std::find(dragHandles_.begin(), dragHandles_.end(), canonical);
+  if (active == dragHandles_.end()) return;
+  const proto::Scene s = persistentScene();  // without the temporary handle
+  dragHandles_.erase(active);
+  rebuild(s);
 }
 
 json Session::sceneJson() const {
@@ -85,9 +244,9 @@ json Session::metricsJson() const {
   return cachedMetrics_;
 }
 
-void Session::exportObj(const std::string& path) const {
+ExportedFile Session::exportAs(const std::string& format) const {
   const proto::Scene scene = proto::sceneFromJson(sceneJson());
-  SceneSolver(scene).exportTo("obj:" + path);
+  return SceneSolver(scene).exportAs(format);
 }
 
 int Session::participantCount() const {
@@ -226,15 +385,8 @@ json Session::presenceMessage() const {
 }
 
 json Session::stateMessage(int participant) const {
-  const proto::Scene current = solver_->currentScene();
-  const auto& d = std::get<StripDesign>(current.model);
-  json fixed = json::array(), handles = json::array();
-  for (const auto& f : d.fixed) fixed.push_back(targetJson(f));
-  for (const auto& h : d.handles)
-    handles.push_back({{"target", targetJson(h.point)},
-                       {"position", {h.position.x(), h.position.y(), h.position.z()}},
-                       {"weight", h.weight},
-                       {"temporary", std::find(dragHandles_.begin(), dragHandles_.end(), h.point) != dragHandles_.end()}});
+  const json constraints = constraintsJson();
+  const json geometry = geometryJson();
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = participants_.find(participant);
   return {{"type", "state"},
@@ -244,24 +396,12 @@ json Session::stateMessage(int participant) const {
           {"role", it != participants_.end() && it->second.role == Role::Edit ? "edit" : "view"},
           {"scene", cachedScene_},
           {"metrics", cachedMetrics_},
-          {"geometry", proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples)},
-          {"constraints", {{"fixed", fixed}, {"handles", handles}}},
+          {"geometry", geometry},
+          {"constraints", constraints},
           {"participants", participantsJson()},
           {"settings", {{"drag_iterations", settings_.dragIterations},
                         {"release_iterations", settings_.releaseIterations}}},
           {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}};
-}
-
-int Session::targetIndex(const json& target, std::string& path) const {
-  const proto::Scene current = solver_->currentScene();
-  const auto& d = std::get<StripDesign>(current.model);
-  const ControlPointRef r = refOf(target);
-  const int n = static_cast<int>((r.curve == Curve::A ? d.a.points : d.b.points).rows());
-  if (r.index >= n) {
-    path = "target.index";
-    return -1;
-  }
-  return r.index;
 }
 
 void Session::pushUndo() {
@@ -294,31 +434,34 @@ void Session::commit(int participant, const json& edit, const std::vector<json>&
 bool Session::apply(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
   const json op = edit.value("op", json());
-  std::string path;
-  auto scene = [this]() { return proto::sceneToJson(persistentScene()); };
-  auto rebuildFrom = [this](const json& doc) { rebuild(proto::sceneFromJson(doc)); };
-
-  if (edit.contains("target") && targetIndex(edit["target"], path) < 0) {
-    if (!replaying) error(participant, op, "invalid", "no such control point", path);
+  auto reject = [this, participant, &op, &type, replaying](const std::string& code, const std::string& message,
+                                                            const std::string& path) {
+    if (!replaying) error(participant, op, code, type + ": " + message, path);
     return false;
+  };
+  const proto::Scene current = solver_->currentScene();
+
+  json target;
+  if (edit.contains("target")) {
+    std::string path, message;
+    target = canonicalTarget(edit["target"], path, message);
+    if (target.is_null()) return reject("invalid", message, path);
   }
   if (type == "drag") {
-    const ControlPointRef r = refOf(edit["target"]);
     const Eigen::Vector3d pos(edit["position"][0].get<double>(), edit["position"][1].get<double>(),
                               edit["position"][2].get<double>());
-    const proto::Scene current = solver_->currentScene();
-  const auto& d = std::get<StripDesign>(current.model);
-    const auto it = std::find_if(d.handles.begin(), d.handles.end(),
-                                 [&r](const models::strip::Handle& h) { return h.point == r; });
-    const bool active = std::find(dragHandles_.begin(), dragHandles_.end(), r) != dragHandles_.end();
-    if (it == d.handles.end()) {
+    const int handle = handleIndex(current, target);
+    if (handle < 0) {
       pushUndo();
-      proto::Scene s = solver_->currentScene();
-      std::get<StripDesign>(s.model).handles.push_back({r, pos, s.solver.handleWeight});
-      dragHandles_.push_back(r);
+      proto::Scene s = current;
+      if (auto* c = std::get_if<composite::CompositeDesign>(&s.model))
+        c->handles.push_back({compositeRefOf(target), pos, s.solver.handleWeight});
+      else
+        std::get<StripDesign>(s.model).handles.push_back({refOf(target), pos, s.solver.handleWeight});
+      dragHandles_.push_back(target);
       rebuild(s);
     } else {
-      if (!active && !replaying) {
+      if (!isDragHandle(target) && !replaying) {
         bool started = true;  // the first drag of a permanent handle is one undo step
         {
           std::lock_guard<std::mutex> lock(mutex_);
@@ -327,7 +470,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
         }
         if (started) pushUndo();
       }
-      solver_->stripModel().setHandleTarget(static_cast<int>(it - d.handles.begin()), pos);
+      setHandleTarget(handle, pos);
     }
     return true;
   }
@@ -338,15 +481,12 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   if (type == "undo" || type == "redo") {
     auto& from = type == "undo" ? undo_ : redo_;
     auto& to = type == "undo" ? redo_ : undo_;
-    if (from.empty()) {
-      if (!replaying) error(participant, op, "conflict", "nothing to " + type, "type");
-      return false;
-    }
+    if (from.empty()) return reject("conflict", "nothing to " + type, "type");
     to.push_back(persistentScene());
-    const proto::Scene target = from.back();
+    const proto::Scene previous = from.back();
     from.pop_back();
     dragHandles_.clear();
-    rebuild(target);
+    rebuild(previous);
     return true;
   }
   if (type == "reset") {
@@ -356,41 +496,57 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     return true;
   }
   // Structural edits go through the scene document, so the model's own validation applies.
-  json doc = scene();
+  json doc = proto::sceneToJson(persistentScene());
   json& model = doc["model"];
+  auto sameTarget = [this, &current, &target](const json& entry) { return pointKey(current, entry) == target; };
   if (type == "add_handle") {
     json handles = model.value("handles", json::array());
-    json h{{"curve", edit["target"]["curve"]}, {"index", edit["target"]["index"]}, {"position", edit["position"]}};
+    json h = target;
+    h["position"] = edit["position"];
     if (edit.contains("weight")) h["weight"] = edit["weight"];
-    auto same = [&edit](const json& x) { return x["curve"] == edit["target"]["curve"] && x["index"] == edit["target"]["index"]; };
-    handles.erase(std::remove_if(handles.begin(), handles.end(), same), handles.end());
+    handles.erase(std::remove_if(handles.begin(), handles.end(), sameTarget), handles.end());
     handles.push_back(h);
     model["handles"] = handles;
   } else if (type == "remove_handle") {
     json handles = model.value("handles", json::array());
     const auto before = handles.size();
-    handles.erase(std::remove_if(handles.begin(), handles.end(), [&edit](const json& x) {
-                    return x["curve"] == edit["target"]["curve"] && x["index"] == edit["target"]["index"];
-                  }), handles.end());
-    if (handles.size() == before) {
-      if (!replaying) error(participant, op, "invalid", "that control point has no handle", "target");
-      return false;
-    }
+    handles.erase(std::remove_if(handles.begin(), handles.end(), sameTarget), handles.end());
+    if (handles.size() == before) return reject("invalid", "that point has no handle", "target");
     model["handles"] = handles;
   } else if (type == "set_fixed") {
     json fixed = model.value("fixed", json::array());
-    const json t{{"curve", edit["target"]["curve"]}, {"index", edit["target"]["index"]}};
-    fixed.erase(std::remove(fixed.begin(), fixed.end(), t), fixed.end());
-    if (edit["fixed"].get<bool>()) fixed.push_back(t);
+    fixed.erase(std::remove_if(fixed.begin(), fixed.end(), sameTarget), fixed.end());
+    if (edit["fixed"].get<bool>()) fixed.push_back(target);
     model["fixed"] = fixed;
   } else if (type == "set_solver") {
+    if (edit.contains("normals") && isComposite())
+      return reject("invalid", "\"normals\" applies to strip sessions; a composite keeps free normal vectors per face",
+                    "normals");
     for (const auto& [k, v] : edit["solver"].items()) doc["solver"][k] = v;
     if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
     if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
     if (edit.contains("normals")) model["normals"] = edit["normals"];
+  } else if (type == "set_crease") {
+    if (!isComposite()) return reject("invalid", "applies to composite sessions; this session edits a strip", "type");
+    const int e = edit["edge"].get<int>();
+    const std::string crease = edit["crease"].get<std::string>();
+    const composite::CompositeTopology& topology = solver_->compositeModel().topology();
+    if (e >= topology.numEdges())
+      return reject("invalid", "no edge " + std::to_string(e) + " (the composite has " + std::to_string(topology.numEdges()) + ")",
+                    "edge");
+    if (!topology.edge(e).interior())
+      return reject("invalid", "edge " + std::to_string(e) + " is on the boundary; a crease joins two faces", "edge");
+    if ((crease == "fold" || crease == "geodesic") && topology.edgeType(e) != composite::EdgeType::Spline)
+      return reject("invalid", "\"" + crease + "\" applies to S edges; edge " + std::to_string(e) +
+                                   " is a ruling (R), a straight crease that folds freely (use \"none\" or \"smooth\")",
+                    "crease");
+    json& je = model["edges"][static_cast<std::size_t>(e)];
+    if (crease == "none")
+      je.erase("crease");
+    else
+      je["crease"] = crease;
   } else {
-    if (!replaying) error(participant, op, "invalid", "unknown message type \"" + type + "\"", "type");
-    return false;
+    return reject("invalid", "unknown message type \"" + type + "\"", "type");
   }
   try {
     const proto::Scene next = proto::sceneFromJson(doc);
@@ -398,8 +554,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     dragHandles_.clear();
     rebuild(next);
   } catch (const proto::SceneError& e) {
-    if (!replaying) error(participant, op, "invalid", e.what(), e.path());
-    return false;
+    return reject("invalid", e.what(), e.path());
   }
   return true;
 }
@@ -410,19 +565,20 @@ bool Session::runSolver(int iterations, bool final) {
   auto onIteration = [this, seq, &interrupted](const engine::IterationRecord& r) {
     if (r.iteration == 0) return !(interrupted = hasQueuedWork());
     if (counters_) counters_->recordIteration(r.totalMs);
-    const metrics::StripQuality q = solver_->stripModel().quality(200);
     json residuals = json::object();
     // Per-term residuals by name (terms of the same name summed).
-    const auto& problem = solver_->stripModel().problem();
-    for (int t = 0; t < problem.numTerms(); ++t) {
-      const std::string& n = problem.term(t).term->name();
+    const engine::Problem& terms = problem();
+    for (int t = 0; t < terms.numTerms(); ++t) {
+      const std::string& n = terms.term(t).term->name();
       residuals[n] = residuals.value(n, 0.0) + r.termResiduals[t];
     }
+    json metrics;
+    json geometry = geometryJson(&metrics);
     broadcast({{"type", "iterate"}, {"seq", seq}, {"iteration", r.iteration},
                {"residuals", residuals},
-               {"metrics", {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg}}},
+               {"metrics", std::move(metrics)},
                {"time_ms", r.totalMs},
-               {"geometry", proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples)}},
+               {"geometry", std::move(geometry)}},
               Delivery::Latest, "iterate");
     return !(interrupted = hasQueuedWork());
   };
@@ -506,13 +662,7 @@ void Session::handle(const Work& work) {
   } else if (type == "drag_end") {
     const int iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
     runSolver(iterations, true);
-    const ControlPointRef r = refOf(m["target"]);
-    const auto active = std::find(dragHandles_.begin(), dragHandles_.end(), r);
-    if (active != dragHandles_.end()) {
-      const proto::Scene s = persistentScene();  // without the temporary handle
-      dragHandles_.erase(active);
-      rebuild(s);
-    }
+    releaseDragHandle(m["target"]);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       auto it = participants_.find(pid);
@@ -523,7 +673,7 @@ void Session::handle(const Work& work) {
     runSolver(std::min(m.value("iterations", 10), settings_.maxIterationsPerRequest), true);
   } else {
     broadcast({{"type", "update"}, {"seq", seq_.load()}, {"scene", sceneJson()}, {"metrics", metricsJson()},
-               {"geometry", proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples)},
+               {"geometry", geometryJson()},
                {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
   }
   {
@@ -543,13 +693,7 @@ void Session::replay(const std::vector<std::pair<std::int64_t, json>>& edits, st
     if (type == "drag") solver_->solve(settings_.dragIterations);
     else if (type == "drag_end") {
       solver_->solve(edit.value("iterations", settings_.releaseIterations));
-      const ControlPointRef r = refOf(edit["target"]);
-      const auto active = std::find(dragHandles_.begin(), dragHandles_.end(), r);
-      if (active != dragHandles_.end()) {
-        const proto::Scene s = persistentScene();
-        dragHandles_.erase(active);
-        rebuild(s);
-      }
+      releaseDragHandle(edit["target"]);
     } else if (type == "solve") solver_->solve(edit.value("iterations", 10));
   }
   seq_ = lastSeq;

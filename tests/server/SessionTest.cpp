@@ -1,5 +1,6 @@
 #include "devsurf/server/Session.h"
 
+#include "devsurf/proto/Geometry.h"
 #include "devsurf/server/Tokens.h"
 
 #include <gtest/gtest.h>
@@ -232,6 +233,183 @@ TEST(Session, ReplayingTheJournalRestoresTheScene) {
   for (int i = 0; i < 7; ++i)
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(a["model"]["b"]["points"][i][c].get<double>(), b["model"]["b"]["points"][i][c].get<double>(), 1e-9);
+}
+
+// ---- composite sessions ----
+
+/// examples/composite-curved-fold.json without its handle: a flat 2 × 2 sheet split by one curved
+/// crease (edge 0, S, "fold") into two strips; vertices 0, 1, 4, 5 fixed; a development.
+proto::Scene curvedFoldScene() {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-curved-fold.json");
+  json doc = json::parse(file);
+  doc["model"].erase("handles");
+  return proto::sceneFromJson(doc);
+}
+
+std::shared_ptr<Session> makeCompositeSession(ManualExecutor& ex, SessionJournal* journal = nullptr) {
+  return std::make_shared<Session>("c1", curvedFoldScene(), Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+                                   SessionSettings{}, ex.scheduler(), journal, nullptr);
+}
+
+struct JoinedCompositeEditor {
+  ManualExecutor ex;
+  MemoryJournal journal;
+  std::shared_ptr<Session> session = makeCompositeSession(ex, &journal);
+  Inbox inbox;
+  int pid = session->join(Role::Edit, "", inbox.sink());
+  JoinedCompositeEditor() { ex.runAll(); }
+  void send(const json& message) {
+    session->post(pid, message);
+    ex.runAll();
+  }
+};
+
+json dragVertex3(int op, double z) {
+  return {{"type", "drag"}, {"op", op}, {"target", {{"vertex", 3}}}, {"position", {2.0, 2.0, z}}};
+}
+
+TEST(CompositeSession, JoinSendsCompositeGeometryWithCreasesPointsAndDevelopment) {
+  JoinedCompositeEditor e;
+  const json& state = e.inbox.messages.at(0);
+  ASSERT_EQ(state["type"], "state");
+  EXPECT_EQ(state["scene"]["model"]["kind"], "composite");
+  const json& g = state["geometry"];
+  EXPECT_EQ(g["kind"], "composite");
+  const Eigen::MatrixXd vertices = proto::decodeFloat32Array(g["surface"]["vertices"]);
+  EXPECT_GT(vertices.rows(), 0);
+  EXPECT_EQ(g["surface"]["quads"]["shape"][1], 4);
+  EXPECT_EQ(proto::decodeFloat32Array(g["surface"]["face_flatness"]).rows(), vertices.rows());
+  EXPECT_EQ(proto::decodeFloat32Array(g["surface"]["vertex_curvature"]).rows(), vertices.rows());
+  ASSERT_EQ(g["edges"].size(), 7u);
+  EXPECT_EQ(g["edges"][0]["crease"], "fold");
+  EXPECT_TRUE(g["edges"][0]["interior"].get<bool>());
+  EXPECT_TRUE(g["edges"][0].contains("fold_angle_deg"));
+  EXPECT_EQ(g["edges"][0]["control_points"]["shape"][0], 6);
+  EXPECT_EQ(g["edges"][1]["assignment"], "B");
+  // 6 vertices, then the interior control points of the three S edges (4 each).
+  EXPECT_EQ(g["points"]["refs"]["shape"][0], 6 + 3 * 4);
+  ASSERT_TRUE(g["development"].is_object());
+  EXPECT_GT(g["development"]["triangles"]["shape"][0].get<int>(), 0);
+  EXPECT_EQ(g["development"]["assignment"].get<std::string>().size(), g["development"]["edges"]["shape"][0].get<std::size_t>());
+  EXPECT_EQ(state["constraints"]["fixed"].size(), 4u);
+  EXPECT_EQ(state["constraints"]["fixed"][0], (json{{"vertex", 0}}));
+}
+
+TEST(CompositeSession, DraggingAVertexStreamsIteratesAndReleaseSolvesToSmallResiduals) {
+  JoinedCompositeEditor e;
+  for (int k = 1; k <= 4; ++k) e.send(dragVertex3(k, 0.2 * k));
+  e.send({{"type", "drag_end"}, {"op", 99}, {"target", {{"vertex", 3}}}, {"iterations", 30}});
+  EXPECT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.ofType("error")[0].dump();
+  EXPECT_EQ(e.inbox.ofType("ack").size(), 5u);
+  const auto iterates = e.inbox.ofType("iterate");
+  ASSERT_GE(iterates.size(), 5u);
+  EXPECT_EQ(iterates.back()["geometry"]["kind"], "composite");
+  EXPECT_TRUE(iterates.back()["residuals"].contains("crease_fold"));
+  const auto solved = e.inbox.ofType("solved");
+  ASSERT_EQ(solved.size(), 1u);
+  EXPECT_LT(solved[0]["metrics"]["face_flatness_max"].get<double>(), 1e-3);
+  EXPECT_LT(solved[0]["metrics"]["crease_fold_residual_max"].get<double>(), 1e-3);
+  // The vertex followed the drag, and the temporary handle is gone from the scene.
+  const json scene = e.session->sceneJson();
+  EXPECT_GT(scene["model"]["vertices"][3][2].get<double>(), 0.3);
+  EXPECT_FALSE(scene["model"].contains("handles"));
+}
+
+TEST(CompositeSession, ControlPointsOfSplineEdgesCanBeDraggedAndTheirEndsAreTheVertices) {
+  JoinedCompositeEditor e;
+  e.send({{"type", "drag"}, {"op", 1}, {"target", {{"edge", 3}, {"index", 2}}}, {"position", {2.1, 0.8, 0.3}}});
+  e.send({{"type", "drag_end"}, {"op", 2}, {"target", {{"edge", 3}, {"index", 2}}}});
+  EXPECT_TRUE(e.inbox.ofType("error").empty());
+  EXPECT_GT(e.session->sceneJson()["model"]["edges"][3]["points"][1][2].get<double>(), 0.05);
+  // {"edge": 3, "index": 0} is vertex 2 (edge 3 runs from vertex 2 to vertex 3).
+  e.send({{"type", "set_fixed"}, {"op", 3}, {"target", {{"edge", 3}, {"index", 0}}}, {"fixed", true}});
+  const json fixed = e.session->sceneJson()["model"]["fixed"];
+  EXPECT_NE(std::find(fixed.begin(), fixed.end(), json{{"vertex", 2}}), fixed.end());
+}
+
+TEST(CompositeSession, SwitchingACreaseTypeIsAStructuralEditWithUndoAndRedo) {
+  JoinedCompositeEditor e;
+  e.send({{"type", "set_crease"}, {"op", 1}, {"edge", 0}, {"crease", "smooth"}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.ofType("error")[0].dump();
+  EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "smooth");
+  const auto updates = e.inbox.ofType("update");
+  ASSERT_EQ(updates.size(), 1u);
+  EXPECT_EQ(updates[0]["geometry"]["edges"][0]["crease"], "smooth");
+  EXPECT_EQ(updates[0]["undo"]["available"], 1);
+  e.send({{"type", "set_crease"}, {"op", 2}, {"edge", 0}, {"crease", "none"}});
+  EXPECT_FALSE(e.session->sceneJson()["model"]["edges"][0].contains("crease"));
+  e.send({{"type", "undo"}, {"op", 3}});
+  EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "smooth");
+  e.send({{"type", "undo"}, {"op", 4}});
+  EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "fold");
+  e.send({{"type", "redo"}, {"op", 5}});
+  EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "smooth");
+  ASSERT_EQ(e.journal.edits.size(), 5u);
+  EXPECT_EQ(e.journal.edits[0].second["type"], "set_crease");
+  // The journal replays to the same scene.
+  ManualExecutor ex2;
+  auto restored = makeCompositeSession(ex2);
+  restored->replay(e.journal.edits, e.journal.edits.back().first);
+  EXPECT_EQ(restored->sceneJson()["model"]["edges"], e.session->sceneJson()["model"]["edges"]);
+}
+
+TEST(CompositeSession, BadReferencesAndOpsOfTheOtherKindGetErrorsNamingTheField) {
+  JoinedCompositeEditor e;
+  const json before = e.session->sceneJson();
+  const std::vector<json> messages = {
+      {{"type", "drag"}, {"op", 1}, {"target", {{"vertex", 6}}}, {"position", {0, 0, 0}}},
+      {{"type", "drag"}, {"op", 2}, {"target", {{"edge", 9}, {"index", 1}}}, {"position", {0, 0, 0}}},
+      {{"type", "drag"}, {"op", 3}, {"target", {{"edge", 1}, {"index", 1}}}, {"position", {0, 0, 0}}},
+      {{"type", "set_fixed"}, {"op", 4}, {"target", {{"edge", 0}, {"index", 6}}}, {"fixed", true}},
+      {{"type", "drag"}, {"op", 5}, {"target", {{"curve", "a"}, {"index", 1}}}, {"position", {0, 0, 0}}},
+      {{"type", "set_crease"}, {"op", 6}, {"edge", 7}, {"crease", "fold"}},
+      {{"type", "set_crease"}, {"op", 7}, {"edge", 3}, {"crease", "smooth"}},
+      {{"type", "set_solver"}, {"op", 8}, {"solver", json::object()}, {"normals", {{"type", "vectors"}}}},
+      {{"type", "remove_handle"}, {"op", 9}, {"target", {{"vertex", 2}}}},
+  };
+  for (const json& m : messages) e.send(m);
+  const auto errors = e.inbox.ofType("error");
+  ASSERT_EQ(errors.size(), messages.size());
+  const std::vector<std::string> paths = {"target.vertex", "target.edge", "target.edge", "target.index", "target",
+                                          "edge", "edge", "normals", "target"};
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    EXPECT_EQ(errors[i]["path"], paths[i]) << errors[i].dump();
+    EXPECT_EQ(errors[i]["op"], messages[i]["op"]);
+    EXPECT_EQ(errors[i]["message"].get<std::string>().rfind(messages[i]["type"].get<std::string>() + ": ", 0), 0u)
+        << "the message names the op: " << errors[i].dump();
+  }
+  EXPECT_EQ(e.session->sceneJson(), before);
+  EXPECT_EQ(e.session->seq(), 0);
+}
+
+TEST(CompositeSession, StripSessionsRejectSetCreaseAndCompositeTargetsNamingTheOp) {
+  JoinedEditor e;
+  e.send({{"type", "set_crease"}, {"op", 1}, {"edge", 0}, {"crease", "fold"}});
+  e.send({{"type", "drag"}, {"op", 2}, {"target", {{"vertex", 0}}}, {"position", {0, 0, 0}}});
+  const auto errors = e.inbox.ofType("error");
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_EQ(errors[0]["path"], "type");
+  EXPECT_NE(errors[0]["message"].get<std::string>().find("set_crease"), std::string::npos);
+  EXPECT_EQ(errors[1]["path"], "target");
+  EXPECT_NE(errors[1]["message"].get<std::string>().find("strip"), std::string::npos);
+}
+
+TEST(CompositeSession, ExportsObjFoldAndSvgAndRefusesFormatsThatDoNotApply) {
+  JoinedCompositeEditor e;
+  const ExportedFile obj = e.session->exportAs("obj");
+  EXPECT_EQ(obj.mediaType, "model/obj");
+  EXPECT_NE(obj.content.find("\nf "), std::string::npos);
+  const ExportedFile fold = e.session->exportAs("fold");
+  const json doc = json::parse(fold.content);
+  EXPECT_EQ(doc["file_spec"], 1.2);
+  EXPECT_FALSE(doc["edges_assignment"].empty());
+  const ExportedFile svg = e.session->exportAs("svg");
+  EXPECT_EQ(svg.mediaType, "image/svg+xml");
+  EXPECT_NE(svg.content.find("<svg"), std::string::npos);
+  EXPECT_THROW(e.session->exportAs("step"), ExportUnavailable);
+  JoinedEditor strip;
+  EXPECT_THROW(strip.session->exportAs("svg"), ExportUnavailable);
+  EXPECT_NE(strip.session->exportAs("obj").content.find("\nf "), std::string::npos);
 }
 
 }  // namespace

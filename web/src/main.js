@@ -15,6 +15,14 @@ window.__devsurf = {
   controlPointScreenPosition(curve, index) {
     return editor ? editor.controlPointScreenPosition(curve, index) : null;
   },
+  /** Composites too: a target {curve, index}, {vertex} or {edge, index}. */
+  pointScreenPosition(target) {
+    return editor ? editor.pointScreenPosition(target) : null;
+  },
+  /** The selection marker (diamond) of a composite's edge. */
+  edgeScreenPosition(edge) {
+    return editor ? editor.edgeScreenPosition(edge) : null;
+  },
   iterateApplyTimes() {
     return editor ? editor.applyTimes.slice() : [];
   },

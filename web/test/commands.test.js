@@ -3,7 +3,7 @@ import { fileURLToPath } from 'node:url';
 import { describe, expect, it } from 'vitest';
 import {
   AddHandleCommand, DragCommand, DragEndCommand, JoinCommand, PingCommand, PresenceCommand, RedoCommand,
-  RemoveHandleCommand, ResetCommand, SetFixedCommand, SetSolverCommand, SolveCommand, UndoCommand, SOLVER_KEYS,
+  RemoveHandleCommand, ResetCommand, SetCreaseCommand, SetFixedCommand, SetSolverCommand, SolveCommand, UndoCommand, SOLVER_KEYS,
 } from '../src/commands/index.js';
 import { makeValidator } from './helpers/jsonschema.js';
 
@@ -39,6 +39,14 @@ const cases = [
   ['PresenceCommand none + name', new PresenceCommand(null, 'ada')],
   ['JoinCommand', new JoinCommand('8f3c', 'tok', 'ada')],
   ['PingCommand', new PingCommand()],
+  // Composite sessions: vertices and S-edge control points, crease types.
+  ['DragCommand of a composite vertex', new DragCommand({ vertex: 3 }, [1, 2, 3])],
+  ['DragEndCommand of an S-edge control point', new DragEndCommand({ edge: 0, index: 2 })],
+  ['SetFixedCommand of a vertex', new SetFixedCommand({ vertex: 0 }, true)],
+  ['AddHandleCommand of an S-edge control point', new AddHandleCommand({ edge: 3, index: 1 }, [0, 0, 1])],
+  ['PresenceCommand selecting a vertex', new PresenceCommand({ vertex: 2 })],
+  ['SetCreaseCommand fold', new SetCreaseCommand(0, 'fold')],
+  ['SetCreaseCommand none', new SetCreaseCommand(4, 'none')],
 ];
 
 describe('commands match ws-client.schema.json', () => {
@@ -71,6 +79,18 @@ describe('commands match ws-client.schema.json', () => {
     const types = schemas['ws-client.schema.json'].oneOf.map((r) => r.$ref.split('/').pop());
     const sent = new Set(cases.map(([, c]) => c.type));
     expect([...sent].sort()).toEqual([...types].sort());
+  });
+
+  it('composite targets and crease types are checked before sending', () => {
+    expect(() => new DragCommand({ vertex: -1 }, [0, 0, 0])).toThrow(TypeError);
+    expect(() => new DragCommand({ vertex: 1, edge: 2 }, [0, 0, 0])).toThrow(TypeError);
+    expect(() => new DragCommand({ edge: 1 }, [0, 0, 0])).toThrow(TypeError);
+    expect(() => new SetCreaseCommand(0, 'crumple')).toThrow(TypeError);
+    expect(() => new SetCreaseCommand(-1, 'fold')).toThrow(TypeError);
+    expect(validClient({ type: 'set_crease', op: 1, edge: 0, crease: 'crumple' }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'drag', op: 1, target: { vertex: 1, curve: 'a' }, position: [0, 0, 0] }).length).toBeGreaterThan(0);
+    expect(new SetCreaseCommand(2, 'geodesic').toMessage(5)).toEqual({ type: 'set_crease', op: 5, edge: 2, crease: 'geodesic' });
+    expect(new DragCommand({ edge: 0, index: 2 }, [1, 2, 3]).toMessage(6)).toEqual({ type: 'drag', op: 6, target: { edge: 0, index: 2 }, position: [1, 2, 3] });
   });
 
   it('builds the exact JSON', () => {

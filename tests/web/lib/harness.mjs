@@ -19,10 +19,10 @@ export const WEB = process.env.DEVSURF_WEB || path.join(ROOT, 'web', 'dist');
 export const CHROMIUM = process.env.DEVSURF_CHROMIUM || '/usr/bin/chromium';
 export const ARTIFACTS = path.join(ROOT, 'test-artifacts', 'web');
 export const EXAMPLES = path.join(ROOT, 'examples');
-// The example scenes that open as demo sessions (sessions edit strips; the daemon skips others).
+// The example scenes that open as demo sessions (strips and composites).
 export const DEMOS = fs.readdirSync(EXAMPLES).filter((f) => f.endsWith('.json')).sort()
   .map((f) => path.join(EXAMPLES, f))
-  .filter((f) => JSON.parse(fs.readFileSync(f, 'utf8')).model.kind === 'strip');
+  .filter((f) => ['strip', 'composite'].includes(JSON.parse(fs.readFileSync(f, 'utf8')).model.kind));
 
 fs.mkdirSync(ARTIFACTS, { recursive: true });
 
@@ -280,6 +280,14 @@ export async function controlPointPagePosition(page, curve, index) {
   const box = await page.getByTestId('viewport').boundingBox();
   const p = await page.evaluate(([c, i]) => window.__devsurf.controlPointScreenPosition(c, i), [curve, index]);
   if (!p || !Number.isFinite(p.x) || !Number.isFinite(p.y)) throw new Error(`no screen position for ${curve}[${index}]: ${JSON.stringify(p)}`);
+  return { x: box.x + p.x, y: box.y + p.y, local: p, box };
+}
+
+/** Page coordinates (CSS px) of any point target ({curve, index}, {vertex}, {edge, index}). */
+export async function pointPagePosition(page, target) {
+  const box = await page.getByTestId('viewport').boundingBox();
+  const p = await page.evaluate((t) => window.__devsurf.pointScreenPosition(t), target);
+  if (!p || !Number.isFinite(p.x) || !Number.isFinite(p.y)) throw new Error(`no screen position for ${JSON.stringify(target)}: ${JSON.stringify(p)}`);
   return { x: box.x + p.x, y: box.y + p.y, local: p, box };
 }
 

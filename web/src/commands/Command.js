@@ -3,11 +3,49 @@
 // proto/schemas/ws-client.schema.json. `source` names the UI control that issued it, so a server
 // error (matched by op) can be shown next to that control.
 
+const isIndex = (v) => Number.isInteger(v) && v >= 0;
+
+/**
+ * A point as the protocol addresses it: a strip's control point {curve: 'a'|'b', index}, or in a
+ * composite a vertex {vertex} or control point `index` of an S edge {edge, index}.
+ */
 export function target(t) {
-  if (!t || (t.curve !== 'a' && t.curve !== 'b') || !Number.isInteger(t.index) || t.index < 0) {
-    throw new TypeError(`invalid control point target ${JSON.stringify(t)}`);
+  if (t && (t.curve === 'a' || t.curve === 'b') && isIndex(t.index) && t.vertex === undefined && t.edge === undefined) {
+    return { curve: t.curve, index: t.index };
   }
-  return { curve: t.curve, index: t.index };
+  if (t && isIndex(t.vertex) && t.curve === undefined && t.edge === undefined) return { vertex: t.vertex };
+  if (t && isIndex(t.edge) && isIndex(t.index) && t.curve === undefined && t.vertex === undefined) {
+    return { edge: t.edge, index: t.index };
+  }
+  throw new TypeError(`invalid point target ${JSON.stringify(t)}`);
+}
+
+/**
+ * The target of a constraint entry: state messages nest it ({target, position, …}), scene lists
+ * keep the addressing keys flat ({curve, index, position, …}).
+ */
+export function targetOf(entry) {
+  if (!entry) return null;
+  const t = entry.target || entry;
+  if (t.curve !== undefined) return { curve: t.curve, index: t.index };
+  if (t.vertex !== undefined) return { vertex: t.vertex };
+  if (t.edge !== undefined) return { edge: t.edge, index: t.index };
+  return null;
+}
+
+/** A string key of a target ('a3', 'v3', 'e0:2'), '' for none. */
+export function targetKey(t) {
+  const x = targetOf(t);
+  if (!x) return '';
+  if (x.curve !== undefined) return `${x.curve}${x.index}`;
+  if (x.vertex !== undefined) return `v${x.vertex}`;
+  return `e${x.edge}:${x.index}`;
+}
+
+/** Whether two targets (or constraint entries) address the same point. */
+export function sameTarget(a, b) {
+  const ka = targetKey(a);
+  return ka !== '' && ka === targetKey(b);
 }
 
 export function point3(p) {
@@ -18,7 +56,11 @@ export function point3(p) {
 }
 
 export function targetLabel(t) {
-  return t ? `${t.curve}[${t.index}]` : '';
+  const x = targetOf(t);
+  if (!x) return '';
+  if (x.curve !== undefined) return `${x.curve}[${x.index}]`;
+  if (x.vertex !== undefined) return `vertex ${x.vertex}`;
+  return `edge ${x.edge} [${x.index}]`;
 }
 
 export class Command {

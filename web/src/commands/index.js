@@ -1,4 +1,4 @@
-export { Command, targetLabel } from './Command.js';
+export { Command, sameTarget, targetKey, targetLabel, targetOf } from './Command.js';
 export { DragCommand } from './DragCommand.js';
 export { DragEndCommand } from './DragEndCommand.js';
 export { SolveCommand } from './SolveCommand.js';
@@ -11,3 +11,4 @@ export { RedoCommand } from './RedoCommand.js';
 export { ResetCommand } from './ResetCommand.js';
 export { PresenceCommand } from './PresenceCommand.js';
 export { JoinCommand, PingCommand } from './JoinCommand.js';
+export { SetCreaseCommand, CREASE_KINDS } from './SetCreaseCommand.js';

@@ -47,7 +47,7 @@ function sized(array, Type, length) {
 }
 
 /** Triangle index (two per quad) from quads [F,4]. */
-function quadsToTriangles(quads, vertexCount) {
+export function quadsToTriangles(quads, vertexCount) {
   const f = quads.length / 4;
   const Type = vertexCount > 65535 ? Uint32Array : Uint16Array;
   const index = new Type(f * 6);
@@ -68,6 +68,7 @@ function loopIndex(n) {
 
 export class StripBuffers {
   constructor() {
+    this.kind = 'strip';
     this.surface = new BufferGeometry();
     this.curves = { a: new BufferGeometry(), b: new BufferGeometry() };
     this.polygons = { a: new BufferGeometry(), b: new BufferGeometry() };
@@ -218,6 +219,22 @@ export class StripBuffers {
     } else if (geometry.index) {
       geometry.setIndex(null);
     }
+  }
+
+  /** Targets of every control point ({curve, index}, curve a first). */
+  pointTargets() {
+    const na = this.count('a'), nb = this.count('b');
+    if (!this._targets || this._targets.length !== na + nb || this._targetsA !== na) {
+      this._targets = [];
+      for (const c of ['a', 'b']) for (let i = 0; i < this.count(c); i++) this._targets.push({ curve: c, index: i });
+      this._targetsA = na;
+    }
+    return this._targets;
+  }
+
+  /** [x, y, z] of a target {curve, index}, or null. */
+  pointOf(t) {
+    return t && t.curve !== undefined ? this.point(t.curve, t.index) : null;
   }
 
   /** Number of control points of a curve. */

@@ -34,9 +34,9 @@ export function cssColorAt(t) {
   return `rgb(${Math.round(c[0] * 255)}, ${Math.round(c[1] * 255)}, ${Math.round(c[2] * 255)})`;
 }
 
-/** The smallest of 1, 2, 2.5, 5 × 10^k that is ≥ value (and ≥ MIN_RANGE_DEG). */
-export function niceRange(value) {
-  const v = Math.max(Number.isFinite(value) ? value : 0, MIN_RANGE_DEG);
+/** The smallest of 1, 2, 2.5, 5 × 10^k that is ≥ value (and ≥ `min`, default MIN_RANGE_DEG). */
+export function niceRange(value, min = MIN_RANGE_DEG) {
+  const v = Math.max(Number.isFinite(value) ? value : 0, min);
   const p = Math.pow(10, Math.floor(Math.log10(v)));
   for (const m of [1, 2, 2.5, 5, 10]) if (m * p >= v - 1e-12) return m * p;
   return 10 * p;

@@ -44,7 +44,7 @@ export async function createSession(scene, apiKey) {
   return body;
 }
 
-/** GET /api/sessions/{id}/export?format=json|obj with the token as Bearer → Blob */
+/** GET /api/sessions/{id}/export?format=json|obj|fold|svg with the token as Bearer → Blob */
 export async function exportSession(id, token, format) {
   const res = await fetch(apiUrl(`sessions/${encodeURIComponent(id)}/export?format=${format}`), {
     headers: { Authorization: `Bearer ${token}` },

@@ -6,6 +6,8 @@
 // metrics, presence, selection, undo, ack ({message, command}), error ({message, command}),
 // settings, accessibility, change (after any of the above).
 
+import { sameTarget, targetOf } from '../commands/Command.js';
+
 export const RESIDUAL_HISTORY_LIMIT = 400;
 
 export class EditorState {
@@ -31,6 +33,10 @@ export class EditorState {
     this.settings = { drag_iterations: 1, release_iterations: 10 };
     this.undo = { available: 0, redo_available: 0 };
     this.selection = null;
+    /** Composites: the interior edge selected for the crease panel (edge index) or null. */
+    this.selectedEdge = null;
+    /** 'strip' | 'composite' (the session's model kind, from its scene). */
+    this.kind = 'strip';
     /** Last iterate: {iteration, time_ms, residuals, seq}. */
     this.lastIterate = null;
     /** Last `solved`: {reason, iterations, seq}. */
@@ -72,10 +78,18 @@ export class EditorState {
   }
 
   setSelection(target) {
-    const same = (a, b) => (a === b) || (a && b && a.curve === b.curve && a.index === b.index);
-    if (same(this.selection, target)) return false;
-    this.selection = target ? { curve: target.curve, index: target.index } : null;
+    if (this.selection === target || sameTarget(this.selection, target) || (!this.selection && !target)) return false;
+    this.selection = target ? targetOf(target) : null;
     this.emit('selection', this.selection);
+    return true;
+  }
+
+  /** Selects an edge of a composite (index) or none (null). Signal: 'edge-selection'. */
+  setSelectedEdge(edge) {
+    const e = Number.isInteger(edge) && edge >= 0 ? edge : null;
+    if (e === this.selectedEdge) return false;
+    this.selectedEdge = e;
+    this.emit('edge-selection', e);
     return true;
   }
 
@@ -125,6 +139,7 @@ export class EditorState {
 
   _setScene(scene, constraints) {
     if (scene) this.scene = scene;
+    if (scene && scene.model && scene.model.kind) this.kind = scene.model.kind;
     const model = (scene && scene.model) || {};
     this.constraints = {
       fixed: (constraints && constraints.fixed) || model.fixed || [],

@@ -2,6 +2,7 @@
 
 import { h } from './dom.js';
 import { StripBuffers } from '../geometry/StripBuffers.js';
+import { CompositeBuffers, COMPOSITE_COLOR_MODES } from '../geometry/CompositeBuffers.js';
 import { ProtocolClient, defaultSocketUrl } from '../net/ProtocolClient.js';
 import { listSessions } from '../net/api.js';
 import { Viewport } from '../view/Viewport.js';
@@ -10,11 +11,11 @@ import { SolverPanel } from './SolverPanel.js';
 import { ResidualPlot } from './ResidualPlot.js';
 import { HelpOverlay } from './HelpOverlay.js';
 import { ErrorSlots, Toasts, describeError } from './Toast.js';
-import { ExportPanel, Legend, ParticipantsPanel, SelectionPanel, SharePanel, StatusBar } from './panels.js';
+import { CreasePanel, ExportPanel, Legend, ParticipantsPanel, SelectionPanel, SharePanel, StatusBar } from './panels.js';
 import { accessibility, displayName, rememberSessionTokens, sessionTokens, setAccessibility } from './preferences.js';
 import {
   AddHandleCommand, PresenceCommand, RedoCommand, RemoveHandleCommand, ResetCommand, SetFixedCommand,
-  SolveCommand, UndoCommand,
+  SolveCommand, UndoCommand, sameTarget, targetOf,
 } from '../commands/index.js';
 
 const APPLY_TIMES_KEPT = 500;
@@ -30,6 +31,9 @@ export class Editor {
     this.token = token;
     this.applyTimes = [];
     this.buffers = new StripBuffers();
+    this.composite = new CompositeBuffers();
+    /** 'strip' | 'composite': the kind of the last geometry applied. */
+    this.kind = 'strip';
     this.errorSlots = new ErrorSlots();
     state.name = displayName();
     const known = sessionTokens(session);
@@ -82,8 +86,17 @@ export class Editor {
       input.addEventListener('change', () => this.viewport.setOption(option, input.checked));
       return h('label', { class: 'chip', title: key ? `${label}` : label }, input, label);
     };
+    this.colorMode = h('select', { class: 'input small', testid: 'color-mode', 'aria-label': 'Colour the faces by', title: 'Colour the faces by' },
+      Object.entries(COMPOSITE_COLOR_MODES).map(([value, m]) => h('option', { value }, m.title)));
+    this.colorMode.addEventListener('change', () => {
+      this.composite.setColorMode(this.colorMode.value);
+      this._updateLegend();
+      this.viewport.requestRender();
+    });
+    this.stripOnlyOptions = [toggle('Rulings', 'rulings', true), toggle('Normals', 'normals', false)];
+    this.compositeOnlyOptions = [h('label', { class: 'chip', title: 'Colour the faces by' }, 'Colour ', this.colorMode)];
     this.viewOptions = h('div', { class: 'view-options' },
-      toggle('Surface', 'surface', true), toggle('Rulings', 'rulings', true), toggle('Normals', 'normals', false), toggle('Control polygons', 'polygons', true),
+      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, ...this.compositeOnlyOptions, toggle('Control polygons', 'polygons', true),
       h('button', { class: 'btn small', title: 'Fit the strip into the view (Space)', onclick: () => this.viewport.fit() }, 'Fit (Space)'));
     this.banner = h('div', { class: 'banner', hidden: true, role: 'status' });
     const viewportWrap = h('div', { class: 'viewport-wrap' }, this.viewportEl, this.viewOptions, this.banner,
@@ -103,17 +116,19 @@ export class Editor {
 
     // Views.
     this.viewport = new Viewport(this.viewportEl, {
-      state: st, buffers: this.buffers, send: (c) => this.send(c), select: (t) => this.select(t),
+      state: st, buffers: this.buffers, composite: this.composite, send: (c) => this.send(c), select: (t) => this.select(t),
+      selectEdge: (e) => st.setSelectedEdge(e),
     });
     this.legend = new Legend(viewportWrap);
-    this.development = new DevelopmentView(this.developmentEl, { buffers: this.buffers });
+    this.development = new DevelopmentView(this.developmentEl, { buffers: this.buffers, composite: this.composite });
     this.plot = new ResidualPlot(this.plotEl, { state: st });
 
     // Sidebar panels.
     this.selectionPanel = new SelectionPanel(this.sidebar, {
-      state: st, buffers: this.buffers, errorSlots: this.errorSlots,
+      state: st, pointOf: (t) => this.pointOf(t), errorSlots: this.errorSlots,
       toggleFixed: () => this.toggleFixed(), toggleHandle: () => this.toggleHandle(),
     });
+    this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
     const solverSection = h('section', { class: 'panel panel-gui' });
     this.sidebar.appendChild(solverSection);
     this.solverPanel = new SolverPanel(solverSection, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
@@ -144,7 +159,7 @@ export class Editor {
       st.setTokens(rememberSessionTokens(msg.session, tokens));
       this._updateToolbar();
       // A resync keeps the selection if the point still exists; tell the others again.
-      if (st.selection && !this.buffers.point(st.selection.curve, st.selection.index)) st.setSelection(null);
+      if (st.selection && !this.pointOf(st.selection)) st.setSelection(null);
       if (st.selection) this.send(new PresenceCommand(st.selection));
     });
     st.on('undo', () => this._updateToolbar());
@@ -155,6 +170,7 @@ export class Editor {
       if (st.connection === 'connected') this.send(new PresenceCommand(sel));
     });
     st.on('presence', () => this.viewport.requestRender());
+    st.on('edge-selection', () => this.viewport.updateComposite());
     st.on('solved', () => this.development.refit());
     st.on('scene', () => this.viewport.requestRender());
   }
@@ -164,14 +180,21 @@ export class Editor {
     const timed = source === 'iterate' && typeof performance !== 'undefined' && performance.mark;
     if (timed) performance.mark('iterate-apply-start');
     try {
-      this.buffers.apply(geometry);
+      const kind = geometry && geometry.kind === 'composite' ? 'composite' : 'strip';
+      if (kind === 'composite') this.composite.apply(geometry);
+      else this.buffers.apply(geometry);
+      if (kind !== this.kind) this._setKind(kind);
+      if (kind === 'composite') {
+        this.viewport.updateComposite();
+        this.creasePanel.render();
+      }
     } catch (e) {
       console.error('devsurf: cannot apply geometry', e);
       this.toasts.showError({ code: 'geometry', message: String(e.message || e) });
       return;
     }
     if (!this.viewport.hasFit) this.viewport.fit();
-    this.legend.update(this.buffers.colorRange, this.buffers.warpMax);
+    this._updateLegend();
     this.viewport.renderNow();
     this.development.render();
     if (timed) {
@@ -184,6 +207,29 @@ export class Editor {
       performance.clearMarks('iterate-apply-end');
       if (performance.getEntriesByName('iterate-apply').length > 2 * APPLY_TIMES_KEPT) performance.clearMeasures('iterate-apply');
     }
+  }
+
+  _setKind(kind) {
+    this.kind = kind;
+    this.viewport.setKind(kind);
+    this.development.setKind(kind);
+    for (const el of this.stripOnlyOptions) el.hidden = kind !== 'strip';
+    for (const el of this.compositeOnlyOptions) el.hidden = kind !== 'composite';
+    this.root.dataset.kind = kind;
+  }
+
+  _updateLegend() {
+    if (this.kind === 'composite') {
+      const info = this.composite.colorInfo;
+      this.legend.update(this.composite.colorRange, this.composite.colorMax, { title: info.title, unit: info.unit });
+    } else {
+      this.legend.update(this.buffers.colorRange, this.buffers.warpMax);
+    }
+  }
+
+  /** [x, y, z] of a point target of the shown model, or null. */
+  pointOf(t) {
+    return (this.kind === 'composite' ? this.composite : this.buffers).pointOf(targetOf(t));
   }
 
   _showError(message, command) {
@@ -282,18 +328,18 @@ export class Editor {
   toggleFixed() {
     const sel = this._requireSelection();
     if (!sel) return;
-    const fixed = this.state.constraints.fixed.some((f) => f.curve === sel.curve && f.index === sel.index);
+    const fixed = this.state.constraints.fixed.some((f) => sameTarget(f, sel));
     this.send(new SetFixedCommand(sel, !fixed, { source: 'selection:fix' }));
   }
 
   toggleHandle() {
     const sel = this._requireSelection();
     if (!sel) return;
-    const has = this.state.constraints.handles.some((x) => x.curve === sel.curve && x.index === sel.index);
+    const has = this.state.constraints.handles.some((x) => sameTarget(x, sel));
     if (has) {
       this.send(new RemoveHandleCommand(sel, { source: 'selection:handle' }));
     } else {
-      const p = this.buffers.point(sel.curve, sel.index);
+      const p = this.pointOf(sel);
       if (p) this.send(new AddHandleCommand(sel, p, undefined, { source: 'selection:handle' }));
     }
   }
@@ -304,6 +350,13 @@ export class Editor {
     if (!st.scene) return null;
     const scene = JSON.parse(JSON.stringify(st.scene));
     const model = scene.model || {};
+    const round = (p) => p.map((v) => Number(v.toPrecision(7)));
+    if (model.kind === 'composite' && this.composite.hasData) {
+      if (Array.isArray(model.vertices)) model.vertices = model.vertices.map((v, i) => round(this.composite.pointOf({ vertex: i }) || v));
+      for (const [e, edge] of (model.edges || []).entries()) {
+        if (Array.isArray(edge.points)) edge.points = edge.points.map((p, k) => round(this.composite.pointOf({ edge: e, index: k + 1 }) || p));
+      }
+    }
     for (const c of ['a', 'b']) {
       const n = this.buffers.count(c);
       if (model[c] && model[c].points && model[c].points.length === n) {
@@ -319,6 +372,14 @@ export class Editor {
 
   controlPointScreenPosition(curve, index) {
     return this.viewport.controlPointScreenPosition(curve, index);
+  }
+
+  pointScreenPosition(target) {
+    return this.viewport.pointScreenPosition(target);
+  }
+
+  edgeScreenPosition(edge) {
+    return this.viewport.edgeScreenPosition(edge);
   }
 
   // ---- keyboard -------------------------------------------------------------------------------

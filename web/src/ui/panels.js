@@ -1,7 +1,8 @@
 // The editor's smaller panels: status line, participants, share links, export, selection, legend.
 
 import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
-import { targetLabel } from '../commands/Command.js';
+import { sameTarget, targetLabel } from '../commands/Command.js';
+import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { exportSession } from '../net/api.js';
 import { cssGradient } from '../geometry/colormap.js';
@@ -19,6 +20,8 @@ export class StatusBar {
     this.iteration = h('span', { testid: 'status-iteration', class: 'num' }, '0');
     this.warp = h('span', { testid: 'status-warp', class: 'num' }, '–');
     this.warpMean = h('span', { class: 'num' }, '–');
+    this.flatness = h('span', { class: 'num', testid: 'status-flatness' }, '–');
+    this.flatnessItem = h('span', { class: 'status-item', title: 'Largest face flatness δ (Tang et al. Fig. 17; 0 = every sampled quad planar)', hidden: true }, 'max δ ', this.flatness);
     this.time = h('span', { class: 'num' }, '–');
     this.apply = h('span', { class: 'num' }, '–');
     this.solved = h('span', { class: 'muted' }, '');
@@ -28,6 +31,7 @@ export class StatusBar {
       h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
       h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
       h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
+      this.flatnessItem,
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
       h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
       h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
@@ -60,6 +64,8 @@ export class StatusBar {
     const m = st.metrics || {};
     if (typeof m.warp_angle_max_deg === 'number') this.warp.textContent = formatNumber(m.warp_angle_max_deg);
     if (typeof m.warp_angle_mean_deg === 'number') this.warpMean.textContent = formatNumber(m.warp_angle_mean_deg);
+    this.flatnessItem.hidden = typeof m.face_flatness_max !== 'number';
+    if (!this.flatnessItem.hidden) this.flatness.textContent = m.face_flatness_max.toExponential(1);
     if (st.lastIterate) {
       this.iteration.textContent = String(st.lastIterate.iteration);
       if (typeof st.lastIterate.time_ms === 'number') this.time.textContent = st.lastIterate.time_ms.toFixed(2);
@@ -184,7 +190,7 @@ export class ExportPanel {
     const run = (format) => async () => {
       try {
         const blob = await exportSession(state.session, token, format);
-        download(blob, `${slug(state.scene && state.scene.name, state.session)}.${format === 'obj' ? 'obj' : 'json'}`);
+        download(blob, `${slug(state.scene && state.scene.name, state.session)}.${format}`);
       } catch (e) {
         const msg = { code: e.code || 'error', message: e.message };
         errorSlots.show('export', msg.message);
@@ -196,9 +202,18 @@ export class ExportPanel {
       h('div', { class: 'button-row' },
         h('button', { class: 'btn', testid: 'export-json', title: 'The current scene as a devsurf scene file (from the server)', onclick: run('json') }, 'Export JSON'),
         h('button', { class: 'btn', testid: 'export-obj', title: 'The sampled surface as OBJ quads (from the server)', onclick: run('obj') }, 'Export OBJ'),
+        this.foldButton = h('button', { class: 'btn', testid: 'export-fold', title: 'The crease pattern as FOLD 1.2 (composites with a development)', onclick: run('fold') }, 'Export FOLD'),
+        this.svgButton = h('button', { class: 'btn', testid: 'export-svg', title: 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed', onclick: run('svg') }, 'Export SVG'),
         h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
       errorSlots.slot('export'));
     parent.appendChild(this.root);
+    const update = () => {
+      const composite = state.kind === 'composite';
+      this.foldButton.hidden = !composite;
+      this.svgButton.hidden = !composite;
+    };
+    state.on('scene', update);
+    update();
   }
 
   saveScene(currentScene) {
@@ -210,9 +225,10 @@ export class ExportPanel {
 
 /** The selected control point: position, fixed/handle state, buttons (F / H). */
 export class SelectionPanel {
-  constructor(parent, { state, buffers, errorSlots, toggleFixed, toggleHandle }) {
+  /** @param {object} deps  {state, pointOf(target) → [x,y,z]|null, errorSlots, toggleFixed, toggleHandle} */
+  constructor(parent, { state, pointOf, errorSlots, toggleFixed, toggleHandle }) {
     this.state = state;
-    this.buffers = buffers;
+    this.pointOf = pointOf;
     this.title = h('div', { class: 'sel-title' });
     this.coords = h('div', { class: 'sel-coords num' });
     this.fixButton = h('button', { class: 'btn', testid: 'toggle-fixed', title: 'Fix / unfix the selected point (F)', onclick: toggleFixed }, 'Fix');
@@ -229,7 +245,7 @@ export class SelectionPanel {
   render() {
     const st = this.state;
     const sel = st.selection;
-    const p = sel && this.buffers.point(sel.curve, sel.index);
+    const p = sel && this.pointOf(sel);
     this.buttons.hidden = !p;
     this.coords.hidden = !p;
     this.hint.hidden = !!p;
@@ -237,9 +253,10 @@ export class SelectionPanel {
       this.title.textContent = 'Nothing selected';
       return;
     }
-    const fixed = st.constraints.fixed.some((f) => f.curve === sel.curve && f.index === sel.index);
-    const handle = st.constraints.handles.find((x) => x.curve === sel.curve && x.index === sel.index);
-    this.title.textContent = `Control point ${targetLabel(sel)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;
+    const fixed = st.constraints.fixed.some((f) => sameTarget(f, sel));
+    const handle = st.constraints.handles.find((x) => sameTarget(x, sel));
+    const label = targetLabel(sel);
+    this.title.textContent = `${sel.curve !== undefined ? `Control point ${label}` : label[0].toUpperCase() + label.slice(1)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;
     this.coords.textContent = `x ${p[0].toFixed(3)}   y ${p[1].toFixed(3)}   z ${p[2].toFixed(3)}`;
     this.fixButton.textContent = fixed ? 'Unfix (F)' : 'Fix (F)';
     this.handleButton.textContent = handle ? 'Remove handle (H)' : 'Add handle (H)';
@@ -249,20 +266,91 @@ export class SelectionPanel {
   }
 }
 
-/** Warp-angle colour legend over the 3D view. */
+/** Colour legend over the 3D view: warp angle (strips), face flatness or vertex curvature (composites). */
 export class Legend {
   constructor(parent) {
     this.max = h('span', {}, '1°');
+    this.min = h('span', {}, '0°');
     this.current = h('span', { class: 'legend-current' });
-    this.root = h('div', { class: 'legend', 'aria-label': 'Warp angle colour scale' },
-      h('div', { class: 'legend-title' }, 'warp angle'),
+    this.title = h('div', { class: 'legend-title', testid: 'legend-title' }, 'warp angle');
+    this.root = h('div', { class: 'legend', 'aria-label': 'Colour scale' },
+      this.title,
       h('div', { class: 'legend-bar', style: { background: cssGradient() } }),
-      h('div', { class: 'legend-labels' }, h('span', {}, '0°'), this.current, this.max));
+      h('div', { class: 'legend-labels' }, this.min, this.current, this.max));
     parent.appendChild(this.root);
   }
 
-  update(range, max) {
-    this.max.textContent = `${range}°`;
-    this.current.textContent = `max ${formatNumber(max, 2)}°`;
+  /** @param {object} [scale] {title, unit} (default: warp angle in degrees) */
+  update(range, max, scale = { title: 'warp angle', unit: '°' }) {
+    const unit = scale.unit;
+    this.title.textContent = scale.title;
+    this.min.textContent = `0${unit}`;
+    const fmt = (x) => (x !== 0 && Math.abs(x) < 0.01 ? x.toExponential(1) : formatNumber(x, 2));
+    this.max.textContent = `${fmt(range)}${unit}`;
+    this.current.textContent = `max ${fmt(max)}${unit}`;
+  }
+}
+
+/**
+ * Composites: the selected interior edge (click its diamond in the 3D view or pick it here), its
+ * fold (assignment, mean fold angle) and its crease type, switched with a SetCreaseCommand.
+ */
+export class CreasePanel {
+  constructor(parent, { state, composite, send, errorSlots }) {
+    this.state = state;
+    this.composite = composite;
+    this.send = send;
+    this.edgeSelect = h('select', { class: 'input small', testid: 'crease-edge', 'aria-label': 'Edge' });
+    this.edgeSelect.addEventListener('change', () => state.setSelectedEdge(this.edgeSelect.value === '' ? null : Number(this.edgeSelect.value)));
+    this.typeSelect = h('select', { class: 'input small', testid: 'crease-type', 'aria-label': 'Crease type' },
+      CREASE_KINDS.map((k) => h('option', { value: k }, k)));
+    this.typeSelect.addEventListener('change', () => {
+      const e = state.selectedEdge;
+      if (e === null) return;
+      this.send(new SetCreaseCommand(e, this.typeSelect.value, { source: 'crease:type' }));
+    });
+    this.info = h('div', { class: 'crease-info num', testid: 'crease-info' });
+    this.root = h('section', { class: 'panel', testid: 'crease-panel', hidden: true },
+      h('h3', {}, 'Crease'),
+      h('label', { class: 'row' }, h('span', { class: 'muted' }, 'Edge'), this.edgeSelect),
+      h('label', { class: 'row' }, h('span', { class: 'muted' }, 'Type'), this.typeSelect),
+      this.info,
+      errorSlots.slot('crease:type'),
+      h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge.'));
+    parent.appendChild(this.root);
+    for (const ev of ['scene', 'edge-selection', 'session']) state.on(ev, () => this.render());
+    this.render();
+  }
+
+  /** Called by the editor after each composite geometry update (and on the signals above). */
+  render() {
+    const st = this.state;
+    this.root.hidden = st.kind !== 'composite';
+    if (this.root.hidden) return;
+    const edges = this.composite.edges.filter((e) => e.interior);
+    const signature = edges.map((e) => `${e.edge}${e.crease}`).join();
+    if (signature !== this._signature) {
+      const options = [h('option', { value: '' }, edges.length ? '— select an edge —' : 'no interior edges')];
+      for (const e of edges) options.push(h('option', { value: String(e.edge) }, `edge ${e.edge} · ${e.type} · ${e.crease}`));
+      this.edgeSelect.replaceChildren(...options);
+      this._signature = signature;
+    }
+    this.edgeSelect.value = st.selectedEdge === null ? '' : String(st.selectedEdge);
+    const edge = st.selectedEdge === null ? null : this.composite.edge(st.selectedEdge);
+    this.typeSelect.value = edge ? this._sceneCrease(edge.edge) : 'none';
+    this.typeSelect.disabled = !edge || st.role !== 'edit';
+    for (const o of this.typeSelect.options) o.disabled = !!edge && edge.type === 'R' && (o.value === 'fold' || o.value === 'geodesic');
+    if (!edge) {
+      this.info.textContent = '';
+      return;
+    }
+    const name = { M: 'mountain', V: 'valley', F: 'flat', B: 'boundary' }[edge.assignment] || edge.assignment;
+    this.info.textContent = `${edge.type} edge, vertices ${edge.v[0]}→${edge.v[1]} · ${name} · fold ${edge.foldAngleDeg.toFixed(1)}°`;
+  }
+
+  /** The crease type as the scene says. */
+  _sceneCrease(e) {
+    const edges = this.state.scene && this.state.scene.model && this.state.scene.model.edges;
+    return (edges && edges[e] && edges[e].crease) || 'none';
   }
 }

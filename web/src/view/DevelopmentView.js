@@ -1,5 +1,8 @@
 // The development (the strip unrolled into the plane, `geometry.development`): a 2D canvas,
 // quads filled with the warp colour, boundary a/b in the curve colours, fitted to the panel.
+// Composites show their crease pattern instead: the sheet as paper, mountain folds red dash-dot,
+// valley folds blue dashed, boundary black, rulings and flat edges faint (the SVG export's
+// conventions). The container's data-polygons / data-creases count what was drawn.
 // The fit is kept while the drawing still fills the panel reasonably, so a drag does not make
 // the picture jump at every iterate; double-click refits.
 
@@ -15,6 +18,9 @@ export class DevelopmentView {
   constructor(container, deps) {
     this.container = container;
     this.buffers = deps.buffers;
+    this.composite = deps.composite || null;
+    /** 'strip' | 'composite'. */
+    this.kind = 'strip';
     this.canvas = document.createElement('canvas');
     this.canvas.className = 'development-canvas';
     container.appendChild(this.canvas);
@@ -92,11 +98,30 @@ export class DevelopmentView {
     return inside && (w >= 0.8 * W || h >= 0.8 * H);
   }
 
+  setKind(kind) {
+    if (kind === this.kind) return;
+    this.kind = kind;
+    this.transform = null;
+    this.render();
+  }
+
+  _message(text) {
+    const ctx = this.ctx;
+    ctx.fillStyle = '#8893a5';
+    ctx.font = '13px system-ui, sans-serif';
+    ctx.textAlign = 'center';
+    ctx.fillText(text, this.width / 2, this.height / 2);
+  }
+
   render() {
     const ctx = this.ctx;
     const { width: W, height: H } = this;
     ctx.setTransform(this.dpr, 0, 0, this.dpr, 0, 0);
     ctx.clearRect(0, 0, W, H);
+    if (this.kind === 'composite') {
+      this._renderCreasePattern();
+      return;
+    }
     const dev = this.buffers.development;
     const n = dev.count;
     if (!this.buffers.hasData || n === 0) {
@@ -163,6 +188,115 @@ export class DevelopmentView {
     }
 
     this._scaleBar(t.scale);
+  }
+
+  /** A composite's crease pattern (CompositeBuffers.development). */
+  _renderCreasePattern() {
+    const ctx = this.ctx;
+    const c = this.composite;
+    const dev = c && c.development;
+    this.container.dataset.polygons = '0';
+    this.container.dataset.creases = '0';
+    if (!c || !c.hasData) return this._message('waiting for geometry…');
+    if (!dev || dev.count === 0) {
+      this._message('no development: add "development": {"samples": 4} to the scene’s model');
+      return;
+    }
+    const v = dev.vertices;
+    const n = dev.count;
+    if (!this._fitStillGood(v, n)) this.transform = this._fit(v, n);
+    const t = this.transform;
+    const ox = this.width / 2;
+    const oy = (this.height - 14) / 2;
+    const X = (i) => ox + ((t.rotate ? -v[2 * i + 1] : v[2 * i]) - t.cx) * t.scale;
+    const Y = (i) => oy - ((t.rotate ? v[2 * i] : v[2 * i + 1]) - t.cy) * t.scale;
+    const P = (x, y) => [ox + ((t.rotate ? -y : x) - t.cx) * t.scale, oy - ((t.rotate ? x : y) - t.cy) * t.scale];
+
+    // The sheet: paper, faces tinted lightly by the surface colour field where it is large.
+    const tri = dev.triangles;
+    const paper = this.highContrast ? '#ffffff' : '#f3eee3';
+    ctx.fillStyle = paper;
+    ctx.strokeStyle = paper;
+    ctx.lineWidth = 0.8;
+    ctx.lineJoin = 'round';
+    ctx.beginPath();
+    for (let k = 0; k < tri.length; k += 3) {
+      ctx.moveTo(X(tri[k]), Y(tri[k]));
+      ctx.lineTo(X(tri[k + 1]), Y(tri[k + 1]));
+      ctx.lineTo(X(tri[k + 2]), Y(tri[k + 2]));
+      ctx.closePath();
+    }
+    ctx.fill();
+    ctx.stroke();
+
+    // Rulings, faint.
+    const r = dev.rulings;
+    ctx.strokeStyle = 'rgba(60, 64, 72, 0.28)';
+    ctx.lineWidth = 0.8;
+    ctx.setLineDash([]);
+    ctx.beginPath();
+    for (let k = 0; k + 3 < r.length; k += 4) {
+      const [x0, y0] = P(r[k], r[k + 1]);
+      const [x1, y1] = P(r[k + 2], r[k + 3]);
+      ctx.moveTo(x0, y0);
+      ctx.lineTo(x1, y1);
+    }
+    ctx.stroke();
+
+    // Edges by assignment, as in the SVG export.
+    const styles = {
+      F: { color: 'rgba(60, 64, 72, 0.35)', width: 0.8, dash: [1.5, 2.5] },
+      B: { color: '#151820', width: this.highContrast ? 2.6 : 1.8, dash: [] },
+      M: { color: '#d62828', width: this.highContrast ? 3 : 2.2, dash: [9, 3, 2, 3] },
+      V: { color: '#1d6fd6', width: this.highContrast ? 3 : 2.2, dash: [6, 4] },
+      C: { color: '#151820', width: 1.8, dash: [] },
+    };
+    const e = dev.edges;
+    let creases = 0;
+    for (const letter of ['F', 'B', 'C', 'V', 'M']) {
+      const s = styles[letter];
+      ctx.strokeStyle = s.color;
+      ctx.lineWidth = s.width;
+      ctx.setLineDash(s.dash);
+      ctx.beginPath();
+      let any = false;
+      for (let k = 0; k < dev.assignment.length; k++) {
+        if (dev.assignment[k] !== letter) continue;
+        ctx.moveTo(X(e[2 * k]), Y(e[2 * k]));
+        ctx.lineTo(X(e[2 * k + 1]), Y(e[2 * k + 1]));
+        any = true;
+        if (letter === 'M' || letter === 'V') creases++;
+      }
+      if (any) ctx.stroke();
+    }
+    ctx.setLineDash([]);
+    this.container.dataset.polygons = String(tri.length / 3);
+    this.container.dataset.creases = String(creases);
+    this._key();
+    this._scaleBar(t.scale);
+  }
+
+  /** Line key of the crease pattern (top right). */
+  _key() {
+    const ctx = this.ctx;
+    const items = [['mountain', '#d62828', [9, 3, 2, 3]], ['valley', '#1d6fd6', [6, 4]]];
+    ctx.font = `${this.highContrast ? 13 : 11}px system-ui, sans-serif`;
+    ctx.textAlign = 'left';
+    let x = this.width - 190;
+    const y = 14;
+    for (const [label, color, dash] of items) {
+      ctx.strokeStyle = color;
+      ctx.lineWidth = 2.2;
+      ctx.setLineDash(dash);
+      ctx.beginPath();
+      ctx.moveTo(x, y);
+      ctx.lineTo(x + 30, y);
+      ctx.stroke();
+      ctx.setLineDash([]);
+      ctx.fillStyle = this.highContrast ? '#ffffff' : '#c9d1dc';
+      ctx.fillText(label, x + 36, y + 4);
+      x += 95;
+    }
   }
 
   _scaleBar(scale) {

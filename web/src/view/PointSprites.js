@@ -6,6 +6,8 @@ import * as THREE from 'three';
 
 export const SHAPE_SPHERE = 0;
 export const SHAPE_CUBE = 1;
+/** A flat diamond (the pick markers of a composite's edges). */
+export const SHAPE_DIAMOND = 2;
 
 const vertexShader = /* glsl */ `
   attribute float size;
@@ -38,6 +40,10 @@ const fragmentShader = /* glsl */ `
       float spec = pow(max(dot(reflect(-light, n), vec3(0.0, 0.0, 1.0)), 0.0), 20.0);
       c = vColor * (0.3 + 0.8 * diff) + vec3(0.35 * spec);
       c = mix(c, vec3(0.04), smoothstep(0.72, 1.0, r2) * 0.75);
+    } else if (vShape > 1.5) {
+      float m = abs(p.x) + abs(p.y);
+      if (m > 0.95) discard;
+      c = vColor * (m > 0.7 ? 0.35 : 1.0);
     } else {
       float m = max(abs(p.x), abs(p.y));
       if (m > 0.86) discard;

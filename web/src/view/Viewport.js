@@ -9,8 +9,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { DragCommand } from '../commands/DragCommand.js';
 import { DragEndCommand } from '../commands/DragEndCommand.js';
-import { targetLabel } from '../commands/Command.js';
-import { PointSprites, SHAPE_CUBE, SHAPE_SPHERE } from './PointSprites.js';
+import { sameTarget as sameEntry, targetKey, targetLabel, targetOf } from '../commands/Command.js';
+import { PointSprites, SHAPE_CUBE, SHAPE_DIAMOND, SHAPE_SPHERE } from './PointSprites.js';
 
 export const COLORS = {
   background: 0x161a21,
@@ -25,6 +25,15 @@ export const COLORS = {
   rulings: 0x10131a,
   normals: 0x9be15d,
   ghost: 0xffd60a,
+  // composites (fold-pattern convention: mountain red, valley blue)
+  mountain: 0xff5a4f,
+  valley: 0x4ea8ff,
+  flatEdge: 0xc9d1dc,
+  boundary: 0xe8ecf2,
+  vertex: 0xf4f6f8,
+  edgePoint: 0xc8f1fa,
+  edgeMarker: 0x9aa5b5,
+  edgeSelected: 0xffd60a,
 };
 
 const POINT_RADIUS_PX = 7;
@@ -56,8 +65,11 @@ function isSoftwareGL() {
   }
 }
 
+/** Same point target, or the same edge marker ({edgeMarker: e}). */
 function sameTarget(a, b) {
-  return !!a && !!b && a.curve === b.curve && a.index === b.index;
+  if (!a || !b) return false;
+  if (a.edgeMarker !== undefined || b.edgeMarker !== undefined) return a.edgeMarker === b.edgeMarker;
+  return sameEntry(a, b);
 }
 
 /** An InstancedMesh that grows (is recreated) when more instances are needed. */
@@ -118,12 +130,17 @@ class InstancePool {
 export class Viewport {
   /**
    * @param {HTMLElement} container  the element holding the canvas (data-testid="viewport")
-   * @param {object} deps  {state, buffers (StripBuffers), send(command), select(target|null)}
+   * @param {object} deps  {state, buffers (StripBuffers), composite (CompositeBuffers),
+   *   send(command), select(target|null), selectEdge(edge|null)}
    */
   constructor(container, deps) {
     this.container = container;
     this.state = deps.state;
     this.buffers = deps.buffers;
+    this.composite = deps.composite;
+    this.selectEdge = deps.selectEdge || (() => {});
+    /** 'strip' | 'composite': which buffers are shown. */
+    this.kind = 'strip';
     this.send = deps.send;
     this.select = deps.select;
     this.options = { rulings: true, normals: false, polygons: true, surface: true };
@@ -234,6 +251,36 @@ export class Viewport {
     this.handleLinks.frustumCulled = false;
     scene.add(this.handleLinks);
 
+    // Composites: faces, creases by assignment (mountain red dash-dot, valley blue dashed, flat
+    // interior edges grey, boundary light), S-edge control polygons.
+    const c = this.composite;
+    this.compositeGroup = new THREE.Group();
+    this.compositeGroup.visible = false;
+    scene.add(this.compositeGroup);
+    this.compositeSurface = new THREE.Mesh(c.surface, this.surfaceMaterial);
+    this.compositeSurface.frustumCulled = false;
+    this.compositeGroup.add(this.compositeSurface);
+    const lines = (geometry, material, order) => {
+      const l = new THREE.LineSegments(geometry, material);
+      l.frustumCulled = false;
+      l.renderOrder = order;
+      this.compositeGroup.add(l);
+      return l;
+    };
+    this.compositeLines = {
+      boundary: lines(c.lines.boundary, new THREE.LineBasicMaterial({ color: COLORS.boundary }), 2),
+      flat: lines(c.lines.flat, new THREE.LineBasicMaterial({ color: COLORS.flatEdge, transparent: true, opacity: 0.8 }), 2),
+      mountain: lines(c.lines.mountain, new THREE.LineDashedMaterial({ color: COLORS.mountain, dashSize: 0.06, gapSize: 0.025 }), 2),
+      valley: lines(c.lines.valley, new THREE.LineDashedMaterial({ color: COLORS.valley, dashSize: 0.035, gapSize: 0.03 }), 2),
+      polygons: lines(c.lines.polygons, new THREE.LineBasicMaterial({ color: COLORS.polygon, transparent: true, opacity: 0.55, depthTest: false }), 3),
+    };
+    // The selected edge, drawn over everything.
+    this.selectedEdgeGeometry = new THREE.BufferGeometry();
+    this.selectedEdgeLine = new THREE.Line(this.selectedEdgeGeometry, new THREE.LineBasicMaterial({ color: COLORS.edgeSelected, depthTest: false, transparent: true }));
+    this.selectedEdgeLine.frustumCulled = false;
+    this.selectedEdgeLine.renderOrder = 4;
+    this.compositeGroup.add(this.selectedEdgeLine);
+
     this.ghost = new THREE.Mesh(new THREE.SphereGeometry(1, 20, 12), new THREE.MeshBasicMaterial({ color: COLORS.ghost, wireframe: true, depthTest: false, transparent: true, opacity: 0.9 }));
     this.ghost.visible = false;
     this.ghost.renderOrder = 6;
@@ -244,11 +291,51 @@ export class Viewport {
 
   setOption(name, value) {
     this.options[name] = value;
-    this.rulingLines.visible = this.options.rulings;
-    this.normalLines.visible = this.options.normals;
-    for (const c of CURVES) this.polygonLines[c].visible = this.options.polygons;
-    this.surfaceMesh.visible = this.options.surface;
+    const strip = this.kind === 'strip';
+    this.rulingLines.visible = strip && this.options.rulings;
+    this.normalLines.visible = strip && this.options.normals;
+    for (const c of CURVES) {
+      this.polygonLines[c].visible = strip && this.options.polygons;
+      this.curveLines[c].visible = strip;
+    }
+    this.surfaceMesh.visible = strip && this.options.surface;
+    this.compositeGroup.visible = !strip;
+    this.compositeSurface.visible = this.options.surface;
+    this.compositeLines.polygons.visible = this.options.polygons;
     this.requestRender();
+  }
+
+  /** Shows the strip's or the composite's objects. */
+  setKind(kind) {
+    if (kind === this.kind) return;
+    this.kind = kind;
+    this.hasFit = false;
+    this.setOption('surface', this.options.surface);
+  }
+
+  /** The buffers of the shown model. */
+  activeBuffers() {
+    return this.kind === 'composite' ? this.composite : this.buffers;
+  }
+
+  /** After a composite geometry update: dash distances and the selected edge's highlight. */
+  updateComposite() {
+    for (const name of ['mountain', 'valley']) this.compositeLines[name].computeLineDistances();
+    this._updateSelectedEdge();
+    this.requestRender();
+  }
+
+  _updateSelectedEdge() {
+    const e = this.state.selectedEdge;
+    const edge = e !== null && e !== undefined ? this.composite.edge(e) : null;
+    const g = this.selectedEdgeGeometry;
+    if (!edge) {
+      this.selectedEdgeLine.visible = false;
+      return;
+    }
+    g.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(edge.polyline), 3));
+    g.computeBoundingSphere();
+    this.selectedEdgeLine.visible = true;
   }
 
   setLargePoints(large) {
@@ -309,43 +396,53 @@ export class Viewport {
 
   /** Places the control-point, handle and presence instances (screen-constant sizes). */
   _layoutInstances() {
-    const b = this.buffers;
+    const b = this.activeBuffers();
     const st = this.state;
     if (!b.hasData) return;
-    const fixedSet = new Set(st.constraints.fixed.map((f) => `${f.curve}${f.index}`));
-    const handleMap = new Map(st.constraints.handles.map((h) => [`${h.curve}${h.index}`, h]));
-    const total = b.count('a') + b.count('b');
+    const composite = this.kind === 'composite';
+    const fixedSet = new Set(st.constraints.fixed.map((f) => targetKey(f)));
+    const handleMap = new Map(st.constraints.handles.map((h) => [targetKey(h), h]));
+    const targets = b.pointTargets();
+    const markers = composite ? this.composite.edges.filter((e) => e.interior) : [];
+    const total = targets.length;
     // Dense control polygons get smaller points so they stay apart.
     const density = total > 120 ? 0.55 : total > 40 ? 0.75 : 1;
     const radiusPx = this.pointRadiusPx * density;
-    this.points.begin(total);
+    this.points.begin(total + markers.length);
     this.handleTargets.begin(handleMap.size);
     const links = [];
     const dragging = this.drag && this.drag.target;
-    for (const c of CURVES) {
-      const n = b.count(c);
-      const pts = b.controlPoints[c];
-      for (let i = 0; i < n; i++) {
-        tmpV.set(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]);
-        const key = `${c}${i}`;
-        const item = { curve: c, index: i };
-        const selected = sameTarget(st.selection, item) || sameTarget(dragging, item);
-        const hovered = sameTarget(this.hovered, item);
-        const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1);
-        const handle = handleMap.get(key);
-        const fixed = fixedSet.has(key);
-        let color = c === 'a' ? 0xffd9b0 : 0xc8f1fa;
-        if (fixed) color = COLORS.fixed;
-        if (handle) color = COLORS.handle;
-        if (selected) color = COLORS.selected;
-        this.points.push(tmpV, r, color, fixed ? SHAPE_CUBE : SHAPE_SPHERE, item);
-        if (handle) {
-          const t = handle.position;
-          tmpV2.set(t[0], t[1], t[2]);
-          this.handleTargets.push(tmpV2, radiusPx * this._worldPerPixel(tmpV2), COLORS.handle, item);
-          links.push(tmpV.x, tmpV.y, tmpV.z, t[0], t[1], t[2]);
-        }
+    for (const item of targets) {
+      const p = b.pointOf(item);
+      if (!p) continue;
+      tmpV.set(p[0], p[1], p[2]);
+      const key = targetKey(item);
+      const selected = sameTarget(st.selection, item) || sameTarget(dragging, item);
+      const hovered = sameTarget(this.hovered, item);
+      const vertex = item.vertex !== undefined;
+      const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1);
+      const handle = handleMap.get(key);
+      const fixed = fixedSet.has(key);
+      let color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : item.curve === 'a' ? 0xffd9b0 : 0xc8f1fa;
+      if (fixed) color = COLORS.fixed;
+      if (handle) color = COLORS.handle;
+      if (selected) color = COLORS.selected;
+      this.points.push(tmpV, r, color, fixed ? SHAPE_CUBE : SHAPE_SPHERE, item);
+      if (handle) {
+        const t = handle.position;
+        tmpV2.set(t[0], t[1], t[2]);
+        this.handleTargets.push(tmpV2, radiusPx * this._worldPerPixel(tmpV2), COLORS.handle, item);
+        links.push(tmpV.x, tmpV.y, tmpV.z, t[0], t[1], t[2]);
       }
+    }
+    // Interior edges of a composite: a diamond at the midpoint selects the edge.
+    for (const e of markers) {
+      tmpV.fromArray(e.midpoint);
+      const item = { edgeMarker: e.edge };
+      const selected = st.selectedEdge === e.edge;
+      const hovered = sameTarget(this.hovered, item);
+      const color = selected ? COLORS.edgeSelected : e.assignment === 'M' ? COLORS.mountain : e.assignment === 'V' ? COLORS.valley : COLORS.edgeMarker;
+      this.points.push(tmpV, radiusPx * (selected || hovered ? 1.2 : 0.95), color, SHAPE_DIAMOND, item);
     }
     this.points.end();
     this.handleTargets.end();
@@ -356,7 +453,7 @@ export class Viewport {
     this.halos.begin(others.length);
     for (const p of others) {
       const t = p.dragging || p.selection;
-      const q = b.point(t.curve, t.index);
+      const q = b.pointOf(t);
       if (!q) continue;
       tmpV.set(q[0], q[1], q[2]);
       this.halos.push(tmpV, this.pointRadiusPx * this._worldPerPixel(tmpV) * (p.dragging ? 2.3 : 1.9), p.color || '#ffffff', { participant: p, target: t });
@@ -389,11 +486,11 @@ export class Viewport {
   _updateLabels() {
     const st = this.state;
     const seen = new Set();
-    if (this.buffers.hasData) {
+    if (this.activeBuffers().hasData) {
       for (const p of st.participants) {
         if (p.id === st.you || !(p.dragging || p.selection)) continue;
         const t = p.dragging || p.selection;
-        const s = this.controlPointScreenPosition(t.curve, t.index);
+        const s = this.pointScreenPosition(t);
         if (!s) continue;
         seen.add(p.id);
         let el = this._labelEls.get(p.id);
@@ -424,16 +521,16 @@ export class Viewport {
 
   /** Fits the whole strip (surface, control points, handle targets) into the view. */
   fit() {
-    const b = this.buffers;
+    const b = this.activeBuffers();
     if (!b.hasData) return;
     const pts = [];
     const pos = b.surface.getAttribute('position');
     if (pos) for (let i = 0; i < pos.array.length; i += 3) pts.push(new THREE.Vector3(pos.array[i], pos.array[i + 1], pos.array[i + 2]));
-    for (const c of CURVES) {
-      const p = b.controlPoints[c];
-      for (let i = 0; i < p.length; i += 3) pts.push(new THREE.Vector3(p[i], p[i + 1], p[i + 2]));
+    for (const t of b.pointTargets()) {
+      const p = b.pointOf(t);
+      if (p) pts.push(new THREE.Vector3(p[0], p[1], p[2]));
     }
-    for (const h of this.state.constraints.handles) pts.push(new THREE.Vector3().fromArray(h.position));
+    for (const h of this.state.constraints.handles) if (h.position) pts.push(new THREE.Vector3().fromArray(h.position));
     if (!pts.length) return;
     const box = new THREE.Box3().setFromPoints(pts);
     const center = box.getCenter(new THREE.Vector3());
@@ -467,8 +564,22 @@ export class Viewport {
 
   /** CSS px position (relative to the viewport element) of a control point, or null. */
   controlPointScreenPosition(curve, index) {
-    const p = this.buffers.point(curve, index);
-    if (!p) return null;
+    return this.pointScreenPosition({ curve, index });
+  }
+
+  /** CSS px position of a point target ({curve, index}, {vertex} or {edge, index}), or null. */
+  pointScreenPosition(target) {
+    const p = this.activeBuffers().pointOf(targetOf(target));
+    return p ? this.worldToScreen(p) : null;
+  }
+
+  /** CSS px position of the selection marker of a composite's edge, or null. */
+  edgeScreenPosition(e) {
+    const edge = this.kind === 'composite' ? this.composite.edge(e) : null;
+    return edge ? this.worldToScreen(edge.midpoint) : null;
+  }
+
+  worldToScreen(p) {
     this.camera.updateMatrixWorld();
     tmpV.set(p[0], p[1], p[2]).project(this.camera);
     return { x: ((tmpV.x + 1) / 2) * this.width, y: ((1 - tmpV.y) / 2) * this.height };
@@ -483,7 +594,7 @@ export class Viewport {
 
   /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
   pick(event) {
-    if (!this.buffers.hasData || !this.canvas) return null;
+    if (!this.activeBuffers().hasData || !this.canvas) return null;
     this._layoutInstances();
     this.camera.updateMatrixWorld();
     const raycaster = new THREE.Raycaster();
@@ -518,9 +629,16 @@ export class Viewport {
       return;
     }
     e.preventDefault();
+    if (hit.edgeMarker !== undefined) {
+      // Edge markers select the edge (crease panel); they are not dragged.
+      this.selectEdge(hit.edgeMarker);
+      this.controls.enabled = true;
+      this._downAt = null;
+      return;
+    }
     this.controls.enabled = false;
     this.select(hit);
-    const p = this.buffers.point(hit.curve, hit.index);
+    const p = this.activeBuffers().pointOf(hit);
     const point = new THREE.Vector3(p[0], p[1], p[2]);
     const normal = this.camera.getWorldDirection(new THREE.Vector3());
     const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point);

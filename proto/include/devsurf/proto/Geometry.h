@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/strip/StripModel.h"
 
 namespace devsurf::proto {
@@ -32,5 +33,30 @@ Eigen::MatrixXd unrollRulingGrid(const Eigen::MatrixX3d& a, const Eigen::MatrixX
 /// per-vertex warp angle (deg) for colouring. Sizes documented in docs/protocol.md.
 nlohmann::json stripGeometryJson(const models::strip::StripModel& model, int uSamples = 96,
                                  int vSamples = 2, int rulings = 32);
+
+/// Sampled composite geometry for drawing and editing (docs/protocol.md, "Composite geometry"):
+///  * "surface": every face sampled (CompositeModel::geometry(samplesPerSpan, vSamples)) and
+///    concatenated face after face, vertices [N,3], quads [Q,4] (int32), "quad_face" [Q,1] (int32,
+///    the composite face of each quad), and two per-vertex scalars for colouring:
+///    "face_flatness" [N,1] (quality.faceFlatness of the vertex's face, δ of 000_… Fig. 17) and
+///    "vertex_curvature" [N,1] (|angle sum − 2π| in rad of the composite vertices, spread over
+///    the surface as max_v K_v·max(0, 1 − |p − v|/r_v), r_v = 0.35 × the shortest chord of v's
+///    edges, so each defect shows as a spot around its vertex);
+///  * "vertices" [V,3] and "vertex_curvature" [V,1] per composite vertex; "face_flatness" [F,1]
+///    per face;
+///  * "edges": one object per composite edge {"edge", "v":[v0,v1], "type":"S"|"R",
+///    "crease":"none"|"fold"|"geodesic"|"smooth", "interior", "assignment":"M"|"V"|"F"|"B",
+///    "polyline":[k,3], "fold_angle_deg":[k,1] (interior edges; FOLD sign: valley > 0),
+///    "control_points":[n,3] (S edges: the full control polygon, v0 first)};
+///  * "points": every draggable point, "positions" [P,3] and "refs" [P,3] (int32 rows
+///    (vertex, edge, index): (v, −1, −1) for vertex v, (−1, e, k) for interior control point k of
+///    S edge e) — the vertices first, then the S edges' interior control points in edge order;
+///  * "development": null without development management, otherwise the crease pattern of
+///    CompositeModel::creasePattern(): "vertices" [M,2] (design units), "triangles" [T,3] (the
+///    development's polygons fanned), "triangle_face" [T,1], "edges" [E,2] (int32) with
+///    "assignment" (one letter B/M/V/F/C per edge, a string) and "rulings" [R,4] (x0,y0,x1,y1).
+nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& model,
+                                     const models::composite::CompositeQuality& quality,
+                                     int samplesPerSpan = 12, int vSamples = 3);
 
 }  // namespace devsurf::proto

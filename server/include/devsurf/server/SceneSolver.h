@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -13,6 +14,20 @@
 #include "devsurf/proto/Scene.h"
 
 namespace devsurf::server {
+
+/// An export produced in memory (for HTTP responses).
+struct ExportedFile {
+  std::string content;
+  std::string mediaType;  ///< e.g. "model/obj", "application/json", "image/svg+xml"
+  std::string extension;  ///< file name extension without the dot ("obj", "fold", "svg")
+};
+
+/// The export format does not apply to this scene (e.g. svg of a strip, or of a composite without
+/// a development) or is unknown; what() says why.
+class ExportUnavailable : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
 
 /// The service behind `devsurf solve` (and later batch jobs and sessions): builds the model a
 /// scene describes ("strip" or "composite"), runs guided projection and reports.
@@ -34,7 +49,7 @@ class SceneSolver {
   /// The full report of the last solve.
   nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
 
-  /// Whether the scene is a strip (sessions edit strips only, for now).
+  /// Whether the scene is a strip (otherwise a composite).
   bool isStrip() const { return strip_ != nullptr; }
   /// @throws std::logic_error if the scene is not a strip
   models::strip::StripModel& stripModel();
@@ -45,6 +60,11 @@ class SceneSolver {
   /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm).
   /// @throws std::invalid_argument for an unknown format, std::runtime_error if writing fails
   void exportTo(const std::string& spec) const;
+  /// The export as bytes: "obj" (sampled surface as quads: strips 200×8, composites every face at
+  /// 50 samples per span, 8 across, as exportTo), "fold" (FOLD 1.2) and "svg" (fold pattern, mm)
+  /// for composites with a development.
+  /// @throws ExportUnavailable for an unknown format or one that does not apply to this scene
+  ExportedFile exportAs(const std::string& format) const;
 
  private:
   proto::Scene scene_;

@@ -47,7 +47,8 @@ struct SessionSettings {
   int maxParticipants = 32;
   int undoDepth = 100;
   int snapshotEvery = 50;           ///< edits between snapshots in the journal
-  int surfaceSamples = 96;          ///< u samples of the streamed surface
+  int surfaceSamples = 96;          ///< u samples of the streamed surface (strips)
+  int compositeSamplesPerSpan = 12; ///< samples per spline span of the streamed composite faces
 };
 
 /// Counters the daemon exports on /api/metrics.
@@ -69,7 +70,12 @@ struct SessionCounters {
   }
 };
 
-/// One editing session: a scene, its model and solver, its participants and its edit history.
+/// One editing session: a scene, its model ("strip" or "composite") and solver, its participants
+/// and its edit history.
+///
+/// Points are addressed as the scene does: strips {"curve": "a"|"b", "index": i}; composites
+/// {"vertex": i} or {"edge": e, "index": k} (S edges; index 0 and n−1 are the edge's vertices and
+/// are read as those vertices). Internally every target is kept in that canonical form.
 ///
 /// Threading: `post()` and `join()`/`leave()` may be called from any thread. Work runs on the
 /// session's own executor (a strand: one worker at a time), which the owner supplies as
@@ -112,8 +118,10 @@ class Session : public std::enable_shared_from_this<Session> {
   /// Current scene (with handles the user placed; temporary drag handles left out).
   nlohmann::json sceneJson() const;
   nlohmann::json metricsJson() const;
-  /// Sampled surface etc. for exports and REST.
-  void exportObj(const std::string& path) const;
+  /// The current design exported (SceneSolver::exportAs: obj, and fold/svg for composites with a
+  /// development), built from the current scene so it never waits for the session's worker.
+  /// @throws ExportUnavailable when the format does not apply
+  ExportedFile exportAs(const std::string& format) const;
   std::int64_t seq() const { return seq_.load(); }
 
  private:
@@ -151,7 +159,24 @@ class Session : public std::enable_shared_from_this<Session> {
   proto::Scene persistentScene() const;
   void pushUndo();
   bool hasQueuedWork() const;
-  int targetIndex(const nlohmann::json& target, std::string& path) const;
+  bool isComposite() const { return !solver_->isStrip(); }
+  /// The canonical form of a client's target in this session's model, or null with `path` and
+  /// `message` saying what is wrong (wrong addressing for the model kind, index out of range).
+  nlohmann::json canonicalTarget(const nlohmann::json& target, std::string& path, std::string& message) const;
+  /// Canonical target of an entry of the scene's "fixed"/"handles" lists (same addressing keys).
+  nlohmann::json pointKey(const proto::Scene& current, const nlohmann::json& entry) const;
+  /// Index of the model's handle on that (canonical) target, or −1.
+  int handleIndex(const proto::Scene& current, const nlohmann::json& target) const;
+  bool isDragHandle(const nlohmann::json& target) const;
+  void setHandleTarget(int handle, const Eigen::Vector3d& position);
+  /// {"fixed": [target…], "handles": [{"target","position","weight","temporary"}…]}.
+  nlohmann::json constraintsJson() const;
+  /// The streamed geometry (proto::stripGeometryJson or proto::compositeGeometryJson) and the
+  /// metrics an iterate carries.
+  nlohmann::json geometryJson(nlohmann::json* iterateMetrics = nullptr) const;
+  /// Releases the temporary handle of a drag on `target` (rebuilds the model) if there is one.
+  void releaseDragHandle(const nlohmann::json& target);
+  const engine::Problem& problem() const;
 
   std::string id_, name_;
   Tokens tokens_;
@@ -163,7 +188,7 @@ class Session : public std::enable_shared_from_this<Session> {
 
   proto::Scene initialScene_;
   std::unique_ptr<SceneSolver> solver_;
-  std::vector<models::strip::ControlPointRef> dragHandles_;  // temporary handles of active drags
+  std::vector<nlohmann::json> dragHandles_;  // canonical targets of the temporary handles of active drags
   std::deque<proto::Scene> undo_, redo_;
   std::atomic<std::int64_t> seq_{0};
   std::int64_t editsSinceSnapshot_ = 0;

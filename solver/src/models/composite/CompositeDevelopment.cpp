@@ -6,13 +6,16 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/terms/EdgeIsometryTerm.h"
+#include "devsurf/terms/TangentDistanceTerm.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -90,10 +93,6 @@ void CompositeModel::buildDevelopmentMesh() {
       for (spline::EvaluationMatrix::InnerIterator it(M, k); it; ++it)
         t.emplace_back(edgeBase[e] + k, pointIndex(slots[static_cast<std::size_t>(it.col())]), it.value());
   }
-  spline::EvaluationMatrix W(n, P);
-  W.setFromTriplets(t.begin(), t.end());
-  W.makeCompressed();
-  devSpatial_ = {W, 0};
 
   auto sampleId = [&](const OrientedEdge& oe, int i) {
     const int U = edgeCount[oe.edge];
@@ -167,6 +166,24 @@ void CompositeModel::buildDevelopmentMesh() {
       addTriangle(a0, b1, b0, f);
     }
   }
+  // Samples of every edge as development vertices, per side (faces[0], faces[1]).
+  devEdgeSamples_.assign(static_cast<std::size_t>(E), {});
+  for (int e = 0; e < E; ++e) {
+    const auto ends = topo.edgeVertices(e);
+    std::vector<int> us{ends[0]};
+    for (int i = 1; i + 1 < edgeCount[e]; ++i) us.push_back(edgeBase[e] + i - 1);
+    us.push_back(ends[1]);
+    for (int side = 0; side < 2; ++side) {
+      if (topo.edge(e).faces[static_cast<std::size_t>(side)] < 0) continue;
+      std::vector<int>& out = devEdgeSamples_[static_cast<std::size_t>(e)][static_cast<std::size_t>(side)];
+      out = us;
+    }
+  }
+  spline::EvaluationMatrix W(n, P);
+  W.setFromTriplets(t.begin(), t.end());
+  W.makeCompressed();
+  devSpatial_ = {W, 0};
+
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const auto& p, const auto& q) { return static_cast<int>(p.kind) < static_cast<int>(q.kind); });
   std::map<std::pair<int, int>, bool> seen;
@@ -293,11 +310,98 @@ void CompositeModel::addDevelopmentTerms() {
   const CompositeTopology& topo = *topology_;
   const int n = devSpatial_.rows();
   const int offset = problem_.layout().block(developmentBlock_).offset;
-  const Eigen::MatrixX2d start = unfold(problem_.x());
+  const DevelopmentDomain& domain = design_.developmentDomain;
+  const double unit = normalization_.scale;  // design units per normalized unit
+  Eigen::MatrixX2d start = unfold(problem_.x());
+  if (!domain.empty()) {
+    // Place the unfolding in the domain's frame: the rotation and translation that best map it
+    // onto the corners (two or more), else onto the design's own x, y (a flat start).
+    std::vector<Eigen::Vector2d> from, to;
+    if (domain.corners.size() >= 2) {
+      for (const DomainCorner& c : domain.corners) {
+        from.push_back(start.row(c.vertex).transpose());
+        to.push_back(c.at / unit);
+      }
+    } else {
+      for (int v = 0; v < topo.numVertices(); ++v) {
+        from.push_back(start.row(v).transpose());
+        to.push_back(design_.vertices.row(v).head<2>().transpose() / unit);
+      }
+    }
+    Eigen::Vector2d cf = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
+    for (std::size_t i = 0; i < from.size(); ++i) {
+      cf += from[i] / static_cast<double>(from.size());
+      ct += to[i] / static_cast<double>(from.size());
+    }
+    double sx = 0.0, sy = 0.0;
+    for (std::size_t i = 0; i < from.size(); ++i) {
+      const Eigen::Vector2d f = from[i] - cf, t = to[i] - ct;
+      sx += f.x() * t.x() + f.y() * t.y();
+      sy += f.x() * t.y() - f.y() * t.x();
+    }
+    const double angle = std::atan2(sy, sx);
+    Eigen::Matrix2d R;
+    R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+    for (int k = 0; k < n; ++k) start.row(k) = (R * (start.row(k).transpose() - cf) + ct).transpose();
+    for (const DomainCorner& c : domain.corners) start.row(c.vertex) = (c.at / unit).transpose();
+  }
   Eigen::Map<Eigen::VectorXd> values = problem_.blockValues(developmentBlock_);
   for (int k = 0; k < n; ++k) values.segment<2>(2 * k) = start.row(k).transpose();
-  problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor0, 2);
-  problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor1 + 1, 1);
+  if (domain.empty()) {
+    problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor0, 2);
+    problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor1 + 1, 1);
+  }
+  for (const DomainCorner& c : domain.corners) problem_.layout().setFixed(developmentBlock_, 2 * c.vertex, 2);
+
+  // Domain boundary: the samples of every boundary edge stay on the domain curve nearest to it.
+  if (!domain.boundary.empty()) {
+    std::vector<std::unique_ptr<terms::TangentDistanceTerm>> curves;
+    for (std::size_t c = 0; c < domain.boundary.size(); ++c) {
+      std::vector<Eigen::Vector2d> pts;
+      for (Eigen::Index i = 0; i < domain.boundary[c].points.rows(); ++i)
+        pts.push_back(domain.boundary[c].points.row(i).transpose() / unit);
+      curves.push_back(std::make_unique<terms::TangentDistanceTerm>("development_domain", std::vector<int>{}, pts,
+                                                                    domain.boundary[c].closed));
+    }
+    std::vector<bool> corner(static_cast<std::size_t>(n), false);
+    for (const DomainCorner& c : domain.corners) corner[static_cast<std::size_t>(c.vertex)] = true;
+    std::vector<std::vector<int>> onCurve(domain.boundary.size());
+    std::vector<bool> taken(static_cast<std::size_t>(n), false);
+    for (int e = 0; e < topo.numEdges(); ++e) {
+      const EdgeInfo& info = topo.edge(e);
+      if (info.interior()) continue;
+      const std::vector<int>& samples = devEdgeSamples_[static_cast<std::size_t>(e)][info.faces[0] >= 0 ? 0 : 1];
+      std::size_t best = 0;
+      double bestDistance = std::numeric_limits<double>::infinity();
+      for (std::size_t c = 0; c < curves.size(); ++c) {
+        double sum = 0.0;
+        for (int v : samples) {
+          Eigen::Vector2d foot, normal;
+          const Eigen::Vector2d p = start.row(v).transpose();
+          curves[c]->project(p, foot, normal);
+          sum += (p - foot).norm();
+        }
+        if (sum < bestDistance) {
+          bestDistance = sum;
+          best = c;
+        }
+      }
+      for (int v : samples)
+        if (!corner[static_cast<std::size_t>(v)] && !taken[static_cast<std::size_t>(v)]) {
+          taken[static_cast<std::size_t>(v)] = true;
+          onCurve[best].push_back(offset + 2 * v);
+        }
+    }
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      if (onCurve[c].empty()) continue;
+      std::vector<Eigen::Vector2d> pts;
+      for (Eigen::Index i = 0; i < domain.boundary[c].points.rows(); ++i)
+        pts.push_back(domain.boundary[c].points.row(i).transpose() / unit);
+      problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_domain", onCurve[c], pts,
+                                                                    domain.boundary[c].closed),
+                       1.0, engine::Strength::Hard);
+    }
+  }
   std::vector<int> offsets;
   for (int k = 0; k < n; ++k) offsets.push_back(offset + 2 * k);
   std::vector<std::pair<int, int>> pairs;

@@ -19,6 +19,7 @@
 #include "devsurf/terms/PlanarPolygonTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
+#include "devsurf/terms/VertexAngleSumTerm.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -113,6 +114,35 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
                                   " control points; 0 and " + std::to_string(n - 1) + " are its vertices)");
   };
   validateUserConstraints(design.fixed, design.handles, checkRef);
+
+  const DevelopmentDomain& domain = design.developmentDomain;
+  if (design.developmentSamples == 0 && !domain.empty())
+    throw std::invalid_argument("development.samples: a domain needs a development (samples ≥ 1)");
+  for (std::size_t c = 0; c < domain.boundary.size(); ++c) {
+    const DomainCurve& curve = domain.boundary[c];
+    const std::string path = refPath("development.domain.boundary", c);
+    const Eigen::Index need = curve.closed ? 3 : 2;
+    if (curve.points.rows() < need)
+      throw std::invalid_argument(path + ".points: needs at least " + std::to_string(need) + " points");
+    if (!curve.points.allFinite()) throw std::invalid_argument(path + ".points: coordinates must be finite");
+    for (Eigen::Index i = 0; i < curve.points.rows(); ++i) {
+      const Eigen::Index j = (i + 1) % curve.points.rows();
+      if ((j != 0 || curve.closed) && (curve.points.row(i) - curve.points.row(j)).norm() == 0.0)
+        throw std::invalid_argument(path + ".points[" + std::to_string(j) + "]: repeats the previous point");
+    }
+  }
+  std::vector<bool> cornerSeen(static_cast<std::size_t>(topology.numVertices()), false);
+  for (std::size_t c = 0; c < domain.corners.size(); ++c) {
+    const DomainCorner& corner = domain.corners[c];
+    const std::string path = refPath("development.domain.corners", c);
+    if (corner.vertex < 0 || corner.vertex >= topology.numVertices())
+      throw std::invalid_argument(path + ".vertex: vertex " + std::to_string(corner.vertex) + " does not exist (" +
+                                  std::to_string(topology.numVertices()) + " vertices)");
+    if (cornerSeen[static_cast<std::size_t>(corner.vertex)])
+      throw std::invalid_argument(path + ".vertex: vertex " + std::to_string(corner.vertex) + " is pinned twice");
+    cornerSeen[static_cast<std::size_t>(corner.vertex)] = true;
+    if (!corner.at.allFinite()) throw std::invalid_argument(path + ".at: coordinates must be finite");
+  }
 }
 
 CompositeModel::CompositeModel(CompositeDesign design, CompositeOptions options)
@@ -309,6 +339,7 @@ void CompositeModel::buildProblem() {
     }
   }
 
+  addVertexDevelopabilityTerms();
   if (developmentBlock_ >= 0) addDevelopmentTerms();
 
   for (const Handle& h : design_.handles)
@@ -319,6 +350,57 @@ void CompositeModel::buildProblem() {
 
   initializeNormals();
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
+}
+
+std::vector<int> CompositeModel::vertexStar(int v) const {
+  const CompositeTopology& topo = *topology_;
+  if (topo.boundaryVertex()[v]) return {};
+  // Per face around v: the edge entering v and the edge leaving it (faces run counterclockwise).
+  std::map<int, int> nextFace;  // leaving edge -> face
+  std::vector<std::pair<int, int>> corners;  // (face, leaving edge)
+  std::map<int, int> leavingOf;              // face -> leaving edge
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    const FaceInfo& info = topo.face(f);
+    if (info.type == FaceType::Cone && info.apex == v) return {};  // a cone's apex angle is not a corner angle
+    const int N = static_cast<int>(info.loop.size());
+    for (int i = 0; i < N; ++i)
+      if (info.corners[static_cast<std::size_t>(i)] == v) leavingOf[f] = info.loop[static_cast<std::size_t>(i)].edge;
+  }
+  if (leavingOf.size() < 2) return {};
+  // The neighbour of v along edge e: the next control point of an S edge, the other end otherwise.
+  auto neighbour = [this, &topo, v](int e) {
+    const auto ends = topo.edgeVertices(e);
+    if (topo.edgeType(e) == EdgeType::Spline && topo.interiorPoints(e) > 0) {
+      const std::vector<PointSlot> slots = topo.controlSlots(e, ends[0] != v);
+      return pointIndex(slots[1]);
+    }
+    return pointIndex({ends[0] == v ? ends[1] : ends[0], -1, 0});
+  };
+  // Walk around v: the face on the other side of f's leaving edge enters v through that edge.
+  std::vector<int> star;
+  int f = leavingOf.begin()->first;
+  for (std::size_t step = 0; step < leavingOf.size(); ++step) {
+    const int e = leavingOf.at(f);
+    star.push_back(neighbour(e));
+    const EdgeInfo& info = topo.edge(e);
+    const int g = info.faces[0] == f ? info.faces[1] : info.faces[0];
+    if (g < 0 || !leavingOf.count(g)) return {};
+    f = g;
+  }
+  if (f != leavingOf.begin()->first) return {};
+  return star;
+}
+
+void CompositeModel::addVertexDevelopabilityTerms() {
+  for (int v = 0; v < topology_->numVertices(); ++v) {
+    const std::vector<int> star = vertexStar(v);
+    if (star.size() < 3) continue;
+    std::vector<int> offsets;
+    for (int p : star) offsets.push_back(3 * p);
+    vertexTerms_.push_back(problem_.addTerm(
+        std::make_unique<terms::VertexAngleSumTerm>("vertex_developability", 3 * pointIndex({v, -1, 0}), offsets),
+        options_.developabilityWeight, Strength::Hard));
+  }
 }
 
 void CompositeModel::initializeNormals() {

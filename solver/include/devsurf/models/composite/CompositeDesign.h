@@ -57,6 +57,29 @@ struct Handle {
   double weight = 1.0;
 };
 
+/// A curve of a development's prescribed domain (design units, in the development's plane).
+struct DomainCurve {
+  Eigen::MatrixX2d points;  ///< polyline, ≥ 2 points (≥ 3 if closed), consecutive points distinct
+  bool closed = false;      ///< the last point joins the first (not repeated)
+};
+
+/// A vertex pinned to a point of the development (a corner of the domain).
+struct DomainCorner {
+  int vertex = -1;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();
+};
+
+/// Isometric mapping onto a prescribed domain D̄ (000_… §5 "Isometric mapping"): corners are
+/// pinned; every other sample of a boundary edge stays on the domain curve nearest to that edge
+/// (linearized to the curve's tangent at the foot point, renewed every iteration).
+/// \note The domain is given in the development's orientation: faces run counterclockwise in the
+///       development as they do seen from their normals' side.
+struct DevelopmentDomain {
+  std::vector<DomainCurve> boundary;
+  std::vector<DomainCorner> corners;
+  bool empty() const { return boundary.empty() && corners.empty(); }
+};
+
 /// A composite developable (000_… §3.1): a labelled polygon mesh whose faces are spline
 /// developables (S R S R), the same with one ruling degenerated to a point (S R S), cones (S R R)
 /// and planar polygons (R … R).
@@ -73,6 +96,8 @@ struct CompositeDesign {
   /// span along the S edges of the sampled mesh whose planar development is solved for together
   /// with the surface (eq. 12). 0 = no development (the default).
   int developmentSamples = 0;
+  /// Optional prescribed domain of the development (needs developmentSamples > 0).
+  DevelopmentDomain developmentDomain;
 };
 
 }  // namespace devsurf::models::composite

@@ -115,6 +115,7 @@ struct CompositeDevelopment {
   std::vector<Pair> pairs;                  ///< every edge and diagonal, each once
   std::vector<int> vertexSource;            ///< ≥ 0: composite vertex; −1: an S edge sample
   int anchor0 = -1, anchor1 = -1;           ///< fixed vertex (both coordinates) and the one with fixed y
+                                            ///< (not fixed when the design prescribes a domain)
 };
 
 /// Composite developables of Tang et al. 2016 §3 / Mundilova ch. 5: faces that are ruled spline
@@ -136,7 +137,10 @@ struct CompositeDevelopment {
 /// "planarity" (hard, PlanarPolygonTerm), "unit_normal_hard" (first normal of every face),
 /// "unit_normal" (soft), "crease_fold"/"crease_geodesic" (hard, CurvedFoldTerm at the edge's own
 /// parameters), "smooth" (hard, NormalMatchTerm along S edges or at R edges labelled smooth),
-/// "fairness" (soft, decaying, per S edge including its end vertices), "handle" (soft).
+/// "fairness" (soft, decaying, per S edge including its end vertices), "handle" (soft),
+/// "vertex_developability" (hard, per interior vertex that is not a cone apex: the angles between
+/// the first control-polygon legs of its edges sum to 2π, 000_… §5 "Local developability in
+/// vertices").
 class CompositeModel {
  public:
   /// @throws std::invalid_argument naming the path ("faces[2]: …", "fixed[0].index: …")
@@ -200,6 +204,12 @@ class CompositeModel {
     terms::LinearPoints a, da, b, db;  ///< at the face's parameters, columns = points of x
   };
   void buildProblem();
+  /// Interior vertex v's star for vertex developability (000_… §5): the point indices of the
+  /// control points next to v along its edges (S edges: c₁; R edges: the other vertex), in order
+  /// around v; empty for boundary vertices and cone apices.
+  std::vector<int> vertexStar(int v) const;
+  void addVertexDevelopabilityTerms();
+  std::vector<int> vertexTerms_;
   void initializeNormals();
   /// Index of a slot's 3D point in x (x offset / 3).
   int pointIndex(const PointSlot& s) const;
@@ -229,6 +239,8 @@ class CompositeModel {
   void addDevelopmentTerms();
   Eigen::MatrixX2d unfold(const Eigen::VectorXd& x) const;  ///< normalized units
   int developmentBlock_ = -1;
+  /// Per edge and side (faces[0], faces[1]): its samples from v0 to v1 as development vertices.
+  std::vector<std::array<std::vector<int>, 2>> devEdgeSamples_;
   CompositeDevelopment devMesh_;  ///< combinatorics (coordinates filled on demand)
   terms::LinearPoints devSpatial_;  ///< 3D sample vertices, columns = points of x
   std::vector<std::array<int, 3>> devTriangles_;

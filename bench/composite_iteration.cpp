@@ -1,0 +1,262 @@
+// One guided-projection iteration of a composite developable (Tang et al. 2016 §3, §5) against
+// the number of unknowns, with and without development management (000_… §5, eq. 12):
+//
+// - every preset examples/composite-*.json as `devsurf solve` builds it ("dev": the preset's
+//   development samples, 4 where it has none; "nodev": development off);
+// - programmatic sheets with many parallel curved creases (parallelCreaseSheet), scaled up to
+//   ~40 000 unknowns without a development (Tang Fig. 17: 39 648 variables, 0.8 s per iteration),
+//   with both linear solvers (CHOLMOD where compiled in; presets use the default LDLT).
+//
+// Counters (per benchmark run): unknowns, nnz of the normal matrix (upper triangle as stored), and
+// the solver's own per-phase timings of iteration 1 averaged over the run. bench/paper_tables.sh
+// prints the table.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/engine/LinearSolver.h"
+#include "devsurf/models/composite/CompositeDesign.h"
+#include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/proto/Scene.h"
+#include "devsurf/spline/KnotVector.h"
+
+namespace {
+
+namespace composite = devsurf::models::composite;
+namespace engine = devsurf::engine;
+namespace proto = devsurf::proto;
+namespace spline = devsurf::spline;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A flat sheet of `strips` strips between strips + 1 parallel wavy cubic S edges (each with
+/// `spans` spans) running along y, the interior ones curved folds, lifted at one corner by a
+/// handle; the first S edge's ends are held.
+///
+/// S edge i (0…strips): x = i·w + 0.2·w·sin(2πt), y = L·t, z = 0, from vertex 2i (bottom) to 2i+1
+/// (top). Edges: S edges 0…strips, then the bottom rulings 2i → 2i+2, then the top rulings
+/// 2i+3 → 2i+1. Face j: [bottom j, S j+1, top j, S j] (counterclockwise seen from +z).
+/// Unknowns ≈ strips·(21·spans + 6) + (strips + 1)·(3·spans + 9).
+composite::CompositeDesign parallelCreaseSheet(int strips, int spans) {
+  const int degree = 3;
+  const int n = spans + degree;
+  const double w = 1.0, length = 4.0;
+  composite::CompositeDesign d;
+  d.vertices.resize(2 * (strips + 1), 3);
+  const spline::KnotVector knots = spline::KnotVector::clampedUniform(degree, n);
+  for (int i = 0; i <= strips; ++i) {
+    composite::CompositeEdge e;
+    e.v0 = 2 * i;
+    e.v1 = 2 * i + 1;
+    e.type = composite::EdgeType::Spline;
+    e.curve.knots = knots;
+    e.curve.points.resize(n, 3);
+    for (int k = 0; k < n; ++k) {
+      const double t = static_cast<double>(k) / (n - 1);
+      e.curve.points.row(k) << i * w + 0.2 * w * std::sin(2.0 * kPi * t), length * t, 0.0;
+    }
+    e.crease = (i > 0 && i < strips) ? composite::CreaseKind::Fold : composite::CreaseKind::None;
+    d.vertices.row(2 * i) = e.curve.points.row(0);
+    d.vertices.row(2 * i + 1) = e.curve.points.row(n - 1);
+    d.edges.push_back(e);
+  }
+  auto ruling = [](int v0, int v1) {
+    composite::CompositeEdge e;
+    e.v0 = v0;
+    e.v1 = v1;
+    e.type = composite::EdgeType::Ruling;
+    return e;
+  };
+  for (int j = 0; j < strips; ++j) d.edges.push_back(ruling(2 * j, 2 * j + 2));
+  for (int j = 0; j < strips; ++j) d.edges.push_back(ruling(2 * j + 3, 2 * j + 1));
+  for (int j = 0; j < strips; ++j)
+    d.faces.push_back({strips + 1 + j, j + 1, 2 * strips + 1 + j, j});
+  d.fixed = {composite::PointRef::ofVertex(0), composite::PointRef::ofVertex(1),
+             composite::PointRef::ofEdgePoint(0, n / 2)};
+  const int corner = 2 * strips + 1;
+  d.handles.push_back({composite::PointRef::ofVertex(corner),
+                       Eigen::Vector3d(d.vertices(corner, 0) - 0.1 * w, d.vertices(corner, 1), 0.5 * w), 1.0});
+  return d;
+}
+
+/// One model per benchmark (built on first use, kept for all repetitions) and its initial x.
+struct Fixture {
+  std::unique_ptr<composite::CompositeModel> model;
+  Eigen::VectorXd x0;
+  engine::SolverOptions options;
+  std::string error;
+};
+
+std::map<std::string, Fixture>& fixtures() {
+  static std::map<std::string, Fixture> cache;
+  return cache;
+}
+
+Fixture& fixture(const std::string& key, const std::function<composite::CompositeDesign()>& make,
+                 const composite::CompositeOptions& modelOptions, const engine::SolverOptions& solverOptions) {
+  Fixture& f = fixtures()[key];
+  if (!f.model && f.error.empty()) {
+    try {
+      f.model = std::make_unique<composite::CompositeModel>(make(), modelOptions);
+      f.x0 = f.model->problem().x();
+      f.options = solverOptions;
+      f.options.maxIterations = 1;
+      f.options.residualTolerance = 0.0;
+      f.options.relativeChangeTolerance = 0.0;
+    } catch (const std::exception& e) {
+      f.error = e.what();
+    }
+  }
+  return f;
+}
+
+void runIteration(benchmark::State& state, Fixture& f, const std::string& kind, int development) {
+  if (!f.model) {
+    state.SkipWithError(f.error.c_str());
+    for (auto _ : state) {
+    }
+    return;
+  }
+  composite::CompositeModel& model = *f.model;
+  double assembly = 0, factorization = 0, solve = 0, iteration = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    model.problem().x() = f.x0;  // every timed solve starts from the same state
+    state.ResumeTiming();
+    const engine::SolveSummary summary = model.solve(f.options);
+    state.PauseTiming();
+    if (summary.iterations.size() < 2) {
+      state.SkipWithError("solve() did not complete an iteration");
+      break;
+    }
+    const engine::IterationRecord& rec = summary.iterations[1];
+    assembly += rec.assemblyMs;
+    factorization += rec.factorizationMs;
+    solve += rec.solveMs;
+    iteration += rec.totalMs;
+    state.ResumeTiming();
+  }
+  model.problem().x() = f.x0;
+  using benchmark::Counter;
+  state.counters["unknowns"] = Counter(model.numUnknowns());
+  state.counters["nnz"] = Counter(static_cast<double>(model.solver().normalMatrixNonZeros()));
+  state.counters["development"] = Counter(development);
+  state.counters["assembly_ms"] = Counter(assembly, Counter::kAvgIterations);
+  state.counters["factorization_ms"] = Counter(factorization, Counter::kAvgIterations);
+  state.counters["solve_ms"] = Counter(solve, Counter::kAvgIterations);
+  state.counters["iteration_ms"] = Counter(iteration, Counter::kAvgIterations);
+  state.SetLabel(kind);
+}
+
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+void registerPresets() {
+  const std::filesystem::path dir = std::filesystem::path(DEVSURF_SOURCE_DIR) / "examples";
+  std::vector<std::filesystem::path> presets;
+  if (std::filesystem::is_directory(dir))
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind("composite-", 0) == 0 && entry.path().extension() == ".json") presets.push_back(entry.path());
+    }
+  std::sort(presets.begin(), presets.end());
+  for (const std::filesystem::path& path : presets) {
+    const std::string stem = path.stem().string();
+    for (const bool withDevelopment : {false, true}) {
+      const std::string variant = withDevelopment ? "dev" : "nodev";
+      const std::string key = "CompositePreset/" + stem + "/" + variant;
+      benchmark::RegisterBenchmark(key.c_str(), [path, key, withDevelopment, stem](benchmark::State& state) {
+        proto::Scene scene;
+        int samples = 0;
+        auto make = [&scene, &samples, withDevelopment]() {
+          composite::CompositeDesign d = std::get<composite::CompositeDesign>(scene.model);
+          if (!withDevelopment) d.developmentSamples = 0;
+          else if (d.developmentSamples == 0) d.developmentSamples = 4;
+          samples = d.developmentSamples;
+          return d;
+        };
+        try {
+          scene = proto::sceneFromText(readFile(path));
+        } catch (const std::exception& e) {
+          fixtures()[key].error = e.what();
+        }
+        Fixture& f = fixture(key, make, scene.solver.compositeOptions(), scene.solver.solverOptions());
+        if (f.model) samples = f.model->design().developmentSamples;
+        runIteration(state, f, "ldlt", samples);
+      })
+          ->Unit(benchmark::kMillisecond)
+          ->MinTime(0.2)
+          ->Repetitions(5)
+          ->ReportAggregatesOnly(true);
+    }
+  }
+}
+
+void registerScaled() {
+  struct Size {
+    int strips, spans;
+  };
+  // ≈ 1.1k, 5.0k, 11.8k, 23.5k, 39.1k unknowns without development (+35% with).
+  const std::vector<Size> sizes{{4, 10}, {8, 25}, {12, 40}, {24, 40}, {40, 40}};
+  struct Solver {
+    const char* name;
+    engine::LinearSolverKind kind;
+  };
+  std::vector<Solver> solvers{{"ldlt", engine::LinearSolverKind::SimplicialLDLT}};
+  if (engine::cholmodAvailable()) solvers.push_back({"cholmod", engine::LinearSolverKind::Cholmod});
+  for (const Solver& solver : solvers) {
+    for (const Size& s : sizes) {
+      for (const bool withDevelopment : {false, true}) {
+        const std::string variant = withDevelopment ? "dev" : "nodev";
+        const std::string key = "CompositeSheet/" + std::to_string(s.strips) + "x" + std::to_string(s.spans) + "/" +
+                                variant + "/" + solver.name;
+        benchmark::RegisterBenchmark(key.c_str(), [s, key, withDevelopment, solver](benchmark::State& state) {
+          auto make = [s, withDevelopment]() {
+            composite::CompositeDesign d = parallelCreaseSheet(s.strips, s.spans);
+            d.developmentSamples = withDevelopment ? 4 : 0;
+            return d;
+          };
+          composite::CompositeOptions options;
+          options.linearSolver = solver.kind;
+          Fixture& f = fixture(key, make, options, engine::SolverOptions{});
+          runIteration(state, f, solver.name, withDevelopment ? 4 : 0);
+        })
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(0.2)
+            ->Repetitions(5)
+            ->ReportAggregatesOnly(true);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  registerPresets();
+  registerScaled();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

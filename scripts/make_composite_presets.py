@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Writes the generated composite presets of examples/ (a curved box). The scenes are plain JSON (proto/schemas/scene.schema.json); this script only
+saves typing their numbers. Run from anywhere: python3 scripts/make_composite_presets.py"""
+import json
+import math
+import os
+
+EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
+
+
+def insert_knot(knots, points, degree, u):
+    """Boehm's knot insertion (NURBS Book A5.1, one insertion) on a clamped curve."""
+    k = max(i for i in range(len(knots) - 1) if knots[i] <= u < knots[i + 1])
+    new = []
+    for i in range(len(points) + 1):
+        if i <= k - degree:
+            new.append(points[i])
+        elif i > k:
+            new.append(points[i - 1])
+        else:
+            a = (u - knots[i]) / (knots[i + degree] - knots[i])
+            new.append([(1 - a) * p + a * q for p, q in zip(points[i - 1], points[i])])
+    return knots[: k + 1] + [u] + knots[k + 1:], new
+
+
+def cubic_uniform(bezier, spans):
+    """A cubic Bézier refined to a clamped uniform cubic B-spline with `spans` spans."""
+    knots, pts = [0.0] * 4 + [1.0] * 4, [list(p) for p in bezier]
+    for s in range(1, spans):
+        knots, pts = insert_knot(knots, pts, 3, s / spans)
+    return pts
+
+
+def arc(radius, t0, t1, z0, z1, spans=2):
+    """Cubic approximation of the circular arc at `radius` from angle t0 to t1 (radians), with
+    heights blended linearly from z0 to z1 (a circular helix piece; z0 = z1 for a planar arc)."""
+    k = 4.0 / 3.0 * math.tan((t1 - t0) / 4.0) * radius
+    p0 = [radius * math.cos(t0), radius * math.sin(t0)]
+    p3 = [radius * math.cos(t1), radius * math.sin(t1)]
+    p1 = [p0[0] - k * math.sin(t0), p0[1] + k * math.cos(t0)]
+    p2 = [p3[0] + k * math.sin(t1), p3[1] - k * math.cos(t1)]
+    bez = [[p0[0], p0[1], z0], [p1[0], p1[1], z0 + (z1 - z0) / 3], [p2[0], p2[1], z0 + 2 * (z1 - z0) / 3],
+           [p3[0], p3[1], z1]]
+    return cubic_uniform(bez, spans)
+
+
+def segment(p, q, spans=2):
+    """A straight cubic from p to q (control points evenly spaced)."""
+    return cubic_uniform([[p[i] + (q[i] - p[i]) * s / 3 for i in range(3)] for s in range(4)], spans)
+
+
+def r(x, digits=9):
+    return [round(v, digits) + 0.0 for v in x]
+
+
+def s_edge(v0, v1, points, crease=None):
+    e = {"v": [v0, v1], "type": "S", "degree": 3, "points": [r(p) for p in points[1:-1]]}
+    if crease:
+        e["crease"] = crease
+    return e
+
+
+def r_edge(v0, v1, crease=None):
+    e = {"v": [v0, v1], "type": "R"}
+    if crease:
+        e["crease"] = crease
+    return e
+
+
+def write(name, scene):
+    with open(os.path.join(EXAMPLES, name), "w") as f:
+        json.dump(scene, f, indent=1)
+        f.write("\n")
+
+
+def curved_box():
+    """A box-like composite (after Mundilova 2017 Fig. 6.4-6.9): a tray whose long walls fold up
+    along curved creases and whose end walls fold along straight ones; corners are cut."""
+    L, W, H = 4.0, 2.0, 0.8  # bottom length, width, wall height
+    bow = 0.25               # the long creases bow inwards by this much at the middle
+    # bottom corners 0..3 (counterclockwise from (0,0)), wall tops 4..7 (long walls), 8..11 (end walls)
+    v = [[0, 0, 0], [L, 0, 0], [L, W, 0], [0, W, 0],
+         [0, -H, 0], [L, -H, 0], [L, W + H, 0], [0, W + H, 0],
+         [L + H, 0, 0], [L + H, W, 0], [-H, W, 0], [-H, 0, 0]]
+    vertices = [r(p) for p in v]
+
+    def bowed(p, q, inward):
+        bez = [p, [p[0] + (q[0] - p[0]) / 3, p[1] + inward * bow * 4 / 3, 0], [p[0] + 2 * (q[0] - p[0]) / 3, p[1] + inward * bow * 4 / 3, 0], q]
+        return cubic_uniform(bez, 2)
+
+    edges = []
+    e_front = len(edges); edges.append(s_edge(0, 1, bowed(v[0], v[1], 1), "fold"))      # bottom/front wall
+    e_back = len(edges); edges.append(s_edge(2, 3, bowed(v[2], v[3], -1), "fold"))      # bottom/back wall
+    e_right = len(edges); edges.append(r_edge(1, 2))                                     # bottom/right wall (straight)
+    e_left = len(edges); edges.append(r_edge(3, 0))                                      # bottom/left wall
+    e_front_top = len(edges); edges.append(s_edge(4, 5, segment(v[4], v[5])))
+    e_front_l = len(edges); edges.append(r_edge(0, 4))
+    e_front_r = len(edges); edges.append(r_edge(5, 1))
+    e_back_top = len(edges); edges.append(s_edge(6, 7, segment(v[6], v[7])))
+    e_back_r = len(edges); edges.append(r_edge(2, 6))
+    e_back_l = len(edges); edges.append(r_edge(7, 3))
+    e_right_out = len(edges); edges.append(r_edge(8, 9))
+    e_right_b = len(edges); edges.append(r_edge(1, 8))
+    e_right_t = len(edges); edges.append(r_edge(9, 2))
+    e_left_out = len(edges); edges.append(r_edge(10, 11))
+    e_left_t = len(edges); edges.append(r_edge(3, 10))
+    e_left_b = len(edges); edges.append(r_edge(11, 0))
+    faces = [
+        [e_front, e_right, e_back, e_left],                 # bottom: S R S R, counterclockwise from +z
+        [e_front_top, e_front_r, e_front, e_front_l],       # front wall: 4->5->1->0->4
+        [e_back_top, e_back_l, e_back, e_back_r],           # back wall: 6->7->3->2->6
+        [e_right_b, e_right_out, e_right_t, e_right],       # right wall (planar): 1->8->9->2->1
+        [e_left_t, e_left_out, e_left_b, e_left],           # left wall (planar): 3->10->11->0->3
+    ]
+    for e in (e_right, e_left):
+        edges[e]["crease"] = None
+        del edges[e]["crease"]
+    fixed = [{"vertex": 0}, {"vertex": 1}]
+    handles = [
+        {"vertex": 4, "position": [0.3, 0.1, H * 0.9]}, {"vertex": 5, "position": [L - 0.3, 0.1, H * 0.9]},
+        {"vertex": 6, "position": [L - 0.3, W - 0.1, H * 0.9]}, {"vertex": 7, "position": [0.3, W - 0.1, H * 0.9]},
+    ]
+    write("composite-curved-box.json", {
+        "format": "devsurf-scene", "version": 1,
+        "name": "curved box",
+        "description": "A box-like composite after Mundilova 2017 Fig. 6.4-6.9, simplified to a tray: the bottom is "
+                       "a developable strip between two curved creases (curved folds, eq. 7) that join it to the "
+                       "long walls; the end walls are planar and fold along straight creases; the corners are cut. "
+                       "Handles raise the long walls' top corners; the bottom bends as the walls fold up. Export "
+                       "its fold pattern with --export svg:FILE or fold:FILE.",
+        "model": {"kind": "composite", "vertices": vertices, "edges": edges, "faces": faces, "fixed": fixed,
+                  "handles": handles, "development": {"samples": 4}},
+        "solver": {"iterations": 40}})
+
+
+if __name__ == "__main__":
+    curved_box()

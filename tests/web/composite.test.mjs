@@ -1,0 +1,88 @@
+// 6. A composite demo (curved fold, lifted corner): the editor shows the folded sheet coloured by
+//    face flatness and its crease pattern; dragging a vertex streams iterates and the release
+//    solve keeps every face developable; switching the crease type of the fold edge is an
+//    undoable edit; the development view has content and follows.
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('composite');
+
+test('a composite demo opens, a vertex drags, a crease type switches and undoes, the development follows', { timeout: 240000 }, () =>
+  ctx.guard('composite', async () => {
+    const { daemon } = ctx;
+    const listed = (await daemon.api('GET', '/api/sessions')).body.sessions;
+    const demo = listed.find((s) => s.id === 'demo-composite-curved-fold');
+    assert.ok(demo, `the composite example is a demo session: ${listed.map((s) => s.id).join(', ')}`);
+
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+    await page.getByTestId('crease-panel').waitFor();
+    const dev = page.getByTestId('development-view');
+    await page.waitForFunction(() => Number(document.querySelector('[data-testid="development-view"]').dataset.polygons) > 0);
+    const polygons0 = Number(await dev.getAttribute('data-polygons'));
+    assert.ok(polygons0 > 0, `the development view drew ${polygons0} polygons`);
+    assert.equal((await page.getByTestId('legend-title').textContent()).trim(), 'face flatness δ');
+    await h.screenshotPage(page, '06-composite-editor');
+    const before = await h.screenshotViewport(page, '06-composite-before-drag');
+    const stats = h.pixelStats(before.image);
+    assert.ok(stats.distinct >= 64 && stats.dominantShare < 0.97, `the 3D view is drawn: ${JSON.stringify(stats)}`);
+
+    // Drag vertex 3 (the lifted corner) upwards on screen.
+    const server0 = await daemon.session(demo.id, demo.view_token);
+    const z0 = server0.scene.model.vertices[3][2];
+    const st0 = await h.state(page);
+    const from = await h.pointPagePosition(page, { vertex: 3 });
+    await h.dragBy(page, from, { dy: -50, steps: 10, pauseMs: 50 });
+    await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
+    await h.waitQuiet(page);
+    const done = await h.poll(async () => {
+      const st = await h.state(page);
+      const server = await daemon.session(demo.id, demo.view_token);
+      return { st, server, ok: st.seq === server.seq && st.lastSolved && st.lastSolved.seq === server.seq };
+    });
+    const { st, server } = done;
+    console.log(`composite drag: ${st.iterateCount - st0.iterateCount} iterates, vertex 3 z ${z0} → ${server.scene.model.vertices[3][2]}, `
+      + `face flatness max ${server.metrics.face_flatness_max}, crease residual ${server.metrics.crease_fold_residual_max}`);
+    assert.equal(st.lastError, null);
+    assert.ok(Math.abs(server.scene.model.vertices[3][2] - z0) > 0.02, 'vertex 3 moved');
+    assert.ok(server.metrics.face_flatness_max < 1e-2, `faces stay developable: δ = ${server.metrics.face_flatness_max}`);
+    await h.settleFrames(page);
+    const after = await h.screenshotViewport(page, '06-composite-after-drag');
+    assert.ok(h.diffFraction(before.image, after.image) > 0.005, 'the picture changed');
+
+    // Select the fold edge by its diamond in the 3D view, switch it to smooth, then undo.
+    const mid = await page.evaluate(() => window.__devsurf.edgeScreenPosition(0));
+    const box = await page.getByTestId('viewport').boundingBox();
+    await page.mouse.click(box.x + mid.x, box.y + mid.y);
+    await h.waitState(page, (s) => s.selectedEdge === 0, undefined, { what: 'edge 0 selected' });
+    assert.equal(await page.getByTestId('crease-edge').inputValue(), '0');
+    assert.equal(await page.getByTestId('crease-type').inputValue(), 'fold');
+    await page.getByTestId('crease-type').selectOption('smooth');
+    await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { ok: s.scene.model.edges[0].crease === 'smooth' };
+    });
+    await page.waitForFunction(() => document.querySelector('[data-testid="crease-type"]').value === 'smooth');
+    await page.getByTestId('solve').click();
+    await h.waitQuiet(page);
+    await h.screenshotPage(page, '06-composite-smooth');
+    await page.getByTestId('undo').click();
+    await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { ok: s.scene.model.edges[0].crease === 'fold' };
+    });
+    await page.waitForFunction(() => document.querySelector('[data-testid="crease-type"]').value === 'fold');
+
+    // The development view still has content after all that; colour by vertex curvature.
+    const polygons1 = Number(await dev.getAttribute('data-polygons'));
+    assert.ok(polygons1 > 0, `the development view drew ${polygons1} polygons`);
+    const devShot = await page.screenshot({ path: `${h.ARTIFACTS}/06-composite-development.png`, clip: await dev.boundingBox() });
+    const devStats = h.pixelStats(h.decodePNG(devShot));
+    assert.ok(devStats.distinct >= 16 && devStats.dominantShare < 0.95, `the development is drawn: ${JSON.stringify(devStats)}`);
+    await page.getByTestId('color-mode').selectOption('curvature');
+    assert.equal((await page.getByTestId('legend-title').textContent()).trim(), 'vertex curvature');
+    await h.screenshotPage(page, '06-composite-curvature');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
