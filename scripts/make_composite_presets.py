@@ -1,11 +1,18 @@
 #!/usr/bin/env python3
-"""Writes the generated composite presets of examples/ (a curved box). The scenes are plain JSON (proto/schemas/scene.schema.json); this script only
-saves typing their numbers. Run from anywhere: python3 scripts/make_composite_presets.py"""
+"""Writes the generated composite presets of examples/ (a curved box; a curved-crease column).
+The scenes are plain JSON (proto/schemas/scene.schema.json); this script only saves typing their
+numbers. The column is shaped the way a designer would shape it: its handles are dragged in small
+steps, each solved by the devsurf binary (build it first: scripts/setup.sh), and the last state is
+saved with its development. Run from anywhere: python3 scripts/make_composite_presets.py"""
 import json
 import math
 import os
+import subprocess
+import tempfile
 
-EXAMPLES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+EXAMPLES = os.path.join(ROOT, "examples")
+DEVSURF = os.environ.get("DEVSURF_BIN", os.path.join(ROOT, "build", "server", "devsurf"))
 
 
 def insert_knot(knots, points, degree, u):
@@ -73,6 +80,85 @@ def write(name, scene):
         f.write("\n")
 
 
+def dragged(scene, stages, iterations):
+    """Moves every handle from its point's position to its target in `stages` equal steps, solving
+    `iterations` guided-projection iterations after each (as a drag in a session does), and
+    returns the solved scene of the last step (geometry and development)."""
+    model = scene["model"]
+
+    def position(h):
+        if "vertex" in h:
+            return model["vertices"][h["vertex"]]
+        return model["edges"][h["edge"]]["points"][h["index"] - 1]
+
+    origin = [list(position(h)) for h in model["handles"]]
+    targets = [list(h["position"]) for h in model["handles"]]
+    with tempfile.TemporaryDirectory() as tmp:
+        for step in range(1, stages + 1):
+            for h, o, t in zip(scene["model"]["handles"], origin, targets):
+                h["position"] = [o[i] + (t[i] - o[i]) * step / stages for i in range(3)]
+            src, out = os.path.join(tmp, "in.json"), os.path.join(tmp, "out.json")
+            with open(src, "w") as f:
+                json.dump(scene, f)
+            subprocess.run([DEVSURF, "solve", src, "--iterations", str(iterations), "--out", out], check=True,
+                           capture_output=True)
+            with open(out) as f:
+                solved = json.load(f)["scene"]
+            for key in ("name", "description", "format", "version"):
+                if key in scene:
+                    solved[key] = scene[key]
+            scene = solved
+    for h, t in zip(scene["model"]["handles"], targets):
+        h["position"] = r(t)
+    return scene
+
+
+def column():
+    """Tang et al. 2016 Fig. 14 (after Huffman's hexagonal column): a hexagonal tube whose six
+    vertical creases are curved folds. Dragged from the straight prism: the middle of every other
+    crease out, of the others in; the development is cut open along crease 0 and kept periodic,
+    so the column unfolds onto a cylinder."""
+    k, R, H, spans = 6, 1.0, 3.0, 4
+    vertices, edges, faces = [], [], []
+    for level in (0.0, H):
+        for i in range(k):
+            t = 2 * math.pi * i / k
+            vertices.append(r([R * math.cos(t), R * math.sin(t), level]))
+    crease_id, bottom_id, top_id = [], [], []
+    for i in range(k):
+        crease_id.append(len(edges))
+        edges.append(s_edge(i, k + i, segment(vertices[i], vertices[k + i], spans=spans), "fold"))
+    for i in range(k):
+        bottom_id.append(len(edges))
+        edges.append(r_edge(i, (i + 1) % k))
+    for i in range(k):
+        top_id.append(len(edges))
+        edges.append(r_edge(k + (i + 1) % k, k + i))
+    for i in range(k):
+        faces.append([bottom_id[i], crease_id[(i + 1) % k], top_id[i], crease_id[i]])
+    handles = []
+    for i in range(k):
+        t = 2 * math.pi * i / k
+        rad = R + 0.2 if i % 2 == 0 else R - 0.15
+        handles.append({"edge": crease_id[i], "index": (spans + 3) // 2, "weight": 0.2,
+                        "position": r([rad * math.cos(t), rad * math.sin(t), H / 2])})
+    scene = {
+        "format": "devsurf-scene", "version": 1,
+        "name": "curved-crease column on a cylinder",
+        "description": "A hexagonal tube (radius 1, height 3) of six developable strips between six vertical "
+                       "creases that are curved folds (eq. 7), after Huffman's hexagonal column as in Tang et al. "
+                       "2016 Fig. 14. Shaped from the straight prism by dragging the middle of every other crease "
+                       "out and of the others in (weak handles, 10 steps). The development is cut open along "
+                       "crease 0 and kept periodic (§6): the column unfolds onto a cylinder whose circumference "
+                       "is the period.",
+        "model": {"kind": "composite", "vertices": vertices, "edges": edges, "faces": faces, "handles": handles,
+                  "development": {"samples": 4, "seam": [crease_id[0]]}},
+        "solver": {"iterations": 5}}
+    scene = dragged(scene, 10, 5)
+    scene["solver"] = {"iterations": 10}
+    write("composite-column.json", scene)
+
+
 def curved_box():
     """A box-like composite (after Mundilova 2017 Fig. 6.4-6.9): a tray whose long walls fold up
     along curved creases and whose end walls fold along straight ones; corners are cut."""
@@ -134,4 +220,5 @@ def curved_box():
 
 
 if __name__ == "__main__":
+    column()
     curved_box()

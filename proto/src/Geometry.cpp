@@ -1,5 +1,7 @@
 #include "devsurf/proto/Geometry.h"
 
+#include "devsurf/metrics/QuadFlatness.h"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -231,7 +233,7 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
     for (Eigen::Index i = 0; i < m.vertices.rows(); ++i) {
       const Eigen::Vector3d p = m.vertices.row(i).transpose();
       vertices.row(vOffset + i) = p.transpose();
-      flatness(vOffset + i, 0) = faceValue(quality.faceFlatness, f);
+      flatness(vOffset + i, 0) = 0.0;
       double k = 0.0;
       for (int v = 0; v < numVertices; ++v) {
         const double kv = faceValue(quality.vertexCurvature, static_cast<std::size_t>(v));
@@ -241,6 +243,14 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
         k = std::max(k, kv * std::max(0.0, 1.0 - dist / r));
       }
       curvature(vOffset + i, 0) = k;
+    }
+    // Flatness per sampled quad (δ of Tang Fig. 17), each vertex showing the largest of its quads.
+    const double tiny = 1e-12 * std::max(1.0, m.vertices.cwiseAbs().maxCoeff());
+    for (Eigen::Index q = 0; q < m.quads.rows(); ++q) {
+      const Eigen::Vector4i c = m.quads.row(q).transpose();
+      const double delta = metrics::quadFlatness(m.vertices.row(c[0]).transpose(), m.vertices.row(c[1]).transpose(),
+                                                 m.vertices.row(c[2]).transpose(), m.vertices.row(c[3]).transpose(), tiny);
+      for (int k = 0; k < 4; ++k) flatness(vOffset + c[k], 0) = std::max(flatness(vOffset + c[k], 0), delta);
     }
     for (Eigen::Index q = 0; q < m.quads.rows(); ++q) {
       quads.row(qOffset + q) = m.quads.row(q).array() + static_cast<int>(vOffset);

@@ -155,6 +155,13 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
       for (const json& c : domain.value("corners", json::array()))
         d.developmentDomain.corners.push_back({c.at("vertex").get<int>(), point2(c.at("at"))});
     }
+    d.developmentSeam = dev.value("seam", std::vector<int>{});
+    if (dev.contains("vertices")) {
+      const json& vs = dev["vertices"];
+      d.developmentVertices.resize(static_cast<Eigen::Index>(vs.size()), 2);
+      for (std::size_t i = 0; i < vs.size(); ++i)
+        d.developmentVertices.row(static_cast<Eigen::Index>(i)) << vs[i][0].get<double>(), vs[i][1].get<double>();
+    }
   }
   return d;
 }
@@ -210,6 +217,13 @@ json compositeToJson(const composite::CompositeDesign& d) {
         corners.push_back({{"vertex", c.vertex}, {"at", {c.at.x(), c.at.y()}}});
       if (!corners.empty()) domain["corners"] = std::move(corners);
       dev["domain"] = std::move(domain);
+    }
+    if (!d.developmentSeam.empty()) dev["seam"] = d.developmentSeam;
+    if (d.developmentVertices.rows() > 0) {
+      json vs = json::array();
+      for (Eigen::Index i = 0; i < d.developmentVertices.rows(); ++i)
+        vs.push_back({d.developmentVertices(i, 0), d.developmentVertices(i, 1)});
+      dev["vertices"] = std::move(vs);
     }
     m["development"] = std::move(dev);
   }
@@ -330,6 +344,14 @@ json curveToJson(const spline::BSplineCurve& c) {
   return j;
 }
 
+double millimetresPerUnit(const std::string& units) {
+  if (units == "mm") return 1.0;
+  if (units == "cm") return 10.0;
+  if (units == "m") return 1000.0;
+  if (units == "in") return 25.4;
+  throw std::invalid_argument("units: expected mm, cm, m or in, got \"" + units + "\"");
+}
+
 Scene sceneFromJson(const json& document) {
   const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
   if (!errors.empty()) throw SceneError(errors[0].path, errors[0].rule, errors[0].message);
@@ -337,6 +359,7 @@ Scene sceneFromJson(const json& document) {
   Scene scene;
   scene.name = document.value("name", "");
   scene.description = document.value("description", "");
+  scene.units = document.value("units", scene.units);
   const json solver = document.value("solver", json::object());
   SolverSettings& s = scene.solver;
   s.iterations = solver.value("iterations", s.iterations);
@@ -398,6 +421,7 @@ json sceneToJson(const Scene& scene) {
   j["version"] = 1;
   if (!scene.name.empty()) j["name"] = scene.name;
   if (!scene.description.empty()) j["description"] = scene.description;
+  if (scene.units != "mm") j["units"] = scene.units;
   if (const auto* c = std::get_if<composite::CompositeDesign>(&scene.model)) {
     j["model"] = compositeToJson(*c);
   } else {

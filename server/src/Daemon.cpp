@@ -71,17 +71,21 @@ std::string readFile(const std::string& path) {
 }
 
 /// Answers an export (SceneSolver::exportAs) as an attachment named `stem`.`extension`; a format
-/// that does not apply is a 400 naming "format".
+/// that does not apply is a 400, a model state that cannot be exported a 422, both naming "format".
 void replyExport(httplib::Response& res, const std::string& stem, const std::function<ExportedFile()>& produce) {
+  auto fail = [&res](int status, const std::string& code, std::string message) {
+    const std::string prefix = "format: ";
+    if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+    replyError(res, status, code, "format: " + message, "format");
+  };
   try {
     const ExportedFile file = produce();
     res.set_header("Content-Disposition", "attachment; filename=\"" + stem + "." + file.extension + "\"");
     res.set_content(file.content, file.mediaType);
   } catch (const ExportUnavailable& e) {
-    std::string message = e.what();
-    const std::string prefix = "format: ";
-    if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
-    replyError(res, 400, "invalid", "format: " + message, "format");
+    fail(400, "invalid", e.what());
+  } catch (const ExportFailed& e) {
+    fail(422, "unprocessable", e.what());
   }
 }
 
@@ -395,9 +399,7 @@ void Daemon::routes() {
     }
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
     if (format == "json") return replyJson(res, 200, *job->report);
-    replyExport(res, job->id, [&job, &format]() {
-      return SceneSolver(proto::sceneFromJson((*job->report)["scene"])).exportAs(format);
-    });
+    replyExport(res, job->id, [&job, &format]() { return SceneSolver::exportScene((*job->report)["scene"], format); });
   });
 
   if (!options_.webRoot.empty() && std::filesystem::is_directory(options_.webRoot)) s.set_mount_point("/", options_.webRoot);

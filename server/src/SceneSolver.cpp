@@ -119,9 +119,16 @@ void SceneSolver::exportTo(const std::string& spec) const {
   const std::string format = spec.substr(0, colon);
   const std::string path = spec.substr(colon + 1);
   if (format == "fold" || format == "svg") {
-    if (!composite_ || !composite_->hasDevelopment())
-      throw std::invalid_argument("--export: fold/svg export needs \"development\" in the composite model");
-    const io::CreasePattern cp = composite_->creasePattern(scene_.name);
+    // The messages start "format: <format>…"; on the command line they name the option instead.
+    auto option = [](const std::exception& e) { return "--export " + std::string(e.what()).substr(8); };
+    io::CreasePattern cp;
+    try {
+      cp = creasePattern(format);
+    } catch (const ExportUnavailable& e) {
+      throw ExportUnavailable(option(e));
+    } catch (const ExportFailed& e) {
+      throw ExportFailed(option(e));
+    }
     if (format == "fold")
       io::writeFold(cp, path);
     else
@@ -163,22 +170,51 @@ std::string objText(const io::QuadMesh& mesh, const std::string& title) {
 
 }  // namespace
 
-ExportedFile SceneSolver::exportAs(const std::string& format) const {
-  if (format == "obj") {
-    const io::QuadMesh mesh = composite_ ? composite_->geometry(50, 8).merged : strip_->geometry(200, 8, 2).surface;
-    return {objText(mesh, scene_.name), "model/obj", "obj"};
+io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
+  if (!composite_)
+    throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a strip");
+  if (!composite_->hasDevelopment())
+    throw ExportUnavailable("format: " + format +
+                            " needs a development; add \"development\": {\"samples\": n} to the composite model");
+  try {
+    io::CreasePattern cp = composite_->creasePattern(scene_.name);
+    cp.unitToMm = proto::millimetresPerUnit(scene_.units);
+    cp.validate();
+    return cp;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ExportFailed("format: " + format + ": the development in its current state is not a valid crease pattern (" +
+                       e.what() + ")");
   }
+}
+
+ExportedFile SceneSolver::exportAs(const std::string& format) const {
+  if (format != "obj" && format != "fold" && format != "svg")
+    throw ExportUnavailable("format: expected json, obj, fold or svg, got \"" + format + "\"");
   if (format == "fold" || format == "svg") {
-    if (!composite_)
-      throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a strip");
-    if (!composite_->hasDevelopment())
-      throw ExportUnavailable("format: " + format +
-                              " needs a development; add \"development\": {\"samples\": n} to the composite model");
-    const io::CreasePattern cp = composite_->creasePattern(scene_.name);
+    const io::CreasePattern cp = creasePattern(format);
     if (format == "fold") return {io::foldString(cp), "application/json", "fold"};
     return {io::svgFoldPattern(cp), "image/svg+xml", "svg"};
   }
-  throw ExportUnavailable("format: expected json, obj, fold or svg, got \"" + format + "\"");
+  try {
+    const io::QuadMesh mesh = composite_ ? composite_->geometry(50, 8).merged : strip_->geometry(200, 8, 2).surface;
+    return {objText(mesh, scene_.name), "model/obj", "obj"};
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ExportFailed("format: obj: the surface in its current state cannot be sampled (" + std::string(e.what()) + ")");
+  }
+}
+
+ExportedFile SceneSolver::exportScene(const nlohmann::json& scene, const std::string& format) {
+  std::unique_ptr<SceneSolver> solver;
+  try {
+    solver = std::make_unique<SceneSolver>(proto::sceneFromJson(scene));
+  } catch (const proto::SceneError& e) {
+    throw ExportFailed("format: " + format + ": the current scene no longer builds a model (" + e.what() + ")");
+  }
+  return solver->exportAs(format);
 }
 
 }  // namespace devsurf::server

@@ -245,8 +245,7 @@ json Session::metricsJson() const {
 }
 
 ExportedFile Session::exportAs(const std::string& format) const {
-  const proto::Scene scene = proto::sceneFromJson(sceneJson());
-  return SceneSolver(scene).exportAs(format);
+  return SceneSolver::exportScene(sceneJson(), format);
 }
 
 int Session::participantCount() const {

@@ -68,6 +68,33 @@ TEST(Scene, RoundTripsThroughJsonWithTheSameCurveStructure) {
   EXPECT_EQ(sceneToJson(again), out);
 }
 
+TEST(Scene, UnitsDefaultToMillimetresAndRoundTrip) {
+  const Scene plain = sceneFromJson(validScene());
+  EXPECT_EQ(plain.units, "mm");
+  EXPECT_FALSE(sceneToJson(plain).contains("units"));  // the default stays implicit
+  EXPECT_EQ(schemaRegistry().get("scene.schema.json")["properties"]["units"]["default"], plain.units);
+  for (const char* u : {"mm", "cm", "m", "in"}) {
+    json doc = validScene();
+    doc["units"] = u;
+    const Scene s = sceneFromJson(doc);
+    EXPECT_EQ(s.units, u);
+    EXPECT_EQ(sceneFromJson(sceneToJson(s)).units, u) << u;
+  }
+  EXPECT_DOUBLE_EQ(millimetresPerUnit("mm"), 1.0);
+  EXPECT_DOUBLE_EQ(millimetresPerUnit("cm"), 10.0);
+  EXPECT_DOUBLE_EQ(millimetresPerUnit("m"), 1000.0);
+  EXPECT_DOUBLE_EQ(millimetresPerUnit("in"), 25.4);
+  EXPECT_THROW(millimetresPerUnit("ft"), std::invalid_argument);
+}
+
+TEST(Scene, AnUnknownUnitIsRejectedNamingTheField) {
+  json doc = validScene();
+  doc["units"] = "ft";
+  EXPECT_EQ(errorOf(doc).path(), "units");
+  doc["units"] = 25.4;
+  EXPECT_EQ(errorOf(doc).path(), "units");
+}
+
 TEST(Scene, MalformedDocumentsNameTheFieldAndRule) {
   struct Case {
     std::function<void(json&)> breakIt;

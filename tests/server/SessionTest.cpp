@@ -412,6 +412,39 @@ TEST(CompositeSession, ExportsObjFoldAndSvgAndRefusesFormatsThatDoNotApply) {
   EXPECT_NE(strip.session->exportAs("obj").content.find("\nf "), std::string::npos);
 }
 
+/// The curved-fold sheet with its development pinned to the mirror image of its corners: every
+/// face of the development turns clockwise, which no crease pattern accepts.
+proto::Scene mirroredDevelopmentScene() {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-curved-fold.json");
+  json doc = json::parse(file);
+  json corners = json::array();
+  for (int v : {0, 2, 3, 5}) {
+    const json& p = doc["model"]["vertices"][static_cast<std::size_t>(v)];
+    corners.push_back({{"vertex", v}, {"at", {-p[0].get<double>(), p[1].get<double>()}}});
+  }
+  doc["model"]["development"] = {{"samples", 4}, {"domain", {{"corners", corners}}}};
+  return proto::sceneFromJson(doc);
+}
+
+TEST(CompositeSession, AStateWhoseCreasePatternIsInvalidExportsAsExportFailedNamingFormatAndReason) {
+  ManualExecutor ex;
+  auto session = std::make_shared<Session>("m1", mirroredDevelopmentScene(),
+                                           Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+                                           SessionSettings{}, ex.scheduler(), nullptr, nullptr);
+  for (const std::string format : {"fold", "svg"}) {
+    try {
+      session->exportAs(format);
+      ADD_FAILURE() << format << " exported a clockwise development";
+    } catch (const ExportFailed& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind("format: " + format + ":", 0), 0u) << message;
+      EXPECT_NE(message.find("counter-clockwise"), std::string::npos) << message;
+    }
+  }
+  // The surface itself still exports.
+  EXPECT_NE(session->exportAs("obj").content.find("\nf "), std::string::npos);
+}
+
 }  // namespace
 }  // namespace devsurf::server
 

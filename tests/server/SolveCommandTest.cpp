@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -100,6 +101,74 @@ TEST(SolveCommand, ExportsTheFoldPatternOfACompositeWithADevelopment) {
   EXPECT_EQ(no.code, 2);
   EXPECT_NE(no.err.find("development"), std::string::npos);
   for (const std::string& p : {fold, svg}) std::remove(p.c_str());
+}
+
+TEST(SolveCommand, AnExportTheSolvedStateCannotProduceExitsWithTwoNamingTheOptionAndTheReason) {
+  // The development pinned to the mirror image of the sheet's corners: its faces turn clockwise,
+  // which no crease pattern accepts.
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(example("composite-curved-fold.json")));
+  nlohmann::json corners = nlohmann::json::array();
+  for (int v : {0, 2, 3, 5}) {
+    const nlohmann::json& p = doc["model"]["vertices"][static_cast<std::size_t>(v)];
+    corners.push_back({{"vertex", v}, {"at", {-p[0].get<double>(), p[1].get<double>()}}});
+  }
+  doc["model"]["development"] = {{"samples", 4}, {"domain", {{"corners", corners}}}};
+  const std::string svg = tempPath("mirrored.svg");
+  const CliRun r = run({"solve", "-", "--iterations", "2", "--export", "svg:" + svg}, doc.dump());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.rfind("devsurf solve: --export svg: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("not a valid crease pattern"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("counter-clockwise"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(svg));
+}
+
+TEST(SolveCommand, TheScenesUnitsSetTheFoldFrameUnitAndTheSvgsTrueSize) {
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(example("composite-curved-fold.json")));
+  auto exportIn = [&doc](const std::string& units) {
+    nlohmann::json scene = doc;
+    if (!units.empty()) scene["units"] = units;
+    const std::string fold = tempPath(units + "units.fold"), svg = tempPath(units + "units.svg");
+    const CliRun r = run({"solve", "-", "--iterations", "3", "--export", "fold:" + fold, "--export", "svg:" + svg},
+                         scene.dump());
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::pair<nlohmann::json, std::string> out{nlohmann::json::parse(std::ifstream(fold)), ""};
+    std::ifstream in(svg);
+    out.second.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::remove(fold.c_str());
+    std::remove(svg.c_str());
+    return out;
+  };
+  // Width of the boundary (every polyline of its group) in the SVG's user units, millimetres.
+  auto boundaryWidth = [](const std::string& svg) {
+    const std::size_t group = svg.find("<g id=\"boundary\"");
+    const std::size_t end = svg.find("</g>", group);
+    double lo = 1e300, hi = -1e300;
+    for (std::size_t at = svg.find("points=\"", group); at < end; at = svg.find("points=\"", at)) {
+      at += 8;
+      std::istringstream points(svg.substr(at, svg.find('"', at) - at));
+      double x, y;
+      char comma;
+      while (points >> x >> comma >> y) lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    return hi - lo;
+  };
+  const auto [mm, mmSvg] = exportIn("");
+  const auto [cm, cmSvg] = exportIn("cm");
+  const auto [in, inSvg] = exportIn("in");
+  EXPECT_EQ(mm["frame_unit"], "mm");  // design units are millimetres by default
+  EXPECT_EQ(cm["frame_unit"], "cm");
+  EXPECT_EQ(in["frame_unit"], "in");
+  EXPECT_EQ(cm["file_frames"][0]["frame_unit"], "cm");
+  EXPECT_EQ(cm["devsurf:unitToMm"], 10.0);
+  EXPECT_EQ(in["devsurf:unitToMm"], 25.4);
+  // FOLD keeps the design's numbers and names their unit.
+  EXPECT_EQ(cm["vertices_coords"], mm["vertices_coords"]);
+  EXPECT_EQ(in["file_frames"][0]["vertices_coords"], mm["file_frames"][0]["vertices_coords"]);
+  // The SVG draws at true size: the same sheet is 10× (25.4×) as wide in cm (in) as in mm.
+  const double w = boundaryWidth(mmSvg);
+  EXPECT_GT(w, 1.0);
+  EXPECT_NEAR(boundaryWidth(cmSvg), 10.0 * w, 1e-2);  // 4 decimals
+  EXPECT_NEAR(boundaryWidth(inSvg), 25.4 * w, 1e-2);
 }
 
 TEST(SolveCommand, ReadsTheSceneFromStandardInput) {

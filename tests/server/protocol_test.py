@@ -539,6 +539,37 @@ class CompositeProtocolTest(unittest.TestCase):
         self.assertEqual((status, body["error"]["path"]), (400, "format"))
         self.assertIn("development", body["error"]["message"])
 
+    def test_exports_the_model_state_cannot_produce_are_422_naming_format_and_the_reason(self):
+        # The development pinned to the mirror image of the sheet's corners: its faces turn
+        # clockwise, which no crease pattern accepts (fold and svg), while the surface (obj) exports.
+        with open(COMPOSITE) as f:
+            scene = json.load(f)
+        corners = [{"vertex": v, "at": [-scene["model"]["vertices"][v][0], scene["model"]["vertices"][v][1]]}
+                   for v in (0, 2, 3, 5)]
+        scene["model"]["development"] = {"samples": 4, "domain": {"corners": corners}}
+        scene["solver"] = {"iterations": 2}
+        status, _, s = self.daemon.json("POST", "/api/sessions", scene)
+        self.assertEqual(status, 201, s)
+        auth = {"Authorization": "Bearer " + s["view_token"]}
+        for fmt in ("fold", "svg"):
+            status, headers, body = self.daemon.json("GET", f"/api/sessions/{s['id']}/export?format={fmt}", headers=auth)
+            self.assertEqual(status, 422, body)
+            self.assertEqual((body["error"]["code"], body["error"]["path"]), ("unprocessable", "format"))
+            self.assertTrue(body["error"]["message"].startswith(f"format: {fmt}:"), body["error"]["message"])
+            self.assertIn("counter-clockwise", body["error"]["message"])
+        self.assertEqual(self.daemon.request("GET", f"/api/sessions/{s['id']}/export?format=obj", headers=auth)[0], 200)
+        # The same for a finished job's solved scene.
+        job = self.daemon.json("POST", "/api/jobs", scene)[2]["id"]
+        for _ in range(600):
+            state = self.daemon.json("GET", "/api/jobs/" + job)[2]["state"]
+            if state in ("succeeded", "failed"):
+                break
+            time.sleep(0.05)
+        self.assertEqual(state, "succeeded")
+        status, _, body = self.daemon.json("GET", f"/api/jobs/{job}/result?format=svg")
+        self.assertEqual((status, body["error"]["path"]), (422, "format"), body)
+        self.assertIn("svg", body["error"]["message"])
+
     def test_job_results_of_composites_export_fold(self):
         with open(COMPOSITE) as f:
             scene = json.load(f)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Browser end-to-end tests of the web app (playwright-core driving Debian's chromium, run by
-# node's built-in test runner). CTest-friendly: run from anywhere; exits 77 when a prerequisite
-# (chromium, the built web app, the daemon) is missing.
+# node's built-in test runner), and the FOLD/SVG crease-pattern exports read back with FOLD's
+# reference library (npm fold) and rasterized by chromium. CTest-friendly: run from anywhere;
+# exits 77 when a prerequisite (chromium, the built web app, the daemon) is missing.
 #   DEVSURF_BIN  daemon binary   (default build/server/devsurf)
 #   DEVSURF_WEB  built web app   (default web/dist)
 set -euo pipefail
@@ -18,7 +19,8 @@ missing=0
 command -v node >/dev/null || { echo "run.sh: node not found" >&2; missing=1; }
 [ "$missing" = 0 ] || exit 77
 
-if [ ! -d "$HERE/node_modules/playwright-core" ] || [ "$HERE/package-lock.json" -nt "$HERE/node_modules" ]; then
+if [ ! -d "$HERE/node_modules/playwright-core" ] || [ ! -d "$HERE/node_modules/fold" ] \
+    || [ "$HERE/package-lock.json" -nt "$HERE/node_modules" ]; then
   npm ci --prefix "$HERE" --no-audit --no-fund
   touch "$HERE/node_modules"
 fi

@@ -44,6 +44,13 @@ double unitInMm(const json& frame) {
   return 1.0;
 }
 
+/// The FOLD frame_unit that is exactly `unitToMm` millimetres long, or empty.
+std::string exactFrameUnit(double unitToMm) {
+  for (const char* u : {"mm", "cm", "m", "in", "pt", "um", "nm"})
+    if (unitInMm(json{{"frame_unit", u}}) == unitToMm) return u;
+  return {};
+}
+
 double number(const json& v, const std::string& what) {
   if (!v.is_number()) bad(what + " is not a number");
   return v.get<double>();
@@ -79,7 +86,11 @@ Eigen::MatrixXd coords(const json& list, int dim, double factor, const char* wha
 
 ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
   p.validate();
-  const double s = p.unitToMm;
+  // Coordinates in the model's own unit when FOLD names it (frame_unit "cm" for 10 mm per model
+  // unit, …), otherwise in millimetres.
+  const std::string named = exactFrameUnit(p.unitToMm);
+  const std::string unit = named.empty() ? std::string("mm") : named;
+  const double s = named.empty() ? p.unitToMm : 1.0;
   const std::string title = p.title.empty() ? std::string("devsurf crease pattern") : p.title;
   const bool cuts = hasAssignment(p, EdgeAssignment::Cut);
 
@@ -95,7 +106,7 @@ ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
   doc["frame_title"] = title + " (crease pattern)";
   doc["frame_classes"] = ordered::array({"creasePattern"});
   doc["frame_attributes"] = ordered::array({"2D", cuts ? "cuts" : "noCuts"});
-  doc["frame_unit"] = "mm";
+  doc["frame_unit"] = unit;
   ordered vc = ordered::array();
   for (Eigen::Index i = 0; i < p.vertices2d.rows(); ++i)
     vc.push_back(point(p.vertices2d(i, 0) * s, p.vertices2d(i, 1) * s));
@@ -147,7 +158,7 @@ ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
                                      point(p.rulings(r, 2) * s, p.rulings(r, 3) * s)}));
     doc[kRulingsKey] = std::move(rulings);
   }
-  doc[kScaleKey] = s;
+  doc[kScaleKey] = p.unitToMm;
 
   // Frame 1: the folded form, inheriting the structure of the crease pattern.
   if (options.foldedFrame && p.hasFoldedState()) {
@@ -158,7 +169,7 @@ ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
     folded["frame_attributes"] = ordered::array({flat ? "2D" : "3D", cuts ? "cuts" : "noCuts"});
     folded["frame_parent"] = 0;
     folded["frame_inherit"] = true;
-    folded["frame_unit"] = "mm";
+    folded["frame_unit"] = unit;
     ordered fc = ordered::array();
     for (Eigen::Index i = 0; i < p.vertices3d.rows(); ++i)
       fc.push_back(point(p.vertices3d(i, 0) * s, p.vertices3d(i, 1) * s, p.vertices3d(i, 2) * s));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -57,11 +58,19 @@ void checkLength(double v, const char* name, bool allowZero) {
                                 (allowZero ? " must be finite and >= 0" : " must be finite and > 0"));
 }
 
-std::string strokeAttributes(const SvgLineStyle& st, const std::string& width) {
+/// Presentation attributes of a line style; `scale` multiplies its dash pattern.
+std::string strokeAttributes(const SvgLineStyle& st, const std::string& width, double scale,
+                             const NumberFormat& num) {
   std::string a = " class=\"" + std::string(st.cssClass) + "\" stroke=\"" + st.color +
                   "\" stroke-width=\"" + width + "\"";
-  if (std::string(st.dasharray) != "none") a += " stroke-dasharray=\"" + std::string(st.dasharray) + "\"";
-  return a;
+  if (std::string(st.dasharray) == "none") return a;
+  std::string dashes = st.dasharray;
+  if (scale != 1.0) {
+    std::istringstream in(st.dasharray);
+    dashes.clear();
+    for (double d; in >> d;) dashes += (dashes.empty() ? "" : " ") + num(d * scale);
+  }
+  return a + " stroke-dasharray=\"" + dashes + "\"";
 }
 
 }  // namespace
@@ -86,11 +95,12 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
   checkLength(o.foldWidthMm, "foldWidthMm", false);
   checkLength(o.flatWidthMm, "flatWidthMm", false);
   checkLength(o.rulingWidthMm, "rulingWidthMm", false);
+  checkLength(o.styleReferenceMm, "styleReferenceMm", true);
   if (o.decimals < 0 || o.decimals > 12)
     throw std::invalid_argument("SvgFoldOptions: decimals must lie in [0, 12]");
 
   const NumberFormat num(o.decimals);
-  const double s = p.unitToMm, m = o.marginMm;
+  const double s = p.unitToMm;
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
   if (p.numVertices() > 0) {
     xmin = p.vertices2d.col(0).minCoeff();
@@ -98,6 +108,13 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
     ymin = p.vertices2d.col(1).minCoeff();
     ymax = p.vertices2d.col(1).maxCoeff();
   }
+  // Style lengths, scaled down for a pattern smaller than the reference size.
+  const double side = std::max(xmax - xmin, ymax - ymin) * s;
+  const double style = o.styleReferenceMm > 0.0 && side > 0.0 && side < o.styleReferenceMm
+                           ? side / o.styleReferenceMm : 1.0;
+  const double m = o.marginMm * style, boundaryWidth = o.boundaryWidthMm * style,
+               foldWidth = o.foldWidthMm * style, flatWidth = o.flatWidthMm * style,
+               rulingWidth = o.rulingWidthMm * style;
   const double W = (xmax - xmin) * s + 2 * m, H = (ymax - ymin) * s + 2 * m;
   auto X = [&](double x) { return num(m + (x - xmin) * s); };
   auto Y = [&](double y) { return num(m + (ymax - y) * s); };  // SVG's y points down
@@ -116,7 +133,10 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
                    " mm. Lines: boundary and cuts solid black; mountain folds red dash-dot; "
                    "valley folds blue dashed; flat creases light grey dotted; rulings thin grey. "
                    "The development's y axis points up (the drawing is not mirrored): the front "
-                   "side of the sheet faces the viewer and valley folds close towards it.") +
+                   "side of the sheet faces the viewer and valley folds close towards it." +
+                   (style < 1.0 ? " Line widths, dashes and margin are scaled by " + num(style) +
+                                  " for this small pattern."
+                            : std::string())) +
          "</desc>\n";
 
   // Rulings.
@@ -128,7 +148,7 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
            Y(p.rulings(r, 3));
     }
     out += "  <g id=\"rulings\" fill=\"none\" stroke-linecap=\"round\">\n";
-    out += "    <path" + strokeAttributes(svgRulingStyle(), num(o.rulingWidthMm)) + " d=\"" + d +
+    out += "    <path" + strokeAttributes(svgRulingStyle(), num(rulingWidth), style, num) + " d=\"" + d +
            "\"/>\n";
     out += "  </g>\n";
   }
@@ -140,9 +160,9 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
   for (const EdgeChain& c : chains) {
     if (c.assignment == EdgeAssignment::Flat && !o.drawFlat) continue;
     const double w = c.assignment == EdgeAssignment::Boundary || c.assignment == EdgeAssignment::Cut
-                         ? o.boundaryWidthMm
-                     : c.assignment == EdgeAssignment::Flat ? o.flatWidthMm
-                                                            : o.foldWidthMm;
+                         ? boundaryWidth
+                     : c.assignment == EdgeAssignment::Flat ? flatWidth
+                                                            : foldWidth;
     std::string points;
     for (int v : c.vertices) {
       if (!points.empty()) points += ' ';
@@ -153,7 +173,7 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
       const int k = ++curveUses[c.curve];
       el += " id=\"curve-" + std::to_string(c.curve) + (k > 1 ? "-" + std::to_string(k) : "") + "\"";
     }
-    el += strokeAttributes(svgEdgeStyle(c.assignment), num(w)) + " points=\"" + points + "\"/>\n";
+    el += strokeAttributes(svgEdgeStyle(c.assignment), num(w), style, num) + " points=\"" + points + "\"/>\n";
     body[c.assignment] += el;
   }
   for (EdgeAssignment a : {EdgeAssignment::Flat, EdgeAssignment::Valley, EdgeAssignment::Mountain,
@@ -166,19 +186,19 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
   }
 
   // Legend: line samples with labels in the bottom margin, shrunk to fit.
-  if (o.legend && m >= 2.0) {
+  if (o.legend && m >= 2.0 * style) {
     struct Item {
       SvgLineStyle style;
       std::string label;
       double width;
     };
     std::vector<Item> items = {
-        {svgEdgeStyle(EdgeAssignment::Mountain), "mountain", o.foldWidthMm},
-        {svgEdgeStyle(EdgeAssignment::Valley), "valley", o.foldWidthMm},
-        {svgEdgeStyle(EdgeAssignment::Boundary), "boundary / cut", o.boundaryWidthMm}};
-    if (o.drawFlat) items.push_back({svgEdgeStyle(EdgeAssignment::Flat), "flat", o.flatWidthMm});
+        {svgEdgeStyle(EdgeAssignment::Mountain), "mountain", foldWidth},
+        {svgEdgeStyle(EdgeAssignment::Valley), "valley", foldWidth},
+        {svgEdgeStyle(EdgeAssignment::Boundary), "boundary / cut", boundaryWidth}};
+    if (o.drawFlat) items.push_back({svgEdgeStyle(EdgeAssignment::Flat), "flat", flatWidth});
     if (o.drawRulings && p.rulings.rows() > 0)
-      items.push_back({svgRulingStyle(), "ruling", o.rulingWidthMm});
+      items.push_back({svgRulingStyle(), "ruling", rulingWidth});
     // Layout at scale 1: a grid of cells (8 mm sample, label) with 4 mm rows and a 2.5 mm font;
     // the number of rows is the one that lets the grid fit the bottom margin at the largest size.
     const double row = 4.0, font = 2.5, sample = 8.0, gap = 1.5, spacing = 4.0, charW = 0.6 * font;
@@ -205,7 +225,8 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
         const Item& it = items[static_cast<std::size_t>(i)];
         const double x = m + (i % cols) * (cellW + spacing) * k;
         const double mid = top + ((i / cols) + 0.5) * row * k;
-        out += "    <line" + strokeAttributes(it.style, num(it.width)) + " x1=\"" + num(x) +
+        // Dashes at the legend's own scale, so that every sample shows a whole dash period.
+        out += "    <line" + strokeAttributes(it.style, num(it.width), k, num) + " x1=\"" + num(x) +
                "\" y1=\"" + num(mid) + "\" x2=\"" + num(x + sample * k) + "\" y2=\"" + num(mid) +
                "\"/>\n";
         out += "    <text x=\"" + num(x + (sample + gap) * k) + "\" y=\"" +

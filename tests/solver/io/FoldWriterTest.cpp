@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace devsurf::io {
 namespace {
@@ -96,8 +98,8 @@ TEST(FoldWriter, TwoTriangleValleySheetGivesExactlyTheExpectedArrays) {
     "frame_title": "two triangles (crease pattern)",
     "frame_classes": ["creasePattern"],
     "frame_attributes": ["2D", "noCuts"],
-    "frame_unit": "mm",
-    "vertices_coords": [[0, 0], [10, 0], [10, 10], [20, 0]],
+    "frame_unit": "cm",
+    "vertices_coords": [[0, 0], [1, 0], [1, 1], [2, 0]],
     "edges_vertices": [[0, 1], [1, 3], [3, 2], [2, 0], [1, 2]],
     "edges_assignment": ["B", "B", "B", "B", "V"],
     "edges_foldAngle": [0, 0, 0, 0, 90],
@@ -109,8 +111,8 @@ TEST(FoldWriter, TwoTriangleValleySheetGivesExactlyTheExpectedArrays) {
       "frame_attributes": ["3D", "noCuts"],
       "frame_parent": 0,
       "frame_inherit": true,
-      "frame_unit": "mm",
-      "vertices_coords": [[0, 0, 0], [10, 0, 0], [10, 10, 0], [10, 0, 10]]
+      "frame_unit": "cm",
+      "vertices_coords": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [1, 0, 1]]
     }]
   })json");
   EXPECT_EQ(doc, expected) << doc.dump(1);
@@ -300,6 +302,30 @@ TEST(FoldWriter, ReadsForeignUnitsAndUnassignedEdges) {
   EXPECT_EQ(p.edges[2].assignment, EdgeAssignment::Flat);
   EXPECT_FALSE(p.edges[0].foldAngle.has_value());
   EXPECT_FALSE(p.hasFoldedState());
+}
+
+TEST(FoldWriter, AModelUnitFoldNamesIsTheFrameUnitWithCoordinatesAsTheyAre) {
+  for (const auto& [mm, unit] : std::vector<std::pair<double, std::string>>{
+           {1.0, "mm"}, {10.0, "cm"}, {1000.0, "m"}, {25.4, "in"}}) {
+    CreasePattern p = twoTriangles();
+    p.unitToMm = mm;
+    const json doc = foldDocument(p);
+    EXPECT_EQ(doc["frame_unit"], unit);
+    EXPECT_EQ(doc["file_frames"][0]["frame_unit"], unit);
+    EXPECT_EQ(doc["vertices_coords"], json::parse("[[0, 0], [1, 0], [1, 1], [2, 0]]")) << unit;
+    EXPECT_EQ(doc["file_frames"][0]["vertices_coords"][3], json::parse("[1, 0, 1]")) << unit;
+    EXPECT_EQ(doc["devsurf:unitToMm"], mm);
+    const CreasePattern back = parseFold(foldString(p));
+    EXPECT_DOUBLE_EQ(back.unitToMm, mm) << unit;
+    EXPECT_TRUE(back.vertices2d.isApprox(p.vertices2d, 1e-15)) << unit;
+    EXPECT_TRUE(back.vertices3d.isApprox(p.vertices3d, 1e-15)) << unit;
+  }
+  // A scale FOLD has no name for is written in millimetres.
+  CreasePattern odd = twoTriangles();
+  odd.unitToMm = 2.0;
+  const json doc = foldDocument(odd);
+  EXPECT_EQ(doc["frame_unit"], "mm");
+  EXPECT_EQ(doc["vertices_coords"][3], json::parse("[4, 0]"));
 }
 
 TEST(FoldWriter, WritesAndReadsFiles) {

@@ -375,6 +375,36 @@ TEST(SvgFoldPattern, RulingsAndFlatEdgesAreOptional) {
   EXPECT_THROW(svgFoldPattern(sheet(), o), std::invalid_argument);
 }
 
+TEST(SvgFoldPattern, ASmallPatternKeepsItsTrueSizeAndScalesItsLineStylesDown) {
+  CreasePattern small = sheet();
+  small.unitToMm = 1.0;  // 4 × 2 mm: a tenth of the 40 mm reference size
+  const auto root = parseXml(svgFoldPattern(small));
+  const SvgFoldOptions o;
+  const double k = 4.0 / o.styleReferenceMm;
+  EXPECT_DOUBLE_EQ(millimetres(root->attr("width")), 4.0 + 2 * o.marginMm * k);
+  EXPECT_DOUBLE_EQ(millimetres(root->attr("height")), 2.0 + 2 * o.marginMm * k);
+  const Element* mountain = root->byId("curve-0");
+  ASSERT_NE(mountain, nullptr);
+  EXPECT_DOUBLE_EQ(std::stod(mountain->attr("stroke-width")), o.foldWidthMm * k);
+  EXPECT_EQ(mountain->attr("stroke-dasharray"), "0.4 0.12 0.06 0.12");  // "4 1.2 0.6 1.2" × 0.1
+  EXPECT_EQ(root->byId("curve-1")->attr("stroke-dasharray"), "0.25 0.15");
+  EXPECT_DOUBLE_EQ(std::stod(root->byId("boundary")->all("polygon")[0]->attr("stroke-width")),
+                   o.boundaryWidthMm * k);
+  EXPECT_NE(root->byId("legend"), nullptr);  // shrunk with the margin
+  EXPECT_NE(root->all("desc")[0]->text.find("scaled by 0.1"), std::string::npos);
+
+  // At the reference size and above, and with scaling off, the styles are as given.
+  SvgFoldOptions off;
+  off.styleReferenceMm = 0.0;
+  const auto unscaled = parseXml(svgFoldPattern(small, off));
+  EXPECT_DOUBLE_EQ(millimetres(unscaled->attr("width")), 4.0 + 2 * o.marginMm);
+  EXPECT_EQ(unscaled->byId("curve-0")->attr("stroke-dasharray"), svgEdgeStyle(EdgeAssignment::Mountain).dasharray);
+  const auto reference = parseXml(svgFoldPattern(sheet()));  // 40 mm wide
+  EXPECT_EQ(reference->byId("curve-0")->attr("stroke-dasharray"), svgEdgeStyle(EdgeAssignment::Mountain).dasharray);
+  off.styleReferenceMm = -1.0;
+  EXPECT_THROW(svgFoldPattern(small, off), std::invalid_argument);
+}
+
 TEST(SvgFoldPattern, EdgeChainsBreakAtBranchesAndCloseLoops) {
   CreasePattern p;
   p.vertices2d.resize(5, 2);

@@ -53,9 +53,16 @@ using ModelData = std::variant<models::strip::StripDesign, models::composite::Co
 struct Scene {
   std::string name;
   std::string description;
+  /// Length unit of the design coordinates (scene field "units": "mm", "cm", "m" or "in"; default
+  /// "mm"): what one model unit is on paper. Scales the fold/svg exports of the development.
+  std::string units = "mm";
   ModelData model;
   SolverSettings solver;
 };
+
+/// Millimetres per design unit of a scene's "units" ("mm" 1, "cm" 10, "m" 1000, "in" 25.4).
+/// @throws std::invalid_argument for any other unit
+double millimetresPerUnit(const std::string& units);
 
 /// The embedded JSON Schemas of proto/schemas (every *.schema.json).
 const SchemaRegistry& schemaRegistry();

@@ -29,6 +29,14 @@ class ExportUnavailable : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// The export format applies, but the model's current state cannot be exported (e.g. its
+/// development is not a valid crease pattern: a face turned clockwise, after an edit); what()
+/// says which format and why.
+class ExportFailed : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 /// The service behind `devsurf solve` (and later batch jobs and sessions): builds the model a
 /// scene describes ("strip" or "composite"), runs guided projection and reports.
 class SceneSolver {
@@ -58,15 +66,26 @@ class SceneSolver {
   /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface; composites:
   /// all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
   /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm).
-  /// @throws std::invalid_argument for an unknown format, std::runtime_error if writing fails
+  /// @throws ExportUnavailable for an unknown format or one that does not apply, ExportFailed when
+  ///         the model's state cannot be exported (both std::invalid_argument),
+  ///         std::runtime_error if writing fails
   void exportTo(const std::string& spec) const;
   /// The export as bytes: "obj" (sampled surface as quads: strips 200×8, composites every face at
   /// 50 samples per span, 8 across, as exportTo), "fold" (FOLD 1.2) and "svg" (fold pattern, mm)
   /// for composites with a development.
-  /// @throws ExportUnavailable for an unknown format or one that does not apply to this scene
+  /// Lengths are design units (obj) or scaled by the scene's "units" (fold: frame_unit; svg: mm).
+  /// @throws ExportUnavailable for an unknown format or one that does not apply to this scene,
+  ///         ExportFailed when the model's current state cannot be exported
   ExportedFile exportAs(const std::string& format) const;
+  /// exportAs of a scene document (a session's current scene, a job's solved scene): builds the
+  /// model first; a document or design the model now rejects is ExportFailed too.
+  static ExportedFile exportScene(const nlohmann::json& scene, const std::string& format);
 
  private:
+  /// The crease pattern of the composite's development in the scene's units, for `format`.
+  /// @throws ExportUnavailable (not a composite, no development), ExportFailed (rejected state)
+  io::CreasePattern creasePattern(const std::string& format) const;
+
   proto::Scene scene_;
   models::strip::StripDesign initial_;
   std::unique_ptr<models::strip::StripModel> strip_;

@@ -14,23 +14,27 @@ namespace devsurf::io {
 ///  * file metadata: file_spec 1.2, file_creator "devsurf", file_classes ["singleModel"],
 ///    file_title (the pattern title), file_author / file_description when given;
 ///  * key frame (top level) = the crease pattern: frame_title, frame_classes ["creasePattern"],
-///    frame_attributes ["2D", "cuts" | "noCuts"], frame_unit "mm", vertices_coords [x, y]
-///    (model units × unitToMm), edges_vertices, edges_assignment ("B", "M", "V", "F", "C"; "C" is
+///    frame_attributes ["2D", "cuts" | "noCuts"], frame_unit, vertices_coords [x, y] (see
+///    "Units" below), edges_vertices, edges_assignment ("B", "M", "V", "F", "C"; "C" is
 ///    the FOLD 1.2 cut/slit assignment), edges_foldAngle (degrees, + valley / − mountain; see
 ///    exportedFoldAngles — omitted as a whole when a mountain or valley edge has no given angle
 ///    and none can be measured), faces_vertices (counter-clockwise);
 ///  * file_frames[0] = the folded form, when the pattern has a folded state: frame_title,
 ///    frame_classes ["foldedForm"], frame_attributes ["3D"] (["2D"] if it is flat),
 ///    frame_parent 0, frame_inherit true (edges, faces and the custom keys come from the key
-///    frame), frame_unit "mm", vertices_coords [x, y, z] (× unitToMm).
+///    frame), frame_unit, vertices_coords [x, y, z].
+///
+/// Units: when unitToMm is exactly one of FOLD's units (1 "mm", 10 "cm", 1000 "m", 25.4 "in",
+/// 25.4/72 "pt", 1e-3 "um", 1e-6 "nm") frame_unit is that unit and coordinates are model units as
+/// they are; otherwise frame_unit is "mm" and coordinates are model units × unitToMm.
 ///
 /// Custom keys follow the spec's rule for custom properties (a colon; for per-element arrays the
 /// namespace goes after the element prefix, like the spec's "edges_tm:structuralType", so that
 /// FOLD tools treat them as edge data when they renumber edges):
 ///  * "edges_devsurf:curve": per edge, its curve id or null (written when any edge has a curve);
 ///  * "devsurf:curves": per curve with spline data, {"id", "degree", "knots", "controlPoints"
-///    ([x, y, z] in the folded state, × unitToMm, in frame_unit), "weights" (rational only)};
-///  * "devsurf:rulings": per ruling, [[x0, y0], [x1, y1]] in the development (× unitToMm);
+///    ([x, y, z] in the folded state, in frame_unit), "weights" (rational only)};
+///  * "devsurf:rulings": per ruling, [[x0, y0], [x1, y1]] in the development (in frame_unit);
 ///  * "devsurf:unitToMm": the model scale, so that readFold can restore model units.
 struct FoldWriteOptions {
   std::string author;       ///< file_author when non-empty

@@ -30,12 +30,19 @@ struct SvgFoldOptions {
   bool legend = true;              ///< legend group id="legend" in the bottom margin (needs ≥ 2 mm)
   std::string title;               ///< <title>; the pattern title, or a default, when empty
   int decimals = 4;                ///< decimals of the coordinates (0.1 µm)
+  /// A development whose larger side is below this many millimetres has every style length —
+  /// margin, line widths, dash patterns, legend — scaled by side / styleReferenceMm, so that a
+  /// small pattern reads like one of the reference size (at 40 mm the mountain dash-dot repeats
+  /// about six times across; a 2 mm pattern would otherwise drown under 0.3 mm lines and 4 mm
+  /// dashes). Its size stays true. 0: never scale.
+  double styleReferenceMm = 40.0;
 };
 
 /// The development as an SVG 1.1 document in millimetres.
 ///
 /// width/height are "<W>mm"/"<H>mm" with W = (xmax − xmin)·unitToMm + 2·margin (likewise H from
-/// y) over the development's vertices, and viewBox "0 0 W H", so one user unit is one millimetre.
+/// y) over the development's vertices, and viewBox "0 0 W H", so one user unit is one millimetre
+/// (margin and the other style lengths scaled down for small patterns, see styleReferenceMm).
 /// The y axis is flipped (SVG's y points down): a development point (x, y) is drawn at
 /// (margin + (x − xmin)·unitToMm, margin + (ymax − y)·unitToMm), so the drawing is not mirrored.
 /// Edges are grouped into chains (edgeChains) and each chain drawn as one <polyline> (<polygon>

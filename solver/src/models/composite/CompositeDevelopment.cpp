@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -14,6 +15,7 @@
 
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/spline/Basis.h"
+#include "devsurf/terms/DevelopmentPeriodTerm.h"
 #include "devsurf/terms/EdgeIsometryTerm.h"
 #include "devsurf/terms/TangentDistanceTerm.h"
 
@@ -166,6 +168,70 @@ void CompositeModel::buildDevelopmentMesh() {
       addTriangle(a0, b1, b0, f);
     }
   }
+  // Cut along the seam: corners (f, u) of faces at sample u are the same development vertex when
+  // the faces share a non-seam edge through u; every further class of corners at u is a copy with
+  // u's 3D row.
+  seamEdge_.assign(static_cast<std::size_t>(E), false);
+  for (int e : design_.developmentSeam) seamEdge_[static_cast<std::size_t>(e)] = true;
+  devPeriodic_.clear();
+  std::map<std::pair<int, int>, int> cornerId;  // (face, sample) -> development vertex after the cut
+  if (!design_.developmentSeam.empty()) {
+    std::map<std::pair<int, int>, std::pair<int, int>> parent;
+    std::function<std::pair<int, int>(std::pair<int, int>)> root = [&parent, &root](std::pair<int, int> c) {
+      const auto it = parent.find(c);
+      if (it == parent.end() || it->second == c) return c;
+      const auto r = root(it->second);
+      parent[c] = r;
+      return r;
+    };
+    auto touch = [&parent](int f, int u) { parent.emplace(std::make_pair(f, u), std::make_pair(f, u)); };
+    for (std::size_t k = 0; k < devTriangles_.size(); ++k)
+      for (int u : devTriangles_[k]) touch(devTriangleFace_[k], u);
+    for (std::size_t k = 0; k < m.polygons.size(); ++k)
+      for (int u : m.polygons[k]) touch(m.polygonFace[k], u);
+    for (int e = 0; e < E; ++e) {
+      const EdgeInfo& info = topo.edge(e);
+      if (!info.interior() || seamEdge_[static_cast<std::size_t>(e)]) continue;
+      const auto ends = topo.edgeVertices(e);
+      std::vector<int> us{ends[0], ends[1]};
+      for (int i = 1; i + 1 < edgeCount[e]; ++i) us.push_back(edgeBase[e] + i - 1);
+      for (int u : us) {
+        const auto a = std::make_pair(info.faces[0], u), b = std::make_pair(info.faces[1], u);
+        if (!parent.count(a) || !parent.count(b)) continue;
+        const auto ra = root(a), rb = root(b);
+        if (ra != rb) parent[ra] = rb;
+      }
+    }
+    std::map<int, std::vector<std::pair<int, int>>> classesAt;  // u -> class roots, first seen first
+    for (const auto& entry : parent) {
+      const auto r = root(entry.first);
+      auto& list = classesAt[entry.first.second];
+      if (std::find(list.begin(), list.end(), r) == list.end()) list.push_back(r);
+    }
+    std::vector<std::vector<std::pair<int, double>>> rowsOf(static_cast<std::size_t>(n));
+    for (const auto& tr : t) rowsOf[static_cast<std::size_t>(tr.row())].emplace_back(tr.col(), tr.value());
+    std::map<std::pair<int, int>, int> classId;
+    for (const auto& [u, roots] : classesAt) {
+      classId[roots[0]] = u;
+      for (std::size_t c = 1; c < roots.size(); ++c) {
+        classId[roots[c]] = n;
+        for (const auto& [col, value] : rowsOf[static_cast<std::size_t>(u)]) t.emplace_back(n, col, value);
+        m.vertexSource.push_back(m.vertexSource[static_cast<std::size_t>(u)]);
+        devPeriodic_.push_back({u, n});
+        ++n;
+      }
+    }
+    for (const auto& entry : parent) cornerId[entry.first] = classId.at(root(entry.first));
+    auto remap = [&cornerId](int f, int u) { return cornerId.at({f, u}); };
+    for (std::size_t k = 0; k < devTriangles_.size(); ++k)
+      for (int& u : devTriangles_[k]) u = remap(devTriangleFace_[k], u);
+    for (std::size_t k = 0; k < m.polygons.size(); ++k)
+      for (int& u : m.polygons[k]) u = remap(m.polygonFace[k], u);
+    for (auto& p : candidates) {
+      p.v0 = remap(p.face, p.v0);
+      p.v1 = remap(p.face, p.v1);
+    }
+  }
   // Samples of every edge as development vertices, per side (faces[0], faces[1]).
   devEdgeSamples_.assign(static_cast<std::size_t>(E), {});
   for (int e = 0; e < E; ++e) {
@@ -174,9 +240,13 @@ void CompositeModel::buildDevelopmentMesh() {
     for (int i = 1; i + 1 < edgeCount[e]; ++i) us.push_back(edgeBase[e] + i - 1);
     us.push_back(ends[1]);
     for (int side = 0; side < 2; ++side) {
-      if (topo.edge(e).faces[static_cast<std::size_t>(side)] < 0) continue;
+      const int f = topo.edge(e).faces[static_cast<std::size_t>(side)];
+      if (f < 0) continue;
       std::vector<int>& out = devEdgeSamples_[static_cast<std::size_t>(e)][static_cast<std::size_t>(side)];
-      out = us;
+      for (int u : us) {
+        const auto it = cornerId.find({f, u});
+        out.push_back(it == cornerId.end() ? u : it->second);
+      }
     }
   }
   spline::EvaluationMatrix W(n, P);
@@ -260,6 +330,7 @@ Eigen::MatrixX2d CompositeModel::unfold(const Eigen::VectorXd& x) const {
         for (auto it = ts.rbegin(); it != ts.rend(); ++it) progress = tryTriangle(*it) || progress;
       }
       for (const OrientedEdge& oe : topo.face(f).loop) {
+        if (seamEdge_[static_cast<std::size_t>(oe.edge)]) continue;  // cut open
         const EdgeInfo& info = topo.edge(oe.edge);
         for (int g : info.faces)
           if (g >= 0 && !visited[g]) {
@@ -289,7 +360,71 @@ CompositeDevelopment CompositeModel::development() const {
     d.vertices3d.row(k) = normalization_.fromNormalized(devSpatial_.point(x, k)).transpose();
     d.vertices2d.row(k) = normalization_.scale * x.segment<2>(offset + 2 * k).transpose();
   }
+  d.periodic = devPeriodic_;
+  d.period = developmentPeriod();
   return d;
+}
+
+namespace {
+
+double signedArea(const Eigen::VectorXd& x, int offset, const std::vector<int>& loop) {
+  double area = 0.0;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const int a = offset + 2 * loop[i], b = offset + 2 * loop[(i + 1) % loop.size()];
+    area += x[a] * x[b + 1] - x[b] * x[a + 1];
+  }
+  return 0.5 * area;
+}
+
+}  // namespace
+
+int CompositeModel::flippedDevelopmentFaces() const {
+  if (!hasDevelopment()) return 0;
+  const int offset = problem_.layout().block(developmentBlock_).offset;
+  int flipped = 0;
+  for (const std::vector<int>& loop : devMesh_.polygons)
+    if (!(signedArea(problem_.x(), offset, loop) > 0.0)) ++flipped;
+  return flipped;
+}
+
+bool CompositeModel::repairDevelopment() {
+  if (!hasDevelopment()) return false;
+  const int n = devSpatial_.rows();
+  const int offset = problem_.layout().block(developmentBlock_).offset;
+  Eigen::VectorXd& x = problem_.x();
+  const Eigen::MatrixX2d fresh = unfold(x);
+  // Rigid fit (rotation + translation) of the fresh unfolding onto the current development.
+  Eigen::Vector2d cf = Eigen::Vector2d::Zero(), ct = Eigen::Vector2d::Zero();
+  for (int k = 0; k < n; ++k) {
+    cf += fresh.row(k).transpose() / n;
+    ct += x.segment<2>(offset + 2 * k) / n;
+  }
+  double sx = 0.0, sy = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector2d f = fresh.row(k).transpose() - cf, t = x.segment<2>(offset + 2 * k) - ct;
+    sx += f.x() * t.x() + f.y() * t.y();
+    sy += f.x() * t.y() - f.y() * t.x();
+  }
+  const double angle = std::atan2(sy, sx);
+  Eigen::Matrix2d R;
+  R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector2d p = R * (fresh.row(k).transpose() - cf) + ct;
+    for (int c = 0; c < 2; ++c)
+      if (!problem_.layout().isFixed(offset + 2 * k + c)) x[offset + 2 * k + c] = p[c];
+  }
+  if (periodBlock_ >= 0) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const std::array<int, 2>& p : devPeriodic_)
+      mean += (x.segment<2>(offset + 2 * p[1]) - x.segment<2>(offset + 2 * p[0])) / static_cast<double>(devPeriodic_.size());
+    problem_.blockValues(periodBlock_) = mean;
+  }
+  return true;
+}
+
+Eigen::Vector2d CompositeModel::developmentPeriod() const {
+  if (periodBlock_ < 0) return Eigen::Vector2d::Zero();
+  return normalization_.scale * problem_.x().segment<2>(problem_.layout().block(periodBlock_).offset);
 }
 
 double CompositeModel::developmentLengthError() const {
@@ -312,8 +447,9 @@ void CompositeModel::addDevelopmentTerms() {
   const int offset = problem_.layout().block(developmentBlock_).offset;
   const DevelopmentDomain& domain = design_.developmentDomain;
   const double unit = normalization_.scale;  // design units per normalized unit
-  Eigen::MatrixX2d start = unfold(problem_.x());
-  if (!domain.empty()) {
+  const bool saved = design_.developmentVertices.rows() == n && design_.developmentVertices.allFinite();
+  Eigen::MatrixX2d start = saved ? Eigen::MatrixX2d(design_.developmentVertices / unit) : unfold(problem_.x());
+  if (!saved && !domain.empty()) {
     // Place the unfolding in the domain's frame: the rotation and translation that best map it
     // onto the corners (two or more), else onto the design's own x, y (a flat start).
     std::vector<Eigen::Vector2d> from, to;
@@ -352,6 +488,22 @@ void CompositeModel::addDevelopmentTerms() {
     problem_.layout().setFixed(developmentBlock_, 2 * devMesh_.anchor1 + 1, 1);
   }
   for (const DomainCorner& c : domain.corners) problem_.layout().setFixed(developmentBlock_, 2 * c.vertex, 2);
+
+  // Periodicity across the seam: orient every (vertex, copy) pair like the first one.
+  if (periodBlock_ >= 0) {
+    const Eigen::RowVector2d first = start.row(devPeriodic_[0][1]) - start.row(devPeriodic_[0][0]);
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    std::vector<std::array<int, 2>> pairs;
+    for (std::array<int, 2>& p : devPeriodic_) {
+      if ((start.row(p[1]) - start.row(p[0])).dot(first) < 0.0) std::swap(p[0], p[1]);
+      mean += (start.row(p[1]) - start.row(p[0])).transpose() / static_cast<double>(devPeriodic_.size());
+      pairs.push_back({offset + 2 * p[0], offset + 2 * p[1]});
+    }
+    problem_.blockValues(periodBlock_) = mean;
+    problem_.addTerm(std::make_unique<terms::DevelopmentPeriodTerm>(
+                         "development_period", pairs, problem_.layout().block(periodBlock_).offset),
+                     1.0, engine::Strength::Hard);
+  }
 
   // Domain boundary: the samples of every boundary edge stay on the domain curve nearest to it.
   if (!domain.boundary.empty()) {
@@ -408,21 +560,17 @@ void CompositeModel::addDevelopmentTerms() {
   for (const CompositeDevelopment::Pair& p : devMesh_.pairs) pairs.emplace_back(p.v0, p.v1);
   problem_.addTerm(std::make_unique<terms::EdgeIsometryTerm>("development_isometry", devSpatial_, offsets, pairs),
                    1.0, engine::Strength::Hard);
-  // Fairness of the developed S edges (boundary and crease polylines), decaying.
-  std::vector<int> edgeBase(topo.numEdges(), -1);
-  int next = topo.numVertices();
+  // Fairness of the developed S edges (boundary and crease polylines), decaying; a seam edge's
+  // polyline as the first of its faces sees it (its copies follow through the period).
   for (int e = 0; e < topo.numEdges(); ++e) {
     if (topo.edgeType(e) != EdgeType::Spline) continue;
-    const int U = sampleCount(topo, e, design_.developmentSamples);
-    if (U >= 3) {
-      const auto ends = topo.edgeVertices(e);
-      std::vector<int> poly{offset + 2 * ends[0]};
-      for (int i = 1; i + 1 < U; ++i) poly.push_back(offset + 2 * (next + i - 1));
-      poly.push_back(offset + 2 * ends[1]);
-      problem_.addTerm(std::make_unique<PlanarPolylineFairnessTerm>("development_fairness", poly), 1.0,
-                       engine::Strength::Soft, engine::WeightSchedule::Fairness);
-    }
-    next += U - 2;
+    const auto& sides = devEdgeSamples_[static_cast<std::size_t>(e)];
+    const std::vector<int>& samples = sides[0].empty() ? sides[1] : sides[0];
+    if (samples.size() < 3) continue;
+    std::vector<int> poly;
+    for (int v : samples) poly.push_back(offset + 2 * v);
+    problem_.addTerm(std::make_unique<PlanarPolylineFairnessTerm>("development_fairness", poly), 1.0,
+                     engine::Strength::Soft, engine::WeightSchedule::Fairness);
   }
 }
 
@@ -461,7 +609,7 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
       case PairKind::Ruling: {
         if (p.kind == PairKind::Spline) ce.curve = p.edge;
         const auto it = angles.find(p.edge);
-        if (!topo.edge(p.edge).interior() || it == angles.end()) {
+        if (!topo.edge(p.edge).interior() || seamEdge_[static_cast<std::size_t>(p.edge)] || it == angles.end()) {
           ce.assignment = io::EdgeAssignment::Boundary;
         } else {
           const Eigen::VectorXd& a = it->second;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "devsurf/metrics/QuadFlatness.h"
 #include "devsurf/metrics/StripQuality.h"
 #include "devsurf/terms/PolygonFairnessTerm.h"
 #include "devsurf/spline/Basis.h"
@@ -56,23 +57,7 @@ Eigen::Vector3d newellNormal(const std::vector<Eigen::Vector3d>& poly) {
   return n;
 }
 
-/// Tang et al. 2016 Fig. 17: distance of the diagonals (as lines) over the mean of the two shortest
-/// edges; 0 for quads with a degenerate side (triangles).
-double quadFlatness(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
-                    const Eigen::Vector3d& p3, double tiny) {
-  double e[4] = {(p1 - p0).norm(), (p2 - p1).norm(), (p3 - p2).norm(), (p0 - p3).norm()};
-  std::sort(e, e + 4);
-  if (e[0] <= tiny) return 0.0;
-  const Eigen::Vector3d d1 = p2 - p0, d2 = p3 - p1;
-  const Eigen::Vector3d c = d1.cross(d2);
-  double dist;
-  if (c.norm() <= 1e-14 * d1.norm() * d2.norm()) {
-    dist = (p1 - p0).cross(d1).norm() / std::max(d1.norm(), tiny);  // parallel diagonals
-  } else {
-    dist = std::abs((p1 - p0).dot(c)) / c.norm();
-  }
-  return dist / (0.5 * (e[0] + e[1]));
-}
+using metrics::quadFlatness;
 
 double angleAt(const Eigen::Vector3d& prev, const Eigen::Vector3d& p, const Eigen::Vector3d& next) {
   const Eigen::Vector3d u = prev - p, v = next - p;
@@ -116,8 +101,26 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
   validateUserConstraints(design.fixed, design.handles, checkRef);
 
   const DevelopmentDomain& domain = design.developmentDomain;
-  if (design.developmentSamples == 0 && !domain.empty())
-    throw std::invalid_argument("development.samples: a domain needs a development (samples ≥ 1)");
+  if (design.developmentSamples == 0 && (!domain.empty() || !design.developmentSeam.empty()))
+    throw std::invalid_argument("development.samples: a domain or a seam needs a development (samples ≥ 1)");
+  if (design.developmentVertices.rows() > 0 && !design.developmentVertices.allFinite())
+    for (Eigen::Index i = 0; i < design.developmentVertices.rows(); ++i)
+      if (!design.developmentVertices.row(i).allFinite())
+        throw std::invalid_argument(refPath("development.vertices", static_cast<std::size_t>(i)) +
+                                    ": coordinates must be finite");
+  std::vector<bool> seamSeen(static_cast<std::size_t>(topology.numEdges()), false);
+  for (std::size_t i = 0; i < design.developmentSeam.size(); ++i) {
+    const int e = design.developmentSeam[i];
+    const std::string path = refPath("development.seam", i);
+    if (e < 0 || e >= topology.numEdges())
+      throw std::invalid_argument(path + ": edge " + std::to_string(e) + " does not exist (" +
+                                  std::to_string(topology.numEdges()) + " edges)");
+    if (!topology.edge(e).interior())
+      throw std::invalid_argument(path + ": edge " + std::to_string(e) + " is on the boundary; a seam cuts interior edges");
+    if (seamSeen[static_cast<std::size_t>(e)])
+      throw std::invalid_argument(path + ": edge " + std::to_string(e) + " is listed twice");
+    seamSeen[static_cast<std::size_t>(e)] = true;
+  }
   for (std::size_t c = 0; c < domain.boundary.size(); ++c) {
     const DomainCurve& curve = domain.boundary[c];
     const std::string path = refPath("development.domain.boundary", c);
@@ -236,6 +239,7 @@ void CompositeModel::buildProblem() {
   if (design_.developmentSamples > 0) {
     buildDevelopmentMesh();
     developmentBlock_ = problem_.addBlock("development", 2 * devSpatial_.rows());
+    if (!devPeriodic_.empty()) periodBlock_ = problem_.addBlock("development period", 2);
   }
 
   // Values (normalized coordinates).
@@ -449,7 +453,11 @@ void CompositeModel::initializeNormals() {
 
 void CompositeModel::resetNormals() { initializeNormals(); }
 
-engine::SolveSummary CompositeModel::solve(const engine::SolverOptions& options) { return solver_->solve(options); }
+engine::SolveSummary CompositeModel::solve(const engine::SolverOptions& options) {
+  engine::SolveSummary summary = solver_->solve(options);
+  if (hasDevelopment() && flippedDevelopmentFaces() > 0) repairDevelopment();
+  return summary;
+}
 
 void CompositeModel::setHandleTarget(int i, const Eigen::Vector3d& position) {
   if (i < 0 || i >= static_cast<int>(handleTerms_.size()))
@@ -479,6 +487,12 @@ Eigen::Vector3d CompositeModel::normalVariable(int f, int k) const {
 
 CompositeDesign CompositeModel::design() const {
   CompositeDesign d = design_;
+  if (hasDevelopment()) {
+    const int offset = problem_.layout().block(developmentBlock_).offset;
+    d.developmentVertices.resize(devSpatial_.rows(), 2);
+    for (int k = 0; k < devSpatial_.rows(); ++k)
+      d.developmentVertices.row(k) = normalization_.scale * problem_.x().segment<2>(offset + 2 * k).transpose();
+  }
   for (int v = 0; v < topology_->numVertices(); ++v) d.vertices.row(v) = pointValue({v, -1, 0}).transpose();
   for (int e = 0; e < topology_->numEdges(); ++e) {
     if (topology_->edgeType(e) != EdgeType::Spline) continue;
@@ -528,6 +542,58 @@ Eigen::Vector3d geometricNormal(const std::pair<spline::BSplineCurve, spline::BS
 
 std::pair<spline::BSplineCurve, spline::BSplineCurve> CompositeModel::faceCurves(int f) const {
   return curvesOf(*topology_, design(), f);
+}
+
+void CompositeModel::igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const {
+  const CompositeTopology& topo = *topology_;
+  const CompositeDesign d = design();
+  for (int f = 0; f < topo.numFaces(); ++f) {
+    const FaceInfo& info = topo.face(f);
+    if (info.type != FaceType::Planar) {
+      const auto [a, b] = curvesOf(topo, d, f);
+      io::IgesSurface s;
+      s.degreeU = a.degree();
+      s.degreeV = 1;
+      s.nu = static_cast<int>(a.points.rows());
+      s.nv = 2;
+      s.knotsU = a.knots.knots();
+      s.knotsV = {0.0, 0.0, 1.0, 1.0};
+      s.points.resize(2 * s.nu, 3);
+      s.points.topRows(s.nu) = a.points;
+      s.points.bottomRows(s.nu) = b.points;
+      s.label = "F" + std::to_string(f);
+      surfaces.push_back(std::move(s));
+      continue;
+    }
+    const int N = static_cast<int>(info.corners.size());
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (int c : info.corners) centroid += d.vertices.row(c).transpose() / N;
+    for (int k = 0; k < N; ++k) {
+      const Eigen::Vector3d p = d.vertices.row(info.corners[k]).transpose();
+      const Eigen::Vector3d q = d.vertices.row(info.corners[(k + 1) % N]).transpose();
+      io::IgesSurface s;
+      s.degreeU = s.degreeV = 1;
+      s.nu = s.nv = 2;
+      s.knotsU = s.knotsV = {0.0, 0.0, 1.0, 1.0};
+      s.points.resize(4, 3);
+      // P(0,0) centroid, P(1,0) corner, P(0,1) next corner, P(1,1) edge midpoint: planar patch.
+      s.points.row(0) = centroid.transpose();
+      s.points.row(1) = p.transpose();
+      s.points.row(2) = q.transpose();
+      s.points.row(3) = (0.5 * (p + q)).transpose();
+      s.label = "F" + std::to_string(f) + "P" + std::to_string(k);
+      surfaces.push_back(std::move(s));
+    }
+  }
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (topo.edgeType(e) != EdgeType::Spline) continue;
+    io::IgesCurve c;
+    c.degree = d.edges[e].curve.degree();
+    c.knots = d.edges[e].curve.knots.knots();
+    c.points = d.edges[e].curve.points;
+    c.label = "E" + std::to_string(e);
+    curves.push_back(std::move(c));
+  }
 }
 
 Eigen::Vector3d CompositeModel::faceNormal(int f, double u) const {

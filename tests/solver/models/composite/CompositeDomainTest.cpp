@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <fstream>
 #include <sstream>
 
@@ -89,6 +90,120 @@ TEST(CompositeDomain, ADomainPlacesTheDevelopmentInItsFrame) {
   for (Eigen::Index v = 0; v < d.vertices2d.rows(); ++v)
     EXPECT_LT(rectangleDistance(d.vertices2d.row(v).transpose(), 5, 7, 1, 2), 1e-6) << "vertex " << v;
   EXPECT_LE(model.developmentLengthError(), 1e-3);
+}
+
+/// A hexagonal prism (side 1, height 1): six planar strips around the axis, S edges along the
+/// rims, R edges up the sides. Cut open along one side it unrolls into a 6 × 1 rectangle: the
+/// development is periodic with period 6. The bottom rim is held.
+json prismScene() {
+  json vertices = json::array(), edges = json::array(), faces = json::array();
+  auto corner = [](int k, double z) {
+    const double t = 2.0 * M_PI * k / 6.0;
+    return json::array({std::cos(t), std::sin(t), z});
+  };
+  for (int level = 0; level < 2; ++level)
+    for (int k = 0; k < 6; ++k) vertices.push_back(corner(k, level));
+  for (int level = 0; level < 2; ++level)
+    for (int k = 0; k < 6; ++k) {
+      const json p = corner(k, level), q = corner((k + 1) % 6, level);
+      json pts = json::array();
+      for (double s : {0.25, 0.5, 0.75})
+        pts.push_back({p[0].get<double>() + s * (q[0].get<double>() - p[0].get<double>()),
+                       p[1].get<double>() + s * (q[1].get<double>() - p[1].get<double>()), double(level)});
+      edges.push_back({{"v", {level * 6 + k, level * 6 + (k + 1) % 6}}, {"type", "S"}, {"degree", 3}, {"points", pts}});
+    }
+  for (int k = 0; k < 6; ++k) edges.push_back({{"v", {k, 6 + k}}, {"type", "R"}});
+  for (int k = 0; k < 6; ++k) faces.push_back({k, 12 + (k + 1) % 6, 6 + k, 12 + k});
+  json fixed = json::array();
+  for (int k = 0; k < 6; ++k) fixed.push_back({{"vertex", k}});
+  json model = {{"kind", "composite"}, {"vertices", vertices}, {"edges", edges}, {"faces", faces},
+                {"fixed", fixed}, {"development", {{"samples", 2}, {"seam", {12}}}}};
+  return {{"format", "devsurf-scene"}, {"version", 1}, {"model", model}, {"solver", {{"iterations", 10}}}};
+}
+
+TEST(CompositeDomain, APrismCutAlongASideUnrollsIntoAPeriodicDevelopment) {
+  const proto::Scene scene = proto::sceneFromJson(prismScene());
+  CompositeModel model(std::get<CompositeDesign>(scene.model), scene.solver.compositeOptions());
+  const CompositeDevelopment start = model.development();
+  EXPECT_EQ(start.periodic.size(), 2u) << "both ends of the seam edge get a copy";
+  EXPECT_NEAR(start.period.norm(), 6.0, 1e-9);
+  EXPECT_LT(model.developmentLengthError(), 1e-12);
+  model.solve(scene.solver.solverOptions());
+  const Eigen::Vector2d T = model.developmentPeriod();
+  EXPECT_NEAR(T.norm(), 6.0, 1e-5);
+  const CompositeDevelopment d = model.development();
+  for (const auto& p : d.periodic)
+    EXPECT_LT((d.vertices2d.row(p[1]) - d.vertices2d.row(p[0]) - T.transpose()).norm(), 1e-7);
+  EXPECT_LT(model.developmentLengthError(), 1e-5);  // the soft development fairness moves samples a little
+  // The seam is a cut: boundary ('B') in the crease pattern on both sides; the other sides fold.
+  const io::CreasePattern cp = model.creasePattern();
+  int cuts = 0, folds = 0;
+  for (const io::CreaseEdge& e : cp.edges) {
+    if (e.assignment == io::EdgeAssignment::Boundary) ++cuts;
+    if (e.assignment == io::EdgeAssignment::Mountain || e.assignment == io::EdgeAssignment::Valley) ++folds;
+  }
+  EXPECT_EQ(cuts, 2 * 6 * 4 + 2) << "two rims of 6 edges × 4 segments and both sides of the seam";
+  EXPECT_EQ(folds, 5);
+}
+
+TEST(CompositeDomain, ARebuiltDesignKeepsItsDevelopment) {
+  // A session rebuilds the model after structural edits and on release: the development carries
+  // over through CompositeDesign::developmentVertices instead of being unfolded afresh.
+  const proto::Scene scene = proto::sceneFromJson(rectangleDomainScene());
+  CompositeModel model(std::get<CompositeDesign>(scene.model), scene.solver.compositeOptions());
+  model.solve(scene.solver.solverOptions());
+  const CompositeDesign solved = model.design();
+  ASSERT_EQ(solved.developmentVertices.rows(), model.development().vertices2d.rows());
+  proto::Scene saved = scene;
+  saved.model = solved;
+  const proto::Scene loaded = proto::sceneFromJson(proto::sceneToJson(saved));
+  CompositeModel rebuilt(std::get<CompositeDesign>(loaded.model), scene.solver.compositeOptions());
+  EXPECT_LT((rebuilt.development().vertices2d - model.development().vertices2d).cwiseAbs().maxCoeff(), 1e-12);
+  // A count that does not match the sampled mesh is ignored: the surface is unfolded afresh.
+  CompositeDesign wrong = solved;
+  wrong.developmentVertices.conservativeResize(3, 2);
+  CompositeModel unfolded(wrong, scene.solver.compositeOptions());
+  EXPECT_LT(unfolded.developmentLengthError(), 1e-3);
+}
+
+TEST(CompositeDomain, SwitchingAFoldToSmoothLeavesNoOverfoldedDevelopment) {
+  // The Fig. 8 preset folded, then its crease switched to "smooth": the sheet unfolds by tens of
+  // degrees in a few iterations, and distance rows alone could leave development faces mirrored.
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-curved-fold.json");
+  std::stringstream text;
+  text << file.rdbuf();
+  const proto::Scene scene = proto::sceneFromText(text.str());
+  CompositeModel folded(std::get<CompositeDesign>(scene.model), scene.solver.compositeOptions());
+  folded.solve(scene.solver.solverOptions());
+  CompositeDesign smooth = folded.design();
+  smooth.edges[0].crease = CreaseKind::Smooth;
+  CompositeModel model(smooth, scene.solver.compositeOptions());
+  engine::SolverOptions o = scene.solver.solverOptions();
+  o.maxIterations = 10;
+  model.solve(o);
+  EXPECT_EQ(model.flippedDevelopmentFaces(), 0);
+  EXPECT_NO_THROW(model.creasePattern());
+  EXPECT_LT(model.quality().foldAngleMaxDeg, 5.0) << "the smooth seam unfolds";
+}
+
+TEST(CompositeDomain, TheColumnPresetUnfoldsOntoACylinder) {
+  // Fig. 14: the hexagonal column with curved creases keeps a periodic development: every sample
+  // of the seam crease and its copy differ by the period, no face is overfolded.
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-column.json");
+  std::stringstream text;
+  text << file.rdbuf();
+  const proto::Scene scene = proto::sceneFromText(text.str());
+  CompositeModel model(std::get<CompositeDesign>(scene.model), scene.solver.compositeOptions());
+  model.solve(scene.solver.solverOptions());
+  const CompositeDevelopment d = model.development();
+  ASSERT_EQ(d.periodic.size(), 4u * 4u + 1u) << "every sample of the seam crease (4 spans × 4 samples + 1)";
+  EXPECT_GT(d.period.norm(), 5.0);
+  EXPECT_LT(d.period.norm(), 8.0);
+  for (const auto& p : d.periodic)
+    EXPECT_LT((d.vertices2d.row(p[1]) - d.vertices2d.row(p[0]) - d.period.transpose()).norm(), 1e-6);
+  EXPECT_EQ(model.flippedDevelopmentFaces(), 0);
+  EXPECT_LE(model.developmentLengthError(), 1e-4);
+  EXPECT_GT(model.quality().foldAngleMaxDeg, 80.0);
 }
 
 TEST(CompositeDomain, ScenesRoundTripTheDomain) {

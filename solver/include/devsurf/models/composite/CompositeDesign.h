@@ -98,6 +98,17 @@ struct CompositeDesign {
   int developmentSamples = 0;
   /// Optional prescribed domain of the development (needs developmentSamples > 0).
   DevelopmentDomain developmentDomain;
+  /// Edges along which the development is cut open (000_… §6 Fig. 14): the faces on the two sides
+  /// of a seam get separate development vertices, related by one translation T (a variable), so
+  /// the development is periodic — the surface unfolds onto a cylinder of circumference |T|. Must
+  /// be interior edges; empty = no cut.
+  std::vector<int> developmentSeam;
+  /// Optional starting values of the development (design units), one row per vertex of the
+  /// sampled mesh as CompositeDevelopment::vertices2d numbers them. Used when the row count
+  /// matches (a saved or rebuilt design keeps its development); otherwise, or when empty, the
+  /// development starts from unfolding the surface. CompositeModel::design() returns the current
+  /// development here.
+  Eigen::MatrixX2d developmentVertices;
 };
 
 }  // namespace devsurf::models::composite

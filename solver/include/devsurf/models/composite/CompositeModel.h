@@ -12,6 +12,7 @@
 #include "devsurf/engine/Normalization.h"
 #include "devsurf/engine/Problem.h"
 #include "devsurf/io/CreasePattern.h"
+#include "devsurf/io/IgesWriter.h"
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/models/composite/CompositeDesign.h"
 #include "devsurf/models/composite/CompositeTopology.h"
@@ -116,6 +117,10 @@ struct CompositeDevelopment {
   std::vector<int> vertexSource;            ///< ≥ 0: composite vertex; −1: an S edge sample
   int anchor0 = -1, anchor1 = -1;           ///< fixed vertex (both coordinates) and the one with fixed y
                                             ///< (not fixed when the design prescribes a domain)
+  /// With a seam (CompositeDesign::developmentSeam): per seam sample {vertex, its copy on the
+  /// other side}; vertices2d(copy) = vertices2d(vertex) + period.
+  std::vector<std::array<int, 2>> periodic;
+  Eigen::Vector2d period = Eigen::Vector2d::Zero();  ///< T, design units (zero without a seam)
 };
 
 /// Composite developables of Tang et al. 2016 §3 / Mundilova ch. 5: faces that are ruled spline
@@ -169,6 +174,17 @@ class CompositeModel {
   /// The sampled mesh and its development (current state).
   /// @throws std::logic_error without a development
   CompositeDevelopment development() const;
+  /// The development's period T (design units) when it is cut open along a seam; |T| is the
+  /// circumference of the cylinder it wraps onto. Zero without a seam.
+  Eigen::Vector2d developmentPeriod() const;
+  /// Polygons of the development that are not counterclockwise (signed area ≤ 0): the isometry
+  /// rows (distances only) cannot tell a face from its mirror image, so a large change — a crease
+  /// switched from fold to smooth, say — can leave faces overfolded (000_… §5).
+  int flippedDevelopmentFaces() const;
+  /// Replaces the development by a fresh unfolding of the current surface, placed by the rigid
+  /// motion that best fits the current development (fixed coordinates keep their values). solve()
+  /// calls it when it ends with flipped faces. Returns whether anything changed.
+  bool repairDevelopment();
   /// [development_length_error] sqrt(Σ(l3 − l2)²)/sqrt(Σ l3²) over all pairs (sampled edges and
   /// quad diagonals) of the sampled mesh (l3) and the development (l2). 0 without a development.
   double developmentLengthError() const;
@@ -183,6 +199,12 @@ class CompositeModel {
   /// index).
   /// @throws std::logic_error without a development
   io::CreasePattern creasePattern(const std::string& title = {}) const;
+  /// The composite as IGES entities (design units): every strip-like face as a B-spline surface of
+  /// degree (m, 1) (entity 128; u along a and b in the face's direction, v across the rulings,
+  /// v = 0 on a, so the control net is a's points then b's), every planar face as bilinear
+  /// patches (centroid, corner, edge midpoint, next corner), every S edge as a curve (entity 126).
+  /// Labels: "F<face>", "F<face>P<k>", "E<edge>".
+  void igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const;
   /// Every interior edge with its fold angles.
   std::vector<CreaseGeometry> creases(int samplesPerSpan = 16) const;
 
@@ -239,6 +261,9 @@ class CompositeModel {
   void addDevelopmentTerms();
   Eigen::MatrixX2d unfold(const Eigen::VectorXd& x) const;  ///< normalized units
   int developmentBlock_ = -1;
+  int periodBlock_ = -1;                    ///< T, with a seam
+  std::vector<bool> seamEdge_;              ///< per edge: cut open in the development
+  std::vector<std::array<int, 2>> devPeriodic_;  ///< (vertex, copy) development ids
   /// Per edge and side (faces[0], faces[1]): its samples from v0 to v1 as development vertices.
   std::vector<std::array<std::vector<int>, 2>> devEdgeSamples_;
   CompositeDevelopment devMesh_;  ///< combinatorics (coordinates filled on demand)

@@ -1,0 +1,191 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/engine/Problem.h"
+#include "devsurf/models/quasi_strip/Lbfgs.h"
+#include "devsurf/models/quasi_strip/Mapping.h"
+#include "devsurf/models/quasi_strip/SurfaceConversion.h"
+#include "devsurf/spline/Basis.h"
+#include "devsurf/spline/BSplineCurve.h"
+#include "devsurf/terms/ExtendedCurve.h"
+
+namespace devsurf::models::quasi_strip {
+
+/// The B-spline mapping function of eq. 5.
+struct MappingSpec {
+  int degree = 2;         ///< d
+  int coefficients = 50;  ///< n+1 control coefficients (clamped uniform knots on C1's parameter)
+};
+
+/// End-point fixing of §5.4: an extra term pulling the strip's end points on C2, C2(σ(t_begin))
+/// and C2(σ(t_end)), to C2's own end points (weight 1000 in the paper's objective).
+struct EndPointFixing {
+  bool enabled = false;
+  double weight = 1000.0;  ///< μ: adds μ·|C2(σ(t_e)) − C2(T_e)|² to eq. 9 (normalized coordinates)
+};
+
+/// Curve extension of §3.4. Lengths are fractions of the curve's parameter domain added before its
+/// begin / after its end by continuing the end spans' polynomials.
+struct CurveExtension {
+  double c1Begin = 0.0, c1End = 0.0, c2Begin = 0.0, c2End = 0.0;
+  /// After a solve, when σ leaves an end part of C2 uncovered (Case 1: σ(t_end) < T_end, or
+  /// σ(t_begin) > T_begin), extend C1 at that end by 1.25× the missing length (estimated with σ′)
+  /// and solve again, at most `maxRounds` times. Where σ runs past C2's end, C2's extension is
+  /// used as it is (the solver evaluates C2 beyond its domain anyway).
+  bool automatic = true;
+  int maxRounds = 2;
+  double tolerance = 1e-3;  ///< uncovered parameter length (fraction of C2's domain) tolerated
+};
+
+/// Everything that defines a quasi-developable strip between two given curves (001_…).
+///
+/// Convention: rulings join C1(t) and C2(σ(t)); σ maps C1's parameter t to C2's parameter T
+/// (the paper's §3: "ruling lines C1(t)C2(σ(t))"), and the samples t_i are taken on C1.
+struct QuasiStripDesign {
+  spline::BSplineCurve c1;  ///< clamped, non-rational, 3 columns, any degree/knots
+  spline::BSplineCurve c2;  ///< as c1; its domain may differ from c1's
+  MappingSpec mapping;
+  int samples = 100;        ///< K rulings t_i equally spaced over C1's (extended) domain, ends included
+  EndPointFixing endPoints;
+  CurveExtension extension;
+};
+
+/// How σ is represented.
+enum class MappingMethod {
+  BSpline,   ///< eq. 5 (the paper's method)
+  Discrete,  ///< §3.1: one parameter T_i = Σ_{j≤i} α_j² per sample, then the piecewise-linear σ
+             ///< through (t_i, T_i) (the "discrete mapping method", Fig. 7 c/d)
+};
+
+/// Which optimizer minimizes eq. 9.
+enum class Optimizer {
+  GuidedProjection,  ///< our engine: regularized Gauss–Newton on the residual form of eq. 9
+  Lbfgs,             ///< L-BFGS on the objective, as the paper does
+};
+const char* optimizerName(Optimizer optimizer);
+
+/// Weights and switches; every field has a documented default.
+struct QuasiStripOptions {
+  double lambda1 = 100.0;  ///< λ1, weight of F_Dvlp (eq. 9) on input normalized to a unit box
+  double lambda2 = 1.0;    ///< λ2, weight of F_Reg = Σ(|N_i|² − 1)²
+  MappingMethod method = MappingMethod::BSpline;
+  /// L-BFGS by default: on the twisted pair guided projection (Gauss–Newton, even with LM control
+  /// of ε_reg) drives runs of ε_k towards 0 and stalls in a flat-σ local minimum (8° left) where
+  /// L-BFGS reaches 1e-4°; on the exact case guided projection is ~20× faster (bench/quasi_strip.cpp).
+  Optimizer optimizer = Optimizer::Lbfgs;
+  /// Guided projection: iterations, ε_reg (Tikhonov weight of the step), tolerances.
+  int maxIterations = 200;
+  double regularization = 1e-4;
+  double normalRegularizationScale = 1.0;  ///< multiplier of ε_reg² for the normals
+  double residualTolerance = 1e-24;        ///< stop when λ1F_Dvlp + λ2F_Reg (+ end points) is below
+  double relativeChangeTolerance = 1e-12;  ///< stop when the objective changes less (relatively)
+  LbfgsOptions lbfgs;                      ///< when optimizer = Lbfgs
+  double timeBudgetMs = 0.0;               ///< per solve round (0 = none)
+  int denseRulings = 1000;                 ///< rulings of the *_dense warp metrics (Fig. 7 f)
+};
+
+/// One iteration as the summary records it (iteration 0 = initial state).
+struct QuasiStripIteration {
+  int iteration = 0;
+  double objective = 0.0;     ///< λ1 F_Dvlp + λ2 F_Reg (+ end-point term)
+  double stepNorm = 0.0;      ///< guided projection: ‖δ‖; L-BFGS: 0
+  double gradientNorm = 0.0;  ///< L-BFGS: ‖∇f‖∞; guided projection: 0
+  double elapsedMs = 0.0;     ///< since the start of this round
+  int round = 0;              ///< extension round
+};
+
+/// What solve() did.
+struct QuasiStripSummary {
+  Optimizer optimizer = Optimizer::GuidedProjection;
+  std::string termination;    ///< engine::terminationReasonName or lbfgsTerminationName
+  bool converged = false;     ///< stopped on a tolerance
+  std::vector<QuasiStripIteration> iterations;
+  int rounds = 1;             ///< solve rounds (> 1 when automatic extension re-solved)
+  double totalMs = 0.0;       ///< the whole solve() including extension rounds and results
+};
+
+/// Results (design coordinates and parameters).
+struct QuasiStripResults {
+  /// Warp angles (§5, metrics::warpAngleDeg) over the K sample rulings (report warp_angle_max_deg,
+  /// warp_angle_mean_deg) and over `denseRulings` rulings equally spaced in t over the same range
+  /// (warp_angle_max_deg_dense, warp_angle_mean_deg_dense).
+  double warpAngleMaxDeg = 0.0, warpAngleMeanDeg = 0.0;
+  double warpAngleMaxDegDense = 0.0, warpAngleMeanDegDense = 0.0;
+  double objective = 0.0;  ///< eq. 9 at the result (normalized coordinates)
+  /// σ in the input curves' parameters: σ(t) = Σ coefficients_i B_i(t) maps C1's t to C2's T.
+  /// With C1 extended its domain reaches beyond C1's.
+  Mapping mapping;
+  std::vector<double> sampleParameters;  ///< t_i on C1
+  std::vector<double> sampleWarpDeg;     ///< warp angle per sample ruling
+  Eigen::MatrixX3d normals;              ///< N_i normalized, one row per sample
+  /// Extension actually used (fractions of each domain), after automatic rounds.
+  CurveExtension extension;
+  /// Trimmed strip: t ∈ [trimBegin, trimEnd] on C1, the smallest range whose end rulings reach
+  /// both input curves' end points (it contains all of C1 and of C2 that σ covers).
+  double trimBegin = 0.0, trimEnd = 1.0;
+  /// Algorithm 1 over [trimBegin, trimEnd]: degree 1 × p·d, bounded by C1 (side 0) and C2∘σ (side 1).
+  RuledBSplineSurface surface;
+};
+
+/// Quasi-developable ruled strip between two given curves (Bo, Zheng, Zhang §3–4):
+/// find a monotone mapping σ (eq. 5) minimizing λ1 F_Dvlp + λ2 F_Reg (eq. 9) over K sample rulings
+/// C1(t_i)–C2(σ(t_i)) with one free normal N_i each, starting from T = t; then write the strip
+/// S(s,t) = (1−s) C1(t) + s C2(σ(t)) as a B-spline surface (Algorithm 1).
+///
+/// Solving happens on working copies: both curves normalized to a unit box (centre of the
+/// bounding box of all control points, scaled by its largest side), brought to a common degree
+/// and knot vector (§4, when their domains agree), extended (§3.4) and reparametrized to [0, 1],
+/// where T = t is the initialization. Results are reported in the design's coordinates and
+/// parameters.
+///
+/// Variables: block "mapping shape" (ε_0..ε_n, or α_0..α_{K−1} for the discrete method) and
+/// "normals" (3 per sample, eliminated per sample by the engine). Terms: "developability"
+/// (MappingDevelopabilityTerm, weight √λ1), "unit_normal" (UnitNormalTerm, √λ2), "end_point"
+/// (MappingEndPointTerm, √μ, two of them when end-point fixing is on). All are soft: eq. 9 is an
+/// energy, minimized by either optimizer.
+/// \note With T = t, ε_0 = 0 and its derivative 2ε_0(…) vanishes: σ(t_begin) stays at C2's begin
+///       (the first ruling joins the curves' start points); move it with c2Begin extension.
+class QuasiStripModel {
+ public:
+  /// Validates the design and builds the working curves and the problem.
+  /// @throws std::invalid_argument naming the field ("c1.weights: …", "mapping.degree: …",
+  ///         "samples: …", "extension.c1End: …", "endPoints.weight: …").
+  explicit QuasiStripModel(QuasiStripDesign design, QuasiStripOptions options = {});
+  ~QuasiStripModel();
+  QuasiStripModel(const QuasiStripModel&) = delete;
+  QuasiStripModel& operator=(const QuasiStripModel&) = delete;
+
+  /// Minimizes eq. 9 from T = t (and re-solves after automatic extension), then fills results().
+  QuasiStripSummary solve();
+
+  /// Results at the current state (before solve(): the initial mapping T = t).
+  const QuasiStripResults& results() const { return results_; }
+  const QuasiStripDesign& design() const { return design_; }
+  const QuasiStripOptions& options() const { return options_; }
+
+  /// The ruled surface (1−s) C1(t) + s C2(σ(t)) in design coordinates, t on C1 (extended where
+  /// C1 is extended).
+  Eigen::Vector3d ruledSurfacePoint(double s, double t) const;
+  /// Unknowns of the current problem.
+  int numUnknowns() const;
+
+ private:
+  struct Working;
+  void build();
+  void computeResults();
+  double solveRound(int round, QuasiStripSummary& summary);
+
+  QuasiStripDesign design_;
+  QuasiStripOptions options_;
+  CurveExtension extension_;  ///< the extension in use
+  std::unique_ptr<Working> working_;
+  QuasiStripResults results_;
+};
+
+}  // namespace devsurf::models::quasi_strip

@@ -1,0 +1,25 @@
+#include "devsurf/metrics/QuadFlatness.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace devsurf::metrics {
+
+double quadFlatness(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                    const Eigen::Vector3d& p3, double tiny) {
+  double e[4] = {(p1 - p0).norm(), (p2 - p1).norm(), (p3 - p2).norm(), (p0 - p3).norm()};
+  std::sort(e, e + 4);
+  if (e[0] <= tiny) return 0.0;
+  const Eigen::Vector3d d1 = p2 - p0, d2 = p3 - p1;
+  const Eigen::Vector3d c = d1.cross(d2);
+  double dist;
+  if (c.norm() <= 1e-14 * d1.norm() * d2.norm()) {
+    dist = (p1 - p0).cross(d1).norm() / std::max(d1.norm(), tiny);  // parallel diagonals
+  } else {
+    dist = std::abs((p1 - p0).dot(c)) / c.norm();
+  }
+  return dist / (0.5 * (e[0] + e[1]));
+}
+
+}  // namespace devsurf::metrics

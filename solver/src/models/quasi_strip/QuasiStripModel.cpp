@@ -1,0 +1,471 @@
+#include "devsurf/models/quasi_strip/QuasiStripModel.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+
+#include "devsurf/metrics/StripQuality.h"
+#include "devsurf/terms/MappingDevelopabilityTerm.h"
+#include "devsurf/terms/MappingEndPointTerm.h"
+#include "devsurf/terms/UnitNormalTerm.h"
+
+namespace devsurf::models::quasi_strip {
+
+const char* optimizerName(Optimizer optimizer) {
+  return optimizer == Optimizer::GuidedProjection ? "guided_projection" : "lbfgs";
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void validateCurve(const spline::BSplineCurve& c, const std::string& name) {
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(name + ": " + e.what());
+  }
+  if (c.isRational()) throw std::invalid_argument(name + ".weights: rational curves are not supported");
+  if (c.knots.kind() != spline::KnotKind::Clamped) {
+    throw std::invalid_argument(name + ".knots: only clamped (open) curves are supported");
+  }
+  if (c.dimension() != 3) {
+    throw std::invalid_argument(name + ".points: expected 3 coordinates per control point");
+  }
+}
+
+void requireNonNegative(double v, const std::string& name) {
+  if (!(std::isfinite(v) && v >= 0.0)) throw std::invalid_argument(name + ": must be a finite number >= 0");
+}
+
+/// Σ w²‖r‖² and its gradient over all terms of a problem (the objective eq. 9 in the form the
+/// engine minimizes), for L-BFGS.
+class ProblemObjective {
+ public:
+  explicit ProblemObjective(engine::Problem& problem) : problem_(problem) {
+    for (int id = 0; id < problem.numTerms(); ++id) {
+      std::vector<engine::JacobianEntry> entries;
+      problem.term(id).term->jacobianStructure(entries);
+      structures_.push_back(std::move(entries));
+      residuals_.emplace_back(problem.term(id).term->numResiduals());
+      jacobians_.emplace_back(structures_.back().size());
+    }
+  }
+
+  double operator()(const Eigen::VectorXd& x, Eigen::VectorXd& gradient) {
+    gradient.setZero();
+    double value = 0.0;
+    for (int id = 0; id < problem_.numTerms(); ++id) {
+      engine::TermSlot& slot = problem_.term(id);
+      slot.term->linearizeAt(x);
+      slot.term->evaluate(x, residuals_[id].data(), jacobians_[id].data());
+      const double w2 = slot.weight * slot.weight;
+      value += w2 * residuals_[id].squaredNorm();
+      const std::vector<engine::JacobianEntry>& entries = structures_[id];
+      for (size_t e = 0; e < entries.size(); ++e) {
+        gradient[entries[e].variable] += 2.0 * w2 * residuals_[id][entries[e].row] * jacobians_[id][e];
+      }
+    }
+    return value;
+  }
+
+ private:
+  engine::Problem& problem_;
+  std::vector<std::vector<engine::JacobianEntry>> structures_;
+  std::vector<Eigen::VectorXd> residuals_, jacobians_;
+};
+
+}  // namespace
+
+/// Everything rebuilt per extension round: working curves (normalized, extended, on [0,1]), the
+/// problem and the engine.
+struct QuasiStripModel::Working {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double scale = 1.0;
+  spline::BSplineCurve compatible1, compatible2;  ///< design curves after §4 (design coordinates)
+  double t0 = 0, t1 = 1, T0 = 0, T1 = 1;          ///< extended domains in the design parameters
+  spline::BSplineCurve w1, w2;                    ///< working curves
+  std::shared_ptr<const terms::ExtendedCurve> e1, e2;
+  std::vector<double> samples;                    ///< working t_i
+  spline::KnotVector mappingKnots;                ///< B-spline method
+  engine::Problem problem;
+  int shapeBlock = -1, normalBlock = -1;
+  std::unique_ptr<engine::GuidedProjectionSolver> engine;
+
+  Eigen::Vector3d toDesign(const Eigen::Vector3d& p) const { return p * scale + centre; }
+};
+
+QuasiStripModel::QuasiStripModel(QuasiStripDesign design, QuasiStripOptions options)
+    : design_(std::move(design)), options_(std::move(options)) {
+  validateCurve(design_.c1, "c1");
+  validateCurve(design_.c2, "c2");
+  if (design_.mapping.degree < 1) throw std::invalid_argument("mapping.degree: must be >= 1");
+  if (design_.mapping.coefficients < design_.mapping.degree + 1) {
+    throw std::invalid_argument("mapping.coefficients: must be >= mapping.degree + 1");
+  }
+  if (design_.samples < 2) throw std::invalid_argument("samples: must be >= 2");
+  if (!(std::isfinite(design_.endPoints.weight) && design_.endPoints.weight > 0.0)) {
+    throw std::invalid_argument("endPoints.weight: must be a finite number > 0");
+  }
+  const CurveExtension& x = design_.extension;
+  requireNonNegative(x.c1Begin, "extension.c1Begin");
+  requireNonNegative(x.c1End, "extension.c1End");
+  requireNonNegative(x.c2Begin, "extension.c2Begin");
+  requireNonNegative(x.c2End, "extension.c2End");
+  requireNonNegative(x.tolerance, "extension.tolerance");
+  if (x.maxRounds < 0) throw std::invalid_argument("extension.maxRounds: must be >= 0");
+  if (!(options_.lambda1 > 0.0) || !(options_.lambda2 > 0.0)) {
+    throw std::invalid_argument("options.lambda1/lambda2: must be > 0");
+  }
+  extension_ = design_.extension;
+  build();
+  computeResults();
+}
+
+QuasiStripModel::~QuasiStripModel() = default;
+
+int QuasiStripModel::numUnknowns() const { return working_->problem.layout().numFree(); }
+
+void QuasiStripModel::build() {
+  auto w = std::make_unique<Working>();
+  // §4: one degree and one knot vector where the domains agree.
+  const bool sameDomain =
+      std::abs(design_.c1.knots.domainBegin() - design_.c2.knots.domainBegin()) <= 1e-12 &&
+      std::abs(design_.c1.knots.domainEnd() - design_.c2.knots.domainEnd()) <= 1e-12;
+  if (sameDomain) {
+    std::tie(w->compatible1, w->compatible2) = makeCompatible(design_.c1, design_.c2);
+  } else {
+    w->compatible1 = design_.c1;
+    w->compatible2 = design_.c2;
+  }
+  // Unit box: centre of the control points' bounding box, scaled by its largest side.
+  Eigen::MatrixXd all(design_.c1.points.rows() + design_.c2.points.rows(), 3);
+  all << design_.c1.points, design_.c2.points;
+  const Eigen::Vector3d lo = all.colwise().minCoeff().transpose(), hi = all.colwise().maxCoeff().transpose();
+  w->centre = 0.5 * (lo + hi);
+  w->scale = (hi - lo).maxCoeff() > 0.0 ? (hi - lo).maxCoeff() : 1.0;
+
+  auto working = [&w](const spline::BSplineCurve& c, double begin, double end, double& a, double& b) {
+    const double u0 = c.knots.domainBegin(), u1 = c.knots.domainEnd(), len = u1 - u0;
+    spline::BSplineCurve n = c;
+    for (int i = 0; i < n.points.rows(); ++i)
+      n.points.row(i) = (n.points.row(i) - w->centre.transpose()) / w->scale;
+    a = u0 - begin * len;
+    b = u1 + end * len;
+    return reparametrizeToUnit(extendCurve(n, begin * len, end * len));
+  };
+  w->w1 = working(w->compatible1, extension_.c1Begin, extension_.c1End, w->t0, w->t1);
+  w->w2 = working(w->compatible2, extension_.c2Begin, extension_.c2End, w->T0, w->T1);
+  w->e1 = std::make_shared<const terms::ExtendedCurve>(w->w1);
+  w->e2 = std::make_shared<const terms::ExtendedCurve>(w->w2);
+
+  const int K = design_.samples;
+  for (int i = 0; i < K; ++i) w->samples.push_back(static_cast<double>(i) / (K - 1));
+
+  // Shape parameters and their tail sums S (σ_i = Σ_k S(i,k) ε_k²), initialized to T = t.
+  spline::EvaluationMatrix tails;
+  Eigen::VectorXd shape;
+  if (options_.method == MappingMethod::BSpline) {
+    w->mappingKnots = spline::KnotVector::clampedUniform(design_.mapping.degree, design_.mapping.coefficients);
+    tails = tailSumMatrix(w->mappingKnots, w->samples);
+    shape = shapeParameters(identityCoefficients(w->mappingKnots));
+  } else {
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int i = 0; i < K; ++i)
+      for (int k = 0; k <= i; ++k) entries.emplace_back(i, k, 1.0);
+    tails.resize(K, K);
+    tails.setFromTriplets(entries.begin(), entries.end());
+    tails.makeCompressed();
+    shape = shapeParameters(Eigen::Map<const Eigen::VectorXd>(w->samples.data(), K));
+  }
+
+  engine::Problem& problem = w->problem;
+  w->shapeBlock = problem.addBlock("mapping shape", static_cast<int>(shape.size()));
+  w->normalBlock = problem.addBlock("normals", 3 * K);
+  problem.layout().setEliminable(w->normalBlock, 3);
+  problem.layout().setRegularizationScale(w->normalBlock, options_.normalRegularizationScale);
+  problem.blockValues(w->shapeBlock) = shape;
+
+  const int shapeOffset = problem.layout().block(w->shapeBlock).offset;
+  const int normalOffset = problem.layout().block(w->normalBlock).offset;
+  Eigen::MatrixX3d points(K, 3), tangents(K, 3);
+  std::vector<int> normalOffsets;
+  for (int i = 0; i < K; ++i) {
+    const terms::CurveJet a = w->e1->evaluate(w->samples[i]);
+    points.row(i) = a.point.transpose();
+    tangents.row(i) = a.d1.transpose();
+    normalOffsets.push_back(normalOffset + 3 * i);
+    // N_i: the unit vector closest to orthogonal to C1′, C2′ and the ruling at T = t.
+    const terms::CurveJet b = w->e2->evaluate(w->samples[i]);
+    const Eigen::Vector3d ruling = a.point - b.point;
+    const Eigen::Matrix3d m = a.d1 * a.d1.transpose() + b.d1 * b.d1.transpose() + ruling * ruling.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m);
+    problem.x().segment<3>(normalOffset + 3 * i) = eig.eigenvectors().col(0).normalized();
+  }
+  auto development = std::make_unique<terms::MappingDevelopabilityTerm>(
+      "developability", shapeOffset, tails, normalOffsets, points, tangents, w->e2);
+  problem.addTerm(std::move(development), std::sqrt(options_.lambda1), engine::Strength::Soft);
+  problem.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal", normalOffsets),
+                  std::sqrt(options_.lambda2), engine::Strength::Soft);
+  if (design_.endPoints.enabled) {
+    // Targets: C2's own end points (its design domain, in working parameters).
+    const double len2 = w->T1 - w->T0;
+    const double begin2 = (design_.c2.knots.domainBegin() - w->T0) / len2;
+    const double end2 = (design_.c2.knots.domainEnd() - w->T0) / len2;
+    for (int e = 0; e < 2; ++e) {
+      const int sample = e == 0 ? 0 : K - 1;
+      std::vector<std::pair<int, double>> weights;
+      for (spline::EvaluationMatrix::InnerIterator it(tails, sample); it; ++it)
+        weights.emplace_back(static_cast<int>(it.col()), it.value());
+      problem.addTerm(std::make_unique<terms::MappingEndPointTerm>(
+                          "end_point", shapeOffset, weights, w->e2,
+                          w->e2->evaluate(e == 0 ? begin2 : end2).point),
+                      std::sqrt(design_.endPoints.weight), engine::Strength::Soft);
+    }
+  }
+  if (options_.optimizer == Optimizer::GuidedProjection) {
+    w->engine = std::make_unique<engine::GuidedProjectionSolver>(problem);
+  }
+  working_ = std::move(w);
+}
+
+namespace {
+
+/// The working mapping (parameters [0,1] of the working curves) from the shape parameters.
+Mapping workingMapping(MappingMethod method, const spline::KnotVector& knots, int degree,
+                       const std::vector<double>& samples, const Eigen::VectorXd& shape) {
+  Mapping m;
+  m.coefficients = mappingCoefficients(shape);
+  if (method == MappingMethod::BSpline) {
+    m.degree = degree;
+    m.knots = knots.knots();
+  } else {
+    // Piecewise-linear interpolation of (t_i, T_i) (monotone).
+    m.degree = 1;
+    m.knots = {samples.front()};
+    m.knots.insert(m.knots.end(), samples.begin(), samples.end());
+    m.knots.push_back(samples.back());
+  }
+  return m;
+}
+
+}  // namespace
+
+double QuasiStripModel::solveRound(int round, QuasiStripSummary& summary) {
+  Working& w = *working_;
+  const auto start = Clock::now();
+  if (options_.optimizer == Optimizer::GuidedProjection) {
+    // Guided projection one step at a time with Levenberg–Marquardt control of ε_reg: a step
+    // that raises eq. 9 (or diverges) is undone and retried with 10× ε_reg; an accepted one lets
+    // ε_reg fall back by 3× towards options.regularization. (The engine itself has no line
+    // search; without this a strongly twisted start overshoots σ far out of C2's domain.)
+    engine::SolverOptions o;
+    o.maxIterations = 1;
+    o.fairness = 0.0;
+    o.residualTolerance = options_.residualTolerance;
+    o.relativeChangeTolerance = 0.0;
+    double regularization = options_.regularization;
+    Eigen::VectorXd saved;
+    double objective = 0.0;
+    summary.termination = engine::terminationReasonName(engine::TerminationReason::MaxIterations);
+    summary.converged = false;
+    int accepted = 0;
+    for (int k = 0; k < options_.maxIterations; ++k) {
+      if (options_.timeBudgetMs > 0.0 && msSince(start) > options_.timeBudgetMs) {
+        summary.termination = engine::terminationReasonName(engine::TerminationReason::TimeBudget);
+        break;
+      }
+      saved = w.problem.x();
+      o.regularization = regularization;
+      const engine::SolveSummary s = w.engine->solve(o);
+      const double before = s.iterations.front().objective;
+      if (k == 0) {
+        objective = before;
+        summary.iterations.push_back({0, before, 0.0, 0.0, msSince(start), round});
+      }
+      if (s.reason == engine::TerminationReason::ResidualTolerance && s.stepsTaken() == 0) {
+        summary.termination = engine::terminationReasonName(s.reason);
+        summary.converged = true;
+        break;
+      }
+      const double after = s.iterations.back().objective;
+      // Fraction to the boundary: a step may not shrink a shape parameter |ε_k| below a tenth
+      // of its value. At ε_k = 0 the derivative 2ε_k(…) vanishes and σ′ stays 0 there for good;
+      // full Gauss–Newton steps on a twisted start drove whole runs of ε to 0 (σ flat over
+      // t ∈ [0.4, 0.55], 8° left).
+      bool collapses = false;
+      {
+        const auto shapeNew = w.problem.blockValues(w.shapeBlock);
+        const int offset = w.problem.layout().block(w.shapeBlock).offset;
+        for (Eigen::Index k = 0; k < shapeNew.size() && !collapses; ++k)
+          collapses = std::abs(shapeNew[k]) < 0.1 * std::abs(saved[offset + k]);
+      }
+      if (collapses || s.reason == engine::TerminationReason::Diverged || !(after < before)) {
+        w.problem.x() = saved;
+        regularization *= 10.0;
+        if (regularization > 1e8) {
+          summary.termination = "step_rejected";
+          summary.converged = true;  // no step of any length decreases eq. 9: a local minimum
+          break;
+        }
+        continue;
+      }
+      regularization = std::max(options_.regularization, regularization / 3.0);
+      objective = after;
+      summary.iterations.push_back(
+          {++accepted, after, s.iterations.back().stepNorm, 0.0, msSince(start), round});
+      if (after <= options_.residualTolerance) {
+        summary.termination = engine::terminationReasonName(engine::TerminationReason::ResidualTolerance);
+        summary.converged = true;
+        break;
+      }
+      if (before - after <= options_.relativeChangeTolerance * before) {
+        summary.termination = engine::terminationReasonName(engine::TerminationReason::RelativeChange);
+        summary.converged = true;
+        break;
+      }
+    }
+    return objective;
+  }
+  ProblemObjective objective(w.problem);
+  Eigen::VectorXd gradient(w.problem.x().size());
+  const double f0 = objective(w.problem.x(), gradient);
+  summary.iterations.push_back({0, f0, 0.0, gradient.cwiseAbs().maxCoeff(), msSince(start), round});
+  LbfgsOptions lo = options_.lbfgs;
+  if (options_.timeBudgetMs > 0.0) lo.timeBudgetMs = options_.timeBudgetMs;
+  Eigen::VectorXd x = w.problem.x();
+  const LbfgsResult r = minimizeLbfgs(
+      [&objective](const Eigen::VectorXd& v, Eigen::VectorXd& g) { return objective(v, g); }, x, lo,
+      [&summary, round, start](int k, double f, double g) {
+        summary.iterations.push_back({k, f, 0.0, g, msSince(start), round});
+        return true;
+      });
+  w.problem.x() = x;
+  summary.termination = lbfgsTerminationName(r.reason);
+  summary.converged = r.reason == LbfgsTermination::GradientTolerance ||
+                      r.reason == LbfgsTermination::RelativeDecrease ||
+                      r.reason == LbfgsTermination::AbsoluteTolerance;
+  return r.value;
+}
+
+QuasiStripSummary QuasiStripModel::solve() {
+  const auto start = Clock::now();
+  QuasiStripSummary summary;
+  summary.optimizer = options_.optimizer;
+  for (int round = 0;; ++round) {
+    solveRound(round, summary);
+    summary.rounds = round + 1;
+    if (!extension_.automatic || round >= extension_.maxRounds) break;
+    // Case 1 of §3.4: σ leaves an end part of C2 uncovered → extend C1 there.
+    const Working& w = *working_;
+    const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree,
+                                     w.samples, w.problem.blockValues(w.shapeBlock));
+    const double len1 = design_.c1.knots.domainEnd() - design_.c1.knots.domainBegin();
+    const double len2 = design_.c2.knots.domainEnd() - design_.c2.knots.domainBegin();
+    const double a2 = (design_.c2.knots.domainBegin() - w.T0) / (w.T1 - w.T0);
+    const double b2 = (design_.c2.knots.domainEnd() - w.T0) / (w.T1 - w.T0);
+    const double tol = extension_.tolerance * len2 / (w.T1 - w.T0);
+    const double toC1Fraction = (w.t1 - w.t0) / len1;
+    bool extended = false;
+    const double missingEnd = b2 - m.evaluate(1.0);
+    if (missingEnd > tol) {
+      extension_.c1End += 1.25 * missingEnd / std::max(m.evaluate(1.0, 1), 1e-3) * toC1Fraction;
+      extended = true;
+    }
+    const double missingBegin = m.evaluate(0.0) - a2;
+    if (missingBegin > tol) {
+      extension_.c1Begin += 1.25 * missingBegin / std::max(m.evaluate(0.0, 1), 1e-3) * toC1Fraction;
+      extended = true;
+    }
+    if (!extended) break;
+    build();
+  }
+  computeResults();
+  summary.totalMs = msSince(start);
+  return summary;
+}
+
+Eigen::Vector3d QuasiStripModel::ruledSurfacePoint(double s, double t) const {
+  const Working& w = *working_;
+  const double tw = (t - w.t0) / (w.t1 - w.t0);
+  const double Tw = (results_.mapping.evaluate(t) - w.T0) / (w.T1 - w.T0);
+  const Eigen::Vector3d a = w.e1->evaluate(tw).point, b = w.e2->evaluate(Tw).point;
+  return w.toDesign((1.0 - s) * a + s * b);
+}
+
+void QuasiStripModel::computeResults() {
+  Working& w = *working_;
+  QuasiStripResults r;
+  const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree,
+                                   w.samples, w.problem.blockValues(w.shapeBlock));
+  // Objective at the current x.
+  {
+    ProblemObjective objective(w.problem);
+    Eigen::VectorXd g(w.problem.x().size());
+    r.objective = objective(w.problem.x(), g);
+  }
+  const spline::BSplineCurve sigma = m.curve();
+  auto warpAt = [&w, &sigma](double t) {
+    const terms::CurveJet a = w.e1->evaluate(t);
+    const terms::CurveJet b = w.e2->evaluate(sigma.evaluate(t)[0]);
+    return metrics::warpAngleDeg(a.point, a.d1, b.point, b.d1);
+  };
+  const int K = static_cast<int>(w.samples.size());
+  r.normals.resize(K, 3);
+  const int normalOffset = w.problem.layout().block(w.normalBlock).offset;
+  double sum = 0.0;
+  for (int i = 0; i < K; ++i) {
+    const double warp = warpAt(w.samples[i]);
+    r.sampleParameters.push_back(w.t0 + w.samples[i] * (w.t1 - w.t0));
+    r.sampleWarpDeg.push_back(warp);
+    r.warpAngleMaxDeg = std::max(r.warpAngleMaxDeg, warp);
+    sum += warp;
+    const Eigen::Vector3d n = w.problem.x().segment<3>(normalOffset + 3 * i);
+    r.normals.row(i) = (n.norm() > 0 ? n.normalized() : n).transpose();
+  }
+  r.warpAngleMeanDeg = sum / K;
+  const int dense = std::max(2, options_.denseRulings);
+  sum = 0.0;
+  for (int i = 0; i < dense; ++i) {
+    const double warp = warpAt(static_cast<double>(i) / (dense - 1));
+    r.warpAngleMaxDegDense = std::max(r.warpAngleMaxDegDense, warp);
+    sum += warp;
+  }
+  r.warpAngleMeanDegDense = sum / dense;
+
+  // σ in the design's parameters: t = t0 + t̃ (t1 − t0), T = T0 + T̃ (T1 − T0).
+  r.mapping = m;
+  for (double& k : r.mapping.knots) k = w.t0 + k * (w.t1 - w.t0);
+  r.mapping.coefficients = (w.T0 + m.coefficients.array() * (w.T1 - w.T0)).matrix();
+  r.extension = extension_;
+
+  // Trim by end rulings: keep all of C1 and every t whose ruling ends on C2's design domain.
+  const double a1 = (design_.c1.knots.domainBegin() - w.t0) / (w.t1 - w.t0);
+  const double b1 = (design_.c1.knots.domainEnd() - w.t0) / (w.t1 - w.t0);
+  const double a2 = (design_.c2.knots.domainBegin() - w.T0) / (w.T1 - w.T0);
+  const double b2 = (design_.c2.knots.domainEnd() - w.T0) / (w.T1 - w.T0);
+  const double trimBegin = std::min(a1, m.inverse(a2));
+  double trimEnd = std::max(b1, m.inverse(b2));
+  if (!(trimEnd > trimBegin)) trimEnd = 1.0;
+  r.trimBegin = w.t0 + trimBegin * (w.t1 - w.t0);
+  r.trimEnd = w.t0 + trimEnd * (w.t1 - w.t0);
+
+  // Algorithm 1 on the working curves, then back to design parameters and coordinates.
+  r.surface = convertRuledSurface(w.w1, w.w2, m, trimBegin, trimEnd);
+  for (double& k : r.surface.knots) k = w.t0 + k * (w.t1 - w.t0);
+  for (int i = 0; i < r.surface.side0.rows(); ++i) {
+    r.surface.side0.row(i) = w.toDesign(r.surface.side0.row(i).transpose()).transpose();
+    r.surface.side1.row(i) = w.toDesign(r.surface.side1.row(i).transpose()).transpose();
+  }
+  results_ = std::move(r);
+}
+
+}  // namespace devsurf::models::quasi_strip

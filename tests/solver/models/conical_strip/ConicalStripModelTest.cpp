@@ -1,0 +1,257 @@
+#include "devsurf/models/conical_strip/ConicalStripModel.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "devsurf/models/conical_strip/ConicalStripPresets.h"
+
+namespace devsurf::models::conical_strip {
+namespace {
+
+/// Relative distance |x − y| / max(1, |y|).
+double relativeDistance(const Eigen::Vector3d& x, const Eigen::Vector3d& y) {
+  return (x - y).norm() / std::max(1.0, y.norm());
+}
+
+const ConicalStripModel& solvedFigure11Like(Objective objective = Objective::NormalVariation) {
+  static ConicalStripModel normalVariation = [] {
+    ConicalStripModel m(figure11LikeDesign());
+    m.solve();
+    return m;
+  }();
+  static ConicalStripModel bendingEnergy = [] {
+    ConicalStripDesign d = figure11LikeDesign();
+    d.objective = Objective::BendingEnergy;
+    ConicalStripModel m(d);
+    m.solve();
+    return m;
+  }();
+  return objective == Objective::NormalVariation ? normalVariation : bendingEnergy;
+}
+
+void printMetrics(const char* label, const ConicalStripMetrics& m) {
+  std::cout << label << ": n3 " << m.n3 << ", n4 " << m.n4 << ", normal variation "
+            << m.normalVariation << ", bending energy " << m.bendingEnergy
+            << ", deviation max " << m.deviationMax << ", corner deviation max "
+            << m.cornerDeviationMax << ", projection residual max " << m.projectionResidualMax
+            << ", coplanarity residual max " << m.coplanarityResidualMax
+            << ", normal jump max " << m.normalJumpMaxRad << " rad\n";
+}
+
+TEST(ConicalStripModel, EveryGreedyAndEveryAdjustedPatchIsInGeneralizedConicalForm) {
+  for (Objective objective : {Objective::NormalVariation, Objective::BendingEnergy}) {
+    const ConicalStripResult& r = solvedFigure11Like(objective).result();
+    ASSERT_FALSE(r.patches.empty());
+    for (const auto* patches : {&r.greedyPatches, &r.patches}) {
+      for (size_t k = 0; k < patches->size(); ++k) {
+        const ConicalPatch& patch = (*patches)[k];
+        EXPECT_LE(projectionResidual(patch), 1e-12) << "patch " << k;
+        EXPECT_LE(coplanarityResidual(patch, 101), 1e-12) << "patch " << k;
+        if (patch.type == PatchType::Quadrilateral) {
+          EXPECT_GE(1.0 - patch.scale, 1.0 / 1.2 - 1e-12);
+          EXPECT_LE(1.0 - patch.scale, 1.2 + 1e-12);
+        } else {
+          EXPECT_EQ(patch.scale, 1.0);
+        }
+      }
+    }
+    EXPECT_LE(r.metrics.projectionResidualMax, 1e-12);
+    EXPECT_LE(r.metrics.coplanarityResidualMax, 1e-12);
+    EXPECT_LE(r.greedyMetrics.projectionResidualMax, 1e-12);
+    EXPECT_LE(r.greedyMetrics.coplanarityResidualMax, 1e-12);
+  }
+}
+
+TEST(ConicalStripModel, TheStripInterpolatesEverySampleItDoesNotReplaceAndStartsAndEndsOnTheCurves) {
+  const ConicalStripModel& model = solvedFigure11Like();
+  const ConicalStripResult& r = model.result();
+  const ConicalStripDesign& d = model.design();
+  // Corners of the chain of patches, in order.
+  for (size_t k = 0; k < r.patches.size(); ++k) {
+    const ConicalPatch& patch = r.patches[k];
+    EXPECT_LE(relativeDistance(patch.pointA(0.0), r.cornersP.row(patch.pBegin).transpose()), 1e-12);
+    EXPECT_LE(relativeDistance(patch.pointB(0.0), r.cornersQ.row(patch.qBegin).transpose()), 1e-12);
+    EXPECT_LE(relativeDistance(patch.pointA(1.0), r.cornersP.row(patch.pEnd).transpose()), 1e-12);
+    EXPECT_LE(relativeDistance(patch.pointB(1.0), r.cornersQ.row(patch.qEnd).transpose()), 1e-12);
+    if (k + 1 < r.patches.size()) {
+      EXPECT_EQ(patch.pEnd, r.patches[k + 1].pBegin);
+      EXPECT_EQ(patch.qEnd, r.patches[k + 1].qBegin);
+    }
+  }
+  EXPECT_EQ(r.patches.front().pBegin, 0);
+  EXPECT_EQ(r.patches.front().qBegin, 0);
+  EXPECT_EQ(r.patches.back().pEnd, d.np - 1);
+  EXPECT_EQ(r.patches.back().qEnd, d.nq - 1);
+  // Every sample is a corner: itself unless a quadrilateral replaced it on its scaled side.
+  int replaced = 0;
+  for (int i = 0; i < d.np; ++i) {
+    if (r.skippedP[i]) {
+      EXPECT_FALSE(r.replacedP[i]);
+    } else if (r.replacedP[i]) {
+      ++replaced;
+      EXPECT_LE((r.cornersP.row(i) - r.samplesP.row(i)).norm(), 2.0 * d.h4);
+    } else {
+      EXPECT_EQ(r.cornersP.row(i), r.samplesP.row(i)) << "P sample " << i;
+    }
+  }
+  for (int j = 0; j < d.nq; ++j) {
+    if (r.skippedQ[j]) {
+      EXPECT_FALSE(r.replacedQ[j]);
+    } else if (r.replacedQ[j]) {
+      ++replaced;
+      EXPECT_LE((r.cornersQ.row(j) - r.samplesQ.row(j)).norm(), 2.0 * d.h4);
+    } else {
+      EXPECT_EQ(r.cornersQ.row(j), r.samplesQ.row(j)) << "Q sample " << j;
+    }
+  }
+  EXPECT_EQ(replaced, r.metrics.n4);
+  EXPECT_FALSE(r.replacedP.front() || r.replacedP.back() || r.replacedQ.front() ||
+               r.replacedQ.back() || r.skippedP.back() || r.skippedQ.back());
+  // Every corner that stands for a sample it did not replace is that sample, bit for bit.
+  for (const ConicalPatch& patch : r.patches) {
+    if (!r.replacedP[patch.pEnd]) {
+      EXPECT_EQ(patch.a.bottomRows(1), r.samplesP.row(patch.pEnd));
+    }
+    if (!r.replacedQ[patch.qEnd]) {
+      EXPECT_EQ(patch.b.bottomRows(1), r.samplesQ.row(patch.qEnd));
+    }
+  }
+  // Samples lie on the curves at equal arc-length spacing.
+  const double spacing = model.curveP().length() / (d.np - 1);
+  for (int i = 0; i + 1 < d.np; ++i) {
+    EXPECT_NEAR(model.curveP().arcLength(r.paramsP[i + 1]) - model.curveP().arcLength(r.paramsP[i]),
+                spacing, 1e-9 * spacing);
+  }
+}
+
+TEST(ConicalStripModel, TheG1AdjustmentRemovesTheNormalJumpsOfTheGreedyStrip) {
+  for (Objective objective : {Objective::NormalVariation, Objective::BendingEnergy}) {
+    const ConicalStripResult& r = solvedFigure11Like(objective).result();
+    EXPECT_GT(r.greedyMetrics.normalJumpMaxRad, 1e-3);
+    EXPECT_LE(r.metrics.normalJumpMaxRad, 1e-9);
+    for (size_t k = 0; k + 1 < r.patches.size(); ++k) {
+      const Eigen::Vector3d n0 = r.patches[k].normal(1.0), n1 = r.patches[k + 1].normal(0.0);
+      EXPECT_LE(std::atan2(n0.cross(n1).norm(), n0.dot(n1)), 1e-9) << "ruling " << k + 1;
+    }
+    EXPECT_LE(r.metrics.normalVariation, 1e-15 * static_cast<double>(r.patches.size()));
+    EXPECT_LE(r.metrics.bendingEnergy, 1e-12);
+    for (const ConicalPatch& patch : r.patches) EXPECT_EQ(patch.degree(), 3);
+    for (const ConicalPatch& patch : r.greedyPatches) EXPECT_EQ(patch.degree(), 2);
+  }
+}
+
+TEST(ConicalStripModel, TheFigure11LikeInputReportsThePapersMetrics) {
+  for (Objective objective : {Objective::NormalVariation, Objective::BendingEnergy}) {
+    const ConicalStripModel& model = solvedFigure11Like(objective);
+    const ConicalStripResult& r = model.result();
+    const ConicalStripSummary& s = model.summary();
+    std::cout << "objective " << objectiveName(objective) << ": P length "
+              << model.curveP().length() << ", Q length " << model.curveQ().length()
+              << "; patches " << s.patches << ", forced triangles " << s.forcedTriangles
+              << ", quad candidates tested " << s.quadCandidatesTested << ", feasible "
+              << s.quadCandidatesFeasible << " (rejected: no crossing " << s.quadRejectedNoCrossing
+              << ", distance " << s.quadRejectedDistance << ", ratio " << s.quadRejectedRatio
+              << ", corner " << s.quadRejectedCorner << "), skipped samples "
+              << std::count(r.skippedP.begin(), r.skippedP.end(), true) +
+                     std::count(r.skippedQ.begin(), r.skippedQ.end(), true)
+              << ", time " << s.timeMs << " ms\n";
+    printMetrics("  greedy (G0, quadratic)", r.greedyMetrics);
+    printMetrics("  adjusted (G1, cubic)  ", r.metrics);
+    EXPECT_EQ(s.termination, "completed");
+    EXPECT_EQ(r.metrics.n3 + r.metrics.n4, s.patches);
+    EXPECT_EQ(r.greedyMetrics.n3, r.metrics.n3);
+    EXPECT_GT(r.metrics.n4, 0);
+    EXPECT_GT(r.metrics.n3, 0);
+    EXPECT_GT(r.greedyMetrics.normalVariation, 0.0);
+    EXPECT_GT(r.greedyMetrics.bendingEnergy, 0.0);
+    EXPECT_LE(r.greedyMetrics.cornerDeviationMax, model.design().h4);
+    EXPECT_LE(r.metrics.cornerDeviationMax, r.greedyMetrics.cornerDeviationMax + 1e-12);
+    EXPECT_LT(r.metrics.deviationMax, model.design().h4);
+  }
+}
+
+TEST(ConicalStripModel, TheDevelopmentKeepsEveryRulingAndBoundaryLength) {
+  const ConicalStripModel& model = solvedFigure11Like();
+  const ConicalStripResult& r = model.result();
+  const int samples = model.options().outlineSamples;
+  ASSERT_EQ(r.unfolded.size(), r.patches.size());
+  double worst = 0.0;
+  for (size_t k = 0; k < r.patches.size(); ++k) {
+    const ConicalPatch& patch = r.patches[k];
+    const UnfoldedPatch& u = r.unfolded[k];
+    for (int s = 0; s <= samples; ++s) {
+      const double t = static_cast<double>(s) / samples;
+      worst = std::max(worst, std::abs((u.b.row(s) - u.a.row(s)).norm() -
+                                       (patch.pointB(t) - patch.pointA(t)).norm()));
+      if (s > 0) {
+        const double tp = static_cast<double>(s - 1) / samples;
+        worst = std::max(worst, std::abs((u.a.row(s) - u.a.row(s - 1)).norm() -
+                                         (patch.pointA(t) - patch.pointA(tp)).norm()));
+        worst = std::max(worst, std::abs((u.b.row(s) - u.b.row(s - 1)).norm() -
+                                         (patch.pointB(t) - patch.pointB(tp)).norm()));
+      }
+    }
+    if (k + 1 < r.patches.size()) {  // consecutive patches share their ruling in the plane
+      EXPECT_LE((u.a.bottomRows(1) - r.unfolded[k + 1].a.topRows(1)).norm(), 1e-12);
+      EXPECT_LE((u.b.bottomRows(1) - r.unfolded[k + 1].b.topRows(1)).norm(), 1e-12);
+    }
+  }
+  EXPECT_LE(worst, 1e-9);
+}
+
+TEST(ConicalStripModel, ParallelStraightBoundariesGiveAFlatStripOfQuadrilaterals) {
+  ConicalStripDesign d;
+  Eigen::MatrixX3d a(2, 3), b(2, 3);
+  a << 0, 0, 0, 20, 0, 0;
+  b << 0, 2, 0, 20, 2, 0;
+  d.p = ConicalStripDesign::polyline(a);
+  d.q = ConicalStripDesign::polyline(b);
+  d.np = d.nq = 11;
+  ConicalStripModel model(d);
+  model.solve();
+  const ConicalStripResult& r = model.result();
+  EXPECT_EQ(r.metrics.n4, 9);  // the last step cannot replace the end sample: two triangles
+  EXPECT_EQ(r.metrics.n3, 2);
+  EXPECT_LE(r.metrics.deviationMax, 1e-12);
+  EXPECT_LE(r.metrics.normalJumpMaxRad, 1e-12);
+  EXPECT_LE(r.greedyMetrics.normalVariation, 1e-15);
+  for (const ConicalPatch& patch : r.patches) {
+    if (patch.type == PatchType::Quadrilateral) {
+      EXPECT_EQ(patch.scale, 0.0);  // a cylinder
+    }
+  }
+}
+
+TEST(ConicalStripModel, ABadDesignIsRejectedWithTheNameOfTheField) {
+  const auto messageOf = [](const ConicalStripDesign& d) {
+    try {
+      ConicalStripModel model(d);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  ConicalStripDesign d = figure11LikeDesign();
+  d.ra = 0.9;
+  EXPECT_EQ(messageOf(d).rfind("ra:", 0), 0u);
+  d = figure11LikeDesign();
+  d.np = 1;
+  EXPECT_EQ(messageOf(d).rfind("np:", 0), 0u);
+  d = figure11LikeDesign();
+  d.h3 = -1.0;
+  EXPECT_EQ(messageOf(d).rfind("h3:", 0), 0u);
+  d = figure11LikeDesign();
+  d.q.points.conservativeResize(Eigen::NoChange, 2);
+  EXPECT_EQ(messageOf(d).rfind("q:", 0), 0u);
+  EXPECT_THROW(ConicalStripModel(figure11LikeDesign()).result(), std::logic_error);
+}
+
+}  // namespace
+}  // namespace devsurf::models::conical_strip
