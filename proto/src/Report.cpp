@@ -40,4 +40,73 @@ json reportToJson(const engine::SolveSummary& summary, const Metrics& metrics,
           {"scene", solvedScene}};
 }
 
+namespace {
+
+template <typename Matrix>
+json rowsJson(const Matrix& m) {
+  json rows = json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    json row = json::array();
+    for (Eigen::Index k = 0; k < m.cols(); ++k) row.push_back(m(i, k));
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+}  // namespace
+
+json quasiStripResultJson(const models::quasi_strip::QuasiStripResults& r,
+                          const models::quasi_strip::QuasiStripSummary& summary) {
+  namespace quasi = models::quasi_strip;
+  const quasi::Mapping& m = r.mapping;
+  const quasi::RuledBSplineSurface& s = r.surface;
+  return {{"kind", "quasi_strip"},
+          {"optimizer", summary.optimizer == quasi::Optimizer::Lbfgs ? "lbfgs" : "guided_projection"},
+          {"rounds", summary.rounds},
+          {"mapping",
+           {{"degree", m.degree},
+            {"knots", m.knots},
+            {"coefficients", std::vector<double>(m.coefficients.data(), m.coefficients.data() + m.coefficients.size())}}},
+          {"surface",
+           {{"degrees", {1, s.degree}},
+            {"knots", {std::vector<double>{0.0, 0.0, 1.0, 1.0}, s.knots}},
+            {"control_points", {rowsJson(s.side0), rowsJson(s.side1)}}}},
+          {"trim", {r.trimBegin, r.trimEnd}},
+          {"extension",
+           {{"c1_begin", r.extension.c1Begin},
+            {"c1_end", r.extension.c1End},
+            {"c2_begin", r.extension.c2Begin},
+            {"c2_end", r.extension.c2End}}},
+          {"samples", {{"t", r.sampleParameters}, {"warp_angle_deg", r.sampleWarpDeg}}}};
+}
+
+json conicalStripResultJson(const models::conical_strip::ConicalStripResult& r,
+                            const models::conical_strip::ConicalStripSummary& summary) {
+  namespace conical = models::conical_strip;
+  json patches = json::array();
+  for (const conical::ConicalPatch& p : r.patches) {
+    const Eigen::Vector3d& o = p.projectionPoint;
+    patches.push_back({{"type", conical::patchTypeName(p.type)},
+                       {"base", p.baseSide == conical::StripSide::P ? "p" : "q"},
+                       {"scale", p.scale},
+                       {"projection_point", o.allFinite() && p.scale != 0.0 ? json::array({o.x(), o.y(), o.z()}) : json()},
+                       {"a", rowsJson(p.a)},
+                       {"b", rowsJson(p.b)},
+                       {"p_samples", {p.pBegin, p.pEnd}},
+                       {"q_samples", {p.qBegin, p.qEnd}}});
+  }
+  json unfolded = json::array();
+  for (const conical::UnfoldedPatch& u : r.unfolded) unfolded.push_back({{"a", rowsJson(u.a)}, {"b", rowsJson(u.b)}});
+  return {{"kind", "conical_strip"},
+          {"patches", std::move(patches)},
+          {"unfolded", std::move(unfolded)},
+          {"summary",
+           {{"forced_triangles", summary.forcedTriangles},
+            {"quad_candidates_tested", summary.quadCandidatesTested},
+            {"quad_candidates_feasible", summary.quadCandidatesFeasible},
+            {"greedy_ms", summary.greedyMs},
+            {"g1_ms", summary.g1Ms},
+            {"metrics_ms", summary.metricsMs}}}};
+}
+
 }  // namespace devsurf::proto

@@ -230,6 +230,100 @@ json compositeToJson(const composite::CompositeDesign& d) {
   return m;
 }
 
+namespace quasi = models::quasi_strip;
+namespace conical = models::conical_strip;
+
+/// The model's field names (QuasiStripModel's messages) as the scene spells them.
+std::string quasiStripFieldPath(const std::string& what) {
+  static const std::pair<const char*, const char*> kNames[] = {
+      {"endPoints.weight", "fix_end_points.weight"}, {"extension.c1Begin", "extension.c1_begin"},
+      {"extension.c1End", "extension.c1_end"},       {"extension.c2Begin", "extension.c2_begin"},
+      {"extension.c2End", "extension.c2_end"},       {"extension.tolerance", "extension.tolerance"},
+      {"extension.maxRounds", "extension.max_rounds"}, {"options.lambda1/lambda2", "lambda1"}};
+  for (const auto& [model, scene] : kNames)
+    if (what.rfind(model, 0) == 0) return scene + what.substr(std::string(model).size());
+  return what;
+}
+
+QuasiStripScene quasiStripFromJson(const json& m) {
+  QuasiStripScene q;
+  quasi::QuasiStripDesign& d = q.design;
+  d.c1 = curveFromJson(m.at("c1"), "model.c1");
+  d.c2 = curveFromJson(m.at("c2"), "model.c2");
+  const json mapping = m.value("mapping", json::object());
+  d.mapping.degree = mapping.value("degree", d.mapping.degree);
+  d.mapping.coefficients = mapping.value("coefficients", d.mapping.coefficients);
+  d.samples = m.value("samples", d.samples);
+  if (m.contains("fix_end_points")) {
+    d.endPoints.enabled = true;
+    d.endPoints.weight = m["fix_end_points"].value("weight", d.endPoints.weight);
+  }
+  if (m.contains("extension")) {
+    const json& x = m["extension"];
+    d.extension.c1Begin = x.value("c1_begin", 0.0);
+    d.extension.c1End = x.value("c1_end", 0.0);
+    d.extension.c2Begin = x.value("c2_begin", 0.0);
+    d.extension.c2End = x.value("c2_end", 0.0);
+    d.extension.automatic = x.value("automatic", d.extension.automatic);
+    d.extension.maxRounds = x.value("max_rounds", d.extension.maxRounds);
+    d.extension.tolerance = x.value("tolerance", d.extension.tolerance);
+  }
+  q.options.method = m.value("method", "bspline") == "discrete" ? quasi::MappingMethod::Discrete
+                                                                : quasi::MappingMethod::BSpline;
+  q.options.optimizer = m.value("optimizer", "lbfgs") == "guided_projection" ? quasi::Optimizer::GuidedProjection
+                                                                             : quasi::Optimizer::Lbfgs;
+  q.options.lambda1 = m.value("lambda1", q.options.lambda1);
+  q.options.lambda2 = m.value("lambda2", q.options.lambda2);
+  q.maxIterations = m.value("max_iterations", 0);
+  return q;
+}
+
+json quasiStripToJson(const QuasiStripScene& q) {
+  const quasi::QuasiStripDesign& d = q.design;
+  json m;
+  m["kind"] = "quasi_strip";
+  m["c1"] = curveToJson(d.c1);
+  m["c2"] = curveToJson(d.c2);
+  m["mapping"] = {{"degree", d.mapping.degree}, {"coefficients", d.mapping.coefficients}};
+  m["samples"] = d.samples;
+  m["method"] = q.options.method == quasi::MappingMethod::Discrete ? "discrete" : "bspline";
+  m["optimizer"] = q.options.optimizer == quasi::Optimizer::GuidedProjection ? "guided_projection" : "lbfgs";
+  if (d.endPoints.enabled) m["fix_end_points"] = {{"weight", d.endPoints.weight}};
+  const quasi::CurveExtension& x = d.extension;
+  const quasi::CurveExtension defaults;
+  if (x.c1Begin != 0.0 || x.c1End != 0.0 || x.c2Begin != 0.0 || x.c2End != 0.0 || x.automatic != defaults.automatic ||
+      x.maxRounds != defaults.maxRounds || x.tolerance != defaults.tolerance)
+    m["extension"] = {{"c1_begin", x.c1Begin}, {"c1_end", x.c1End},         {"c2_begin", x.c2Begin},
+                      {"c2_end", x.c2End},     {"automatic", x.automatic}, {"max_rounds", x.maxRounds},
+                      {"tolerance", x.tolerance}};
+  m["lambda1"] = q.options.lambda1;
+  m["lambda2"] = q.options.lambda2;
+  if (q.maxIterations > 0) m["max_iterations"] = q.maxIterations;
+  return m;
+}
+
+conical::ConicalStripDesign conicalStripFromJson(const json& m) {
+  conical::ConicalStripDesign d;
+  d.p = curveFromJson(m.at("p"), "model.p");
+  d.q = curveFromJson(m.at("q"), "model.q");
+  d.np = m.value("np", d.np);
+  d.nq = m.value("nq", d.nq);
+  d.h3 = m.value("h3", d.h3);
+  d.h4 = m.value("h4", d.h4);
+  d.ra = m.value("ra", d.ra);
+  d.objective = m.value("objective", "normal_variation") == "bending_energy" ? conical::Objective::BendingEnergy
+                                                                              : conical::Objective::NormalVariation;
+  d.g1 = m.value("g1", d.g1);
+  return d;
+}
+
+json conicalStripToJson(const conical::ConicalStripDesign& d) {
+  return {{"kind", "conical_strip"}, {"p", curveToJson(d.p)}, {"q", curveToJson(d.q)},
+          {"np", d.np},              {"nq", d.nq},            {"h3", d.h3},
+          {"h4", d.h4},              {"ra", d.ra},            {"objective", conical::objectiveName(d.objective)},
+          {"g1", d.g1}};
+}
+
 }  // namespace
 
 SceneError::SceneError(std::string path, std::string rule, const std::string& message)
@@ -344,6 +438,15 @@ json curveToJson(const spline::BSplineCurve& c) {
   return j;
 }
 
+const char* modelKind(const ModelData& model) {
+  switch (model.index()) {
+    case 0: return "strip";
+    case 1: return "composite";
+    case 2: return "quasi_strip";
+    default: return "conical_strip";
+  }
+}
+
 double millimetresPerUnit(const std::string& units) {
   if (units == "mm") return 1.0;
   if (units == "cm") return 10.0;
@@ -399,6 +502,22 @@ Scene sceneFromJson(const json& document) {
       throw semanticError("model", e.what(), "model");
     }
     scene.model = std::move(d);
+  } else if (kind == "quasi_strip") {
+    QuasiStripScene q = quasiStripFromJson(model);
+    try {
+      quasi::QuasiStripModel check(q.design, q.options);  // validates the curves, mapping, samples
+    } catch (const std::invalid_argument& e) {
+      throw semanticError("model", quasiStripFieldPath(e.what()), "model");
+    }
+    scene.model = std::move(q);
+  } else if (kind == "conical_strip") {
+    conical::ConicalStripDesign d = conicalStripFromJson(model);
+    try {
+      conical::ConicalStripModel check(d);  // validates the curves and parameters
+    } catch (const std::invalid_argument& e) {
+      throw semanticError("model", e.what(), "model");
+    }
+    scene.model = std::move(d);
   } else {
     throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");
   }
@@ -424,6 +543,10 @@ json sceneToJson(const Scene& scene) {
   if (scene.units != "mm") j["units"] = scene.units;
   if (const auto* c = std::get_if<composite::CompositeDesign>(&scene.model)) {
     j["model"] = compositeToJson(*c);
+  } else if (const auto* q = std::get_if<QuasiStripScene>(&scene.model)) {
+    j["model"] = quasiStripToJson(*q);
+  } else if (const auto* cs = std::get_if<conical::ConicalStripDesign>(&scene.model)) {
+    j["model"] = conicalStripToJson(*cs);
   } else {
     const StripDesign& d = std::get<StripDesign>(scene.model);
     json m;

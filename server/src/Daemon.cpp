@@ -89,6 +89,20 @@ void replyExport(httplib::Response& res, const std::string& stem, const std::fun
   }
 }
 
+/// Editing sessions hold strips and composites; quasi_strip and conical_strip are batch jobs for now.
+bool sessionKindSupported(const proto::Scene& scene) {
+  return std::holds_alternative<models::strip::StripDesign>(scene.model) ||
+         std::holds_alternative<models::composite::CompositeDesign>(scene.model);
+}
+
+/// @throws proto::SceneError naming model.kind for a kind sessions do not hold
+void requireSessionKind(const proto::Scene& scene) {
+  if (!sessionKindSupported(scene))
+    throw proto::SceneError("model.kind", "session",
+                            std::string("sessions hold strip and composite scenes; solve a ") +
+                                proto::modelKind(scene.model) + " scene with POST /api/jobs");
+}
+
 transport::Delivery toTransport(Delivery d) {
   return d == Delivery::Latest ? transport::Delivery::Latest : transport::Delivery::Reliable;
 }
@@ -193,6 +207,11 @@ void Daemon::openDemos() {
     }
     try {
       const proto::Scene scene = proto::sceneFromText(readFile(path));
+      if (!sessionKindSupported(scene)) {
+        spdlog::info("demo scene {}: {} scenes are solved as jobs, not sessions; skipped", path,
+                     proto::modelKind(scene.model));
+        continue;
+      }
       createSession(scene, edit, view, true, id);
     } catch (const std::exception& e) {
       spdlog::error("demo scene {}: {}", path, e.what());
@@ -231,7 +250,7 @@ void Daemon::checkSceneLimits(const json& scene) const {
   auto count = [](const json& list) { return list.is_array() ? static_cast<int>(list.size()) : 0; };
   if (scene.contains("model") && scene["model"].is_object()) {
     const json& model = scene["model"];
-    for (const char* c : {"a", "b"})
+    for (const char* c : {"a", "b", "c1", "c2", "p", "q"})
       if (model.contains(c) && model[c].is_object() && model[c].contains("points")) points += count(model[c]["points"]);
     // Composites: vertices and the S edges' interior control points.
     if (model.contains("vertices")) points += count(model["vertices"]);
@@ -299,6 +318,7 @@ void Daemon::routes() {
     try {
       checkSceneLimits(*body);
       const proto::Scene scene = proto::sceneFromJson(*body);
+      requireSessionKind(scene);
       const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);

@@ -1,5 +1,6 @@
 #include "devsurf/server/JobQueue.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "devsurf/proto/Scene.h"
@@ -140,12 +141,13 @@ void JobQueue::run(JobRecord job) {
     const engine::SolveSummary summary =
         solver.solve(-1, [this, id, cancelled, of = scene.solver.iterations](const engine::IterationRecord& r) {
           std::lock_guard<std::mutex> lock(mutex_);
-          progress_[id] = {r.iteration, of};
+          progress_[id] = {r.iteration, std::max(of, r.iteration)};
           return !cancelled->load();
         });
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     job.progressIteration = summary.stepsTaken();
-    job.progressOf = scene.solver.iterations;
+    // quasi_strip and conical_strip have their own iteration limits (or none): done is done.
+    job.progressOf = solver.keepsInputGeometry() ? job.progressIteration : scene.solver.iterations;
     if (cancelled->load()) {
       bool stopping;
       {

@@ -7,10 +7,91 @@
 
 #include "devsurf/io/FoldWriter.h"
 #include "devsurf/io/SvgFoldPattern.h"
+#include "devsurf/models/conical_strip/ArcLengthCurve.h"
 
 namespace devsurf::server {
 
+namespace quasi = models::quasi_strip;
+namespace conical = models::conical_strip;
+
+namespace {
+
+/// Entity 126 of a curve (periodic curves with their wrapped control points written out).
+io::IgesCurve igesCurve(const spline::BSplineCurve& c, const std::string& label) {
+  io::IgesCurve out;
+  out.degree = c.degree();
+  out.knots = c.knots.knots();
+  const int slots = c.knots.numSlots();
+  out.points.resize(slots, 3);
+  if (c.isRational()) out.weights.resize(slots);
+  for (int i = 0; i < slots; ++i) {
+    const int k = c.knots.controlIndex(i);
+    out.points.row(i) = c.points.row(k).leftCols(3);
+    if (c.isRational()) out.weights[i] = c.weights[k];
+  }
+  out.label = label;
+  return out;
+}
+
+/// Entity 128 of the ruled surface (1 − v)·side0(u) + v·side1(u) with both sides on `knots`.
+io::IgesSurface igesRuledSurface(int degree, const std::vector<double>& knots, const Eigen::MatrixX3d& side0,
+                                 const Eigen::MatrixX3d& side1, const std::string& label) {
+  io::IgesSurface s;
+  s.degreeU = degree;
+  s.degreeV = 1;
+  s.nu = static_cast<int>(side0.rows());
+  s.nv = 2;
+  s.knotsU = knots;
+  s.knotsV = {0.0, 0.0, 1.0, 1.0};
+  s.points.resize(2 * s.nu, 3);
+  s.points.topRows(s.nu) = side0;
+  s.points.bottomRows(s.nu) = side1;
+  s.label = label;
+  return s;
+}
+
+/// Quads of a grid of U × V vertices (row-major in u: vertex i·V + j) appended to `mesh`.
+void appendGrid(io::QuadMesh& mesh, const std::vector<Eigen::Vector3d>& points, int U, int V) {
+  const Eigen::Index v0 = mesh.vertices.rows(), q0 = mesh.quads.rows();
+  mesh.vertices.conservativeResize(v0 + U * V, 3);
+  for (int k = 0; k < U * V; ++k) mesh.vertices.row(v0 + k) = points[static_cast<std::size_t>(k)].transpose();
+  mesh.quads.conservativeResize(q0 + (U - 1) * (V - 1), 4);
+  Eigen::Index q = q0;
+  for (int i = 0; i + 1 < U; ++i)
+    for (int j = 0; j + 1 < V; ++j, ++q) {
+      const int a = static_cast<int>(v0) + i * V + j;
+      mesh.quads.row(q) << a, a + V, a + V + 1, a + 1;
+    }
+}
+
+engine::TerminationReason engineReason(const std::string& name) {
+  if (name == "residual_tolerance" || name == "gradient_tolerance" || name == "absolute_tolerance")
+    return engine::TerminationReason::ResidualTolerance;
+  if (name == "warp_tolerance") return engine::TerminationReason::ResidualTolerance;
+  if (name == "relative_change" || name == "relative_decrease" || name == "line_search_failed" ||
+      name == "step_rejected")
+    return engine::TerminationReason::RelativeChange;
+  if (name == "time_budget") return engine::TerminationReason::TimeBudget;
+  if (name == "aborted") return engine::TerminationReason::Aborted;
+  if (name == "diverged") return engine::TerminationReason::Diverged;
+  return engine::TerminationReason::MaxIterations;
+}
+
+}  // namespace
+
 SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
+  if (std::holds_alternative<proto::QuasiStripScene>(scene_.model)) {
+    buildQuasiStrip(-1);
+    return;
+  }
+  if (const auto* c = std::get_if<conical::ConicalStripDesign>(&scene_.model)) {
+    try {
+      conical_ = std::make_unique<conical::ConicalStripModel>(*c);
+    } catch (const std::invalid_argument& e) {
+      throw proto::SceneError("model", "model", e.what());
+    }
+    return;
+  }
   if (const auto* c = std::get_if<models::composite::CompositeDesign>(&scene_.model)) {
     initialComposite_ = *c;
     try {
@@ -29,6 +110,37 @@ SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
   }
 }
 
+void SceneSolver::buildQuasiStrip(int iterations) {
+  const proto::QuasiStripScene& q = std::get<proto::QuasiStripScene>(scene_.model);
+  quasi::QuasiStripOptions options = q.options;
+  // An override (≥ 0) wins, then the scene's max_iterations; else the optimizer's default.
+  const int limit = iterations >= 0 ? iterations : q.maxIterations;
+  if (iterations >= 0 || q.maxIterations > 0) {
+    options.maxIterations = limit;
+    options.lbfgs.maxIterations = limit;
+    options.polishIterations = std::min(options.polishIterations, limit);
+  }
+  if (scene_.solver.timeBudgetMs > 0.0) {
+    options.timeBudgetMs = scene_.solver.timeBudgetMs;
+    options.lbfgs.timeBudgetMs = scene_.solver.timeBudgetMs;
+  }
+  try {
+    quasi_ = std::make_unique<quasi::QuasiStripModel>(q.design, options);
+  } catch (const std::invalid_argument& e) {
+    throw proto::SceneError("model", "model", e.what());
+  }
+}
+
+const quasi::QuasiStripModel& SceneSolver::quasiStripModel() const {
+  if (!quasi_) throw std::logic_error("SceneSolver: the scene is not a quasi_strip");
+  return *quasi_;
+}
+
+const conical::ConicalStripModel& SceneSolver::conicalStripModel() const {
+  if (!conical_) throw std::logic_error("SceneSolver: the scene is not a conical_strip");
+  return *conical_;
+}
+
 models::strip::StripModel& SceneSolver::stripModel() {
   if (!strip_) throw std::logic_error("SceneSolver: the scene is not a strip");
   return *strip_;
@@ -44,12 +156,52 @@ engine::SolveSummary SceneSolver::solve(int iterationsOverride,
   engine::SolverOptions options = scene_.solver.solverOptions();
   if (iterationsOverride >= 0) options.maxIterations = iterationsOverride;
   options.callback = std::move(onIteration);
+  if (quasi_) {
+    if (iterationsOverride >= 0) buildQuasiStrip(iterationsOverride);
+    quasiSummary_ = quasi_->solve();
+    // The model's reason may be compound ("warp_tolerance, then guided projection: relative_change"):
+    // the report's termination is the engine reason of the last phase, result.termination all of it.
+    const std::string& full = quasiSummary_.termination;
+    const std::size_t colon = full.rfind(": ");
+    termination_ = engine::terminationReasonName(engineReason(colon == std::string::npos ? full : full.substr(colon + 2)));
+    engine::SolveSummary summary;
+    summary.termNames = {"objective"};
+    double previousMs = 0.0;
+    for (const quasi::QuasiStripIteration& it : quasiSummary_.iterations) {
+      engine::IterationRecord r;
+      r.iteration = it.iteration;
+      r.termResiduals = {it.objective};
+      r.objective = r.totalResidual = it.objective;
+      r.stepNorm = it.stepNorm;
+      r.totalMs = std::max(0.0, it.elapsedMs - (it.iteration == 0 ? it.elapsedMs : previousMs));
+      previousMs = it.elapsedMs;
+      summary.iterations.push_back(std::move(r));
+    }
+    summary.reason = engineReason(termination_);
+    summary.converged = quasiSummary_.converged;
+    summary.totalMs = quasiSummary_.totalMs;
+    if (options.callback && !summary.iterations.empty()) options.callback(summary.iterations.back());
+    return summary;
+  }
+  if (conical_) {
+    const conical::ConicalStripSummary& cs = conical_->solve();
+    termination_ = cs.termination;
+    engine::SolveSummary summary;
+    summary.iterations.emplace_back();
+    summary.iterations.back().totalMs = cs.timeMs;
+    summary.reason = engine::TerminationReason::ResidualTolerance;
+    summary.converged = true;
+    summary.totalMs = cs.timeMs;
+    if (options.callback) options.callback(summary.iterations.back());
+    return summary;
+  }
   if (composite_) return composite_->solve(options);
   return strip_->solve(options);
 }
 
 proto::Scene SceneSolver::currentScene() const {
   proto::Scene s = scene_;
+  if (keepsInputGeometry()) return s;  // the input curves do not move
   if (composite_) {
     s.model = composite_->design();
     return s;
@@ -59,6 +211,52 @@ proto::Scene SceneSolver::currentScene() const {
 }
 
 proto::Metrics SceneSolver::metrics() const {
+  if (quasi_) {
+    const quasi::QuasiStripResults& r = quasi_->results();
+    proto::Metrics m;
+    m["warp_angle_max_deg"] = r.warpAngleMaxDeg;
+    m["warp_angle_mean_deg"] = r.warpAngleMeanDeg;
+    m["warp_angle_max_deg_dense"] = r.warpAngleMaxDegDense;
+    m["warp_angle_mean_deg_dense"] = r.warpAngleMeanDegDense;
+    m["objective"] = r.objective;
+    // Distance of the surface's boundaries from the input curves: zero up to round-off except
+    // where a curve was extended beyond its end (§3.4).
+    const quasi::QuasiStripDesign& d = quasi_->design();
+    double deviation = 0.0;
+    const spline::BSplineCurve* inputs[2] = {&d.c1, &d.c2};
+    for (int side = 0; side < 2; ++side) {
+      const conical::ArcLengthCurve curve(*inputs[side], 4);
+      const double t0 = r.surface.knots.front(), t1 = r.surface.knots.back();
+      for (int k = 0; k <= 200; ++k) {
+        const Eigen::Vector3d x = r.surface.evaluate(side, t0 + (t1 - t0) * k / 200.0);
+        deviation = std::max(deviation, curve.closestPoint(x, curve.domainBegin(), curve.domainEnd()).distance);
+      }
+    }
+    m["deviation_max"] = deviation;
+    m["rounds"] = quasiSummary_.rounds;
+    m["unknowns"] = quasi_->numUnknowns();
+    return m;
+  }
+  if (conical_) {
+    proto::Metrics m;
+    if (!conical_->solved()) return m;
+    const conical::ConicalStripResult& r = conical_->result();
+    auto add = [&m](const std::string& prefix, const conical::ConicalStripMetrics& q) {
+      m[prefix + "normal_variation"] = q.normalVariation + 0.0;  // no "-0" in the report
+      m[prefix + "bending_energy"] = q.bendingEnergy;
+      m[prefix + "n3"] = q.n3;
+      m[prefix + "n4"] = q.n4;
+      m[prefix + "deviation_max"] = q.deviationMax;
+      m[prefix + "corner_deviation_max"] = q.cornerDeviationMax;
+      m[prefix + "projection_residual_max"] = q.projectionResidualMax;
+      m[prefix + "coplanarity_residual_max"] = q.coplanarityResidualMax;
+      m[prefix + "normal_jump_max_rad"] = q.normalJumpMaxRad;
+    };
+    add("", r.metrics);
+    add("greedy_", r.greedyMetrics);
+    m["patches"] = static_cast<double>(r.patches.size());
+    return m;
+  }
   if (composite_) {
     const models::composite::CompositeQuality q = composite_->quality();
     const models::composite::CompositeDesign d = composite_->design();
@@ -109,7 +307,84 @@ proto::Metrics SceneSolver::metrics() const {
 }
 
 nlohmann::json SceneSolver::report(const engine::SolveSummary& summary, double timeMs) const {
-  return proto::reportToJson(summary, metrics(), proto::sceneToJson(currentScene()), timeMs);
+  nlohmann::json report = proto::reportToJson(summary, metrics(), proto::sceneToJson(currentScene()), timeMs);
+  if (!termination_.empty()) report["termination"] = termination_;
+  if (quasi_) {
+    report["result"] = proto::quasiStripResultJson(quasi_->results(), quasiSummary_);
+    report["result"]["termination"] = quasiSummary_.termination;
+  }
+  if (conical_ && conical_->solved())
+    report["result"] = proto::conicalStripResultJson(conical_->result(), conical_->summary());
+  return report;
+}
+
+void SceneSolver::igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const {
+  if (composite_) {
+    composite_->igesEntities(surfaces, curves);
+  } else if (quasi_) {
+    const quasi::RuledBSplineSurface& s = quasi_->results().surface;
+    surfaces.push_back(igesRuledSurface(s.degree, s.knots, s.side0, s.side1, "STRIP"));
+    curves.push_back(igesCurve(quasi_->design().c1, "C1"));
+    curves.push_back(igesCurve(quasi_->design().c2, "C2"));
+  } else if (conical_) {
+    if (!conical_->solved()) throw ExportFailed("format: iges: the conical strip has not been solved");
+    const std::vector<conical::ConicalPatch>& patches = conical_->result().patches;
+    for (std::size_t k = 0; k < patches.size(); ++k) {
+      const conical::ConicalPatch& p = patches[k];
+      const int n = p.degree() + 1;
+      std::vector<double> knots(2 * static_cast<std::size_t>(n), 0.0);
+      std::fill(knots.begin() + n, knots.end(), 1.0);
+      surfaces.push_back(igesRuledSurface(p.degree(), knots, p.a, p.b, "PATCH" + std::to_string(k)));
+    }
+    curves.push_back(igesCurve(conical_->design().p, "P"));
+    curves.push_back(igesCurve(conical_->design().q, "Q"));
+  } else {
+    const models::strip::StripDesign d = strip_->design();
+    const io::IgesCurve a = igesCurve(d.a, "A"), b = igesCurve(d.b, "B");
+    if (d.a.isRational() || d.b.isRational()) {
+      // The ruled surface between two NURBS curves is rational with the weights of both sides.
+      io::IgesSurface s = igesRuledSurface(a.degree, a.knots, a.points, b.points, "STRIP");
+      s.weights.resize(2 * s.nu);
+      s.weights.head(s.nu) = a.weights.size() ? a.weights : Eigen::VectorXd::Ones(s.nu);
+      s.weights.tail(s.nu) = b.weights.size() ? b.weights : Eigen::VectorXd::Ones(s.nu);
+      surfaces.push_back(std::move(s));
+    } else {
+      surfaces.push_back(igesRuledSurface(a.degree, a.knots, a.points, b.points, "STRIP"));
+    }
+    curves.push_back(a);
+    curves.push_back(b);
+  }
+}
+
+io::QuadMesh SceneSolver::sampledSurface() const {
+  if (composite_) return composite_->geometry(50, 8).merged;
+  if (quasi_) {
+    const quasi::RuledBSplineSurface& s = quasi_->results().surface;
+    const int U = 200, V = 8;
+    const double t0 = s.knots.front(), t1 = s.knots.back();
+    std::vector<Eigen::Vector3d> points;
+    for (int i = 0; i < U; ++i)
+      for (int j = 0; j < V; ++j) points.push_back(s.evaluate(j / (V - 1.0), t0 + (t1 - t0) * i / (U - 1.0)));
+    io::QuadMesh mesh;
+    appendGrid(mesh, points, U, V);
+    return mesh;
+  }
+  if (conical_) {
+    if (!conical_->solved()) throw ExportFailed("format: obj: the conical strip has not been solved");
+    io::QuadMesh mesh;
+    const int U = 25, V = 5;
+    for (const conical::ConicalPatch& p : conical_->result().patches) {
+      std::vector<Eigen::Vector3d> points;
+      for (int i = 0; i < U; ++i) {
+        const double u = i / (U - 1.0);
+        const Eigen::Vector3d a = p.pointA(u), b = p.pointB(u);
+        for (int j = 0; j < V; ++j) points.push_back(a + (b - a) * (j / (V - 1.0)));
+      }
+      appendGrid(mesh, points, U, V);
+    }
+    return mesh;
+  }
+  return strip_->geometry(200, 8, 2).surface;
 }
 
 void SceneSolver::exportTo(const std::string& spec) const {
@@ -135,18 +410,23 @@ void SceneSolver::exportTo(const std::string& spec) const {
       io::writeSvgFoldPattern(cp, path);
     return;
   }
+  if (format == "iges") {
+    io::IgesHeader header;
+    header.fileName = path;
+    header.units = scene_.units;
+    std::vector<io::IgesSurface> surfaces;
+    std::vector<io::IgesCurve> curves;
+    igesEntities(surfaces, curves);
+    io::writeIges(path, surfaces, curves, header);
+    return;
+  }
   if (format != "obj" && format != "off" && format != "ply" && format != "stl")
     throw std::invalid_argument("--export: unknown format \"" + format +
-                                "\" (expected obj, off, ply, stl, or fold, svg for composites with a development)");
+                                "\" (expected obj, off, ply, stl, iges, or fold, svg for composites with a development)");
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
-  if (composite_) {
-    io::writeMesh(composite_->geometry(50, 8).merged, staging);
-  } else {
-    const models::strip::StripGeometry g = strip_->geometry(200, 8, 2);
-    io::writeMesh(g.surface, staging);
-  }
+  io::writeMesh(sampledSurface(), staging);
   if (std::rename(staging.c_str(), path.c_str()) != 0) {
     std::remove(staging.c_str());
     throw std::runtime_error("cannot write " + path);
@@ -190,15 +470,33 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 }
 
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
-  if (format != "obj" && format != "fold" && format != "svg")
-    throw ExportUnavailable("format: expected json, obj, fold or svg, got \"" + format + "\"");
+  if (format != "obj" && format != "fold" && format != "svg" && format != "iges")
+    throw ExportUnavailable("format: expected json, obj, iges, fold or svg, got \"" + format + "\"");
+  if (format == "iges") {
+    io::IgesHeader header;
+    header.fileName = (scene_.name.empty() ? std::string("devsurf") : scene_.name) + ".igs";
+    header.units = scene_.units;
+    std::vector<io::IgesSurface> surfaces;
+    std::vector<io::IgesCurve> curves;
+    try {
+      igesEntities(surfaces, curves);
+      return {io::igesDocument(surfaces, curves, header), "model/iges", "igs"};
+    } catch (const ExportFailed&) {
+      throw;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw ExportFailed("format: iges: the model in its current state cannot be written as IGES (" +
+                         std::string(e.what()) + ")");
+    }
+  }
   if (format == "fold" || format == "svg") {
     const io::CreasePattern cp = creasePattern(format);
     if (format == "fold") return {io::foldString(cp), "application/json", "fold"};
     return {io::svgFoldPattern(cp), "image/svg+xml", "svg"};
   }
   try {
-    const io::QuadMesh mesh = composite_ ? composite_->geometry(50, 8).merged : strip_->geometry(200, 8, 2).surface;
+    const io::QuadMesh mesh = sampledSurface();
     return {objText(mesh, scene_.name), "model/obj", "obj"};
   } catch (const std::bad_alloc&) {
     throw;
@@ -214,6 +512,7 @@ ExportedFile SceneSolver::exportScene(const nlohmann::json& scene, const std::st
   } catch (const proto::SceneError& e) {
     throw ExportFailed("format: " + format + ": the current scene no longer builds a model (" + e.what() + ")");
   }
+  if (solver->keepsInputGeometry()) solver->solve();  // what they export is computed from the input
   return solver->exportAs(format);
 }
 

@@ -119,5 +119,20 @@ TEST(JobQueue, ARestartedQueueFinishesJobsThatWereRunning) {
   EXPECT_EQ(j->state, JobState::Succeeded);
 }
 
+TEST(JobQueue, SolvesQuasiAndConicalStripScenesAndReportsTheirResults) {
+  store::Store store(freshDir("between_curves"));
+  JobQueue q(store, {});
+  for (const std::string name : {"quasi-strip-twisted.json", "conical-strip-twisted.json"}) {
+    const json scene = exampleScene(name);
+    const auto s = q.submit(scene, std::nullopt);
+    const auto j = waitFor(q, s.id, JobState::Succeeded);
+    ASSERT_TRUE(j && j->state == JobState::Succeeded) << name << (j && j->error ? *j->error : "");
+    ASSERT_TRUE(j->report.has_value());
+    EXPECT_TRUE(proto::schemaRegistry().validate(*j->report, "report.schema.json").empty()) << name;
+    EXPECT_EQ((*j->report)["result"]["kind"], scene["model"]["kind"]);
+    EXPECT_EQ(j->progressIteration, j->progressOf) << name;  // done is all done
+  }
+}
+
 }  // namespace
 }  // namespace devsurf::server

@@ -8,6 +8,8 @@
 
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/models/conical_strip/ConicalStripModel.h"
+#include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/JsonSchemaValidator.h"
 
@@ -45,8 +47,24 @@ struct SolverSettings {
   models::composite::CompositeOptions compositeOptions() const;
 };
 
-/// One variant per model kind ("strip", "composite"); later models add alternatives.
-using ModelData = std::variant<models::strip::StripDesign, models::composite::CompositeDesign>;
+/// Scene kind "quasi_strip" (Bo et al.): the design (two curves, mapping, samples, end-point
+/// fixing, extension) and the model's own settings (method, optimizer, λ1, λ2, iteration limit).
+/// The scene's `solver` object applies only through `time_budget_ms`.
+struct QuasiStripScene {
+  models::quasi_strip::QuasiStripDesign design;
+  models::quasi_strip::QuasiStripOptions options;
+  /// Scene field "max_iterations": iterations of the chosen optimizer; 0 = the optimizer's default
+  /// (L-BFGS options.lbfgs.maxIterations = 3000, guided projection options.maxIterations = 200).
+  int maxIterations = 0;
+};
+
+/// One variant per model kind ("strip", "composite", "quasi_strip", "conical_strip").
+/// conical_strip (Chu et al.) is its design alone: the greedy construction has no solver settings.
+using ModelData = std::variant<models::strip::StripDesign, models::composite::CompositeDesign, QuasiStripScene,
+                               models::conical_strip::ConicalStripDesign>;
+
+/// The scene kind of a model ("strip", "composite", "quasi_strip", "conical_strip").
+const char* modelKind(const ModelData& model);
 
 /// A scene document (format "devsurf-scene", version 1): a saved design, a batch job, a CLI
 /// input and a session's starting point.

@@ -8,7 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/io/IgesWriter.h"
+#include "devsurf/io/QuadMesh.h"
 #include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/models/conical_strip/ConicalStripModel.h"
+#include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/Report.h"
 #include "devsurf/proto/Scene.h"
@@ -37,16 +41,26 @@ class ExportFailed : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// The service behind `devsurf solve` (and later batch jobs and sessions): builds the model a
-/// scene describes ("strip" or "composite"), runs guided projection and reports.
+/// The service behind `devsurf solve`, batch jobs and sessions: builds the model a scene describes
+/// ("strip", "composite", "quasi_strip", "conical_strip"), solves it and reports.
+///
+/// strip and composite move the scene's geometry (guided projection). quasi_strip (Bo et al.: a
+/// mapping between two fixed curves, L-BFGS or guided projection) and conical_strip (Chu et al.:
+/// a greedy construction, no iterations) leave the input curves where they are: their scene stays
+/// the input, and what they compute is the report's `result`. Their solve() returns an
+/// engine::SolveSummary adapted from the model's own summary (quasi_strip: one record per
+/// optimizer iteration with the objective of eq. 9 as the only residual, "objective";
+/// conical_strip: the initial record only); the model's own termination reason is the report's.
 class SceneSolver {
  public:
   /// Builds the model (validation happened in proto::sceneFromJson).
   /// @throws proto::SceneError for designs the model rejects
   explicit SceneSolver(proto::Scene scene);
 
-  /// Runs the scene's solver settings (iterations overridden when ≥ 0).
-  /// @param[in] onIteration  optional per-iteration callback; return false to abort
+  /// Runs the scene's solver settings (iterations overridden when ≥ 0; quasi_strip: the optimizer's
+  /// iteration limit; conical_strip: ignored).
+  /// @param[in] onIteration  optional per-iteration callback; return false to abort (quasi_strip
+  ///            and conical_strip cannot be interrupted: it is called once, with the last record)
   engine::SolveSummary solve(int iterationsOverride = -1,
                              std::function<bool(const engine::IterationRecord&)> onIteration = {});
 
@@ -57,28 +71,46 @@ class SceneSolver {
   /// The full report of the last solve.
   nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
 
-  /// Whether the scene is a strip (otherwise a composite).
+  /// Whether the scene is a strip.
   bool isStrip() const { return strip_ != nullptr; }
+  /// Whether the scene is a composite.
+  bool isComposite() const { return composite_ != nullptr; }
+  /// Whether the model keeps the scene's geometry and computes a `result` (quasi_strip,
+  /// conical_strip): such scenes are solved before they are exported.
+  bool keepsInputGeometry() const { return quasi_ != nullptr || conical_ != nullptr; }
   /// @throws std::logic_error if the scene is not a strip
   models::strip::StripModel& stripModel();
   /// @throws std::logic_error if the scene is not a composite
   models::composite::CompositeModel& compositeModel();
+  /// @throws std::logic_error if the scene is not a quasi_strip
+  const models::quasi_strip::QuasiStripModel& quasiStripModel() const;
+  /// @throws std::logic_error if the scene is not a conical_strip
+  const models::conical_strip::ConicalStripModel& conicalStripModel() const;
   /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface; composites:
   /// all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
-  /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm).
+  /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm; iges:
+  /// the B-spline surfaces and boundary curves, see exportAs).
   /// @throws ExportUnavailable for an unknown format or one that does not apply, ExportFailed when
   ///         the model's state cannot be exported (both std::invalid_argument),
   ///         std::runtime_error if writing fails
   void exportTo(const std::string& spec) const;
   /// The export as bytes: "obj" (sampled surface as quads: strips 200×8, composites every face at
-  /// 50 samples per span, 8 across, as exportTo), "fold" (FOLD 1.2) and "svg" (fold pattern, mm)
-  /// for composites with a development.
-  /// Lengths are design units (obj) or scaled by the scene's "units" (fold: frame_unit; svg: mm).
+  /// 50 samples per span, 8 across, as exportTo; quasi_strip the converted surface over the
+  /// trimmed range 200×8; conical_strip every patch 24×4), "fold" (FOLD 1.2) and "svg" (fold
+  /// pattern, mm) for composites with a development, "iges" (IGES 5.3, media type model/iges) for
+  /// every kind: B-spline surfaces as entity 128 with u along the curves and v across the rulings
+  /// (v = 0 on the first curve), curves as entity 126 — strip: the surface (degree (m, 1)) and
+  /// a, b; composite: CompositeModel::igesEntities; quasi_strip: the converted surface (degree
+  /// (p·d, 1), u = c1's parameter over the trimmed range) and c1, c2; conical_strip: every patch
+  /// (degree (3 or 2, 1), u ∈ [0, 1]) and p, q.
+  /// Lengths are design units (obj, iges: the header's units are the scene's "units") or scaled by
+  /// the scene's "units" (fold: frame_unit; svg: mm).
   /// @throws ExportUnavailable for an unknown format or one that does not apply to this scene,
   ///         ExportFailed when the model's current state cannot be exported
   ExportedFile exportAs(const std::string& format) const;
   /// exportAs of a scene document (a session's current scene, a job's solved scene): builds the
-  /// model first; a document or design the model now rejects is ExportFailed too.
+  /// model first (and solves it when it keepsInputGeometry()); a document or design the model now
+  /// rejects is ExportFailed too.
   static ExportedFile exportScene(const nlohmann::json& scene, const std::string& format);
 
  private:
@@ -86,11 +118,23 @@ class SceneSolver {
   /// @throws ExportUnavailable (not a composite, no development), ExportFailed (rejected state)
   io::CreasePattern creasePattern(const std::string& format) const;
 
+  /// The export's B-spline entities (exportAs "iges").
+  void igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const;
+  /// The sampled surface for obj exports.
+  io::QuadMesh sampledSurface() const;
+  /// (Re)builds the quasi_strip model with the scene's options and an iteration limit (< 0: the
+  /// scene's max_iterations, or the optimizer's default without one).
+  void buildQuasiStrip(int iterations);
+
   proto::Scene scene_;
   models::strip::StripDesign initial_;
   std::unique_ptr<models::strip::StripModel> strip_;
   models::composite::CompositeDesign initialComposite_;
   std::unique_ptr<models::composite::CompositeModel> composite_;
+  std::unique_ptr<models::quasi_strip::QuasiStripModel> quasi_;
+  models::quasi_strip::QuasiStripSummary quasiSummary_;
+  std::unique_ptr<models::conical_strip::ConicalStripModel> conical_;
+  std::string termination_;  ///< the model's own termination reason (quasi_strip, conical_strip)
 };
 
 }  // namespace devsurf::server

@@ -231,9 +231,8 @@ void QuasiStripModel::build() {
                       std::sqrt(design_.endPoints.weight), engine::Strength::Soft);
     }
   }
-  if (options_.optimizer == Optimizer::GuidedProjection) {
+  if (options_.optimizer == Optimizer::GuidedProjection || options_.polishIterations > 0)
     w->engine = std::make_unique<engine::GuidedProjectionSolver>(problem);
-  }
   working_ = std::move(w);
 }
 
@@ -259,82 +258,87 @@ Mapping workingMapping(MappingMethod method, const spline::KnotVector& knots, in
 
 }  // namespace
 
+double QuasiStripModel::guidedProjectionSteps(int round, QuasiStripSummary& summary, int maxIterations,
+                                              bool recordStart, std::chrono::steady_clock::time_point start) {
+  Working& w = *working_;
+  // Guided projection one step at a time with Levenberg–Marquardt control of ε_reg: a step
+  // that raises eq. 9 (or diverges) is undone and retried with 10× ε_reg; an accepted one lets
+  // ε_reg fall back by 3× towards options.regularization. (The engine itself has no line
+  // search; without this a strongly twisted start overshoots σ far out of C2's domain.)
+  engine::SolverOptions o;
+  o.maxIterations = 1;
+  o.fairness = 0.0;
+  o.residualTolerance = options_.residualTolerance;
+  o.relativeChangeTolerance = 0.0;
+  double regularization = options_.regularization;
+  Eigen::VectorXd saved;
+  double objective = 0.0;
+  summary.termination = engine::terminationReasonName(engine::TerminationReason::MaxIterations);
+  summary.converged = false;
+  int accepted = 0;
+  for (int k = 0; k < maxIterations; ++k) {
+    if (options_.timeBudgetMs > 0.0 && msSince(start) > options_.timeBudgetMs) {
+      summary.termination = engine::terminationReasonName(engine::TerminationReason::TimeBudget);
+      break;
+    }
+    saved = w.problem.x();
+    o.regularization = regularization;
+    const engine::SolveSummary s = w.engine->solve(o);
+    const double before = s.iterations.front().objective;
+    if (k == 0) {
+      objective = before;
+      if (recordStart) summary.iterations.push_back({0, before, 0.0, 0.0, msSince(start), round});
+    }
+    if (s.reason == engine::TerminationReason::ResidualTolerance && s.stepsTaken() == 0) {
+      summary.termination = engine::terminationReasonName(s.reason);
+      summary.converged = true;
+      break;
+    }
+    const double after = s.iterations.back().objective;
+    // Fraction to the boundary: a step may not shrink a shape parameter |ε_k| below a tenth
+    // of its value. At ε_k = 0 the derivative 2ε_k(…) vanishes and σ′ stays 0 there for good;
+    // full Gauss–Newton steps on a twisted start drove whole runs of ε to 0 (σ flat over
+    // t ∈ [0.4, 0.55], 8° left).
+    bool collapses = false;
+    {
+      const auto shapeNew = w.problem.blockValues(w.shapeBlock);
+      const int offset = w.problem.layout().block(w.shapeBlock).offset;
+      for (Eigen::Index k = 0; k < shapeNew.size() && !collapses; ++k)
+        collapses = std::abs(shapeNew[k]) < 0.1 * std::abs(saved[offset + k]);
+    }
+    if (collapses || s.reason == engine::TerminationReason::Diverged || !(after < before)) {
+      w.problem.x() = saved;
+      regularization *= 10.0;
+      if (regularization > 1e8) {
+        summary.termination = "step_rejected";
+        summary.converged = true;  // no step of any length decreases eq. 9: a local minimum
+        break;
+      }
+      continue;
+    }
+    regularization = std::max(options_.regularization, regularization / 3.0);
+    objective = after;
+    summary.iterations.push_back(
+        {++accepted, after, s.iterations.back().stepNorm, 0.0, msSince(start), round});
+    if (after <= options_.residualTolerance) {
+      summary.termination = engine::terminationReasonName(engine::TerminationReason::ResidualTolerance);
+      summary.converged = true;
+      break;
+    }
+    if (before - after <= options_.relativeChangeTolerance * before) {
+      summary.termination = engine::terminationReasonName(engine::TerminationReason::RelativeChange);
+      summary.converged = true;
+      break;
+    }
+  }
+  return objective;
+}
+
 double QuasiStripModel::solveRound(int round, QuasiStripSummary& summary) {
   Working& w = *working_;
   const auto start = Clock::now();
-  if (options_.optimizer == Optimizer::GuidedProjection) {
-    // Guided projection one step at a time with Levenberg–Marquardt control of ε_reg: a step
-    // that raises eq. 9 (or diverges) is undone and retried with 10× ε_reg; an accepted one lets
-    // ε_reg fall back by 3× towards options.regularization. (The engine itself has no line
-    // search; without this a strongly twisted start overshoots σ far out of C2's domain.)
-    engine::SolverOptions o;
-    o.maxIterations = 1;
-    o.fairness = 0.0;
-    o.residualTolerance = options_.residualTolerance;
-    o.relativeChangeTolerance = 0.0;
-    double regularization = options_.regularization;
-    Eigen::VectorXd saved;
-    double objective = 0.0;
-    summary.termination = engine::terminationReasonName(engine::TerminationReason::MaxIterations);
-    summary.converged = false;
-    int accepted = 0;
-    for (int k = 0; k < options_.maxIterations; ++k) {
-      if (options_.timeBudgetMs > 0.0 && msSince(start) > options_.timeBudgetMs) {
-        summary.termination = engine::terminationReasonName(engine::TerminationReason::TimeBudget);
-        break;
-      }
-      saved = w.problem.x();
-      o.regularization = regularization;
-      const engine::SolveSummary s = w.engine->solve(o);
-      const double before = s.iterations.front().objective;
-      if (k == 0) {
-        objective = before;
-        summary.iterations.push_back({0, before, 0.0, 0.0, msSince(start), round});
-      }
-      if (s.reason == engine::TerminationReason::ResidualTolerance && s.stepsTaken() == 0) {
-        summary.termination = engine::terminationReasonName(s.reason);
-        summary.converged = true;
-        break;
-      }
-      const double after = s.iterations.back().objective;
-      // Fraction to the boundary: a step may not shrink a shape parameter |ε_k| below a tenth
-      // of its value. At ε_k = 0 the derivative 2ε_k(…) vanishes and σ′ stays 0 there for good;
-      // full Gauss–Newton steps on a twisted start drove whole runs of ε to 0 (σ flat over
-      // t ∈ [0.4, 0.55], 8° left).
-      bool collapses = false;
-      {
-        const auto shapeNew = w.problem.blockValues(w.shapeBlock);
-        const int offset = w.problem.layout().block(w.shapeBlock).offset;
-        for (Eigen::Index k = 0; k < shapeNew.size() && !collapses; ++k)
-          collapses = std::abs(shapeNew[k]) < 0.1 * std::abs(saved[offset + k]);
-      }
-      if (collapses || s.reason == engine::TerminationReason::Diverged || !(after < before)) {
-        w.problem.x() = saved;
-        regularization *= 10.0;
-        if (regularization > 1e8) {
-          summary.termination = "step_rejected";
-          summary.converged = true;  // no step of any length decreases eq. 9: a local minimum
-          break;
-        }
-        continue;
-      }
-      regularization = std::max(options_.regularization, regularization / 3.0);
-      objective = after;
-      summary.iterations.push_back(
-          {++accepted, after, s.iterations.back().stepNorm, 0.0, msSince(start), round});
-      if (after <= options_.residualTolerance) {
-        summary.termination = engine::terminationReasonName(engine::TerminationReason::ResidualTolerance);
-        summary.converged = true;
-        break;
-      }
-      if (before - after <= options_.relativeChangeTolerance * before) {
-        summary.termination = engine::terminationReasonName(engine::TerminationReason::RelativeChange);
-        summary.converged = true;
-        break;
-      }
-    }
-    return objective;
-  }
+  if (options_.optimizer == Optimizer::GuidedProjection)
+    return guidedProjectionSteps(round, summary, options_.maxIterations, true, start);
   ProblemObjective objective(w.problem);
   Eigen::VectorXd gradient(w.problem.x().size());
   const double f0 = objective(w.problem.x(), gradient);
@@ -342,18 +346,44 @@ double QuasiStripModel::solveRound(int round, QuasiStripSummary& summary) {
   LbfgsOptions lo = options_.lbfgs;
   if (options_.timeBudgetMs > 0.0) lo.timeBudgetMs = options_.timeBudgetMs;
   Eigen::VectorXd x = w.problem.x();
+  // Geometric stop: the largest warp angle over the sample rulings at x (what the user sees).
+  const engine::VariableBlock& shape = w.problem.layout().block(w.shapeBlock);
+  auto maxSampleWarpDeg = [this, &w, &shape](const Eigen::VectorXd& v) {
+    const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree, w.samples,
+                                     v.segment(shape.offset, shape.size));
+    const spline::BSplineCurve sigma = m.curve();
+    double worst = 0.0;
+    for (double t : w.samples) {
+      const terms::CurveJet a = w.e1->evaluate(t);
+      const terms::CurveJet b = w.e2->evaluate(sigma.evaluate(t)[0]);
+      worst = std::max(worst, metrics::warpAngleDeg(a.point, a.d1, b.point, b.d1));
+    }
+    return worst;
+  };
+  bool warpReached = false;
   const LbfgsResult r = minimizeLbfgs(
       [&objective](const Eigen::VectorXd& v, Eigen::VectorXd& g) { return objective(v, g); }, x, lo,
-      [&summary, round, start](int k, double f, double g) {
+      [this, &summary, round, start, &x, &maxSampleWarpDeg, &warpReached](int k, double f, double g) {
         summary.iterations.push_back({k, f, 0.0, g, msSince(start), round});
+        if (options_.warpToleranceDeg > 0.0 && k % 10 == 0 && maxSampleWarpDeg(x) <= options_.warpToleranceDeg) {
+          warpReached = true;
+          return false;
+        }
         return true;
       });
   w.problem.x() = x;
-  summary.termination = lbfgsTerminationName(r.reason);
-  summary.converged = r.reason == LbfgsTermination::GradientTolerance ||
+  summary.termination = warpReached ? "warp_tolerance" : lbfgsTerminationName(r.reason);
+  summary.converged = warpReached || r.reason == LbfgsTermination::GradientTolerance ||
                       r.reason == LbfgsTermination::RelativeDecrease ||
                       r.reason == LbfgsTermination::AbsoluteTolerance;
-  return r.value;
+  if (options_.polishIterations <= 0) return r.value;
+  // Gauss–Newton converges quadratically once L-BFGS has brought σ near the solution.
+  const std::string first = summary.termination;
+  const bool firstConverged = summary.converged;
+  const double polished = guidedProjectionSteps(round, summary, options_.polishIterations, false, start);
+  summary.termination = first + ", then guided projection: " + summary.termination;
+  summary.converged = summary.converged || firstConverged;
+  return polished;
 }
 
 QuasiStripSummary QuasiStripModel::solve() {
