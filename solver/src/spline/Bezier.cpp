@@ -1,5 +1,6 @@
 // Bézier curves: evaluation, degree elevation and polynomial composition.
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -10,13 +11,11 @@ namespace devsurf::spline {
 
 namespace {
 
-/// Binomial coefficients C(m, 0..m) as doubles.
+/// Binomial coefficients C(m, 0..m) as doubles: C(m, i) = C(m, i−1)·(m − i + 1)/i, rounded to the
+/// nearest integer (exact for m ≤ 1029 in doubles up to 2^53; the rows used here are short).
 std::vector<double> binomialRow(int m) {
-  std::vector<double> row(static_cast<size_t>(m + 1), 0.0);
-  row[0] = 1.0;
-  for (int k = 1; k <= m; ++k) {
-    for (int i = k; i >= 1; --i) row[i] += row[i - 1];
-  }
+  std::vector<double> row(static_cast<size_t>(m + 1), 1.0);
+  for (int i = 1; i <= m; ++i) row[i] = std::nearbyint(row[i - 1] * (m - i + 1) / i);
   return row;
 }
 

@@ -7,30 +7,22 @@ namespace devsurf::terms {
 
 namespace {
 
-/// de Casteljau for a 3D Bézier polygon at local s (s outside [0,1] extrapolates).
-Eigen::Vector3d deCasteljau(const std::vector<Eigen::Vector3d>& p, double s) {
-  const int n = static_cast<int>(p.size());
-  if (n == 0) return Eigen::Vector3d::Zero();
-  // Small fixed buffer: curves used here have modest degree; fall back to a vector otherwise.
-  Eigen::Vector3d buffer[32];
-  std::vector<Eigen::Vector3d> heap;
-  Eigen::Vector3d* w = buffer;
-  if (n > 32) {
-    heap = p;
-    w = heap.data();
-  } else {
-    std::copy(p.begin(), p.end(), buffer);
+/// Power-basis coefficients a_k of a Bézier polygon p_0 … p_n: P(s) = Σ_k a_k s^k with
+/// a_k = C(n, k) Σ_{i ≤ k} (−1)^{k−i} C(k, i) p_i.
+std::vector<Eigen::Vector3d> powerCoefficients(const std::vector<Eigen::Vector3d>& p) {
+  const int n = static_cast<int>(p.size()) - 1;
+  auto binomial = [](int m, int r) {
+    double c = 1.0;
+    for (int i = 1; i <= r; ++i) c = c * (m - r + i) / i;
+    return c;
+  };
+  std::vector<Eigen::Vector3d> a(static_cast<std::size_t>(n) + 1, Eigen::Vector3d::Zero());
+  for (int k = 0; k <= n; ++k) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int i = 0; i <= k; ++i) sum += (((k - i) % 2) ? -1.0 : 1.0) * binomial(k, i) * p[static_cast<std::size_t>(i)];
+    a[static_cast<std::size_t>(k)] = binomial(n, k) * sum;
   }
-  for (int k = 1; k < n; ++k)
-    for (int i = 0; i < n - k; ++i) w[i] = (1.0 - s) * w[i] + s * w[i + 1];
-  return w[0];
-}
-
-std::vector<Eigen::Vector3d> hodograph(const std::vector<Eigen::Vector3d>& p, double length) {
-  std::vector<Eigen::Vector3d> d;
-  const int deg = static_cast<int>(p.size()) - 1;
-  for (int i = 0; i < deg; ++i) d.push_back(deg * (p[i + 1] - p[i]) / length);
-  return d;
+  return a;
 }
 
 }  // namespace
@@ -50,9 +42,8 @@ ExtendedCurve::ExtendedCurve(const spline::BSplineCurve& curve) {
     std::vector<Eigen::Vector3d> p;
     for (int i = 0; i < piece.points.rows(); ++i) p.push_back(piece.points.row(i).transpose());
     const double length = piece.end - piece.begin;
-    points_.push_back(p);
-    firsts_.push_back(hodograph(p, length));
-    seconds_.push_back(hodograph(firsts_.back(), length));
+    coefficients_.push_back(powerCoefficients(p));
+    inverseLengths_.push_back(1.0 / length);
   }
 }
 
@@ -61,10 +52,19 @@ CurveJet ExtendedCurve::evaluate(double u) const {
   const auto it = std::upper_bound(breaks_.begin() + 1, breaks_.end() - 1, u);
   const int j = static_cast<int>(it - breaks_.begin()) - 1;
   const double s = (u - breaks_[j]) / (breaks_[j + 1] - breaks_[j]);
+  // Horner's scheme for P, P′ and P″/2 in the local parameter s, then the chain rule.
+  const std::vector<Eigen::Vector3d>& a = coefficients_[static_cast<std::size_t>(j)];
+  Eigen::Vector3d p = a.back(), d = Eigen::Vector3d::Zero(), h = Eigen::Vector3d::Zero();
+  for (int k = static_cast<int>(a.size()) - 2; k >= 0; --k) {
+    h = h * s + d;
+    d = d * s + p;
+    p = p * s + a[static_cast<std::size_t>(k)];
+  }
+  const double inv = inverseLengths_[static_cast<std::size_t>(j)];
   CurveJet jet;
-  jet.point = deCasteljau(points_[j], s);
-  jet.d1 = deCasteljau(firsts_[j], s);
-  jet.d2 = deCasteljau(seconds_[j], s);
+  jet.point = p;
+  jet.d1 = d * inv;
+  jet.d2 = 2.0 * h * inv * inv;
   return jet;
 }
 
