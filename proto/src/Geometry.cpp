@@ -3,6 +3,7 @@
 #include "devsurf/metrics/QuadFlatness.h"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -388,6 +389,181 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
           {"edges", std::move(edges)},
           {"points", {{"positions", float32Array(pointPositions)}, {"refs", int32Array(pointRefs)}}},
           {"development", std::move(development)}};
+}
+
+namespace {
+
+/// A curve sampled at n parameters equally spaced over its domain.
+Eigen::MatrixXd sampleCurve(const spline::BSplineCurve& c, int n) {
+  const double u0 = c.knots.domainBegin(), u1 = c.knots.domainEnd();
+  Eigen::MatrixXd out(n, 3);
+  for (int i = 0; i < n; ++i) out.row(i) = c.evaluate(u0 + (u1 - u0) * i / (n - 1), 0).head<3>().transpose();
+  return out;
+}
+
+Eigen::MatrixXd controlPoints3(const spline::BSplineCurve& c) { return c.points.leftCols(3); }
+
+/// Quads of a grid of U × 2 vertices (vertex 2i + j), offset by `base`.
+void ladderQuads(Eigen::MatrixXi& quads, Eigen::Index& row, int rungs, int base) {
+  for (int i = 0; i + 1 < rungs; ++i) quads.row(row++) << base + 2 * i, base + 2 * (i + 1), base + 2 * (i + 1) + 1, base + 2 * i + 1;
+}
+
+double angleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double na = a.norm(), nb = b.norm();
+  if (na == 0.0 || nb == 0.0) return 0.0;
+  return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0)) * 180.0 / 3.14159265358979323846;
+}
+
+}  // namespace
+
+nlohmann::json quasiStripGeometryJson(const models::quasi_strip::QuasiStripModel& model, int uSamples, int rulings,
+                                      int mappingSamples, int curveSamples) {
+  namespace quasi = models::quasi_strip;
+  const quasi::QuasiStripDesign& d = model.design();
+  const quasi::QuasiStripResults& r = model.results();
+  const quasi::RuledBSplineSurface& surface = r.surface;
+  const double t0 = surface.knots.front(), t1 = surface.knots.back();
+  const spline::BSplineCurve side0 = surface.boundary(0), side1 = surface.boundary(1);
+  auto at = [&](int i, int n) { return t0 + (t1 - t0) * i / (n - 1); };
+
+  Eigen::MatrixXd vertices(2 * uSamples, 3), warp(2 * uSamples, 1), ends0(uSamples, 3), ends1(uSamples, 3);
+  for (int i = 0; i < uSamples; ++i) {
+    const double t = at(i, uSamples);
+    const Eigen::Vector3d a = side0.evaluate(t, 0).head<3>(), b = side1.evaluate(t, 0).head<3>();
+    const double w = metrics::warpAngleDeg(a, side0.evaluate(t, 1).head<3>(), b, side1.evaluate(t, 1).head<3>());
+    vertices.row(2 * i) = a.transpose();
+    vertices.row(2 * i + 1) = b.transpose();
+    ends0.row(i) = a.transpose();
+    ends1.row(i) = b.transpose();
+    warp(2 * i, 0) = warp(2 * i + 1, 0) = w;
+  }
+  Eigen::MatrixXi quads(uSamples - 1, 4);
+  Eigen::Index row = 0;
+  ladderQuads(quads, row, uSamples, 0);
+  Eigen::MatrixXd rulingSegments(rulings, 6);
+  for (int i = 0; i < rulings; ++i) {
+    const double t = at(i, rulings);
+    rulingSegments.row(i) << side0.evaluate(t, 0).head<3>().transpose(), side1.evaluate(t, 0).head<3>().transpose();
+  }
+  // σ over its domain, and the solver's starting point T = t (affine between the curves' domains).
+  const double m0 = r.mapping.domainBegin(), m1 = r.mapping.domainEnd();
+  const double a0 = d.c1.knots.domainBegin(), a1 = d.c1.knots.domainEnd();
+  const double b0 = d.c2.knots.domainBegin(), b1 = d.c2.knots.domainEnd();
+  Eigen::MatrixXd sigma(mappingSamples, 2), initial(mappingSamples, 2);
+  for (int i = 0; i < mappingSamples; ++i) {
+    const double t = m0 + (m1 - m0) * i / (mappingSamples - 1);
+    sigma.row(i) << t, r.mapping.evaluate(t);
+    initial.row(i) << t, b0 + (b1 - b0) * (t - a0) / (a1 - a0);
+  }
+  Eigen::MatrixXd samples(static_cast<Eigen::Index>(r.sampleParameters.size()), 2);
+  for (std::size_t i = 0; i < r.sampleParameters.size(); ++i)
+    samples.row(static_cast<Eigen::Index>(i)) << r.sampleParameters[i],
+        i < r.sampleWarpDeg.size() ? r.sampleWarpDeg[i] : 0.0;
+  const Eigen::MatrixXd flat = unrollRulingGrid(ends0, ends1);
+  return {{"kind", "quasi_strip"},
+          {"surface",
+           {{"vertices", float32Array(vertices)},
+            {"quads", int32Array(quads)},
+            {"grid", {uSamples, 2}},
+            {"closed", false},
+            {"warp_angle_deg", float32Array(warp)}}},
+          {"rulings", float32Array(rulingSegments)},
+          {"curves", {{"c1", float32Array(sampleCurve(d.c1, curveSamples))}, {"c2", float32Array(sampleCurve(d.c2, curveSamples))}}},
+          {"control_points", {{"c1", float32Array(controlPoints3(d.c1))}, {"c2", float32Array(controlPoints3(d.c2))}}},
+          {"mapping",
+           {{"sigma", float32Array(sigma)},
+            {"initial", float32Array(initial)},
+            {"samples", float32Array(samples)},
+            {"trim", {r.trimBegin, r.trimEnd}},
+            {"domain_c1", {a0, a1}},
+            {"domain_c2", {b0, b1}}}},
+          {"development", {{"vertices", float32Array(flat)}, {"quads", int32Array(quads)}}}};
+}
+
+nlohmann::json conicalStripGeometryJson(const models::conical_strip::ConicalStripModel& model, int samplesPerPatch,
+                                        int curveSamples) {
+  namespace conical = models::conical_strip;
+  const conical::ConicalStripDesign& d = model.design();
+  nlohmann::json out{{"kind", "conical_strip"},
+                     {"curves", {{"p", float32Array(sampleCurve(d.p, curveSamples))}, {"q", float32Array(sampleCurve(d.q, curveSamples))}}},
+                     {"control_points", {{"p", float32Array(controlPoints3(d.p))}, {"q", float32Array(controlPoints3(d.q))}}},
+                     {"surface", nullptr},
+                     {"patches", nullptr},
+                     {"rulings", nullptr},
+                     {"samples", nullptr},
+                     {"development", nullptr}};
+  if (!model.solved()) return out;
+  const conical::ConicalStripResult& r = model.result();
+  const int P = static_cast<int>(r.patches.size());
+  const int S = samplesPerPatch;
+  // Normal jump across the ruling between patches k−1 and k (k = 0 and P: strip ends, no jump).
+  std::vector<double> jump(static_cast<std::size_t>(P + 1), 0.0);
+  for (int k = 1; k < P; ++k)
+    jump[static_cast<std::size_t>(k)] = angleDeg(r.patches[static_cast<std::size_t>(k - 1)].normal(1.0),
+                                                 r.patches[static_cast<std::size_t>(k)].normal(0.0));
+  Eigen::MatrixXd vertices(2 * P * (S + 1), 3), type(2 * P * (S + 1), 1), vertexJump(2 * P * (S + 1), 1);
+  Eigen::MatrixXi quads(P * S, 4), quadPatch(P * S, 1), patchType(P, 1);
+  Eigen::MatrixXd patchJump(P, 1), projection(P, 3), rulingSegments(P + 1, 6);
+  std::string base;
+  Eigen::Index row = 0;
+  for (int k = 0; k < P; ++k) {
+    const conical::ConicalPatch& patch = r.patches[static_cast<std::size_t>(k)];
+    const bool quad = patch.type == conical::PatchType::Quadrilateral;
+    const double j0 = jump[static_cast<std::size_t>(k)], j1 = jump[static_cast<std::size_t>(k + 1)];
+    for (int i = 0; i <= S; ++i) {
+      const double u = static_cast<double>(i) / S;
+      const int v = 2 * (k * (S + 1) + i);
+      vertices.row(v) = patch.pointA(u).transpose();
+      vertices.row(v + 1) = patch.pointB(u).transpose();
+      type(v, 0) = type(v + 1, 0) = quad ? 4 : 3;
+      vertexJump(v, 0) = vertexJump(v + 1, 0) = (1.0 - u) * j0 + u * j1;
+    }
+    const Eigen::Index first = row;
+    ladderQuads(quads, row, S + 1, 2 * k * (S + 1));
+    quadPatch.block(first, 0, S, 1).setConstant(k);
+    patchType(k, 0) = quad ? 4 : 3;
+    patchJump(k, 0) = std::max(j0, j1);
+    projection.row(k) = patch.projectionPoint.transpose();
+    base += patch.baseSide == conical::StripSide::P ? 'P' : 'Q';
+    rulingSegments.row(k) << patch.pointA(0.0).transpose(), patch.pointB(0.0).transpose();
+    if (k + 1 == P) rulingSegments.row(P) << patch.pointA(1.0).transpose(), patch.pointB(1.0).transpose();
+  }
+  if (P == 0) rulingSegments.resize(0, 6);
+  // The development: each unfolded patch as a ladder of its boundary images.
+  Eigen::Index nFlat = 0, nFlatQuads = 0;
+  for (const conical::UnfoldedPatch& u : r.unfolded) {
+    nFlat += 2 * u.a.rows();
+    nFlatQuads += std::max<Eigen::Index>(0, u.a.rows() - 1);
+  }
+  Eigen::MatrixXd flat(nFlat, 2);
+  Eigen::MatrixXi flatQuads(nFlatQuads, 4), flatQuadPatch(nFlatQuads, 1);
+  Eigen::Index fv = 0, fq = 0;
+  for (std::size_t k = 0; k < r.unfolded.size(); ++k) {
+    const conical::UnfoldedPatch& u = r.unfolded[k];
+    const int rungs = static_cast<int>(u.a.rows());
+    for (int i = 0; i < rungs; ++i) {
+      flat.row(fv + 2 * i) = u.a.row(i);
+      flat.row(fv + 2 * i + 1) = u.b.row(i);
+    }
+    const Eigen::Index first = fq;
+    ladderQuads(flatQuads, fq, rungs, static_cast<int>(fv));
+    flatQuadPatch.block(first, 0, fq - first, 1).setConstant(static_cast<int>(k));
+    fv += 2 * rungs;
+  }
+  out["surface"] = {{"vertices", float32Array(vertices)},
+                    {"quads", int32Array(quads)},
+                    {"quad_patch", int32Array(quadPatch)},
+                    {"patch_type", float32Array(type)},
+                    {"normal_jump_deg", float32Array(vertexJump)}};
+  out["patches"] = {{"type", int32Array(patchType)},
+                    {"base", base},
+                    {"normal_jump_deg", float32Array(patchJump)},
+                    {"projection_points", float32Array(projection)}};
+  out["rulings"] = float32Array(rulingSegments);
+  out["samples"] = {{"p", float32Array(r.samplesP)}, {"q", float32Array(r.samplesQ)}};
+  out["development"] = {{"vertices", float32Array(flat)}, {"quads", int32Array(flatQuads)},
+                        {"quad_patch", int32Array(flatQuadPatch)}};
+  return out;
 }
 
 }  // namespace devsurf::proto

@@ -79,6 +79,7 @@ composite::CreaseKind creaseFromName(const std::string& name) {
   if (name == "fold") return composite::CreaseKind::Fold;
   if (name == "geodesic") return composite::CreaseKind::Geodesic;
   if (name == "smooth") return composite::CreaseKind::Smooth;
+  if (name == "straight") return composite::CreaseKind::Straight;
   return composite::CreaseKind::None;
 }
 
@@ -138,6 +139,8 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
   for (std::size_t i = 0; i < handles.size(); ++i)
     d.handles.push_back({compositePointFromJson(handles[i], indexPath("model.handles", i)),
                          point3(handles[i].at("position")), handles[i].value("weight", handleWeight)});
+  for (const json& pair : m.value("tangent_continuity", json::array()))
+    d.tangentContinuity.push_back({pair[0].get<int>(), pair[1].get<int>()});
   if (m.contains("development")) {
     const json& dev = m["development"];
     d.developmentSamples = dev.at("samples").get<int>();
@@ -201,6 +204,11 @@ json compositeToJson(const composite::CompositeDesign& d) {
     handles.push_back(std::move(jh));
   }
   if (!handles.empty()) m["handles"] = std::move(handles);
+  if (!d.tangentContinuity.empty()) {
+    json pairs = json::array();
+    for (const auto& p : d.tangentContinuity) pairs.push_back({p[0], p[1]});
+    m["tangent_continuity"] = std::move(pairs);
+  }
   if (d.developmentSamples > 0) {
     json dev = {{"samples", d.developmentSamples}};
     if (!d.developmentDomain.empty()) {
@@ -354,6 +362,7 @@ models::strip::StripOptions SolverSettings::stripOptions() const {
 
 models::composite::CompositeOptions SolverSettings::compositeOptions() const {
   models::composite::CompositeOptions o;
+  o.softening = softening;
   o.developabilityWeight = developabilityWeight;
   o.unitNormalWeight = unitNormalWeight;
   o.normalize = normalize;
@@ -477,6 +486,12 @@ Scene sceneFromJson(const json& document) {
   s.relativeChangeTolerance = solver.value("relative_change_tolerance", s.relativeChangeTolerance);
   s.linearSolver = solver.value("linear_solver", s.linearSolver);
   s.normalize = solver.value("normalize", s.normalize);
+  if (solver.contains("softening")) {
+    for (std::size_t i = 0; i < 4; ++i) s.softening[i] = solver["softening"][i].get<double>();
+    const auto& x = s.softening;
+    if (!(0.0 <= x[0] && x[0] <= x[1] && x[1] <= x[2] && x[2] <= x[3] && x[3] <= 1.0))
+      throw SceneError("solver.softening", "order", "breakpoints must satisfy 0 ≤ ξ1 ≤ ξ2 ≤ ξ3 ≤ ξ4 ≤ 1");
+  }
   if (s.linearSolver == "cholmod" && !engine::cholmodAvailable())
     throw SceneError("solver.linear_solver", "enum", "cholmod is not available in this build");
 
@@ -581,7 +596,8 @@ json sceneToJson(const Scene& scene) {
                  {"residual_tolerance", s.residualTolerance},
                  {"relative_change_tolerance", s.relativeChangeTolerance},
                  {"linear_solver", s.linearSolver},
-                 {"normalize", s.normalize}};
+                 {"normalize", s.normalize},
+                 {"softening", s.softening}};
   return j;
 }
 

@@ -89,20 +89,6 @@ void replyExport(httplib::Response& res, const std::string& stem, const std::fun
   }
 }
 
-/// Editing sessions hold strips and composites; quasi_strip and conical_strip are batch jobs for now.
-bool sessionKindSupported(const proto::Scene& scene) {
-  return std::holds_alternative<models::strip::StripDesign>(scene.model) ||
-         std::holds_alternative<models::composite::CompositeDesign>(scene.model);
-}
-
-/// @throws proto::SceneError naming model.kind for a kind sessions do not hold
-void requireSessionKind(const proto::Scene& scene) {
-  if (!sessionKindSupported(scene))
-    throw proto::SceneError("model.kind", "session",
-                            std::string("sessions hold strip and composite scenes; solve a ") +
-                                proto::modelKind(scene.model) + " scene with POST /api/jobs");
-}
-
 transport::Delivery toTransport(Delivery d) {
   return d == Delivery::Latest ? transport::Delivery::Latest : transport::Delivery::Reliable;
 }
@@ -207,11 +193,6 @@ void Daemon::openDemos() {
     }
     try {
       const proto::Scene scene = proto::sceneFromText(readFile(path));
-      if (!sessionKindSupported(scene)) {
-        spdlog::info("demo scene {}: {} scenes are solved as jobs, not sessions; skipped", path,
-                     proto::modelKind(scene.model));
-        continue;
-      }
       createSession(scene, edit, view, true, id);
     } catch (const std::exception& e) {
       spdlog::error("demo scene {}: {}", path, e.what());
@@ -318,7 +299,6 @@ void Daemon::routes() {
     try {
       checkSceneLimits(*body);
       const proto::Scene scene = proto::sceneFromJson(*body);
-      requireSessionKind(scene);
       const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Report.h"
@@ -62,7 +63,11 @@ Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSetti
       counters_(counters),
       demo_(demo),
       initialScene_(scene) {
-  rebuild(scene);
+  try {
+    rebuild(scene);
+  } catch (const SolveFailed& e) {
+    throw proto::SceneError("model", "solve", e.what());
+  }
 }
 
 Role Session::authenticate(const std::string& token) const {
@@ -75,6 +80,22 @@ Role Session::authenticate(const std::string& token) const {
 
 void Session::rebuild(const proto::Scene& scene) {
   auto next = std::make_unique<SceneSolver>(scene);  // throws SceneError on a bad design
+  if (next->keepsInputGeometry()) {
+    // The curves' models are solved whole on every change; a failure leaves the current model.
+    engine::SolveSummary summary;
+    proto::Metrics m;
+    try {
+      summary = next->solve();
+      m = next->metrics();
+    } catch (const std::exception& e) {
+      throw SolveFailed("solve_failed", std::string("the solve failed (") + e.what() +
+                                            "); the session keeps its last good state");
+    }
+    const bool finite = std::all_of(m.begin(), m.end(), [](const auto& kv) { return std::isfinite(kv.second); });
+    if (summary.reason == engine::TerminationReason::Diverged || !finite)
+      throw SolveFailed("diverged", "the solve diverged; the session keeps its last good state");
+    lastSummary_ = std::move(summary);
+  }
   solver_ = std::move(next);
   std::lock_guard<std::mutex> lock(mutex_);
   cachedScene_ = proto::sceneToJson(persistentScene());
@@ -83,6 +104,7 @@ void Session::rebuild(const proto::Scene& scene) {
 
 proto::Scene Session::persistentScene() const {
   proto::Scene s = solver_->currentScene();
+  if (keepsInput()) return s;
   if (auto* c = std::get_if<composite::CompositeDesign>(&s.model)) {
     const composite::CompositeDesign& design = *c;
     c->handles.erase(std::remove_if(c->handles.begin(), c->handles.end(),
@@ -109,6 +131,11 @@ const engine::Problem& Session::problem() const {
 }
 
 json Session::geometryJson(json* iterateMetrics) const {
+  if (keepsInput()) {
+    if (iterateMetrics) *iterateMetrics = json(solver_->metrics());
+    if (solver_->isConicalStrip()) return proto::conicalStripGeometryJson(solver_->conicalStripModel());
+    return proto::quasiStripGeometryJson(solver_->quasiStripModel(), settings_.surfaceSamples);
+  }
   if (isComposite()) {
     const composite::CompositeModel& model = solver_->compositeModel();
     const composite::CompositeQuality q = model.quality();
@@ -134,6 +161,7 @@ json Session::constraintsJson() const {
     handles.push_back({{"target", target}, {"position", point3Json(position)}, {"weight", weight},
                        {"temporary", isDragHandle(target)}});
   };
+  if (keepsInput()) return {{"fixed", fixed}, {"handles", handles}};  // the curves' points have no constraints
   if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
     for (const auto& f : c->fixed) fixed.push_back(compositeTargetJson(*c, f));
     for (const auto& h : c->handles) addHandle(compositeTargetJson(*c, h.point), h.position, h.weight);
@@ -147,6 +175,33 @@ json Session::constraintsJson() const {
 
 json Session::canonicalTarget(const json& target, std::string& path, std::string& message) const {
   const proto::Scene current = solver_->currentScene();
+  if (keepsInput()) {
+    const bool quasi = std::holds_alternative<proto::QuasiStripScene>(current.model);
+    const std::string kind = quasi ? "quasi_strip" : "conical_strip";
+    const std::string first = quasi ? "c1" : "p", second = quasi ? "c2" : "q";
+    const std::string curve = target.value("curve", "");
+    if (curve != first && curve != second) {
+      path = target.contains("curve") ? "target.curve" : "target";
+      message = "this session edits a " + kind + "; address control points as {\"curve\": \"" + first +
+                "\"|\"" + second + "\", \"index\": i}";
+      return nullptr;
+    }
+    const spline::BSplineCurve* c = nullptr;
+    if (quasi) {
+      const auto& q = std::get<proto::QuasiStripScene>(current.model).design;
+      c = curve == "c1" ? &q.c1 : &q.c2;
+    } else {
+      const auto& d = std::get<models::conical_strip::ConicalStripDesign>(current.model);
+      c = curve == "p" ? &d.p : &d.q;
+    }
+    const int n = static_cast<int>(c->points.rows()), index = target.at("index").get<int>();
+    if (index >= n) {
+      path = "target.index";
+      message = "no such control point (curve " + curve + " has " + std::to_string(n) + ")";
+      return nullptr;
+    }
+    return {{"curve", curve}, {"index", index}};
+  }
   if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
     if (target.contains("curve")) {
       path = "target";
@@ -182,8 +237,8 @@ json Session::canonicalTarget(const json& target, std::string& path, std::string
     }
     return compositeTargetJson(*c, r);
   }
-  if (!target.contains("curve")) {
-    path = "target";
+  if (!target.contains("curve") || (target["curve"] != "a" && target["curve"] != "b")) {
+    path = target.contains("curve") ? "target.curve" : "target";
     message = "this session edits a strip; address control points as {\"curve\": \"a\"|\"b\", \"index\": i}";
     return nullptr;
   }
@@ -403,8 +458,10 @@ json Session::stateMessage(int participant) const {
           {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}};
 }
 
-void Session::pushUndo() {
-  undo_.push_back(persistentScene());
+void Session::pushUndo() { pushUndo(persistentScene()); }
+
+void Session::pushUndo(const proto::Scene& before) {
+  undo_.push_back(before);
   if (static_cast<int>(undo_.size()) > settings_.undoDepth) undo_.pop_front();
   redo_.clear();
 }
@@ -446,6 +503,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     target = canonicalTarget(edit["target"], path, message);
     if (target.is_null()) return reject("invalid", message, path);
   }
+  if (keepsInput()) return applyCurveEdit(participant, edit, replaying, target);
   if (type == "drag") {
     const Eigen::Vector3d pos(edit["position"][0].get<double>(), edit["position"][1].get<double>(),
                               edit["position"][2].get<double>());
@@ -544,6 +602,10 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       je.erase("crease");
     else
       je["crease"] = crease;
+  } else if (type == "set_params") {
+    return reject("invalid", std::string("applies to quasi_strip and conical_strip sessions; this session edits a ") +
+                                 proto::modelKind(current.model) + " (use set_solver)",
+                  "type");
   } else {
     return reject("invalid", "unknown message type \"" + type + "\"", "type");
   }
@@ -558,7 +620,127 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   return true;
 }
 
+bool Session::applyCurveEdit(int participant, const json& edit, bool replaying, const json& target) {
+  const std::string type = edit.at("type").get<std::string>();
+  const json op = edit.value("op", json());
+  const proto::Scene current = solver_->currentScene();
+  const bool quasi = std::holds_alternative<proto::QuasiStripScene>(current.model);
+  const std::string kind = proto::modelKind(current.model);
+  auto reject = [&](const std::string& code, const std::string& message, const std::string& path) {
+    if (!replaying) error(participant, op, code, type + ": " + message, path);
+    return false;
+  };
+  try {
+    if (type == "drag") {
+      proto::Scene next = current;
+      const std::string curve = target["curve"].get<std::string>();
+      spline::BSplineCurve* c = nullptr;
+      if (auto* q = std::get_if<proto::QuasiStripScene>(&next.model))
+        c = curve == "c1" ? &q->design.c1 : &q->design.c2;
+      else {
+        auto& d = std::get<models::conical_strip::ConicalStripDesign>(next.model);
+        c = curve == "p" ? &d.p : &d.q;
+      }
+      for (int k = 0; k < 3; ++k) c->points(target["index"].get<int>(), k) = edit["position"][k].get<double>();
+      bool started = false;  // the first drag message of a target by a participant is one undo step
+      if (!replaying) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto p = participants_.find(participant);
+        started = p == participants_.end() || p->second.dragging != edit["target"];
+      }
+      rebuild(next);
+      if (started) pushUndo(current);
+      return true;
+    }
+    if (type == "drag_end" || type == "solve") return true;  // every change was solved whole already
+    if (type == "undo" || type == "redo") {
+      auto& from = type == "undo" ? undo_ : redo_;
+      auto& to = type == "undo" ? redo_ : undo_;
+      if (from.empty()) return reject("conflict", "nothing to " + type, "type");
+      rebuild(from.back());
+      from.pop_back();
+      to.push_back(current);
+      return true;
+    }
+    if (type == "reset") {
+      rebuild(initialScene_);
+      pushUndo(current);
+      return true;
+    }
+    if (type == "set_params") {
+      static const std::vector<std::string> kQuasi = {"mapping", "samples", "method", "optimizer",
+                                                      "lambda1", "lambda2", "max_iterations"};
+      static const std::vector<std::string> kConical = {"np", "nq", "h3", "h4", "ra", "objective", "g1"};
+      const std::vector<std::string>& allowed = quasi ? kQuasi : kConical;
+      json doc = proto::sceneToJson(current);
+      json& model = doc["model"];
+      for (const auto& [key, value] : edit["params"].items()) {
+        if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
+          return reject("invalid",
+                        "\"" + key + "\" is a " + (quasi ? "conical_strip" : "quasi_strip") +
+                            " parameter; this session edits a " + kind,
+                        "params." + key);
+        if (key == "mapping")
+          for (const auto& [k, v] : value.items()) model["mapping"][k] = v;
+        else
+          model[key] = value;
+      }
+      proto::Scene next;
+      try {
+        next = proto::sceneFromJson(doc);
+      } catch (const proto::SceneError& e) {
+        // The scene's paths (model.mapping.degree) as the message spells them (params.mapping.degree).
+        std::string path = e.path(), message = e.what();
+        if (path.rfind("model.", 0) == 0) path = "params." + path.substr(6);
+        if (message.rfind(e.path(), 0) == 0) message = path + message.substr(e.path().size());
+        return reject("invalid", message, path);
+      }
+      rebuild(next);
+      pushUndo(current);
+      return true;
+    }
+    std::string why = "does not apply to " + kind + " sessions";
+    if (type == "add_handle" || type == "remove_handle")
+      why += ": they have no handles; drag the input curves' control points directly";
+    else if (type == "set_fixed")
+      why += ": the input curves stay where they are while solving; there is nothing to fix";
+    else if (type == "set_crease")
+      why += ": creases belong to composite sessions";
+    else if (type == "set_solver")
+      why += ": change the model's parameters with set_params";
+    return reject("invalid", why, "type");
+  } catch (const SolveFailed& e) {
+    return reject(e.code(), e.what(), type == "set_params" ? "params" : type == "drag" ? "position" : "type");
+  } catch (const proto::SceneError& e) {
+    return reject("invalid", e.what(), e.path());
+  }
+}
+
+void Session::publishSolve(bool final) {
+  const std::int64_t seq = seq_.load();
+  json metrics = json(solver_->metrics());
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cachedMetrics_ = metrics;
+  }
+  const std::string residual = solver_->isQuasiStrip() ? "objective" : "normal_variation";
+  broadcast({{"type", "iterate"}, {"seq", seq}, {"iteration", lastSummary_.stepsTaken()},
+             {"residuals", {{residual, metrics.value(residual, 0.0)}}},
+             {"metrics", metrics},
+             {"time_ms", lastSummary_.totalMs},
+             {"geometry", geometryJson()}},
+            Delivery::Latest, "iterate");
+  if (final)
+    broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metrics},
+               {"reason", engine::terminationReasonName(lastSummary_.reason)},
+               {"iterations", lastSummary_.stepsTaken()}});
+}
+
 bool Session::runSolver(int iterations, bool final) {
+  if (keepsInput()) {  // solved whole when the model was rebuilt
+    publishSolve(final);
+    return true;
+  }
   const std::int64_t seq = seq_.load();
   bool interrupted = false;
   auto onIteration = [this, seq, &interrupted](const engine::IterationRecord& r) {
@@ -689,6 +871,7 @@ void Session::replay(const std::vector<std::pair<std::int64_t, json>>& edits, st
   for (const auto& [seq, edit] : edits) {
     const std::string type = edit.value("type", "");
     if (!apply(0, edit, true)) continue;
+    if (keepsInput()) continue;  // solved whole by apply
     if (type == "drag") solver_->solve(settings_.dragIterations);
     else if (type == "drag_end") {
       solver_->solve(edit.value("iterations", settings_.releaseIterations));

@@ -2,9 +2,10 @@
 
 const modules = import.meta.glob('../../examples/*.json', { eager: true, import: 'default' });
 
-// Sessions edit strips; the other examples (composite surfaces) are for `devsurf solve` and jobs.
+// Sessions of the start page's presets: strips, and the strips between two given curves (quasi_strip,
+// conical_strip); the composite examples are demo sessions, `devsurf solve` inputs and jobs.
 export const PRESETS = Object.entries(modules)
-  .filter(([, scene]) => scene.model && scene.model.kind === 'strip')
+  .filter(([, scene]) => scene.model && ['strip', 'quasi_strip', 'conical_strip'].includes(scene.model.kind))
   .map(([path, scene]) => {
     const file = path.split('/').pop();
     return { file, id: file.replace(/\.json$/, ''), name: scene.name || file.replace(/\.json$/, ''), description: scene.description || '', scene };

@@ -3,8 +3,10 @@ import { fileURLToPath } from 'node:url';
 import { describe, expect, it } from 'vitest';
 import {
   AddHandleCommand, DragCommand, DragEndCommand, JoinCommand, PingCommand, PresenceCommand, RedoCommand,
-  RemoveHandleCommand, ResetCommand, SetCreaseCommand, SetFixedCommand, SetSolverCommand, SolveCommand, UndoCommand, SOLVER_KEYS,
+  RemoveHandleCommand, ResetCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SolveCommand, UndoCommand,
+  SOLVER_KEYS, PARAM_KEYS,
 } from '../src/commands/index.js';
+import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
 import { makeValidator } from './helpers/jsonschema.js';
 
 const schemaDir = fileURLToPath(new URL('../../proto/schemas/', import.meta.url));
@@ -47,6 +49,12 @@ const cases = [
   ['PresenceCommand selecting a vertex', new PresenceCommand({ vertex: 2 })],
   ['SetCreaseCommand fold', new SetCreaseCommand(0, 'fold')],
   ['SetCreaseCommand none', new SetCreaseCommand(4, 'none')],
+  // Strips between two given curves: their curves' control points, and their parameters.
+  ['DragCommand of a quasi_strip control point', new DragCommand({ curve: 'c1', index: 5 }, [1, 2, 3])],
+  ['DragEndCommand of a conical_strip control point', new DragEndCommand({ curve: 'q', index: 0 })],
+  ['SetParamsCommand quasi_strip mapping', new SetParamsCommand('quasi_strip', { mapping: { degree: 3, coefficients: 20 }, samples: 60 })],
+  ['SetParamsCommand quasi_strip optimizer', new SetParamsCommand('quasi_strip', { optimizer: 'guided_projection', method: 'discrete', lambda1: 50, lambda2: 2, max_iterations: 300 })],
+  ['SetParamsCommand conical_strip', new SetParamsCommand('conical_strip', { np: 30, nq: 34, h3: 1.5, h4: 0.4, ra: 1.3, objective: 'bending_energy', g1: false })],
 ];
 
 describe('commands match ws-client.schema.json', () => {
@@ -91,6 +99,35 @@ describe('commands match ws-client.schema.json', () => {
     expect(validClient({ type: 'drag', op: 1, target: { vertex: 1, curve: 'a' }, position: [0, 0, 0] }).length).toBeGreaterThan(0);
     expect(new SetCreaseCommand(2, 'geodesic').toMessage(5)).toEqual({ type: 'set_crease', op: 5, edge: 2, crease: 'geodesic' });
     expect(new DragCommand({ edge: 0, index: 2 }, [1, 2, 3]).toMessage(6)).toEqual({ type: 'drag', op: 6, target: { edge: 0, index: 2 }, position: [1, 2, 3] });
+  });
+
+  it('parameters of strips between curves are checked before sending, naming the field', () => {
+    expect(() => new SetParamsCommand('quasi_strip', { np: 3 })).toThrow(/params\.np/);
+    expect(() => new SetParamsCommand('conical_strip', { np: 1 })).toThrow(/params\.np/);
+    expect(() => new SetParamsCommand('conical_strip', { ra: 0.5 })).toThrow(/params\.ra/);
+    expect(() => new SetParamsCommand('quasi_strip', { mapping: { degree: 12 } })).toThrow(/params\.mapping\.degree/);
+    expect(() => new SetParamsCommand('quasi_strip', { optimizer: 'newton' })).toThrow(/params\.optimizer/);
+    expect(() => new SetParamsCommand('strip', { samples: 3 })).toThrow(/set_params/);
+    expect(() => new SetParamsCommand('quasi_strip', {})).toThrow(/params/);
+    expect(new SetParamsCommand('quasi_strip', { mapping: { coefficients: 12 } }).toMessage(3))
+      .toEqual({ type: 'set_params', op: 3, params: { mapping: { coefficients: 12 } } });
+    expect(validClient({ type: 'set_params', op: 1, params: { np: 1 } }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'set_params', op: 1, params: {} }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'set_params', op: 1, params: { colour: 1 } }).length).toBeGreaterThan(0);
+    expect(validClient({ type: 'drag', op: 1, target: { curve: 'c3', index: 0 }, position: [0, 0, 0] }).length).toBeGreaterThan(0);
+  });
+
+  it('every parameter the panel can set is a field of its scene model and makes a valid message', () => {
+    const models = { quasi_strip: 'quasi_strip_model', conical_strip: 'conical_strip_model' };
+    for (const [kind, def] of Object.entries(models)) {
+      const props = schemas['scene.schema.json'].$defs[def].properties;
+      for (const key of PARAM_KEYS[kind]) expect(props).toHaveProperty(key);
+      for (const [key, , o] of PARAM_FIELDS[kind]) {
+        const value = o.choices ? o.choices[o.choices.length - 1] : o.bool ? true : o.max !== undefined ? o.max : o.min + 1;
+        const msg = new SetParamsCommand(kind, paramsFor(key, value)).toMessage(1);
+        expect(validClient(msg)).toEqual([]);
+      }
+    }
   });
 
   it('builds the exact JSON', () => {

@@ -5,12 +5,16 @@
 
 const isIndex = (v) => Number.isInteger(v) && v >= 0;
 
+/** Curve names of control-point targets: strip a|b, quasi_strip c1|c2, conical_strip p|q. */
+export const CURVE_NAMES = ['a', 'b', 'c1', 'c2', 'p', 'q'];
+
 /**
- * A point as the protocol addresses it: a strip's control point {curve: 'a'|'b', index}, or in a
+ * A point as the protocol addresses it: a control point {curve, index} of a strip ('a'|'b'),
+ * quasi_strip ('c1'|'c2') or conical_strip ('p'|'q'), or in a
  * composite a vertex {vertex} or control point `index` of an S edge {edge, index}.
  */
 export function target(t) {
-  if (t && (t.curve === 'a' || t.curve === 'b') && isIndex(t.index) && t.vertex === undefined && t.edge === undefined) {
+  if (t && CURVE_NAMES.includes(t.curve) && isIndex(t.index) && t.vertex === undefined && t.edge === undefined) {
     return { curve: t.curve, index: t.index };
   }
   if (t && isIndex(t.vertex) && t.curve === undefined && t.edge === undefined) return { vertex: t.vertex };

@@ -12,3 +12,4 @@ export { ResetCommand } from './ResetCommand.js';
 export { PresenceCommand } from './PresenceCommand.js';
 export { JoinCommand, PingCommand } from './JoinCommand.js';
 export { SetCreaseCommand, CREASE_KINDS } from './SetCreaseCommand.js';
+export { SetParamsCommand, PARAM_KEYS } from './SetParamsCommand.js';

@@ -66,9 +66,36 @@ function loopIndex(n) {
   return index;
 }
 
+/** The protocol's curve names per geometry kind; the buffers keep them in slots a and b. */
+export const CURVE_NAMES = { strip: ['a', 'b'], quasi_strip: ['c1', 'c2'], conical_strip: ['p', 'q'] };
+
+/** Colours of conical patch types (patch_type 3 = triangular, 4 = quadrilateral), linear RGB. */
+export const PATCH_TYPE_COLORS = { 3: [0.96, 0.62, 0.26], 4: [0.24, 0.6, 0.72] };
+
+/** Colour fields of conical strips ({title, unit} for the legend). */
+export const CONICAL_COLOR_MODES = {
+  normal_jump: { title: 'normal jump', unit: '°' },
+  patch_type: { title: 'patch type', unit: '' },
+};
+
+/**
+ * Buffers of the ruled strips: Tang et al.'s strip ("strip"), Bo et al.'s quasi-developable strip
+ * ("quasi_strip": coloured by warp angle, with the mapping σ) and Chu et al.'s conical strip
+ * ("conical_strip": patches coloured by normal jump or patch type, unfolded patches).
+ */
 export class StripBuffers {
   constructor() {
     this.kind = 'strip';
+    /** The geometry kind applied last, and its curve names (slot a, slot b). */
+    this.modelKind = 'strip';
+    this.curveNames = CURVE_NAMES.strip;
+    /** Conical strips: 'normal_jump' | 'patch_type'. */
+    this.colorMode = 'normal_jump';
+    this.colorInfo = { title: 'warp angle', unit: '°' };
+    /** Conical strips: per patch {type: Int32Array (3|4), jump: Float32Array (deg), base: 'PQ…'} or null. */
+    this.patches = null;
+    /** Quasi strips: {sigma, initial: Float32Array [t, σ] pairs, samples, trim, domainC1, domainC2} or null. */
+    this.mapping = null;
     this.surface = new BufferGeometry();
     this.curves = { a: new BufferGeometry(), b: new BufferGeometry() };
     this.polygons = { a: new BufferGeometry(), b: new BufferGeometry() };
@@ -95,8 +122,14 @@ export class StripBuffers {
 
   /** Applies one protocol geometry object. Returns true if a buffer was reallocated. */
   apply(g) {
-    if (!g || g.kind !== 'strip') throw new Error(`unsupported geometry kind ${g && g.kind}`);
+    if (!g || !CURVE_NAMES[g.kind]) throw new Error(`unsupported geometry kind ${g && g.kind}`);
+    if (!g.surface) throw new Error(`${g.kind} geometry without a surface (not solved)`);
     let realloc = false;
+    this._last = g;
+    if (g.kind !== this.modelKind) realloc = true;
+    this.modelKind = g.kind;
+    this.curveNames = CURVE_NAMES[g.kind];
+    const conical = g.kind === 'conical_strip';
     this.closed = !!g.surface.closed;
 
     // Surface positions.
@@ -114,10 +147,13 @@ export class StripBuffers {
       realloc = true;
     }
 
-    // Warp angle → vertex colours.
-    if (s.warp_angle_deg) {
-      this.warp = sized(this.warp, Float32Array, elementCount(s.warp_angle_deg));
-      decodeArrayInto(s.warp_angle_deg, this.warp);
+    // Warp angle (conical strips: normal jump or patch type) → vertex colours.
+    const field = conical ? (this.colorMode === 'patch_type' ? s.patch_type : s.normal_jump_deg) : s.warp_angle_deg;
+    this.colorInfo = conical ? CONICAL_COLOR_MODES[this.colorMode] : { title: 'warp angle', unit: '°' };
+    this.categorical = conical && this.colorMode === 'patch_type';
+    if (field) {
+      this.warp = sized(this.warp, Float32Array, elementCount(field));
+      decodeArrayInto(field, this.warp);
     } else {
       this.warp = sized(this.warp, Float32Array, vertexCount);
       this.warp.fill(0);
@@ -128,7 +164,12 @@ export class StripBuffers {
     this.colorRange = niceRange(max);
     const color = ensureFloatAttribute(this.surface, 'color', vertexCount * 3, 3);
     realloc = color.reallocated || realloc;
-    fillColors(this.warp, color.attribute.array, this.colorRange);
+    if (this.categorical) {
+      const out = color.attribute.array;
+      for (let i = 0; i < this.warp.length; i++) out.set(PATCH_TYPE_COLORS[this.warp[i]] || [0.6, 0.6, 0.6], 3 * i);
+    } else {
+      fillColors(this.warp, color.attribute.array, this.colorRange);
+    }
     markUpdated(color.attribute);
 
     this.surface.computeVertexNormals();
@@ -137,19 +178,45 @@ export class StripBuffers {
     this.surface.computeBoundingBox();
 
     // Curves and control polygons.
-    for (const c of ['a', 'b']) {
-      if (g.curves && g.curves[c]) {
-        const r = updateFloatAttribute(this.curves[c], 'position', g.curves[c], 3);
+    ['a', 'b'].forEach((c, slot) => {
+      const name = this.curveNames[slot];
+      if (g.curves && g.curves[name]) {
+        const r = updateFloatAttribute(this.curves[c], 'position', g.curves[name], 3);
         realloc = r.reallocated || realloc;
-        this._setLoop(this.curves[c], g.curves[c].shape[0], r.reallocated);
+        this._setLoop(this.curves[c], g.curves[name].shape[0], r.reallocated);
       }
-      if (g.control_points && g.control_points[c]) {
-        const r = updateFloatAttribute(this.polygons[c], 'position', g.control_points[c], 3);
+      if (g.control_points && g.control_points[name]) {
+        const r = updateFloatAttribute(this.polygons[c], 'position', g.control_points[name], 3);
         realloc = r.reallocated || realloc;
         this.controlPoints[c] = r.attribute.array;
-        this._setLoop(this.polygons[c], g.control_points[c].shape[0], r.reallocated);
+        this._setLoop(this.polygons[c], g.control_points[name].shape[0], r.reallocated);
         this.polygons[c].computeBoundingSphere();
       }
+    });
+
+    // Conical patches (per patch type and normal jump) and the quasi strip's mapping σ.
+    if (conical && g.patches) {
+      const type = new Int32Array(elementCount(g.patches.type));
+      decodeArrayInto(g.patches.type, type);
+      const jump = new Float32Array(elementCount(g.patches.normal_jump_deg));
+      decodeArrayInto(g.patches.normal_jump_deg, jump);
+      this.patches = { type, jump, base: g.patches.base || '' };
+    } else {
+      this.patches = null;
+    }
+    if (g.kind === 'quasi_strip' && g.mapping) {
+      const m = g.mapping;
+      const decode = (spec) => {
+        const out = new Float32Array(elementCount(spec));
+        decodeArrayInto(spec, out);
+        return out;
+      };
+      this.mapping = {
+        sigma: decode(m.sigma), initial: decode(m.initial), samples: m.samples ? decode(m.samples) : new Float32Array(0),
+        trim: m.trim, domainC1: m.domain_c1, domainC2: m.domain_c2,
+      };
+    } else {
+      this.mapping = null;
     }
 
     // Rulings: [R,6] is exactly R line segments.
@@ -203,8 +270,23 @@ export class StripBuffers {
         decodeArrayInto(d.quads, this.development.quads);
         this._devQuadsText = d.quads.data;
       }
+      // Conical strips: the patch of every unfolded quad, and its colour value.
+      if (d.quad_patch && this.patches) {
+        const qp = new Int32Array(elementCount(d.quad_patch));
+        decodeArrayInto(d.quad_patch, qp);
+        const values = new Float32Array(qp.length);
+        const source = this.categorical ? this.patches.type : this.patches.jump;
+        for (let i = 0; i < qp.length; i++) values[i] = source[qp[i]] || 0;
+        this.development.quadPatch = qp;
+        this.development.quadValue = values;
+      } else {
+        this.development.quadPatch = null;
+        this.development.quadValue = null;
+      }
     } else {
       this.development.count = 0;
+      this.development.quadPatch = null;
+      this.development.quadValue = null;
     }
 
     this.version++;
@@ -221,13 +303,29 @@ export class StripBuffers {
     }
   }
 
-  /** Targets of every control point ({curve, index}, curve a first). */
+  /** Re-colours the last geometry (conical strips: 'normal_jump' | 'patch_type'). */
+  setColorMode(mode) {
+    if (!CONICAL_COLOR_MODES[mode]) throw new TypeError(`unknown colour mode ${mode}`);
+    this.colorMode = mode;
+    if (this._last) this.apply(this._last);
+  }
+
+  /** Slot 'a' | 'b' of a curve name of the current kind (the slot names themselves too), or null. */
+  slot(curve) {
+    if (curve === 'a' || curve === 'b') return curve;
+    const i = this.curveNames.indexOf(curve);
+    return i < 0 ? null : ['a', 'b'][i];
+  }
+
+  /** Targets of every control point ({curve, index} with the kind's curve names, first curve first). */
   pointTargets() {
+    const [first, second] = this.curveNames;
     const na = this.count('a'), nb = this.count('b');
-    if (!this._targets || this._targets.length !== na + nb || this._targetsA !== na) {
+    if (!this._targets || this._targets.length !== na + nb || this._targetsA !== na || this._targetsName !== first) {
       this._targets = [];
-      for (const c of ['a', 'b']) for (let i = 0; i < this.count(c); i++) this._targets.push({ curve: c, index: i });
+      for (const c of [first, second]) for (let i = 0; i < this.count(c); i++) this._targets.push({ curve: c, index: i });
       this._targetsA = na;
+      this._targetsName = first;
     }
     return this._targets;
   }
@@ -237,14 +335,15 @@ export class StripBuffers {
     return t && t.curve !== undefined ? this.point(t.curve, t.index) : null;
   }
 
-  /** Number of control points of a curve. */
+  /** Number of control points of a curve (name or slot). */
   count(curve) {
-    return this.controlPoints[curve].length / 3;
+    const p = this.controlPoints[this.slot(curve)];
+    return p ? p.length / 3 : 0;
   }
 
   /** [x, y, z] of a control point, or null. */
   point(curve, index) {
-    const p = this.controlPoints[curve];
+    const p = this.controlPoints[this.slot(curve)];
     if (!p || index < 0 || 3 * index + 2 >= p.length) return null;
     return [p[3 * index], p[3 * index + 1], p[3 * index + 2]];
   }

@@ -1,7 +1,9 @@
 // The editor page: layout, wiring of state ↔ client ↔ views ↔ panels, keyboard shortcuts.
 
 import { h } from './dom.js';
-import { StripBuffers } from '../geometry/StripBuffers.js';
+import { CONICAL_COLOR_MODES, PATCH_TYPE_COLORS, StripBuffers } from '../geometry/StripBuffers.js';
+import { MappingPlot } from './MappingPlot.js';
+import { ParamsPanel } from './ParamsPanel.js';
 import { CompositeBuffers, COMPOSITE_COLOR_MODES } from '../geometry/CompositeBuffers.js';
 import { ProtocolClient, defaultSocketUrl } from '../net/ProtocolClient.js';
 import { listSessions } from '../net/api.js';
@@ -20,6 +22,8 @@ import {
 
 const APPLY_TIMES_KEPT = 500;
 
+const cssRgb = (c) => `rgb(${Math.round(c[0] * 255)}, ${Math.round(c[1] * 255)}, ${Math.round(c[2] * 255)})`;
+
 export class Editor {
   /**
    * @param {HTMLElement} root
@@ -34,6 +38,8 @@ export class Editor {
     this.composite = new CompositeBuffers();
     /** 'strip' | 'composite': the kind of the last geometry applied. */
     this.kind = 'strip';
+    /** The strip kind shown: 'strip' | 'quasi_strip' | 'conical_strip'. */
+    this.modelKind = 'strip';
     this.errorSlots = new ErrorSlots();
     state.name = displayName();
     const known = sessionTokens(session);
@@ -93,21 +99,36 @@ export class Editor {
       this._updateLegend();
       this.viewport.requestRender();
     });
-    this.stripOnlyOptions = [toggle('Rulings', 'rulings', true), toggle('Normals', 'normals', false)];
-    this.compositeOnlyOptions = [h('label', { class: 'chip', title: 'Colour the faces by' }, 'Colour ', this.colorMode)];
+    this.conicalColorMode = h('select', { class: 'input small', testid: 'strip-color-mode', 'aria-label': 'Colour the patches by', title: 'Colour the patches by' },
+      Object.entries(CONICAL_COLOR_MODES).map(([value, m]) => h('option', { value }, m.title)));
+    this.conicalColorMode.addEventListener('change', () => {
+      this.buffers.setColorMode(this.conicalColorMode.value);
+      this._updateLegend();
+      this.viewport.requestRender();
+      this.development.render();
+    });
+    this.normalsToggle = toggle('Normals', 'normals', false);
+    this.stripOnlyOptions = [toggle('Rulings', 'rulings', true), this.normalsToggle];
+    this.conicalOnlyOptions = [h('label', { class: 'chip', title: 'Colour the patches by', hidden: true }, 'Colour ', this.conicalColorMode)];
+    this.compositeOnlyOptions = [h('label', { class: 'chip', title: 'Colour the faces by', hidden: true }, 'Colour ', this.colorMode)];
     this.viewOptions = h('div', { class: 'view-options' },
-      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, ...this.compositeOnlyOptions, toggle('Control polygons', 'polygons', true),
+      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, ...this.compositeOnlyOptions, ...this.conicalOnlyOptions, toggle('Control polygons', 'polygons', true),
       h('button', { class: 'btn small', title: 'Fit the strip into the view (Space)', onclick: () => this.viewport.fit() }, 'Fit (Space)'));
     this.banner = h('div', { class: 'banner', hidden: true, role: 'status' });
     const viewportWrap = h('div', { class: 'viewport-wrap' }, this.viewportEl, this.viewOptions, this.banner,
       h('div', { class: 'viewport-errors' }, this.errorSlots.slot('viewport')),
-      h('div', { class: 'hint' }, 'drag points · F fix · H handle · S solve · ? help'));
+      this.hint = h('div', { class: 'hint' }, 'drag points · F fix · H handle · S solve · ? help'));
 
     this.developmentEl = h('div', { class: 'development', testid: 'development-view' });
     this.plotEl = h('div', { class: 'plot' });
+    this.mappingEl = h('div', { class: 'plot' });
+    this.developmentTitle = h('span', { class: 'muted small' }, '(unrolled; double-click to refit)');
+    this.residualSection = h('section', { class: 'subpanel' }, h('h3', {}, 'Residuals ', h('span', { class: 'muted small' }, '(weighted squared, per term)')), this.plotEl);
+    this.mappingSection = h('section', { class: 'subpanel', hidden: true, testid: 'mapping-panel' },
+      h('h3', {}, 'Mapping σ ', h('span', { class: 'muted small' }, '(rulings join C1(t) and C2(σ(t)))')), this.mappingEl);
     const bottom = h('div', { class: 'bottom-panels' },
-      h('section', { class: 'subpanel' }, h('h3', {}, 'Development ', h('span', { class: 'muted small' }, '(unrolled; double-click to refit)')), this.developmentEl),
-      h('section', { class: 'subpanel' }, h('h3', {}, 'Residuals ', h('span', { class: 'muted small' }, '(weighted squared, per term)')), this.plotEl));
+      h('section', { class: 'subpanel' }, h('h3', {}, 'Development ', this.developmentTitle), this.developmentEl),
+      this.mappingSection, this.residualSection);
 
     this.sidebar = h('aside', { class: 'sidebar' });
     const main = h('main', { class: 'main' }, viewportWrap, bottom);
@@ -122,6 +143,7 @@ export class Editor {
     this.legend = new Legend(viewportWrap);
     this.development = new DevelopmentView(this.developmentEl, { buffers: this.buffers, composite: this.composite });
     this.plot = new ResidualPlot(this.plotEl, { state: st });
+    this.mappingPlot = new MappingPlot(this.mappingEl, { buffers: this.buffers });
 
     // Sidebar panels.
     this.selectionPanel = new SelectionPanel(this.sidebar, {
@@ -129,7 +151,11 @@ export class Editor {
       toggleFixed: () => this.toggleFixed(), toggleHandle: () => this.toggleHandle(),
     });
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
+    this.paramsSection = h('section', { class: 'panel panel-gui', hidden: true });
+    this.sidebar.appendChild(this.paramsSection);
+    this.paramsPanel = new ParamsPanel(this.paramsSection, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
     const solverSection = h('section', { class: 'panel panel-gui' });
+    this.solverSection = solverSection;
     this.sidebar.appendChild(solverSection);
     this.solverPanel = new SolverPanel(solverSection, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.participants = new ParticipantsPanel(this.sidebar, { state: st, send: (c) => this.send(c) });
@@ -184,6 +210,8 @@ export class Editor {
       if (kind === 'composite') this.composite.apply(geometry);
       else this.buffers.apply(geometry);
       if (kind !== this.kind) this._setKind(kind);
+      if (kind === 'strip') this._setModelKind(this.buffers.modelKind);
+      if (this.modelKind === 'quasi_strip') this.mappingPlot.update();
       if (kind === 'composite') {
         this.viewport.updateComposite();
         this.creasePanel.render();
@@ -215,10 +243,41 @@ export class Editor {
     this.development.setKind(kind);
     for (const el of this.stripOnlyOptions) el.hidden = kind !== 'strip';
     for (const el of this.compositeOnlyOptions) el.hidden = kind !== 'composite';
+    if (kind === 'composite') for (const el of this.conicalOnlyOptions) el.hidden = true;
     this.root.dataset.kind = kind;
   }
 
+  /** Strip kinds: 'strip' | 'quasi_strip' | 'conical_strip' (panels, options, hints). */
+  _setModelKind(modelKind) {
+    if (modelKind === this.modelKind) return;
+    this.modelKind = modelKind;
+    const curves = modelKind === 'quasi_strip' || modelKind === 'conical_strip';
+    this.root.dataset.modelKind = modelKind;
+    this.mappingSection.hidden = modelKind !== 'quasi_strip';
+    this.solverSection.hidden = curves;
+    this.paramsSection.hidden = !curves;
+    this.normalsToggle.hidden = curves;
+    for (const el of this.conicalOnlyOptions) el.hidden = modelKind !== 'conical_strip';
+    this.selectionPanel.editsConstraints = !curves;
+    this.selectionPanel.render();
+    this.residualSection.hidden = modelKind === 'conical_strip';
+    this.hint.textContent = curves ? "drag the input curves' control points · parameters in the side panel · ? help" : 'drag points · F fix · H handle · S solve · ? help';
+    this.developmentTitle.textContent = modelKind === 'conical_strip' ? '(unfolded patches; double-click to refit)' : '(unrolled; double-click to refit)';
+    this.solveButton.textContent = curves ? 'Solve' : 'Solve 10';
+  }
+
   _updateLegend() {
+    if (this.kind === 'strip' && this.buffers.categorical) {
+      this.legend.showCategories([
+        { label: 'triangular', color: cssRgb(PATCH_TYPE_COLORS[3]) },
+        { label: 'quadrilateral', color: cssRgb(PATCH_TYPE_COLORS[4]) },
+      ], 'patch type');
+      return;
+    }
+    if (this.kind === 'strip' && this.buffers.modelKind === 'conical_strip') {
+      this.legend.update(this.buffers.colorRange, this.buffers.warpMax, this.buffers.colorInfo);
+      return;
+    }
     if (this.kind === 'composite') {
       const info = this.composite.colorInfo;
       this.legend.update(this.composite.colorRange, this.composite.colorMax, { title: info.title, unit: info.unit });
@@ -286,6 +345,7 @@ export class Editor {
     this.development.highContrast = on;
     this.development.render();
     this.plot.setLarge(on);
+    this.mappingPlot.setLarge(on);
     // Layout sizes change with the font size.
     requestAnimationFrame(() => {
       this.viewport.resize();
@@ -320,6 +380,10 @@ export class Editor {
   }
 
   _requireSelection() {
+    if (this.modelKind === 'quasi_strip' || this.modelKind === 'conical_strip') {
+      this.toasts.showInfo("This strip keeps its input curves: drag their control points; there are no fixed points or handles.");
+      return null;
+    }
     const sel = this.state.selection;
     if (!sel) this.toasts.showInfo('Select a control point first (click it in the 3D view).');
     return sel;
@@ -357,7 +421,7 @@ export class Editor {
         if (Array.isArray(edge.points)) edge.points = edge.points.map((p, k) => round(this.composite.pointOf({ edge: e, index: k + 1 }) || p));
       }
     }
-    for (const c of ['a', 'b']) {
+    for (const c of this.buffers.curveNames) {
       const n = this.buffers.count(c);
       if (model[c] && model[c].points && model[c].points.length === n) {
         model[c].points = Array.from({ length: n }, (_, i) => this.buffers.point(c, i).map((v) => Number(v.toPrecision(7))));

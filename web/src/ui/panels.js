@@ -22,6 +22,10 @@ export class StatusBar {
     this.warpMean = h('span', { class: 'num' }, '–');
     this.flatness = h('span', { class: 'num', testid: 'status-flatness' }, '–');
     this.flatnessItem = h('span', { class: 'status-item', title: 'Largest face flatness δ (Tang et al. Fig. 17; 0 = every sampled quad planar)', hidden: true }, 'max δ ', this.flatness);
+    this.patches = h('span', { class: 'num', testid: 'status-patches' }, '–');
+    this.normalJump = h('span', { class: 'num', testid: 'status-normal-jump' }, '–');
+    this.patchesItem = h('span', { class: 'status-item', title: 'Conical patches: triangular (n3) and quadrilateral (n4), Chu et al.', hidden: true }, 'patches ', this.patches);
+    this.normalJumpItem = h('span', { class: 'status-item', title: 'Largest angle between the normals of neighbouring patches (0° = G1)', hidden: true }, 'max normal jump ', this.normalJump, '°');
     this.time = h('span', { class: 'num' }, '–');
     this.apply = h('span', { class: 'num' }, '–');
     this.solved = h('span', { class: 'muted' }, '');
@@ -29,9 +33,9 @@ export class StatusBar {
     this.root = h('footer', { class: 'statusbar', role: 'status', 'aria-live': 'polite' },
       h('span', { class: 'status-item conn', title: 'Connection to the daemon' }, this.dot, this.connection, this.retry),
       h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
-      h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
-      h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
-      this.flatnessItem,
+      this.warpItem = h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
+      this.warpMeanItem = h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
+      this.flatnessItem, this.patchesItem, this.normalJumpItem,
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
       h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
       h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
@@ -66,6 +70,17 @@ export class StatusBar {
     if (typeof m.warp_angle_mean_deg === 'number') this.warpMean.textContent = formatNumber(m.warp_angle_mean_deg);
     this.flatnessItem.hidden = typeof m.face_flatness_max !== 'number';
     if (!this.flatnessItem.hidden) this.flatness.textContent = m.face_flatness_max.toExponential(1);
+    // Conical strips (Chu et al.) report patches and normal jumps instead of a warp angle.
+    const conical = typeof m.n3 === 'number' && typeof m.warp_angle_max_deg !== 'number';
+    this.patchesItem.hidden = !conical;
+    this.normalJumpItem.hidden = !conical;
+    this.warpItem.hidden = conical;
+    this.warpMeanItem.hidden = conical;
+    if (conical) {
+      this.patches.textContent = `${m.n3 + m.n4} (▲ ${m.n3} · ▮ ${m.n4})`;
+      const jump = ((m.normal_jump_max_rad || 0) * 180) / Math.PI;
+      this.normalJump.textContent = jump !== 0 && Math.abs(jump) < 0.01 ? jump.toExponential(1) : formatNumber(jump);
+    }
     if (st.lastIterate) {
       this.iteration.textContent = String(st.lastIterate.iteration);
       if (typeof st.lastIterate.time_ms === 'number') this.time.textContent = st.lastIterate.time_ms.toFixed(2);
@@ -246,7 +261,7 @@ export class SelectionPanel {
     const st = this.state;
     const sel = st.selection;
     const p = sel && this.pointOf(sel);
-    this.buttons.hidden = !p;
+    this.buttons.hidden = !p || this.editsConstraints === false;  // strips between curves: no fix/handle
     this.coords.hidden = !p;
     this.hint.hidden = !!p;
     if (!p) {
@@ -282,12 +297,30 @@ export class Legend {
 
   /** @param {object} [scale] {title, unit} (default: warp angle in degrees) */
   update(range, max, scale = { title: 'warp angle', unit: '°' }) {
+    this.showCategories(null);
     const unit = scale.unit;
     this.title.textContent = scale.title;
     this.min.textContent = `0${unit}`;
     const fmt = (x) => (x !== 0 && Math.abs(x) < 0.01 ? x.toExponential(1) : formatNumber(x, 2));
     this.max.textContent = `${fmt(range)}${unit}`;
     this.current.textContent = `max ${fmt(max)}${unit}`;
+  }
+
+  /** A categorical legend ([{label, color (CSS)}]) instead of the scale; null returns to the scale. */
+  showCategories(categories, title) {
+    if (!this.categories) {
+      this.categories = h('div', { class: 'legend-categories', hidden: true });
+      this.root.appendChild(this.categories);
+    }
+    const on = !!(categories && categories.length);
+    this.root.classList.toggle('legend-categorical', on);
+    this.categories.hidden = !on;
+    if (!on) return;
+    if (title) this.title.textContent = title;
+    clear(this.categories);
+    for (const c of categories) {
+      this.categories.appendChild(h('span', { class: 'legend-category' }, h('span', { class: 'legend-swatch', style: { background: c.color } }), c.label));
+    }
   }
 }
 

@@ -7,6 +7,7 @@
 // the picture jump at every iterate; double-click refits.
 
 import { colorAt } from '../geometry/colormap.js';
+import { PATCH_TYPE_COLORS } from '../geometry/StripBuffers.js';
 
 const MARGIN = 14;
 
@@ -143,11 +144,20 @@ export class DevelopmentView {
     const q = dev.quads;
     const warp = this.buffers.warp;
     const range = this.buffers.colorRange;
+    const quadValue = dev.quadValue;  // conical strips: one value per unfolded quad
+    const categorical = this.buffers.categorical;
     ctx.lineJoin = 'round';
     for (let f = 0; f < q.length; f += 4) {
       const a = q[f], b = q[f + 1], c = q[f + 2], d = q[f + 3];
-      const w = warp.length === n ? (warp[a] + warp[b] + warp[c] + warp[d]) / 4 : 0;
-      colorAt(w / range, this._rgb);
+      if (quadValue && categorical) {
+        const rgb = PATCH_TYPE_COLORS[quadValue[f / 4]] || [0.6, 0.6, 0.6];
+        this._rgb[0] = rgb[0];
+        this._rgb[1] = rgb[1];
+        this._rgb[2] = rgb[2];
+      } else {
+        const w = quadValue ? quadValue[f / 4] : warp.length === n ? (warp[a] + warp[b] + warp[c] + warp[d]) / 4 : 0;
+        colorAt(w / range, this._rgb);
+      }
       ctx.beginPath();
       ctx.moveTo(X(a), Y(a));
       ctx.lineTo(X(b), Y(b));
@@ -159,6 +169,13 @@ export class DevelopmentView {
       ctx.strokeStyle = css(this._rgb);
       ctx.lineWidth = 0.6;
       ctx.stroke();
+    }
+
+    // Conical strips: every unfolded patch outlined, boundaries in the curve colours.
+    if (dev.quadPatch) {
+      this._patchOutlines(q, dev.quadPatch, X, Y);
+      this._scaleBar(t.scale);
+      return;
     }
 
     // Rulings (the grid's v-lines), every few samples.
@@ -188,6 +205,42 @@ export class DevelopmentView {
     }
 
     this._scaleBar(t.scale);
+  }
+
+  /**
+   * Outlines of unfolded conical patches: the quads of a patch form a ladder (rungs are rulings,
+   * vertex a on P, d on Q); its first and last rungs are the patch's boundary rulings.
+   */
+  _patchOutlines(q, quadPatch, X, Y) {
+    const ctx = this.ctx;
+    let patches = 0;
+    ctx.strokeStyle = this.highContrast ? 'rgba(0,0,0,0.9)' : 'rgba(16,19,26,0.35)';
+    ctx.lineWidth = 1;
+    ctx.beginPath();
+    for (let f = 0; f < q.length; f += 4) {
+      const k = f / 4;
+      if (k === 0 || quadPatch[k] !== quadPatch[k - 1]) {
+        patches++;
+        ctx.moveTo(X(q[f]), Y(q[f]));
+        ctx.lineTo(X(q[f + 3]), Y(q[f + 3]));
+      }
+      if (k + 1 === quadPatch.length || quadPatch[k + 1] !== quadPatch[k]) {
+        ctx.moveTo(X(q[f + 1]), Y(q[f + 1]));
+        ctx.lineTo(X(q[f + 2]), Y(q[f + 2]));
+      }
+    }
+    ctx.stroke();
+    for (const [from, to, color] of [[0, 1, '#ff9f43'], [3, 2, '#48cae4']]) {
+      ctx.strokeStyle = color;
+      ctx.lineWidth = this.highContrast ? 3 : 2;
+      ctx.beginPath();
+      for (let f = 0; f < q.length; f += 4) {
+        ctx.moveTo(X(q[f + from]), Y(q[f + from]));
+        ctx.lineTo(X(q[f + to]), Y(q[f + to]));
+      }
+      ctx.stroke();
+    }
+    this.container.dataset.polygons = String(patches);
   }
 
   /** A composite's crease pattern (CompositeBuffers.development). */

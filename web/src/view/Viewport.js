@@ -423,7 +423,7 @@ export class Viewport {
       const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1);
       const handle = handleMap.get(key);
       const fixed = fixedSet.has(key);
-      let color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : item.curve === 'a' ? 0xffd9b0 : 0xc8f1fa;
+      let color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : b.slot(item.curve) === 'a' ? 0xffd9b0 : 0xc8f1fa;
       if (fixed) color = COLORS.fixed;
       if (handle) color = COLORS.handle;
       if (selected) color = COLORS.selected;

@@ -1,13 +1,13 @@
 // A tiny JSON Schema (2020-12) validator for the subset the devsurf schemas use:
 // $ref (local "#/$defs/…" and "other.schema.json#/$defs/…"), type (incl. "integer" and arrays of
 // types), const, enum, required, properties, additionalProperties: false, oneOf, items,
-// minItems, maxItems, minimum, maximum, exclusiveMinimum, exclusiveMaximum, minLength, maxLength;
+// minItems, maxItems, minProperties, minimum, maximum, exclusiveMinimum, exclusiveMaximum, minLength, maxLength;
 // "discriminator" selects the oneOf branch by a property's constant.
 // Unknown keywords that would change the outcome make it throw, so it cannot pass silently.
 
 const IGNORED = new Set(['$schema', '$id', 'title', 'description', 'default', 'discriminator', 'x-error', '$defs', 'examples', '$comment']);
 const KNOWN = new Set(['$ref', 'type', 'const', 'enum', 'required', 'properties', 'additionalProperties', 'oneOf', 'items',
-  'minItems', 'maxItems', 'minimum', 'maximum', 'exclusiveMinimum', 'exclusiveMaximum', 'minLength', 'maxLength']);
+  'minItems', 'maxItems', 'minProperties', 'minimum', 'maximum', 'exclusiveMinimum', 'exclusiveMaximum', 'minLength', 'maxLength']);
 
 function typeOf(v) {
   if (v === null) return 'null';
@@ -73,6 +73,7 @@ export function makeValidator(schemas) {
     }
     if (typeOf(value) === 'object') {
       for (const r of schema.required || []) if (!(r in value)) errors.push(`${path}.${r}: is required`);
+      if (schema.minProperties !== undefined && Object.keys(value).length < schema.minProperties) errors.push(`${path}: fewer than ${schema.minProperties} properties`);
       const props = schema.properties || {};
       for (const [k, v] of Object.entries(value)) {
         if (props[k]) validate(v, props[k], base, `${path}.${k}`, errors);

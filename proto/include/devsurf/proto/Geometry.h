@@ -6,6 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/models/conical_strip/ConicalStripModel.h"
+#include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 
 namespace devsurf::proto {
@@ -58,5 +60,37 @@ nlohmann::json stripGeometryJson(const models::strip::StripModel& model, int uSa
 nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& model,
                                      const models::composite::CompositeQuality& quality,
                                      int samplesPerSpan = 12, int vSamples = 3);
+
+/// Sampled quasi_strip geometry (Bo et al.) for drawing and editing (docs/protocol.md,
+/// "quasi_strip geometry"), from the model's current results (before a solve: σ(t) = t):
+///  * "surface": the converted ruled surface over the trimmed range [trimBegin, trimEnd] sampled
+///    U × 2 (vertex i·2 + j: s = j on ruling i), "quads", "grid", "warp_angle_deg" [U·2,1] (the
+///    warp of the vertex's ruling, metrics::warpAngleDeg);
+///  * "rulings" [R,6] (C1 end, C2 end); "curves" {"c1","c2"} [C,3] sampled over each curve's
+///    domain; "control_points" {"c1","c2"} [n,3] (row k is target {"curve":"c1","index":k});
+///  * "mapping": {"sigma" [M,2] rows (t, σ(t)) over σ's domain, "initial" [M,2] rows (t, σ0(t))
+///    with σ0 the affine map of C1's domain onto C2's (T = t in the curves' normalized
+///    parameters: the solver's starting point), "samples" [K,2] rows (t_i, warp_i in degrees),
+///    "trim" [t0, t1], "domain_c1", "domain_c2" [begin, end]};
+///  * "development": the sampled quads unrolled (unrollRulingGrid), {"vertices","quads"}.
+nlohmann::json quasiStripGeometryJson(const models::quasi_strip::QuasiStripModel& model, int uSamples = 96,
+                                      int rulings = 32, int mappingSamples = 101, int curveSamples = 128);
+
+/// Sampled conical_strip geometry (Chu et al.) for drawing and editing (docs/protocol.md,
+/// "conical_strip geometry"); a model not solved yet has only its curves and control points:
+///  * "surface": every patch sampled at `samplesPerPatch`+1 rulings × 2 (vertex rows 2i: a(u_i),
+///    2i+1: b(u_i)), concatenated in patch order; "quads" [Q,4], "quad_patch" [Q,1] int32,
+///    per-vertex "patch_type" [N,1] (3 triangular, 4 quadrilateral) and "normal_jump_deg" [N,1]
+///    (the angle between the normals of the neighbouring patches across the patch's end rulings,
+///    interpolated linearly along the patch: 0 everywhere on a G1 strip);
+///  * "patches": {"type" [P,1] int32 (3|4), "base" (one letter P|Q per patch, a string),
+///    "normal_jump_deg" [P,1] (larger of its two end rulings), "projection_points" [P,3] (O of eq. 3;
+///    non-finite for a cylindrical patch, f = 1)};
+///  * "rulings" [P+1,6] (the patch boundaries, P side first); "curves" {"p","q"} [C,3];
+///    "control_points" {"p","q"} [n,3]; "samples" {"p" [np,3], "q" [nq,3]} (Step 1's points);
+///  * "development": {"vertices" [2·P·(S+1),2] (each unfolded patch's boundary images, rows 2i
+///    on P and 2i+1 on Q), "quads", "quad_patch"} from ConicalStripResult::unfolded, or null.
+nlohmann::json conicalStripGeometryJson(const models::conical_strip::ConicalStripModel& model,
+                                        int samplesPerPatch = 8, int curveSamples = 128);
 
 }  // namespace devsurf::proto

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <variant>
@@ -34,6 +35,8 @@ struct SolverSettings {
   double fairnessDecay = 0.8;
   double regularization = 1e-2;
   double unitNormalWeight = 0.1;
+  /// Composite crease-row softening breakpoints ξ1…ξ4 (003_… §5.5); (0, 0, 1, 1) = off.
+  std::array<double, 4> softening = {0.0, 0.0, 1.0, 1.0};
   double developabilityWeight = 1.0;
   double handleWeight = 1.0;
   double timeBudgetMs = 0.0;

@@ -75,6 +75,8 @@ class SceneSolver {
   bool isStrip() const { return strip_ != nullptr; }
   /// Whether the scene is a composite.
   bool isComposite() const { return composite_ != nullptr; }
+  bool isQuasiStrip() const { return quasi_ != nullptr; }
+  bool isConicalStrip() const { return conical_ != nullptr; }
   /// Whether the model keeps the scene's geometry and computes a `result` (quasi_strip,
   /// conical_strip): such scenes are solved before they are exported.
   bool keepsInputGeometry() const { return quasi_ != nullptr || conical_ != nullptr; }

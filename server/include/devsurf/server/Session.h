@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -70,17 +71,34 @@ struct SessionCounters {
   }
 };
 
-/// One editing session: a scene, its model ("strip" or "composite") and solver, its participants
-/// and its edit history.
+/// One editing session: a scene, its model ("strip", "composite", "quasi_strip" or
+/// "conical_strip") and solver, its participants and its edit history.
 ///
 /// Points are addressed as the scene does: strips {"curve": "a"|"b", "index": i}; composites
 /// {"vertex": i} or {"edge": e, "index": k} (S edges; index 0 and n−1 are the edge's vertices and
-/// are read as those vertices). Internally every target is kept in that canonical form.
+/// are read as those vertices); quasi_strip {"curve": "c1"|"c2", "index": i}; conical_strip
+/// {"curve": "p"|"q", "index": i}. Internally every target is kept in that canonical form.
+///
+/// quasi_strip and conical_strip keep their input curves: a drag moves the control point itself
+/// (no handles), then the model is rebuilt and solved whole (SceneSolver::solve); a solve that
+/// fails or diverges is rejected (`diverged` / `solve_failed`) and the session keeps its last good
+/// state. Their parameters change with the structural edit "set_params".
 ///
 /// Threading: `post()` and `join()`/`leave()` may be called from any thread. Work runs on the
 /// session's own executor (a strand: one worker at a time), which the owner supplies as
 /// `schedule`. Drags that arrive while the solver is busy replace the queued drag of the same
 /// target (latest wins); any queued work interrupts a running solve between iterations.
+/// A whole solve of a quasi_strip or conical_strip session failed (`code`: "diverged" or
+/// "solve_failed"); the session kept its previous state.
+class SolveFailed : public std::runtime_error {
+ public:
+  SolveFailed(std::string code, const std::string& message) : std::runtime_error(message), code_(std::move(code)) {}
+  const std::string& code() const { return code_; }
+
+ private:
+  std::string code_;
+};
+
 class Session : public std::enable_shared_from_this<Session> {
  public:
   /// SHA-1 hex digests of the session's capability tokens (the tokens themselves are only ever
@@ -155,11 +173,21 @@ class Session : public std::enable_shared_from_this<Session> {
   void commit(int participant, const nlohmann::json& edit, const std::vector<nlohmann::json>& ops);
   /// Runs iterations, streaming iterates; returns false if interrupted by queued work.
   bool runSolver(int iterations, bool final);
+  /// Builds the scene's model (and, for quasi_strip/conical_strip, solves it whole) and installs
+  /// it; on any failure the current model stays.
+  /// @throws proto::SceneError (a design the model rejects), SolveFailed (a failed/diverged solve)
   void rebuild(const proto::Scene& scene);
+  /// quasi_strip / conical_strip: the iterate (geometry, metrics) of the last whole solve and,
+  /// when `final`, `solved`.
+  void publishSolve(bool final);
+  /// Applies an edit to a quasi_strip/conical_strip session (drag moves a control point).
+  bool applyCurveEdit(int participant, const nlohmann::json& edit, bool replaying, const nlohmann::json& target);
+  bool keepsInput() const { return solver_->keepsInputGeometry(); }
   proto::Scene persistentScene() const;
   void pushUndo();
+  void pushUndo(const proto::Scene& before);
   bool hasQueuedWork() const;
-  bool isComposite() const { return !solver_->isStrip(); }
+  bool isComposite() const { return solver_->isComposite(); }
   /// The canonical form of a client's target in this session's model, or null with `path` and
   /// `message` saying what is wrong (wrong addressing for the model kind, index out of range).
   nlohmann::json canonicalTarget(const nlohmann::json& target, std::string& path, std::string& message) const;
@@ -188,6 +216,7 @@ class Session : public std::enable_shared_from_this<Session> {
 
   proto::Scene initialScene_;
   std::unique_ptr<SceneSolver> solver_;
+  engine::SolveSummary lastSummary_;  // of the last whole solve (quasi_strip, conical_strip)
   std::vector<nlohmann::json> dragHandles_;  // canonical targets of the temporary handles of active drags
   std::deque<proto::Scene> undo_, redo_;
   std::atomic<std::int64_t> seq_{0};

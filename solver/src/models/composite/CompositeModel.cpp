@@ -18,9 +18,11 @@
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
 #include "devsurf/terms/PlanarPolygonTerm.h"
+#include "devsurf/terms/StraightUnfoldingTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
 #include "devsurf/terms/VertexAngleSumTerm.h"
+#include "devsurf/terms/VertexTangentContinuityTerm.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -108,6 +110,25 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
       if (!design.developmentVertices.row(i).allFinite())
         throw std::invalid_argument(refPath("development.vertices", static_cast<std::size_t>(i)) +
                                     ": coordinates must be finite");
+  for (std::size_t i = 0; i < design.tangentContinuity.size(); ++i) {
+    const auto& pair = design.tangentContinuity[i];
+    const std::string path = refPath("tangent_continuity", i);
+    for (int k = 0; k < 2; ++k) {
+      const int e = pair[static_cast<std::size_t>(k)];
+      if (e < 0 || e >= topology.numEdges())
+        throw std::invalid_argument(path + "[" + std::to_string(k) + "]: edge " + std::to_string(e) + " does not exist");
+      if (topology.edgeType(e) != EdgeType::Spline)
+        throw std::invalid_argument(path + "[" + std::to_string(k) + "]: edge " + std::to_string(e) +
+                                    " is a ruling; tangent continuity joins S edges");
+    }
+    const auto a = topology.edgeVertices(pair[0]), b = topology.edgeVertices(pair[1]);
+    int shared = 0;
+    for (int u : a)
+      for (int w : b) shared += u == w ? 1 : 0;
+    if (pair[0] == pair[1] || shared != 1)
+      throw std::invalid_argument(path + ": edges " + std::to_string(pair[0]) + " and " + std::to_string(pair[1]) +
+                                  " must be two S edges sharing exactly one vertex");
+  }
   std::vector<bool> seamSeen(static_cast<std::size_t>(topology.numEdges()), false);
   for (std::size_t i = 0; i < design.developmentSeam.size(); ++i) {
     const int e = design.developmentSeam[i];
@@ -236,6 +257,13 @@ void CompositeModel::buildProblem() {
     }
     problem_.layout().setRegularizationScale(normalBlock_[f], options_.normalRegularizationScale);
   }
+  oscBlock_.assign(E, -1);
+  for (int e = 0; e < E; ++e)
+    if (topo.edgeType(e) == EdgeType::Spline && design_.edges[e].crease == CreaseKind::Straight) {
+      oscBlock_[e] = problem_.addBlock("edge " + std::to_string(e) + " osculating normals",
+                                       3 * static_cast<int>(evaluationParams(topo.knots(e)).size()));
+      problem_.layout().setRegularizationScale(oscBlock_[e], options_.normalRegularizationScale);
+    }
   if (design_.developmentSamples > 0) {
     buildDevelopmentMesh();
     developmentBlock_ = problem_.addBlock("development", 2 * devSpatial_.rows());
@@ -318,6 +346,24 @@ void CompositeModel::buildProblem() {
         problem_.addTerm(std::make_unique<terms::PolygonFairnessTerm>("fairness", offsets), 1.0, Strength::Soft,
                          WeightSchedule::Fairness);
       }
+      if (kind == CreaseKind::Straight) {
+        // Straight unfolding (000_… §3.3): the osculating plane of the edge contains the normal of
+        // the face beside it (faces[0], or faces[1] on a boundary traversed the other way).
+        const spline::KnotVector knots = topo.knots(e);
+        const std::vector<double> params = evaluationParams(knots);
+        const int side = info.faces[0] >= 0 ? info.faces[0] : info.faces[1];
+        const int offO = problem_.layout().block(oscBlock_[e]).offset;
+        const int K = static_cast<int>(params.size());
+        problem_.addTerm(std::make_unique<terms::StraightUnfoldingTerm>(
+                             "straight_unfolding", curveRows(knots, slots, params, 1),
+                             curveRows(knots, slots, params, 2), normalsAlongEdge(side, e),
+                             terms::LinearPoints::identity(K, offO)),
+                         options_.developabilityWeight, Strength::Hard);
+        std::vector<int> osc;
+        for (int k = 0; k < K; ++k) osc.push_back(offO + 3 * k);
+        problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("osculating_unit_normal", osc), 1.0, Strength::Hard);
+        continue;
+      }
       if (!info.interior() || kind == CreaseKind::None) continue;
       const spline::KnotVector knots = topo.knots(e);
       const std::vector<double> params = evaluationParams(knots);
@@ -330,10 +376,14 @@ void CompositeModel::buildProblem() {
                          Strength::Hard);
       } else {
         const bool fold = kind == CreaseKind::Fold;
+        const bool soften = options_.softening != terms::SofteningBreakpoints{0.0, 0.0, 1.0, 1.0};
         problem_.addTerm(std::make_unique<terms::CurvedFoldTerm>(
                              fold ? "crease_fold" : "crease_geodesic", curveRows(knots, slots, params, 1),
                              curveRows(knots, slots, params, 2), n1, n2,
-                             fold ? terms::CurvedFoldTerm::Mode::CurvedFold : terms::CurvedFoldTerm::Mode::Geodesic),
+                             fold ? terms::CurvedFoldTerm::Mode::CurvedFold : terms::CurvedFoldTerm::Mode::Geodesic,
+                             soften ? terms::softeningWeights(params, options_.softening, knots.domainBegin(),
+                                                              knots.domainEnd())
+                                    : std::vector<double>{}),
                          options_.developabilityWeight, Strength::Hard);
       }
     } else if (kind == CreaseKind::Smooth) {
@@ -344,6 +394,7 @@ void CompositeModel::buildProblem() {
   }
 
   addVertexDevelopabilityTerms();
+  addTangentContinuityTerms();
   if (developmentBlock_ >= 0) addDevelopmentTerms();
 
   for (const Handle& h : design_.handles)
@@ -353,6 +404,7 @@ void CompositeModel::buildProblem() {
         h.weight, Strength::Soft));
 
   initializeNormals();
+  initializeOsculatingNormals();
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
 }
 
@@ -393,6 +445,25 @@ std::vector<int> CompositeModel::vertexStar(int v) const {
   }
   if (f != leavingOf.begin()->first) return {};
   return star;
+}
+
+int CompositeModel::neighbourPoint(int e, int v) const {
+  const CompositeTopology& topo = *topology_;
+  const auto ends = topo.edgeVertices(e);
+  if (topo.edgeType(e) == EdgeType::Spline && topo.interiorPoints(e) > 0)
+    return pointIndex(topo.controlSlots(e, ends[0] != v)[1]);
+  return pointIndex({ends[0] == v ? ends[1] : ends[0], -1, 0});
+}
+
+void CompositeModel::addTangentContinuityTerms() {
+  for (const auto& pair : design_.tangentContinuity) {
+    const auto a = topology_->edgeVertices(pair[0]), b = topology_->edgeVertices(pair[1]);
+    const int v = (a[0] == b[0] || a[0] == b[1]) ? a[0] : a[1];
+    problem_.addTerm(std::make_unique<terms::VertexTangentContinuityTerm>(
+                         "tangent_continuity", 3 * pointIndex({v, -1, 0}), 3 * neighbourPoint(pair[0], v),
+                         3 * neighbourPoint(pair[1], v)),
+                     options_.developabilityWeight, Strength::Hard);
+  }
 }
 
 void CompositeModel::addVertexDevelopabilityTerms() {
@@ -451,7 +522,29 @@ void CompositeModel::initializeNormals() {
   }
 }
 
-void CompositeModel::resetNormals() { initializeNormals(); }
+void CompositeModel::initializeOsculatingNormals() {
+  const CompositeTopology& topo = *topology_;
+  const Eigen::VectorXd& x = problem_.x();
+  for (int e = 0; e < topo.numEdges(); ++e) {
+    if (oscBlock_.empty() || oscBlock_[e] < 0) continue;
+    const spline::KnotVector knots = topo.knots(e);
+    const std::vector<double> params = evaluationParams(knots);
+    const std::vector<PointSlot> slots = topo.controlSlots(e);
+    const terms::LinearPoints d1 = curveRows(knots, slots, params, 1);
+    const EdgeInfo& info = topo.edge(e);
+    const terms::LinearPoints n = normalsAlongEdge(info.faces[0] >= 0 ? info.faces[0] : info.faces[1], e);
+    Eigen::Map<Eigen::VectorXd> values = problem_.blockValues(oscBlock_[e]);
+    for (int k = 0; k < static_cast<int>(params.size()); ++k) {
+      Eigen::Vector3d o = d1.point(x, k).cross(n.point(x, k));
+      values.segment<3>(3 * k) = o.norm() > 1e-300 ? Eigen::Vector3d(o.normalized()) : Eigen::Vector3d::UnitZ();
+    }
+  }
+}
+
+void CompositeModel::resetNormals() {
+  initializeNormals();
+  initializeOsculatingNormals();
+}
 
 engine::SolveSummary CompositeModel::solve(const engine::SolverOptions& options) {
   engine::SolveSummary summary = solver_->solve(options);

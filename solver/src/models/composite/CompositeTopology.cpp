@@ -69,6 +69,7 @@ const char* creaseKindName(CreaseKind k) {
     case CreaseKind::Fold: return "fold";
     case CreaseKind::Geodesic: return "geodesic";
     case CreaseKind::Smooth: return "smooth";
+    case CreaseKind::Straight: return "straight";
     case CreaseKind::None: break;
   }
   return "none";
@@ -126,7 +127,7 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     if (edge.type == EdgeType::Ruling) {
       if (edge.curve.points.rows() > 0)
         fail(path + ".points: an R edge (ruling) is straight and has no control points");
-      if (edge.crease == CreaseKind::Fold || edge.crease == CreaseKind::Geodesic)
+      if (edge.crease == CreaseKind::Fold || edge.crease == CreaseKind::Geodesic || edge.crease == CreaseKind::Straight)
         fail(path + ".crease: \"" + creaseKindName(edge.crease) +
              "\" applies to S edges; an R edge is a straight crease and folds freely");
       continue;
@@ -298,7 +299,7 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     if (!forwardFaces[e].empty()) edges_[e].faces[0] = forwardFaces[e][0];
     if (!backwardFaces[e].empty()) edges_[e].faces[1] = backwardFaces[e][0];
     const CreaseKind ck = design.edges[e].crease;
-    if (ck != CreaseKind::None && !edges_[e].interior())
+    if (ck != CreaseKind::None && ck != CreaseKind::Straight && !edges_[e].interior())
       fail(path + ".crease: \"" + std::string(creaseKindName(ck)) + "\" needs faces on both sides; edge " +
            std::to_string(e) + " is on the boundary");
   }

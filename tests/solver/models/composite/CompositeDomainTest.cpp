@@ -3,12 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <iostream>
 #include <fstream>
 #include <sstream>
 
 #include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/proto/Scene.h"
 
 namespace devsurf::models::composite {
@@ -204,6 +206,129 @@ TEST(CompositeDomain, TheColumnPresetUnfoldsOntoACylinder) {
   EXPECT_EQ(model.flippedDevelopmentFaces(), 0);
   EXPECT_LE(model.developmentLengthError(), 1e-4);
   EXPECT_GT(model.quality().foldAngleMaxDeg, 80.0);
+}
+
+TEST(CompositeOptions, SofteningWeighsTheCreaseRowsDownTowardsTheEdgesEnds) {
+  // 003_… §5.5: crease rows near the face boundaries (the S edge's ends) count less.
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-curved-fold.json");
+  std::stringstream text;
+  text << file.rdbuf();
+  json doc = json::parse(text.str());
+  doc["solver"]["softening"] = {0.0, 0.2, 0.8, 1.0};
+  const proto::Scene scene = proto::sceneFromJson(doc);
+  EXPECT_EQ(proto::sceneToJson(scene)["solver"]["softening"], doc["solver"]["softening"]);
+  CompositeModel model(std::get<CompositeDesign>(scene.model), scene.solver.compositeOptions());
+  const terms::CurvedFoldTerm* fold = nullptr;
+  for (int t = 0; t < model.problem().numTerms(); ++t)
+    if (model.problem().term(t).term->name() == "crease_fold")
+      fold = dynamic_cast<const terms::CurvedFoldTerm*>(model.problem().term(t).term.get());
+  ASSERT_NE(fold, nullptr);
+  const std::vector<double>& m = fold->rowMultipliers();
+  ASSERT_GE(m.size(), 5u);
+  EXPECT_EQ(m.front(), 0.0);
+  EXPECT_EQ(m.back(), 0.0);
+  EXPECT_EQ(m[m.size() / 2], 1.0);
+  // The sheet still folds and meets the quality bounds.
+  model.solve(scene.solver.solverOptions());
+  EXPECT_GT(model.quality().foldAngleMaxDeg, 20.0);
+  EXPECT_LE(model.quality().faceFlatnessMax, 1e-3);
+  doc["solver"]["softening"] = {0.5, 0.2, 0.8, 1.0};
+  EXPECT_THROW(proto::sceneFromJson(doc), proto::SceneError);
+}
+
+/// Largest distance of the development samples of S edge 0 (vertex 0 … vertex 1) from the chord
+/// between its ends, relative to the chord.
+double developedBowOfEdgeZero(const CompositeModel& model) {
+  const CompositeDevelopment d = model.development();
+  std::vector<int> samples{0, 1};
+  for (const CompositeDevelopment::Pair& p : d.pairs)
+    if (p.kind == CompositeDevelopment::PairKind::Spline && p.edge == 0) {
+      samples.push_back(p.v0);
+      samples.push_back(p.v1);
+    }
+  const Eigen::Vector2d a = d.vertices2d.row(0).transpose(), b = d.vertices2d.row(1).transpose();
+  const Eigen::Vector2d t = (b - a).normalized();
+  double bow = 0.0;
+  for (int v : samples) {
+    const Eigen::Vector2d p = d.vertices2d.row(v).transpose() - a;
+    bow = std::max(bow, std::abs(p.x() * t.y() - p.y() * t.x()));
+  }
+  return bow / (b - a).norm();
+}
+
+TEST(CompositeCreases, AStraightBoundaryEdgeStillDevelopsIntoAStraightLine) {
+  // The 2 × 1 sheet with its left side held and a weak handle pulling corner 1 up and inwards:
+  // left alone, the lower boundary (S edge 0) bends in the development; labelled "straight"
+  // (000_… §3.3) it stays a geodesic, so its development stays a straight segment.
+  json doc = rectangleDomainScene();
+  doc["model"]["development"].erase("domain");
+  doc["model"]["handles"] = {{{"vertex", 1}, {"position", {1.6, 0.35, 0.8}}, {"weight", 0.05}}};
+  const proto::Scene free = proto::sceneFromJson(doc);
+  CompositeModel bent(std::get<CompositeDesign>(free.model), free.solver.compositeOptions());
+  bent.solve(free.solver.solverOptions());
+  doc["model"]["edges"][0]["crease"] = "straight";
+  const proto::Scene straight = proto::sceneFromJson(doc);
+  EXPECT_EQ(proto::sceneToJson(straight)["model"]["edges"][0]["crease"], "straight");
+  CompositeModel geodesic(std::get<CompositeDesign>(straight.model), straight.solver.compositeOptions());
+  geodesic.solve(straight.solver.solverOptions());
+  std::cout << "developed bow of edge 0: free " << developedBowOfEdgeZero(bent) << ", straight "
+            << developedBowOfEdgeZero(geodesic) << "\n";
+  EXPECT_GT(developedBowOfEdgeZero(bent), 1e-3) << "the test must bend the edge when it is free";
+  EXPECT_LT(developedBowOfEdgeZero(geodesic), 1e-4);
+  EXPECT_LE(geodesic.quality().faceFlatnessMax, 1e-3);
+  EXPECT_LE(geodesic.developmentLengthError(), 1e-3);
+  // An R edge is straight already: the label is refused there, naming the field.
+  doc["model"]["edges"][1]["crease"] = "straight";
+  try {
+    proto::sceneFromJson(doc);
+    ADD_FAILURE() << "expected an error";
+  } catch (const proto::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("edges[1].crease"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CompositeCreases, BoundaryCurvesAskedToJoinTangentiallyStayOneSmoothCurve) {
+  // Two 1 × 1 strips side by side, joined along the ruling x = 1; the lower boundary is two S
+  // edges meeting at vertex 1 = (1, 0, 0). The left side is held and the right side lifted, so
+  // the sheet may kink at the middle ruling; asked for tangent continuity at vertex 1 (edges 0
+  // and 1), the lower boundary stays one smooth curve there.
+  auto p = [](double x, double y) { return json::array({x, y, 0.0}); };
+  auto s = [&p](int v0, int v1, double x0, double y0, double x1, double y1) {
+    return json{{"v", {v0, v1}}, {"type", "S"}, {"degree", 3},
+                {"points", {p(x0 + (x1 - x0) / 3, y0 + (y1 - y0) / 3), p(x0 + 2 * (x1 - x0) / 3, y0 + 2 * (y1 - y0) / 3)}}};
+  };
+  json model = {{"kind", "composite"},
+                {"vertices", {p(0, 0), p(1, 0), p(2, 0), p(2, 1), p(1, 1), p(0, 1)}},
+                {"edges",
+                 {s(0, 1, 0, 0, 1, 0), s(1, 2, 1, 0, 2, 0), s(5, 4, 0, 1, 1, 1), s(4, 3, 1, 1, 2, 1),
+                  {{"v", {0, 5}}, {"type", "R"}}, {{"v", {1, 4}}, {"type", "R"}}, {{"v", {2, 3}}, {"type", "R"}}}},
+                {"faces", {{0, 5, 2, 4}, {1, 6, 3, 5}}},
+                {"fixed", {{{"vertex", 0}}, {{"vertex", 5}}}},
+                {"handles", {{{"vertex", 2}, {"position", {1.6, 0.1, 0.9}}, {"weight", 0.1}},
+                             {{"vertex", 3}, {"position", {1.7, 1.0, 0.7}}, {"weight", 0.1}}}}};
+  json doc = {{"format", "devsurf-scene"}, {"version", 1}, {"model", model}, {"solver", {{"iterations", 40}}}};
+  auto legs = [](const CompositeDesign& d) {
+    const Eigen::Vector3d v = d.vertices.row(1).transpose();
+    const Eigen::Vector3d a = d.edges[0].curve.points.row(2).transpose() - v;  // edge 0 ends at vertex 1
+    const Eigen::Vector3d b = d.edges[1].curve.points.row(1).transpose() - v;  // edge 1 starts there
+    return a.normalized().cross(b.normalized()).norm();
+  };
+  const proto::Scene free = proto::sceneFromJson(doc);
+  CompositeModel kinked(std::get<CompositeDesign>(free.model), free.solver.compositeOptions());
+  kinked.solve(free.solver.solverOptions());
+  doc["model"]["tangent_continuity"] = {{0, 1}};
+  const proto::Scene asked = proto::sceneFromJson(doc);
+  EXPECT_EQ(proto::sceneToJson(asked)["model"]["tangent_continuity"], doc["model"]["tangent_continuity"]);
+  CompositeModel smooth(std::get<CompositeDesign>(asked.model), asked.solver.compositeOptions());
+  smooth.solve(asked.solver.solverOptions());
+  std::cout << "sin(angle between the legs at vertex 1): free " << legs(kinked.design()) << ", asked "
+            << legs(smooth.design()) << "\n";
+  EXPECT_GT(legs(kinked.design()), 1e-2) << "the test must kink the boundary when it is free";
+  EXPECT_LT(legs(smooth.design()), 1e-6);
+  EXPECT_LE(smooth.quality().faceFlatnessMax, 1e-3);
+  EXPECT_GT(smooth.design().vertices(2, 2), 0.3) << "the sheet still lifts";
+  doc["model"]["tangent_continuity"] = {{0, 3}};  // edges without a shared vertex
+  EXPECT_THROW(proto::sceneFromJson(doc), proto::SceneError);
 }
 
 TEST(CompositeDomain, ScenesRoundTripTheDomain) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ enum class CreaseKind {
   Fold,      ///< curved fold, 000_… eq. (7): the edge unfolds to one planar curve on both sides
   Geodesic,  ///< geodesic property, 000_… eq. (8): the two developed boundaries are mirror images
   Smooth,    ///< tangent-plane continuity: the normals of the two faces agree along the edge
+  Straight,  ///< straight unfolding (000_… §3.3): an S edge that develops into a straight line (a
+             ///< geodesic of its face(s)); allowed on boundary edges too
 };
-const char* creaseKindName(CreaseKind k);  ///< "none", "fold", "geodesic", "smooth"
+const char* creaseKindName(CreaseKind k);  ///< "none", "fold", "geodesic", "smooth", "straight"
 
 /// One edge of the composite: its end vertices, label, and for S edges the spline. The spline's
 /// control sequence runs from vertex v0 to vertex v1 and its first and last control points ARE
@@ -92,6 +95,9 @@ struct CompositeDesign {
   std::vector<std::vector<int>> faces;
   std::vector<PointRef> fixed;
   std::vector<Handle> handles;
+  /// Pairs of S edges meeting at a vertex whose curves are to pass through it with one tangent
+  /// (000_… §3.1, "when asked"; scene "tangent_continuity": [[e1, e2], …]).
+  std::vector<std::array<int, 2>> tangentContinuity;
   /// Development management (scene "development": {"samples": n}; 003_… §5.2.5): samples per
   /// span along the S edges of the sampled mesh whose planar development is solved for together
   /// with the surface (eq. 12). 0 = no development (the default).

@@ -18,6 +18,7 @@
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/spline/BSplineCurve.h"
 #include "devsurf/terms/LinearPoints.h"
+#include "devsurf/terms/SofteningWeight.h"
 
 namespace devsurf::models::composite {
 
@@ -27,6 +28,10 @@ struct CompositeOptions {
   double unitNormalWeight = 0.1;      ///< soft unit length of the normals not held hard
   double normalRegularizationScale = 1e-4;  ///< ε_reg² multiplier of the normals (see StripOptions)
   bool normalize = true;              ///< centre and scale to unit size while solving (003_… §5.5)
+  /// Weight softening near face boundaries (003_… §5.5, Fig. 5.1): the crease rows (eq. 7/8) of
+  /// an S edge at parameter u are multiplied by terms::softeningWeight of u normalized to the
+  /// edge's domain — 0 near both ends, rising to 1 between ξ2 and ξ3. (0, 0, 1, 1) = off.
+  terms::SofteningBreakpoints softening = {0.0, 0.0, 1.0, 1.0};
   engine::LinearSolverKind linearSolver = engine::LinearSolverKind::SimplicialLDLT;
 };
 
@@ -231,8 +236,15 @@ class CompositeModel {
   /// around v; empty for boundary vertices and cone apices.
   std::vector<int> vertexStar(int v) const;
   void addVertexDevelopabilityTerms();
+  /// Point index of the control point next to vertex v on edge e (S edges: c₁ from v's end; R
+  /// edges and S edges without interior points: the other vertex).
+  int neighbourPoint(int e, int v) const;
+  void addTangentContinuityTerms();
   std::vector<int> vertexTerms_;
   void initializeNormals();
+  /// Osculating-plane normals of "straight" S edges: a′ × n of the face beside the edge.
+  void initializeOsculatingNormals();
+  std::vector<int> oscBlock_;  ///< per edge: osculating normals of a "straight" S edge, or −1
   /// Index of a slot's 3D point in x (x offset / 3).
   int pointIndex(const PointSlot& s) const;
   PointSlot slotOf(const PointRef& r) const;
