@@ -611,6 +611,8 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
         const auto it = angles.find(p.edge);
         if (!topo.edge(p.edge).interior() || seamEdge_[static_cast<std::size_t>(p.edge)] || it == angles.end()) {
           ce.assignment = io::EdgeAssignment::Boundary;
+        } else if (design_.edges[static_cast<std::size_t>(p.edge)].crease == CreaseKind::Smooth) {
+          ce.assignment = io::EdgeAssignment::Flat;  // one tangent plane on both sides: not a fold
         } else {
           const Eigen::VectorXd& a = it->second;
           const int s = p.kind == PairKind::Spline ? p.segment : 0;

@@ -199,7 +199,8 @@ class CompositeModel {
   Eigen::MatrixX2d unfoldedDevelopment() const;
   /// The crease pattern of the development: vertices2d/vertices3d of development(), edges =
   /// sampled edges (boundary B; interior S edges and R edges M/V by the sign of their fold angle
-  /// per segment (creases(samples)), F when |angle| < 1e-6°; sampled rulings inside faces F),
+  /// per segment (creases(samples)), F when |angle| < 1e-6° or the edge is labelled "smooth";
+  /// seam edges B; sampled rulings inside faces F),
   /// faces = polygons, rulings = the sampled interior rulings, curves = every S edge (id = edge
   /// index).
   /// @throws std::logic_error without a development
