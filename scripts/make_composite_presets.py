@@ -164,21 +164,10 @@ def dragged(scene, stages, iterations):
 
     origin = [list(position(h)) for h in model["handles"]]
     targets = [list(h["position"]) for h in model["handles"]]
-    with tempfile.TemporaryDirectory() as tmp:
-        for step in range(1, stages + 1):
-            for h, o, t in zip(scene["model"]["handles"], origin, targets):
-                h["position"] = [o[i] + (t[i] - o[i]) * step / stages for i in range(3)]
-            src, out = os.path.join(tmp, "in.json"), os.path.join(tmp, "out.json")
-            with open(src, "w") as f:
-                json.dump(scene, f)
-            subprocess.run([DEVSURF, "solve", src, "--iterations", str(iterations), "--out", out], check=True,
-                           capture_output=True)
-            with open(out) as f:
-                solved = json.load(f)["scene"]
-            for key in ("name", "description", "format", "version"):
-                if key in scene:
-                    solved[key] = scene[key]
-            scene = solved
+    for step in range(1, stages + 1):
+        for h, o, t in zip(scene["model"]["handles"], origin, targets):
+            h["position"] = [o[i] + (t[i] - o[i]) * step / stages for i in range(3)]
+        scene = solved(scene, iterations)
     for h, t in zip(scene["model"]["handles"], targets):
         h["position"] = r(t)
     return scene
