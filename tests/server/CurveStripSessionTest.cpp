@@ -5,6 +5,7 @@
 
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/server/Tokens.h"
+#include "server/SessionTesting.h"
 
 #include <gtest/gtest.h>
 
@@ -14,43 +15,9 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-
-struct ManualExecutor {
-  std::vector<std::function<void()>> tasks;
-  Session::Scheduler scheduler() {
-    return [this](std::function<void()> f) { tasks.push_back(std::move(f)); };
-  }
-  void runAll() {
-    while (!tasks.empty()) {
-      auto t = std::move(tasks.front());
-      tasks.erase(tasks.begin());
-      t();
-    }
-  }
-};
-
-struct Inbox {
-  std::vector<json> messages;
-  MessageSink sink() {
-    return [this](std::string text, Delivery, const std::string&) { messages.push_back(json::parse(text)); };
-  }
-  std::vector<json> ofType(const std::string& type) const {
-    std::vector<json> out;
-    for (const json& m : messages)
-      if (m["type"] == type) out.push_back(m);
-    return out;
-  }
-  json last(const std::string& type) const {
-    const auto all = ofType(type);
-    return all.empty() ? json() : all.back();
-  }
-};
-
-struct MemoryJournal : SessionJournal {
-  std::vector<std::pair<std::int64_t, json>> edits;
-  void appendEdit(const std::string&, std::int64_t seq, const json& edit) override { edits.emplace_back(seq, edit); }
-  void saveSnapshot(const std::string&, std::int64_t, const json&) override {}
-};
+using testing::Inbox;
+using testing::ManualExecutor;
+using testing::MemoryJournal;
 
 proto::Scene exampleScene(const std::string& name) {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name + ".json");

@@ -2,6 +2,7 @@
 
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/server/Tokens.h"
+#include "server/SessionTesting.h"
 
 #include <gtest/gtest.h>
 
@@ -12,41 +13,9 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-
-/// Work runs when the test says so (a manual executor), so interleavings are explicit.
-struct ManualExecutor {
-  std::vector<std::function<void()>> tasks;
-  Session::Scheduler scheduler() {
-    return [this](std::function<void()> f) { tasks.push_back(std::move(f)); };
-  }
-  void runAll() {
-    while (!tasks.empty()) {
-      auto t = std::move(tasks.front());
-      tasks.erase(tasks.begin());
-      t();
-    }
-  }
-};
-
-struct Inbox {
-  std::vector<json> messages;
-  MessageSink sink() {
-    return [this](std::string text, Delivery, const std::string&) { messages.push_back(json::parse(text)); };
-  }
-  std::vector<json> ofType(const std::string& type) const {
-    std::vector<json> out;
-    for (const json& m : messages)
-      if (m["type"] == type) out.push_back(m);
-    return out;
-  }
-};
-
-struct MemoryJournal : SessionJournal {
-  std::vector<std::pair<std::int64_t, json>> edits;
-  std::map<std::int64_t, json> snapshots;
-  void appendEdit(const std::string&, std::int64_t seq, const json& edit) override { edits.emplace_back(seq, edit); }
-  void saveSnapshot(const std::string&, std::int64_t seq, const json& scene) override { snapshots[seq] = scene; }
-};
+using testing::Inbox;
+using testing::ManualExecutor;
+using testing::MemoryJournal;
 
 proto::Scene liftedCornerScene() {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/strip-lifted-corner.json");

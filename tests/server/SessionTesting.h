@@ -1,0 +1,63 @@
+#pragma once
+
+// Test doubles shared by the session tests: a manual executor (work runs when the test says so,
+// so interleavings are explicit), an inbox collecting a participant's messages, and an in-memory
+// journal.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "devsurf/server/Session.h"
+
+namespace devsurf::server::testing {
+
+struct ManualExecutor {
+  std::vector<std::function<void()>> tasks;
+  Session::Scheduler scheduler() {
+    return [this](std::function<void()> f) { tasks.push_back(std::move(f)); };
+  }
+  void runAll() {
+    while (!tasks.empty()) {
+      auto t = std::move(tasks.front());
+      tasks.erase(tasks.begin());
+      t();
+    }
+  }
+};
+
+struct Inbox {
+  std::vector<nlohmann::json> messages;
+  MessageSink sink() {
+    return [this](std::string text, Delivery, const std::string&) { messages.push_back(nlohmann::json::parse(text)); };
+  }
+  std::vector<nlohmann::json> ofType(const std::string& type) const {
+    std::vector<nlohmann::json> out;
+    for (const nlohmann::json& m : messages)
+      if (m["type"] == type) out.push_back(m);
+    return out;
+  }
+  /// The last message of the type, or null.
+  nlohmann::json last(const std::string& type) const {
+    const auto all = ofType(type);
+    return all.empty() ? nlohmann::json() : all.back();
+  }
+};
+
+struct MemoryJournal : SessionJournal {
+  std::vector<std::pair<std::int64_t, nlohmann::json>> edits;
+  std::map<std::int64_t, nlohmann::json> snapshots;
+  void appendEdit(const std::string&, std::int64_t seq, const nlohmann::json& edit) override {
+    edits.emplace_back(seq, edit);
+  }
+  void saveSnapshot(const std::string&, std::int64_t seq, const nlohmann::json& scene) override {
+    snapshots[seq] = scene;
+  }
+};
+
+}  // namespace devsurf::server::testing
