@@ -99,17 +99,28 @@ def drag(op, z, index=6):
     return json.dumps({"type": "drag", "op": op, "target": {"curve": "b", "index": index}, "position": [6.0, 1.0, z]})
 
 
-class ProtocolTest(unittest.TestCase):
+class DaemonTestCase(unittest.TestCase):
+    """One daemon per test class, started with DAEMON_ARGS in a fresh data directory and stopped
+    with SIGTERM (which must exit 0)."""
+
+    DAEMON_ARGS = ()
+    PREFIX = "devsurf-proto-"
+
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="devsurf-proto-")
-        cls.daemon = Daemon(cls.tmp, "--max-message", "65536").start()
+        cls.tmp = tempfile.mkdtemp(prefix=cls.PREFIX)
+        cls.daemon = Daemon(cls.tmp, *cls.DAEMON_ARGS).start()
 
     @classmethod
     def tearDownClass(cls):
         code = cls.daemon.stop()
         assert code == 0, f"devsurf serve exited with {code} on SIGTERM"
         shutil.rmtree(cls.tmp, ignore_errors=True)
+
+
+class ProtocolTest(DaemonTestCase):
+    PREFIX = "devsurf-proto-"
+    DAEMON_ARGS = ("--max-message", "65536")
 
     def new_session(self):
         with open(DEMO) as f:
@@ -397,21 +408,13 @@ class RestartTest(unittest.TestCase):
             shutil.rmtree(tmp, ignore_errors=True)
 
 
-class CurveStripProtocolTest(unittest.TestCase):
+class CurveStripProtocolTest(DaemonTestCase):
     """Sessions of the strips between two given curves (issue 6): quasi_strip (Bo et al.) and
     conical_strip (Chu et al.) demos; drags move an input curve's control point, the strip is
     rebuilt and solved whole."""
 
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="devsurf-proto-curves-")
-        cls.daemon = Daemon(cls.tmp, "--demo", QUASI, "--demo", CONICAL).start()
-
-    @classmethod
-    def tearDownClass(cls):
-        code = cls.daemon.stop()
-        assert code == 0, f"devsurf serve exited with {code} on SIGTERM"
-        shutil.rmtree(cls.tmp, ignore_errors=True)
+    PREFIX = "devsurf-proto-curves-"
+    DAEMON_ARGS = ("--demo", QUASI, "--demo", CONICAL)
 
     def new_session(self, path):
         with open(path) as f:
@@ -523,20 +526,12 @@ class CurveStripProtocolTest(unittest.TestCase):
             shutil.rmtree(tmp, ignore_errors=True)
 
 
-class CompositeProtocolTest(unittest.TestCase):
+class CompositeProtocolTest(DaemonTestCase):
     """Composite sessions (examples/composite-curved-fold.json: two strips joined by the curved
     fold edge 0; vertices 0, 1, 4, 5 fixed; a development)."""
 
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="devsurf-proto-composite-")
-        cls.daemon = Daemon(cls.tmp, "--demo", COMPOSITE).start()
-
-    @classmethod
-    def tearDownClass(cls):
-        code = cls.daemon.stop()
-        assert code == 0, f"devsurf serve exited with {code} on SIGTERM"
-        shutil.rmtree(cls.tmp, ignore_errors=True)
+    PREFIX = "devsurf-proto-composite-"
+    DAEMON_ARGS = ("--demo", COMPOSITE,)
 
     def new_session(self):
         with open(COMPOSITE) as f:
