@@ -4,8 +4,8 @@
 //
 // Measured (see the issue note): the planar fold is exact in B-splines (1e-15) and returns to
 // ~1e-11 after the perturbation. The cylinder crease is fitted (degree 7, 16 spans: 3.5e-10);
-// after the perturbation the 4-span fit returns below 1e-6 for seeds 1…10, the 16-span fit ends
-// between 1e-6 and 5e-3 depending on the seed (its convergence stalls; not asserted here).
+// after the perturbation every one of 100 seeds returns below 5e-7 (the test runs 10 of them, and
+// 10 each of the 32- and 4-span fits). Five iterations from the 32-span fit reach round-off.
 
 #include "devsurf/models/composite/ClosedFormDesigns.h"
 
@@ -81,17 +81,17 @@ double designDistance(const CompositeDesign& a, const CompositeDesign& b) {
   return m;
 }
 
-bool isFixed(const CompositeDesign& d, const PointRef& p) {
-  for (const PointRef& f : d.fixed)
-    if (f == p) return true;
-  return false;
-}
-
-/// Moves every free vertex and control point by a smooth random displacement field of space,
+/// Moves every vertex and control point by a smooth random displacement field of space,
 /// δ(p) = Σ_k a_k sin(⟨w_k, p⟩ + φ_k) (three modes, wavelengths between the design's size and half
 /// of it; deterministic seed), scaled so that the largest move is exactly `fraction`·size. A
 /// field of space moves a vertex and the curve ends at it alike and keeps the curves smooth (a
 /// designer's drag, not white noise on the control polygon).
+///
+/// Held points move too and are then held where the field put them. Moving only the free ones
+/// is not a smooth perturbation: next to a held curve end the first control-point leg of the
+/// 16-span fit is 0.027 long, shorter than 1% of the size (0.03), and moving the second control
+/// point but not the first reversed c′ near the end (a cusp that no fold can follow; measured:
+/// 16-span fits then ended between 1e-6 and 5e-3 after 20 iterations).
 CompositeDesign perturbed(CompositeDesign d, double fraction, unsigned seed) {
   const double size = designSize(d);
   std::mt19937 rng(seed);
@@ -115,20 +115,18 @@ CompositeDesign perturbed(CompositeDesign d, double fraction, unsigned seed) {
   };
   double largest = 0.0;
   Eigen::MatrixX3d vertexMove = Eigen::MatrixX3d::Zero(d.vertices.rows(), 3);
-  for (int v = 0; v < d.vertices.rows(); ++v)
-    if (!isFixed(d, PointRef::ofVertex(v))) {
-      vertexMove.row(v) = field(d.vertices.row(v));
-      largest = std::max(largest, vertexMove.row(v).norm());
-    }
+  for (int v = 0; v < d.vertices.rows(); ++v) {
+    vertexMove.row(v) = field(d.vertices.row(v));
+    largest = std::max(largest, vertexMove.row(v).norm());
+  }
   std::vector<Eigen::MatrixXd> edgeMove(d.edges.size());
   for (std::size_t e = 0; e < d.edges.size(); ++e) {
     const Eigen::MatrixXd& p = d.edges[e].curve.points;
     edgeMove[e] = Eigen::MatrixXd::Zero(p.rows(), 3);
-    for (Eigen::Index k = 1; k + 1 < p.rows(); ++k)
-      if (!isFixed(d, PointRef::ofEdgePoint(static_cast<int>(e), static_cast<int>(k)))) {
-        edgeMove[e].row(k) = field(p.row(k));
-        largest = std::max(largest, edgeMove[e].row(k).norm());
-      }
+    for (Eigen::Index k = 1; k + 1 < p.rows(); ++k) {
+      edgeMove[e].row(k) = field(p.row(k));
+      largest = std::max(largest, edgeMove[e].row(k).norm());
+    }
   }
   const double scale = fraction * size / largest;
   d.vertices += scale * vertexMove;
@@ -179,14 +177,16 @@ ClosedFormFit fineFit() {
   return fit;
 }
 
-/// 20 iterations without fairness: 10 with ε_reg = 0.03 (robust far from the solution), then 10
-/// with ε_reg = 1e-3 (close to Gauss–Newton near it). Measured: 20 iterations at the default
-/// ε_reg = 0.01 stall at |r| ≈ 1e-6…1e-5 (steps of ~2e-3 that keep re-creating their own
-/// linearization error), 1e-3 from the start is not robust.
+/// 20 iterations without fairness: 5 with ε_reg = 0.03 (robust far from the solution), then 15
+/// with ε_reg = 1e-3 (close to Gauss–Newton near it). Measured on the 16-span cylinder crease,
+/// 100 seeds: this schedule brings all of them below 5e-7; 10 + 10 leaves one at 1.6e-6 (the
+/// crease ends creep back at ~10% per iteration once ε_reg is small); 20 at the default
+/// ε_reg = 0.01 stall at 1e-6…1e-5; 1e-3 from the start is not robust.
 int recover(CompositeModel& model) {
-  engine::SolverOptions o = iterationsWithoutFairness(10);
+  engine::SolverOptions o = iterationsWithoutFairness(5);
   o.regularization = 0.03;
   int steps = model.solve(o).stepsTaken();
+  o.maxIterations = 15;
   o.regularization = 1e-3;
   steps += model.solve(o).stepsTaken();
   return steps;
@@ -265,25 +265,63 @@ TEST(ClosedFormCrease, CylinderCatenaryCreaseIsExactToTheFit) {
   EXPECT_GT(r.quality.foldAngleMaxDeg, 30.0);
 }
 
-TEST(ClosedFormCrease, CylinderCatenaryCreaseRecoversAfterAOnePercentPerturbation) {
-  // A coarser fit (degree 7, 4 spans; hard rows 3.9e-5 at the start) than the exactness test:
-  // with 16 spans the same 20 iterations end between 1e-6 and 5e-3 depending on the seed (see
-  // the issue note); with 4 spans every seed of 1…10 ends below 1e-6.
-  ClosedFormFit coarse;
-  coarse.degree = 7;
-  coarse.spans = 4;
-  const CompositeDesign start = perturbed(heldCylinderCrease(coarse), 0.01, 2016);
-  CompositeModel model(start);
-  const Residuals before = measure(model, "cylinder crease (4 spans), perturbed by 1%");
-  EXPECT_GT(hardResidualMax(before.terms), 1e-2);
-  const int iterations = recover(model);
-  EXPECT_EQ(iterations, 20);
-  const Residuals after = measure(model, "cylinder crease (4 spans), 20 iterations later");
-  EXPECT_LE(after.terms.at("developability"), 1e-6);
-  EXPECT_LE(after.terms.at("crease_fold"), 1e-6);
-  EXPECT_LE(after.quality.creaseFoldResidualMax, 1e-6);
-  EXPECT_LE(after.quality.warpAngleMaxDeg * M_PI / 180.0, 1e-6);
+TEST(ClosedFormCrease, CylinderCatenaryCreaseProjectsToRoundOffWithoutLeavingTheClosedForm) {
+  // The fit's rows are limited by the fit itself (16 spans: 3.5e-10 and 5 iterations leave them
+  // there; 32 spans: 1e-10). Five Gauss–Newton iterations from the 32-span fit reach the
+  // composite's own exact solution: rows at round-off (measured 2.2e-12) while the design moves
+  // by 3e-9 and stays on the closed form to 2.5e-9.
+  ClosedFormFit fit;
+  fit.degree = 7;
+  fit.spans = 32;
+  const CompositeDesign in = heldCylinderCrease(fit);
+  CompositeModel model(in);
+  EXPECT_GT(hardResidualMax(termResidualMax(model)), 1e-11);  // the fit alone is not there
+  engine::SolverOptions o = iterationsWithoutFairness(5);
+  o.regularization = 1e-3;
+  model.solve(o);
+  const Residuals r = measure(model, "cylinder crease, degree 7, 32 spans, 5 iterations");
+  EXPECT_LT(hardResidualMax(r.terms), 1e-11);
+  EXPECT_LT(r.quality.creaseFoldResidualMax, 1e-11);
+  EXPECT_LT(r.quality.warpAngleMaxDeg * M_PI / 180.0, 1e-11);
+  EXPECT_LT(designDistance(in, model.design()), 1e-8);
+  EXPECT_LT(cylinderCatenaryFitError(defaultCylinderCatenaryCrease(), model.design()), 1e-8);
 }
+
+/// The cylinder crease fitted with `spans` spans of degree 7, perturbed by 1% (seeds 1…10), and
+/// 20 iterations later.
+class CylinderCreaseRecovery : public ::testing::TestWithParam<int> {};
+
+TEST_P(CylinderCreaseRecovery, TwentyIterationsBringEveryResidualBelowOneInAMillion) {
+  ClosedFormFit fit;
+  fit.degree = 7;
+  fit.spans = GetParam();
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const CompositeDesign start = perturbed(heldCylinderCrease(fit), 0.01, seed);
+    CompositeModel model(start);
+    const Residuals before = measure(model, "cylinder crease (" + std::to_string(fit.spans) + " spans, seed " +
+                                                std::to_string(seed) + "), perturbed by 1%");
+    EXPECT_GT(hardResidualMax(before.terms), 1e-2);
+    EXPECT_EQ(recover(model), 20);
+    const Residuals after = measure(model, "20 iterations later");
+    EXPECT_LE(after.terms.at("developability"), 1e-6);
+    EXPECT_LE(after.terms.at("crease_fold"), 1e-6);
+    EXPECT_LE(after.terms.at("unit_normal_hard"), 1e-6);
+    EXPECT_LE(after.quality.creaseFoldResidualMax, 1e-6);
+    EXPECT_LE(after.quality.warpAngleMaxDeg * M_PI / 180.0, 1e-6);
+    // It came back to a fold near the start, not to something else that satisfies the rows
+    // (measured: at most 1.7% of the size away, folded by ~115°).
+    const double moved = designDistance(start, model.design()) / designSize(start);
+    EXPECT_GT(moved, 1e-4);
+    EXPECT_LT(moved, 0.05);
+    EXPECT_GT(after.quality.foldAngleMaxDeg, 90.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ClosedFormCrease, CylinderCreaseRecovery, ::testing::Values(32, 16, 4),
+                         [](const ::testing::TestParamInfo<int>& info) {
+                           return std::to_string(info.param) + "Spans";
+                         });
 
 /// The preset examples/composite-cylinder-crease.json: the fine fit (degree 7, 16 spans), the
 /// crease's ends and the cylinder sheet's far corner held, development management on.
