@@ -221,7 +221,8 @@ void registerScaled() {
     const char* name;
     engine::LinearSolverKind kind;
   };
-  std::vector<Solver> solvers{{"ldlt", engine::LinearSolverKind::SimplicialLDLT}};
+  std::vector<Solver> solvers{{"auto", engine::LinearSolverKind::Auto},
+                              {"ldlt", engine::LinearSolverKind::SimplicialLDLT}};
   if (engine::cholmodAvailable()) solvers.push_back({"cholmod", engine::LinearSolverKind::Cholmod});
   for (const Solver& solver : solvers) {
     for (const Size& s : sizes) {

@@ -11,6 +11,7 @@ APT_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcpp-httplib-dev libboost-dev libsqlite3-dev libsuitesparse-dev
   libocct-data-exchange-dev libtbb-dev
+  libopenblas0-serial
   python3 python3-websockets
   chromium fonts-liberation fonts-dejavu-core
 )

@@ -1,6 +1,8 @@
 #include "devsurf/engine/LinearSolver.h"
 
 #include <cstddef>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <Eigen/SparseCholesky>
@@ -28,6 +30,8 @@ class SimplicialLdltSolver final : public LinearSolver {
   void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
     solution = ldlt_.solve(rhs);
   }
+  /// Multiply-adds of one factorization (after analyzePattern).
+  double flops() const { return ldlt_.flops(); }
 
  private:
   /// SimplicialLDLT::factorize() builds an (unused, here) n×n temporary on the heap on every
@@ -37,6 +41,16 @@ class SimplicialLdltSolver final : public LinearSolver {
   /// vectorD() returns D by value (a copy per call), so D is read by reference.
   struct Ldlt : Eigen::SimplicialLDLT<SymmetricUpper, Eigen::Upper, Eigen::NaturalOrdering<int>> {
     void factorizeUpper(const SymmetricUpper& upper) { this->factorize_preordered<true>(upper); }
+    /// Σ_j c_j² over the column counts of L from the symbolic analysis: the factorization's
+    /// multiply-adds up to a constant.
+    double flops() const {
+      double f = 0.0;
+      for (Eigen::Index j = 0; j < this->m_nonZerosPerCol.size(); ++j) {
+        const double c = static_cast<double>(this->m_nonZerosPerCol[j]);
+        f += c * c;
+      }
+      return f;
+    }
     const Eigen::VectorXd& diagonal() const { return this->m_diag; }
     void sizeDiagonal(Eigen::Index n) { this->m_diag.resize(n); }
   };
@@ -48,13 +62,26 @@ class SimplicialLdltSolver final : public LinearSolver {
 /// factorization itself from the flop count per nonzero of L (its `supernodal_switch`): banded
 /// systems like the strip's reduced matrix go simplicial, which is ~2× faster there than
 /// supernodal with a reference BLAS. Solves reuse their workspaces (cholmod_solve2).
+///
+/// With `ownOrdering` (the large systems LinearSolverKind::Auto hands it) CHOLMOD reorders the
+/// matrix itself — METIS nested dissection, or AMD when that fills less — postorders the tree and
+/// factors supernodally: on the composite sheets' 2D-like patterns nested dissection fills far
+/// less than the assembler's AMD.
 class CholmodSolver final : public LinearSolver {
  public:
-  CholmodSolver() {
-    llt_.setMode(Eigen::CholmodAuto);
-    llt_.cholmod().nmethods = 1;
-    llt_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
-    llt_.cholmod().postorder = 0;
+  explicit CholmodSolver(bool ownOrdering = false) {
+    if (ownOrdering) {
+      llt_.setMode(Eigen::CholmodSupernodalLLt);
+      llt_.cholmod().nmethods = 2;
+      llt_.cholmod().method[0].ordering = CHOLMOD_METIS;
+      llt_.cholmod().method[1].ordering = CHOLMOD_AMD;
+      llt_.cholmod().postorder = 1;
+    } else {
+      llt_.setMode(Eigen::CholmodAuto);
+      llt_.cholmod().nmethods = 1;
+      llt_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
+      llt_.cholmod().postorder = 0;
+    }
   }
   ~CholmodSolver() override {
     cholmod_free_dense(&x_, &llt_.cholmod());
@@ -123,6 +150,33 @@ class CholmodSolver final : public LinearSolver {
 };
 #endif
 
+/// LinearSolverKind::Auto: Eigen's LDLT unless its symbolic analysis predicts a factorization
+/// of more than kAutoCholmodFlops multiply-adds, then CHOLMOD (supernodal, its own ordering).
+class AutoSolver final : public LinearSolver {
+ public:
+  std::string name() const override { return cholmod_ ? "auto (cholmod)" : "auto (ldlt)"; }
+  void analyzePattern(const SymmetricUpper& matrix) override {
+    ldlt_.analyzePattern(matrix);
+#ifdef DEVSURF_HAVE_CHOLMOD
+    if (ldlt_.flops() > kAutoCholmodFlops) {
+      cholmod_ = std::make_unique<CholmodSolver>(true);
+      cholmod_->analyzePattern(matrix);
+    }
+#endif
+  }
+  bool factorize(const SymmetricUpper& matrix) override {
+    return cholmod_ ? cholmod_->factorize(matrix) : ldlt_.factorize(matrix);
+  }
+  void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
+    if (cholmod_) cholmod_->solve(rhs, solution);
+    else ldlt_.solve(rhs, solution);
+  }
+
+ private:
+  SimplicialLdltSolver ldlt_;
+  std::unique_ptr<LinearSolver> cholmod_;
+};
+
 }  // namespace
 
 bool cholmodAvailable() {
@@ -137,6 +191,8 @@ std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind) {
   switch (kind) {
     case LinearSolverKind::SimplicialLDLT:
       return std::make_unique<SimplicialLdltSolver>();
+    case LinearSolverKind::Auto:
+      return std::make_unique<AutoSolver>();
     case LinearSolverKind::Cholmod:
 #ifdef DEVSURF_HAVE_CHOLMOD
       return std::make_unique<CholmodSolver>();
@@ -150,7 +206,8 @@ std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind) {
 LinearSolverKind linearSolverKindFromName(const std::string& name) {
   if (name == "ldlt") return LinearSolverKind::SimplicialLDLT;
   if (name == "cholmod") return LinearSolverKind::Cholmod;
-  throw std::invalid_argument("linear_solver: expected \"ldlt\" or \"cholmod\", got \"" + name + "\"");
+  if (name == "auto") return LinearSolverKind::Auto;
+  throw std::invalid_argument("linear_solver: expected \"auto\", \"ldlt\" or \"cholmod\", got \"" + name + "\"");
 }
 
 }  // namespace devsurf::engine

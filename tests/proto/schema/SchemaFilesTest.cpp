@@ -281,7 +281,7 @@ TEST_F(SchemaFiles, MoreMistakes) {
   doc["solver"]["fairness_decay"] = 1;
   EXPECT_TRUE(scene(doc).empty());
   doc["solver"]["linear_solver"] = "qr";
-  EXPECT_EQ(expectOne(scene(doc), "solver.linear_solver", "enum"), "must be one of: ldlt, cholmod");
+  EXPECT_EQ(expectOne(scene(doc), "solver.linear_solver", "enum"), "must be one of: auto, ldlt, cholmod");
   doc = scene();
   doc["model"] = "strip";
   EXPECT_EQ(expectOne(scene(doc), "model", "type"), "expected an object, got string");

@@ -10,7 +10,7 @@ namespace devsurf::engine {
 namespace {
 
 std::vector<LinearSolverKind> availableKinds() {
-  std::vector<LinearSolverKind> kinds{LinearSolverKind::SimplicialLDLT};
+  std::vector<LinearSolverKind> kinds{LinearSolverKind::SimplicialLDLT, LinearSolverKind::Auto};
   if (cholmodAvailable()) kinds.push_back(LinearSolverKind::Cholmod);
   return kinds;
 }
@@ -68,6 +68,46 @@ TEST(LinearSolver, AnEmptySystemHasAnEmptySolution) {
     solver->solve(Eigen::VectorXd(), x);
     EXPECT_EQ(x.size(), 0);
   }
+}
+
+/// The 2D Laplacian of a k×k grid (5-point stencil, shifted to be positive definite): the
+/// pattern of a sheet, whose LDLT fill grows like k³.
+SymmetricUpper gridLaplacian(int k) {
+  std::vector<Eigen::Triplet<double, int>> t;
+  auto id = [k](int i, int j) { return i * k + j; };
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      t.emplace_back(id(i, j), id(i, j), 4.1);
+      if (i + 1 < k) t.emplace_back(id(i, j), id(i + 1, j), -1.0);
+      if (j + 1 < k) t.emplace_back(id(i, j), id(i, j + 1), -1.0);
+    }
+  SymmetricUpper upper(k * k, k * k);
+  upper.setFromTriplets(t.begin(), t.end());
+  upper.makeCompressed();
+  return upper;
+}
+
+TEST(LinearSolver, AutoKeepsLdltForSmallSystemsAndHandsLargeOnesToCholmod) {
+  auto small = makeLinearSolver(LinearSolverKind::Auto);
+  small->analyzePattern(gridLaplacian(10));
+  EXPECT_EQ(small->name(), "auto (ldlt)");
+  // 400 × 400 grid in natural (row-by-row) order: L's columns hold ~k entries each, Σ c² ≈ k⁴·k
+  // = 1e13 multiply-adds, far beyond kAutoCholmodFlops.
+  const int k = 400;
+  const SymmetricUpper large = gridLaplacian(k);
+  auto solver = makeLinearSolver(LinearSolverKind::Auto);
+  solver->analyzePattern(large);
+  if (!cholmodAvailable()) {
+    EXPECT_EQ(solver->name(), "auto (ldlt)");
+    return;
+  }
+  EXPECT_EQ(solver->name(), "auto (cholmod)");
+  ASSERT_TRUE(solver->factorize(large));
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(k * k, -1.0, 2.0);
+  Eigen::VectorXd x(k * k);
+  solver->solve(b, x);
+  const SymmetricUpper full = large.selfadjointView<Eigen::Upper>();
+  EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm());
 }
 
 }  // namespace

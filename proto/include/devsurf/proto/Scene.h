@@ -42,7 +42,7 @@ struct SolverSettings {
   double timeBudgetMs = 0.0;
   double residualTolerance = 1e-14;
   double relativeChangeTolerance = 1e-9;
-  std::string linearSolver = "ldlt";
+  std::string linearSolver = "auto";
   bool normalize = true;
 
   engine::SolverOptions solverOptions() const;

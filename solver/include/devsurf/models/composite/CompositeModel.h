@@ -36,7 +36,7 @@ struct CompositeOptions {
   /// an S edge at parameter u are multiplied by terms::softeningWeight of u normalized to the
   /// edge's domain — 0 near both ends, rising to 1 between ξ2 and ξ3. (0, 0, 1, 1) = off.
   terms::SofteningBreakpoints softening = {0.0, 0.0, 1.0, 1.0};
-  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::SimplicialLDLT;
+  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;
 };
 
 /// An interior edge of the composite as extracted: where it runs and how it is folded.

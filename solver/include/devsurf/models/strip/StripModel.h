@@ -63,7 +63,7 @@ struct StripOptions {
   /// eq. 4 to first order and need no normal to turn).
   double normalRegularizationScale = 1e-4;
   bool normalize = true;              ///< centre and scale to unit size while solving (003_… §5.5)
-  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::SimplicialLDLT;  ///< fixed when the model is built
+  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;  ///< fixed when the model is built
 };
 
 /// Sampled geometry for drawing and export (in the design's coordinates).
