@@ -5,7 +5,8 @@
 //   development samples, 4 where it has none; "nodev": development off);
 // - programmatic sheets with many parallel curved creases (parallelCreaseSheet), scaled up to
 //   ~40 000 unknowns without a development (Tang Fig. 17: 39 648 variables, 0.8 s per iteration),
-//   with both linear solvers (CHOLMOD where compiled in; presets use the default LDLT).
+//   with the auto, LDLT and CHOLMOD linear solvers (CHOLMOD where compiled in; presets use their
+//   scene's solver, by default auto).
 //
 // Counters (per benchmark run): unknowns, nnz of the normal matrix (upper triangle as stored), and
 // the solver's own per-phase timings of iteration 1 averaged over the run. bench/paper_tables.sh

@@ -139,7 +139,8 @@ for b in data.get("benchmarks", []):
         continue
     # "CompositePreset/composite-column/dev" or "CompositeSheet/40x40/nodev/cholmod"
     parts = b.get("run_name", b["name"]).split("/")
-    b["solver"] = parts[3] if len(parts) > 3 and not parts[3].startswith(("min_time", "repeats")) else "ldlt"
+    # Presets run with their scene's solver (default "auto"); sheets name it.
+    b["solver"] = parts[3] if len(parts) > 3 and not parts[3].startswith(("min_time", "repeats")) else "auto"
     rows.append((parts[0], parts[1] if len(parts) > 1 else "", parts[2] if len(parts) > 2 else "", b))
 
 def fmt_ms(v):
@@ -155,7 +156,7 @@ print()
 print("| model | development | unknowns | nnz(H) | assembly ms | factorization ms | solve ms | iteration ms | solver |")
 print("|---|---|---:|---:|---:|---:|---:|---:|---|")
 kind_order = {"CompositePreset": 0, "CompositeSheet": 1}
-solver_order = {"ldlt": 0, "cholmod": 1}
+solver_order = {"auto": 0, "ldlt": 1, "cholmod": 2}
 rows.sort(key=lambda r: (kind_order.get(r[0], 9), solver_order.get(r[3]["solver"], 9),
                          r[1] if r[0] == "CompositePreset" else "", r[3]["unknowns"], r[2]))
 for kind, name, variant, b in rows:
@@ -167,7 +168,7 @@ for kind, name, variant, b in rows:
 print()
 print(f"Tang et al. 2016 Fig. 17: {PAPER_MS:.0f} ms per iteration for {PAPER_VARS} variables (i5-3320M).")
 sheets = [r for r in rows if r[0] == "CompositeSheet"]
-for solver in ("ldlt", "cholmod"):
+for solver in ("auto", "ldlt", "cholmod"):
     for variant in ("nodev", "dev"):
         cand = [r for r in sheets if r[2] == variant and r[3]["solver"] == solver]
         if not cand:
