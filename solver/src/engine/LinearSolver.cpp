@@ -1,8 +1,7 @@
 #include "devsurf/engine/LinearSolver.h"
 
 #include <cstddef>
-#include <cstdio>
-#include <cstdlib>
+#include <vector>
 #include <stdexcept>
 
 #include <Eigen/SparseCholesky>
@@ -30,9 +29,6 @@ class SimplicialLdltSolver final : public LinearSolver {
   void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
     solution = ldlt_.solve(rhs);
   }
-  /// Multiply-adds of one factorization (after analyzePattern).
-  double flops() const { return ldlt_.flops(); }
-
  private:
   /// SimplicialLDLT::factorize() builds an (unused, here) n×n temporary on the heap on every
   /// call; with natural ordering and upper storage it then factors the input as is, so call that
@@ -41,16 +37,6 @@ class SimplicialLdltSolver final : public LinearSolver {
   /// vectorD() returns D by value (a copy per call), so D is read by reference.
   struct Ldlt : Eigen::SimplicialLDLT<SymmetricUpper, Eigen::Upper, Eigen::NaturalOrdering<int>> {
     void factorizeUpper(const SymmetricUpper& upper) { this->factorize_preordered<true>(upper); }
-    /// Σ_j c_j² over the column counts of L from the symbolic analysis: the factorization's
-    /// multiply-adds up to a constant.
-    double flops() const {
-      double f = 0.0;
-      for (Eigen::Index j = 0; j < this->m_nonZerosPerCol.size(); ++j) {
-        const double c = static_cast<double>(this->m_nonZerosPerCol[j]);
-        f += c * c;
-      }
-      return f;
-    }
     const Eigen::VectorXd& diagonal() const { return this->m_diag; }
     void sizeDiagonal(Eigen::Index n) { this->m_diag.resize(n); }
   };
@@ -150,34 +136,51 @@ class CholmodSolver final : public LinearSolver {
 };
 #endif
 
-/// LinearSolverKind::Auto: Eigen's LDLT unless its symbolic analysis predicts a factorization
-/// of more than kAutoCholmodFlops multiply-adds, then CHOLMOD (supernodal, its own ordering).
+/// LinearSolverKind::Auto: Eigen's LDLT unless a factorization in the given order would take
+/// more than kAutoCholmodFlops multiply-adds, then CHOLMOD (supernodal, its own ordering).
 class AutoSolver final : public LinearSolver {
  public:
   std::string name() const override { return cholmod_ ? "auto (cholmod)" : "auto (ldlt)"; }
   void analyzePattern(const SymmetricUpper& matrix) override {
-    ldlt_.analyzePattern(matrix);
 #ifdef DEVSURF_HAVE_CHOLMOD
-    if (ldlt_.flops() > kAutoCholmodFlops) {
-      cholmod_ = std::make_unique<CholmodSolver>(true);
-      cholmod_->analyzePattern(matrix);
-    }
+    if (ldltMultiplyAdds(matrix) > kAutoCholmodFlops) solver_ = std::make_unique<CholmodSolver>(true);
 #endif
+    cholmod_ = solver_ != nullptr;
+    if (!solver_) solver_ = std::make_unique<SimplicialLdltSolver>();
+    solver_->analyzePattern(matrix);
   }
-  bool factorize(const SymmetricUpper& matrix) override {
-    return cholmod_ ? cholmod_->factorize(matrix) : ldlt_.factorize(matrix);
-  }
-  void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override {
-    if (cholmod_) cholmod_->solve(rhs, solution);
-    else ldlt_.solve(rhs, solution);
-  }
+  bool factorize(const SymmetricUpper& matrix) override { return solver_->factorize(matrix); }
+  void solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& solution) override { solver_->solve(rhs, solution); }
 
  private:
-  SimplicialLdltSolver ldlt_;
-  std::unique_ptr<LinearSolver> cholmod_;
+  std::unique_ptr<LinearSolver> solver_;
+  bool cholmod_ = false;
 };
 
 }  // namespace
+
+double ldltMultiplyAdds(const SymmetricUpper& upper) {
+  // Elimination tree and column counts of L as Eigen's SimplicialLDLT::analyzePattern computes
+  // them (Liu's row-subtree walk over the upper triangle), without allocating L.
+  const int n = static_cast<int>(upper.cols());
+  std::vector<int> parent(static_cast<std::size_t>(n), -1), flag(static_cast<std::size_t>(n), -1);
+  std::vector<double> count(static_cast<std::size_t>(n), 0.0);
+  for (int k = 0; k < n; ++k) {
+    flag[k] = k;
+    for (SymmetricUpper::InnerIterator it(upper, k); it; ++it) {
+      int i = static_cast<int>(it.index());
+      if (i >= k) continue;
+      for (; flag[i] != k; i = parent[i]) {  // L(k, i) ≠ 0 for every i on the path to k
+        if (parent[i] == -1) parent[i] = k;
+        count[i] += 1.0;
+        flag[i] = k;
+      }
+    }
+  }
+  double total = 0.0;
+  for (double c : count) total += c * c;
+  return total;
+}
 
 bool cholmodAvailable() {
 #ifdef DEVSURF_HAVE_CHOLMOD

@@ -87,13 +87,33 @@ SymmetricUpper gridLaplacian(int k) {
   return upper;
 }
 
+TEST(LinearSolver, MultiplyAddsCountTheFillOfLExactly) {
+  // Tridiagonal: L has one entry below the diagonal per column but the last: Σ c² = n − 1.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(6, 6);
+  for (int i = 0; i < 6; ++i) {
+    A(i, i) = 4.0;
+    if (i + 1 < 6) A(i, i + 1) = A(i + 1, i) = -1.0;
+  }
+  EXPECT_DOUBLE_EQ(ldltMultiplyAdds(upperOf(A)), 5.0);
+  // Arrowhead with the dense row last: no fill, c = 1 for columns 0…4. Dense row first: it fills
+  // everything, c_j = 5 − j.
+  Eigen::MatrixXd last = Eigen::MatrixXd::Identity(6, 6) * 4.0, first = last;
+  for (int i = 0; i < 5; ++i) last(i, 5) = last(5, i) = 1.0;
+  for (int i = 1; i < 6; ++i) first(0, i) = first(i, 0) = 1.0;
+  EXPECT_DOUBLE_EQ(ldltMultiplyAdds(upperOf(last)), 5.0);
+  EXPECT_DOUBLE_EQ(ldltMultiplyAdds(upperOf(first)), 25.0 + 16.0 + 9.0 + 4.0 + 1.0);
+  // The 2D grid in natural order, beyond the switch point.
+  EXPECT_GT(ldltMultiplyAdds(gridLaplacian(200)), kAutoCholmodFlops);
+  EXPECT_LT(ldltMultiplyAdds(gridLaplacian(10)), kAutoCholmodFlops);
+}
+
 TEST(LinearSolver, AutoKeepsLdltForSmallSystemsAndHandsLargeOnesToCholmod) {
   auto small = makeLinearSolver(LinearSolverKind::Auto);
   small->analyzePattern(gridLaplacian(10));
   EXPECT_EQ(small->name(), "auto (ldlt)");
-  // 400 × 400 grid in natural (row-by-row) order: L's columns hold ~k entries each, Σ c² ≈ k⁴·k
-  // = 1e13 multiply-adds, far beyond kAutoCholmodFlops.
-  const int k = 400;
+  // 200 × 200 grid in natural (row-by-row) order: L's columns hold ~k entries each, Σ c² ≈
+  // k²·k² = 1.6e9 multiply-adds, beyond kAutoCholmodFlops.
+  const int k = 200;
   const SymmetricUpper large = gridLaplacian(k);
   auto solver = makeLinearSolver(LinearSolverKind::Auto);
   solver->analyzePattern(large);

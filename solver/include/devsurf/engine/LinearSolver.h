@@ -21,7 +21,12 @@ enum class LinearSolverKind {
                    ///< supernodal, with its own (METIS/AMD) ordering (where compiled in)
 };
 
-/// Auto's switch point (Σ c_j² over L's column counts). Measured on the composite sheets of
+/// Multiply-adds of an LDLᵀ factorization of `upper` in its given order, up to a constant:
+/// Σ_j c_j² over the below-diagonal column counts c_j of L (symbolic only; nothing of L is
+/// allocated).
+double ldltMultiplyAdds(const SymmetricUpper& upper);
+
+/// Auto's switch point (ldltMultiplyAdds). Measured on the composite sheets of
 /// bench/composite_iteration: LDLT wins below ~1e9 (the presets, every strip), CHOLMOD
 /// supernodal with METIS above it (sheet 40×40 with development: 7.4 s → 1.2 s per iteration).
 inline constexpr double kAutoCholmodFlops = 1e9;
