@@ -13,12 +13,12 @@ using SymmetricUpper = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// Which sparse factorization solves the normal equations.
 enum class LinearSolverKind {
-  SimplicialLDLT,  ///< Eigen SimplicialLDLT (default; no extra dependency)
+  SimplicialLDLT,  ///< Eigen SimplicialLDLT (no extra dependency)
   Cholmod,         ///< SuiteSparse CHOLMOD (libsuitesparse-dev); supernodal or simplicial by
                    ///< CHOLMOD's own flop heuristic
-  Auto,            ///< SimplicialLDLT, unless its symbolic analysis predicts more than
-                   ///< kAutoCholmodFlops multiply-adds per factorization: then CHOLMOD,
-                   ///< supernodal, with its own (METIS/AMD) ordering (where compiled in)
+  Auto,            ///< the models' default: SimplicialLDLT, unless ldltMultiplyAdds exceeds
+                   ///< kAutoCholmodFlops: then CHOLMOD, supernodal, with its own (METIS/AMD)
+                   ///< ordering (where compiled in)
 };
 
 /// Multiply-adds of an LDLᵀ factorization of `upper` in its given order, up to a constant:
