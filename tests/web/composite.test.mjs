@@ -40,9 +40,10 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     const done = await h.poll(async () => {
       const st = await h.state(page);
       const server = await daemon.session(demo.id, demo.view_token);
-      return { st, server, ok: st.seq === server.seq && st.lastSolved && st.lastSolved.seq === server.seq };
+      return { st, server, ok: st.seq === server.seq && server.seq > server0.seq && st.lastSolved && st.lastSolved.seq === server.seq };
     });
     const { st, server } = done;
+    assert.ok(done.ok, `the page caught up with the server's solve of the drag (page seq ${st.seq}, solved ${st.lastSolved && st.lastSolved.seq}, server seq ${server.seq})`);
     console.log(`composite drag: ${st.iterateCount - st0.iterateCount} iterates, vertex 3 z ${z0} → ${server.scene.model.vertices[3][2]}, `
       + `face flatness max ${server.metrics.face_flatness_max}, crease residual ${server.metrics.crease_fold_residual_max}`);
     assert.equal(st.lastError, null);

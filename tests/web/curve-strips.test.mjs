@@ -47,6 +47,7 @@ test('a quasi_strip demo drags a control point of c1, the warp metric updates an
       return { st, server, ok: st.seq === server.seq && server.seq > server0.seq && st.lastSolved && st.lastSolved.seq === server.seq };
     }, { timeout: 30000 });
     const { st, server } = done;
+    assert.ok(done.ok, `the page caught up with the server's solve of the drag (page seq ${st.seq}, solved ${st.lastSolved && st.lastSolved.seq}, server seq ${server.seq})`);
     const p1 = server.scene.model.c1.points[12];
     const warp1 = (await h.numberIn(page, 'status-warp')).value;
     console.log(`quasi_strip drag: ${st.iterateCount - st0.iterateCount} iterates, c1[12] ${p0} → ${p1}, `

@@ -479,13 +479,17 @@ export function useDaemonAndBrowser(name, options = {}) {
   return ctx;
 }
 
-/** Calls fn until it returns a truthy value or the time is up; returns the last value. */
+/**
+ * Calls fn until it returns a truthy value or the time is up; returns the last value. A value
+ * with an `ok` key is done only when `ok` is truthy (a condition written as `a && b` yields null
+ * or undefined, not false, when it fails); callers assert `ok` on the returned value.
+ */
 export async function poll(fn, { timeout = 15000, interval = 200 } = {}) {
   const deadline = Date.now() + timeout;
   let v;
   for (;;) {
     v = await fn();
-    if (v && v.ok !== false) return v;
+    if (v && (typeof v !== 'object' || !('ok' in v) || Boolean(v.ok))) return v;
     if (Date.now() > deadline) return v;
     await sleep(interval);
   }
