@@ -6,6 +6,8 @@
 
 #include <Eigen/SparseCholesky>
 #ifdef DEVSURF_HAVE_CHOLMOD
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
 #endif
 
@@ -53,6 +55,13 @@ class SimplicialLdltSolver final : public LinearSolver {
 /// matrix itself — METIS nested dissection, or AMD when that fills less — postorders the tree and
 /// factors supernodally: on the composite sheets' 2D-like patterns nested dissection fills far
 /// less than the assembler's AMD.
+///
+/// \note CHOLMOD 5 (Debian 12) runs parts of its supernodal factorization in OpenMP regions with
+/// a compiled-in num_threads(4), which OMP_NUM_THREADS does not override. An iteration runs on
+/// one core (the daemon parallelizes across sessions, one worker per session): four threads on a
+/// two-core machine spent half the wall time in futex waits (40 × 40 sheet with development:
+/// 1.04 s per iteration, 0.51 s on one thread). So analyzePattern and factorize first set the
+/// calling thread's max-active-levels ICV to 0, which runs every OpenMP region on that thread.
 class CholmodSolver final : public LinearSolver {
  public:
   explicit CholmodSolver(bool ownOrdering = false) {
@@ -78,6 +87,7 @@ class CholmodSolver final : public LinearSolver {
   void analyzePattern(const SymmetricUpper& matrix) override {
     empty_ = matrix.rows() == 0;  // CHOLMOD rejects a 0×0 matrix (everything eliminated)
     if (empty_) return;
+    omp_set_max_active_levels(0);  // one thread: see the class note
     llt_.analyzePattern(matrix);
     // Size the solve workspaces now (shapes as cholmod_solve2 wants them for one right-hand side).
     const std::size_t n = static_cast<std::size_t>(matrix.rows());
@@ -94,6 +104,7 @@ class CholmodSolver final : public LinearSolver {
   }
   bool factorize(const SymmetricUpper& matrix) override {
     if (empty_) return true;
+    omp_set_max_active_levels(0);  // per thread (OpenMP 5 ICV); the caller may be a new worker
     llt_.factorize(matrix);
     if (llt_.info() != Eigen::Success) return false;
     // An LLᵀ factorization fails on a non-positive pivot, but CHOLMOD's simplicial LDLᵀ only on

@@ -4,6 +4,8 @@
 
 #include <Eigen/Dense>
 
+#include <filesystem>
+#include <iterator>
 #include <vector>
 
 namespace devsurf::engine {
@@ -129,6 +131,28 @@ TEST(LinearSolver, AutoKeepsLdltForSmallSystemsAndHandsLargeOnesToCholmod) {
   const SymmetricUpper full = large.selfadjointView<Eigen::Upper>();
   EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm());
 }
+
+#ifdef __linux__
+/// Threads of this process (Linux: the entries of /proc/self/task).
+long threadCount() {
+  const std::filesystem::directory_iterator tasks("/proc/self/task");
+  return static_cast<long>(std::distance(std::filesystem::begin(tasks), std::filesystem::end(tasks)));
+}
+
+TEST(LinearSolver, CholmodFactorizesOnTheCallingThreadOnly) {
+  if (!cholmodAvailable()) GTEST_SKIP() << "CHOLMOD not compiled in";
+  // Large enough for CHOLMOD's supernodal kernel to open its OpenMP regions (num_threads(4) in
+  // Debian's build); an iteration must stay on one core, so no worker thread may appear.
+  const SymmetricUpper large = gridLaplacian(200);
+  const long before = threadCount();
+  for (LinearSolverKind kind : {LinearSolverKind::Auto, LinearSolverKind::Cholmod}) {
+    auto solver = makeLinearSolver(kind);
+    solver->analyzePattern(large);
+    ASSERT_TRUE(solver->factorize(large));
+  }
+  EXPECT_EQ(threadCount(), before);
+}
+#endif
 
 }  // namespace
 }  // namespace devsurf::engine

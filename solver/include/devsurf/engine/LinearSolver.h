@@ -26,10 +26,13 @@ enum class LinearSolverKind {
 /// allocated).
 double ldltMultiplyAdds(const SymmetricUpper& upper);
 
-/// Auto's switch point (ldltMultiplyAdds). Measured on the composite sheets of
-/// bench/composite_iteration: LDLT wins below ~1e9 (the presets, every strip), CHOLMOD
-/// supernodal with METIS above it (sheet 40×40 with development: 7.4 s → 1.2 s per iteration).
-inline constexpr double kAutoCholmodFlops = 1e9;
+/// Auto's switch point (ldltMultiplyAdds), measured with bench/composite_iteration and strips of
+/// 370–1500 spans, CHOLMOD on one thread. Below ~2e6 LDLT wins (small presets, sheet 4×10
+/// without development: 1.1 vs 1.5 ms); from ~5e6 CHOLMOD supernodal with METIS wins on
+/// composites (cylinder crease with development, 2.2e7: 12 → 7 ms; folded annulus, 2e7: 9 → 5 ms;
+/// sheet 40×40 with development, 1.1e10: 7.4 s → 0.45 s). Banded strips are a wash (1500 spans,
+/// 3.8e6: 13–18 ms either way), so they stay on LDLT up to ~2000 spans.
+inline constexpr double kAutoCholmodFlops = 5e6;
 
 /// A symmetric positive (semi-)definite solver with a symbolic/numeric split: analyzePattern()
 /// once per topology, factorize() once per iteration with the same pattern.
