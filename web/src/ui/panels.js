@@ -286,7 +286,10 @@ export class Legend {
   constructor(parent) {
     this.max = h('span', {}, '1°');
     this.min = h('span', {}, '0°');
-    this.current = h('span', { class: 'legend-current' });
+    this.current = h('span', {
+      class: 'legend-current',
+      title: 'Largest value among the drawn samples. The status bar reports the solver\'s metric, taken at its own (denser) samples.',
+    });
     this.title = h('div', { class: 'legend-title', testid: 'legend-title' }, 'warp angle');
     this.root = h('div', { class: 'legend', 'aria-label': 'Colour scale' },
       this.title,
@@ -303,7 +306,7 @@ export class Legend {
     this.min.textContent = `0${unit}`;
     const fmt = (x) => (x !== 0 && Math.abs(x) < 0.01 ? x.toExponential(1) : formatNumber(x, 2));
     this.max.textContent = `${fmt(range)}${unit}`;
-    this.current.textContent = `max ${fmt(max)}${unit}`;
+    this.current.textContent = `drawn max ${fmt(max)}${unit}`;
   }
 
   /** A categorical legend ([{label, color (CSS)}]) instead of the scale; null returns to the scale. */
