@@ -6,6 +6,7 @@
 
 import GUI from 'lil-gui';
 import { SetParamsCommand } from '../commands/SetParamsCommand.js';
+import { PendingControls } from './PendingControls.js';
 
 // [key, label, options]; options: {min, max, step} for numbers, {choices} for selects, {bool}.
 // Keys "mapping.degree" / "mapping.coefficients" go into the params' mapping object.
@@ -56,7 +57,7 @@ export class ParamsPanel {
     this.gui = null;
     this.values = {};
     this.controllers = new Map();
-    this.pending = new Map();
+    this.pending = new PendingControls('set_params', 'params:', (key) => this.controllers.get(key));
     state.on('scene', () => this.refresh());
     state.on('session', () => this.refresh());
     state.on('ack', ({ command }) => this._settled(command, null));
@@ -105,21 +106,11 @@ export class ParamsPanel {
       this.refresh(true);
       return;
     }
-    this.pending.set(key, (this.pending.get(key) || 0) + 1);
-    this.controllers.get(key).domElement.classList.add('pending');
+    this.pending.sent(key);
   }
 
   _settled(command, error) {
-    if (!command || command.type !== 'set_params' || !command.source || !command.source.startsWith('params:')) return;
-    const key = command.source.slice('params:'.length);
-    const n = (this.pending.get(key) || 1) - 1;
-    if (n <= 0) {
-      this.pending.delete(key);
-      const c = this.controllers.get(key);
-      if (c) c.domElement.classList.remove('pending');
-    } else {
-      this.pending.set(key, n);
-    }
+    if (this.pending.settled(command) === null) return;
     if (error) this.refresh(true);
   }
 

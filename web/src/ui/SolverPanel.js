@@ -5,6 +5,7 @@
 import GUI from 'lil-gui';
 import { SetSolverCommand } from '../commands/SetSolverCommand.js';
 import { describeError } from './Toast.js';
+import { PendingControls } from './PendingControls.js';
 
 // [key, label, kind, options]; kind: 'solver' (scene solver object) or 'session' (drag settings)
 const FIELDS = [
@@ -29,7 +30,7 @@ export class SolverPanel {
     this.send = send;
     this.params = { ...DEFAULTS };
     this.controllers = new Map();
-    this.pending = new Map(); // key → number of commands in flight
+    this.pending = new PendingControls('set_solver', 'solver:', (key) => this.controllers.get(key));
     this.gui = new GUI({ container: parent, title: 'Solver' });
     this.gui.domElement.classList.add('solver-gui');
     for (const [key, label, kind, o] of FIELDS) {
@@ -49,10 +50,7 @@ export class SolverPanel {
         normals: spline ? { type: 'spline', degree: 3, points: Math.round(this.normals['spline points']) } : { type: 'vectors' },
       }, { source: 'solver:normals' });
       const op = this.send(command);
-      if (op !== null && op !== undefined) {
-        this.pending.set('normals', (this.pending.get('normals') || 0) + 1);
-        this.normalsType.domElement.classList.add('pending');
-      }
+      if (op !== null && op !== undefined) this.pending.sent('normals');
     };
     this.normalsType = this.gui.add(this.normals, 'normals', ['vectors', 'spline']).onFinishChange(normalsChanged);
     this.normalsType.domElement.dataset.setting = 'normals';
@@ -77,21 +75,11 @@ export class SolverPanel {
       this.refresh(true);
       return;
     }
-    this.pending.set(key, (this.pending.get(key) || 0) + 1);
-    this.controllers.get(key).domElement.classList.add('pending');
+    this.pending.sent(key);
   }
 
   _settled(command, error) {
-    if (!command || command.type !== 'set_solver' || !command.source || !command.source.startsWith('solver:')) return;
-    const key = command.source.slice('solver:'.length);
-    const n = (this.pending.get(key) || 1) - 1;
-    if (n <= 0) {
-      this.pending.delete(key);
-      const c = this.controllers.get(key);
-      if (c) c.domElement.classList.remove('pending');
-    } else {
-      this.pending.set(key, n);
-    }
+    if (this.pending.settled(command) === null) return;
     if (error) {
       // Back to the server's value; the message shows under the control (ErrorSlots).
       this.refresh(true);
