@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -25,6 +26,8 @@ const char* terminationReasonName(TerminationReason reason) {
     case TerminationReason::TimeBudget: return "time_budget";
     case TerminationReason::Aborted: return "aborted";
     case TerminationReason::Diverged: return "diverged";
+    case TerminationReason::Stalled: return "stalled";
+    case TerminationReason::HardTolerance: return "hard_tolerance";
   }
   return "unknown";
 }
@@ -75,27 +78,45 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
 
   // Per-iteration work buffers, allocated once; so is every record's residual vector (the loop
   // itself allocates nothing).
-  std::vector<double> weights(problem_.numTerms());
-  std::vector<double> assembled(problem_.numTerms());
+  const int numTerms = problem_.numTerms();
+  std::vector<double> weights(numTerms);
+  std::vector<double> assembled(numTerms), trial(numTerms);
   std::vector<std::vector<double>> residualStore(
       static_cast<std::size_t>(std::max(0, options.maxIterations)),
-      std::vector<double>(static_cast<std::size_t>(problem_.numTerms()), 0.0));
-  auto fillWeights = [this, &options, &weights](int k) {
+      std::vector<double>(static_cast<std::size_t>(numTerms), 0.0));
+  termMaxAbs_.assign(static_cast<std::size_t>(numTerms), 0.0);
+  step_.setZero(problem_.x().size());
+  const StepControlOptions& control = options.stepControl;
+  if (pullLimit_ <= 0.0) pullLimit_ = control.initialPullLimit;
+  bool anyRelaxable = false;
+  for (int t = 0; t < numTerms; ++t)
+    anyRelaxable = anyRelaxable || (problem_.term(t).relaxable && problem_.term(t).weight > 0.0);
+
+  auto fillWeights = [this, &options, &weights, numTerms](int k) {
     const double fairness = options.fairness * std::pow(options.fairnessDecay, k);
-    for (int t = 0; t < problem_.numTerms(); ++t) {
+    for (int t = 0; t < numTerms; ++t) {
       const TermSlot& slot = problem_.term(t);
       weights[t] = slot.weight * (slot.schedule == WeightSchedule::Fairness ? fairness : 1.0);
     }
   };
-  auto record = [this](IterationRecord& rec) {
-    rec.hardResidual = rec.objective = rec.totalResidual = 0.0;
-    for (int t = 0; t < problem_.numTerms(); ++t) {
+  // Sums of the record from per-term residuals (and the per-term row maxima in termMaxAbs_).
+  auto record = [this, &weights, numTerms](IterationRecord& rec, const std::vector<double>& residuals) {
+    rec.hardResidual = rec.objective = rec.totalResidual = rec.hardResidualMax = 0.0;
+    for (int t = 0; t < numTerms; ++t) {
       const TermSlot& slot = problem_.term(t);
-      const double r = rec.termResiduals[t];
+      const double r = residuals[t];
       rec.totalResidual += r;
-      if (slot.strength == Strength::Hard) rec.hardResidual += r;
+      if (slot.strength == Strength::Hard) {
+        rec.hardResidual += r;
+        const double m = std::abs(weights[t]) * termMaxAbs_[t];
+        rec.hardResidualMax = std::isnan(m) ? m : std::max(rec.hardResidualMax, m);
+      }
       if (slot.schedule == WeightSchedule::Constant) rec.objective += r;
     }
+    if (std::isnan(rec.hardResidualMax)) rec.totalResidual = rec.hardResidualMax;
+  };
+  auto evaluate = [this, &weights](const Eigen::VectorXd& x, std::vector<double>& out) {
+    equations_.residuals(problem_, x, weights, out, &termMaxAbs_);
   };
 
   // Iteration 0: the initial state, weighed with the first iteration's weights.
@@ -103,8 +124,9 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     IterationRecord rec;
     fillWeights(0);
     rec.fairnessWeight = options.fairness;
-    equations_.residuals(problem_, problem_.x(), weights, rec.termResiduals);
-    record(rec);
+    rec.pullLimit = anyRelaxable ? pullLimit_ : 0.0;
+    evaluate(problem_.x(), rec.termResiduals);
+    record(rec, rec.termResiduals);
     rec.totalMs = millisecondsSince(start);
     summary.iterations.push_back(std::move(rec));
     if (options.callback && !options.callback(summary.iterations.back())) {
@@ -119,64 +141,162 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     }
   }
 
+  // The weights of a projection step: the targets (handles) drop out. Fairness stays: the hard
+  // rows alone leave many directions of the control polygons undetermined, and a step along
+  // them (held only by ε_reg) breaks the rows it was to restore (measured: every projection step
+  // without fairness rejected on the two-creases preset).
+  std::vector<double> projectionWeights(numTerms);
+  auto fillProjectionWeights = [this, &weights, &projectionWeights, numTerms]() {
+    for (int t = 0; t < numTerms; ++t) projectionWeights[t] = problem_.term(t).relaxable ? 0.0 : weights[t];
+  };
+
+  int rejectedInARow = 0;
   summary.reason = TerminationReason::MaxIterations;
   for (int k = 0; k < options.maxIterations; ++k) {
     const Clock::time_point iterStart = Clock::now();
+    const IterationRecord& previous = summary.iterations.back();
+    const double previousObjective = previous.objective;
+    const double previousHard = previous.hardResidual;
     IterationRecord rec;
     rec.iteration = k + 1;
     rec.termResiduals = std::move(residualStore[static_cast<std::size_t>(k)]);
-    fillWeights(k);
-    rec.fairnessWeight = options.fairness * std::pow(options.fairnessDecay, k);
-
-    Clock::time_point t0 = Clock::now();
-    equations_.assemble(problem_, weights, options.regularization, assembled);
-    rec.assemblyMs = millisecondsSince(t0);
-
-    // Factorization of H: block elimination of the elimination groups (Schur complement, see
-    // NormalEquations), then the sparse factorization of the reduced matrix.
-    t0 = Clock::now();
-    const bool factored = equations_.eliminate() && linear_->factorize(equations_.matrix());
-    rec.factorizationMs = millisecondsSince(t0);
-    if (!factored) {
-      summary.reason = TerminationReason::Diverged;
-      break;
-    }
-
-    t0 = Clock::now();
-    linear_->solve(equations_.rhs(), delta_);
+    const int scheduleK = options.firstIteration + k;
+    fillWeights(scheduleK);
+    rec.fairnessWeight = options.fairness * std::pow(options.fairnessDecay, scheduleK);
+    rec.pullLimit = anyRelaxable ? pullLimit_ : 0.0;
     previousX_ = problem_.x();
-    // Kept variables from delta_, eliminated ones by back-substitution; ‖δ‖ over all of them.
-    rec.stepNorm = std::sqrt(equations_.applyStep(delta_, problem_.x()));
-    if (!std::isfinite(rec.stepNorm)) {
+
+    // One Gauss–Newton step with the given system weights from previousX_; with step control,
+    // shortened until acceptable. Returns false if the system could not be factorized; `taken` is
+    // the accepted α (0: x is previousX_ again).
+    auto step = [&](const std::vector<double>& systemWeights, double limit, bool strict, double& taken) {
+      Clock::time_point t0 = Clock::now();
+      equations_.assemble(problem_, systemWeights, options.regularization * std::sqrt(dampingScale_), assembled,
+                          limit);
+      rec.assemblyMs += millisecondsSince(t0);
+      // Factorization of H: block elimination of the elimination groups (Schur complement, see
+      // NormalEquations), then the sparse factorization of the reduced matrix.
+      t0 = Clock::now();
+      bool factored = equations_.eliminate() && linear_->factorize(equations_.matrix());
+      rec.factorizationMs += millisecondsSince(t0);
+      // With step control, a system that is numerically not positive definite (ε_reg² D tiny
+      // against JᵀJ of stiff rows) is damped and factorized again rather than ending the solve.
+      for (int retry = 0; !factored && control.enabled && retry < 3; ++retry) {
+        dampingScale_ *= 100.0;
+        t0 = Clock::now();
+        equations_.assemble(problem_, systemWeights, options.regularization * std::sqrt(dampingScale_), assembled,
+                            limit);
+        rec.assemblyMs += millisecondsSince(t0);
+        t0 = Clock::now();
+        factored = equations_.eliminate() && linear_->factorize(equations_.matrix());
+        rec.factorizationMs += millisecondsSince(t0);
+      }
+      if (!factored) return false;
+      t0 = Clock::now();
+      linear_->solve(equations_.rhs(), delta_);
+      problem_.x() = previousX_;
+      // Kept variables from delta_, eliminated ones by back-substitution; ‖δ‖ over all of them.
+      const double norm = std::sqrt(equations_.applyStep(delta_, problem_.x()));
+      rec.solveMs += millisecondsSince(t0);
+      rec.stepNorm = norm;
+      // Residuals at the new iterate, with this iteration's nominal weights (residual-only path).
+      evaluate(problem_.x(), rec.termResiduals);
+      record(rec, rec.termResiduals);
+      taken = 1.0;
+      if (!control.enabled) return true;
+      auto acceptable = [&control, previousHard, strict](const IterationRecord& r) {
+        if (!std::isfinite(r.totalResidual)) return false;
+        if (strict) return r.hardResidual < previousHard || r.hardResidual == 0.0;
+        return r.hardResidualMax <= control.hardBand || r.hardResidual <= previousHard;
+      };
+      if (acceptable(rec)) return true;
+      const bool finiteStep = std::isfinite(norm);
+      step_ = problem_.x() - previousX_;
+      double alpha = 1.0;
+      for (int h = 0; h < control.maxHalvings && finiteStep; ++h) {
+        alpha *= 0.5;
+        problem_.x() = previousX_ + alpha * step_;
+        evaluate(problem_.x(), trial);
+        IterationRecord probe;
+        record(probe, trial);
+        if (acceptable(probe)) {
+          std::copy(trial.begin(), trial.end(), rec.termResiduals.begin());
+          record(rec, rec.termResiduals);
+          rec.stepNorm = alpha * norm;
+          taken = alpha;
+          return true;
+        }
+      }
+      taken = 0.0;
+      return true;
+    };
+
+    double alpha = 0.0;
+    if (options.projectionOnly) fillProjectionWeights();
+    bool factored = step(options.projectionOnly ? projectionWeights : weights,
+                         control.enabled ? pullLimit_ : std::numeric_limits<double>::infinity(), false, alpha);
+    rec.projected = options.projectionOnly;
+    const bool pulling = anyRelaxable && !options.projectionOnly;
+    if (factored && control.enabled && alpha < 1.0) {
+      // The step tore the shape: the targets are approached more slowly from now on, or — without
+      // targets — the steps are damped.
+      if (pulling) pullLimit_ = std::max(control.minPullLimit, pullLimit_ * (alpha > 0.0 ? 0.5 : 0.25));
+      else dampingScale_ *= alpha > 0.0 ? 2.0 : 4.0;
+      if (alpha == 0.0 && pulling) {
+        // Instead of this step, a projection step (no targets) from the last good iterate.
+        fillProjectionWeights();
+        factored = step(projectionWeights, std::numeric_limits<double>::infinity(), true, alpha);
+        rec.projected = true;
+        if (factored && alpha == 0.0) dampingScale_ *= 4.0;  // not even that: damp what follows
+      }
+    } else if (factored && control.enabled) {
+      pullLimit_ = std::min(control.maxPullLimit, 2.0 * pullLimit_);
+      dampingScale_ = std::max(1.0, 0.25 * dampingScale_);
+    }
+    if (!factored) {
       problem_.x() = previousX_;
       summary.reason = TerminationReason::Diverged;
       break;
     }
-    rec.solveMs = millisecondsSince(t0);
-
-    // Residuals at the new iterate, with this iteration's weights (residual-only path).
-    equations_.residuals(problem_, problem_.x(), weights, rec.termResiduals);
-    record(rec);
-    if (!std::isfinite(rec.totalResidual)) {
+    if (alpha == 0.0 && control.enabled) {  // back to the last good iterate
+      problem_.x() = previousX_;
+      std::copy(previous.termResiduals.begin(), previous.termResiduals.end(), rec.termResiduals.begin());
+      rec.hardResidual = previous.hardResidual;
+      rec.hardResidualMax = previous.hardResidualMax;
+      rec.objective = previous.objective;
+      rec.totalResidual = previous.totalResidual;
+      rec.stepNorm = 0.0;
+    }
+    rec.stepScale = alpha;
+    rejectedInARow = alpha > 0.0 ? 0 : rejectedInARow + 1;
+    if (!control.enabled && (!std::isfinite(rec.stepNorm) || !std::isfinite(rec.totalResidual))) {
       problem_.x() = previousX_;
       summary.reason = TerminationReason::Diverged;
       break;
     }
     rec.totalMs = millisecondsSince(iterStart);
-    const double previousObjective = summary.iterations.back().objective;
     summary.iterations.push_back(std::move(rec));
+    const IterationRecord& last = summary.iterations.back();
 
-    if (options.callback && !options.callback(summary.iterations.back())) {
+    if (options.callback && !options.callback(last)) {
       summary.reason = TerminationReason::Aborted;
       break;
     }
-    if (rec.objective <= options.residualTolerance) {
+    if (rejectedInARow >= kStallRejections) {
+      summary.reason = TerminationReason::Stalled;
+      break;
+    }
+    if (last.stepScale == 0.0) continue;  // nothing moved: no tolerance can have been reached
+    if (last.objective <= options.residualTolerance) {
       summary.reason = TerminationReason::ResidualTolerance;
       break;
     }
-    if (k >= 1 && previousObjective > 0.0 &&
-        std::abs(previousObjective - rec.objective) <=
-                      options.relativeChangeTolerance * previousObjective) {
+    if (options.hardTolerance > 0.0 && last.hardResidualMax <= options.hardTolerance) {
+      summary.reason = TerminationReason::HardTolerance;
+      break;
+    }
+    if (k >= 1 && last.stepScale == 1.0 && !last.projected && previousObjective > 0.0 &&
+        std::abs(previousObjective - last.objective) <= options.relativeChangeTolerance * previousObjective) {
       summary.reason = TerminationReason::RelativeChange;
       break;
     }
@@ -186,7 +306,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     }
   }
   summary.converged = summary.reason == TerminationReason::ResidualTolerance ||
-                      summary.reason == TerminationReason::RelativeChange;
+                      summary.reason == TerminationReason::RelativeChange ||
+                      summary.reason == TerminationReason::HardTolerance;
   summary.totalMs = millisecondsSince(start);
   return summary;
 }

@@ -77,6 +77,9 @@ class CholmodSolver final : public LinearSolver {
       llt_.cholmod().method[0].ordering = CHOLMOD_NATURAL;
       llt_.cholmod().postorder = 0;
     }
+    // A system that is not positive definite is reported through factorize()'s result (the caller
+    // damps and retries), not printed as a CHOLMOD warning on stderr.
+    llt_.cholmod().print = 0;
   }
   ~CholmodSolver() override {
     cholmod_free_dense(&x_, &llt_.cholmod());

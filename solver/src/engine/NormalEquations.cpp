@@ -574,7 +574,8 @@ NormalEquations::NormalEquations(const Problem& problem) {
 }
 
 void NormalEquations::assemble(Problem& problem, const std::vector<double>& termWeights,
-                               double regularization, std::vector<double>& termResiduals) {
+                               double regularization, std::vector<double>& termResiduals,
+                               double relaxableLimit) {
   assert(static_cast<int>(termWeights.size()) == problem.numTerms() && "one weight per term");
   double* H = S_.valuePtr();
   std::fill(H, H + S_.nonZeros(), 0.0);
@@ -595,6 +596,11 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
     const double w2 = termWeights[t] * termWeights[t];
     double energy = 0.0;
     for (int row = 0; row < plan.numResiduals; ++row) energy += r[row] * r[row];
+    if (problem.term(t).relaxable && energy > relaxableLimit * relaxableLimit) {
+      const double shorten = relaxableLimit / std::sqrt(energy);
+      for (int row = 0; row < plan.numResiduals; ++row) r[row] *= shorten;
+      energy = relaxableLimit * relaxableLimit;
+    }
     termResiduals[t] = w2 * energy;
 
     const int* slot = plan.pairSlot.data();
@@ -751,15 +757,21 @@ bool NormalEquations::eliminate() {
 
 void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x,
                                 const std::vector<double>& termWeights,
-                                std::vector<double>& termResiduals) {
+                                std::vector<double>& termResiduals, std::vector<double>* termMaxAbs) {
   termResiduals.assign(problem.numTerms(), 0.0);
+  if (termMaxAbs) termMaxAbs->assign(problem.numTerms(), 0.0);
   for (int t = 0; t < problem.numTerms(); ++t) {
     double* r = residual_.data() + termResidualOffset_[t];
     problem.term(t).term->evaluate(x, r, nullptr);
     const double w2 = termWeights[t] * termWeights[t];
-    double energy = 0.0;
-    for (int row = 0; row < plans_[t].numResiduals; ++row) energy += r[row] * r[row];
+    double energy = 0.0, largest = 0.0;
+    for (int row = 0; row < plans_[t].numResiduals; ++row) {
+      energy += r[row] * r[row];
+      largest = std::max(largest, std::abs(r[row]));
+      if (std::isnan(r[row])) largest = r[row];
+    }
     termResiduals[t] = w2 * energy;
+    if (termMaxAbs) (*termMaxAbs)[t] = largest;
   }
 }
 

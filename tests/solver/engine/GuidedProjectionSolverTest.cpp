@@ -149,7 +149,7 @@ TEST(GuidedProjectionSolver, CallbackCanAbortTheSolve) {
   EXPECT_EQ(summary.stepsTaken(), 2);
 }
 
-TEST(GuidedProjectionSolver, DivergingStepRestoresThePreviousIterate) {
+TEST(GuidedProjectionSolver, WithoutStepControlADivergingStepRestoresThePreviousIterate) {
   // sqrt(x) − 1 from x = 9: the Newton step δ = −2/(1/6) = −12 lands at x = −3 (NaN residual).
   Problem problem;
   problem.addBlock("x", 1);
@@ -158,6 +158,7 @@ TEST(GuidedProjectionSolver, DivergingStepRestoresThePreviousIterate) {
   GuidedProjectionSolver solver(problem);
   SolverOptions options;
   options.regularization = 0.0;
+  options.stepControl.enabled = false;
   const SolveSummary summary = solver.solve(options);
   EXPECT_EQ(summary.reason, TerminationReason::Diverged);
   EXPECT_FALSE(summary.converged);

@@ -18,9 +18,12 @@ enum class TerminationReason {
   MaxIterations,      ///< ran the requested number of iterations
   ResidualTolerance,  ///< objective (unscheduled terms) below residualTolerance
   RelativeChange,     ///< relative change of the objective below the tolerance
+  HardTolerance,      ///< every hard row within SolverOptions::hardTolerance, no longer improving
   TimeBudget,         ///< the time budget ran out
   Aborted,            ///< the iteration callback asked to stop
   Diverged,           ///< a step produced non-finite values or a singular system; x was restored
+  Stalled,            ///< step control rejected kStallRejections steps in a row (x is the last good
+                      ///< iterate: the hard rows cannot be kept while moving toward the targets)
 };
 const char* terminationReasonName(TerminationReason reason);
 
@@ -29,16 +32,51 @@ struct IterationRecord {
   int iteration = 0;                   ///< 0 = the initial state, k = after k steps
   std::vector<double> termResiduals;   ///< per term id: Σ (w r)², weights of this iteration
   double hardResidual = 0.0;           ///< Σ over hard terms
+  double hardResidualMax = 0.0;        ///< largest |w r| of a single hard row
   double objective = 0.0;              ///< Σ over terms whose weight is not scheduled (hard and
                                        ///< soft targets such as handles): what termination watches
   double totalResidual = 0.0;          ///< Σ over all terms
   double stepNorm = 0.0;               ///< ‖δ‖ (0 for iteration 0)
   double fairnessWeight = 0.0;         ///< ε_fair · decay^k used for this step
+  double stepScale = 1.0;              ///< α of the accepted step x + αδ (0: rejected, x unchanged)
+  bool projected = false;              ///< step control replaced a rejected step by a projection
+                                       ///< step (hard rows only)
+  double pullLimit = 0.0;              ///< step control: the largest residual norm of a relaxable term
+                                       ///< (a handle's distance to its target) this step aimed to
+                                       ///< remove (0: no relaxable terms)
   double assemblyMs = 0.0;             ///< linearize, evaluate, fill H and g
   double factorizationMs = 0.0;        ///< numeric factorization (incl. the block elimination
                                        ///< of elimination groups, see NormalEquations)
   double solveMs = 0.0;                ///< triangular solves and the update of x
   double totalMs = 0.0;                ///< whole iteration including residual evaluation
+};
+
+/// Step control on the hard rows (ARCHITECTURE §8 "a drag cannot tear"): a step is accepted when
+/// it leaves every hard row within the band, or at least does not raise the hard residual
+/// Σ(w r)²; otherwise it is shortened (x + αδ, α = 1, ½, ¼ …) and, if no α is accepted, rejected:
+/// x stays the last good iterate, and the iteration takes a projection step instead: the same
+/// system without the targets (handles), accepted if it lowers the hard residual.
+///
+/// The relaxable terms (handles, TermSlot::relaxable) are approached gradually: in the linear
+/// system a relaxable term's residual vector is shortened to at most the pull limit — for a handle,
+/// its target is moved to at most that distance from the point — so a step aims at a reachable
+/// intermediate target and corrects the hard rows fully. The limit is a trust region: halved by a
+/// shortened step, quartered by a rejected one, doubled by a full one (within [min, max]). A handle
+/// that asks for the impossible thus lags behind its target instead of tearing the shape. Reports
+/// and termination always use the true residuals. Without relaxable terms a rejection raises the
+/// damping (ε_reg ×2 per rejection) instead. Limit and damping persist across solve() calls of one
+/// solver (a drag is many short solves); resetStepControl() starts afresh.
+struct StepControlOptions {
+  bool enabled = true;      ///< off: every step is taken whole (the plain method of 000_… eq. 6)
+  /// Largest weighted residual |w r| of one hard row (normalized coordinates, rows scaled as the
+  /// terms scale them) a step may leave behind. The default 0.1 is a safety net for batch solves,
+  /// which only need their last iterate to be good: it stops wild steps and lets handles move
+  /// fast. Interactive sessions, which stream every iterate, hold 1e-3 (SessionSettings).
+  double hardBand = 0.1;
+  int maxHalvings = 5;      ///< α down to 2^−maxHalvings before the step is rejected
+  double initialPullLimit = 0.05;  ///< pull limit of a fresh solver (normalized units: the model is ~1)
+  double minPullLimit = 1e-4;      ///< the limit never falls below this
+  double maxPullLimit = 1.0;       ///< nor rises above this
 };
 
 /// Options of a guided-projection solve; every field has a documented default
@@ -51,7 +89,20 @@ struct SolverOptions {
   double timeBudgetMs = 0.0;             ///< stop after this much wall time (0 = no budget)
   double residualTolerance = 1e-14;      ///< stop when the objective Σ(w r)² falls below
   double relativeChangeTolerance = 1e-9; ///< stop when |E_k − E_{k−1}| ≤ tol · E_{k−1}
-                                         ///< (E = objective; checked from the second step on)
+                                         ///< (E = objective; checked from the second step on,
+                                         ///< after accepted full steps only)
+  /// Stop when every hard row is within this (largest weighted |w r| after a step; 0 = not used):
+  /// "release runs to quality" — the constraints are met, what is left is the slow approach of
+  /// the soft targets.
+  double hardTolerance = 0.0;
+  StepControlOptions stepControl;        ///< see StepControlOptions
+  /// The schedule's iteration of the first step: the fairness weight of step k is
+  /// ε_fair·decay^(firstIteration + k), so a session's many short solves of one drag continue one
+  /// schedule instead of restarting it.
+  int firstIteration = 0;
+  /// Every step a projection step: without the handles (relaxable terms) — restores feasibility
+  /// without pulling anything (a session's polish after a drag).
+  bool projectionOnly = false;
   /// Called after every iteration (and for iteration 0); return false to abort the solve.
   std::function<bool(const IterationRecord&)> callback;
 };
@@ -88,6 +139,15 @@ class GuidedProjectionSolver {
   std::vector<double> effectiveWeights(const SolverOptions& options, int k) const;
   /// Residual-only evaluation of every term at x with the given weights: per term Σ(w r)².
   std::vector<double> termResiduals(const Eigen::VectorXd& x, const std::vector<double>& weights);
+  /// Starts step control afresh: relaxable terms at full weight, no extra damping.
+  void resetStepControl() {
+    pullLimit_ = 0.0;  // the next solve starts at its options' initialPullLimit
+    dampingScale_ = 1.0;
+  }
+  /// The current pull limit of step control (0 before the first solve).
+  double pullLimit() const { return pullLimit_; }
+  /// Consecutive rejected steps after which a solve ends with Stalled.
+  static constexpr int kStallRejections = 12;
 
   int numFree() const { return equations_.numFree(); }
   long normalMatrixNonZeros() const { return equations_.nonZeros(); }
@@ -100,6 +160,10 @@ class GuidedProjectionSolver {
   LinearSolverKind kind_;
   Eigen::VectorXd delta_;
   Eigen::VectorXd previousX_;
+  Eigen::VectorXd step_;             ///< x_{k+1} − x_k of the full step (for shortening it)
+  std::vector<double> termMaxAbs_;   ///< per term: largest |r| of the last residual evaluation
+  double pullLimit_ = 0.0;           ///< step control: see StepControlOptions (0: not yet set)
+  double dampingScale_ = 1.0;        ///< step control: ε_reg multiplier
 };
 
 }  // namespace devsurf::engine

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -43,9 +44,13 @@ class NormalEquations {
   /// involves no eliminated variable; eliminate() completes it.
   /// @param[in] termWeights  effective weight per term id (schedule applied)
   /// @param[in] regularization  ε_reg (Tikhonov, added to the diagonal as ε_reg² · block scale)
-  /// @param[out] termResiduals  per term id: Σ (w r)² at x
+  /// @param[out] termResiduals  per term id: Σ (w r)² at x (the shortened residuals, see below)
+  /// @param[in] relaxableLimit  the residual vector of every relaxable term (TermSlot::relaxable) is
+  ///            shortened to at most this norm before it enters the system (a handle's target
+  ///            brought to within that distance): the step control's pull limit
   void assemble(Problem& problem, const std::vector<double>& termWeights, double regularization,
-                std::vector<double>& termResiduals);
+                std::vector<double>& termResiduals,
+                double relaxableLimit = std::numeric_limits<double>::infinity());
 
   /// Eliminates every elimination group (block Gaussian elimination of H, the first stage of its
   /// factorization) into matrix() and rhs(), using the Jacobian of the last assemble(). Returns
@@ -54,8 +59,10 @@ class NormalEquations {
   bool eliminate();
 
   /// Residual-only evaluation: per term id Σ (w r)² at x (no Jacobians, no linearizeAt).
+  /// @param[out] termMaxAbs  optional: per term id the largest |r| of its rows (unweighted)
   void residuals(const Problem& problem, const Eigen::VectorXd& x,
-                 const std::vector<double>& termWeights, std::vector<double>& termResiduals);
+                 const std::vector<double>& termWeights, std::vector<double>& termResiduals,
+                 std::vector<double>* termMaxAbs = nullptr);
 
   /// Upper triangle of the reduced matrix S in the solver ordering (after eliminate()).
   const SymmetricUpper& matrix() const { return S_; }

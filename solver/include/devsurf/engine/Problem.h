@@ -26,6 +26,9 @@ struct TermSlot {
   double weight = 1.0;
   Strength strength = Strength::Hard;
   WeightSchedule schedule = WeightSchedule::Constant;
+  /// A user target (a handle) that step control may weaken when pulling toward it would tear the
+  /// hard rows (StepControlOptions). Its weight in the summary stays the nominal one.
+  bool relaxable = false;
 };
 
 /// Variables and terms: everything guided projection needs to know about a model.

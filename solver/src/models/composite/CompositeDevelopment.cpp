@@ -17,6 +17,7 @@
 #include "devsurf/spline/Basis.h"
 #include "devsurf/terms/DevelopmentPeriodTerm.h"
 #include "devsurf/terms/EdgeIsometryTerm.h"
+#include "devsurf/terms/TriangleOrientationTerm.h"
 #include "devsurf/terms/TangentDistanceTerm.h"
 
 namespace devsurf::models::composite {
@@ -560,6 +561,21 @@ void CompositeModel::addDevelopmentTerms() {
   for (const CompositeDevelopment::Pair& p : devMesh_.pairs) pairs.emplace_back(p.v0, p.v1);
   problem_.addTerm(std::make_unique<terms::EdgeIsometryTerm>("development_isometry", devSpatial_, offsets, pairs),
                    1.0, engine::Strength::Hard);
+  if (options_.developmentAreaRatio > 0.0) {
+    // Degeneracy guard: every development triangle stays counterclockwise with a fraction of its
+    // area (the isometry rows cannot tell a face from its mirror image).
+    std::vector<double> minArea(devTriangles_.size());
+    for (std::size_t t = 0; t < devTriangles_.size(); ++t) {
+      const auto& tri = devTriangles_[t];
+      const Eigen::Vector2d p0 = start.row(tri[0]).transpose(), p1 = start.row(tri[1]).transpose(),
+                            p2 = start.row(tri[2]).transpose();
+      const double area = 0.5 * ((p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y()));
+      minArea[t] = options_.developmentAreaRatio * area;  // ≤ 0 (flipped at build): not guarded
+    }
+    problem_.addTerm(std::make_unique<terms::TriangleOrientationTerm>("development_orientation", offset, devTriangles_,
+                                                                     minArea),
+                     1.0, engine::Strength::Hard);
+  }
   // Fairness of the developed S edges (boundary and crease polylines), decaying; a seam edge's
   // polyline as the first of its faces sees it (its copies follow through the period).
   for (int e = 0; e < topo.numEdges(); ++e) {

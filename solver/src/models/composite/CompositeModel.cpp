@@ -12,7 +12,9 @@
 
 #include "devsurf/metrics/QuadFlatness.h"
 #include "devsurf/metrics/StripQuality.h"
+#include "devsurf/terms/PolygonBacktrackTerm.h"
 #include "devsurf/terms/PolygonFairnessTerm.h"
+#include "devsurf/terms/RulingLengthTerm.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
@@ -327,6 +329,20 @@ void CompositeModel::buildProblem() {
                          "developability", terms::LinearPoints{emptyRows(K, P), 0}, rows.da,
                          terms::LinearPoints{diff, 0}, rows.db, terms::LinearPoints::identity(K, offN)),
                      options_.developabilityWeight, Strength::Hard);
+    if (options_.rulingGuardRatio > 0.0) {
+      // Degeneracy guard: no ruling shrinks below a fraction of its length at build time (a
+      // degenerate ruling by design has length 0 and no row).
+      const terms::LinearPoints ruling{diff, 0};
+      std::vector<double> minLength(static_cast<std::size_t>(K));
+      for (int k = 0; k < K; ++k) {
+        const double length = ruling.point(problem_.x(), k).norm();
+        minLength[k] = length > 1e-9 ? options_.rulingGuardRatio * length : 0.0;
+      }
+      rulingTerms_.push_back(problem_.addTerm(
+          std::make_unique<terms::RulingLengthTerm>("ruling_length", terms::LinearPoints{emptyRows(K, P), 0}, ruling,
+                                                    minLength),
+          1.0, Strength::Hard));
+    }
     hardUnit.push_back(offN);
     for (int k = 1; k < K; ++k) softUnit.push_back(offN + 3 * k);
   }
@@ -345,6 +361,28 @@ void CompositeModel::buildProblem() {
         for (const PointSlot& s : slots) offsets.push_back(3 * pointIndex(s));
         problem_.addTerm(std::make_unique<terms::PolygonFairnessTerm>("fairness", offsets), 1.0, Strength::Soft,
                          WeightSchedule::Fairness);
+        // Degeneracy guards: the control polygon does not turn back (a crease folding over itself),
+        // and its legs do not collapse (coalescing control points let it turn back unseen and
+        // make c′ vanish at the crease's ends).
+        if (options_.creaseBacktrackGuard) {
+          problem_.addTerm(std::make_unique<terms::PolygonBacktrackTerm>("crease_backtrack", offsets, problem_.x(),
+                                                                         topo.knots(e).degree()),
+                           1.0, Strength::Hard);
+          const int legs = static_cast<int>(slots.size()) - 1;
+          EvaluationMatrix W(legs, P);
+          std::vector<double> minLength(static_cast<std::size_t>(legs));
+          for (int i = 0; i < legs; ++i) {
+            W.insert(i, pointIndex(slots[i])) = -1.0;
+            W.insert(i, pointIndex(slots[i + 1])) = 1.0;
+            const double length = (problem_.x().segment<3>(offsets[i + 1]) - problem_.x().segment<3>(offsets[i])).norm();
+            minLength[i] = length > 1e-9 ? options_.legGuardRatio * length : 0.0;
+          }
+          W.makeCompressed();
+          problem_.addTerm(std::make_unique<terms::RulingLengthTerm>("crease_leg_length",
+                                                                     terms::LinearPoints{emptyRows(legs, P), 0},
+                                                                     terms::LinearPoints{W, 0}, minLength),
+                           1.0, Strength::Hard);
+        }
       }
       if (kind == CreaseKind::Straight) {
         // Straight unfolding (000_… §3.3): the osculating plane of the edge contains the normal of
@@ -402,6 +440,7 @@ void CompositeModel::buildProblem() {
         std::make_unique<terms::HandleTargetTerm>("handle", 3 * pointIndex(slotOf(h.point)),
                                                   normalization_.toNormalized(h.position)),
         h.weight, Strength::Soft));
+  for (int t : handleTerms_) problem_.term(t).relaxable = true;  // step control may weaken the pull
 
   initializeNormals();
   initializeOsculatingNormals();
@@ -560,6 +599,38 @@ void CompositeModel::setHandleTarget(int i, const Eigen::Vector3d& position) {
   design_.handles[static_cast<std::size_t>(i)].position = position;
   auto* term = static_cast<terms::HandleTargetTerm*>(problem_.term(handleTerms_[i]).term.get());
   term->setTarget(normalization_.toNormalized(position));
+}
+
+void CompositeModel::setHandleWeight(int i, double weight) {
+  if (i < 0 || i >= static_cast<int>(handleTerms_.size()))
+    throw std::out_of_range("handles[" + std::to_string(i) + "]: no such handle");
+  if (!(weight >= 0.0) || !std::isfinite(weight))
+    throw std::invalid_argument("handles[" + std::to_string(i) + "].weight: must be finite and ≥ 0");
+  design_.handles[static_cast<std::size_t>(i)].weight = weight;
+  problem_.setWeight(handleTerms_[i], weight);
+}
+
+double CompositeModel::rulingLengthMinRatio() const {
+  double ratio = 1.0;
+  for (int t : rulingTerms_)
+    ratio = std::min(ratio, static_cast<const terms::RulingLengthTerm*>(problem_.term(t).term.get())
+                                ->lengthRatioMin(problem_.x(), options_.rulingGuardRatio));
+  return ratio;
+}
+
+double CompositeModel::creaseBacktrackMax() const {
+  double worst = 0.0;
+  const CompositeDesign d = design();
+  for (int e = 0; e < topology_->numEdges(); ++e) {
+    if (topology_->edgeType(e) != EdgeType::Spline) continue;
+    const Eigen::MatrixX3d& p = d.edges[e].curve.points;
+    for (Eigen::Index i = 1; i + 1 < p.rows(); ++i) {
+      const Eigen::Vector3d d0 = p.row(i) - p.row(i - 1), d1 = p.row(i + 1) - p.row(i);
+      const double n = d0.norm() * d1.norm();
+      if (n > 1e-300) worst = std::max(worst, -d0.dot(d1) / n);
+    }
+  }
+  return worst;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -13,6 +13,8 @@
 #include "devsurf/spline/RationalBasis.h"
 #include "devsurf/terms/ControlPolygonFairnessTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
+#include "devsurf/terms/PolygonBacktrackTerm.h"
+#include "devsurf/terms/RulingLengthTerm.h"
 #include "devsurf/terms/LinearPoints.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
@@ -164,6 +166,52 @@ void StripModel::buildProblem() {
                                                                     Db, N),
                    options_.developabilityWeight, Strength::Hard);
 
+  // Degeneracy guard: no ruling shrinks below rulingGuardRatio of its length at build time.
+  // Guarded rulings: twice as dense as the developability rows, and both ends (an end ruling is
+  // the first to collapse when a corner is pulled along it).
+  if (options_.rulingGuardRatio > 0.0) {
+    std::vector<double> at = a.knots.spanSamples(2 * (3 * m - 2));
+    if (a.knots.kind() != spline::KnotKind::Periodic) {
+      at.insert(at.begin(), a.knots.domainBegin());
+      at.push_back(a.knots.domainEnd());
+    }
+    const terms::LinearPoints ga{spline::curveEvaluationMatrix(a.knots, a.weights, at, 0), offA};
+    const terms::LinearPoints gb{spline::curveEvaluationMatrix(b.knots, b.weights, at, 0), offB};
+    std::vector<double> minLength(at.size());
+    for (std::size_t k = 0; k < at.size(); ++k) {
+      const double length = (gb.point(problem_.x(), static_cast<int>(k)) - ga.point(problem_.x(), static_cast<int>(k))).norm();
+      minLength[k] = length > 1e-9 ? options_.rulingGuardRatio * length : 0.0;
+    }
+    rulingTerm_ = problem_.addTerm(std::make_unique<terms::RulingLengthTerm>("ruling_length", ga, gb, minLength),
+                                   1.0, Strength::Hard);
+  }
+
+  // Degeneracy guard: neither control polygon turns back (a cusp in a or b, where the rulings'
+  // directions jump and the dense warp angle with them).
+  if (options_.backtrackGuard && n >= 3 && a.knots.kind() != spline::KnotKind::Periodic) {
+    for (const int off : {offA, offB}) {
+      std::vector<int> offsets;
+      for (int i = 0; i < n; ++i) offsets.push_back(off + 3 * i);
+      problem_.addTerm(std::make_unique<terms::PolygonBacktrackTerm>("curve_backtrack", offsets, problem_.x(), m),
+                       1.0, Strength::Hard);
+      // … nor do its legs collapse (coalescing control points turn back unseen).
+      spline::EvaluationMatrix W(n - 1, n);
+      std::vector<double> minLength(static_cast<std::size_t>(n - 1));
+      for (int i = 0; i + 1 < n; ++i) {
+        W.insert(i, i) = -1.0;
+        W.insert(i, i + 1) = 1.0;
+        const double length = (problem_.x().segment<3>(offsets[i + 1]) - problem_.x().segment<3>(offsets[i])).norm();
+        minLength[i] = length > 1e-9 ? options_.legGuardRatio * length : 0.0;
+      }
+      W.makeCompressed();
+      spline::EvaluationMatrix none(n - 1, n);
+      none.makeCompressed();
+      problem_.addTerm(std::make_unique<terms::RulingLengthTerm>("curve_leg_length", terms::LinearPoints{none, off},
+                                                                 terms::LinearPoints{W, off}, minLength),
+                       1.0, Strength::Hard);
+    }
+  }
+
   // Unit normals: hard at the first parameter (the normal spline's first control point), soft
   // elsewhere (000_… §2.2). Mundilova (003_… §5.2.3) also holds the spline's last control point
   // hard; that over-constrains exact developables whose normal field a′×(b−a) has different
@@ -190,6 +238,7 @@ void StripModel::buildProblem() {
                                                   normalization_.toNormalized(h.position)),
         h.weight, Strength::Soft));
   }
+  for (int t : handleTerms_) problem_.term(t).relaxable = true;  // step control may weaken the pull
 
   initializeNormals();
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
@@ -251,6 +300,21 @@ void StripModel::setHandleTarget(int i, const Eigen::Vector3d& position) {
   design_.handles[static_cast<std::size_t>(i)].position = position;
   auto* term = static_cast<terms::HandleTargetTerm*>(problem_.term(handleTerms_[i]).term.get());
   term->setTarget(normalization_.toNormalized(position));
+}
+
+void StripModel::setHandleWeight(int i, double weight) {
+  if (i < 0 || i >= static_cast<int>(handleTerms_.size()))
+    throw std::out_of_range("handles[" + std::to_string(i) + "]: no such handle");
+  if (!(weight >= 0.0) || !std::isfinite(weight))
+    throw std::invalid_argument("handles[" + std::to_string(i) + "].weight: must be finite and ≥ 0");
+  design_.handles[static_cast<std::size_t>(i)].weight = weight;
+  problem_.setWeight(handleTerms_[i], weight);
+}
+
+double StripModel::rulingLengthMinRatio() const {
+  if (rulingTerm_ < 0) return 1.0;
+  const auto* term = static_cast<const terms::RulingLengthTerm*>(problem_.term(rulingTerm_).term.get());
+  return term->lengthRatioMin(problem_.x(), options_.rulingGuardRatio);
 }
 
 Eigen::MatrixXd StripModel::controlPoints(Curve c) const {

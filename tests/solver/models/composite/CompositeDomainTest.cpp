@@ -170,7 +170,10 @@ TEST(CompositeDomain, ARebuiltDesignKeepsItsDevelopment) {
 
 TEST(CompositeDomain, SwitchingAFoldToSmoothLeavesNoOverfoldedDevelopment) {
   // The Fig. 8 preset folded, then its crease switched to "smooth": the sheet unfolds by tens of
-  // degrees in a few iterations, and distance rows alone could leave development faces mirrored.
+  // degrees, and distance rows alone could leave development faces mirrored. Step control
+  // shortens the steps of so large a change (the smooth rows start at 9, far outside the band), so
+  // it takes 20 iterations rather than the 10 of the plain method (measured: 11.8° left after 10,
+  // 0.08° after 20).
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-curved-fold.json");
   std::stringstream text;
   text << file.rdbuf();
@@ -181,7 +184,7 @@ TEST(CompositeDomain, SwitchingAFoldToSmoothLeavesNoOverfoldedDevelopment) {
   smooth.edges[0].crease = CreaseKind::Smooth;
   CompositeModel model(smooth, scene.solver.compositeOptions());
   engine::SolverOptions o = scene.solver.solverOptions();
-  o.maxIterations = 10;
+  o.maxIterations = 20;
   model.solve(o);
   EXPECT_EQ(model.flippedDevelopmentFaces(), 0);
   EXPECT_NO_THROW(model.creasePattern());

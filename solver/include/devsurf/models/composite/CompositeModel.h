@@ -37,6 +37,20 @@ struct CompositeOptions {
   /// edge's domain — 0 near both ends, rising to 1 between ξ2 and ξ3. (0, 0, 1, 1) = off.
   terms::SofteningBreakpoints softening = {0.0, 0.0, 1.0, 1.0};
   engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;
+  /// Degeneracy guards (ARCHITECTURE §8), hard terms whose rows vanish until a shape degenerates:
+  /// "ruling_length" (terms::RulingLengthTerm: no ruling of a strip-like face shrinks below this
+  /// fraction of its length when the model was built; 0 = off), ...
+  double rulingGuardRatio = 0.35;
+  /// ... "development_orientation" (terms::TriangleOrientationTerm: every triangle of the
+  /// development keeps at least this fraction of its signed area at build time, so no face of the
+  /// development turns over; 0 = off) ...
+  double developmentAreaRatio = 0.1;
+  /// ... and "crease_backtrack" (terms::PolygonBacktrackTerm: no two legs of an S edge's control
+  /// polygon within one span's reach point more than 90° apart where they did not at build time)
+  /// with "crease_leg_length" (terms::RulingLengthTerm on the legs: none shrinks below
+  /// legGuardRatio of its length at build time); false = off.
+  bool creaseBacktrackGuard = true;
+  double legGuardRatio = 0.25;
 };
 
 /// An interior edge of the composite as extracted: where it runs and how it is folded.
@@ -171,6 +185,14 @@ class CompositeModel {
   const CompositeOptions& options() const { return options_; }
   const CompositeTopology& topology() const { return *topology_; }
 
+  /// Sets the weight of handle `i` (0 releases it without rebuilding the model).
+  void setHandleWeight(int i, double weight);
+  /// [ruling_length_min_ratio] the narrowest ruling of any strip-like face at its evaluation
+  /// parameters over its length when the model was built (1 when nothing is guarded).
+  double rulingLengthMinRatio() const;
+  /// [crease_backtrack_max] over every S edge's control polygon: max(0, −cos θ) of its sharpest
+  /// turn θ between consecutive legs (0 unless a polygon turns by more than 90°).
+  double creaseBacktrackMax() const;
   /// Moves handle `i` (design coordinates); no re-analysis.
   void setHandleTarget(int i, const Eigen::Vector3d& position);
   /// Re-initializes all normals from the current geometry.
@@ -272,6 +294,7 @@ class CompositeModel {
   std::vector<std::vector<double>> faceParams_;
   std::vector<FaceRows> faceRows_;
   std::vector<int> handleTerms_;
+  std::vector<int> rulingTerms_;  ///< degeneracy guards "ruling_length", one per strip-like face
   double scale_ = 1.0;  ///< bounding-box diagonal of the input (design coordinates)
   // development management
   void buildDevelopmentMesh();

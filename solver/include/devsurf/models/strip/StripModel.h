@@ -64,6 +64,14 @@ struct StripOptions {
   double normalRegularizationScale = 1e-4;
   bool normalize = true;              ///< centre and scale to unit size while solving (003_… §5.5)
   engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;  ///< fixed when the model is built
+  /// Degeneracy guard (terms::RulingLengthTerm, hard, "ruling_length"): no ruling at an evaluation
+  /// parameter shrinks below this fraction of its length when the model was built. 0 = off.
+  double rulingGuardRatio = 0.35;
+  /// Degeneracy guards (hard, open curves): "curve_backtrack" (terms::PolygonBacktrackTerm: no two
+  /// legs of a or b within one span's reach point more than 90° apart where they did not when the
+  /// model was built) and "curve_leg_length" (no leg shrinks below legGuardRatio of its length then).
+  bool backtrackGuard = true;
+  double legGuardRatio = 0.25;
 };
 
 /// Sampled geometry for drawing and export (in the design's coordinates).
@@ -108,6 +116,11 @@ class StripModel {
   /// Re-initializes the normals from the current curves (e.g. after a large edit).
   void resetNormals();
 
+  /// [ruling_length_min_ratio] the narrowest ruling at the evaluation parameters over its length
+  /// when the model was built (1 when nothing is guarded).
+  double rulingLengthMinRatio() const;
+  /// Sets the weight of handle `i` (0 releases it without rebuilding the model).
+  void setHandleWeight(int i, double weight);
   /// Quality over `rulings` rulings equally spaced in u.
   metrics::StripQuality quality(int rulings = 1000) const;
   /// Sampled surface, curves and rulings.
@@ -138,6 +151,7 @@ class StripModel {
   std::array<terms::LinearPoints, 4> curveRows_;
   int blockA_ = -1, blockB_ = -1, blockNormals_ = -1;
   std::vector<int> handleTerms_;
+  int rulingTerm_ = -1;
 };
 
 }  // namespace devsurf::models::strip
