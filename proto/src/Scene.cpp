@@ -348,6 +348,9 @@ engine::SolverOptions SolverSettings::solverOptions() const {
   o.timeBudgetMs = timeBudgetMs;
   o.residualTolerance = residualTolerance;
   o.relativeChangeTolerance = relativeChangeTolerance;
+  o.hardTolerance = hardTolerance;
+  o.stepControl.enabled = stepControl;
+  o.stepControl.hardBand = hardBand;
   return o;
 }
 
@@ -486,6 +489,9 @@ Scene sceneFromJson(const json& document) {
   s.relativeChangeTolerance = solver.value("relative_change_tolerance", s.relativeChangeTolerance);
   s.linearSolver = solver.value("linear_solver", s.linearSolver);
   s.normalize = solver.value("normalize", s.normalize);
+  s.stepControl = solver.value("step_control", s.stepControl);
+  s.hardBand = solver.value("hard_band", s.hardBand);
+  s.hardTolerance = solver.value("hard_tolerance", s.hardTolerance);
   if (solver.contains("softening")) {
     for (std::size_t i = 0; i < 4; ++i) s.softening[i] = solver["softening"][i].get<double>();
     const auto& x = s.softening;
@@ -597,6 +603,9 @@ json sceneToJson(const Scene& scene) {
                  {"relative_change_tolerance", s.relativeChangeTolerance},
                  {"linear_solver", s.linearSolver},
                  {"normalize", s.normalize},
+                 {"step_control", s.stepControl},
+                 {"hard_band", s.hardBand},
+                 {"hard_tolerance", s.hardTolerance},
                  {"softening", s.softening}};
   return j;
 }

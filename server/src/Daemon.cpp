@@ -192,8 +192,9 @@ void Daemon::openDemos() {
       if (sessions_.count(id)) continue;  // restored with its edits
     }
     try {
-      const proto::Scene scene = proto::sceneFromText(readFile(path));
-      createSession(scene, edit, view, true, id);
+      // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first drag
+      // must not also carry out the preset's own pending solve.
+      createSession(SceneSolver::solvedScene(proto::sceneFromText(readFile(path))), edit, view, true, id);
     } catch (const std::exception& e) {
       spdlog::error("demo scene {}: {}", path, e.what());
     }

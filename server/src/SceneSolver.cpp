@@ -153,8 +153,74 @@ models::composite::CompositeModel& SceneSolver::compositeModel() {
 
 engine::SolveSummary SceneSolver::solve(int iterationsOverride,
                                         std::function<bool(const engine::IterationRecord&)> onIteration) {
+  SolveLimits limits;
+  limits.iterations = iterationsOverride;
+  return solve(limits, std::move(onIteration));
+}
+
+proto::Scene SceneSolver::solvedScene(const proto::Scene& scene) {
+  SceneSolver solver(scene);
+  if (solver.keepsInputGeometry()) return scene;
+  solver.solve();
+  return solver.currentScene();
+}
+
+void SceneSolver::resetStepControl() {
+  if (composite_) composite_->solver().resetStepControl();
+  if (strip_) strip_->solver().resetStepControl();
+}
+
+nlohmann::json QualityVerdict::toJson() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const QualityCheck& c : checks)
+    list.push_back({{"metric", c.metric}, {"value", c.value}, {"limit", c.limit}, {"ok", c.ok}});
+  return {{"met", met}, {"checks", list}};
+}
+
+QualityVerdict SceneSolver::quality() const {
+  QualityVerdict v;
+  if (keepsInputGeometry()) return v;
+  const proto::Metrics m = metrics();
+  auto atMost = [&v, &m](const std::string& name, double limit) {
+    const auto it = m.find(name);
+    if (it == m.end()) return;
+    const bool ok = it->second <= limit;  // NaN fails
+    v.checks.push_back({name, it->second, limit, ok});
+    v.met = v.met && ok;
+  };
+  auto atLeast = [&v, &m](const std::string& name, double limit) {
+    const auto it = m.find(name);
+    if (it == m.end()) return;
+    const bool ok = it->second >= limit;
+    v.checks.push_back({name, it->second, limit, ok});
+    v.met = v.met && ok;
+  };
+  if (composite_) {
+    atMost("face_flatness_max", 1e-3);
+    atMost("face_flatness_mean", 2e-4);
+    atMost("vertex_curvature_max", 1e-3);
+    atMost("development_flipped_faces", 0.0);
+    atMost("development_length_error", 5e-3);
+    atMost("crease_backtrack_max", 0.0);
+    atLeast("ruling_length_min_ratio", 0.25);
+  } else {
+    atMost("warp_angle_max_deg", 0.05);
+    atLeast("ruling_length_min_ratio", 0.25);
+  }
+  return v;
+}
+
+engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
+                                        std::function<bool(const engine::IterationRecord&)> onIteration) {
+  const int iterationsOverride = limits.iterations;
   engine::SolverOptions options = scene_.solver.solverOptions();
   if (iterationsOverride >= 0) options.maxIterations = iterationsOverride;
+  if (limits.timeBudgetMs >= 0.0) options.timeBudgetMs = limits.timeBudgetMs;
+  if (limits.hardTolerance >= 0.0) options.hardTolerance = limits.hardTolerance;
+  if (limits.hardBand > 0.0) options.stepControl.hardBand = limits.hardBand;
+  options.firstIteration = std::max(0, limits.firstIteration);
+  if (limits.regularization >= 0.0) options.regularization = limits.regularization;
+  options.projectionOnly = limits.projectionOnly;
   options.callback = std::move(onIteration);
   if (quasi_) {
     if (iterationsOverride >= 0) buildQuasiStrip(iterationsOverride);
@@ -274,7 +340,7 @@ proto::Metrics SceneSolver::metrics() const {
     };
     double handleError = 0.0;
     for (const models::composite::Handle& h : d.handles)
-      handleError = std::max(handleError, (point(h.point) - h.position).norm());
+      if (h.weight > 0.0) handleError = std::max(handleError, (point(h.point) - h.position).norm());
     m["handle_distance_max"] = handleError;
     double moved = 0.0;
     if (d.vertices.rows() > 0) moved = (d.vertices - initialComposite_.vertices).rowwise().norm().maxCoeff();
@@ -284,7 +350,12 @@ proto::Metrics SceneSolver::metrics() const {
         moved = std::max(moved, (now - initialComposite_.edges[e].curve.points).rowwise().norm().maxCoeff());
     }
     m["displacement_max"] = moved;
-    if (composite_->hasDevelopment()) m["development_length_error"] = composite_->developmentLengthError();
+    if (composite_->hasDevelopment()) {
+      m["development_length_error"] = composite_->developmentLengthError();
+      m["development_flipped_faces"] = composite_->flippedDevelopmentFaces();
+    }
+    m["ruling_length_min_ratio"] = composite_->rulingLengthMinRatio();
+    m["crease_backtrack_max"] = composite_->creaseBacktrackMax();
     m["unknowns"] = composite_->numUnknowns();
     return m;
   }
@@ -296,12 +367,14 @@ proto::Metrics SceneSolver::metrics() const {
   m["developability_residual_max"] = q.developabilityResidualMax;
   double handleError = 0.0;
   for (const models::strip::Handle& h : d.handles) {
+    if (h.weight <= 0.0) continue;  // a released drag handle
     const Eigen::MatrixXd& pts = h.point.curve == models::strip::Curve::A ? d.a.points : d.b.points;
     handleError = std::max(handleError, (pts.row(h.point.index).transpose() - h.position).norm());
   }
   m["handle_distance_max"] = handleError;
   m["displacement_max_a"] = (d.a.points - initial_.a.points).rowwise().norm().maxCoeff();
   m["displacement_max_b"] = (d.b.points - initial_.b.points).rowwise().norm().maxCoeff();
+  m["ruling_length_min_ratio"] = strip_->rulingLengthMinRatio();
   m["unknowns"] = strip_->numUnknowns();
   return m;
 }

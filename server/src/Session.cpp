@@ -122,7 +122,34 @@ proto::Scene Session::persistentScene() const {
 }
 
 bool Session::isDragHandle(const json& target) const {
-  return std::find(dragHandles_.begin(), dragHandles_.end(), target) != dragHandles_.end();
+  return std::find(dragHandles_.begin(), dragHandles_.end(), target) != dragHandles_.end() || isReleasedHandle(target);
+}
+
+bool Session::isReleasedHandle(const json& target) const {
+  return std::find(releasedHandles_.begin(), releasedHandles_.end(), target) != releasedHandles_.end();
+}
+
+proto::Scene Session::withoutReleasedHandles(proto::Scene s) const {
+  if (auto* c = std::get_if<composite::CompositeDesign>(&s.model)) {
+    const composite::CompositeDesign& design = *c;
+    c->handles.erase(std::remove_if(c->handles.begin(), c->handles.end(),
+                                    [this, &design](const composite::Handle& h) {
+                                      return isReleasedHandle(compositeTargetJson(design, h.point));
+                                    }),
+                     c->handles.end());
+  } else if (auto* d = std::get_if<StripDesign>(&s.model)) {
+    d->handles.erase(std::remove_if(d->handles.begin(), d->handles.end(),
+                                    [this](const models::strip::Handle& h) { return isReleasedHandle(targetJson(h.point)); }),
+                     d->handles.end());
+  }
+  return s;
+}
+
+void Session::setHandleWeight(int handle, double weight) {
+  if (isComposite())
+    solver_->compositeModel().setHandleWeight(handle, weight);
+  else
+    solver_->stripModel().setHandleWeight(handle, weight);
 }
 
 const engine::Problem& Session::problem() const {
@@ -144,12 +171,17 @@ json Session::geometryJson(json* iterateMetrics) const {
                          {"vertex_curvature_max", q.vertexCurvatureMax},
                          {"crease_fold_residual_max", q.creaseFoldResidualMax},
                          {"crease_fold_angle_max_deg", q.foldAngleMaxDeg},
-                         {"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg}};
+                         {"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg},
+                         {"ruling_length_min_ratio", model.rulingLengthMinRatio()},
+                         {"crease_backtrack_max", model.creaseBacktrackMax()}};
+    if (iterateMetrics && model.hasDevelopment())
+      (*iterateMetrics)["development_flipped_faces"] = model.flippedDevelopmentFaces();
     return proto::compositeGeometryJson(model, q, settings_.compositeSamplesPerSpan);
   }
   if (iterateMetrics) {
     const metrics::StripQuality q = solver_->stripModel().quality(200);
-    *iterateMetrics = {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg}};
+    *iterateMetrics = {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg},
+                       {"ruling_length_min_ratio", solver_->stripModel().rulingLengthMinRatio()}};
   }
   return proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples);
 }
@@ -164,11 +196,13 @@ json Session::constraintsJson() const {
   if (keepsInput()) return {{"fixed", fixed}, {"handles", handles}};  // the curves' points have no constraints
   if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
     for (const auto& f : c->fixed) fixed.push_back(compositeTargetJson(*c, f));
-    for (const auto& h : c->handles) addHandle(compositeTargetJson(*c, h.point), h.position, h.weight);
+    for (const auto& h : c->handles)
+      if (!isReleasedHandle(compositeTargetJson(*c, h.point))) addHandle(compositeTargetJson(*c, h.point), h.position, h.weight);
   } else {
     const auto& d = std::get<StripDesign>(current.model);
     for (const auto& f : d.fixed) fixed.push_back(targetJson(f));
-    for (const auto& h : d.handles) addHandle(targetJson(h.point), h.position, h.weight);
+    for (const auto& h : d.handles)
+      if (!isReleasedHandle(targetJson(h.point))) addHandle(targetJson(h.point), h.position, h.weight);
   }
   return {{"fixed", fixed}, {"handles", handles}};
 }
@@ -284,9 +318,13 @@ void Session::releaseDragHandle(const json& target) {
   const json canonical = canonicalTarget(target, path, message);
   const auto active = std::find(dragHandles_.begin(), dragHandles_.end(), canonical);
   if (active == dragHandles_.end()) return;
-  const proto::Scene s = persistentScene();  // without the temporary handle
+  // Released by its weight: the model (and the reference state of its guards) stays; grabbing the
+  // point again brings the handle back without a rebuild.
+  const int handle = handleIndex(solver_->currentScene(), canonical);
   dragHandles_.erase(active);
-  rebuild(s);
+  if (handle < 0) return;
+  setHandleWeight(handle, 0.0);
+  releasedHandles_.push_back(canonical);
 }
 
 json Session::sceneJson() const {
@@ -386,6 +424,8 @@ void Session::drain() {
       if (counters_) ++counters_->errors;
       error(work->participant, work->message.value("op", json()), "internal", e.what());
       try {
+        dragHandles_.clear();
+        releasedHandles_.clear();
         rebuild(proto::sceneFromJson(sceneJson()));
       } catch (const std::exception&) {
       }
@@ -509,14 +549,26 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
                               edit["position"][2].get<double>());
     const int handle = handleIndex(current, target);
     if (handle < 0) {
+      // First contact: a temporary handle (one rebuild). Released temporary handles leave the model.
       pushUndo();
-      proto::Scene s = current;
+      proto::Scene s = withoutReleasedHandles(current);
       if (auto* c = std::get_if<composite::CompositeDesign>(&s.model))
         c->handles.push_back({compositeRefOf(target), pos, s.solver.handleWeight});
       else
         std::get<StripDesign>(s.model).handles.push_back({refOf(target), pos, s.solver.handleWeight});
+      releasedHandles_.clear();
       dragHandles_.push_back(target);
       rebuild(s);
+      scheduleIteration_ = 0;
+    } else if (isReleasedHandle(target)) {
+      // The same point grabbed again: its released handle comes back, without a rebuild.
+      pushUndo();
+      releasedHandles_.erase(std::find(releasedHandles_.begin(), releasedHandles_.end(), target));
+      dragHandles_.push_back(target);
+      setHandleWeight(handle, current.solver.handleWeight);
+      setHandleTarget(handle, pos);
+      solver_->resetStepControl();
+      scheduleIteration_ = 0;
     } else {
       if (!isDragHandle(target) && !replaying) {
         bool started = true;  // the first drag of a permanent handle is one undo step
@@ -525,7 +577,11 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
           const auto p = participants_.find(participant);
           started = p == participants_.end() || p->second.dragging != edit["target"];
         }
-        if (started) pushUndo();
+        if (started) {
+          pushUndo();
+          solver_->resetStepControl();
+          scheduleIteration_ = 0;
+        }
       }
       setHandleTarget(handle, pos);
     }
@@ -534,7 +590,11 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   if (type == "drag_end") {
     return true;  // the handle is released after the release iterations (handle())
   }
-  if (type == "solve") return true;
+  if (type == "solve") {
+    pushUndo();  // Solve is an edit like any other: undo goes back to before it
+    scheduleIteration_ = 0;
+    return true;
+  }
   if (type == "undo" || type == "redo") {
     auto& from = type == "undo" ? undo_ : redo_;
     auto& to = type == "undo" ? redo_ : undo_;
@@ -543,12 +603,14 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     const proto::Scene previous = from.back();
     from.pop_back();
     dragHandles_.clear();
+    releasedHandles_.clear();
     rebuild(previous);
     return true;
   }
   if (type == "reset") {
     pushUndo();
     dragHandles_.clear();
+    releasedHandles_.clear();
     rebuild(initialScene_);
     return true;
   }
@@ -613,6 +675,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     const proto::Scene next = proto::sceneFromJson(doc);
     pushUndo();
     dragHandles_.clear();
+    releasedHandles_.clear();
     rebuild(next);
   } catch (const proto::SceneError& e) {
     return reject("invalid", e.what(), e.path());
@@ -736,12 +799,14 @@ void Session::publishSolve(bool final) {
                {"iterations", lastSummary_.stepsTaken()}});
 }
 
-bool Session::runSolver(int iterations, bool final) {
+bool Session::runSolver(SolveLimits limits, bool final) {
   if (keepsInput()) {  // solved whole when the model was rebuilt
     publishSolve(final);
     return true;
   }
   const std::int64_t seq = seq_.load();
+  limits.hardBand = settings_.dragHardBand;
+  limits.firstIteration = scheduleIteration_;
   bool interrupted = false;
   auto onIteration = [this, seq, &interrupted](const engine::IterationRecord& r) {
     if (r.iteration == 0) return !(interrupted = hasQueuedWork());
@@ -757,13 +822,16 @@ bool Session::runSolver(int iterations, bool final) {
     json geometry = geometryJson(&metrics);
     broadcast({{"type", "iterate"}, {"seq", seq}, {"iteration", r.iteration},
                {"residuals", residuals},
+               {"hard_max", r.hardResidualMax},
+               {"step_scale", r.stepScale},
                {"metrics", std::move(metrics)},
                {"time_ms", r.totalMs},
                {"geometry", std::move(geometry)}},
               Delivery::Latest, "iterate");
     return !(interrupted = hasQueuedWork());
   };
-  const engine::SolveSummary summary = solver_->solve(iterations, onIteration);
+  const engine::SolveSummary summary = solver_->solve(limits, onIteration);
+  scheduleIteration_ += summary.stepsTaken();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     cachedMetrics_ = json(solver_->metrics());
@@ -775,9 +843,32 @@ bool Session::runSolver(int iterations, bool final) {
   if (final && !interrupted) {
     broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metricsJson()},
                {"reason", engine::terminationReasonName(summary.reason)},
-               {"iterations", summary.stepsTaken()}});
+               {"iterations", summary.stepsTaken()},
+               {"quality", solver_->quality().toJson()}});
   }
   return !interrupted;
+}
+
+void Session::release(const json& target, int iterations) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  // Phase 1: the handle catches up with the pointer as far as the hard rows allow.
+  SolveLimits withHandle;
+  withHandle.iterations = iterations;
+  withHandle.timeBudgetMs = 0.5 * settings_.releaseTimeBudgetMs;
+  const bool finished = keepsInput() || iterations == 0 || runSolver(withHandle, false);
+  releaseDragHandle(target);
+  if (!finished) return;  // newer work waits: it continues from here
+  // Phase 2: projection steps (no handles, no fairness) until every hard row is within the
+  // tolerance: feasibility restored with the least motion.
+  SolveLimits polish;
+  polish.iterations = iterations;
+  polish.hardTolerance = settings_.releaseHardTolerance;
+  polish.regularization = settings_.polishRegularization;
+  polish.projectionOnly = true;
+  polish.timeBudgetMs = std::max(
+      1.0, settings_.releaseTimeBudgetMs - std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  runSolver(polish, true);
 }
 
 void Session::handle(const Work& work) {
@@ -839,11 +930,13 @@ void Session::handle(const Work& work) {
       if (it != participants_.end()) it->second.dragging = m["target"];
     }
     if (started) broadcast(presenceMessage());
-    runSolver(settings_.dragIterations, false);
+    SolveLimits frame;
+    frame.iterations = settings_.dragIterations;
+    frame.timeBudgetMs = settings_.dragTimeBudgetMs;
+    runSolver(frame, false);
   } else if (type == "drag_end") {
     const int iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
-    runSolver(iterations, true);
-    releaseDragHandle(m["target"]);
+    release(m["target"], iterations);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       auto it = participants_.find(pid);
@@ -851,7 +944,11 @@ void Session::handle(const Work& work) {
     }
     broadcast(presenceMessage());
   } else if (type == "solve") {
-    runSolver(std::min(m.value("iterations", 10), settings_.maxIterationsPerRequest), true);
+    SolveLimits limits;
+    limits.iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
+    limits.timeBudgetMs = settings_.releaseTimeBudgetMs;
+    limits.hardTolerance = settings_.releaseHardTolerance;
+    runSolver(limits, true);
   } else {
     broadcast({{"type", "update"}, {"seq", seq_.load()}, {"scene", sceneJson()}, {"metrics", metricsJson()},
                {"geometry", geometryJson()},
@@ -872,11 +969,29 @@ void Session::replay(const std::vector<std::pair<std::int64_t, json>>& edits, st
     const std::string type = edit.value("type", "");
     if (!apply(0, edit, true)) continue;
     if (keepsInput()) continue;  // solved whole by apply
-    if (type == "drag") solver_->solve(settings_.dragIterations);
-    else if (type == "drag_end") {
-      solver_->solve(edit.value("iterations", settings_.releaseIterations));
+    // The same limits as when the edit was made (the time budgets make a replay approximate: see
+    // docs/architecture.md).
+    SolveLimits limits;
+    limits.hardBand = settings_.dragHardBand;
+    if (type == "drag") {
+      limits.iterations = settings_.dragIterations;
+      limits.timeBudgetMs = settings_.dragTimeBudgetMs;
+      solver_->solve(limits);
+    } else if (type == "drag_end") {
+      limits.iterations = edit.value("iterations", settings_.releaseIterations);
+      limits.timeBudgetMs = 0.5 * settings_.releaseTimeBudgetMs;
+      if (limits.iterations > 0) solver_->solve(limits);
       releaseDragHandle(edit["target"]);
-    } else if (type == "solve") solver_->solve(edit.value("iterations", 10));
+      limits.hardTolerance = settings_.releaseHardTolerance;
+      limits.regularization = settings_.polishRegularization;
+      limits.projectionOnly = true;
+      solver_->solve(limits);
+    } else if (type == "solve") {
+      limits.iterations = edit.value("iterations", settings_.releaseIterations);
+      limits.timeBudgetMs = settings_.releaseTimeBudgetMs;
+      limits.hardTolerance = settings_.releaseHardTolerance;
+      solver_->solve(limits);
+    }
   }
   seq_ = lastSeq;
   std::lock_guard<std::mutex> lock(mutex_);

@@ -133,7 +133,8 @@ describe('commands match ws-client.schema.json', () => {
   it('builds the exact JSON', () => {
     expect(new DragCommand(t, [1, 2, 3]).toMessage(7)).toEqual({ type: 'drag', op: 7, target: { curve: 'b', index: 4 }, position: [1, 2, 3] });
     expect(new DragEndCommand(t).toMessage(8)).toEqual({ type: 'drag_end', op: 8, target: { curve: 'b', index: 4 } });
-    expect(new SolveCommand().toMessage(9)).toEqual({ type: 'solve', op: 9, iterations: 10 });
+    expect(new SolveCommand().toMessage(9)).toEqual({ type: 'solve', op: 9 });
+    expect(new SolveCommand(25).toMessage(10)).toEqual({ type: 'solve', op: 10, iterations: 25 });
     expect(new SetFixedCommand(t, true).toMessage(1)).toEqual({ type: 'set_fixed', op: 1, target: t, fixed: true });
     expect(new PresenceCommand(null).toMessage(2)).toEqual({ type: 'presence', op: 2, selection: null });
     expect(new SetSolverCommand({ fairness: 0 }, { drag_iterations: 3 }).toMessage(3)).toEqual({ type: 'set_solver', op: 3, solver: { fairness: 0 }, drag_iterations: 3 });

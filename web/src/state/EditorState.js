@@ -30,7 +30,7 @@ export class EditorState {
     this.lastError = null;
     this.scene = null;
     this.constraints = { fixed: [], handles: [] };
-    this.settings = { drag_iterations: 1, release_iterations: 10 };
+    this.settings = { drag_iterations: 20, release_iterations: 200 };
     this.undo = { available: 0, redo_available: 0 };
     this.selection = null;
     /** Composites: the interior edge selected for the crease panel (edge index) or null. */
@@ -181,7 +181,7 @@ export class EditorState {
   applySolved(msg) {
     this._seenSeq(msg.seq);
     if (msg.metrics) this.metrics = { ...(this.metrics || {}), ...msg.metrics };
-    this.lastSolved = { reason: msg.reason, iterations: msg.iterations, seq: msg.seq };
+    this.lastSolved = { reason: msg.reason, iterations: msg.iterations, seq: msg.seq, quality: msg.quality || null };
     this.emit('solved', msg);
     this.emit('metrics', this.metrics);
   }

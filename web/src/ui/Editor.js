@@ -363,7 +363,7 @@ export class Editor {
     this.state.setSelection(target);
   }
 
-  solve(iterations = 10) {
+  solve(iterations = undefined) {
     this.send(new SolveCommand(iterations, { source: 'toolbar:solve' }));
   }
 

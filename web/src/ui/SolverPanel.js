@@ -15,13 +15,13 @@ const FIELDS = [
   ['unit_normal_weight', 'unit-normal weight', 'solver', { min: 0, step: 0.01 }],
   ['developability_weight', 'developability weight', 'solver', { min: 0, step: 0.1 }],
   ['handle_weight', 'handle weight', 'solver', { min: 0, step: 0.1 }],
-  ['drag_iterations', 'iterations per drag', 'session', { min: 1, max: 20, step: 1 }],
-  ['release_iterations', 'iterations on release', 'session', { min: 0, max: 100, step: 1 }],
+  ['drag_iterations', 'iterations per drag (at most)', 'session', { min: 1, max: 100, step: 1 }],
+  ['release_iterations', 'iterations on release (at most)', 'session', { min: 0, max: 1000, step: 1 }],
 ];
 
 const DEFAULTS = {
   fairness: 0.01, fairness_decay: 0.8, regularization: 0.01, unit_normal_weight: 0.1,
-  developability_weight: 1, handle_weight: 1, drag_iterations: 1, release_iterations: 10,
+  developability_weight: 1, handle_weight: 1, drag_iterations: 20, release_iterations: 200,
 };
 
 export class SolverPanel {

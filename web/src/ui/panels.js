@@ -28,7 +28,8 @@ export class StatusBar {
     this.normalJumpItem = h('span', { class: 'status-item', title: 'Largest angle between the normals of neighbouring patches (0° = G1)', hidden: true }, 'max normal jump ', this.normalJump, '°');
     this.time = h('span', { class: 'num' }, '–');
     this.apply = h('span', { class: 'num' }, '–');
-    this.solved = h('span', { class: 'muted' }, '');
+    this.solved = h('span', { class: 'muted', testid: 'status-solved' }, '');
+    this.quality = h('span', { class: 'status-item quality', testid: 'status-quality', hidden: true }, '');
     this.seq = h('span', { class: 'num' }, '0');
     this.root = h('footer', { class: 'statusbar', role: 'status', 'aria-live': 'polite' },
       h('span', { class: 'status-item conn', title: 'Connection to the daemon' }, this.dot, this.connection, this.retry),
@@ -39,7 +40,7 @@ export class StatusBar {
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
       h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
       h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
-      this.solved);
+      this.quality, this.solved);
     parent.appendChild(this.root);
     state.on('connection', () => this.render());
     state.on('metrics', () => this.render());
@@ -92,6 +93,15 @@ export class StatusBar {
     }
     this.seq.textContent = String(st.seq);
     if (st.lastSolved) this.solved.textContent = `solved: ${st.lastSolved.reason.replace(/_/g, ' ')} after ${st.lastSolved.iterations} iterations`;
+    const q = st.lastSolved && st.lastSolved.quality;
+    this.quality.hidden = !q || !q.checks || q.checks.length === 0;
+    if (q && q.checks && q.checks.length) {
+      // The quality thresholds of the kind (server's verdict): ✓ when all are met, else the first miss.
+      const miss = q.checks.find((c) => !c.ok);
+      this.quality.textContent = q.met ? '✓ quality met' : `✗ ${miss.metric.replace(/_/g, ' ')} ${formatNumber(miss.value)} (limit ${formatNumber(miss.limit)})`;
+      this.quality.classList.toggle('quality-miss', !q.met);
+      this.quality.title = q.checks.map((c) => `${c.ok ? '✓' : '✗'} ${c.metric} = ${formatNumber(c.value)} (limit ${formatNumber(c.limit)})`).join('\n');
+    }
   }
 }
 
@@ -144,7 +154,7 @@ export class ParticipantsPanel {
       add_handle: () => `added a handle at ${targetLabel(e.target)}`,
       remove_handle: () => `removed the handle of ${targetLabel(e.target)}`,
       set_solver: () => `changed ${[...Object.keys(e.solver || {}), ...['drag_iterations', 'release_iterations'].filter((k) => k in e)].join(', ').replace(/_/g, ' ')}`,
-      solve: () => `solved ${e.iterations || 10} iterations`,
+      solve: () => (e.iterations ? `solved (at most ${e.iterations} iterations)` : 'solved'),
       undo: () => 'undid an edit',
       redo: () => 'redid an edit',
       reset: () => 'reset the scene',

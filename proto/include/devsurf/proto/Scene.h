@@ -44,6 +44,10 @@ struct SolverSettings {
   double relativeChangeTolerance = 1e-9;
   std::string linearSolver = "auto";
   bool normalize = true;
+  bool stepControl = true;      ///< "step_control": engine::StepControlOptions::enabled
+  double hardBand = 0.1;        ///< "hard_band": engine::StepControlOptions::hardBand (batch solves;
+                                ///< sessions stream with SessionSettings::dragHardBand)
+  double hardTolerance = 0.0;   ///< "hard_tolerance": engine::SolverOptions::hardTolerance
 
   engine::SolverOptions solverOptions() const;
   models::strip::StripOptions stripOptions() const;

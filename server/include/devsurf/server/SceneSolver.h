@@ -41,6 +41,37 @@ class ExportFailed : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// Per-call limits of SceneSolver::solve that override the scene's solver settings (< 0: the
+/// scene's own).
+struct SolveLimits {
+  int iterations = -1;         ///< iterations at most (quasi_strip: the optimizer's limit)
+  double timeBudgetMs = -1.0;  ///< wall-clock budget (0 = none)
+  double hardTolerance = -1.0; ///< stop once every hard row is within this (0 = not used)
+  double hardBand = -1.0;      ///< step control's band (engine::StepControlOptions::hardBand)
+  int firstIteration = 0;      ///< engine::SolverOptions::firstIteration (where the schedule resumes)
+  double regularization = -1.0; ///< ε_reg of every step
+  bool projectionOnly = false;  ///< engine::SolverOptions::projectionOnly
+};
+
+/// One quality threshold of issue 5 (000_… Fig. 17 and the drag-stress suite) against a metric.
+struct QualityCheck {
+  std::string metric;  ///< report metric name
+  double value = 0.0;
+  double limit = 0.0;  ///< value ≤ limit passes (≥ for *_min_ratio metrics)
+  bool ok = false;
+};
+
+/// Whether a state meets the quality thresholds of its kind: composites face_flatness_max ≤ 1e-3,
+/// face_flatness_mean ≤ 2e-4, vertex_curvature_max ≤ 1e-3, development_flipped_faces = 0,
+/// development_length_error ≤ 5e-3, crease_backtrack_max ≤ 0 (with a development: the last
+/// three), ruling_length_min_ratio ≥ 0.25; strips warp_angle_max_deg ≤ 0.05 and
+/// ruling_length_min_ratio ≥ 0.25. Kinds that keep their input curves have none (met = true).
+struct QualityVerdict {
+  bool met = true;
+  std::vector<QualityCheck> checks;
+  nlohmann::json toJson() const;  ///< {"met", "checks": [{"metric","value","limit","ok"}…]}
+};
+
 /// The service behind `devsurf solve`, batch jobs and sessions: builds the model a scene describes
 /// ("strip", "composite", "quasi_strip", "conical_strip"), solves it and reports.
 ///
@@ -63,6 +94,14 @@ class SceneSolver {
   ///            and conical_strip cannot be interrupted: it is called once, with the last record)
   engine::SolveSummary solve(int iterationsOverride = -1,
                              std::function<bool(const engine::IterationRecord&)> onIteration = {});
+  /// solve() with per-call limits (iterations, time budget, hard tolerance).
+  engine::SolveSummary solve(const SolveLimits& limits,
+                             std::function<bool(const engine::IterationRecord&)> onIteration = {});
+  /// The quality thresholds of this kind against metrics() (see QualityVerdict).
+  QualityVerdict quality() const;
+  /// Starts the step control of the model's solver afresh (a new drag; see
+  /// engine::StepControlOptions). No-op for kinds without guided projection.
+  void resetStepControl();
 
   /// The scene with the current geometry (valid input to solve again).
   proto::Scene currentScene() const;
@@ -114,6 +153,10 @@ class SceneSolver {
   /// model first (and solves it when it keepsInputGeometry()); a document or design the model now
   /// rejects is ExportFailed too.
   static ExportedFile exportScene(const nlohmann::json& scene, const std::string& format);
+  /// The scene solved as `devsurf solve` solves it (its own solver settings): where demo sessions
+  /// start. Kinds that keep their input geometry return the scene itself.
+  /// @throws proto::SceneError for designs the model rejects
+  static proto::Scene solvedScene(const proto::Scene& scene);
 
  private:
   /// The crease pattern of the composite's development in the scene's units, for `format`.

@@ -42,8 +42,24 @@ enum class Role { None, View, Edit };
 
 /// Settings of a session (limits and interaction defaults).
 struct SessionSettings {
-  int dragIterations = 1;           ///< iterations per drag message (000_… §4.1: one round)
-  int releaseIterations = 10;       ///< after drag_end (000_… §4.1: 10)
+  /// Iterations per drag message at most: as many as fit in dragTimeBudgetMs run (at least one),
+  /// and a newer message interrupts them (000_… §4.1 runs one round per mouse move).
+  int dragIterations = 20;
+  double dragTimeBudgetMs = 25.0;   ///< per drag message (a frame at 40 frames/s)
+  /// Step control band of every streamed iterate (engine::StepControlOptions::hardBand): no hard
+  /// row of what a participant sees is above it.
+  double dragHardBand = 1e-3;
+  /// After drag_end: iterations at most in each of the two release phases — with the drag's
+  /// handle (it catches up with the pointer as far as the hard rows allow), then without it until
+  /// every hard row is within releaseHardTolerance ("runs to quality, not to a count") — within
+  /// releaseTimeBudgetMs in all. Solve uses the second phase alone.
+  int releaseIterations = 200;
+  double releaseTimeBudgetMs = 1500.0;
+  double releaseHardTolerance = 1e-5;
+  /// ε_reg of the second release phase: without targets the steps are projections, and the
+  /// scene's ε_reg (0.01) would damp the correction of ill-conditioned rows to a slow linear
+  /// convergence (two-creases: hard residual ×0.96 per step at 0.01).
+  double polishRegularization = 1e-3;
   int maxIterationsPerRequest = 1000;
   int maxParticipants = 32;
   int undoDepth = 100;
@@ -171,8 +187,12 @@ class Session : public std::enable_shared_from_this<Session> {
   bool apply(int participant, const nlohmann::json& edit, bool replaying);
   /// Records an applied edit: seq, journal (durable), ack to the sender, edit to the others.
   void commit(int participant, const nlohmann::json& edit, const std::vector<nlohmann::json>& ops);
-  /// Runs iterations, streaming iterates; returns false if interrupted by queued work.
-  bool runSolver(int iterations, bool final);
+  /// Runs iterations within the limits (the session's band applied), streaming iterates; when
+  /// `final`, ends with `solved` (the metrics and the quality verdict). Returns false if
+  /// interrupted by queued work.
+  bool runSolver(SolveLimits limits, bool final);
+  /// The two release phases after drag_end (see SessionSettings::releaseIterations).
+  void release(const nlohmann::json& target, int iterations);
   /// Builds the scene's model (and, for quasi_strip/conical_strip, solves it whole) and installs
   /// it; on any failure the current model stays.
   /// @throws proto::SceneError (a design the model rejects), SolveFailed (a failed/diverged solve)
@@ -195,7 +215,12 @@ class Session : public std::enable_shared_from_this<Session> {
   nlohmann::json pointKey(const proto::Scene& current, const nlohmann::json& entry) const;
   /// Index of the model's handle on that (canonical) target, or −1.
   int handleIndex(const proto::Scene& current, const nlohmann::json& target) const;
+  /// A temporary handle of a drag, active or released (both are left out of the scene).
   bool isDragHandle(const nlohmann::json& target) const;
+  /// A temporary handle whose drag ended: still in the model, at weight 0.
+  bool isReleasedHandle(const nlohmann::json& target) const;
+  proto::Scene withoutReleasedHandles(proto::Scene scene) const;
+  void setHandleWeight(int handle, double weight);
   void setHandleTarget(int handle, const Eigen::Vector3d& position);
   /// {"fixed": [target…], "handles": [{"target","position","weight","temporary"}…]}.
   nlohmann::json constraintsJson() const;
@@ -218,6 +243,8 @@ class Session : public std::enable_shared_from_this<Session> {
   std::unique_ptr<SceneSolver> solver_;
   engine::SolveSummary lastSummary_;  // of the last whole solve (quasi_strip, conical_strip)
   std::vector<nlohmann::json> dragHandles_;  // canonical targets of the temporary handles of active drags
+  int scheduleIteration_ = 0;  // iterations of the current interaction (drag, solve): the fairness schedule resumes there
+  std::vector<nlohmann::json> releasedHandles_;  // … of ended drags (weight 0 in the model until a rebuild)
   std::deque<proto::Scene> undo_, redo_;
   std::atomic<std::int64_t> seq_{0};
   std::int64_t editsSinceSnapshot_ = 0;
