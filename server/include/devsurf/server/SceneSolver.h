@@ -70,6 +70,10 @@ class SceneSolver {
   proto::Metrics metrics() const;
   /// The full report of the last solve.
   nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
+  /// The report's `termination` of the last solve for quasi_strip (an engine reason name, or
+  /// "identity_fallback" when the model kept σ(t) = t) and conical_strip ("completed"); empty for
+  /// the other kinds (their summary's reason is the report's).
+  const std::string& termination() const { return termination_; }
 
   /// Whether the scene is a strip.
   bool isStrip() const { return strip_ != nullptr; }
