@@ -92,8 +92,8 @@ class SceneSolver {
   const models::quasi_strip::QuasiStripModel& quasiStripModel() const;
   /// @throws std::logic_error if the scene is not a conical_strip
   const models::conical_strip::ConicalStripModel& conicalStripModel() const;
-  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface; composites:
-  /// all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
+  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface, stl as
+  /// io::triangulateQuads' triangles; composites: all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
   /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm; iges:
   /// the B-spline surfaces and boundary curves, see exportAs).
   /// @throws ExportUnavailable for an unknown format or one that does not apply, ExportFailed when
