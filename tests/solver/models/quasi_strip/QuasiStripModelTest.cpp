@@ -95,6 +95,40 @@ INSTANTIATE_TEST_SUITE_P(Lbfgs, QuasiStripTwistedPair, ::testing::Values(Optimiz
                            return std::string(optimizerName(info.param));
                          });
 
+TEST(QuasiStripModel, LbfgsLowersTheObjectiveEveryIterationAndRecordsItsGradient) {
+  QuasiStripOptions options;
+  options.polishIterations = 0;
+  QuasiStripModel model(twistedConeDesign(), options);
+  const QuasiStripSummary summary = model.solve();
+  ASSERT_GT(summary.iterations.size(), 20u);
+  for (std::size_t k = 1; k < summary.iterations.size(); ++k) {
+    const QuasiStripIteration& it = summary.iterations[k];
+    if (it.round != summary.iterations[k - 1].round) continue;
+    EXPECT_EQ(it.iteration, summary.iterations[k - 1].iteration + 1);
+    EXPECT_LE(it.objective, summary.iterations[k - 1].objective);  // the line search's sufficient decrease
+    EXPECT_GT(it.gradientNorm, 0.0);
+  }
+  EXPECT_LT(summary.iterations.back().objective, 1e-3 * summary.iterations.front().objective);
+}
+
+TEST(QuasiStripModel, LbfgsStopsAtItsIterationLimitAndSaysItDidNotConverge) {
+  QuasiStripOptions options;
+  options.lbfgs.maxIterations = 3;
+  options.polishIterations = 0;
+  options.warpToleranceDeg = 0.0;
+  QuasiStripDesign design = exactQuadraticDesign();
+  design.extension.automatic = false;  // one round
+  QuasiStripModel model(design, options);
+  const double initial = model.results().warpAngleMaxDegDense;
+  const QuasiStripSummary summary = model.solve();
+  EXPECT_EQ(summary.termination, "max_iterations");
+  EXPECT_FALSE(summary.converged);
+  EXPECT_EQ(summary.selectedRound, 1);
+  ASSERT_EQ(summary.iterations.size(), 4u);  // the start and 3 iterations
+  EXPECT_EQ(summary.iterations.back().iteration, 3);
+  EXPECT_LT(model.results().warpAngleMaxDegDense, initial);
+}
+
 TEST(QuasiStripModel, ConvertedSurfaceIsBoundedExactlyByTheInputCurves) {
   QuasiStripModel model(twistedConeDesign());
   model.solve();
