@@ -247,7 +247,8 @@ std::string quasiStripFieldPath(const std::string& what) {
       {"endPoints.weight", "fix_end_points.weight"}, {"extension.c1Begin", "extension.c1_begin"},
       {"extension.c1End", "extension.c1_end"},       {"extension.c2Begin", "extension.c2_begin"},
       {"extension.c2End", "extension.c2_end"},       {"extension.tolerance", "extension.tolerance"},
-      {"extension.maxRounds", "extension.max_rounds"}, {"options.lambda1/lambda2", "lambda1"}};
+      {"extension.maxRounds", "extension.max_rounds"}, {"extension.maxLength", "extension.max_length"},
+      {"options.lambda1/lambda2", "lambda1"}};
   for (const auto& [model, scene] : kNames)
     if (what.rfind(model, 0) == 0) return scene + what.substr(std::string(model).size());
   return what;
@@ -275,6 +276,7 @@ QuasiStripScene quasiStripFromJson(const json& m) {
     d.extension.automatic = x.value("automatic", d.extension.automatic);
     d.extension.maxRounds = x.value("max_rounds", d.extension.maxRounds);
     d.extension.tolerance = x.value("tolerance", d.extension.tolerance);
+    d.extension.maxLength = x.value("max_length", d.extension.maxLength);
   }
   q.options.method = m.value("method", "bspline") == "discrete" ? quasi::MappingMethod::Discrete
                                                                 : quasi::MappingMethod::BSpline;
@@ -300,10 +302,10 @@ json quasiStripToJson(const QuasiStripScene& q) {
   const quasi::CurveExtension& x = d.extension;
   const quasi::CurveExtension defaults;
   if (x.c1Begin != 0.0 || x.c1End != 0.0 || x.c2Begin != 0.0 || x.c2End != 0.0 || x.automatic != defaults.automatic ||
-      x.maxRounds != defaults.maxRounds || x.tolerance != defaults.tolerance)
-    m["extension"] = {{"c1_begin", x.c1Begin}, {"c1_end", x.c1End},         {"c2_begin", x.c2Begin},
-                      {"c2_end", x.c2End},     {"automatic", x.automatic}, {"max_rounds", x.maxRounds},
-                      {"tolerance", x.tolerance}};
+      x.maxRounds != defaults.maxRounds || x.tolerance != defaults.tolerance || x.maxLength != defaults.maxLength)
+    m["extension"] = {{"c1_begin", x.c1Begin},   {"c1_end", x.c1End},         {"c2_begin", x.c2Begin},
+                      {"c2_end", x.c2End},       {"automatic", x.automatic}, {"max_rounds", x.maxRounds},
+                      {"tolerance", x.tolerance}, {"max_length", x.maxLength}};
   m["lambda1"] = q.options.lambda1;
   m["lambda2"] = q.options.lambda2;
   if (q.maxIterations > 0) m["max_iterations"] = q.maxIterations;

@@ -69,7 +69,7 @@ engine::TerminationReason engineReason(const std::string& name) {
     return engine::TerminationReason::ResidualTolerance;
   if (name == "warp_tolerance") return engine::TerminationReason::ResidualTolerance;
   if (name == "relative_change" || name == "relative_decrease" || name == "line_search_failed" ||
-      name == "step_rejected")
+      name == "step_rejected" || name == "warp_stalled")
     return engine::TerminationReason::RelativeChange;
   if (name == "time_budget") return engine::TerminationReason::TimeBudget;
   if (name == "aborted") return engine::TerminationReason::Aborted;
@@ -225,11 +225,17 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
   if (quasi_) {
     if (iterationsOverride >= 0) buildQuasiStrip(iterationsOverride);
     quasiSummary_ = quasi_->solve();
-    // The model's reason may be compound ("warp_tolerance, then guided projection: relative_change"):
-    // the report's termination is the engine reason of the last phase, result.termination all of it.
+    // The model's reason may be compound ("warp_stalled, then guided projection: relative_change"):
+    // the report's termination is the engine reason of the polish when it stopped on a tolerance of
+    // its own, else of L-BFGS (the polish has a fixed step budget); result.termination is all of it.
+    // The fallback to the initial mapping is named as such.
     const std::string& full = quasiSummary_.termination;
-    const std::size_t colon = full.rfind(": ");
-    termination_ = engine::terminationReasonName(engineReason(colon == std::string::npos ? full : full.substr(colon + 2)));
+    const std::string polish = ", then guided projection: ";
+    const std::size_t split = full.rfind(polish);
+    std::string phase = split == std::string::npos ? full : full.substr(split + polish.size());
+    if (split != std::string::npos && engineReason(phase) == engine::TerminationReason::MaxIterations)
+      phase = full.substr(0, split);
+    termination_ = full == quasi::kIdentityFallback ? full : engine::terminationReasonName(engineReason(phase));
     engine::SolveSummary summary;
     summary.termNames = {"objective"};
     double previousMs = 0.0;
@@ -243,7 +249,7 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
       previousMs = it.elapsedMs;
       summary.iterations.push_back(std::move(r));
     }
-    summary.reason = engineReason(termination_);
+    summary.reason = engineReason(phase);
     summary.converged = quasiSummary_.converged;
     summary.totalMs = quasiSummary_.totalMs;
     if (options.callback && !summary.iterations.empty()) options.callback(summary.iterations.back());
@@ -300,6 +306,7 @@ proto::Metrics SceneSolver::metrics() const {
     }
     m["deviation_max"] = deviation;
     m["rounds"] = quasiSummary_.rounds;
+    m["selected_round"] = quasiSummary_.selectedRound;
     m["unknowns"] = quasi_->numUnknowns();
     return m;
   }

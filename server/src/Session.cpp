@@ -795,7 +795,9 @@ void Session::publishSolve(bool final) {
             Delivery::Latest, "iterate");
   if (final)
     broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metrics},
-               {"reason", engine::terminationReasonName(lastSummary_.reason)},
+               {"reason", solver_->keepsInputGeometry() && !solver_->termination().empty()
+                              ? solver_->termination()
+                              : std::string(engine::terminationReasonName(lastSummary_.reason))},
                {"iterations", lastSummary_.stepsTaken()}});
 }
 

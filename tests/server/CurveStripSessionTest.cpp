@@ -10,6 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iostream>
+
+#include "devsurf/models/quasi_strip/QuasiStripModel.h"
 
 namespace devsurf::server {
 namespace {
@@ -109,6 +112,52 @@ TEST(QuasiStripSession, DraggingAControlPointOfC1MovesItAndResolvesTheWholeStrip
   // One drag gesture is one undo step.
   e.send({{"type", "undo"}, {"op", 4}});
   EXPECT_EQ(point(e.session->sceneJson(), "c1", 5), point(before, "c1", 5));
+}
+
+TEST(QuasiStripSession, LargeDragsNeverGiveAStripWorseThanTheIdentityMapping) {
+  // Issue 11: dragging a control point by 10–40% of the bounding-box diagonal gave 80–90° of warp.
+  // Every preset, a point of each curve, three distances: the solved strip's largest warp over
+  // 1000 rulings is at most that of σ(t) = t on the dragged curves.
+  int fallbacks = 0, drags = 0;
+  for (const std::string example : {"quasi-strip-hull", "quasi-strip-brim", "quasi-strip-twisted"}) {
+    for (const std::string curve : {"c1", "c2"}) {
+      for (const double fraction : {0.1, 0.25, 0.4}) {
+        Editor e(example);
+        const json scene = e.session->sceneJson();
+        const json& points = scene["model"][curve]["points"];
+        Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+        for (const std::string c : {"c1", "c2"})
+          for (const json& p : scene["model"][c]["points"]) {
+            const Eigen::Vector3d x(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+            lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+          }
+        const int index = static_cast<int>(points.size()) / 3;
+        const Eigen::Vector3d step = fraction * (hi - lo).norm() * Eigen::Vector3d(0.3, -0.5, 0.81).normalized();
+        json moved = points[index];
+        for (int k = 0; k < 3; ++k) moved[k] = moved[k].get<double>() + step[k];
+        SCOPED_TRACE(example + " " + curve + "[" + std::to_string(index) + "] by " + std::to_string(fraction));
+        e.send(dragTo(1, curve, index, moved));
+        e.send({{"type", "drag_end"}, {"op", 2}, {"target", {{"curve", curve}, {"index", index}}}});
+        ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+        const json solved = e.inbox.last("solved");
+        ASSERT_FALSE(solved.is_null());
+        // σ(t) = t on the dragged curves: the model before it solves.
+        const proto::Scene dragged = proto::sceneFromJson(e.session->sceneJson());
+        const auto& q = std::get<proto::QuasiStripScene>(dragged.model);
+        const models::quasi_strip::QuasiStripModel identity(q.design, q.options);
+        const double start = identity.results().warpAngleMaxDegDense;
+        const double result = solved["metrics"]["warp_angle_max_deg_dense"].get<double>();
+        EXPECT_LE(result, start * (1 + 1e-12)) << solved["reason"];
+        const bool fallback = solved["reason"] == "identity_fallback";
+        EXPECT_EQ(fallback, solved["metrics"]["selected_round"] == 0) << solved.dump();
+        fallbacks += fallback;
+        ++drags;
+        std::cout << example << " " << curve << "[" << index << "] dragged by " << fraction << " of the diagonal: σ = t "
+                  << start << "°, solved " << result << "° (" << solved["reason"].get<std::string>() << ")\n";
+      }
+    }
+  }
+  std::cout << drags << " drags, " << fallbacks << " identity fallbacks\n";
 }
 
 TEST(QuasiStripSession, SetParamsRebuildsWithTheNewMappingAndIsUndoable) {

@@ -1,8 +1,11 @@
 #include "devsurf/io/QuadMesh.h"
 
+#include <algorithm>
+#include <cctype>
 #include <stdexcept>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -22,7 +25,37 @@ void silenceOpenMeshLogs() {
   omout().disable();
 }
 
+/// Whether `path` ends in `extension` (ASCII case-insensitive).
+bool hasExtension(const std::string& path, const std::string& extension) {
+  if (path.size() < extension.size()) return false;
+  for (std::size_t i = 0; i < extension.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(path[path.size() - extension.size() + i])) != extension[i]) return false;
+  return true;
+}
+
 }  // namespace
+
+Eigen::MatrixX3i triangulateQuads(const QuadMesh& mesh) {
+  const Eigen::Index n = mesh.vertices.rows();
+  Eigen::MatrixX3i triangles(2 * mesh.quads.rows(), 3);
+  Eigen::Index count = 0;
+  for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f) {
+    for (int c = 0; c < 4; ++c)
+      if (mesh.quads(f, c) < 0 || mesh.quads(f, c) >= n)
+        throw std::runtime_error("quad " + std::to_string(f) + " has a bad vertex index");
+    const int corners[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    for (const auto& t : corners) {
+      const Eigen::Vector3d a = mesh.vertices.row(mesh.quads(f, t[0])).transpose();
+      const Eigen::Vector3d b = mesh.vertices.row(mesh.quads(f, t[1])).transpose();
+      const Eigen::Vector3d c = mesh.vertices.row(mesh.quads(f, t[2])).transpose();
+      const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+      if (!((b - a).cross(c - a).norm() > 1e-12 * longest)) continue;
+      triangles.row(count++) << mesh.quads(f, t[0]), mesh.quads(f, t[1]), mesh.quads(f, t[2]);
+    }
+  }
+  triangles.conservativeResize(count, 3);
+  return triangles;
+}
 
 void writeMesh(const QuadMesh& mesh, const std::string& path) {
   silenceOpenMeshLogs();
@@ -32,16 +65,28 @@ void writeMesh(const QuadMesh& mesh, const std::string& path) {
   for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
     handles.push_back(out.add_vertex(
         PolyMesh::Point(mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2))));
-  for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f) {
+  auto addFace = [&out, &handles, &path](const std::vector<int>& indices, const std::string& what) {
     std::vector<PolyMesh::VertexHandle> face;
-    for (int c = 0; c < 4; ++c) {
-      const int v = mesh.quads(f, c);
+    for (const int v : indices) {
       if (v < 0 || v >= static_cast<int>(handles.size()))
-        throw std::runtime_error(path + ": quad " + std::to_string(f) + " has a bad vertex index");
+        throw std::runtime_error(path + ": " + what + " has a bad vertex index");
       face.push_back(handles[static_cast<std::size_t>(v)]);
     }
-    if (!out.add_face(face).is_valid())
-      throw std::runtime_error(path + ": quad " + std::to_string(f) + " is not manifold");
+    if (!out.add_face(face).is_valid()) throw std::runtime_error(path + ": " + what + " is not manifold");
+  };
+  // OpenMesh's STL writer writes triangles only (other faces become facets without vertices).
+  if (hasExtension(path, ".stl")) {
+    Eigen::MatrixX3i triangles;
+    try {
+      triangles = triangulateQuads(mesh);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(path + ": " + e.what());
+    }
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+      addFace({triangles(t, 0), triangles(t, 1), triangles(t, 2)}, "triangle " + std::to_string(t));
+  } else {
+    for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f)
+      addFace({mesh.quads(f, 0), mesh.quads(f, 1), mesh.quads(f, 2), mesh.quads(f, 3)}, "quad " + std::to_string(f));
   }
   OpenMesh::IO::Options options;
   if (!OpenMesh::IO::write_mesh(out, path, options, 17))

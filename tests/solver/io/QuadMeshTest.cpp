@@ -35,6 +35,31 @@ TEST(QuadMesh, ObjRoundTripKeepsQuadsAndCoordinates) {
   std::remove(path.c_str());
 }
 
+TEST(QuadMesh, QuadsSplitIntoTwoTrianglesAndZeroAreaOnesAreLeftOut) {
+  QuadMesh m = grid();
+  m.vertices.row(5) = m.vertices.row(4);  // the second quad's edge 4–5 has zero length
+  const Eigen::MatrixX3i t = triangulateQuads(m);
+  ASSERT_EQ(t.rows(), 3);
+  EXPECT_EQ(t.row(0), Eigen::RowVector3i(0, 2, 3));
+  EXPECT_EQ(t.row(1), Eigen::RowVector3i(0, 3, 1));
+  EXPECT_EQ(t.row(2), Eigen::RowVector3i(2, 5, 3));  // (2, 4, 5) has zero area
+  m.quads(0, 1) = -1;
+  EXPECT_THROW(triangulateQuads(m), std::runtime_error);
+}
+
+TEST(QuadMesh, StlFilesHoldTheTrianglesWithTheirVertices) {
+  const std::string path = tempPath("grid.stl");
+  writeMesh(grid(), path);
+  std::ifstream file(path);
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::size_t facets = 0, vertices = 0;
+  for (std::size_t at = text.find("endfacet"); at != std::string::npos; at = text.find("endfacet", at + 1)) ++facets;
+  for (std::size_t at = text.find("vertex"); at != std::string::npos; at = text.find("vertex", at + 1)) ++vertices;
+  EXPECT_EQ(facets, 4u);
+  EXPECT_EQ(vertices, 12u);
+  std::remove(path.c_str());
+}
+
 TEST(QuadMesh, BadIndicesAndUnwritablePathsThrow) {
   QuadMesh m = grid();
   m.quads(1, 2) = 17;

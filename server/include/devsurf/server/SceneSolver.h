@@ -109,6 +109,10 @@ class SceneSolver {
   proto::Metrics metrics() const;
   /// The full report of the last solve.
   nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
+  /// The report's `termination` of the last solve for quasi_strip (an engine reason name, or
+  /// "identity_fallback" when the model kept σ(t) = t) and conical_strip ("completed"); empty for
+  /// the other kinds (their summary's reason is the report's).
+  const std::string& termination() const { return termination_; }
 
   /// Whether the scene is a strip.
   bool isStrip() const { return strip_ != nullptr; }
@@ -127,8 +131,8 @@ class SceneSolver {
   const models::quasi_strip::QuasiStripModel& quasiStripModel() const;
   /// @throws std::logic_error if the scene is not a conical_strip
   const models::conical_strip::ConicalStripModel& conicalStripModel() const;
-  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface; composites:
-  /// all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
+  /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface, stl as
+  /// io::triangulateQuads' triangles; composites: all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
   /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm; iges:
   /// the B-spline surfaces and boundary curves, see exportAs).
   /// @throws ExportUnavailable for an unknown format or one that does not apply, ExportFailed when

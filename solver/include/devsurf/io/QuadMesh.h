@@ -12,7 +12,16 @@ struct QuadMesh {
   Eigen::MatrixX4i quads;     ///< f×4 vertex indices, counter-clockwise seen from the normal side
 };
 
+/// The quads as triangles for formats that only hold triangles (STL): quad (v0, v1, v2, v3)
+/// becomes (v0, v1, v2) and (v0, v2, v3), in the quad's orientation. A triangle of zero area is
+/// left out — a repeated vertex or a zero-length edge (a strip's rulings meeting in a point):
+/// ‖(b − a) × (c − a)‖ ≤ 1e-12 · (longest edge)².
+/// @returns t×3 vertex indices into mesh.vertices
+/// @throws std::runtime_error if a quad has a vertex index out of range
+Eigen::MatrixX3i triangulateQuads(const QuadMesh& mesh);
+
 /// Writes the mesh through OpenMesh; the format follows the extension (.obj, .off, .ply, .stl).
+/// obj, off and ply keep the quads; stl (ASCII) gets triangulateQuads' triangles.
 /// @throws std::runtime_error naming the file when writing fails.
 void writeMesh(const QuadMesh& mesh, const std::string& path);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -83,7 +85,43 @@ class ProblemObjective {
   std::vector<Eigen::VectorXd> residuals_, jacobians_;
 };
 
+/// Arc length of an extended curve between parameters a and b (either order; beyond the domain
+/// the end polynomial is continued): 5-point Gauss–Legendre on 32 equal pieces.
+double arcLength(const terms::ExtendedCurve& curve, double a, double b) {
+  static const double nodes[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                                  0.9061798459386640};
+  static const double weights[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                    0.4786286704993665, 0.2369268850561891};
+  if (a > b) std::swap(a, b);
+  const int pieces = 32;
+  const double h = (b - a) / pieces;
+  double length = 0.0;
+  for (int k = 0; k < pieces; ++k) {
+    const double mid = a + (k + 0.5) * h;
+    for (int q = 0; q < 5; ++q) length += weights[q] * 0.5 * h * curve.evaluate(mid + 0.5 * h * nodes[q]).d1.norm();
+  }
+  return length;
+}
+
 }  // namespace
+
+/// A state solve() may return: the extension it was solved with and the problem's x.
+struct QuasiStripModel::Candidate {
+  int round = 0;            ///< 0 = the initial mapping, k = the result of round k
+  std::string termination;  ///< the optimizer's reason (empty for the initial mapping)
+  bool converged = false;
+  bool polished = true;     ///< false: the L-BFGS state before the guided-projection polish
+  int iterate = -1;         ///< ≥ 0: an L-BFGS iterate before the optimizer stopped (not converged)
+  bool fixedEndPoints = false;  ///< solved with end-point fixing (the design's, or the retry's)
+  CurveExtension extension;
+  Eigen::VectorXd x;
+  double warpMaxDense = 0.0;  ///< the score: largest warp over the dense rulings
+  /// How far the strip's end rulings are from C2's ends along C2 (past its end or short of its
+  /// ends; fraction of C2's domain or arc length)
+  double reach = 0.0;
+  bool finite = false;        ///< σ, the normals and the warp are finite
+  bool eligible = false;      ///< finite and reach ≤ extension.maxLength
+};
 
 /// Everything rebuilt per extension round: working curves (normalized, extended, on [0,1]), the
 /// problem and the engine.
@@ -94,6 +132,7 @@ struct QuasiStripModel::Working {
   double t0 = 0, t1 = 1, T0 = 0, T1 = 1;          ///< extended domains in the design parameters
   spline::BSplineCurve w1, w2;                    ///< working curves
   std::shared_ptr<const terms::ExtendedCurve> e1, e2;
+  double length1 = 1.0, length2 = 1.0;            ///< arc lengths of C1, C2 over their design domains
   std::vector<double> samples;                    ///< working t_i
   spline::KnotVector mappingKnots;                ///< B-spline method
   engine::Problem problem;
@@ -121,6 +160,7 @@ QuasiStripModel::QuasiStripModel(QuasiStripDesign design, QuasiStripOptions opti
   requireNonNegative(x.c2Begin, "extension.c2Begin");
   requireNonNegative(x.c2End, "extension.c2End");
   requireNonNegative(x.tolerance, "extension.tolerance");
+  requireNonNegative(x.maxLength, "extension.maxLength");
   if (x.maxRounds < 0) throw std::invalid_argument("extension.maxRounds: must be >= 0");
   if (!(options_.lambda1 > 0.0) || !(options_.lambda2 > 0.0)) {
     throw std::invalid_argument("options.lambda1/lambda2: must be > 0");
@@ -166,6 +206,10 @@ void QuasiStripModel::build() {
   w->w2 = working(w->compatible2, extension_.c2Begin, extension_.c2End, w->T0, w->T1);
   w->e1 = std::make_shared<const terms::ExtendedCurve>(w->w1);
   w->e2 = std::make_shared<const terms::ExtendedCurve>(w->w2);
+  w->length1 = arcLength(*w->e1, (design_.c1.knots.domainBegin() - w->t0) / (w->t1 - w->t0),
+                         (design_.c1.knots.domainEnd() - w->t0) / (w->t1 - w->t0));
+  w->length2 = arcLength(*w->e2, (design_.c2.knots.domainBegin() - w->T0) / (w->T1 - w->T0),
+                         (design_.c2.knots.domainEnd() - w->T0) / (w->T1 - w->T0));
 
   const int K = design_.samples;
   for (int i = 0; i < K; ++i) w->samples.push_back(static_cast<double>(i) / (K - 1));
@@ -215,7 +259,7 @@ void QuasiStripModel::build() {
   problem.addTerm(std::move(development), std::sqrt(options_.lambda1), engine::Strength::Soft);
   problem.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal", normalOffsets),
                   std::sqrt(options_.lambda2), engine::Strength::Soft);
-  if (design_.endPoints.enabled) {
+  if (design_.endPoints.enabled || fixEndPoints_) {
     // Targets: C2's own end points (its design domain, in working parameters).
     const double len2 = w->T1 - w->T0;
     const double begin2 = (design_.c2.knots.domainBegin() - w->T0) / len2;
@@ -254,6 +298,28 @@ Mapping workingMapping(MappingMethod method, const spline::KnotVector& knots, in
     m.knots.push_back(samples.back());
   }
   return m;
+}
+
+/// Warp angle (metrics::warpAngleDeg) of the working ruling C1(t)–C2(σ(t)).
+double warpAtDeg(const terms::ExtendedCurve& e1, const terms::ExtendedCurve& e2, const spline::BSplineCurve& sigma,
+                 double t) {
+  const terms::CurveJet a = e1.evaluate(t);
+  const terms::CurveJet b = e2.evaluate(sigma.evaluate(t)[0]);
+  return metrics::warpAngleDeg(a.point, a.d1, b.point, b.d1);
+}
+
+/// Largest and mean warp over `rulings` rulings equally spaced over the working domain [0, 1].
+std::pair<double, double> denseWarpDeg(const terms::ExtendedCurve& e1, const terms::ExtendedCurve& e2,
+                                       const spline::BSplineCurve& sigma, int rulings) {
+  const int n = std::max(2, rulings);
+  double worst = 0.0, sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double warp = warpAtDeg(e1, e2, sigma, static_cast<double>(i) / (n - 1));
+    // A NaN warp makes the state unusable: keep it visible to the caller.
+    if (!(warp <= worst)) worst = warp;
+    sum += warp;
+  }
+  return {worst, sum / n};
 }
 
 }  // namespace
@@ -334,11 +400,14 @@ double QuasiStripModel::guidedProjectionSteps(int round, QuasiStripSummary& summ
   return objective;
 }
 
-double QuasiStripModel::solveRound(int round, QuasiStripSummary& summary) {
+void QuasiStripModel::solveRound(int round, QuasiStripSummary& summary, std::vector<Candidate>& candidates) {
   Working& w = *working_;
   const auto start = Clock::now();
-  if (options_.optimizer == Optimizer::GuidedProjection)
-    return guidedProjectionSteps(round, summary, options_.maxIterations, true, start);
+  if (options_.optimizer == Optimizer::GuidedProjection) {
+    guidedProjectionSteps(round, summary, options_.maxIterations, true, start);
+    candidates.push_back(capture(round + 1, summary.termination, summary.converged));
+    return;
+  }
   ProblemObjective objective(w.problem);
   Eigen::VectorXd gradient(w.problem.x().size());
   const double f0 = objective(w.problem.x(), gradient);
@@ -346,78 +415,286 @@ double QuasiStripModel::solveRound(int round, QuasiStripSummary& summary) {
   LbfgsOptions lo = options_.lbfgs;
   if (options_.timeBudgetMs > 0.0) lo.timeBudgetMs = options_.timeBudgetMs;
   Eigen::VectorXd x = w.problem.x();
-  // Geometric stop: the largest warp angle over the sample rulings at x (what the user sees).
+  // Geometric stops: the largest and the mean warp angle over the sample rulings at x (what the
+  // user sees).
   const engine::VariableBlock& shape = w.problem.layout().block(w.shapeBlock);
-  auto maxSampleWarpDeg = [this, &w, &shape](const Eigen::VectorXd& v) {
+  auto sampleWarpDeg = [this, &w, &shape](const Eigen::VectorXd& v) {
     const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree, w.samples,
                                      v.segment(shape.offset, shape.size));
     const spline::BSplineCurve sigma = m.curve();
-    double worst = 0.0;
+    double worst = 0.0, sum = 0.0;
     for (double t : w.samples) {
-      const terms::CurveJet a = w.e1->evaluate(t);
-      const terms::CurveJet b = w.e2->evaluate(sigma.evaluate(t)[0]);
-      worst = std::max(worst, metrics::warpAngleDeg(a.point, a.d1, b.point, b.d1));
+      const double warp = warpAtDeg(*w.e1, *w.e2, sigma, t);
+      worst = std::max(worst, warp);
+      sum += warp;
     }
-    return worst;
+    return std::make_pair(worst, sum / static_cast<double>(w.samples.size()));
   };
-  bool warpReached = false;
+  bool warpReached = false, warpStalled = false;
+  // The iterate with the smallest largest sample warp (checked every 10 iterations) is kept as a
+  // fallback: eq. 9 sums over the samples and may keep falling while the worst ruling gets worse.
+  std::pair<double, double> warp = sampleWarpDeg(x);
+  double bestMax = warp.first, bestMean = warp.second;
+  int bestIterate = 0;
+  Eigen::VectorXd bestX = x;
+  std::vector<std::pair<double, double>> progress{{bestMax, bestMean}};  // smallest so far, every 10 iterations
+  const int stallChecks = options_.warpStallIterations / 10;
+  const double keep = 1.0 - options_.warpStallDecrease;
   const LbfgsResult r = minimizeLbfgs(
       [&objective](const Eigen::VectorXd& v, Eigen::VectorXd& g) { return objective(v, g); }, x, lo,
-      [this, &summary, round, start, &x, &maxSampleWarpDeg, &warpReached](int k, double f, double g) {
+      [&](int k, double f, double g) {
         summary.iterations.push_back({k, f, 0.0, g, msSince(start), round});
-        if (options_.warpToleranceDeg > 0.0 && k % 10 == 0 && maxSampleWarpDeg(x) <= options_.warpToleranceDeg) {
+        if (k % 10 != 0) return true;
+        warp = sampleWarpDeg(x);
+        if (warp.first < bestMax) {
+          bestMax = warp.first;
+          bestIterate = k;
+          bestX = x;
+        }
+        bestMean = std::min(bestMean, warp.second);
+        progress.emplace_back(bestMax, bestMean);
+        if (options_.warpToleranceDeg > 0.0 && warp.first <= options_.warpToleranceDeg) {
           warpReached = true;
           return false;
         }
+        const int checks = static_cast<int>(progress.size()) - 1;
+        if (stallChecks > 0 && checks >= stallChecks) {
+          const std::pair<double, double>& before = progress[static_cast<std::size_t>(checks - stallChecks)];
+          if (!(bestMax < keep * before.first) && !(bestMean < keep * before.second)) {
+            warpStalled = true;
+            return false;
+          }
+        }
         return true;
       });
-  w.problem.x() = x;
-  summary.termination = warpReached ? "warp_tolerance" : lbfgsTerminationName(r.reason);
-  summary.converged = warpReached || r.reason == LbfgsTermination::GradientTolerance ||
+  summary.termination = warpReached ? "warp_tolerance" : warpStalled ? "warp_stalled" : lbfgsTerminationName(r.reason);
+  summary.converged = warpReached || warpStalled || r.reason == LbfgsTermination::GradientTolerance ||
                       r.reason == LbfgsTermination::RelativeDecrease ||
                       r.reason == LbfgsTermination::AbsoluteTolerance;
-  if (options_.polishIterations <= 0) return r.value;
+  if (bestIterate > 0 && bestIterate < r.iterations) {
+    w.problem.x() = bestX;
+    candidates.push_back(capture(round + 1, summary.termination, false));
+    candidates.back().iterate = bestIterate;
+  }
+  w.problem.x() = x;
+  // The polish lowers eq. 9 but may raise the largest warp: the state before it is a candidate too.
+  candidates.push_back(capture(round + 1, summary.termination, summary.converged));
+  if (options_.polishIterations <= 0) return;
+  candidates.back().polished = false;
   // Gauss–Newton converges quadratically once L-BFGS has brought σ near the solution.
   const std::string first = summary.termination;
   const bool firstConverged = summary.converged;
-  const double polished = guidedProjectionSteps(round, summary, options_.polishIterations, false, start);
+  guidedProjectionSteps(round, summary, options_.polishIterations, false, start);
   summary.termination = first + ", then guided projection: " + summary.termination;
   summary.converged = summary.converged || firstConverged;
-  return polished;
+  candidates.push_back(capture(round + 1, summary.termination, summary.converged));
+}
+
+QuasiStripModel::Candidate QuasiStripModel::capture(int round, std::string termination, bool converged) const {
+  const Working& w = *working_;
+  Candidate c;
+  c.round = round;
+  c.termination = std::move(termination);
+  c.converged = converged;
+  c.extension = extension_;
+  c.fixedEndPoints = design_.endPoints.enabled || fixEndPoints_;
+  c.x = w.problem.x();
+  const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree, w.samples,
+                                   w.problem.blockValues(w.shapeBlock));
+  c.warpMaxDense = denseWarpDeg(*w.e1, *w.e2, m.curve(), options_.denseRulings).first;
+  // How far the end rulings are from C2's ends along C2: past the working end (the design's end
+  // plus its explicit extension; σ ≥ 0 keeps the begin), or short of the design's ends (beyond
+  // extension.tolerance), as fractions of C2's domain or arc length, whichever is larger.
+  const double len2 = design_.c2.knots.domainEnd() - design_.c2.knots.domainBegin();
+  const double a2 = (design_.c2.knots.domainBegin() - w.T0) / (w.T1 - w.T0);
+  const double b2 = (design_.c2.knots.domainEnd() - w.T0) / (w.T1 - w.T0);
+  const double tol = extension_.tolerance * len2 / (w.T1 - w.T0);
+  const double begin = m.evaluate(0.0), end = m.evaluate(1.0);
+  auto along = [&](double from, double to) {
+    return std::max((to - from) * (w.T1 - w.T0) / len2, arcLength(*w.e2, from, to) / w.length2);
+  };
+  if (std::isfinite(begin) && std::isfinite(end)) {
+    if (end > 1.0) c.reach = std::max(c.reach, along(1.0, end));
+    if (end < b2 - tol) c.reach = std::max(c.reach, along(end, b2 - tol));
+    if (begin > a2 + tol) c.reach = std::max(c.reach, along(a2 + tol, begin));
+  }
+  c.finite = std::isfinite(c.warpMaxDense) && c.x.allFinite() && std::isfinite(begin) && std::isfinite(end);
+  c.eligible = c.finite && c.reach <= extension_.maxLength;
+  return c;
+}
+
+void QuasiStripModel::restore(const Candidate& c) {
+  const CurveExtension& x = c.extension;
+  const bool fix = c.fixedEndPoints && !design_.endPoints.enabled;
+  if (x.c1Begin != extension_.c1Begin || x.c1End != extension_.c1End || x.c2Begin != extension_.c2Begin ||
+      x.c2End != extension_.c2End || fix != fixEndPoints_) {
+    extension_ = x;
+    fixEndPoints_ = fix;
+    build();
+  }
+  working_->problem.x() = c.x;
+}
+
+bool QuasiStripModel::extendForNextRound() {
+  // Case 1 of §3.4: σ leaves an end part of C2 uncovered → extend C1 there, by 1.25× the missing
+  // length estimated with σ′, at most extension.maxLength of C1's domain and arc length in all.
+  const Working& w = *working_;
+  const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree,
+                                   w.samples, w.problem.blockValues(w.shapeBlock));
+  const double len1 = design_.c1.knots.domainEnd() - design_.c1.knots.domainBegin();
+  const double len2 = design_.c2.knots.domainEnd() - design_.c2.knots.domainBegin();
+  const double a2 = (design_.c2.knots.domainBegin() - w.T0) / (w.T1 - w.T0);
+  const double b2 = (design_.c2.knots.domainEnd() - w.T0) / (w.T1 - w.T0);
+  const double tol = extension_.tolerance * len2 / (w.T1 - w.T0);
+  const double toC1Fraction = (w.t1 - w.t0) / len1;
+  const double workingPerFraction = len1 / (w.t1 - w.t0);  // working parameter per fraction of C1's domain
+  // The largest automatic fraction at one end: bisection on the arc length of the continuation
+  // beyond the explicit extension (monotone in the fraction).
+  auto cap = [&](double wanted, bool atEnd) {
+    const double automatic = atEnd ? extension_.c1End - design_.extension.c1End
+                                   : extension_.c1Begin - design_.extension.c1Begin;
+    // The working domain [0, 1] includes the automatic part: measure from the explicit end.
+    const double origin = atEnd ? 1.0 - automatic * workingPerFraction : automatic * workingPerFraction;
+    const double limit = extension_.maxLength * w.length1;
+    auto lengthOf = [&](double fraction) {
+      const double reach = fraction * workingPerFraction;
+      return arcLength(*w.e1, origin, atEnd ? origin + reach : origin - reach);
+    };
+    double total = std::min(automatic + wanted, extension_.maxLength);
+    if (lengthOf(total) > limit) {
+      double lo = automatic, hi = total;
+      for (int k = 0; k < 50; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (lengthOf(mid) > limit ? hi : lo) = mid;
+      }
+      total = lo;
+    }
+    return std::max(0.0, total - automatic);
+  };
+  bool extended = false;
+  const double missingEnd = b2 - m.evaluate(1.0);
+  if (missingEnd > tol) {
+    const double add = cap(1.25 * missingEnd / std::max(m.evaluate(1.0, 1), 1e-3) * toC1Fraction, true);
+    if (add > extension_.tolerance) {
+      extension_.c1End += add;
+      extended = true;
+    }
+  }
+  const double missingBegin = m.evaluate(0.0) - a2;
+  if (missingBegin > tol) {
+    const double add = cap(1.25 * missingBegin / std::max(m.evaluate(0.0, 1), 1e-3) * toC1Fraction, false);
+    if (add > extension_.tolerance) {
+      extension_.c1Begin += add;
+      extended = true;
+    }
+  }
+  return extended;
 }
 
 QuasiStripSummary QuasiStripModel::solve() {
   const auto start = Clock::now();
-  QuasiStripSummary summary;
-  summary.optimizer = options_.optimizer;
-  for (int round = 0;; ++round) {
-    solveRound(round, summary);
-    summary.rounds = round + 1;
-    if (!extension_.automatic || round >= extension_.maxRounds) break;
-    // Case 1 of §3.4: σ leaves an end part of C2 uncovered → extend C1 there.
-    const Working& w = *working_;
-    const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree,
-                                     w.samples, w.problem.blockValues(w.shapeBlock));
-    const double len1 = design_.c1.knots.domainEnd() - design_.c1.knots.domainBegin();
-    const double len2 = design_.c2.knots.domainEnd() - design_.c2.knots.domainBegin();
-    const double a2 = (design_.c2.knots.domainBegin() - w.T0) / (w.T1 - w.T0);
-    const double b2 = (design_.c2.knots.domainEnd() - w.T0) / (w.T1 - w.T0);
-    const double tol = extension_.tolerance * len2 / (w.T1 - w.T0);
-    const double toC1Fraction = (w.t1 - w.t0) / len1;
-    bool extended = false;
-    const double missingEnd = b2 - m.evaluate(1.0);
-    if (missingEnd > tol) {
-      extension_.c1End += 1.25 * missingEnd / std::max(m.evaluate(1.0, 1), 1e-3) * toC1Fraction;
-      extended = true;
-    }
-    const double missingBegin = m.evaluate(0.0) - a2;
-    if (missingBegin > tol) {
-      extension_.c1Begin += 1.25 * missingBegin / std::max(m.evaluate(0.0, 1), 1e-3) * toC1Fraction;
-      extended = true;
-    }
-    if (!extended) break;
+  if (!pristine_) {
+    extension_ = design_.extension;
+    fixEndPoints_ = false;
     build();
   }
+  pristine_ = false;
+  QuasiStripSummary summary;
+  summary.optimizer = options_.optimizer;
+  std::vector<Candidate> candidates{capture(0, "", false)};
+  // A state may be returned if it reaches C2's ends within extension.maxLength and its largest
+  // dense warp is no worse than the initial mapping's.
+  const double initialWarp = candidates.front().warpMaxDense;
+  auto acceptable = [initialWarp](const Candidate& c) { return c.eligible && c.warpMaxDense <= initialWarp; };
+  // A round's result: its final state if acceptable, else its state before the polish, else its
+  // best L-BFGS iterate (solveRound appends them in the reverse order); 0 = none.
+  auto roundResult = [&candidates, &acceptable](std::size_t first) -> std::size_t {
+    for (std::size_t k = candidates.size(); k-- > first;)
+      if (acceptable(candidates[k])) return k;
+    return 0;
+  };
+  std::size_t best = 0;
+  for (int round = 1;; ++round) {
+    const std::size_t first = candidates.size();
+    solveRound(round - 1, summary, candidates);
+    summary.rounds = round;
+    // An extension round is kept only if its result is no worse than the round before (up to
+    // round-off; warps at or below options.warpToleranceDeg count as equal).
+    const std::size_t result = roundResult(first);
+    const bool improves =
+        result != 0 && (best == 0 || candidates[result].warpMaxDense <=
+                                         std::max(candidates[best].warpMaxDense * (1.0 + 1e-9), options_.warpToleranceDeg));
+    if (improves) best = result;
+    // Extend from an improving round, or from a first round whose strip only falls short of C2's
+    // ends (what extension is for); never from a state worse than the initial mapping.
+    const Candidate& final = candidates.back();
+    const bool extendable = improves || (best == 0 && final.finite && final.warpMaxDense <= initialWarp);
+    if (!extendable || !extension_.automatic || round > extension_.maxRounds) break;
+    if (improves) restore(candidates[best]);
+    if (!extendForNextRound()) break;
+    build();
+  }
+  // No free round beat the start: once more with the end rulings pulled onto C2's end points
+  // (§5.4) and the design's own extension. The strip then keeps the initial mapping's end rulings
+  // and its reach, and the optimizer can only improve the rulings between them.
+  if (best == 0 && options_.fixEndPointsRetry && !design_.endPoints.enabled) {
+    extension_ = design_.extension;
+    fixEndPoints_ = true;
+    build();
+    const std::size_t first = candidates.size();
+    solveRound(summary.rounds, summary, candidates);
+    ++summary.rounds;
+    best = roundResult(first);
+  }
+  const Candidate& chosen = candidates[best];
+  const Candidate& last = candidates.back();
+  restore(chosen);
+  summary.selectedRound = chosen.round;
+  std::ostringstream why;
+  why.precision(4);
+  const bool retried = !design_.endPoints.enabled;
+  auto name = [&why, retried](const Candidate& c) {
+    why << "round " << c.round << (c.fixedEndPoints && retried ? " (end points fixed)" : "");
+    if (c.iterate >= 0)
+      why << ", L-BFGS iterate " << c.iterate;
+    else if (!c.polished)
+      why << ", before the guided-projection polish";
+    why << " (" << c.termination << ")";
+  };
+  auto describe = [&why, this](const Candidate& c) {
+    why << "largest warp over " << options_.denseRulings << " rulings " << c.warpMaxDense << "°";
+    if (!c.eligible) {
+      if (c.reach > extension_.maxLength)
+        why << ", but its end rulings are " << c.reach << " of c2 from c2's ends (more than extension.maxLength)";
+      else
+        why << ", but it is not finite";
+    }
+  };
+  if (chosen.round == 0) {
+    summary.termination = kIdentityFallback;
+    summary.converged = false;
+    why << "the initial mapping, " ;
+    describe(chosen);
+    why << "; the last optimized state: ";
+    name(last);
+    why << ", ";
+    describe(last);
+  } else {
+    summary.termination = chosen.termination;
+    summary.converged = chosen.converged && chosen.iterate < 0;
+    if (best + 1 == candidates.size()) {
+      why << "last round";
+    } else {
+      name(chosen);
+      why << ", ";
+      describe(chosen);
+      why << "; the last state: ";
+      name(last);
+      why << ", ";
+      describe(last);
+    }
+  }
+  summary.selection = why.str();
   computeResults();
   summary.totalMs = msSince(start);
   return summary;
@@ -443,17 +720,12 @@ void QuasiStripModel::computeResults() {
     r.objective = objective(w.problem.x(), g);
   }
   const spline::BSplineCurve sigma = m.curve();
-  auto warpAt = [&w, &sigma](double t) {
-    const terms::CurveJet a = w.e1->evaluate(t);
-    const terms::CurveJet b = w.e2->evaluate(sigma.evaluate(t)[0]);
-    return metrics::warpAngleDeg(a.point, a.d1, b.point, b.d1);
-  };
   const int K = static_cast<int>(w.samples.size());
   r.normals.resize(K, 3);
   const int normalOffset = w.problem.layout().block(w.normalBlock).offset;
   double sum = 0.0;
   for (int i = 0; i < K; ++i) {
-    const double warp = warpAt(w.samples[i]);
+    const double warp = warpAtDeg(*w.e1, *w.e2, sigma, w.samples[i]);
     r.sampleParameters.push_back(w.t0 + w.samples[i] * (w.t1 - w.t0));
     r.sampleWarpDeg.push_back(warp);
     r.warpAngleMaxDeg = std::max(r.warpAngleMaxDeg, warp);
@@ -462,14 +734,7 @@ void QuasiStripModel::computeResults() {
     r.normals.row(i) = (n.norm() > 0 ? n.normalized() : n).transpose();
   }
   r.warpAngleMeanDeg = sum / K;
-  const int dense = std::max(2, options_.denseRulings);
-  sum = 0.0;
-  for (int i = 0; i < dense; ++i) {
-    const double warp = warpAt(static_cast<double>(i) / (dense - 1));
-    r.warpAngleMaxDegDense = std::max(r.warpAngleMaxDegDense, warp);
-    sum += warp;
-  }
-  r.warpAngleMeanDegDense = sum / dense;
+  std::tie(r.warpAngleMaxDegDense, r.warpAngleMeanDegDense) = denseWarpDeg(*w.e1, *w.e2, sigma, options_.denseRulings);
 
   // σ in the design's parameters: t = t0 + t̃ (t1 − t0), T = T0 + T̃ (T1 − T0).
   r.mapping = m;

@@ -37,11 +37,19 @@ struct CurveExtension {
   double c1Begin = 0.0, c1End = 0.0, c2Begin = 0.0, c2End = 0.0;
   /// After a solve, when σ leaves an end part of C2 uncovered (Case 1: σ(t_end) < T_end, or
   /// σ(t_begin) > T_begin), extend C1 at that end by 1.25× the missing length (estimated with σ′)
-  /// and solve again, at most `maxRounds` times. Where σ runs past C2's end, C2's extension is
-  /// used as it is (the solver evaluates C2 beyond its domain anyway).
+  /// and solve again, at most `maxRounds` times. A round is followed by another only if its result
+  /// is the best so far (see QuasiStripModel::solve). Where σ runs past C2's end, C2's polynomial
+  /// continuation is used as it is (the solver evaluates C2 beyond its domain anyway).
   bool automatic = true;
   int maxRounds = 2;
   double tolerance = 1e-3;  ///< uncovered parameter length (fraction of C2's domain) tolerated
+  /// What the model may add to a curve at either end, beyond the extension given above: at most
+  /// this fraction of the curve's parameter domain and of its arc length. It caps the automatic
+  /// extension of C1, and solve() returns no state whose end rulings are further than this from
+  /// C2's ends along C2 (σ running past C2's explicitly extended end, i.e. Case 2 of §3.4 by C2's
+  /// polynomial continuation, or falling short of C2's ends by more than `tolerance` + this).
+  /// So the strip's boundaries stay within maxLength × the curves' arc lengths of the input curves.
+  double maxLength = 0.1;
 };
 
 /// Everything that defines a quasi-developable strip between two given curves (001_…).
@@ -93,9 +101,20 @@ struct QuasiStripOptions {
   /// developable: on the twisted pair of bench/quasi_strip.cpp 0.05° takes ~150 iterations, 1e-4°
   /// needs the full 3000.
   double warpToleranceDeg = 0.05;
+  /// L-BFGS also stops (termination "warp_stalled") when that largest sample warp has not fallen
+  /// below (1 − warpStallDecrease) × its smallest value of warpStallIterations iterations before;
+  /// x is then the iterate where it was smallest. The objective creeps on long after the worst
+  /// ruling stopped improving (hull preset: 0.84° from iteration 50 on, at the first ruling, which
+  /// σ(t_begin) = T_begin keeps); 0 iterations = off.
+  int warpStallIterations = 200;
+  double warpStallDecrease = 0.01;
   /// After L-BFGS: at most this many guided-projection steps (Gauss–Newton with the LM control
   /// above), which converge quadratically from where L-BFGS stopped; 0 = none.
   int polishIterations = 10;
+  /// When the first round has no acceptable result (see solve()), solve() tries once more with
+  /// end-point fixing (§5.4, weight endPoints.weight) and the design's extension before it falls
+  /// back to the initial mapping.
+  bool fixEndPointsRetry = true;
   double timeBudgetMs = 0.0;               ///< per solve round (0 = none)
   int denseRulings = 1000;                 ///< rulings of the *_dense warp metrics (Fig. 7 f)
 };
@@ -110,13 +129,25 @@ struct QuasiStripIteration {
   int round = 0;              ///< extension round
 };
 
+/// Name of QuasiStripSummary::termination when solve() returns the initial mapping.
+inline constexpr const char* kIdentityFallback = "identity_fallback";
+
 /// What solve() did.
 struct QuasiStripSummary {
   Optimizer optimizer = Optimizer::GuidedProjection;
-  std::string termination;    ///< engine::terminationReasonName or lbfgsTerminationName
-  bool converged = false;     ///< stopped on a tolerance
+  /// Why the optimizer stopped in the returned state's round (engine::terminationReasonName or
+  /// lbfgsTerminationName; "A, then guided projection: B" with the polish), or kIdentityFallback
+  /// when no optimized state beat the initial mapping (see QuasiStripModel::solve).
+  std::string termination;
+  bool converged = false;     ///< the returned state's optimizer stopped on a tolerance (false for the fallback)
   std::vector<QuasiStripIteration> iterations;
   int rounds = 1;             ///< solve rounds (> 1 when automatic extension re-solved)
+  /// Which state solve() returned: 0 = the initial mapping (σ(t) = t on the design's curves, with
+  /// the design's explicit extension), k ≥ 1 = the result of round k.
+  int selectedRound = 0;
+  /// Why that state: "last round" when it is the last round's result; otherwise the comparison
+  /// that decided (largest warp over the dense rulings, reach past C2's end), in words.
+  std::string selection;
   double totalMs = 0.0;       ///< the whole solve() including extension rounds and results
 };
 
@@ -172,6 +203,19 @@ class QuasiStripModel {
   QuasiStripModel& operator=(const QuasiStripModel&) = delete;
 
   /// Minimizes eq. 9 from T = t (and re-solves after automatic extension), then fills results().
+  ///
+  /// solve() never returns a strip worse than the one it starts from. A state is acceptable if its
+  /// largest warp over the `options.denseRulings` rulings (warpAngleMaxDegDense) is at most the
+  /// initial mapping's and its end rulings are within `extension.maxLength` of C2's ends. A round's
+  /// result is its final state if acceptable, else its L-BFGS state before the guided-projection
+  /// polish, else its L-BFGS iterate with the smallest largest sample warp (not converged).
+  /// Automatic extension continues only from an acceptable round, and an extension round whose
+  /// result is worse than the round before (or not acceptable) is dropped and ends the extension.
+  /// When the first round has no acceptable result, one more round runs with end-point fixing
+  /// (§5.4, if `options.fixEndPointsRetry`) and the design's extension. When nothing is
+  /// acceptable, the initial mapping is returned: termination kIdentityFallback, converged false.
+  /// summary.selectedRound and summary.selection say which state was returned and why.
+  /// Every call starts again from T = t.
   QuasiStripSummary solve();
 
   /// Results at the current state (before solve(): the initial mapping T = t).
@@ -187,9 +231,19 @@ class QuasiStripModel {
 
  private:
   struct Working;
+  struct Candidate;
   void build();
   void computeResults();
-  double solveRound(int round, QuasiStripSummary& summary);
+  /// The current state as a candidate result of `round` (0 = the initial mapping).
+  Candidate capture(int round, std::string termination, bool converged) const;
+  /// Makes `c` the current state (rebuilding the working curves if its extension differs).
+  void restore(const Candidate& c);
+  /// Automatic extension of C1 after a round (Case 1 of §3.4), capped by extension.maxLength;
+  /// false when nothing (more) may be extended.
+  bool extendForNextRound();
+  /// One optimizer run from the current state; appends its result (and, with the polish, the
+  /// L-BFGS state before it) to `candidates`.
+  void solveRound(int round, QuasiStripSummary& summary, std::vector<Candidate>& candidates);
   /// Guided projection with Levenberg–Marquardt control of ε_reg, at most maxIterations accepted
   /// or rejected steps; the main optimizer, or the polish after L-BFGS.
   double guidedProjectionSteps(int round, QuasiStripSummary& summary, int maxIterations, bool recordStart,
@@ -199,6 +253,8 @@ class QuasiStripModel {
   QuasiStripOptions options_;
   CurveExtension extension_;  ///< the extension in use
   std::unique_ptr<Working> working_;
+  bool pristine_ = true;      ///< the state is the initial one (nothing solved since build)
+  bool fixEndPoints_ = false; ///< end-point fixing for the retry of solve() (weight endPoints.weight)
   QuasiStripResults results_;
 };
 

@@ -1,0 +1,155 @@
+// STL exports (issue 11, item 6): every preset in examples/ exported as STL is made of triangles —
+// two per quad of its OBJ export, less the ones of zero area — and covers the same area. Both files
+// are read back by the small parsers here, not by OpenMesh that wrote them.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "devsurf/proto/Scene.h"
+#include "devsurf/server/SceneSolver.h"
+#include "support/TempDir.h"
+
+namespace devsurf::server {
+namespace {
+
+using Triangle = std::array<Eigen::Vector3d, 3>;
+
+double area(const Triangle& t) { return 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm(); }
+
+/// Zero area up to the files' printed digits: twice the area at most 1e-9 × the longest edge².
+bool degenerate(const Triangle& t) {
+  const double longest =
+      std::max({(t[1] - t[0]).squaredNorm(), (t[2] - t[1]).squaredNorm(), (t[0] - t[2]).squaredNorm()});
+  return 2.0 * area(t) <= 1e-9 * longest;
+}
+
+/// The facets of an ASCII STL file ("solid … facet normal … outer loop vertex ×3 endloop endfacet …
+/// endsolid"). Fails the test on anything else, in particular on a facet without three vertices.
+std::vector<Triangle> readAsciiStl(const std::string& path) {
+  std::ifstream file(path);
+  std::string token;
+  file >> token;
+  EXPECT_EQ(token, "solid") << path << " is not ASCII STL";
+  std::getline(file, token);  // the solid's name
+  std::vector<Triangle> facets;
+  Triangle current;
+  int vertices = -1;  // -1: outside a facet
+  while (file >> token) {
+    if (token == "facet") {
+      EXPECT_EQ(vertices, -1) << path << ": facet inside a facet";
+      vertices = 0;
+    } else if (token == "vertex") {
+      if (vertices < 0 || vertices >= 3) {
+        ADD_FAILURE() << path << ": vertex " << vertices + 1 << " of facet " << facets.size();
+        return facets;
+      }
+      Eigen::Vector3d& p = current[static_cast<std::size_t>(vertices++)];
+      file >> p.x() >> p.y() >> p.z();
+    } else if (token == "endfacet") {
+      EXPECT_EQ(vertices, 3) << path << ": facet " << facets.size() << " has " << vertices << " vertices";
+      if (vertices == 3) facets.push_back(current);
+      vertices = -1;
+    } else if (token == "endsolid") {
+      break;
+    }
+    // "normal nx ny nz", "outer loop", "endloop": nothing to keep (the normals are not compared).
+  }
+  EXPECT_EQ(token, "endsolid") << path << " ends early";
+  return facets;
+}
+
+/// The quads of an OBJ file ("v x y z", "f a b c d", 1-based, "a/…" forms allowed).
+std::vector<std::array<Eigen::Vector3d, 4>> readObjQuads(const std::string& path) {
+  std::ifstream file(path);
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<Eigen::Vector3d, 4>> quads;
+  std::string line;
+  while (std::getline(file, line)) {
+    std::istringstream in(line);
+    std::string kind;
+    in >> kind;
+    if (kind == "v") {
+      Eigen::Vector3d p;
+      in >> p.x() >> p.y() >> p.z();
+      vertices.push_back(p);
+    } else if (kind == "f") {
+      std::vector<int> corners;
+      for (std::string c; in >> c;) corners.push_back(std::stoi(c.substr(0, c.find('/'))) - 1);
+      EXPECT_EQ(corners.size(), 4u) << path << ": " << line;
+      if (corners.size() != 4) continue;
+      std::array<Eigen::Vector3d, 4> q;
+      for (int k = 0; k < 4; ++k) q[static_cast<std::size_t>(k)] = vertices.at(static_cast<std::size_t>(corners[k]));
+      quads.push_back(q);
+    }
+  }
+  return quads;
+}
+
+/// Every scene file in examples/ (found, not listed, so that a new preset is covered).
+std::vector<std::filesystem::path> presets() {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples")) {
+    if (entry.path().extension() != ".json") continue;
+    std::ifstream file(entry.path());
+    const nlohmann::json doc = nlohmann::json::parse(file, nullptr, false);
+    if (doc.is_object() && doc.value("format", "") == "devsurf-scene") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+TEST(StlExport, EveryPresetIsWrittenAsTwoTrianglesPerQuadCoveringTheObjExportsArea) {
+  const std::vector<std::filesystem::path> files = presets();
+  ASSERT_GE(files.size(), 16u);
+  devsurf::testing::TempDir dir;
+  int degenerateTotal = 0;
+  for (const std::filesystem::path& file : files) {
+    const std::string name = file.stem().string();
+    SCOPED_TRACE(name);
+    std::ifstream in(file);
+    SceneSolver solver(proto::sceneFromJson(nlohmann::json::parse(in)));
+    solver.solve();
+    const std::string obj = (dir.path() / (name + ".obj")).string(), stl = (dir.path() / (name + ".stl")).string();
+    solver.exportTo("obj:" + obj);
+    solver.exportTo("stl:" + stl);
+    const auto quads = readObjQuads(obj);
+    const std::vector<Triangle> facets = readAsciiStl(stl);
+    ASSERT_FALSE(quads.empty());
+    // Each OBJ quad (v0, v1, v2, v3) as the triangles (v0, v1, v2) and (v0, v2, v3).
+    int degenerates = 0;
+    double objArea = 0.0;
+    for (const auto& q : quads) {
+      for (const Triangle& t : {Triangle{q[0], q[1], q[2]}, Triangle{q[0], q[2], q[3]}}) {
+        degenerates += degenerate(t);
+        objArea += area(t);
+      }
+    }
+    double stlArea = 0.0;
+    int zeroFacets = 0;
+    for (const Triangle& t : facets) {
+      stlArea += area(t);
+      zeroFacets += degenerate(t);
+    }
+    EXPECT_EQ(facets.size(), 2 * quads.size() - static_cast<std::size_t>(degenerates));
+    EXPECT_EQ(zeroFacets, 0);
+    EXPECT_NEAR(stlArea, objArea, 1e-7 * objArea);
+    degenerateTotal += degenerates;
+    std::cout << name << ": " << quads.size() << " quads, " << facets.size() << " triangles (" << degenerates
+              << " of zero area left out), area " << stlArea << " (OBJ " << objArea << ")\n";
+  }
+  std::cout << files.size() << " presets, " << degenerateTotal << " zero-area triangles left out\n";
+}
+
+}  // namespace
+}  // namespace devsurf::server
