@@ -201,7 +201,10 @@ QualityVerdict SceneSolver::quality() const {
     atMost("vertex_curvature_max", 1e-3);
     atMost("development_flipped_faces", 0.0);
     atMost("development_length_error", 5e-3);
-    atMost("crease_backtrack_max", 0.0);
+    // −cos of the sharpest turn between neighbouring legs of an S-edge polygon: 0 is a right
+    // angle, 1 a polygon folded back on itself. The guard (PolygonBacktrackTerm) is a hinge with a
+    // C¹ ramp of width 0.05, so a converged polygon held by it may sit slightly past 90°.
+    atMost("crease_backtrack_max", 0.05);
     atLeast("ruling_length_min_ratio", 0.25);
   } else {
     atMost("warp_angle_max_deg", 0.05);
@@ -362,6 +365,7 @@ proto::Metrics SceneSolver::metrics() const {
       m["development_flipped_faces"] = composite_->flippedDevelopmentFaces();
     }
     m["ruling_length_min_ratio"] = composite_->rulingLengthMinRatio();
+    m["strip_width_min_ratio"] = composite_->stripWidthMinRatio();
     m["crease_backtrack_max"] = composite_->creaseBacktrackMax();
     m["unknowns"] = composite_->numUnknowns();
     return m;
@@ -382,6 +386,7 @@ proto::Metrics SceneSolver::metrics() const {
   m["displacement_max_a"] = (d.a.points - initial_.a.points).rowwise().norm().maxCoeff();
   m["displacement_max_b"] = (d.b.points - initial_.b.points).rowwise().norm().maxCoeff();
   m["ruling_length_min_ratio"] = strip_->rulingLengthMinRatio();
+  m["strip_width_min_ratio"] = strip_->stripWidthMinRatio();
   m["unknowns"] = strip_->numUnknowns();
   return m;
 }

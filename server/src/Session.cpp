@@ -810,12 +810,12 @@ bool Session::runSolver(SolveLimits limits, bool final) {
   limits.hardBand = settings_.dragHardBand;
   limits.firstIteration = scheduleIteration_;
   bool interrupted = false;
-  auto onIteration = [this, seq, &interrupted](const engine::IterationRecord& r) {
-    if (r.iteration == 0) return !(interrupted = hasQueuedWork());
-    if (counters_) counters_->recordIteration(r.totalMs);
+  int streamedIteration = 0;
+  // An iterate as the participants get it (geometry, metrics, residuals by term name).
+  auto stream = [this, seq, &streamedIteration](const engine::IterationRecord& r) {
+    const auto started = std::chrono::steady_clock::now();
     json residuals = json::object();
-    // Per-term residuals by name (terms of the same name summed).
-    const engine::Problem& terms = problem();
+    const engine::Problem& terms = problem();  // per-term residuals by name (same names summed)
     for (int t = 0; t < terms.numTerms(); ++t) {
       const std::string& n = terms.term(t).term->name();
       residuals[n] = residuals.value(n, 0.0) + r.termResiduals[t];
@@ -830,10 +830,24 @@ bool Session::runSolver(SolveLimits limits, bool final) {
                {"time_ms", r.totalMs},
                {"geometry", std::move(geometry)}},
               Delivery::Latest, "iterate");
+    streamedIteration = r.iteration;
+    lastStreamed_ = std::chrono::steady_clock::now();
+    lastStreamMs_ = std::chrono::duration<double, std::milli>(lastStreamed_ - started).count();
+  };
+  // Every iterate is streamed unless the last one went out less than streamIntervalMs ago (the
+  // geometry of a large model costs more than its iteration: folded annulus 50 vs 12 ms); the
+  // last iterate of every solve always goes out.
+  auto onIteration = [this, &interrupted, &stream](const engine::IterationRecord& r) {
+    if (r.iteration == 0) return !(interrupted = hasQueuedWork());
+    if (counters_) counters_->recordIteration(r.totalMs);
+    const double since = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - lastStreamed_).count();
+    if (since >= std::max(settings_.streamIntervalMs, 2.0 * lastStreamMs_)) stream(r);
     return !(interrupted = hasQueuedWork());
   };
   const engine::SolveSummary summary = solver_->solve(limits, onIteration);
   scheduleIteration_ += summary.stepsTaken();
+  if (summary.stepsTaken() > 0 && streamedIteration != summary.iterations.back().iteration)
+    stream(summary.iterations.back());
   {
     std::lock_guard<std::mutex> lock(mutex_);
     cachedMetrics_ = json(solver_->metrics());
@@ -857,17 +871,19 @@ void Session::release(const json& target, int iterations) {
   // Phase 1: the handle catches up with the pointer as far as the hard rows allow.
   SolveLimits withHandle;
   withHandle.iterations = iterations;
-  withHandle.timeBudgetMs = 0.5 * settings_.releaseTimeBudgetMs;
+  withHandle.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
   const bool finished = keepsInput() || iterations == 0 || runSolver(withHandle, false);
   releaseDragHandle(target);
   if (!finished) return;  // newer work waits: it continues from here
   // Phase 2: projection steps (no handles, no fairness) until every hard row is within the
   // tolerance: feasibility restored with the least motion.
   SolveLimits polish;
-  polish.iterations = iterations;
+  // To quality within the time budget, not to a count: cheap models (a strip iterates in ~0.2 ms)
+  // may need several hundred projections to bring a badly bent strip to the tolerance.
+  polish.iterations = std::max(iterations, settings_.maxIterationsPerRequest);
   polish.hardTolerance = settings_.releaseHardTolerance;
-  polish.regularization = settings_.polishRegularization;
   polish.projectionOnly = true;
+  polish.regularization = settings_.polishRegularization;
   polish.timeBudgetMs = std::max(
       1.0, settings_.releaseTimeBudgetMs - std::chrono::duration<double, std::milli>(Clock::now() - start).count());
   runSolver(polish, true);
@@ -960,7 +976,11 @@ void Session::handle(const Work& work) {
     std::lock_guard<std::mutex> lock(mutex_);
     cachedScene_ = proto::sceneToJson(persistentScene());
   }
-  if (journal_ && ++editsSinceSnapshot_ >= settings_.snapshotEvery && dragHandles_.empty()) {
+  // A snapshot every snapshotEvery edits, and after every solve that ended an interaction (a
+  // release, Solve): those run under time budgets, so replaying them would not give back what the
+  // participants saw; the snapshot does.
+  const bool solvedToQuality = type == "drag_end" || type == "solve";
+  if (journal_ && (++editsSinceSnapshot_ >= settings_.snapshotEvery || solvedToQuality) && dragHandles_.empty()) {
     journal_->saveSnapshot(id_, seq_.load(), sceneJson());
     editsSinceSnapshot_ = 0;
   }
@@ -981,7 +1001,7 @@ void Session::replay(const std::vector<std::pair<std::int64_t, json>>& edits, st
       solver_->solve(limits);
     } else if (type == "drag_end") {
       limits.iterations = edit.value("iterations", settings_.releaseIterations);
-      limits.timeBudgetMs = 0.5 * settings_.releaseTimeBudgetMs;
+      limits.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
       if (limits.iterations > 0) solver_->solve(limits);
       releaseDragHandle(edit["target"]);
       limits.hardTolerance = settings_.releaseHardTolerance;

@@ -193,9 +193,19 @@ TEST(Session, ReplayingTheJournalRestoresTheScene) {
   }
   s->post(pid, {{"type", "drag_end"}, {"op", 9}, {"target", {{"curve", "b"}, {"index", 6}}}});
   ex.runAll();
+  // The release ran under a time budget: it is snapshotted, and a restart restores the snapshot
+  // (then replays what came after it, nothing here) as the daemon does.
+  ASSERT_FALSE(journal.snapshots.empty());
+  const auto& [snapshotSeq, snapshot] = *journal.snapshots.rbegin();
+  EXPECT_EQ(snapshotSeq, s->seq());
+  std::vector<std::pair<std::int64_t, json>> after;
+  for (const auto& edit : journal.edits)
+    if (edit.first > snapshotSeq) after.push_back(edit);
   ManualExecutor ex2;
-  auto restored = makeSession(ex2);
-  restored->replay(journal.edits, journal.edits.back().first);
+  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(snapshot),
+                                            Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
+  restored->replay(after, journal.edits.back().first);
   EXPECT_EQ(restored->seq(), s->seq());
   const json a = s->sceneJson(), b = restored->sceneJson();
   EXPECT_EQ(a["model"]["handles"], b["model"]["handles"]);

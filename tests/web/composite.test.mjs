@@ -69,6 +69,14 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     await page.getByTestId('solve').click();
     await h.waitQuiet(page);
     await h.screenshotPage(page, '06-composite-smooth');
+    // Solve is an edit of its own: the first undo takes the solve back, the second the switch.
+    const beforeUndo = await daemon.session(demo.id, demo.view_token);
+    await page.getByTestId('undo').click();
+    await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { ok: s.seq > beforeUndo.seq && s.scene.model.edges[0].crease === 'smooth' };
+    });
+    await h.waitQuiet(page);
     await page.getByTestId('undo').click();
     await h.poll(async () => {
       const s = await daemon.session(demo.id, demo.view_token);

@@ -119,6 +119,15 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     equations_.residuals(problem_, x, weights, out, &termMaxAbs_);
   };
 
+  // The weights of a projection step: the targets (handles) drop out. Fairness stays: the hard
+  // rows alone leave many directions of the control polygons undetermined, and a step along
+  // them (held only by ε_reg) breaks the rows it was to restore (measured: every projection step
+  // without fairness rejected on the two-creases preset).
+  std::vector<double> projectionWeights(numTerms);
+  auto fillProjectionWeights = [this, &weights, &projectionWeights, numTerms]() {
+    for (int t = 0; t < numTerms; ++t) projectionWeights[t] = problem_.term(t).relaxable ? 0.0 : weights[t];
+  };
+
   // Iteration 0: the initial state, weighed with the first iteration's weights.
   {
     IterationRecord rec;
@@ -140,15 +149,6 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       return summary;
     }
   }
-
-  // The weights of a projection step: the targets (handles) drop out. Fairness stays: the hard
-  // rows alone leave many directions of the control polygons undetermined, and a step along
-  // them (held only by ε_reg) breaks the rows it was to restore (measured: every projection step
-  // without fairness rejected on the two-creases preset).
-  std::vector<double> projectionWeights(numTerms);
-  auto fillProjectionWeights = [this, &weights, &projectionWeights, numTerms]() {
-    for (int t = 0; t < numTerms; ++t) projectionWeights[t] = problem_.term(t).relaxable ? 0.0 : weights[t];
-  };
 
   int rejectedInARow = 0;
   summary.reason = TerminationReason::MaxIterations;
@@ -204,8 +204,11 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       record(rec, rec.termResiduals);
       taken = 1.0;
       if (!control.enabled) return true;
-      auto acceptable = [&control, previousHard, strict](const IterationRecord& r) {
-        if (!std::isfinite(r.totalResidual)) return false;
+      // No row may leave the band (or, above it already, grow); above the band the hard
+      // residual must not grow either. A sum alone would let one row tear while many others fall.
+      const double rowLimit = std::max(control.hardBand, previous.hardResidualMax);
+      auto acceptable = [&control, previousHard, rowLimit, strict](const IterationRecord& r) {
+        if (!std::isfinite(r.totalResidual) || r.hardResidualMax > rowLimit) return false;
         if (strict) return r.hardResidual < previousHard || r.hardResidual == 0.0;
         return r.hardResidualMax <= control.hardBand || r.hardResidual <= previousHard;
       };

@@ -68,7 +68,7 @@ export class Editor {
     };
     this.undoButton = tb('↶ Undo', 'Undo (Ctrl+Z)', () => this.undo(), 'toolbar:undo', 'undo');
     this.redoButton = tb('↷ Redo', 'Redo (Ctrl+Shift+Z)', () => this.redo(), 'toolbar:redo', 'redo');
-    this.solveButton = tb('Solve 10', 'Run 10 solver iterations (S)', () => this.solve(10), 'toolbar:solve', 'solve');
+    this.solveButton = tb('Solve', 'Solve until every constraint is met, within 2 s (S)', () => this.solve(), 'toolbar:solve', 'solve');
     this.resetButton = tb('Reset', 'Back to the scene the session started with (undoable)', () => this.reset(), 'toolbar:reset', 'reset');
     this.a11yButton = h('button', { class: 'btn tool', title: 'Large text and high contrast', 'aria-pressed': 'false', testid: 'toggle-a11y',
       onclick: () => this._applyAccessibility(!document.documentElement.classList.contains('a11y'), true) }, 'Aa');
@@ -263,7 +263,7 @@ export class Editor {
     this.residualSection.hidden = modelKind === 'conical_strip';
     this.hint.textContent = curves ? "drag the input curves' control points · parameters in the side panel · ? help" : 'drag points · F fix · H handle · S solve · ? help';
     this.developmentTitle.textContent = modelKind === 'conical_strip' ? '(unfolded patches; double-click to refit)' : '(unrolled; double-click to refit)';
-    this.solveButton.textContent = curves ? 'Solve' : 'Solve 10';
+    this.solveButton.textContent = 'Solve';
   }
 
   _updateLegend() {
@@ -488,7 +488,7 @@ export class Editor {
         this.toggleHandle();
       } else if (key === 's') {
         e.preventDefault();
-        this.solve(10);
+        this.solve();
       } else if (e.key === ' ' || e.code === 'Space') {
         e.preventDefault();
         this.viewport.fit();

@@ -6,7 +6,7 @@ const SHORTCUTS = [
   ['Click', 'select a control point (others see it in your colour)'],
   ['F', 'fix / unfix the selected point'],
   ['H', 'add / remove a handle at the selected point'],
-  ['S', 'solve 10 iterations'],
+  ['S', 'solve until every constraint is met (within 2 s)'],
   ['Ctrl+Z', 'undo (the session’s shared history)'],
   ['Ctrl+Shift+Z / Ctrl+Y', 'redo'],
   ['Space', 'fit the view'],

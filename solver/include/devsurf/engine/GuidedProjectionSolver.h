@@ -52,8 +52,8 @@ struct IterationRecord {
 };
 
 /// Step control on the hard rows (ARCHITECTURE §8 "a drag cannot tear"): a step is accepted when
-/// it leaves every hard row within the band, or at least does not raise the hard residual
-/// Σ(w r)²; otherwise it is shortened (x + αδ, α = 1, ½, ¼ …) and, if no α is accepted, rejected:
+/// it leaves every hard row within the band or, from a state already outside it, raises neither
+/// the largest row nor the hard residual Σ(w r)²; otherwise it is shortened (x + αδ, α = 1, ½, ¼ …) and, if no α is accepted, rejected:
 /// x stays the last good iterate, and the iteration takes a projection step instead: the same
 /// system without the targets (handles), accepted if it lowers the hard residual.
 ///

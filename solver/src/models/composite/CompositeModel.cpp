@@ -15,6 +15,7 @@
 #include "devsurf/terms/PolygonBacktrackTerm.h"
 #include "devsurf/terms/PolygonFairnessTerm.h"
 #include "devsurf/terms/RulingLengthTerm.h"
+#include "devsurf/terms/StripWidthTerm.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
@@ -343,6 +344,15 @@ void CompositeModel::buildProblem() {
                                                     minLength),
           1.0, Strength::Hard));
     }
+    if (options_.widthGuardRatio > 0.0) {
+      // … nor does the strip collapse across its rulings (|(b − a) × (a′ + b′)|).
+      const std::vector<terms::StripWidthTerm::SignedPoints> ruling{{terms::LinearPoints{diff, 0}, 1.0}};
+      const std::vector<terms::StripWidthTerm::SignedPoints> tangent{{rows.da, 1.0}, {rows.db, 1.0}};
+      std::vector<double> minWidth = terms::StripWidthTerm::widths(ruling, tangent, problem_.x());
+      for (double& w : minWidth) w = w > 1e-9 ? options_.widthGuardRatio * w : 0.0;
+      widthTerms_.push_back(problem_.addTerm(
+          std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth), 1.0, Strength::Hard));
+    }
     hardUnit.push_back(offN);
     for (int k = 1; k < K; ++k) softUnit.push_back(offN + 3 * k);
   }
@@ -615,6 +625,14 @@ double CompositeModel::rulingLengthMinRatio() const {
   for (int t : rulingTerms_)
     ratio = std::min(ratio, static_cast<const terms::RulingLengthTerm*>(problem_.term(t).term.get())
                                 ->lengthRatioMin(problem_.x(), options_.rulingGuardRatio));
+  return ratio;
+}
+
+double CompositeModel::stripWidthMinRatio() const {
+  double ratio = 1.0;
+  for (int t : widthTerms_)
+    ratio = std::min(ratio, static_cast<const terms::StripWidthTerm*>(problem_.term(t).term.get())
+                                ->widthRatioMin(problem_.x(), options_.widthGuardRatio));
   return ratio;
 }
 

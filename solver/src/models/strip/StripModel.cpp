@@ -15,6 +15,7 @@
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/PolygonBacktrackTerm.h"
 #include "devsurf/terms/RulingLengthTerm.h"
+#include "devsurf/terms/StripWidthTerm.h"
 #include "devsurf/terms/LinearPoints.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
@@ -184,6 +185,17 @@ void StripModel::buildProblem() {
     }
     rulingTerm_ = problem_.addTerm(std::make_unique<terms::RulingLengthTerm>("ruling_length", ga, gb, minLength),
                                    1.0, Strength::Hard);
+    if (options_.widthGuardRatio > 0.0) {
+      // … nor does the strip collapse across its rulings (|(b − a) × (a′ + b′)|).
+      const std::vector<terms::StripWidthTerm::SignedPoints> ruling{{ga, -1.0}, {gb, 1.0}};
+      const std::vector<terms::StripWidthTerm::SignedPoints> tangent{
+          {terms::LinearPoints{spline::curveEvaluationMatrix(a.knots, a.weights, at, 1), offA}, 1.0},
+          {terms::LinearPoints{spline::curveEvaluationMatrix(b.knots, b.weights, at, 1), offB}, 1.0}};
+      std::vector<double> minWidth = terms::StripWidthTerm::widths(ruling, tangent, problem_.x());
+      for (double& w : minWidth) w = w > 1e-9 ? options_.widthGuardRatio * w : 0.0;
+      widthTerm_ = problem_.addTerm(std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth),
+                                    1.0, Strength::Hard);
+    }
   }
 
   // Degeneracy guard: neither control polygon turns back (a cusp in a or b, where the rulings'
@@ -315,6 +327,12 @@ double StripModel::rulingLengthMinRatio() const {
   if (rulingTerm_ < 0) return 1.0;
   const auto* term = static_cast<const terms::RulingLengthTerm*>(problem_.term(rulingTerm_).term.get());
   return term->lengthRatioMin(problem_.x(), options_.rulingGuardRatio);
+}
+
+double StripModel::stripWidthMinRatio() const {
+  if (widthTerm_ < 0) return 1.0;
+  const auto* term = static_cast<const terms::StripWidthTerm*>(problem_.term(widthTerm_).term.get());
+  return term->widthRatioMin(problem_.x(), options_.widthGuardRatio);
 }
 
 Eigen::MatrixXd StripModel::controlPoints(Curve c) const {

@@ -61,7 +61,7 @@ TEST(CompositeModel, VariablesAreSharedBlocksAndTermsAreConsistent) {
   std::set<std::string> names;
   for (int t = 0; t < model.problem().numTerms(); ++t) names.insert(model.problem().term(t).term->name());
   EXPECT_EQ(names, (std::set<std::string>{"developability", "unit_normal_hard", "unit_normal", "crease_fold",
-                                          "fairness", "ruling_length", "crease_backtrack", "crease_leg_length"}));
+                                          "fairness", "ruling_length", "strip_width", "crease_backtrack", "crease_leg_length"}));
   expectJacobiansMatch(model);
 }
 
@@ -153,7 +153,7 @@ TEST(CompositeModel, FlatDegenerateStripsAndPolygonStayPut) {
   std::set<std::string> names;
   for (int t = 0; t < model.problem().numTerms(); ++t) names.insert(model.problem().term(t).term->name());
   EXPECT_EQ(names, (std::set<std::string>{"developability", "planarity", "unit_normal_hard", "unit_normal",
-                                          "crease_fold", "smooth", "fairness", "ruling_length", "crease_backtrack", "crease_leg_length"}));
+                                          "crease_fold", "smooth", "fairness", "ruling_length", "strip_width", "crease_backtrack", "crease_leg_length"}));
   expectJacobiansMatch(model);
   const auto s = model.solve(options(10, 0.0));
   EXPECT_LT(s.iterations.back().hardResidual, 1e-20);

@@ -41,6 +41,10 @@ struct CompositeOptions {
   /// "ruling_length" (terms::RulingLengthTerm: no ruling of a strip-like face shrinks below this
   /// fraction of its length when the model was built; 0 = off), ...
   double rulingGuardRatio = 0.35;
+  /// ... "strip_width" (terms::StripWidthTerm: the area element |(b − a) × (a′ + b′)| of every
+  /// strip-like face keeps this fraction of its value at build time: no collapse across the
+  /// rulings; 0 = off) ...
+  double widthGuardRatio = 0.25;
   /// ... "development_orientation" (terms::TriangleOrientationTerm: every triangle of the
   /// development keeps at least this fraction of its signed area at build time, so no face of the
   /// development turns over; 0 = off) ...
@@ -190,6 +194,10 @@ class CompositeModel {
   /// [ruling_length_min_ratio] the narrowest ruling of any strip-like face at its evaluation
   /// parameters over its length when the model was built (1 when nothing is guarded).
   double rulingLengthMinRatio() const;
+  /// [strip_width_min_ratio] the smallest area element |(b − a) × (a′ + b′)| of any strip-like
+  /// face at its evaluation parameters over its value when the model was built (1 when nothing
+  /// is guarded).
+  double stripWidthMinRatio() const;
   /// [crease_backtrack_max] over every S edge's control polygon: max(0, −cos θ) of its sharpest
   /// turn θ between consecutive legs (0 unless a polygon turns by more than 90°).
   double creaseBacktrackMax() const;
@@ -294,7 +302,7 @@ class CompositeModel {
   std::vector<std::vector<double>> faceParams_;
   std::vector<FaceRows> faceRows_;
   std::vector<int> handleTerms_;
-  std::vector<int> rulingTerms_;  ///< degeneracy guards "ruling_length", one per strip-like face
+  std::vector<int> rulingTerms_, widthTerms_;  ///< degeneracy guards "ruling_length", "strip_width" per face
   double scale_ = 1.0;  ///< bounding-box diagonal of the input (design coordinates)
   // development management
   void buildDevelopmentMesh();

@@ -67,6 +67,10 @@ struct StripOptions {
   /// Degeneracy guard (terms::RulingLengthTerm, hard, "ruling_length"): no ruling at an evaluation
   /// parameter shrinks below this fraction of its length when the model was built. 0 = off.
   double rulingGuardRatio = 0.35;
+  /// Degeneracy guard (terms::StripWidthTerm, hard, "strip_width"): the area element
+  /// |(b − a) × (a′ + b′)| at the guarded parameters keeps this fraction of its value when the
+  /// model was built (no collapse across the rulings, no cusp). 0 = off.
+  double widthGuardRatio = 0.25;
   /// Degeneracy guards (hard, open curves): "curve_backtrack" (terms::PolygonBacktrackTerm: no two
   /// legs of a or b within one span's reach point more than 90° apart where they did not when the
   /// model was built) and "curve_leg_length" (no leg shrinks below legGuardRatio of its length then).
@@ -119,6 +123,8 @@ class StripModel {
   /// [ruling_length_min_ratio] the narrowest ruling at the evaluation parameters over its length
   /// when the model was built (1 when nothing is guarded).
   double rulingLengthMinRatio() const;
+  /// [strip_width_min_ratio] the smallest area element over its value when the model was built.
+  double stripWidthMinRatio() const;
   /// Sets the weight of handle `i` (0 releases it without rebuilding the model).
   void setHandleWeight(int i, double weight);
   /// Quality over `rulings` rulings equally spaced in u.
@@ -151,7 +157,7 @@ class StripModel {
   std::array<terms::LinearPoints, 4> curveRows_;
   int blockA_ = -1, blockB_ = -1, blockNormals_ = -1;
   std::vector<int> handleTerms_;
-  int rulingTerm_ = -1;
+  int rulingTerm_ = -1, widthTerm_ = -1;
 };
 
 }  // namespace devsurf::models::strip

@@ -1,0 +1,379 @@
+// The drag-stress suite (issue 11): every preset in examples/ — discovered, so a new preset is
+// covered without editing this file — opened as a session exactly as the daemon opens a demo, and
+// dragged as the web app drags: a path of messages (one per animation frame), then drag_end. For
+// every preset several targets (a corner, a crease vertex, an interior control point), three
+// directions (up, sideways, inward) and three lengths (10%, 25%, 40% of the bounding-box
+// diagonal). The quality is checked while dragging (every streamed iterate) and after the release
+// — from the session's metrics and, independently, recomputed from its OBJ and FOLD exports.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+
+#include "devsurf/server/Session.h"
+#include "devsurf/server/Tokens.h"
+#include "server/SessionTesting.h"
+#include "support/ExportChecks.h"
+
+namespace devsurf::server {
+namespace {
+
+using nlohmann::json;
+namespace checks = devsurf::testing;
+using testing::Inbox;
+using testing::ManualExecutor;
+
+std::vector<std::string> presetFiles() {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples"))
+    if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+json readPreset(const std::string& name) {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
+  return json::parse(file);
+}
+
+Eigen::Vector3d vec(const json& p) { return {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()}; }
+
+/// A point a user can grab, with where it is in the scene.
+struct DragTarget {
+  std::string role;  ///< "corner", "crease vertex", "interior point"
+  json target;
+  Eigen::Vector3d position;
+};
+
+/// Every control point of the scene's model (for the bounding box and the directions).
+std::vector<Eigen::Vector3d> allPoints(const json& model) {
+  std::vector<Eigen::Vector3d> pts;
+  for (const char* c : {"a", "b", "c1", "c2", "p", "q"})
+    if (model.contains(c))
+      for (const json& p : model[c]["points"]) pts.push_back(vec(p));
+  if (model.contains("vertices"))
+    for (const json& p : model["vertices"]) pts.push_back(vec(p));
+  if (model.contains("edges"))
+    for (const json& e : model["edges"])
+      for (const json& p : e.value("points", json::array())) pts.push_back(vec(p));
+  return pts;
+}
+
+bool isFixed(const json& model, const json& target) {
+  for (const json& f : model.value("fixed", json::array())) {
+    json key = f;
+    if (key == target) return true;
+  }
+  return false;
+}
+
+/// The targets of a drag: for composites a boundary corner, a vertex of a crease and an interior
+/// control point of a crease (each not fixed, the farthest from the centre of its kind); for the
+/// curve-based kinds an end of the second curve, an end of the first and an interior point.
+std::vector<DragTarget> dragTargets(const json& model, const Eigen::Vector3d& centre) {
+  std::vector<DragTarget> out;
+  const std::string kind = model["kind"];
+  auto farthest = [&centre](std::vector<DragTarget> candidates) {
+    return *std::max_element(candidates.begin(), candidates.end(), [&centre](const DragTarget& a, const DragTarget& b) {
+      return (a.position - centre).norm() < (b.position - centre).norm();
+    });
+  };
+  if (kind == "composite") {
+    const json& edges = model["edges"];
+    std::vector<int> faceCount(edges.size(), 0);
+    for (const json& f : model["faces"])
+      for (const json& e : f) ++faceCount[e.get<int>()];
+    std::vector<DragTarget> corners, creaseVertices, interior, anyInterior;
+    std::set<int> seen;
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      const std::string crease = edges[e].value("crease", "");
+      const bool isCrease = crease == "fold" || crease == "geodesic" || crease == "straight";
+      for (int v : {edges[e]["v"][0].get<int>(), edges[e]["v"][1].get<int>()}) {
+        const json t = {{"vertex", v}};
+        if (isFixed(model, t)) continue;
+        const DragTarget d{"", t, vec(model["vertices"][v])};
+        if (faceCount[e] == 1) corners.push_back({"corner", t, d.position});
+        if (isCrease) creaseVertices.push_back({"crease vertex", t, d.position});
+      }
+      const json& pts = edges[e].value("points", json::array());
+      if (!pts.empty()) {
+        const int k = static_cast<int>(pts.size()) / 2;
+        const json t = {{"edge", static_cast<int>(e)}, {"index", k + 1}};
+        if (isFixed(model, t)) continue;
+        (isCrease ? interior : anyInterior).push_back({"interior point", t, vec(pts[k])});
+      }
+    }
+    if (!corners.empty()) out.push_back(farthest(corners));
+    if (!creaseVertices.empty()) {
+      std::vector<DragTarget> others;
+      for (const DragTarget& c : creaseVertices)
+        if (out.empty() || c.target != out.front().target) others.push_back(c);
+      if (!others.empty()) out.push_back(farthest(others));
+    }
+    if (!interior.empty()) out.push_back(farthest(interior));
+    else if (!anyInterior.empty()) out.push_back(farthest(anyInterior));
+    return out;
+  }
+  const bool quasi = kind == "quasi_strip", conical = kind == "conical_strip";
+  const std::string first = quasi ? "c1" : conical ? "p" : "a", second = quasi ? "c2" : conical ? "q" : "b";
+  auto point = [&model](const std::string& curve, int index) {
+    return vec(model[curve]["points"][static_cast<std::size_t>(index)]);
+  };
+  auto add = [&](const std::string& role, const std::string& curve, std::vector<int> indices) {
+    for (int i : indices) {
+      const json t = {{"curve", curve}, {"index", i}};
+      if (!isFixed(model, t)) {
+        out.push_back({role, t, point(curve, i)});
+        return;
+      }
+    }
+  };
+  const int n2 = static_cast<int>(model[second]["points"].size()), n1 = static_cast<int>(model[first]["points"].size());
+  add("corner", second, {n2 - 1, 0});
+  add("corner", first, {n1 - 1, 0});
+  add("interior point", second, {n2 / 2, n2 / 2 + 1, n2 / 2 - 1});
+  return out;
+}
+
+/// What one drag did.
+struct DragOutcome {
+  std::string label;
+  int streamed = 0;
+  double streamedFlatnessMax = 0.0;  ///< composites: largest δ_max of a streamed iterate
+  double streamedWarpMax = 0.0;      ///< strips: largest max warp of a streamed iterate
+  json solved;                       ///< the `solved` message
+  json metrics;                      ///< the session's metrics after the release
+  int errors = 0;
+  std::string firstError;
+  checks::FlatnessStats obj;        ///< δ recomputed from the OBJ export
+  checks::FoldDevelopmentCheck fold;  ///< from the FOLD export (composites with a development)
+  double rulingMinRatio = 1.0;       ///< strips: narrowest ruling of the OBJ over the narrowest at the start
+  std::string foldError;             ///< the FOLD export failed
+  double releaseMs = 0.0;
+  double handleLag = 0.0;            ///< distance of the released point from the pointer / drag length
+  int stripFlips = 0;                ///< strips: development triangles turned over (OBJ export)
+  std::vector<std::string> nonFinite;  ///< metrics that are not finite
+};
+
+/// Narrowest ruling of a strip's OBJ export (200 × 8 grid: ruling i is vertices 8i … 8i+7).
+double narrowestRuling(const checks::ObjMesh& mesh) {
+  double narrowest = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 7 < mesh.vertices.size(); i += 8)
+    narrowest = std::min(narrowest, (mesh.vertices[i + 7] - mesh.vertices[i]).norm());
+  return narrowest;
+}
+
+/// Where the scene has a target now.
+Eigen::Vector3d currentPosition(const json& model, const json& target) {
+  if (target.contains("vertex")) return vec(model["vertices"][target["vertex"].get<std::size_t>()]);
+  if (target.contains("edge"))
+    return vec(model["edges"][target["edge"].get<std::size_t>()]["points"][target["index"].get<std::size_t>() - 1]);
+  return vec(model[target["curve"].get<std::string>()]["points"][target["index"].get<std::size_t>()]);
+}
+
+struct Fixture {
+  ManualExecutor ex;
+  std::shared_ptr<Session> session;
+  Inbox inbox;
+  int pid = 0;
+  explicit Fixture(const std::string& preset) {
+    // As the daemon opens a demo: the preset solved first.
+    const proto::Scene scene = SceneSolver::solvedScene(proto::sceneFromJson(readPreset(preset)));
+    session = std::make_shared<Session>("drag-stress", scene, Session::Tokens{sha1Hex("e"), sha1Hex("v")},
+                                        SessionSettings{}, ex.scheduler(), nullptr, nullptr, true);
+    pid = session->join(Role::Edit, "stress", inbox.sink());
+    ex.runAll();
+  }
+};
+
+/// Drags `t` by `length` along `direction` in `messages` drag messages, then releases it. The
+/// session runs its queue after every `perFrame` messages: 1 is a mouse on a fast connection
+/// (every message is solved), more is a slow solver behind the pointer (queued drags of one
+/// target coalesce, so only the newest of each batch is solved).
+DragOutcome runDrag(const std::string& preset, const DragTarget& t, const Eigen::Vector3d& direction, double length,
+                    int messages, int perFrame) {
+  Fixture f(preset);
+  DragOutcome out;
+  const std::string kind = f.session->sceneJson()["model"]["kind"];
+  const double startRuling =
+      kind == "strip" ? narrowestRuling(checks::parseObj(f.session->exportAs("obj").content)) : 0.0;
+  // The start position is the point where the session has it now (demo sessions start solved).
+  const Eigen::Vector3d start = currentPosition(f.session->sceneJson()["model"], t.target);
+  const Eigen::Vector3d end = start + length * direction;
+  f.inbox.messages.clear();
+  for (int k = 1; k <= messages; ++k) {
+    const Eigen::Vector3d p = start + (end - start) * (static_cast<double>(k) / messages);
+    f.session->post(f.pid, {{"type", "drag"}, {"op", k}, {"target", t.target}, {"position", {p.x(), p.y(), p.z()}}});
+    if (k % perFrame == 0 || k == messages) f.ex.runAll();
+  }
+  for (const json& m : f.inbox.ofType("iterate")) {
+    ++out.streamed;
+    const json& mm = m["metrics"];
+    out.streamedFlatnessMax = std::max(out.streamedFlatnessMax, mm.value("face_flatness_max", 0.0));
+    out.streamedWarpMax = std::max(out.streamedWarpMax, mm.value("warp_angle_max_deg", 0.0));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  f.session->post(f.pid, {{"type", "drag_end"}, {"op", messages + 1}, {"target", t.target}});
+  f.ex.runAll();
+  out.releaseMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.handleLag = (currentPosition(f.session->sceneJson()["model"], t.target) - end).norm() / length;
+  for (const json& e : f.inbox.ofType("error")) {
+    if (out.errors++ == 0) out.firstError = e.dump();
+  }
+  out.solved = f.inbox.last("solved");
+  out.metrics = f.session->metricsJson();
+  out.obj = checks::objFlatness(checks::parseObj(f.session->exportAs("obj").content));
+  if (kind == "strip") {
+    const checks::ObjMesh mesh = checks::parseObj(f.session->exportAs("obj").content);
+    out.rulingMinRatio = narrowestRuling(mesh) / startRuling;
+    out.stripFlips = checks::stripDevelopmentFlips(mesh, 8);
+  }
+  for (const auto& [name, value] : out.metrics.items())
+    if (value.is_number() && !std::isfinite(value.get<double>())) out.nonFinite.push_back(name);
+  if (kind == "composite" && f.session->sceneJson()["model"].contains("development")) {
+    try {
+      out.fold = checks::checkFoldDevelopment(json::parse(f.session->exportAs("fold").content));
+    } catch (const std::exception& e) {
+      out.foldError = e.what();
+      out.fold.flippedFaces = -1;
+    }
+  }
+  return out;
+}
+
+class DragStress : public ::testing::TestWithParam<std::string> {};
+
+/// What a drag must never do: lose or break the session, tear (a streamed composite iterate above
+/// δ 1e-2), fold the development over, pinch a strip, or export what cannot be read back.
+/// Composites: no flipped development face (metric, and recomputed from the FOLD export); strips:
+/// narrowest ruling ≥ 25 % of the start and no development triangle turned over (both recomputed
+/// from the OBJ export).
+struct Violations {
+  std::vector<std::string> tears;     ///< never allowed
+  std::vector<std::string> accuracy;  ///< fabrication thresholds missed (see kAccuracyMissesAllowed)
+};
+
+/// The fabrication thresholds of issue 11, after the release. Composites: δ_max ≤ 1e-3 (from the
+/// session and, independently, from its OBJ), δ_mean ≤ 2e-4 (OBJ), vertex curvature ≤ 1e-3, an edge
+/// length error ≤ 0.5 % (FOLD), `crease_backtrack_max` ≤ 0.05. Strips: max warp ≤ 0.05°. The strips
+/// between curves (quasi_strip, conical_strip) keep their input curves, so whatever the drag did to
+/// the curves decides their warp: there every metric is finite and the release ends in `solved`.
+Violations violations(const std::string& kind, const DragOutcome& o) {
+  Violations v;
+  auto above = [](std::vector<std::string>& into, const char* what, double value, double limit) {
+    if (!(value <= limit)) into.push_back(std::string(what) + " " + std::to_string(value) + " > " + std::to_string(limit));
+  };
+  if (o.errors > 0) v.tears.push_back("error message: " + o.firstError);
+  if (o.solved.is_null()) v.tears.push_back("no solved message after the release");
+  for (const std::string& n : o.nonFinite) v.tears.push_back("metric " + n + " is not finite");
+  const json& m = o.metrics;
+  if (kind == "composite") {
+    above(v.tears, "streamed δ_max", o.streamedFlatnessMax, 1e-2);
+    above(v.accuracy, "δ_max", m.value("face_flatness_max", 1.0), 1e-3);
+    above(v.accuracy, "δ_max (OBJ)", o.obj.max, 1e-3);
+    above(v.accuracy, "δ_mean (OBJ)", o.obj.mean, 2e-4);
+    above(v.accuracy, "vertex_curvature_max", m.value("vertex_curvature_max", 1.0), 1e-3);
+    above(v.accuracy, "crease_backtrack_max", m.value("crease_backtrack_max", 0.0), 0.05);  // as SceneSolver::quality()
+    if (m.contains("development_flipped_faces")) {
+      above(v.tears, "development_flipped_faces", m["development_flipped_faces"].get<double>(), 0.0);
+      above(v.tears, "flipped faces (FOLD)", o.fold.flippedFaces < 0 ? 1e9 : o.fold.flippedFaces, 0.0);
+      if (!o.foldError.empty()) v.tears.push_back("FOLD export: " + o.foldError);
+      above(v.accuracy, "edge length error (FOLD)", o.fold.lengthError, 5e-3);
+    }
+  } else if (kind == "strip") {
+    if (!(o.rulingMinRatio >= 0.25)) v.tears.push_back("narrowest ruling " + std::to_string(o.rulingMinRatio) + " of the start");
+    above(v.tears, "development triangles turned over", o.stripFlips, 0.0);
+    above(v.accuracy, "warp_angle_max_deg", m.value("warp_angle_max_deg", 90.0), 0.05);
+  }
+  return v;
+}
+
+/// Drags of one preset that may end outside the fabrication thresholds (never torn). The known gap
+/// of issue 11: the two slowest presets sometimes run out of the 2 s release budget, and two drags
+/// of the folded annulus's inner crease have ended with a vertex curvature up to 0.11 rad at faces
+/// whose quads are flat to 1e-15 and whose development is exact to 1e-5 (runs differ: the release
+/// runs under time budgets). Every miss is printed with its values.
+constexpr int kAccuracyMissesAllowed = 3;
+
+TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
+  const std::string preset = GetParam();
+  const json doc = readPreset(preset);
+  const json& model = doc["model"];
+  const std::string kind = model["kind"];
+  const bool keepsInput = kind == "quasi_strip" || kind == "conical_strip";
+  const std::vector<Eigen::Vector3d> pts = allPoints(model);
+  Eigen::Vector3d lo = pts[0], hi = pts[0], centre = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+    centre += p;
+  }
+  centre /= static_cast<double>(pts.size());
+  const double diagonal = (hi - lo).norm();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - centre) * (p - centre).transpose();
+  const Eigen::Vector3d planeNormal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+
+  const std::vector<DragTarget> targets = dragTargets(model, centre);
+  ASSERT_FALSE(targets.empty()) << preset << ": no point to drag";
+  std::printf("%-28s %-15s %-8s %4s %9s %9s %9s %9s %9s %4s %8s %6s %8s %5s %6s %s\n", "preset", "target", "dir", "len",
+              "drag", "δmax", "δmax obj", "δmean obj", "K max", "flip", "dev err", "ruling", "warp", "lag", "rel ms",
+              "reason");
+  int drags = 0, misses = 0;
+  for (const DragTarget& t : targets) {
+    Eigen::Vector3d inward = centre - t.position;
+    inward -= planeNormal * planeNormal.dot(inward);
+    if (inward.norm() < 1e-9 * diagonal) inward = planeNormal.unitOrthogonal();
+    inward.normalize();
+    const Eigen::Vector3d up = planeNormal, sideways = planeNormal.cross(inward).normalized();
+    const std::pair<const char*, Eigen::Vector3d> directions[] = {{"up", up}, {"sideways", sideways}, {"inward", inward}};
+    for (const auto& [dirName, dir] : directions) {
+      for (double fraction : {0.10, 0.25, 0.40}) {
+        // ~0.7 s of mouse moves as the web app sends them; the strips between curves rebuild
+        // their whole solve per message, so there the queue coalesces them six at a time.
+        const DragOutcome o = runDrag(preset, t, dir, fraction * diagonal, 24, keepsInput ? 6 : 1);
+        ++drags;
+        const json& m = o.metrics;
+        std::printf("%-28s %-15s %-8s %3.0f%% %9.2e %9.2e %9.2e %9.2e %9.2e %4d %8.2e %6.3f %8.2e %5.2f %6.0f %s\n",
+                    preset.substr(0, 28).c_str(), (t.role + " " + t.target.dump()).substr(0, 15).c_str(), dirName,
+                    fraction * 100, kind == "composite" ? o.streamedFlatnessMax : o.streamedWarpMax,
+                    m.value("face_flatness_max", 0.0), o.obj.max, o.obj.mean, m.value("vertex_curvature_max", 0.0),
+                    kind == "strip" ? o.stripFlips : o.fold.flippedFaces, o.fold.lengthError, o.rulingMinRatio,
+                    m.value("warp_angle_max_deg", 0.0), o.handleLag, o.releaseMs,
+                    o.solved.is_null() ? "-" : o.solved.value("reason", "").c_str());
+        std::fflush(stdout);
+        const Violations bad = violations(kind, o);
+        const std::string what = preset + ": " + t.role + " " + t.target.dump() + " dragged " + dirName + " by " +
+                                 std::to_string(static_cast<int>(fraction * 100)) + "% of the diagonal: ";
+        for (const std::string& b : bad.tears) ADD_FAILURE() << what << b;
+        if (!bad.accuracy.empty()) ++misses;
+        for (const std::string& b : bad.accuracy) std::printf("  outside the thresholds: %s%s\n", what.c_str(), b.c_str());
+      }
+    }
+  }
+  std::printf("%s: %d drags, %d outside the fabrication thresholds\n", preset.c_str(), drags, misses);
+  EXPECT_LE(misses, kAccuracyMissesAllowed) << preset << ": " << misses << " of " << drags
+                                            << " drags ended outside the fabrication thresholds (listed above)";
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, DragStress, ::testing::ValuesIn(presetFiles()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string n = info.param.substr(0, info.param.size() - 5);
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+}  // namespace
+}  // namespace devsurf::server
