@@ -1,6 +1,10 @@
 #include "devsurf/proto/Scene.h"
 
+#include "devsurf/proto/BoundedJson.h"
+
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -39,6 +43,20 @@ bool sameKnots(const std::vector<double>& x, const std::vector<double>& y) {
   return true;
 }
 
+/// An index into a list of `count` elements: an integer in [0, count) (a number that does not
+/// fit an int, a negative one or one past the end names `path`).
+int indexFromJson(const json& j, const std::string& path, std::int64_t count, const std::string& what) {
+  if (!j.is_number_integer() && !j.is_number_unsigned())
+    throw SceneError(path, "type", "must be an integer index");
+  const bool negative = j.is_number_integer() && !j.is_number_unsigned() && j.get<std::int64_t>() < 0;
+  const std::uint64_t value = negative ? 0 : j.get<std::uint64_t>();
+  if (negative || value >= static_cast<std::uint64_t>(std::max<std::int64_t>(count, 0)))
+    throw SceneError(path, "index", (negative ? std::string("negative index ") + j.dump() : what + " " + j.dump() + " does not exist") +
+                                        " (" + std::to_string(count) + " " +
+                                        (count == 1 ? what : what == "vertex" ? std::string("vertices") : what + "s") + ")");
+  return static_cast<int>(value);
+}
+
 StripDesign stripFromJson(const json& m) {
   StripDesign d;
   d.a = curveFromJson(m.at("a"), "model.a");
@@ -51,8 +69,14 @@ StripDesign stripFromJson(const json& m) {
       d.normals.points = n.value("points", 0);
     }
   }
-  for (const json& f : m.value("fixed", json::array()))
-    d.fixed.push_back({curveRef(f.at("curve")), f.at("index").get<int>()});
+  const json fixed = m.value("fixed", json::array());
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    // Any int here (StripModel::validateDesign checks the range against the curve, after the
+    // counts of both curves); a number that does not fit an int is refused now.
+    d.fixed.push_back({curveRef(fixed[i].at("curve")),
+                       indexFromJson(fixed[i].at("index"), "model.fixed[" + std::to_string(i) + "].index",
+                                     std::numeric_limits<int>::max(), "control point")});
+  }
   return d;
 }
 
@@ -94,13 +118,9 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
     const json& je = edges[e];
     const std::string path = indexPath("model.edges", e);
     composite::CompositeEdge edge;
-    edge.v0 = je.at("v")[0].get<int>();
-    edge.v1 = je.at("v")[1].get<int>();
+    edge.v0 = indexFromJson(je.at("v")[0], path + ".v[0]", nv, "vertex");
+    edge.v1 = indexFromJson(je.at("v")[1], path + ".v[1]", nv, "vertex");
     edge.crease = creaseFromName(je.value("crease", "none"));
-    for (int v : {edge.v0, edge.v1})
-      if (v >= nv)
-        throw SceneError(path + ".v", "vertex", "vertex " + std::to_string(v) + " does not exist (" +
-                                                    std::to_string(nv) + " vertices)");
     if (je.at("type").get<std::string>() == "R") {
       edge.type = composite::EdgeType::Ruling;
       for (const char* key : {"points", "degree", "knots"})
@@ -131,16 +151,42 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
     }
     d.edges.push_back(std::move(edge));
   }
-  for (const json& f : m.at("faces")) d.faces.push_back(f.get<std::vector<int>>());
+  const std::int64_t ne = static_cast<std::int64_t>(d.edges.size());
+  const json& faces = m.at("faces");
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    std::vector<int> face;
+    for (std::size_t k = 0; k < faces[f].size(); ++k)
+      face.push_back(indexFromJson(faces[f][k], indexPath(indexPath("model.faces", f), k), ne, "edge"));
+    d.faces.push_back(std::move(face));
+  }
+  // A point {vertex} or {edge, index}: the vertex, the edge and the control point must exist.
+  auto point = [&d, nv, ne](const json& j, const std::string& path) {
+    const composite::PointRef r = compositePointFromJson(j, path);
+    if (r.isVertex()) {
+      indexFromJson(j["vertex"], path + ".vertex", nv, "vertex");
+    } else {
+      const int e = indexFromJson(j["edge"], path + ".edge", ne, "edge");
+      const composite::CompositeEdge& edge = d.edges[static_cast<std::size_t>(e)];
+      if (edge.type != composite::EdgeType::Spline)
+        throw SceneError(path + ".edge", "ruling", "edge " + std::to_string(e) + " is a ruling and has no control points");
+      // The range against the edge's control points: CompositeModel::validateDesign ("7 is out of
+      // range (edge 6 has 6 control points)"); here only that it fits an int.
+      indexFromJson(j["index"], path + ".index", std::numeric_limits<int>::max(), "control point");
+    }
+    return r;
+  };
   const json fixed = m.value("fixed", json::array());
-  for (std::size_t i = 0; i < fixed.size(); ++i)
-    d.fixed.push_back(compositePointFromJson(fixed[i], indexPath("model.fixed", i)));
+  for (std::size_t i = 0; i < fixed.size(); ++i) d.fixed.push_back(point(fixed[i], indexPath("model.fixed", i)));
   const json handles = m.value("handles", json::array());
   for (std::size_t i = 0; i < handles.size(); ++i)
-    d.handles.push_back({compositePointFromJson(handles[i], indexPath("model.handles", i)),
-                         point3(handles[i].at("position")), handles[i].value("weight", handleWeight)});
-  for (const json& pair : m.value("tangent_continuity", json::array()))
-    d.tangentContinuity.push_back({pair[0].get<int>(), pair[1].get<int>()});
+    d.handles.push_back({point(handles[i], indexPath("model.handles", i)), point3(handles[i].at("position")),
+                         handles[i].value("weight", handleWeight)});
+  const json continuity = m.value("tangent_continuity", json::array());
+  for (std::size_t i = 0; i < continuity.size(); ++i) {
+    const std::string path = indexPath("model.tangent_continuity", i);
+    d.tangentContinuity.push_back({indexFromJson(continuity[i].at(0), path + "[0]", ne, "edge"),
+                                   indexFromJson(continuity[i].at(1), path + "[1]", ne, "edge")});
+  }
   if (m.contains("development")) {
     const json& dev = m["development"];
     d.developmentSamples = dev.at("samples").get<int>();
@@ -155,10 +201,15 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
         curve.closed = c.value("closed", false);
         d.developmentDomain.boundary.push_back(std::move(curve));
       }
-      for (const json& c : domain.value("corners", json::array()))
-        d.developmentDomain.corners.push_back({c.at("vertex").get<int>(), point2(c.at("at"))});
+      const json corners = domain.value("corners", json::array());
+      for (std::size_t i = 0; i < corners.size(); ++i)
+        d.developmentDomain.corners.push_back(
+            {indexFromJson(corners[i].at("vertex"), indexPath("model.development.domain.corners", i) + ".vertex", nv, "vertex"),
+             point2(corners[i].at("at"))});
     }
-    d.developmentSeam = dev.value("seam", std::vector<int>{});
+    const json seam = dev.value("seam", json::array());
+    for (std::size_t i = 0; i < seam.size(); ++i)
+      d.developmentSeam.push_back(indexFromJson(seam[i], indexPath("model.development.seam", i), ne, "edge"));
     if (dev.contains("vertices")) {
       const json& vs = dev["vertices"];
       d.developmentVertices.resize(static_cast<Eigen::Index>(vs.size()), 2);
@@ -469,9 +520,38 @@ double millimetresPerUnit(const std::string& units) {
   throw std::invalid_argument("units: expected mm, cm, m or in, got \"" + units + "\"");
 }
 
+namespace {
+
+/// Every number of the model is finite and every coordinate (a member of "points", "vertices",
+/// "position", "at", "boundary" arrays) within ±kMaxCoordinate: a coordinate of 1e200 squares to
+/// infinity in the first norm and turns a whole design into NaN.
+void checkModelNumbers(const json& j, const std::string& path, bool coordinates) {
+  if (j.is_number_float()) {
+    const double x = j.get<double>();
+    if (!std::isfinite(x)) throw SceneError(path, "finite", "must be a finite number");
+    if (coordinates && std::abs(x) > kMaxCoordinate)
+      throw SceneError(path, "range", "coordinate " + j.dump() + " is outside ±1e9 (scene units)");
+  } else if (j.is_number_integer() && coordinates) {
+    const double x = j.get<double>();
+    if (std::abs(x) > kMaxCoordinate)
+      throw SceneError(path, "range", "coordinate " + j.dump() + " is outside ±1e9 (scene units)");
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) checkModelNumbers(j[i], path + "[" + std::to_string(i) + "]", coordinates);
+  } else if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) {
+      const bool inner = coordinates || key == "points" || key == "vertices" || key == "position" || key == "at" ||
+                         key == "boundary";
+      checkModelNumbers(value, path + "." + key, inner);
+    }
+  }
+}
+
+}  // namespace
+
 Scene sceneFromJson(const json& document) {
   const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
   if (!errors.empty()) throw SceneError(errors[0].path, errors[0].rule, errors[0].message);
+  if (document.contains("model")) checkModelNumbers(document["model"], "model", false);
 
   Scene scene;
   scene.name = document.value("name", "");
@@ -507,10 +587,13 @@ Scene sceneFromJson(const json& document) {
   const std::string kind = model.at("kind").get<std::string>();
   if (kind == "strip") {
     StripDesign d = stripFromJson(model);
-    for (const json& h : model.value("handles", json::array()))
-      d.handles.push_back({{curveRef(h.at("curve")), h.at("index").get<int>()},
-                           point3(h.at("position")),
-                           h.value("weight", s.handleWeight)});
+    const json handles = model.value("handles", json::array());
+    for (std::size_t i = 0; i < handles.size(); ++i) {
+      const json& h = handles[i];
+      const int index = indexFromJson(h.at("index"), "model.handles[" + std::to_string(i) + "].index",
+                                      std::numeric_limits<int>::max(), "control point");
+      d.handles.push_back({{curveRef(h.at("curve")), index}, point3(h.at("position")), h.value("weight", s.handleWeight)});
+    }
     try {
       models::strip::StripModel::validateDesign(d);
     } catch (const std::invalid_argument& e) {
@@ -550,7 +633,9 @@ Scene sceneFromJson(const json& document) {
 Scene sceneFromText(const std::string& text) {
   json document;
   try {
-    document = json::parse(text);
+    document = parseBoundedJson(text);
+  } catch (const JsonTooDeep& e) {
+    throw SceneError("", "depth", e.what());
   } catch (const json::exception& e) {
     throw SceneError("", "json", std::string("not valid JSON: ") + e.what());
   }
@@ -610,6 +695,33 @@ json sceneToJson(const Scene& scene) {
                  {"hard_tolerance", s.hardTolerance},
                  {"softening", s.softening}};
   return j;
+}
+
+namespace {
+
+void collectControlPoints(const json& j, bool inside, Eigen::Vector3d& lo, Eigen::Vector3d& hi, int& count) {
+  if (j.is_array()) {
+    if (inside && j.size() == 3 && j[0].is_number() && j[1].is_number() && j[2].is_number()) {
+      const Eigen::Vector3d p(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+      lo = count == 0 ? p : lo.cwiseMin(p);
+      hi = count == 0 ? p : hi.cwiseMax(p);
+      ++count;
+      return;
+    }
+    for (const json& e : j) collectControlPoints(e, inside, lo, hi, count);
+  } else if (j.is_object()) {
+    for (const auto& [key, value] : j.items())
+      if (key != "handles" && key != "development") collectControlPoints(value, inside || key == "points" || key == "vertices", lo, hi, count);
+  }
+}
+
+}  // namespace
+
+SceneExtent sceneExtent(const Scene& scene) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+  int count = 0;
+  collectControlPoints(sceneToJson(scene).at("model"), false, lo, hi, count);
+  return {0.5 * (lo + hi), (hi - lo).norm()};
 }
 
 }  // namespace devsurf::proto

@@ -1,5 +1,7 @@
 #include "devsurf/server/Daemon.h"
 
+#include "devsurf/proto/BoundedJson.h"
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -56,7 +58,10 @@ std::string bearer(const httplib::Request& req) {
 /// Parses a JSON body; on failure answers 400 and returns nullopt.
 std::optional<json> parseBody(const httplib::Request& req, httplib::Response& res) {
   try {
-    return json::parse(req.body);
+    return proto::parseBoundedJson(req.body);
+  } catch (const proto::JsonTooDeep& e) {
+    replyError(res, 400, "too_deep", std::string("body: ") + e.what());
+    return std::nullopt;
   } catch (const json::exception& e) {
     replyError(res, 400, "invalid_json", std::string("body is not valid JSON: ") + e.what());
     return std::nullopt;
@@ -308,6 +313,9 @@ void Daemon::routes() {
                                       {"view", "/?session=" + id + "&token=" + view}}}});
     } catch (const proto::SceneError& e) {
       replyError(res, 400, "invalid", e.what(), e.path());
+    } catch (const std::invalid_argument& e) {
+      // Valid JSON the model cannot build (a degenerate design): the message names the field.
+      replyError(res, 422, "invalid_design", e.what(), "model");
     }
   });
   auto sessionFor = [this](const httplib::Request& req, httplib::Response& res, Role need) -> std::shared_ptr<Session> {
@@ -434,11 +442,14 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     return fail(nullptr, "too_large", "message of " + std::to_string(text.size()) + " bytes; the limit is " + std::to_string(options_.maxMessageBytes), "");
   json message;
   try {
-    message = json::parse(text);
+    message = proto::parseBoundedJson(text);
+  } catch (const proto::JsonTooDeep& e) {
+    return fail(nullptr, "too_deep", e.what(), "");
   } catch (const json::exception& e) {
     return fail(nullptr, "invalid_json", std::string("not valid JSON: ") + e.what(), "");
   }
-  const json op = message.is_object() && message.contains("op") ? message["op"] : json();
+  // Echoed in the answer only as the schema allows it (an integer, a string of ≤ 64 characters).
+  const json op = message.is_object() && message.contains("op") ? proto::echoableId(message["op"]) : json();
   const auto errors = proto::schemaRegistry().validate(message, "ws-client.schema.json", 1);
   if (!errors.empty()) return fail(op, "invalid", errors[0].toString(), errors[0].path);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Report.h"
@@ -543,6 +544,24 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     target = canonicalTarget(edit["target"], path, message);
     if (target.is_null()) return reject("invalid", message, path);
   }
+  if (edit.contains("position")) {
+    // A pointer far outside the model (a 1e200 from a script, a mouse ray nearly parallel to the
+    // drag plane) would be a handle the normalized solve cannot represent.
+    const json& p = edit["position"];
+    const Eigen::Vector3d pos(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    const proto::SceneExtent extent = proto::sceneExtent(current);
+    const double reach = proto::kMaxReach * std::max(extent.diagonal, 1e-9);
+    const double distance = (pos - extent.centre).norm();
+    if (!std::isfinite(distance) || distance > reach) {
+      std::ostringstream why;
+      why.precision(3);
+      why << "position is ";
+      if (std::isfinite(distance)) why << distance; else why << "infinitely far";
+      why << " from the model's centre; it must lie within " << reach << " (" << proto::kMaxReach
+          << "× the model's size)";
+      return reject("invalid", why.str(), "position");
+    }
+  }
   if (keepsInput()) return applyCurveEdit(participant, edit, replaying, target);
   if (type == "drag") {
     const Eigen::Vector3d pos(edit["position"][0].get<double>(), edit["position"][1].get<double>(),
@@ -841,12 +860,16 @@ bool Session::runSolver(SolveLimits limits, bool final) {
     if (r.iteration == 0) return !(interrupted = hasQueuedWork());
     if (counters_) counters_->recordIteration(r.totalMs);
     const double since = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - lastStreamed_).count();
-    if (since >= std::max(settings_.streamIntervalMs, 2.0 * lastStreamMs_)) stream(r);
+    // The first step of every solve goes out at once (a drag message's answer: the latency the
+    // pointer feels), the rest at most every interval.
+    if (r.iteration == 1 || since >= std::max(settings_.streamIntervalMs, 2.0 * lastStreamMs_)) stream(r);
     return !(interrupted = hasQueuedWork());
   };
   const engine::SolveSummary summary = solver_->solve(limits, onIteration);
   scheduleIteration_ += summary.stepsTaken();
-  if (summary.stepsTaken() > 0 && streamedIteration != summary.iterations.back().iteration)
+  // The last iterate goes out unless newer work interrupted the solve (that work's first step
+  // follows at once and supersedes it).
+  if (!interrupted && summary.stepsTaken() > 0 && streamedIteration != summary.iterations.back().iteration)
     stream(summary.iterations.back());
   {
     std::lock_guard<std::mutex> lock(mutex_);

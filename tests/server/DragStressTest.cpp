@@ -13,6 +13,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -299,12 +300,12 @@ Violations violations(const std::string& kind, const DragOutcome& o) {
   return v;
 }
 
-/// Drags of one preset that may end outside the fabrication thresholds (never torn). The known gap
-/// of issue 11: the two slowest presets sometimes run out of the 2 s release budget, and two drags
-/// of the folded annulus's inner crease have ended with a vertex curvature up to 0.11 rad at faces
-/// whose quads are flat to 1e-15 and whose development is exact to 1e-5 (runs differ: the release
-/// runs under time budgets). Every miss is printed with its values.
-constexpr int kAccuracyMissesAllowed = 3;
+/// Drags of one preset that may end outside the fabrication thresholds (never torn). The release
+/// runs under a 2 s budget, so a machine under load — CI runs two suites at once — gets fewer
+/// iterations than the run that measured: 0 of the 390 drags (16 presets) missed a threshold in the
+/// last full run on 2 cores with two suites in parallel; before the per-side strip-width rows the
+/// folded annulus missed 2 (vertex curvature 0.07–0.11). Every miss is printed with its values.
+constexpr int kAccuracyMissesAllowed = 1;
 
 TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
   const std::string preset = GetParam();
@@ -342,6 +343,10 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
       for (double fraction : {0.10, 0.25, 0.40}) {
         // ~0.7 s of mouse moves as the web app sends them; the strips between curves rebuild
         // their whole solve per message, so there the queue coalesces them six at a time.
+        // DEVSURF_DRAG_ONLY="interior point/inward/25" runs one drag of each preset (for study).
+        const char* only = std::getenv("DEVSURF_DRAG_ONLY");
+        if (only && std::string(only) != t.role + "/" + dirName + "/" + std::to_string(static_cast<int>(fraction * 100)))
+          continue;
         const DragOutcome o = runDrag(preset, t, dir, fraction * diagonal, 24, keepsInput ? 6 : 1);
         ++drags;
         const json& m = o.metrics;

@@ -16,6 +16,11 @@
 
 namespace devsurf::proto {
 
+/// Largest magnitude of a coordinate in a scene (scene units). Larger ones are refused by name
+/// (`model.b.points[3][2]`): the solver works in normalized coordinates, and the norms of far larger
+/// ones overflow.
+inline constexpr double kMaxCoordinate = 1e9;  // quoted as "±1e9" in the error
+
 /// A document that failed validation: `path` is the JSON path ("model.a.points[3]"), `rule` the
 /// schema keyword or semantic rule broken, what() the full message "path: message".
 class SceneError : public std::runtime_error {
@@ -101,6 +106,18 @@ const nlohmann::json& embeddedDocument(const std::string& name);
 Scene sceneFromJson(const nlohmann::json& document);
 /// Parses text first (a parse error is a SceneError with path "(root)" and rule "json").
 Scene sceneFromText(const std::string& text);
+
+/// Where a scene's control points are: the centre and the diagonal of their bounding box (handles
+/// and the development left out).
+struct SceneExtent {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double diagonal = 0.0;
+};
+SceneExtent sceneExtent(const Scene& scene);
+
+/// How far from a scene's centre, in multiples of its diagonal, a dragged point or a handle may be
+/// put (an edit farther away is refused, naming "position").
+inline constexpr double kMaxReach = 100.0;
 
 /// The scene as a document that sceneFromJson reads back (curves keep their structure; knots are
 /// written only when they differ from the default clamped uniform ones).

@@ -72,7 +72,8 @@ struct SessionSettings {
   /// 40% drag of the annulus, development error 1.9e-4 at 3e-3, 3.0e-5 at 1e-3, 1.3e-3 at 3e-4
   /// (the time budget ran out: the smaller damping overshoots and steps are shortened).
   double polishRegularization = 1e-3;
-  /// Iterates are streamed at most this often (the last of every solve always): ~30 frames/s;
+  /// Iterates are streamed at most this often (the first and the last of every solve always):
+  /// ~30 frames/s;
   /// and at most every 2× what streaming the last one cost, so that building the geometry never
   /// takes more than a third of a solve (folded annulus: 50 ms per iterate's geometry, 12 ms per
   /// iteration).

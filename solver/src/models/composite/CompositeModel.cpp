@@ -345,13 +345,20 @@ void CompositeModel::buildProblem() {
           1.0, Strength::Hard));
     }
     if (options_.widthGuardRatio > 0.0) {
-      // … nor does the strip collapse across its rulings (|(b − a) × (a′ + b′)|).
+      // … nor does the strip collapse across its rulings (|(b − a) × (a′ + b′)|), nor does either
+      // curve turn into the ruling direction (|(b − a) × a′|, |(b − a) × b′|): a ruling along a
+      // crease makes sliver quads that fold over (folded annulus, an outer crease point pulled
+      // inward across the inner rings: vertex curvature 0.07 at flat quads). A side that is
+      // degenerate by design (a cone's apex) has no reference width and no row.
       const std::vector<terms::StripWidthTerm::SignedPoints> ruling{{terms::LinearPoints{diff, 0}, 1.0}};
-      const std::vector<terms::StripWidthTerm::SignedPoints> tangent{{rows.da, 1.0}, {rows.db, 1.0}};
-      std::vector<double> minWidth = terms::StripWidthTerm::widths(ruling, tangent, problem_.x());
-      for (double& w : minWidth) w = w > 1e-9 ? options_.widthGuardRatio * w : 0.0;
-      widthTerms_.push_back(problem_.addTerm(
-          std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth), 1.0, Strength::Hard));
+      const std::vector<terms::StripWidthTerm::SignedPoints> tangents[] = {
+          {{rows.da, 1.0}, {rows.db, 1.0}}, {{rows.da, 1.0}}, {{rows.db, 1.0}}};
+      for (const auto& tangent : tangents) {
+        std::vector<double> minWidth = terms::StripWidthTerm::widths(ruling, tangent, problem_.x());
+        for (double& w : minWidth) w = w > 1e-9 ? options_.widthGuardRatio * w : 0.0;
+        widthTerms_.push_back(problem_.addTerm(
+            std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth), 1.0, Strength::Hard));
+      }
     }
     hardUnit.push_back(offN);
     for (int k = 1; k < K; ++k) softUnit.push_back(offN + 3 * k);

@@ -186,15 +186,21 @@ void StripModel::buildProblem() {
     rulingTerm_ = problem_.addTerm(std::make_unique<terms::RulingLengthTerm>("ruling_length", ga, gb, minLength),
                                    1.0, Strength::Hard);
     if (options_.widthGuardRatio > 0.0) {
-      // … nor does the strip collapse across its rulings (|(b − a) × (a′ + b′)|).
+      // … nor does the strip collapse across its rulings (|(b − a) × (a′ + b′)|), nor does either
+      // curve turn into the ruling direction (|(b − a) × a′|, |(b − a) × b′|: sliver quads that
+      // fold over).
       const std::vector<terms::StripWidthTerm::SignedPoints> ruling{{ga, -1.0}, {gb, 1.0}};
-      const std::vector<terms::StripWidthTerm::SignedPoints> tangent{
-          {terms::LinearPoints{spline::curveEvaluationMatrix(a.knots, a.weights, at, 1), offA}, 1.0},
-          {terms::LinearPoints{spline::curveEvaluationMatrix(b.knots, b.weights, at, 1), offB}, 1.0}};
-      std::vector<double> minWidth = terms::StripWidthTerm::widths(ruling, tangent, problem_.x());
-      for (double& w : minWidth) w = w > 1e-9 ? options_.widthGuardRatio * w : 0.0;
-      widthTerm_ = problem_.addTerm(std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth),
-                                    1.0, Strength::Hard);
+      const terms::StripWidthTerm::SignedPoints da{
+          terms::LinearPoints{spline::curveEvaluationMatrix(a.knots, a.weights, at, 1), offA}, 1.0};
+      const terms::StripWidthTerm::SignedPoints db{
+          terms::LinearPoints{spline::curveEvaluationMatrix(b.knots, b.weights, at, 1), offB}, 1.0};
+      const std::vector<terms::StripWidthTerm::SignedPoints> tangents[] = {{da, db}, {da}, {db}};
+      for (const auto& tangent : tangents) {
+        std::vector<double> minWidth = terms::StripWidthTerm::widths(ruling, tangent, problem_.x());
+        for (double& w : minWidth) w = w > 1e-9 ? options_.widthGuardRatio * w : 0.0;
+        widthTerms_.push_back(problem_.addTerm(
+            std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth), 1.0, Strength::Hard));
+      }
     }
   }
 
@@ -330,9 +336,11 @@ double StripModel::rulingLengthMinRatio() const {
 }
 
 double StripModel::stripWidthMinRatio() const {
-  if (widthTerm_ < 0) return 1.0;
-  const auto* term = static_cast<const terms::StripWidthTerm*>(problem_.term(widthTerm_).term.get());
-  return term->widthRatioMin(problem_.x(), options_.widthGuardRatio);
+  double ratio = 1.0;
+  for (int t : widthTerms_)
+    ratio = std::min(ratio, static_cast<const terms::StripWidthTerm*>(problem_.term(t).term.get())
+                                ->widthRatioMin(problem_.x(), options_.widthGuardRatio));
+  return ratio;
 }
 
 Eigen::MatrixXd StripModel::controlPoints(Curve c) const {

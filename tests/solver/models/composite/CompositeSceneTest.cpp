@@ -93,7 +93,7 @@ TEST(CompositeScene, ErrorsNameTheJsonPath) {
   {
     json doc = sheetScene();
     doc["model"]["edges"][1]["v"] = {0, 9};
-    expectSceneError(doc, "model.edges[1].v", "vertex 9 does not exist (6 vertices)");
+    expectSceneError(doc, "model.edges[1].v[1]", "vertex 9 does not exist (6 vertices)");
   }
   {
     json doc = sheetScene();

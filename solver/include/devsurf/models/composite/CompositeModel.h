@@ -42,8 +42,9 @@ struct CompositeOptions {
   /// fraction of its length when the model was built; 0 = off), ...
   double rulingGuardRatio = 0.35;
   /// ... "strip_width" (terms::StripWidthTerm: the area element |(b − a) × (a′ + b′)| of every
-  /// strip-like face keeps this fraction of its value at build time: no collapse across the
-  /// rulings; 0 = off) ...
+  /// strip-like face, and each side's |(b − a) × a′|, |(b − a) × b′|, keep this fraction of their
+  /// values at build time: no collapse across the rulings, no crease turning into its rulings
+  /// (sliver quads that fold over); 0 = off) ...
   double widthGuardRatio = 0.25;
   /// ... "development_orientation" (terms::TriangleOrientationTerm: every triangle of the
   /// development keeps at least this fraction of its signed area at build time, so no face of the

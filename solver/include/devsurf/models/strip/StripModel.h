@@ -68,8 +68,9 @@ struct StripOptions {
   /// parameter shrinks below this fraction of its length when the model was built. 0 = off.
   double rulingGuardRatio = 0.35;
   /// Degeneracy guard (terms::StripWidthTerm, hard, "strip_width"): the area element
-  /// |(b − a) × (a′ + b′)| at the guarded parameters keeps this fraction of its value when the
-  /// model was built (no collapse across the rulings, no cusp). 0 = off.
+  /// |(b − a) × (a′ + b′)| at the guarded parameters, and each side's |(b − a) × a′| and
+  /// |(b − a) × b′|, keep this fraction of their values when the model was built (no collapse
+  /// across the rulings, no curve turning into its rulings, no cusp). 0 = off.
   double widthGuardRatio = 0.25;
   /// Degeneracy guards (hard, open curves): "curve_backtrack" (terms::PolygonBacktrackTerm: no two
   /// legs of a or b within one span's reach point more than 90° apart where they did not when the
@@ -157,7 +158,8 @@ class StripModel {
   std::array<terms::LinearPoints, 4> curveRows_;
   int blockA_ = -1, blockB_ = -1, blockNormals_ = -1;
   std::vector<int> handleTerms_;
-  int rulingTerm_ = -1, widthTerm_ = -1;
+  int rulingTerm_ = -1;
+  std::vector<int> widthTerms_;  ///< "strip_width": (b − a) against a′ + b′, a′, b′
 };
 
 }  // namespace devsurf::models::strip

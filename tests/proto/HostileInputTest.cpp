@@ -1,0 +1,126 @@
+// Issue 12: documents an outside fuzzer sent that crashed the daemon or the CLI, and their
+// neighbours. Every one must be answered with a SceneError (or JsonTooDeep) naming the field.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "devsurf/proto/BoundedJson.h"
+#include "devsurf/proto/Scene.h"
+
+namespace devsurf::proto {
+namespace {
+
+using nlohmann::json;
+
+json example(const std::string& name) {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
+  return json::parse(file);
+}
+
+std::string pathOfError(const json& doc) {
+  try {
+    sceneFromJson(doc);
+  } catch (const SceneError& e) {
+    return e.path();
+  }
+  return "<accepted>";
+}
+
+TEST(BoundedJson, MeasuresNestingOutsideStringsOnly) {
+  EXPECT_EQ(jsonNestingDepth("{}"), 1);
+  EXPECT_EQ(jsonNestingDepth(R"({"a":[[1],[2,[3]]]})"), 4);
+  EXPECT_EQ(jsonNestingDepth(R"({"a":"[[[[[[[[\"[[["})"), 1);
+  EXPECT_EQ(jsonNestingDepth("42"), 0);
+}
+
+TEST(BoundedJson, RefusesADeepDocumentBeforeParsingIt) {
+  // The frame that killed the daemon: an op nested 80 000 deep.
+  const std::string deep = R"({"type":"ping","op":)" + std::string(80000, '[') + std::string(80000, ']') + "}";
+  EXPECT_THROW(parseBoundedJson(deep), JsonTooDeep);
+  const std::string ok = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
+  EXPECT_EQ(parseBoundedJson(ok).size(), 1u);
+  EXPECT_THROW(parseBoundedJson("[" + ok + "]"), JsonTooDeep);
+  EXPECT_THROW(parseBoundedJson("{\"a\": [1,"), nlohmann::json::parse_error);
+}
+
+TEST(BoundedJson, EchoesOnlyShortIdentifiers) {
+  EXPECT_EQ(echoableId(7), json(7));
+  EXPECT_EQ(echoableId("op-1"), json("op-1"));
+  EXPECT_TRUE(echoableId(std::string(65, 'x')).is_null());
+  EXPECT_TRUE(echoableId(json::array({1, 2})).is_null());
+  EXPECT_TRUE(echoableId(json::object()).is_null());
+  EXPECT_TRUE(echoableId(1.5).is_null());
+}
+
+TEST(HostileScene, ADeepSceneIsRefusedWithAPath) {
+  const std::string deep = R"({"format":"devsurf-scene","version":1,"model":)" + std::string(100000, '[') +
+                           std::string(100000, ']') + "}";
+  try {
+    sceneFromText(deep);
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.rule(), "depth");
+  }
+}
+
+TEST(HostileScene, AnEdgeNamingAVertexThatDoesNotExistIsRefused) {
+  json doc = example("composite-curved-fold.json");
+  const int nv = static_cast<int>(doc["model"]["vertices"].size());
+  for (const json v : {json(231), json(nv), json(2147483648LL), json(-1), json(9223372036854775807LL)}) {
+    json bad = doc;
+    bad["model"]["edges"][0]["v"][1] = v;
+    EXPECT_EQ(pathOfError(bad).rfind("model.edges[0].v", 0), 0u) << v << ": " << pathOfError(bad);
+  }
+}
+
+TEST(HostileScene, FacesFixedHandlesAndSeamsMustNameExistingElements) {
+  const json doc = example("composite-curved-fold.json");
+  const int ne = static_cast<int>(doc["model"]["edges"].size());
+  json bad = doc;
+  bad["model"]["faces"][0][1] = ne;
+  EXPECT_EQ(pathOfError(bad), "model.faces[0][1]");
+  bad = doc;
+  bad["model"]["fixed"] = json::array({{{"vertex", 1000}}});
+  EXPECT_EQ(pathOfError(bad), "model.fixed[0].vertex");
+  bad = doc;
+  bad["model"]["fixed"] = json::array({{{"edge", ne + 3}, {"index", 1}}});
+  EXPECT_EQ(pathOfError(bad), "model.fixed[0].edge");
+  bad = doc;
+  int spline = -1;
+  for (std::size_t e = 0; e < doc["model"]["edges"].size(); ++e)
+    if (doc["model"]["edges"][e]["type"] == "S") spline = static_cast<int>(e);
+  ASSERT_GE(spline, 0);
+  bad["model"]["handles"] = json::array({{{"edge", spline}, {"index", 500}, {"position", {0, 0, 0}}}});
+  EXPECT_EQ(pathOfError(bad), "model.handles[0].index");
+  bad = doc;
+  bad["model"]["tangent_continuity"] = json::array({{0, ne + 1}});
+  EXPECT_EQ(pathOfError(bad), "model.tangent_continuity[0][1]");
+}
+
+TEST(HostileScene, StripIndicesMustNameExistingControlPoints) {
+  json bad = example("strip-twisted.json");
+  bad["model"]["fixed"] = json::array({{{"curve", "a"}, {"index", 99}}});
+  EXPECT_EQ(pathOfError(bad), "model.fixed[0].index");
+  bad = example("strip-twisted.json");
+  bad["model"]["handles"] = json::array({{{"curve", "b"}, {"index", 2147483648LL}, {"position", {0, 0, 0}}}});
+  EXPECT_EQ(pathOfError(bad), "model.handles[0].index");
+}
+
+TEST(HostileScene, AHugeCoordinateIsRefusedByName) {
+  // The scene that was accepted and then lost: 1e200 turned every coordinate of b into NaN.
+  json bad = example("strip-twisted.json");
+  bad["model"]["b"]["points"][3][2] = 1e200;
+  EXPECT_EQ(pathOfError(bad), "model.b.points[3][2]");
+  bad = example("composite-curved-fold.json");
+  bad["model"]["vertices"][2][0] = -3e9;
+  EXPECT_EQ(pathOfError(bad), "model.vertices[2][0]");
+  bad = example("composite-curved-fold.json");
+  bad["model"]["vertices"][2][0] = 12345678901234LL;
+  EXPECT_EQ(pathOfError(bad), "model.vertices[2][0]");
+}
+
+}  // namespace
+}  // namespace devsurf::proto
