@@ -26,6 +26,7 @@
 #include "devsurf/server/Tokens.h"
 #include "server/SessionTesting.h"
 #include "support/ExportChecks.h"
+#include "support/Presets.h"
 
 namespace devsurf::server {
 namespace {
@@ -35,18 +36,8 @@ namespace checks = devsurf::testing;
 using testing::Inbox;
 using testing::ManualExecutor;
 
-std::vector<std::string> presetFiles() {
-  std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples"))
-    if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
-
-json readPreset(const std::string& name) {
-  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
-  return json::parse(file);
-}
+using devsurf::testing::presetFiles;
+using devsurf::testing::readPreset;
 
 Eigen::Vector3d vec(const json& p) { return {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()}; }
 

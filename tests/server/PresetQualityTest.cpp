@@ -13,6 +13,7 @@
 
 #include "devsurf/server/SceneSolver.h"
 #include "support/ExportChecks.h"
+#include "support/Presets.h"
 
 namespace devsurf::server {
 namespace {
@@ -20,13 +21,7 @@ namespace {
 using nlohmann::json;
 namespace checks = devsurf::testing;
 
-std::vector<std::string> presetFiles() {
-  std::vector<std::string> names;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples"))
-    if (entry.path().extension() == ".json") names.push_back(entry.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using devsurf::testing::presetFiles;
 
 class PresetAsShipped : public ::testing::TestWithParam<std::string> {};
 

@@ -18,6 +18,8 @@
 
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/SceneSolver.h"
+#include "support/ExportChecks.h"
+#include "support/Presets.h"
 #include "support/TempDir.h"
 
 namespace devsurf::server {
@@ -69,48 +71,27 @@ std::vector<Triangle> readAsciiStl(const std::string& path) {
   return facets;
 }
 
-/// The quads of an OBJ file ("v x y z", "f a b c d", 1-based, "a/…" forms allowed).
+/// The quads of an OBJ file, read with the suites' independent OBJ reader (support/ExportChecks.h).
 std::vector<std::array<Eigen::Vector3d, 4>> readObjQuads(const std::string& path) {
   std::ifstream file(path);
-  std::vector<Eigen::Vector3d> vertices;
+  std::ostringstream text;
+  text << file.rdbuf();
+  const devsurf::testing::ObjMesh mesh = devsurf::testing::parseObj(text.str());
   std::vector<std::array<Eigen::Vector3d, 4>> quads;
-  std::string line;
-  while (std::getline(file, line)) {
-    std::istringstream in(line);
-    std::string kind;
-    in >> kind;
-    if (kind == "v") {
-      Eigen::Vector3d p;
-      in >> p.x() >> p.y() >> p.z();
-      vertices.push_back(p);
-    } else if (kind == "f") {
-      std::vector<int> corners;
-      for (std::string c; in >> c;) corners.push_back(std::stoi(c.substr(0, c.find('/'))) - 1);
-      EXPECT_EQ(corners.size(), 4u) << path << ": " << line;
-      if (corners.size() != 4) continue;
-      std::array<Eigen::Vector3d, 4> q;
-      for (int k = 0; k < 4; ++k) q[static_cast<std::size_t>(k)] = vertices.at(static_cast<std::size_t>(corners[k]));
-      quads.push_back(q);
-    }
+  for (const std::vector<int>& f : mesh.faces) {
+    EXPECT_EQ(f.size(), 4u) << path;
+    if (f.size() != 4) continue;
+    std::array<Eigen::Vector3d, 4> q;
+    for (std::size_t c = 0; c < 4; ++c) q[c] = mesh.vertices.at(static_cast<std::size_t>(f[c]));
+    quads.push_back(q);
   }
   return quads;
 }
 
-/// Every scene file in examples/ (found, not listed, so that a new preset is covered).
-std::vector<std::filesystem::path> presets() {
-  std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples")) {
-    if (entry.path().extension() != ".json") continue;
-    std::ifstream file(entry.path());
-    const nlohmann::json doc = nlohmann::json::parse(file, nullptr, false);
-    if (doc.is_object() && doc.value("format", "") == "devsurf-scene") files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 TEST(StlExport, EveryPresetIsWrittenAsTwoTrianglesPerQuadCoveringTheObjExportsArea) {
-  const std::vector<std::filesystem::path> files = presets();
+  std::vector<std::filesystem::path> files;
+  for (const std::string& name : devsurf::testing::presetFiles())
+    files.push_back(std::filesystem::path(DEVSURF_SOURCE_DIR) / "examples" / name);
   ASSERT_GE(files.size(), 16u);
   devsurf::testing::TempDir dir;
   int degenerateTotal = 0;
