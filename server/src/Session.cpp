@@ -812,12 +812,14 @@ void Session::publishSolve(bool final) {
              {"time_ms", lastSummary_.totalMs},
              {"geometry", geometryJson()}},
             Delivery::Latest, "iterate");
-  if (final)
+  if (final) {
+    settleState(true);
     broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metrics},
                {"reason", solver_->keepsInputGeometry() && !solver_->termination().empty()
                               ? solver_->termination()
                               : std::string(engine::terminationReasonName(lastSummary_.reason))},
                {"iterations", lastSummary_.stepsTaken()}});
+  }
 }
 
 bool Session::runSolver(SolveLimits limits, bool final) {
@@ -880,6 +882,7 @@ bool Session::runSolver(SolveLimits limits, bool final) {
                {"message", "the solver diverged; the session keeps its last good state"}});
   }
   if (final && !interrupted) {
+    settleState(true);  // what a client reads after `solved` is what a restart restores
     broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metricsJson()},
                {"reason", engine::terminationReasonName(summary.reason)},
                {"iterations", summary.stepsTaken()},
@@ -995,15 +998,19 @@ void Session::handle(const Work& work) {
                {"geometry", geometryJson()},
                {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
   }
+  ++editsSinceSnapshot_;
+  settleState(false);
+}
+
+void Session::settleState(bool solved) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     cachedScene_ = proto::sceneToJson(persistentScene());
   }
   // A snapshot every snapshotEvery edits, and after every solve that ended an interaction (a
-  // release, Solve): those run under time budgets, so replaying them would not give back what the
-  // participants saw; the snapshot does.
-  const bool solvedToQuality = type == "drag_end" || type == "solve";
-  if (journal_ && (++editsSinceSnapshot_ >= settings_.snapshotEvery || solvedToQuality) && dragHandles_.empty()) {
+  // release, Solve) — before its `solved` goes out: those run under time budgets, so replaying
+  // them would not give back what the participants read; the snapshot does.
+  if (journal_ && (solved || editsSinceSnapshot_ >= settings_.snapshotEvery) && dragHandles_.empty()) {
     journal_->saveSnapshot(id_, seq_.load(), sceneJson());
     editsSinceSnapshot_ = 0;
   }

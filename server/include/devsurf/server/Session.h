@@ -208,6 +208,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// Runs iterations within the limits (the session's band applied), streaming iterates; when
   /// `final`, ends with `solved` (the metrics and the quality verdict). Returns false if
   /// interrupted by queued work.
+  /// The scene clients read (cachedScene_) brought up to date, and a snapshot when one is due:
+  /// after every solve that ends an interaction (`solved`), else every snapshotEvery edits.
+  void settleState(bool solved);
   bool runSolver(SolveLimits limits, bool final);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
