@@ -381,7 +381,8 @@ void Daemon::routes() {
       replyError(res, 422, "idempotency_mismatch", e.what(), "Idempotency-Key");
     }
   });
-  s.Get(R"(/api/jobs/([A-Za-z0-9_-]+))", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get(R"(/api/jobs/([A-Za-z0-9_-]+))", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
     const auto job = jobs_->job(req.matches[1]);
     if (!job) return replyError(res, 404, "not_found", "no such job");
     json body{{"id", job->id}, {"state", store::jobStateName(job->state)},
@@ -391,7 +392,8 @@ void Daemon::routes() {
     if (!store::isFinished(job->state)) res.set_header("Retry-After", "1");
     replyJson(res, 200, body);
   });
-  s.Post(R"(/api/jobs/([A-Za-z0-9_-]+)/cancel)", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Post(R"(/api/jobs/([A-Za-z0-9_-]+)/cancel)", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
     try {
       if (!jobs_->cancel(req.matches[1])) return replyError(res, 409, "conflict", "the job has already finished");
       replyJson(res, 202, {{"id", std::string(req.matches[1])}, {"state", store::jobStateName(jobs_->job(req.matches[1])->state)}});
@@ -399,7 +401,8 @@ void Daemon::routes() {
       replyError(res, 404, "not_found", "no such job");
     }
   });
-  s.Get(R"(/api/jobs/([A-Za-z0-9_-]+)/result)", [this](const httplib::Request& req, httplib::Response& res) {
+  s.Get(R"(/api/jobs/([A-Za-z0-9_-]+)/result)", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
     const auto job = jobs_->job(req.matches[1]);
     if (!job) return replyError(res, 404, "not_found", "no such job");
     if (job->state != store::JobState::Succeeded || !job->report) {

@@ -441,6 +441,29 @@ class HostileInputTest(DaemonTestCase):
         self.alive()
 
 
+class ApiKeyTest(DaemonTestCase):
+    """With --api-key every job route needs it, not only the submission."""
+    PREFIX = "devsurf-key-"
+    DAEMON_ARGS = ("--api-key", "k" * 32)
+
+    def test_every_job_route_needs_the_key(self):
+        key = {"Authorization": "Bearer " + "k" * 32}
+        with open(DEMO) as f:
+            scene = json.load(f)
+        status, _, body = self.daemon.json("POST", "/api/jobs", scene)
+        self.assertEqual(status, 401)
+        status, _, body = self.daemon.json("POST", "/api/jobs", scene, key)
+        self.assertEqual(status, 202, body)
+        job = body["id"]
+        for method, path in (("GET", f"/api/jobs/{job}"), ("GET", f"/api/jobs/{job}/result"),
+                             ("POST", f"/api/jobs/{job}/cancel")):
+            status, _, body = self.daemon.json(method, path)
+            self.assertEqual(status, 401, (method, path, body))
+            self.assertEqual(body["error"]["code"], "unauthorized")
+        status, _, body = self.daemon.json("GET", f"/api/jobs/{job}", headers=key)
+        self.assertEqual(status, 200, body)
+
+
 class RestartTest(unittest.TestCase):
     def test_sigkill_at_random_moments_loses_no_acknowledged_edit(self):
         tmp = tempfile.mkdtemp(prefix="devsurf-kill-")

@@ -1,5 +1,8 @@
 #include "devsurf/server/store/Store.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <sqlite3.h>
 
 #include <filesystem>
@@ -399,10 +402,17 @@ Store::Store(const std::string& directory, const StoreOptions& options)
   d.path = (fs::path(directory) / kFileName).string();
 
   std::error_code ec;
-  fs::create_directories(directory, ec);
+  const bool created = fs::create_directories(directory, ec);
   if (ec || !fs::is_directory(directory)) {
     throw StoreError("devsurf store: cannot create data directory " + directory + ": " +
                      (ec ? ec.message() : std::string("not a directory")));
+  }
+  // Private: the store holds token hashes and every user's designs. A directory the daemon creates
+  // is 0700; the database file is created 0600 (SQLite gives its -wal and -shm files the same).
+  if (created) fs::permissions(directory, fs::perms::owner_all, fs::perm_options::replace, ec);
+  if (!fs::exists(d.path)) {
+    const int fd = ::open(d.path.c_str(), O_CREAT | O_WRONLY | O_CLOEXEC, 0600);
+    if (fd >= 0) ::close(fd);
   }
 
   d.writer = std::make_unique<Connection>(d.path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,

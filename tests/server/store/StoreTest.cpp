@@ -103,6 +103,18 @@ TEST(StoreOpen, CreatesDirectoryWalDatabaseAndSchema) {
   EXPECT_EQ(rawInt(dir, "SELECT count(*) FROM sqlite_schema WHERE type = 'table'"), 4);
 }
 
+TEST(StoreOpen, ADirectoryItCreatesIsPrivateAndSoIsTheDatabase) {
+  TempDir tmp;
+  const fs::path dir = tmp.path() / "private";
+  { Store store(dir.string()); }
+  EXPECT_EQ(fs::status(dir).permissions() & fs::perms::all, fs::perms::owner_all);
+  for (const char* file : {"devsurf.db", "devsurf.db-wal", "devsurf.db-shm"}) {
+    if (!fs::exists(dir / file)) continue;
+    EXPECT_EQ(fs::status(dir / file).permissions() & (fs::perms::group_all | fs::perms::others_all), fs::perms::none)
+        << file << " is readable by others";
+  }
+}
+
 TEST(StoreOpen, PowerDurabilityUsesSynchronousFull) {
   TempDir tmp;
   Store store(tmp.str(), Durability::Power);
