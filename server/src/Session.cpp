@@ -370,11 +370,19 @@ int Session::join(Role role, const std::string& name, MessageSink sink) {
 }
 
 void Session::leave(int participant) {
+  json dragging;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (participants_.erase(participant) == 0) return;
+    const auto it = participants_.find(participant);
+    if (it == participants_.end()) return;
+    dragging = it->second.dragging;
+    participants_.erase(it);
   }
+  // A participant that leaves in the middle of a drag releases it: its temporary handle must not
+  // keep pulling the point for everyone else (nor keep the session from being snapshotted).
+  // (Presence first: queued behind the release it would interrupt its solve.)
   post(0, json{{"type", "_presence"}});
+  if (!dragging.is_null()) post(0, json{{"type", "_release"}, {"target", dragging}});
 }
 
 void Session::post(int participant, json message) {
@@ -933,6 +941,17 @@ void Session::handle(const Work& work) {
   }
   if (type == "_presence") {
     broadcast(presenceMessage());
+    return;
+  }
+  if (type == "_release") {
+    // The drag_end the departed participant did not send, journalled like one (a replay then
+    // releases the handle too).
+    const json end{{"type", "drag_end"}, {"target", m["target"]}};
+    if (!apply(0, end, false)) return;
+    commit(0, end, {});
+    release(m["target"], settings_.releaseIterations);
+    ++editsSinceSnapshot_;
+    settleState(false);
     return;
   }
   if (type == "ping") {

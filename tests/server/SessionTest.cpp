@@ -100,6 +100,38 @@ TEST(Session, DragStreamsIteratesAndDragEndSolvesToDevelopability) {
   EXPECT_EQ(journal.edits.back().second["type"], "drag_end");
 }
 
+TEST(Session, AParticipantThatLeavesMidDragReleasesItsHandle) {
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
+  Inbox other;
+  const int watcher = s->join(Role::Edit, "watcher", other.sink());
+  ex.runAll();
+  for (int k = 1; k <= 3; ++k) {
+    s->post(pid, drag(k, 0.3 * k));
+    ex.runAll();
+  }
+  other.messages.clear();
+  s->leave(pid);  // the tab closed before drag_end
+  ex.runAll();
+  // The others see the release: an edit drag_end, the release solve ending in solved.
+  const json edit = other.last("edit");
+  ASSERT_FALSE(edit.is_null());
+  EXPECT_EQ(edit["edit"]["type"], "drag_end");
+  ASSERT_FALSE(other.last("solved").is_null());
+  EXPECT_EQ(journal.edits.back().second["type"], "drag_end");
+  EXPECT_EQ(journal.snapshots.count(s->seq()), 1u) << "the release is snapshotted";
+  const json scene = s->sceneJson();
+  EXPECT_FALSE(scene["model"].contains("handles"));
+  // The point is free: the watcher drags another point and the first one is not pulled back.
+  const double z = scene["model"]["b"]["points"][6][2].get<double>();
+  s->post(watcher, {{"type", "drag"}, {"op", 1}, {"target", {{"curve", "b"}, {"index", 3}}}, {"position", {3.0, 1.0, 0.2}}});
+  s->post(watcher, {{"type", "drag_end"}, {"op", 2}, {"target", {{"curve", "b"}, {"index", 3}}}});
+  ex.runAll();
+  EXPECT_FALSE(s->sceneJson()["model"].contains("handles"));
+  EXPECT_NE(s->sceneJson()["model"]["b"]["points"][6][2].get<double>(), 0.9) << "not pulled to the old pointer";
+  EXPECT_GT(std::abs(z), 0.0);
+}
+
 TEST(Session, DragsQueuedWhileBusyAreCoalescedLatestWins) {
   JoinedEditor e;
   auto& [ex, journal, s, inbox, pid] = e;
