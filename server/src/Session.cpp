@@ -945,7 +945,11 @@ void Session::handle(const Work& work) {
   }
   if (type == "_release") {
     // The drag_end the departed participant did not send, journalled like one (a replay then
-    // releases the handle too).
+    // releases the handle too) — if its drag is still on.
+    std::string path, message;
+    const json canonical = canonicalTarget(m["target"], path, message);
+    if (canonical.is_null() || std::find(dragHandles_.begin(), dragHandles_.end(), canonical) == dragHandles_.end())
+      return;
     const json end{{"type", "drag_end"}, {"target", m["target"]}};
     if (!apply(0, end, false)) return;
     commit(0, end, {});
@@ -999,12 +1003,13 @@ void Session::handle(const Work& work) {
     runSolver(frame, false);
   } else if (type == "drag_end") {
     const int iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
-    release(m["target"], iterations);
     {
+      // Before the release: a participant that leaves once it has `solved` has no drag left to end.
       std::lock_guard<std::mutex> lock(mutex_);
       auto it = participants_.find(pid);
       if (it != participants_.end()) it->second.dragging = nullptr;
     }
+    release(m["target"], iterations);
     broadcast(presenceMessage());
   } else if (type == "solve") {
     SolveLimits limits;
