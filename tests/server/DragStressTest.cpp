@@ -364,12 +364,7 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, DragStress, ::testing::ValuesIn(presetFiles()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string n = info.param.substr(0, info.param.size() - 5);
-                           for (char& c : n)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return n;
-                         });
+                         devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
 
 }  // namespace
 }  // namespace devsurf::server

@@ -4,6 +4,7 @@
 // without editing it).
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -30,6 +31,16 @@ inline std::vector<std::string> presetFiles() {
 inline nlohmann::json readPreset(const std::string& name) {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
   return nlohmann::json::parse(file);
+}
+
+/// A parameterized test's name for a preset file: "composite-curved-fold.json" → "composite_curved_fold".
+/// Use as INSTANTIATE_TEST_SUITE_P(…, ValuesIn(presetFiles()), presetTestName).
+template <class Info>
+std::string presetTestName(const Info& info) {
+  std::string n = info.param.substr(0, info.param.size() - 5);
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return n;
 }
 
 }  // namespace devsurf::testing

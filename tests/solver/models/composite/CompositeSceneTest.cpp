@@ -13,6 +13,7 @@
 #include "CompositeFixtures.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/proto/Scene.h"
+#include "support/Presets.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -215,12 +216,7 @@ std::vector<std::string> compositePresets() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, CompositePresetQuality, ::testing::ValuesIn(compositePresets()),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string n = info.param.substr(0, info.param.size() - 5);
-                           for (char& c : n)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return n;
-                         });
+                         devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
 
 TEST(CompositePresetQuality, EveryPresetIsFound) { EXPECT_GE(compositePresets().size(), 4u); }
 
