@@ -1,0 +1,250 @@
+"""The WebSocket protocol and REST API of `devsurf serve` for strip sessions and jobs."""
+import asyncio
+import json
+import os
+import random
+import shutil
+import tempfile
+import time
+import unittest
+
+import websockets
+
+from daemon import (BIN, COMPOSITE, CONICAL, DEMO, QUASI, ROOT, Daemon, DaemonTestCase, drag, join,
+                    numbers, recv_until)
+
+
+class ProtocolTest(DaemonTestCase):
+    PREFIX = "devsurf-proto-"
+    DAEMON_ARGS = ("--max-message", "65536")
+
+    def new_session(self):
+        with open(DEMO) as f:
+            scene = json.load(f)
+        scene["model"].pop("handles", None)
+        status, headers, body = self.daemon.json("POST", "/api/sessions", scene)
+        self.assertEqual(status, 201, body)
+        self.assertTrue(headers["Location"].endswith(body["id"]))
+        self.assertEqual(len(body["edit_token"]), 32)
+        return body
+
+    def test_drag_streams_iterates_until_the_strip_is_developable(self):
+        s = self.new_session()
+
+        async def run():
+            ws, state = await join(self.daemon.port, s["id"], s["edit_token"])
+            self.assertEqual(state["type"], "state")
+            self.assertEqual(state["role"], "edit")
+            for k in range(1, 7):
+                await ws.send(drag(k, 0.3 * k))
+                await asyncio.sleep(0.02)
+            await ws.send(json.dumps({"type": "drag_end", "op": "end", "target": {"curve": "b", "index": 6}}))
+            seen = await recv_until(ws, lambda m: m["type"] == "solved")
+            await ws.close()
+            return seen
+
+        seen = asyncio.run(run())
+        acks = [m for m in seen if m["type"] == "ack"]
+        self.assertEqual({a["op"] for a in acks}, {1, 2, 3, 4, 5, 6, "end"})
+        seqs = [a["seq"] for a in acks]
+        self.assertEqual(seqs, sorted(seqs))
+        iterates = [m for m in seen if m["type"] == "iterate"]
+        self.assertGreaterEqual(len(iterates), 3)
+        final = [m for m in iterates if m["seq"] == seen[-1]["seq"]]
+        self.assertLess(final[-1]["metrics"]["warp_angle_max_deg"], 0.05)
+        self.assertLess(seen[-1]["metrics"]["warp_angle_max_deg"], 0.05)
+        geometry = iterates[-1]["geometry"]
+        self.assertEqual(geometry["surface"]["vertices"]["dtype"], "float32")
+        status, _, body = self.daemon.json("GET", f"/api/sessions/{s['id']}", headers={"Authorization": "Bearer " + s["view_token"]})
+        self.assertEqual(status, 200)
+        self.assertAlmostEqual(body["scene"]["model"]["b"]["points"][6][2], 1.8, delta=0.05)
+
+    def test_two_clients_see_each_others_edits_and_presence(self):
+        s = self.new_session()
+
+        async def run():
+            a, _ = await join(self.daemon.port, s["id"], s["edit_token"], "ada")
+            b, state_b = await join(self.daemon.port, s["id"], s["edit_token"], "bob")
+            names = lambda m: sorted(p["name"] for p in m["participants"])
+            await recv_until(a, lambda m: m["type"] == "presence" and names(m) == ["ada", "bob"])
+            await b.send(json.dumps({"type": "presence", "selection": {"curve": "a", "index": 2}}))
+            seen = await recv_until(a, lambda m: m["type"] == "presence" and any(p["selection"] for p in m["participants"]))
+            await b.send(json.dumps({"type": "set_fixed", "op": 1, "target": {"curve": "a", "index": 6}, "fixed": True}))
+            edit = await recv_until(a, lambda m: m["type"] == "edit")
+            update = await recv_until(a, lambda m: m["type"] == "update")
+            await a.close()
+            await b.close()
+            return seen[-1], edit[-1], update[-1]
+
+        presence, edit, update = asyncio.run(run())
+        selection = [p for p in presence["participants"] if p["name"] == "bob"][0]["selection"]
+        self.assertEqual(selection, {"curve": "a", "index": 2})
+        self.assertEqual(edit["edit"]["type"], "set_fixed")
+        self.assertIn({"curve": "a", "index": 6}, update["scene"]["model"]["fixed"])
+
+    def test_view_only_client_watches_but_cannot_edit(self):
+        s = self.new_session()
+
+        async def run():
+            v, state = await join(self.daemon.port, s["id"], s["view_token"])
+            self.assertEqual(state["role"], "view")
+            await v.send(drag("v1", 1.0))
+            err = await recv_until(v, lambda m: m["type"] == "error")
+            e, _ = await join(self.daemon.port, s["id"], s["edit_token"])
+            await e.send(drag("e1", 1.0))
+            it = await recv_until(v, lambda m: m["type"] == "iterate")
+            await v.close()
+            await e.close()
+            return err[-1], it[-1]
+
+        err, iterate = asyncio.run(run())
+        self.assertEqual(err["code"], "forbidden")
+        self.assertEqual(err["op"], "v1")
+        self.assertEqual(iterate["type"], "iterate")
+
+    def test_bad_messages_get_clear_errors_and_the_daemon_keeps_serving(self):
+        s = self.new_session()
+
+        async def run():
+            ws, _ = await join(self.daemon.port, s["id"], s["edit_token"])
+            errors = []
+            for text in ["{not json",
+                         json.dumps({"type": "drag", "op": 1, "target": {"curve": "b", "index": "six"}, "position": [0, 0, 0]}),
+                         json.dumps({"type": "teleport", "op": 2}),
+                         json.dumps({"type": "drag", "op": 3, "target": {"curve": "b", "index": 99}, "position": [0, 0, 0]}),
+                         json.dumps({"type": "drag", "op": 4, "target": {"curve": "b", "index": 2}, "position": [0, 0]}),
+                         json.dumps({"type": "solve", "op": 5, "iterations": 1e9}),
+                         json.dumps({"type": "presence", "selection": None, "name": "x" * 100000})]:
+                await ws.send(text)
+                errors.append((await recv_until(ws, lambda m: m["type"] == "error"))[-1])
+            await ws.send(json.dumps({"type": "ping", "op": "still-there"}))
+            pong = await recv_until(ws, lambda m: m["type"] == "pong")
+            await ws.close()
+            # A wrong token closes the connection after the error.
+            bad = await websockets.connect(f"ws://127.0.0.1:{self.daemon.port}/ws")
+            await bad.send(json.dumps({"type": "join", "session": s["id"], "token": "0" * 32}))
+            unauthorized = json.loads(await bad.recv())
+            closed = False
+            try:
+                await asyncio.wait_for(bad.recv(), 5)
+            except websockets.ConnectionClosed:
+                closed = True
+            return errors, pong[-1], unauthorized, closed
+
+        errors, pong, unauthorized, closed = asyncio.run(run())
+        self.assertEqual(errors[0]["code"], "invalid_json")
+        self.assertEqual(errors[1]["path"], "target.index")
+        self.assertEqual(errors[2]["path"], "type")
+        self.assertIn("unknown", errors[2]["message"])
+        self.assertEqual(errors[3]["path"], "target.index")
+        self.assertEqual(errors[4]["path"], "position")
+        self.assertEqual(errors[5]["path"], "iterations")
+        self.assertEqual(errors[6]["code"], "too_large")
+        self.assertEqual(pong["op"], "still-there")
+        self.assertEqual(unauthorized["code"], "unauthorized")
+        self.assertTrue(closed)
+        status, _, body = self.daemon.json("GET", "/api/health")
+        self.assertEqual((status, body["status"]), (200, "ok"))
+
+    def test_rest_sessions_tokens_export_and_delete(self):
+        s = self.new_session()
+        auth = lambda t: {"Authorization": "Bearer " + t}
+        self.assertEqual(self.daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth("nope"))[0], 404)
+        status, _, body = self.daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth(s["view_token"]))
+        self.assertEqual(status, 200)
+        self.assertEqual(body["scene"]["format"], "devsurf-scene")
+        status, _, raw = self.daemon.request("GET", f"/api/sessions/{s['id']}/export?format=obj", headers=auth(s["view_token"]))
+        self.assertEqual(status, 200)
+        self.assertEqual(raw.decode().count("\nf "), 199 * 7)
+        self.assertEqual(self.daemon.json("GET", f"/api/sessions/{s['id']}/export?format=step", headers=auth(s["view_token"]))[0], 400)
+        self.assertEqual(self.daemon.json("DELETE", f"/api/sessions/{s['id']}", headers=auth(s["view_token"]))[0], 403)
+        self.assertEqual(self.daemon.request("DELETE", f"/api/sessions/{s['id']}", headers=auth(s["edit_token"]))[0], 204)
+        self.assertEqual(self.daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth(s["edit_token"]))[0], 404)
+        # Malformed bodies.
+        status, _, body = self.daemon.json("POST", "/api/sessions", b"{oops")
+        self.assertEqual((status, body["error"]["code"]), (400, "invalid_json"))
+        status, _, body = self.daemon.json("POST", "/api/sessions", {"format": "devsurf-scene", "version": 1, "model": {"kind": "sphere"}})
+        self.assertEqual((status, body["error"]["path"]), (400, "model.kind"))
+        demos = self.daemon.json("GET", "/api/sessions")[2]["sessions"]
+        self.assertEqual(demos[0]["id"], "demo-strip-lifted-corner")
+
+    def test_job_lifecycle_with_idempotency_and_cancel(self):
+        with open(os.path.join(ROOT, "examples", "strip-twisted.json")) as f:
+            scene = json.load(f)
+        status, headers, body = self.daemon.json("POST", "/api/jobs", scene, {"Idempotency-Key": "k1"})
+        self.assertEqual(status, 202)
+        job = body["id"]
+        self.assertEqual(headers["Location"], "/api/jobs/" + job)
+        status, _, again = self.daemon.json("POST", "/api/jobs", scene, {"Idempotency-Key": "k1"})
+        self.assertEqual((status, again["id"]), (200, job))
+        other = dict(scene, name="another")
+        self.assertEqual(self.daemon.json("POST", "/api/jobs", other, {"Idempotency-Key": "k1"})[0], 422)
+        for _ in range(300):
+            status, headers, body = self.daemon.json("GET", "/api/jobs/" + job)
+            if body["state"] == "succeeded":
+                break
+            self.assertIn("Retry-After", headers)
+            time.sleep(0.05)
+        self.assertEqual(body["state"], "succeeded")
+        self.assertLess(body["report"]["metrics"]["warp_angle_max_deg"], 0.05)
+        status, _, raw = self.daemon.request("GET", f"/api/jobs/{job}/result?format=obj")
+        self.assertEqual(status, 200)
+        self.assertTrue(raw.startswith(b"# "))
+        self.assertEqual(self.daemon.json("POST", f"/api/jobs/{job}/cancel")[0], 409)
+        # A long job is cancelled while running.
+        long = json.loads(json.dumps(scene))
+        long["solver"] = {"iterations": 10000, "residual_tolerance": 0, "relative_change_tolerance": 0}
+        n = 300
+        long["model"]["a"]["points"] = [[i * 0.02, 0, 0] for i in range(n)]
+        long["model"]["b"]["points"] = [[i * 0.02, 1, 0.001 * i] for i in range(n)]
+        long["model"]["fixed"] = [{"curve": "a", "index": 0}]
+        job2 = self.daemon.json("POST", "/api/jobs", long)[2]["id"]
+        time.sleep(0.3)
+        self.assertEqual(self.daemon.json("POST", f"/api/jobs/{job2}/cancel")[0], 202)
+        for _ in range(200):
+            state = self.daemon.json("GET", "/api/jobs/" + job2)[2]["state"]
+            if state == "cancelled":
+                break
+            time.sleep(0.05)
+        self.assertEqual(state, "cancelled")
+        self.assertEqual(self.daemon.json("GET", "/api/jobs/nope")[0], 404)
+
+    def test_openapi_lists_every_route_and_metrics_are_prometheus_text(self):
+        status, _, doc = self.daemon.json("GET", "/api/openapi.json")
+        self.assertEqual(status, 200)
+        self.assertEqual(doc["openapi"], "3.1.0")
+        routes = {"/api/health", "/api/metrics", "/api/openapi.json", "/api/sessions", "/api/sessions/{id}",
+                  "/api/sessions/{id}/export", "/api/jobs", "/api/jobs/{id}", "/api/jobs/{id}/cancel",
+                  "/api/jobs/{id}/result", "/ws"}
+        self.assertEqual(set(doc["paths"]), routes)
+        # Every route the server registers answers (not 404 from an unknown route).
+        with open(os.path.join(ROOT, "server", "src", "Daemon.cpp")) as f:
+            source = f.read()
+        registered = set(re.findall(r's\.(?:Get|Post|Delete)\("([^"]+)"', source))
+        registered |= {re.sub(r"\(\[A-Za-z0-9_-\]\+\)", "{id}", r) for r in re.findall(r's\.(?:Get|Post|Delete)\(R"\(([^)]*\)[^)]*)\)"', source)}
+        self.assertTrue(registered <= routes, registered - routes)
+        status, headers, raw = self.daemon.request("GET", "/api/metrics")
+        self.assertEqual(status, 200)
+        text = raw.decode()
+        for name in ["devsurf_sessions", "devsurf_clients", "devsurf_jobs{state=\"queued\"}", "devsurf_iterations_total",
+                     "devsurf_iteration_seconds_bucket{le=\"+Inf\"}", "devsurf_iteration_seconds_count"]:
+            self.assertIn(name, text)
+        # Every operation of the OpenAPI document is well formed.
+        for path, item in doc["paths"].items():
+            for method, operation in item.items():
+                self.assertIn(method, {"get", "post", "delete"}, path)
+                self.assertIn("responses", operation, f"{method} {path}")
+                self.assertTrue(all(re.fullmatch(r"\d{3}", code) for code in operation["responses"]), f"{method} {path}")
+
+    def test_job_submit_cli_waits_for_the_report(self):
+        out = subprocess.run([BIN, "job", "submit", os.path.join(ROOT, "examples", "strip-cone.json"),
+                              "--server", f"http://127.0.0.1:{self.daemon.port}", "--wait"],
+                             capture_output=True, text=True, timeout=120)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        report = json.loads(out.stdout)
+        self.assertEqual(report["format"], "devsurf-report")
+        self.assertLess(report["metrics"]["warp_angle_max_deg"], 1e-9)
+        bad = subprocess.run([BIN, "job", "submit", DEMO, "--server", "http://127.0.0.1:1"],
+                             capture_output=True, text=True, timeout=60)
+        self.assertEqual(bad.returncode, 1)
+        self.assertIn("cannot reach", bad.stderr)
