@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   server::testing::ManualExecutor ex;
   server::testing::Inbox inbox;
   auto session = std::make_shared<server::Session>("fuzz", presetScene(),
-                                                   server::Session::Tokens{server::sha1Hex("e"), server::sha1Hex("v")},
+                                                   server::Session::Tokens{server::tokenHash("e"), server::tokenHash("v")},
                                                    server::SessionSettings{}, ex.scheduler(), nullptr, nullptr, false);
   const int pid = session->join(server::Role::Edit, "fuzz", inbox.sink());
   ex.runAll();

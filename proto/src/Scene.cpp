@@ -636,7 +636,7 @@ Scene sceneFromText(const std::string& text) {
     document = parseBoundedJson(text);
   } catch (const JsonTooDeep& e) {
     throw SceneError("", "depth", e.what());
-  } catch (const json::exception& e) {
+  } catch (const JsonSyntaxError& e) {
     throw SceneError("", "json", std::string("not valid JSON: ") + e.what());
   }
   return sceneFromJson(document);

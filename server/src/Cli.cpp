@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Daemon.h"
 #include "devsurf/server/SceneSolver.h"
@@ -36,6 +37,7 @@ constexpr const char* kUsage =
     "        [--max-body BYTES] [--max-message BYTES] [--message-rate PER_S]\n"
     "        [--max-control-points N] [--max-iterations N] [--job-workers N]\n"
     "        [--max-jobs N] [--job-timeout-ms MS] [--drag-iterations N] [--release-iterations N]\n"
+    "        [--log-level trace|debug|info|warn|error|off]\n"
     "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
     "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
     "        Submit a batch job; with --wait, show progress and write the report.\n"
@@ -117,6 +119,10 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     const engine::SolveSummary summary = solver.solve(iterations);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const nlohmann::json report = solver.report(summary, ms);
+    if (const std::string bad = proto::nonFinitePath(report); !bad.empty()) {
+      err << "devsurf solve: the solve produced a non-finite value (" << bad << "); no report written\n";
+      return 1;
+    }
     for (const std::string& spec : exports) solver.exportTo(spec);
     if (outPath.empty()) {
       out << report.dump(2) << "\n";
@@ -127,7 +133,12 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
         return 1;
       }
     }
-    return summary.reason == engine::TerminationReason::Diverged ? 1 : 0;
+    if (summary.reason == engine::TerminationReason::Diverged) {
+      err << "devsurf solve: the solver diverged after " << summary.stepsTaken()
+          << " iterations; the report holds the last good state\n";
+      return 1;
+    }
+    return 0;
   } catch (const proto::SceneError& e) {
     err << "devsurf solve: " << (scenePath == "-" ? "<stdin>" : scenePath) << ": " << e.what() << "\n";
     return 2;
@@ -142,6 +153,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
 
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   DaemonOptions o;
+  spdlog::level::level_enum logLevel = spdlog::level::info;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
@@ -165,6 +177,12 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
       else if (a == "--job-timeout-ms") o.jobs.maxRunMs = static_cast<double>(parseNumber(a, value(), 1, 86400000));
       else if (a == "--drag-iterations") o.session.dragIterations = static_cast<int>(parseNumber(a, value(), 1, 100));
       else if (a == "--release-iterations") o.session.releaseIterations = static_cast<int>(parseNumber(a, value(), 0, 1000));
+      else if (a == "--log-level") {
+        const std::string& level = value();
+        logLevel = spdlog::level::from_str(level);
+        if (logLevel == spdlog::level::off && level != "off")
+          throw std::invalid_argument("--log-level: expected trace, debug, info, warn, error, critical or off, got \"" + level + "\"");
+      }
       else throw std::invalid_argument("unknown option " + a);
     }
   } catch (const std::invalid_argument& e) {
@@ -173,6 +191,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
   }
   // Logs go to stderr; stdout carries only the line with the URL (scripts read it).
   if (!spdlog::get("devsurf")) spdlog::set_default_logger(spdlog::stderr_color_mt("devsurf"));
+  spdlog::set_level(logLevel);
   // SIGINT/SIGTERM are taken by a thread of their own (blocked everywhere else).
   sigset_t signals;
   sigemptyset(&signals);

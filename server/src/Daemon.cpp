@@ -28,25 +28,26 @@ class StoreJournal final : public SessionJournal {
   void appendEdit(const std::string& session, std::int64_t seq, const json& edit) override {
     store_.appendEdit(session, seq, edit);
   }
-  void saveSnapshot(const std::string& session, std::int64_t seq, const json& scene) override {
-    store_.saveSnapshot(session, seq, scene);
+  void saveCheckpoint(const std::string& session, const SessionCheckpoint& c) override {
+    store_.saveSnapshot(session, store::Snapshot{c.seq, c.scene, c.state, c.revision});
   }
 
  private:
   store::Store& store_;
 };
 
+/// A REST error (counted by its code in /api/metrics: the daemon's logger reads it back).
 void replyError(httplib::Response& res, int status, const std::string& code, const std::string& message,
                 const std::string& path = "") {
   json e{{"code", code}, {"message", message}};
   if (!path.empty()) e["path"] = path;
   res.status = status;
-  res.set_content(json{{"error", e}}.dump(), "application/json");
+  res.set_content(proto::wireText(json{{"error", e}}), "application/json");
 }
 
 void replyJson(httplib::Response& res, int status, const json& body) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(proto::wireText(body), "application/json");
 }
 
 std::string bearer(const httplib::Request& req) {
@@ -62,7 +63,7 @@ std::optional<json> parseBody(const httplib::Request& req, httplib::Response& re
   } catch (const proto::JsonTooDeep& e) {
     replyError(res, 400, "too_deep", std::string("body: ") + e.what());
     return std::nullopt;
-  } catch (const json::exception& e) {
+  } catch (const proto::JsonSyntaxError& e) {
     replyError(res, 400, "invalid_json", std::string("body is not valid JSON: ") + e.what());
     return std::nullopt;
   }
@@ -101,7 +102,7 @@ transport::Delivery toTransport(Delivery d) {
 }  // namespace
 
 std::string demoToken(const std::string& scenePath, const std::string& role) {
-  return sha1Hex("devsurf demo " + role + " " + std::filesystem::path(scenePath).stem().string()).substr(0, 32);
+  return sha256Hex("devsurf demo " + role + " " + std::filesystem::path(scenePath).stem().string()).substr(0, 32);
 }
 
 /// Per WebSocket connection: which session it joined, and its message budget.
@@ -170,20 +171,43 @@ void Daemon::stop() {
 
 void Daemon::restoreSessions() {
   for (const store::RestoredSession& r : store_->loadSessions()) {
-    try {
-      const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
-      auto session = std::make_shared<Session>(
-          r.session.id, proto::sceneFromJson(scene), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
-          options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
-          journal_.get(), &counters_, r.session.demo);
-      std::vector<std::pair<std::int64_t, json>> edits;
-      for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
-      session->replay(edits, r.lastSeq);
-      std::lock_guard<std::mutex> lock(mutex_);
-      sessions_[r.session.id] = session;
-    } catch (const std::exception& e) {
-      spdlog::error("session {} could not be restored: {}", r.session.id, e.what());
+    std::string reason = r.session.quarantine.value_or("");
+    if (reason.empty() && r.loadError) reason = *r.loadError;
+    if (reason.empty()) {
+      try {
+        const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
+        auto session = std::make_shared<Session>(
+            r.session.id, proto::sceneFromJson(scene), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
+            options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
+            journal_.get(), &counters_, r.session.demo);
+        std::vector<std::pair<std::int64_t, json>> edits;
+        for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
+        session->restore(r.snapshot ? r.snapshot->sessionState : json(), r.snapshot ? r.snapshot->revision : 0, edits,
+                         r.lastSeq);
+        std::lock_guard<std::mutex> lock(mutex_);
+        sessions_[r.session.id] = session;
+        continue;
+      } catch (const std::exception& e) {
+        reason = e.what();
+      }
     }
+    // Kept, never deleted: the store still holds its initial scene, snapshot and journal, and its
+    // last stored scene can be downloaded (GET /api/sessions/{id}/export?format=json).
+    if (!r.session.quarantine) {
+      spdlog::error("session {} could not be restored and is quarantined: {}", r.session.id, reason);
+      try {
+        store_->quarantineSession(r.session.id, reason);
+      } catch (const std::exception& e) {
+        spdlog::error("session {}: cannot record the quarantine: {}", r.session.id, e.what());
+      }
+    }
+    Quarantined q;
+    q.reason = reason;
+    q.tokens = Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash};
+    q.scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
+    q.seq = r.snapshot ? r.snapshot->seq : 0;
+    std::lock_guard<std::mutex> lock(mutex_);
+    quarantined_[r.session.id] = std::move(q);
   }
 }
 
@@ -194,7 +218,16 @@ void Daemon::openDemos() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       demoTokens_[id] = {edit, view};
-      if (sessions_.count(id)) continue;  // restored with its edits
+      if (const auto q = quarantined_.find(id); q != quarantined_.end()) {
+        q->second.tokens = {tokenHash(edit), tokenHash(view)};
+        continue;  // kept as it is; reported by /api/health
+      }
+      if (const auto restored = sessions_.find(id); restored != sessions_.end()) {
+        // Restored with its edits; its public tokens are derived anew (they may have been stored
+        // with an earlier derivation or hash).
+        restored->second->setTokens({tokenHash(edit), tokenHash(view)});
+        continue;
+      }
     }
     try {
       // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first drag
@@ -208,7 +241,7 @@ void Daemon::openDemos() {
 
 std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const std::string& editToken,
                                                const std::string& viewToken, bool demo, const std::string& id) {
-  const Session::Tokens tokens{sha1Hex(editToken), sha1Hex(viewToken)};
+  const Session::Tokens tokens{tokenHash(editToken), tokenHash(viewToken)};
   auto session = std::make_shared<Session>(
       id, scene, tokens, options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
       journal_.get(), &counters_, demo);
@@ -226,6 +259,13 @@ std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const 
   return session;
 }
 
+std::optional<Daemon::Quarantined> Daemon::quarantinedSession(const std::string& id, const std::string& token) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = quarantined_.find(id);
+  if (it == quarantined_.end() || Session::roleOf(it->second.tokens, token) == Role::None) return std::nullopt;
+  return it->second;
+}
+
 std::shared_ptr<Session> Daemon::findSession(const std::string& id) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = sessions_.find(id);
@@ -233,6 +273,10 @@ std::shared_ptr<Session> Daemon::findSession(const std::string& id) const {
 }
 
 void Daemon::checkSceneLimits(const json& scene) const {
+  // Runs before the schema (to refuse what is too large before it is converted), so it reads
+  // only what has the expected type and leaves every other judgement to the schema.
+  if (!scene.is_object())
+    throw proto::SceneError("", "type", "expected a scene: an object with format, version and model");
   int points = 0;
   auto count = [](const json& list) { return list.is_array() ? static_cast<int>(list.size()) : 0; };
   if (scene.contains("model") && scene["model"].is_object()) {
@@ -249,7 +293,10 @@ void Daemon::checkSceneLimits(const json& scene) const {
     throw proto::SceneError("model", "limit",
                             "too many control points (" + std::to_string(points) + "; this server allows " +
                                 std::to_string(options_.maxControlPoints) + ")");
-  const int iterations = scene.value("solver", json::object()).value("iterations", 0);
+  const json* solver = scene.contains("solver") && scene["solver"].is_object() ? &scene["solver"] : nullptr;
+  const long long iterations = solver && solver->contains("iterations") && (*solver)["iterations"].is_number_integer()
+                                   ? (*solver)["iterations"].get<long long>()
+                                   : 0;
   if (iterations > options_.maxIterationsPerRequest && iterations > options_.jobs.maxIterations)
     throw proto::SceneError("solver.iterations", "limit", "at most " + std::to_string(options_.jobs.maxIterations));
 }
@@ -263,7 +310,17 @@ void Daemon::routes() {
   };
   s.set_logger([this](const httplib::Request& req, const httplib::Response& res) {
     ++httpRequests_;
+    // Only the method and path: tokens travel in headers and in WebSocket messages, never here.
     spdlog::debug("{} {} → {}", req.method, req.path, res.status);
+    if (res.status >= 400) {
+      std::string code = "http_" + std::to_string(res.status);
+      try {
+        const json body = json::parse(res.body);
+        if (body.contains("error") && body["error"].contains("code")) code = body["error"]["code"].get<std::string>();
+      } catch (const std::exception&) {
+      }
+      counters_.recordError(code);
+    }
   });
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
     std::string what = "internal error";
@@ -277,7 +334,13 @@ void Daemon::routes() {
   });
 
   s.Get("/api/health", [this](const httplib::Request&, httplib::Response& res) {
-    replyJson(res, 200, {{"status", "ok"}, {"sessions", sessionCount()}, {"jobs_queued", jobs_->queued()}});
+    std::size_t quarantined = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      quarantined = quarantined_.size();
+    }
+    replyJson(res, 200, {{"status", "ok"}, {"sessions", sessionCount()}, {"sessions_quarantined", quarantined},
+                         {"jobs_queued", jobs_->queued()}});
   });
   s.Get("/api/metrics", [this](const httplib::Request&, httplib::Response& res) {
     res.set_content(prometheus(), "text/plain; version=0.0.4");
@@ -321,6 +384,16 @@ void Daemon::routes() {
   auto sessionFor = [this](const httplib::Request& req, httplib::Response& res, Role need) -> std::shared_ptr<Session> {
     auto session = findSession(req.matches[1]);
     const Role role = session ? session->authenticate(bearer(req)) : Role::None;
+    if (!session) {
+      if (const auto q = quarantinedSession(req.matches[1], bearer(req))) {
+        replyError(res, 503, "quarantined",
+                   "this session could not be restored after a restart and is kept unchanged for its owner (" +
+                       q->reason + "); its last stored scene: GET /api/sessions/" + std::string(req.matches[1]) +
+                       "/export?format=json",
+                   "session");
+        return nullptr;
+      }
+    }
     if (!session || role == Role::None) {
       replyError(res, 404, "not_found", "no such session, or the token does not open it");
       return nullptr;
@@ -334,8 +407,11 @@ void Daemon::routes() {
   s.Get(R"(/api/sessions/([A-Za-z0-9_-]+))", [sessionFor](const httplib::Request& req, httplib::Response& res) {
     auto session = sessionFor(req, res, Role::View);
     if (!session) return;
-    replyJson(res, 200, {{"id", session->id()}, {"seq", session->seq()}, {"scene", session->sceneJson()},
-                         {"metrics", session->metricsJson()}, {"participants", session->participantCount()}});
+    // seq, revision, scene and metrics of one checkpoint (the last state shown), read together.
+    const Session::Shown shown = session->shown();
+    replyJson(res, 200, {{"id", session->id()}, {"seq", shown.seq}, {"revision", shown.revision},
+                         {"scene", shown.scene}, {"metrics", shown.metrics},
+                         {"participants", session->participantCount()}});
   });
   s.Delete(R"(/api/sessions/([A-Za-z0-9_-]+))", [this, sessionFor](const httplib::Request& req, httplib::Response& res) {
     auto session = sessionFor(req, res, Role::Edit);
@@ -347,10 +423,17 @@ void Daemon::routes() {
     store_->deleteSession(session->id());
     res.status = 204;
   });
-  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+)/export)", [sessionFor](const httplib::Request& req, httplib::Response& res) {
+  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+)/export)", [this, sessionFor](const httplib::Request& req, httplib::Response& res) {
+    const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
+    if (!findSession(req.matches[1]) && format == "json") {
+      // A quarantined session's last stored scene, for its owner: nothing is lost.
+      if (const auto q = quarantinedSession(req.matches[1], bearer(req))) {
+        res.set_header("Content-Disposition", "attachment; filename=\"" + std::string(req.matches[1]) + ".json\"");
+        return replyJson(res, 200, q->scene);
+      }
+    }
     auto session = sessionFor(req, res, Role::View);
     if (!session) return;
-    const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
     if (format == "json") {
       res.set_header("Content-Disposition", "attachment; filename=\"" + session->id() + ".json\"");
       return replyJson(res, 200, session->sceneJson());
@@ -425,8 +508,9 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     if (it == clients_.end()) return;
     client = it->second;
   }
-  auto reply = [&c](const json& m) { c->send(m.dump()); };
-  auto fail = [&reply](const json& op, const std::string& code, const std::string& message, const std::string& path) {
+  auto reply = [&c](const json& m) { c->send(proto::wireText(m)); };
+  auto fail = [this, &reply](const json& op, const std::string& code, const std::string& message, const std::string& path) {
+    counters_.recordError(code);
     json e{{"type", "error"}, {"code", code}, {"message", message}};
     if (!op.is_null()) e["op"] = op;
     if (!path.empty()) e["path"] = path;
@@ -448,7 +532,7 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     message = proto::parseBoundedJson(text);
   } catch (const proto::JsonTooDeep& e) {
     return fail(nullptr, "too_deep", e.what(), "");
-  } catch (const json::exception& e) {
+  } catch (const proto::JsonSyntaxError& e) {
     return fail(nullptr, "invalid_json", std::string("not valid JSON: ") + e.what(), "");
   }
   // Echoed in the answer only as the schema allows it (an integer, a string of ≤ 64 characters).
@@ -524,8 +608,9 @@ std::string Daemon::prometheus() const {
       << "devsurf_iteration_seconds_count " << cumulative << "\n";
   out << "# HELP devsurf_ws_messages_total WebSocket messages received.\n# TYPE devsurf_ws_messages_total counter\n"
       << "devsurf_ws_messages_total " << counters_.messages.load() << "\n";
-  out << "# HELP devsurf_errors_total Error replies sent.\n# TYPE devsurf_errors_total counter\n"
-      << "devsurf_errors_total " << counters_.errors.load() << "\n";
+  out << "# HELP devsurf_errors_total Errors answered to clients (WebSocket error messages, REST 4xx/5xx), by code.\n"
+      << "# TYPE devsurf_errors_total counter\n";
+  for (const auto& [code, n] : counters_.errorsByCode()) out << "devsurf_errors_total{code=\"" << code << "\"} " << n << "\n";
   out << "# HELP devsurf_http_requests_total HTTP requests served.\n# TYPE devsurf_http_requests_total counter\n"
       << "devsurf_http_requests_total " << httpRequests_.load() << "\n";
   return out.str();

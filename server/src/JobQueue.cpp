@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/SceneSolver.h"
 #include "devsurf/server/Tokens.h"
@@ -36,10 +37,11 @@ void JobQueue::restore() {
 
 JobQueue::Submitted JobQueue::submit(const json& scene, const std::optional<std::string>& key) {
   proto::sceneFromJson(scene);  // validation: throws SceneError naming the field
-  const std::string fingerprint = sha1Hex(scene.dump());
+  const std::string body = scene.dump();
+  const std::string fingerprint = sha256Hex(body);
   if (key) {
     if (auto existing = store_.jobByIdempotencyKey(*key)) {
-      if (existing->idempotencyFingerprint != fingerprint)
+      if (!hashMatches(body, existing->idempotencyFingerprint))
         throw IdempotencyMismatchError("Idempotency-Key \"" + *key + "\" was used for a different scene");
       return {existing->id, false};
     }
@@ -58,7 +60,7 @@ JobQueue::Submitted JobQueue::submit(const json& scene, const std::optional<std:
   try {
     store_.putJob(job);
   } catch (const store::IdempotencyConflictError& e) {  // a concurrent submit with the same key
-    if (e.existingFingerprint() != fingerprint)
+    if (!hashMatches(body, e.existingFingerprint()))
       throw IdempotencyMismatchError("Idempotency-Key \"" + *key + "\" was used for a different scene");
     return {e.existingJobId(), false};
   }
@@ -166,8 +168,15 @@ void JobQueue::run(JobRecord job) {
       job.error = "the solver diverged";
       job.report = solver.report(summary, ms);
     } else {
-      job.state = JobState::Succeeded;
-      job.report = solver.report(summary, ms);
+      json report = solver.report(summary, ms);
+      if (const std::string bad = proto::nonFinitePath(report); !bad.empty()) {
+        // Never stored as a result (it would read back as null).
+        job.state = JobState::Failed;
+        job.error = "the solve produced a non-finite value (" + bad + ")";
+      } else {
+        job.state = JobState::Succeeded;
+        job.report = std::move(report);
+      }
     }
   } catch (const std::exception& e) {
     job.state = JobState::Failed;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Report.h"
 #include "devsurf/server/Tokens.h"
@@ -51,6 +52,13 @@ bool isEdit(const std::string& type) {
   return type != "presence" && type != "ping" && type != "join";
 }
 
+/// The first metric that is not finite, or empty.
+std::string nonFiniteMetric(const json& metrics) {
+  for (const auto& [name, value] : metrics.items())
+    if (!proto::nonFinitePath(value).empty()) return name;
+  return {};
+}
+
 }  // namespace
 
 Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSettings settings,
@@ -69,14 +77,37 @@ Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSetti
   } catch (const SolveFailed& e) {
     throw proto::SceneError("model", "solve", e.what());
   }
+  // Revision 0 is the scene the session was built from, as given (it is stored already: the
+  // initial scene, or the checkpoint a restart builds it from).
+  cachedScene_ = proto::sceneToJson(scene);
+  cachedMetrics_ = json(solver_->metrics());
+  changed_ = false;
+}
+
+Role Session::roleOf(const Tokens& tokens, const std::string& token) {
+  // Compare against both (each in constant time) so the time does not tell which one matched.
+  const bool edit = hashMatches(token, tokens.editHash);
+  const bool view = hashMatches(token, tokens.viewHash);
+  return edit ? Role::Edit : (view ? Role::View : Role::None);
 }
 
 Role Session::authenticate(const std::string& token) const {
-  // Compare against both so the time does not tell which one matched.
-  const std::string hash = sha1Hex(token);
-  const bool edit = constantTimeEquals(hash, tokens_.editHash);
-  const bool view = constantTimeEquals(hash, tokens_.viewHash);
-  return edit ? Role::Edit : (view ? Role::View : Role::None);
+  Tokens tokens;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    tokens = tokens_;
+  }
+  return roleOf(tokens, token);
+}
+
+void Session::setTokens(Tokens tokens) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  tokens_ = std::move(tokens);
+}
+
+Session::Shown Session::shown() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return {shownSeq_, cachedRevision_, cachedScene_, cachedMetrics_};
 }
 
 void Session::rebuild(const proto::Scene& scene) {
@@ -98,9 +129,7 @@ void Session::rebuild(const proto::Scene& scene) {
     lastSummary_ = std::move(summary);
   }
   solver_ = std::move(next);
-  std::lock_guard<std::mutex> lock(mutex_);
-  cachedScene_ = proto::sceneToJson(persistentScene());
-  cachedMetrics_ = json(solver_->metrics());
+  changed_ = true;  // shown (and checkpointed) by the message that reports the change
 }
 
 proto::Scene Session::persistentScene() const {
@@ -333,6 +362,11 @@ json Session::sceneJson() const {
   return cachedScene_;
 }
 
+std::int64_t Session::revision() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return cachedRevision_;
+}
+
 json Session::metricsJson() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return cachedMetrics_;
@@ -352,9 +386,9 @@ int Session::join(Role role, const std::string& name, MessageSink sink) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (static_cast<int>(participants_.size()) >= settings_.maxParticipants) {
-      sink(json{{"type", "error"}, {"code", "session_full"},
+      sink(proto::wireText(json{{"type", "error"}, {"code", "session_full"},
                 {"message", "this session has the maximum of " + std::to_string(settings_.maxParticipants) + " participants"},
-                {"path", "session"}}.dump(),
+                {"path", "session"}}),
            Delivery::Reliable, "");
       return -1;
     }
@@ -430,12 +464,12 @@ void Session::drain() {
       handle(*work);
     } catch (const std::exception& e) {
       // Never let one message take the session down: back to the last committed scene.
-      if (counters_) ++counters_->errors;
       error(work->participant, work->message.value("op", json()), "internal", e.what());
       try {
         dragHandles_.clear();
         releasedHandles_.clear();
         rebuild(proto::sceneFromJson(sceneJson()));
+        changed_ = false;  // the last checkpoint, as every participant was last shown it
       } catch (const std::exception&) {
       }
     }
@@ -450,11 +484,11 @@ void Session::send(int participant, const json& message, Delivery d, const std::
     if (it == participants_.end()) return;
     sink = it->second.sink;
   }
-  sink(message.dump(), d, key);
+  sink(proto::wireText(message), d, key);
 }
 
 void Session::broadcast(const json& message, Delivery d, const std::string& key) {
-  const std::string text = message.dump();
+  const std::string text = proto::wireText(message);
   std::vector<MessageSink> sinks;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -469,7 +503,7 @@ void Session::error(int participant, const json& op, const std::string& code,
   json e{{"type", "error"}, {"code", code}, {"message", message}};
   if (!op.is_null()) e["op"] = op;
   if (!path.empty()) e["path"] = path;
-  if (counters_) ++counters_->errors;
+  if (counters_) counters_->recordError(code);
   send(participant, e);
 }
 
@@ -495,6 +529,7 @@ json Session::stateMessage(int participant) const {
   return {{"type", "state"},
           {"session", id_},
           {"seq", seq_.load()},
+          {"revision", cachedRevision_},
           {"you", participant},
           {"role", it != participants_.end() && it->second.role == Role::Edit ? "edit" : "view"},
           {"scene", cachedScene_},
@@ -515,11 +550,15 @@ void Session::pushUndo(const proto::Scene& before) {
   redo_.clear();
 }
 
-void Session::commit(int participant, const json& edit, const std::vector<json>& ops) {
+void Session::commit(int participant, const json& edit, const std::vector<json>& ops, const json& result) {
   const std::int64_t seq = ++seq_;
   json logged = edit;
   logged.erase("op");
-  if (journal_) journal_->appendEdit(id_, seq, logged);  // durable before the ack
+  if (journal_) {
+    json entry = logged;
+    if (!result.is_null()) entry["result"] = result;
+    journal_->appendEdit(id_, seq, entry);  // durable before the ack
+  }
   for (const json& op : ops) {
     json ack{{"type", "ack"}, {"seq", seq}};
     if (!op.is_null()) ack["op"] = op;
@@ -532,7 +571,7 @@ void Session::commit(int participant, const json& edit, const std::vector<json>&
     for (auto& [id, p] : participants_)
       if (id != participant && p.ready) others.push_back(p.sink);
   }
-  const std::string text = notice.dump();
+  const std::string text = proto::wireText(notice);
   for (auto& s : others) s(text, Delivery::Reliable, "");
 }
 
@@ -808,21 +847,20 @@ bool Session::applyCurveEdit(int participant, const json& edit, bool replaying, 
 
 void Session::publishSolve(bool final) {
   const std::int64_t seq = seq_.load();
-  json metrics = json(solver_->metrics());
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    cachedMetrics_ = metrics;
-  }
+  json metrics;
+  json geometry = geometryJson(&metrics);
+  const std::string bad = nonFiniteMetric(metrics);
+  if (!bad.empty()) return rollBack("the solve gave a non-finite " + bad);
+  if (!showState()) return;
   const std::string residual = solver_->isQuasiStrip() ? "objective" : "normal_variation";
-  broadcast({{"type", "iterate"}, {"seq", seq}, {"iteration", lastSummary_.stepsTaken()},
+  broadcast({{"type", "iterate"}, {"seq", seq}, {"revision", revision_}, {"iteration", lastSummary_.stepsTaken()},
              {"residuals", {{residual, metrics.value(residual, 0.0)}}},
              {"metrics", metrics},
              {"time_ms", lastSummary_.totalMs},
-             {"geometry", geometryJson()}},
+             {"geometry", std::move(geometry)}},
             Delivery::Latest, "iterate");
   if (final) {
-    settleState(true);
-    broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metrics},
+    broadcast({{"type", "solved"}, {"seq", seq}, {"revision", revision_}, {"metrics", metrics},
                {"reason", solver_->keepsInputGeometry() && !solver_->termination().empty()
                               ? solver_->termination()
                               : std::string(engine::terminationReasonName(lastSummary_.reason))},
@@ -839,9 +877,11 @@ bool Session::runSolver(SolveLimits limits, bool final) {
   limits.hardBand = settings_.dragHardBand;
   limits.firstIteration = scheduleIteration_;
   bool interrupted = false;
+  std::string failure;  // a state that must not be shown: rolled back after the solve returns
   int streamedIteration = 0;
-  // An iterate as the participants get it (geometry, metrics, residuals by term name).
-  auto stream = [this, seq, &streamedIteration](const engine::IterationRecord& r) {
+  // An iterate as the participants get it (geometry, metrics, residuals by term name), made
+  // durable first (checkpoint): whatever a participant is shown, a restart restores.
+  auto stream = [this, seq, &streamedIteration, &failure](const engine::IterationRecord& r) {
     const auto started = std::chrono::steady_clock::now();
     json residuals = json::object();
     const engine::Problem& terms = problem();  // per-term residuals by name (same names summed)
@@ -851,7 +891,12 @@ bool Session::runSolver(SolveLimits limits, bool final) {
     }
     json metrics;
     json geometry = geometryJson(&metrics);
-    broadcast({{"type", "iterate"}, {"seq", seq}, {"iteration", r.iteration},
+    if (const std::string bad = nonFiniteMetric(metrics); !bad.empty()) {
+      failure = "the solve gave a non-finite " + bad;
+      return false;
+    }
+    if (!checkpoint(&failure)) return false;
+    broadcast({{"type", "iterate"}, {"seq", seq}, {"revision", revision_}, {"iteration", r.iteration},
                {"residuals", residuals},
                {"hard_max", r.hardResidualMax},
                {"step_scale", r.stepScale},
@@ -862,36 +907,41 @@ bool Session::runSolver(SolveLimits limits, bool final) {
     streamedIteration = r.iteration;
     lastStreamed_ = std::chrono::steady_clock::now();
     lastStreamMs_ = std::chrono::duration<double, std::milli>(lastStreamed_ - started).count();
+    return true;
   };
   // Every iterate is streamed unless the last one went out less than streamIntervalMs ago (the
   // geometry of a large model costs more than its iteration: folded annulus 50 vs 12 ms); the
   // last iterate of every solve always goes out.
   auto onIteration = [this, &interrupted, &stream](const engine::IterationRecord& r) {
     if (r.iteration == 0) return !(interrupted = hasQueuedWork());
+    changed_ = true;
     if (counters_) counters_->recordIteration(r.totalMs);
     const double since = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - lastStreamed_).count();
     // The first step of every solve goes out at once (a drag message's answer: the latency the
     // pointer feels), the rest at most every interval.
-    if (r.iteration == 1 || since >= std::max(settings_.streamIntervalMs, 2.0 * lastStreamMs_)) stream(r);
+    if ((r.iteration == 1 || since >= std::max(settings_.streamIntervalMs, 2.0 * lastStreamMs_)) && !stream(r))
+      return false;  // a state that must not be shown: stop here, roll back below
     return !(interrupted = hasQueuedWork());
   };
   const engine::SolveSummary summary = solver_->solve(limits, onIteration);
   scheduleIteration_ += summary.stepsTaken();
   // The last iterate goes out unless newer work interrupted the solve (that work's first step
   // follows at once and supersedes it).
-  if (!interrupted && summary.stepsTaken() > 0 && streamedIteration != summary.iterations.back().iteration)
+  if (failure.empty() && !interrupted && summary.stepsTaken() > 0 &&
+      streamedIteration != summary.iterations.back().iteration)
     stream(summary.iterations.back());
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    cachedMetrics_ = json(solver_->metrics());
+  if (!failure.empty()) {
+    rollBack(failure);
+    return true;  // the interaction ended here: nothing more to show
   }
   if (summary.reason == engine::TerminationReason::Diverged) {
+    if (counters_) counters_->recordError("diverged");
     broadcast({{"type", "error"}, {"code", "diverged"}, {"seq", seq},
                {"message", "the solver diverged; the session keeps its last good state"}});
   }
   if (final && !interrupted) {
-    settleState(true);  // what a client reads after `solved` is what a restart restores
-    broadcast({{"type", "solved"}, {"seq", seq}, {"metrics", metricsJson()},
+    if (!showState()) return true;  // what a client reads after `solved` is what a restart restores
+    broadcast({{"type", "solved"}, {"seq", seq}, {"revision", revision_}, {"metrics", metricsJson()},
                {"reason", engine::terminationReasonName(summary.reason)},
                {"iterations", summary.stepsTaken()},
                {"quality", solver_->quality().toJson()}});
@@ -930,6 +980,7 @@ void Session::handle(const Work& work) {
   const int pid = work.participant;
 
   if (type == "_state") {
+    showState();  // what the newcomer is shown is durable like everything else shown
     send(pid, stateMessage(pid));  // first message the participant sees …
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -954,8 +1005,6 @@ void Session::handle(const Work& work) {
     if (!apply(0, end, false)) return;
     commit(0, end, {});
     release(m["target"], settings_.releaseIterations);
-    ++editsSinceSnapshot_;
-    settleState(false);
     return;
   }
   if (type == "ping") {
@@ -986,7 +1035,10 @@ void Session::handle(const Work& work) {
   if (!apply(pid, m, false)) return;
   std::vector<json> ops = work.coalescedOps;
   ops.push_back(op);
-  commit(pid, m, ops);
+  // Undo and redo restore a scene from a history that is not persisted: the journal keeps the
+  // scene they produced, so a restart between the ack and the checkpoint still has it.
+  const json result = type == "undo" || type == "redo" ? proto::sceneToJson(persistentScene()) : json();
+  commit(pid, m, ops, result);
 
   if (type == "drag") {
     bool started = false;  // first drag message of this target by this participant
@@ -1017,62 +1069,104 @@ void Session::handle(const Work& work) {
     limits.timeBudgetMs = settings_.releaseTimeBudgetMs;
     limits.hardTolerance = settings_.releaseHardTolerance;
     runSolver(limits, true);
-  } else {
-    broadcast({{"type", "update"}, {"seq", seq_.load()}, {"scene", sceneJson()}, {"metrics", metricsJson()},
-               {"geometry", geometryJson()},
+  } else if (showState()) {
+    broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
+               {"metrics", metricsJson()}, {"geometry", geometryJson()},
                {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
   }
-  ++editsSinceSnapshot_;
-  settleState(false);
 }
 
-void Session::settleState(bool solved) {
+json Session::sessionStateJson() const {
+  return {{"drag_iterations", settings_.dragIterations}, {"release_iterations", settings_.releaseIterations}};
+}
+
+bool Session::checkpoint(std::string* failure) {
+  json scene = proto::sceneToJson(persistentScene());
+  json metrics = json(solver_->metrics());
+  std::string bad;
+  if (const std::string path = proto::nonFinitePath(scene); !path.empty()) bad = "number at " + path;
+  else if (const std::string m = nonFiniteMetric(metrics); !m.empty()) bad = m;
+  if (!bad.empty()) {
+    if (failure) *failure = "the solve gave a non-finite " + bad;
+    return false;
+  }
+  SessionCheckpoint c{seq_.load(), revision_ + 1, std::move(scene), sessionStateJson()};
+  if (journal_) journal_->saveCheckpoint(id_, c);  // durable before anyone is shown it
+  revision_ = c.revision;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    cachedScene_ = proto::sceneToJson(persistentScene());
+    cachedScene_ = std::move(c.scene);
+    cachedMetrics_ = std::move(metrics);
+    cachedRevision_ = revision_;
+    shownSeq_ = c.seq;
   }
-  // A snapshot every snapshotEvery edits, and after every solve that ended an interaction (a
-  // release, Solve) — before its `solved` goes out: those run under time budgets, so replaying
-  // them would not give back what the participants read; the snapshot does.
-  if (journal_ && (solved || editsSinceSnapshot_ >= settings_.snapshotEvery) && dragHandles_.empty()) {
-    journal_->saveSnapshot(id_, seq_.load(), sceneJson());
-    editsSinceSnapshot_ = 0;
-  }
+  changed_ = false;
+  return true;
 }
 
-void Session::replay(const std::vector<std::pair<std::int64_t, json>>& edits, std::int64_t lastSeq) {
+bool Session::showState() {
+  // A new seq is a new state even when the geometry did not move (a drag_end of a quasi strip).
+  if (!changed_) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (shownSeq_ == seq_.load()) return true;
+  }
+  std::string failure;
+  if (checkpoint(&failure)) return true;
+  rollBack(failure);
+  return false;
+}
+
+void Session::rollBack(const std::string& why) {
+  if (counters_) counters_->recordError("diverged");
+  dragHandles_.clear();
+  releasedHandles_.clear();
+  rebuild(proto::sceneFromJson(sceneJson()));  // the last checkpoint: what everyone was last shown
+  // Checkpointed again at the current seq, so a restart does not re-apply the edits that led here.
+  checkpoint(nullptr);
+  broadcast({{"type", "error"}, {"code", "diverged"}, {"seq", seq_.load()}, {"revision", revision_},
+             {"message", why + "; the session went back to its last good state"}});
+}
+
+void Session::restore(const json& state, std::int64_t revision,
+                      const std::vector<std::pair<std::int64_t, json>>& edits, std::int64_t lastSeq) {
+  if (state.is_object()) {
+    settings_.dragIterations = state.value("drag_iterations", settings_.dragIterations);
+    settings_.releaseIterations = state.value("release_iterations", settings_.releaseIterations);
+  }
+  revision_ = revision;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    cachedRevision_ = revision;
+    shownSeq_ = edits.empty() ? lastSeq : edits.front().first - 1;
+  }
+  // The edits acknowledged after the last checkpoint had shown nothing yet: they are applied,
+  // not solved (a solve under a time budget would not give back what the daemon computed, and
+  // nobody saw it). Undo and redo carry the scene they produced.
   for (const auto& [seq, edit] : edits) {
+    seq_ = seq;
     const std::string type = edit.value("type", "");
-    if (!apply(0, edit, true)) continue;
-    if (keepsInput()) continue;  // solved whole by apply
-    // The same limits as when the edit was made (the time budgets make a replay approximate: see
-    // docs/architecture.md).
-    SolveLimits limits;
-    limits.hardBand = settings_.dragHardBand;
-    if (type == "drag") {
-      limits.iterations = settings_.dragIterations;
-      limits.timeBudgetMs = settings_.dragTimeBudgetMs;
-      solver_->solve(limits);
+    if ((type == "undo" || type == "redo") && edit.contains("result")) {
+      dragHandles_.clear();
+      releasedHandles_.clear();
+      rebuild(proto::sceneFromJson(edit["result"]));
     } else if (type == "drag_end") {
-      limits.iterations = edit.value("iterations", settings_.releaseIterations);
-      limits.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
-      if (limits.iterations > 0) solver_->solve(limits);
       releaseDragHandle(edit["target"]);
-      limits.hardTolerance = settings_.releaseHardTolerance;
-      limits.regularization = settings_.polishRegularization;
-      limits.projectionOnly = true;
-      solver_->solve(limits);
-    } else if (type == "solve") {
-      limits.iterations = edit.value("iterations", settings_.releaseIterations);
-      limits.timeBudgetMs = settings_.releaseTimeBudgetMs;
-      limits.hardTolerance = settings_.releaseHardTolerance;
-      solver_->solve(limits);
+    } else {
+      apply(0, edit, true);
     }
   }
   seq_ = lastSeq;
-  std::lock_guard<std::mutex> lock(mutex_);
-  cachedScene_ = proto::sceneToJson(persistentScene());
-  cachedMetrics_ = json(solver_->metrics());
+  if (!dragHandles_.empty() || !releasedHandles_.empty()) {
+    // Temporary handles end with their participants, and after a restart there are none.
+    const proto::Scene scene = persistentScene();
+    dragHandles_.clear();
+    releasedHandles_.clear();
+    rebuild(scene);
+  }
+  if (!edits.empty()) {
+    changed_ = true;  // a new revision at the last seq, even when the edits changed nothing (drag_end)
+    showState();
+  }
 }
 
 }  // namespace devsurf::server

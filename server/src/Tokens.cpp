@@ -1,42 +1,56 @@
 #include "devsurf/server/Tokens.h"
 
+#include <array>
 #include <cstdio>
-#include <random>
+#include <stdexcept>
 
-#include <boost/uuid/detail/sha1.hpp>
+#include <openssl/crypto.h>
+#include <openssl/evp.h>
+#include <openssl/rand.h>
 
 namespace devsurf::server {
+namespace {
 
-std::string randomToken() {
-  static thread_local std::random_device device;
-  std::string out;
-  char buffer[9];
-  for (int i = 0; i < 4; ++i) {
-    std::snprintf(buffer, sizeof(buffer), "%08x", static_cast<unsigned>(device()));
-    out += buffer;
+std::string toHex(const unsigned char* bytes, std::size_t n) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out(2 * n, '0');
+  for (std::size_t i = 0; i < n; ++i) {
+    out[2 * i] = kDigits[bytes[i] >> 4];
+    out[2 * i + 1] = kDigits[bytes[i] & 0xf];
   }
   return out;
 }
 
-std::string sha1Hex(const std::string& text) {
-  boost::uuids::detail::sha1 sha;
-  sha.process_bytes(text.data(), text.size());
-  boost::uuids::detail::sha1::digest_type digest;
-  sha.get_digest(digest);
-  std::string out;
-  char buffer[9];
-  for (unsigned word : digest) {
-    std::snprintf(buffer, sizeof(buffer), "%08x", word);
-    out += buffer;
-  }
-  return out;
+std::string digestHex(const EVP_MD* md, const std::string& text) {
+  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+  unsigned int length = 0;
+  if (EVP_Digest(text.data(), text.size(), digest.data(), &length, md, nullptr) != 1)
+    throw std::runtime_error("OpenSSL digest failed");
+  return toHex(digest.data(), length);
+}
+
+}  // namespace
+
+std::string randomToken() {
+  std::array<unsigned char, 16> bytes{};
+  if (RAND_bytes(bytes.data(), static_cast<int>(bytes.size())) != 1)
+    throw std::runtime_error("OpenSSL RAND_bytes failed: no random token");
+  return toHex(bytes.data(), bytes.size());
+}
+
+std::string sha256Hex(const std::string& text) { return digestHex(EVP_sha256(), text); }
+
+std::string tokenHash(const std::string& token) { return sha256Hex(token); }
+
+bool hashMatches(const std::string& token, const std::string& storedHash) {
+  // Legacy rows hold SHA-1 (40 hex digits); everything written now is SHA-256 (64).
+  const std::string hash = storedHash.size() == 40 ? digestHex(EVP_sha1(), token) : sha256Hex(token);
+  return constantTimeEquals(hash, storedHash);
 }
 
 bool constantTimeEquals(const std::string& a, const std::string& b) {
   if (a.size() != b.size()) return false;
-  unsigned char diff = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
-  return diff == 0;
+  return CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0;
 }
 
 }  // namespace devsurf::server

@@ -43,7 +43,21 @@ TEST(BoundedJson, RefusesADeepDocumentBeforeParsingIt) {
   const std::string ok = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
   EXPECT_EQ(parseBoundedJson(ok).size(), 1u);
   EXPECT_THROW(parseBoundedJson("[" + ok + "]"), JsonTooDeep);
-  EXPECT_THROW(parseBoundedJson("{\"a\": [1,"), nlohmann::json::parse_error);
+  EXPECT_THROW(parseBoundedJson("{\"a\": [1,"), JsonSyntaxError);
+  // Syntax errors say where and why, never repeating the input (nlohmann quotes what it read).
+  try {
+    parseBoundedJson("{\"a\": \"" + std::string(100000, 'x') + "\\q\"}");
+    ADD_FAILURE() << "accepted";
+  } catch (const JsonSyntaxError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 300u) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("xxxx"), std::string::npos);
+  }
+  try {
+    parseBoundedJson("{\"a\": \"\xff\xfe\"}");
+    ADD_FAILURE() << "accepted invalid UTF-8";
+  } catch (const JsonSyntaxError& e) {
+    for (const char ch : std::string(e.what())) EXPECT_TRUE(ch >= 0x20 && ch < 0x7f) << e.what();
+  }
 }
 
 TEST(BoundedJson, EchoesOnlyShortIdentifiers) {

@@ -28,7 +28,7 @@ proto::Scene exampleScene(const std::string& name) {
 }
 
 std::shared_ptr<Session> makeSession(ManualExecutor& ex, const std::string& example, SessionJournal* journal) {
-  return std::make_shared<Session>("q1", exampleScene(example), Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+  return std::make_shared<Session>("q1", exampleScene(example), Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
@@ -250,7 +250,7 @@ TEST(QuasiStripSession, ReplayingTheJournalRestoresDragsAndParams) {
   ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
   ManualExecutor ex2;
   auto restored = makeSession(ex2, "quasi-strip-hull", nullptr);
-  restored->replay(e.journal.edits, e.journal.edits.back().first);
+  restored->restore(nullptr, 0, e.journal.edits, e.journal.edits.back().first);
   EXPECT_EQ(restored->seq(), e.session->seq());
   EXPECT_EQ(restored->sceneJson(), e.session->sceneJson());
   EXPECT_NEAR(restored->metricsJson()["warp_angle_max_deg"].get<double>(),
@@ -310,7 +310,7 @@ TEST(ConicalStripSession, DraggingAPointOfPAndSettingParamsRebuildTheStrip) {
 
 TEST(StripSession, SetParamsIsRejectedNamingTheOp) {
   ManualExecutor ex;
-  auto s = std::make_shared<Session>("s", exampleScene("strip-twisted"), Session::Tokens{sha1Hex("e"), sha1Hex("v")},
+  auto s = std::make_shared<Session>("s", exampleScene("strip-twisted"), Session::Tokens{tokenHash("e"), tokenHash("v")},
                                      SessionSettings{}, ex.scheduler(), nullptr, nullptr);
   Inbox inbox;
   const int pid = s->join(Role::Edit, "", inbox.sink());

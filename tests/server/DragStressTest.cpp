@@ -182,7 +182,7 @@ struct Fixture {
   explicit Fixture(const std::string& preset) {
     // As the daemon opens a demo: the preset solved first.
     const proto::Scene scene = SceneSolver::solvedScene(proto::sceneFromJson(readPreset(preset)));
-    session = std::make_shared<Session>("drag-stress", scene, Session::Tokens{sha1Hex("e"), sha1Hex("v")},
+    session = std::make_shared<Session>("drag-stress", scene, Session::Tokens{tokenHash("e"), tokenHash("v")},
                                         SessionSettings{}, ex.scheduler(), nullptr, nullptr, true);
     pid = session->join(Role::Edit, "stress", inbox.sink());
     ex.runAll();

@@ -25,7 +25,7 @@ proto::Scene liftedCornerScene() {
 }
 
 std::shared_ptr<Session> makeSession(ManualExecutor& ex, SessionJournal* journal = nullptr) {
-  return std::make_shared<Session>("s1", liftedCornerScene(), Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+  return std::make_shared<Session>("s1", liftedCornerScene(), Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
@@ -214,7 +214,7 @@ TEST(Session, RejectedEditsNameTheFieldAndChangeNothing) {
   EXPECT_EQ(s->seq(), 0);
 }
 
-TEST(Session, ReplayingTheJournalRestoresTheScene) {
+TEST(Session, ARestartRestoresTheLastStateShownExactly) {
   JoinedEditor e;
   auto& [ex, journal, s, inbox, pid] = e;
   s->post(pid, {{"type", "add_handle"}, {"op", 1}, {"target", {{"curve", "a"}, {"index", 6}}}, {"position", {5.5, 0, 1.0}}});
@@ -225,25 +225,76 @@ TEST(Session, ReplayingTheJournalRestoresTheScene) {
   }
   s->post(pid, {{"type", "drag_end"}, {"op", 9}, {"target", {{"curve", "b"}, {"index", 6}}}});
   ex.runAll();
-  // The release ran under a time budget: it is snapshotted, and a restart restores the snapshot
-  // (then replays what came after it, nothing here) as the daemon does.
-  ASSERT_FALSE(journal.snapshots.empty());
-  const auto& [snapshotSeq, snapshot] = *journal.snapshots.rbegin();
-  EXPECT_EQ(snapshotSeq, s->seq());
-  std::vector<std::pair<std::int64_t, json>> after;
-  for (const auto& edit : journal.edits)
-    if (edit.first > snapshotSeq) after.push_back(edit);
+  // Every state shown was checkpointed first, and the release's result is the last checkpoint.
+  ASSERT_FALSE(journal.checkpoints.empty());
+  const SessionCheckpoint& last = journal.checkpoints.back();
+  EXPECT_EQ(last.seq, s->seq());
+  EXPECT_EQ(last.revision, inbox.last("solved")["revision"]);
   ManualExecutor ex2;
-  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(snapshot),
-                                            Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(last.scene),
+                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                             SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
-  restored->replay(after, journal.edits.back().first);
+  restored->restore(last.state, last.revision, journal.editsAfterLastCheckpoint(), journal.edits.back().first);
   EXPECT_EQ(restored->seq(), s->seq());
-  const json a = s->sceneJson(), b = restored->sceneJson();
-  EXPECT_EQ(a["model"]["handles"], b["model"]["handles"]);
-  for (int i = 0; i < 7; ++i)
-    for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(a["model"]["b"]["points"][i][c].get<double>(), b["model"]["b"]["points"][i][c].get<double>(), 1e-9);
+  EXPECT_EQ(restored->revision(), s->revision());
+  EXPECT_EQ(restored->sceneJson(), s->sceneJson());  // bit for bit: the checkpoint's numbers as stored
+}
+
+TEST(Session, EveryMessageThatShowsAStateFollowsItsCheckpoint) {
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
+  for (int k = 1; k <= 5; ++k) {
+    s->post(pid, drag(k, 0.3 * k));
+    ex.runAll();
+  }
+  s->post(pid, {{"type", "drag_end"}, {"op", 9}, {"target", {{"curve", "b"}, {"index", 6}}}});
+  s->post(pid, {{"type", "set_fixed"}, {"op", 10}, {"target", {{"curve", "a"}, {"index", 2}}}, {"fixed", true}});
+  ex.runAll();
+  std::map<std::int64_t, const SessionCheckpoint*> byRevision;
+  std::int64_t previous = 0;
+  for (const SessionCheckpoint& c : journal.checkpoints) {
+    EXPECT_GT(c.revision, previous) << "revisions grow by checkpoint";
+    previous = c.revision;
+    byRevision[c.revision] = &c;
+  }
+  int shown = 0;
+  for (const json& m : inbox.messages) {
+    if (m["type"] != "iterate" && m["type"] != "update" && m["type"] != "solved") continue;
+    ++shown;
+    const auto it = byRevision.find(m["revision"].get<std::int64_t>());
+    ASSERT_NE(it, byRevision.end()) << m["type"] << " of revision " << m["revision"] << " was never checkpointed";
+    EXPECT_EQ(it->second->seq, m["seq"].get<std::int64_t>()) << m["type"];
+    if (m["type"] == "update") {
+      EXPECT_EQ(it->second->scene, m["scene"]);
+    }
+  }
+  EXPECT_GT(shown, 5);
+}
+
+TEST(Session, ARestartInTheMiddleOfADragRestoresTheLastIterateWithoutTheDragHandle) {
+  JoinedEditor e;
+  auto& [ex, journal, s, inbox, pid] = e;
+  for (int k = 1; k <= 4; ++k) {
+    s->post(pid, drag(k, 0.35 * k));
+    ex.runAll();
+  }
+  // Killed here: no drag_end. The last iterate shown is the last checkpoint.
+  const json lastIterate = inbox.last("iterate");
+  const SessionCheckpoint& last = journal.checkpoints.back();
+  ASSERT_EQ(last.revision, lastIterate["revision"]);
+  ManualExecutor ex2;
+  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(last.scene),
+                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
+                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
+  restored->restore(last.state, last.revision, journal.editsAfterLastCheckpoint(), journal.edits.back().first);
+  EXPECT_EQ(restored->seq(), s->seq());
+  EXPECT_EQ(restored->sceneJson()["model"]["b"], last.scene["model"]["b"]);
+  // The drag's temporary handle ended with its participant: a new one joins with none.
+  Inbox fresh;
+  restored->join(Role::Edit, "later", fresh.sink());
+  ex2.runAll();
+  const json state = fresh.last("state");
+  for (const json& h : state["constraints"]["handles"]) EXPECT_FALSE(h["temporary"].get<bool>()) << h;
 }
 
 // ---- composite sessions ----
@@ -258,7 +309,7 @@ proto::Scene curvedFoldScene() {
 }
 
 std::shared_ptr<Session> makeCompositeSession(ManualExecutor& ex, SessionJournal* journal = nullptr) {
-  return std::make_shared<Session>("c1", curvedFoldScene(), Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+  return std::make_shared<Session>("c1", curvedFoldScene(), Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
@@ -357,10 +408,11 @@ TEST(CompositeSession, SwitchingACreaseTypeIsAStructuralEditWithUndoAndRedo) {
   EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "smooth");
   ASSERT_EQ(e.journal.edits.size(), 5u);
   EXPECT_EQ(e.journal.edits[0].second["type"], "set_crease");
-  // The journal replays to the same scene.
+  // The journal alone (no checkpoint) restores the same scene: structural edits are applied,
+  // undo and redo carry the scene they produced.
   ManualExecutor ex2;
   auto restored = makeCompositeSession(ex2);
-  restored->replay(e.journal.edits, e.journal.edits.back().first);
+  restored->restore(nullptr, 0, e.journal.edits, e.journal.edits.back().first);
   EXPECT_EQ(restored->sceneJson()["model"]["edges"], e.session->sceneJson()["model"]["edges"]);
 }
 
@@ -440,7 +492,7 @@ proto::Scene mirroredDevelopmentScene() {
 TEST(CompositeSession, AStateWhoseCreasePatternIsInvalidExportsAsExportFailedNamingFormatAndReason) {
   ManualExecutor ex;
   auto session = std::make_shared<Session>("m1", mirroredDevelopmentScene(),
-                                           Session::Tokens{sha1Hex("edit-token"), sha1Hex("view-token")},
+                                           Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                            SessionSettings{}, ex.scheduler(), nullptr, nullptr);
   for (const std::string format : {"fold", "svg"}) {
     try {
@@ -454,23 +506,6 @@ TEST(CompositeSession, AStateWhoseCreasePatternIsInvalidExportsAsExportFailedNam
   }
   // The surface itself still exports.
   EXPECT_NE(session->exportAs("obj").content.find("\nf "), std::string::npos);
-}
-
-}  // namespace
-}  // namespace devsurf::server
-
-namespace devsurf::server {
-namespace {
-
-TEST(Tokens, AreRandom128BitHexAndHashStably) {
-  const std::string a = randomToken(), b = randomToken();
-  EXPECT_EQ(a.size(), 32u);
-  EXPECT_NE(a, b);
-  EXPECT_EQ(a.find_first_not_of("0123456789abcdef"), std::string::npos);
-  EXPECT_EQ(sha1Hex("abc"), "a9993e364706816aba3e25717850c26c9cd0d89d");  // FIPS 180-1 test vector
-  EXPECT_TRUE(constantTimeEquals("x1", "x1"));
-  EXPECT_FALSE(constantTimeEquals("x1", "x2"));
-  EXPECT_FALSE(constantTimeEquals("x1", "x12"));
 }
 
 }  // namespace

@@ -51,12 +51,22 @@ struct Inbox {
 
 struct MemoryJournal : SessionJournal {
   std::vector<std::pair<std::int64_t, nlohmann::json>> edits;
-  std::map<std::int64_t, nlohmann::json> snapshots;
+  std::map<std::int64_t, nlohmann::json> snapshots;  ///< seq → scene of the newest checkpoint of that seq
+  std::vector<SessionCheckpoint> checkpoints;         ///< every checkpoint, in order
   void appendEdit(const std::string&, std::int64_t seq, const nlohmann::json& edit) override {
     edits.emplace_back(seq, edit);
   }
-  void saveSnapshot(const std::string&, std::int64_t seq, const nlohmann::json& scene) override {
-    snapshots[seq] = scene;
+  void saveCheckpoint(const std::string&, const SessionCheckpoint& c) override {
+    snapshots[c.seq] = c.scene;
+    checkpoints.push_back(c);
+  }
+  /// The edits after the newest checkpoint (what a restart applies on top of it).
+  std::vector<std::pair<std::int64_t, nlohmann::json>> editsAfterLastCheckpoint() const {
+    const std::int64_t after = checkpoints.empty() ? 0 : checkpoints.back().seq;
+    std::vector<std::pair<std::int64_t, nlohmann::json>> out;
+    for (const auto& e : edits)
+      if (e.first > after) out.push_back(e);
+    return out;
   }
 };
 

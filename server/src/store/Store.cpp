@@ -106,6 +106,14 @@ CREATE TABLE jobs (
 ) STRICT;
 CREATE INDEX jobs_by_state ON jobs (state, updated_ms);
 )sql",
+    // v1 → v2: a snapshot carries the session's own state beside the scene and the revision of
+    // what participants were shown (a checkpoint per shown state, issue 12); a session that could
+    // not be restored is kept with the reason.
+    R"sql(
+ALTER TABLE snapshots ADD COLUMN session_state TEXT;
+ALTER TABLE snapshots ADD COLUMN revision INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE sessions ADD COLUMN quarantine TEXT;
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == Store::kSchemaVersion,
               "one migration per schema version");
@@ -300,7 +308,7 @@ void migrate(Connection& c) {
 
 // Column lists shared by the SELECTs and the readers below.
 #define DEVSURF_SESSION_COLUMNS \
-  "id, edit_token_hash, view_token_hash, name, demo, initial_scene, created_ms, last_seq"
+  "id, edit_token_hash, view_token_hash, name, demo, initial_scene, created_ms, last_seq, quarantine"
 #define DEVSURF_JOB_COLUMNS                                                                   \
   "id, state, scene, idempotency_key, idempotency_fingerprint, report, error, created_ms, " \
   "updated_ms, progress_iteration, progress_of"
@@ -349,26 +357,37 @@ struct Store::Impl {
       s.initialScene = parseJson(q.text(5), "initial scene of session " + id);
       s.createdMs = q.int64(6);
       r.lastSeq = q.int64(7);
+      s.quarantine = q.optText(8);
     }
-    std::int64_t after = 0;
-    {
-      Query q(c,
-              "SELECT seq, scene FROM snapshots WHERE session_id = ? ORDER BY seq DESC LIMIT 1");
-      q.bind(1, id);
-      if (q.step()) {
-        after = q.int64(0);
-        r.snapshot = Snapshot{after, parseJson(q.text(1), "snapshot of session " + id)};
+    // A row that does not parse makes this session unrestorable, not the store: the caller
+    // quarantines it (loadError) and every other session is restored.
+    try {
+      std::int64_t after = 0;
+      {
+        Query q(c,
+                "SELECT seq, scene, session_state, revision FROM snapshots WHERE session_id = ? "
+                "ORDER BY seq DESC LIMIT 1");
+        q.bind(1, id);
+        if (q.step()) {
+          after = q.int64(0);
+          Snapshot snapshot{after, parseJson(q.text(1), "snapshot of session " + id)};
+          if (!q.isNull(2)) snapshot.sessionState = parseJson(q.text(2), "session state of session " + id);
+          snapshot.revision = q.int64(3);
+          r.snapshot = std::move(snapshot);
+        }
       }
-    }
-    Query q(c,
-            "SELECT seq, edit, time_ms FROM edits WHERE session_id = ? AND seq > ? ORDER BY seq");
-    q.bind(1, id).bind(2, after);
-    while (q.step()) {
-      std::int64_t seq = q.int64(0);
-      r.editsAfterSnapshot.push_back(
-          EditRecord{seq,
-                     parseJson(q.text(1), "edit " + std::to_string(seq) + " of session " + id),
-                     q.int64(2)});
+      Query q(c,
+              "SELECT seq, edit, time_ms FROM edits WHERE session_id = ? AND seq > ? ORDER BY seq");
+      q.bind(1, id).bind(2, after);
+      while (q.step()) {
+        std::int64_t seq = q.int64(0);
+        r.editsAfterSnapshot.push_back(
+            EditRecord{seq,
+                       parseJson(q.text(1), "edit " + std::to_string(seq) + " of session " + id),
+                       q.int64(2)});
+      }
+    } catch (const StoreError& e) {
+      r.loadError = e.what();
     }
     return r;
   }
@@ -460,7 +479,7 @@ void Store::createSession(const SessionRecord& s) {
   Connection& w = *impl_->writer;
   Query q(w,
           "INSERT INTO sessions (" DEVSURF_SESSION_COLUMNS
-          ") VALUES (?, ?, ?, ?, ?, ?, ?, 0) ON CONFLICT (id) DO NOTHING");
+          ") VALUES (?, ?, ?, ?, ?, ?, ?, 0, NULL) ON CONFLICT (id) DO NOTHING");
   q.bind(1, s.id).bind(2, s.editTokenHash).bind(3, s.viewTokenHash).bind(4, s.name);
   q.bind(5, s.demo).bind(6, scene).bind(7, s.createdMs);
   q.run();
@@ -512,7 +531,14 @@ std::int64_t Store::lastSeq(const std::string& sessionId) const {
 
 void Store::saveSnapshot(const std::string& sessionId, std::int64_t seq,
                          const nlohmann::json& scene) {
-  std::string text = scene.dump();
+  saveSnapshot(sessionId, Snapshot{seq, scene, nullptr, 0});
+}
+
+void Store::saveSnapshot(const std::string& sessionId, const Snapshot& snapshot) {
+  const std::int64_t seq = snapshot.seq;
+  std::string text = snapshot.scene.dump();
+  std::optional<std::string> state;
+  if (!snapshot.sessionState.is_null()) state = snapshot.sessionState.dump();
   std::int64_t now = wallClockMs();
   std::lock_guard<std::mutex> lock(impl_->writeMutex);
   Connection& w = *impl_->writer;
@@ -532,10 +558,12 @@ void Store::saveSnapshot(const std::string& sessionId, std::int64_t seq,
   }
   {
     Query q(w,
-            "INSERT INTO snapshots (session_id, seq, scene, created_ms) VALUES (?, ?, ?, ?) "
+            "INSERT INTO snapshots (session_id, seq, scene, created_ms, session_state, revision) "
+            "VALUES (?, ?, ?, ?, ?, ?) "
             "ON CONFLICT (session_id, seq) DO UPDATE SET scene = excluded.scene, "
-            "created_ms = excluded.created_ms");
-    q.bind(1, sessionId).bind(2, seq).bind(3, text).bind(4, now).run();
+            "created_ms = excluded.created_ms, session_state = excluded.session_state, "
+            "revision = excluded.revision");
+    q.bind(1, sessionId).bind(2, seq).bind(3, text).bind(4, now).bind(5, state).bind(6, snapshot.revision).run();
   }
   std::optional<std::int64_t> oldestKept;
   {
@@ -555,6 +583,14 @@ void Store::saveSnapshot(const std::string& sessionId, std::int64_t seq,
         .run();
   }
   t.commit();
+}
+
+void Store::quarantineSession(const std::string& id, const std::string& reason) {
+  std::lock_guard<std::mutex> lock(impl_->writeMutex);
+  Connection& w = *impl_->writer;
+  Query q(w, "UPDATE sessions SET quarantine = ? WHERE id = ?");
+  q.bind(1, reason).bind(2, id).run();
+  if (w.changes() == 0) throw NotFoundError("no session '" + id + "'");
 }
 
 std::vector<RestoredSession> Store::loadSessions() const {

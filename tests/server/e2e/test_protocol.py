@@ -1,5 +1,7 @@
 """The WebSocket protocol and REST API of `devsurf serve` for strip sessions and jobs."""
 import asyncio
+import re
+import subprocess
 import json
 import os
 import random

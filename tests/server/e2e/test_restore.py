@@ -131,3 +131,366 @@ class ExactRestoreTest(unittest.TestCase):
             daemon.stop()
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+def model_size(model):
+    xs = numbers({k: v for k, v in model.items() if k not in ("handles",)})
+    return max(xs) - min(xs)
+
+
+def control_points(kind, model):
+    """The scene's control points in the order an iterate's geometry carries them."""
+    if kind == "strip":
+        return model["a"]["points"] + model["b"]["points"]
+    if kind == "composite":
+        pts = list(model["vertices"])
+        for e in model["edges"]:
+            if e.get("type", "S") == "S" and "points" in e:
+                pts += e["points"]  # a scene lists the interior control points only
+        return pts
+    if kind == "quasi_strip":
+        return model["c1"]["points"] + model["c2"]["points"]
+    return model["p"]["points"] + model["q"]["points"]
+
+
+def iterate_points(kind, geometry):
+    import base64
+    import struct
+
+    def rows(a):
+        raw = base64.b64decode(a["data"])
+        vals = struct.unpack("<%df" % (len(raw) // 4), raw)
+        return [list(vals[i:i + 3]) for i in range(0, len(vals), 3)]
+    if kind == "composite":
+        return rows(geometry["points"]["positions"])
+    names = {"strip": ("a", "b"), "quasi_strip": ("c1", "c2"), "conical_strip": ("p", "q")}[kind]
+    return rows(geometry["control_points"][names[0]]) + rows(geometry["control_points"][names[1]])
+
+
+class KillUnderAnEditStreamTest(unittest.TestCase):
+    """Issue 12: SIGKILL at random moments while a client streams drags and structural edits, over
+    strip, composite, quasi_strip and conical_strip sessions. A second reader (the store file,
+    opened with Python's sqlite3 while the daemon is dead) checks the chain: every state a
+    client was shown is durable (its revision is at most the stored one, and a stored revision a
+    client saw holds the numbers it saw), every acknowledged seq is stored, and the restart
+    restores the stored state bit for bit (when no acknowledged edit came after it)."""
+
+    TRIALS = int(os.environ.get("DEVSURF_KILL_TRIALS", "100"))
+    KINDS = (
+        ("strip", "strip-lifted-corner.json",
+         [{"curve": "b", "index": 6}, {"curve": "a", "index": 6}, {"curve": "b", "index": 3}]),
+        ("composite", "composite-curved-fold.json",
+         [{"vertex": 3}, {"vertex": 2}, {"edge": 3, "index": 1}]),
+        ("quasi_strip", "quasi-strip-twisted.json",
+         [{"curve": "c1", "index": 2}, {"curve": "c2", "index": 3}]),
+        ("conical_strip", "conical-strip-hull.json",
+         [{"curve": "p", "index": 1}, {"curve": "q", "index": 5}]),
+    )
+
+    @staticmethod
+    def point_of(model, target):
+        if "vertex" in target:
+            return model["vertices"][target["vertex"]]
+        if "edge" in target:
+            return model["edges"][target["edge"]]["points"][target["index"]]
+        return model[target["curve"]]["points"][target["index"]]
+
+    def structural_edit(self, kind, rng, op, model):
+        choice = rng.random()
+        if choice < 0.25:
+            return {"type": rng.choice(["undo", "redo"]), "op": op}
+        if kind == "strip":
+            if choice < 0.5:
+                return {"type": "set_fixed", "op": op, "target": {"curve": "a", "index": 3}, "fixed": rng.random() < 0.5}
+            if choice < 0.75:
+                p = self.point_of(model, {"curve": "a", "index": 5})
+                return {"type": "add_handle", "op": op, "target": {"curve": "a", "index": 5},
+                        "position": [p[0], p[1], p[2] + rng.uniform(-0.2, 0.2)]}
+            return {"type": "solve", "op": op}
+        if kind == "composite":
+            if choice < 0.5:
+                return {"type": "set_crease", "op": op, "edge": 0, "crease": rng.choice(["fold", "none", "smooth"])}
+            if choice < 0.75:
+                return {"type": "set_fixed", "op": op, "target": {"vertex": 2}, "fixed": rng.random() < 0.5}
+            return {"type": "solve", "op": op}
+        if kind == "quasi_strip":
+            return {"type": "set_params", "op": op, "params": {"samples": rng.randint(60, 120)}}
+        return {"type": "set_params", "op": op, "params": {"np": rng.randint(30, 50)}}
+
+    def read_store(self, data_dir, session):
+        import sqlite3
+        con = sqlite3.connect(os.path.join(data_dir, "devsurf.db"))
+        try:
+            last_seq = con.execute("SELECT last_seq FROM sessions WHERE id = ?", (session,)).fetchone()[0]
+            row = con.execute("SELECT seq, revision, scene FROM snapshots WHERE session_id = ? ORDER BY seq DESC LIMIT 1",
+                              (session,)).fetchone()
+            if row is None:  # nothing shown since the session was created: revision 0, the initial scene
+                row = (0, 0) + con.execute("SELECT initial_scene FROM sessions WHERE id = ?", (session,)).fetchone()
+            after = [json.loads(e)["type"] for (e,) in con.execute(
+                "SELECT edit FROM edits WHERE session_id = ? AND seq > ? ORDER BY seq", (session, row[0]))]
+        finally:
+            con.close()
+        return last_seq, (row[0], row[1], json.loads(row[2])), after
+
+    def test_sigkill_under_drags_and_edits_loses_nothing_shown_and_restores_the_stored_state(self):
+        tmp = tempfile.mkdtemp(prefix="devsurf-killstream-")
+        rng = random.Random(12)
+        tally = {"trials": 0, "compared_exactly": 0, "compared_float32": 0, "unobserved_in_flight": 0,
+                 "acked_after_last_shown": 0, "messages": 0}
+        try:
+            daemon = Daemon(tmp).start()
+            sessions = []
+            for kind, name, targets in self.KINDS:
+                with open(os.path.join(ROOT, "examples", name)) as f:
+                    status, _, body = daemon.json("POST", "/api/sessions", json.load(f))
+                self.assertEqual(status, 201, body)
+                sessions.append((kind, targets, body))
+            op = 0
+            for trial in range(self.TRIALS):
+                kind, targets, s = sessions[trial % len(sessions)]
+                auth = {"Authorization": "Bearer " + s["view_token"]}
+                if trial > 0:
+                    daemon = Daemon(tmp).start()
+                observed = {}   # revision → ("exact", model) or ("float32", points)
+                acked = [0]
+
+                async def stream():
+                    nonlocal op
+                    ws, state = await join(daemon.port, s["id"], s["edit_token"])
+                    model = state["scene"]["model"]
+                    size = model_size(model)
+                    observed[state["revision"]] = ("exact", model)
+
+                    async def reader():
+                        try:
+                            async for raw in ws:
+                                m = json.loads(raw)
+                                tally["messages"] += 1
+                                if m["type"] == "ack":
+                                    acked[0] = max(acked[0], m["seq"])
+                                elif m["type"] == "update":
+                                    observed[m["revision"]] = ("exact", m["scene"]["model"])
+                                elif m["type"] == "iterate":
+                                    observed.setdefault(m["revision"], ("float32", iterate_points(kind, m["geometry"])))
+                                elif m["type"] in ("solved", "error") and "revision" in m:
+                                    observed.setdefault(m["revision"], ("seen", None))
+                        except Exception:
+                            pass
+
+                    async def poller():
+                        # A second reader over REST: the last state shown, in doubles.
+                        loop = asyncio.get_running_loop()
+                        while True:
+                            try:
+                                status, _, body = await loop.run_in_executor(
+                                    None, lambda: daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth))
+                            except Exception:
+                                return
+                            if status == 200:
+                                observed[body["revision"]] = ("exact", body["scene"]["model"])
+                            await asyncio.sleep(0.02)
+
+                    reading = asyncio.ensure_future(reader())
+                    polling = asyncio.ensure_future(poller())
+                    kill_at = time.monotonic() + rng.uniform(0.15, 1.2)
+                    dragging = None
+                    while time.monotonic() < kill_at:
+                        op += 1
+                        if dragging is None and rng.random() < 0.2:
+                            await ws.send(json.dumps(self.structural_edit(kind, rng, op, model)))
+                            await asyncio.sleep(rng.uniform(0.0, 0.05))
+                            continue
+                        if dragging is None:
+                            dragging = rng.choice(targets)
+                            start = self.point_of(model, dragging)
+                            direction = [rng.uniform(-1, 1) for _ in range(3)]
+                            step = 0
+                        step += 1
+                        position = [start[i] + 0.004 * size * step * direction[i] for i in range(3)]
+                        await ws.send(json.dumps({"type": "drag", "op": op, "target": dragging, "position": position}))
+                        if step >= rng.randint(3, 15):
+                            op += 1
+                            await ws.send(json.dumps({"type": "drag_end", "op": op, "target": dragging}))
+                            dragging = None
+                        await asyncio.sleep(rng.uniform(0.005, 0.03))
+                    daemon.kill()
+                    await asyncio.sleep(0.05)
+                    reading.cancel()
+                    polling.cancel()
+                    try:
+                        await ws.close()
+                    except Exception:
+                        pass
+                    return size
+
+                size = asyncio.run(stream())
+                tally["trials"] += 1
+                last_seq, stored, edits_after = self.read_store(tmp, s["id"])
+                stored_seq, stored_revision, stored_scene = stored
+                self.assertGreaterEqual(last_seq, acked[0], f"trial {trial} ({kind}): an acknowledged edit is not in the journal")
+                shown = max(observed)
+                self.assertGreaterEqual(stored_revision, shown,
+                                        f"trial {trial} ({kind}): revision {shown} was shown but only {stored_revision} is stored")
+                if stored_revision in observed and observed[stored_revision][0] == "exact":
+                    before, after = numbers(observed[stored_revision][1]), numbers(stored_scene["model"])
+                    self.assertEqual(before, after, f"trial {trial} ({kind}): the stored state differs from the one shown")
+                    tally["compared_exactly"] += 1
+                elif stored_revision in observed and observed[stored_revision][0] == "float32":
+                    seen_points = observed[stored_revision][1]
+                    stored_points = control_points(kind, stored_scene["model"])
+                    self.assertEqual(len(seen_points), len(stored_points))
+                    worst = max(abs(a - b) for p, q in zip(seen_points, stored_points) for a, b in zip(p, q))
+                    self.assertLessEqual(worst, 1e-6 * max(1.0, size), f"trial {trial} ({kind}): stored state differs from the iterate shown")
+                    tally["compared_float32"] += 1
+                elif stored_revision not in observed:
+                    tally["unobserved_in_flight"] += 1
+                # The restart restores exactly the stored state, with every acknowledged seq.
+                daemon = Daemon(tmp).start()
+                status, _, body = daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth)
+                self.assertEqual(status, 200, f"trial {trial} ({kind}): {body}")
+                self.assertEqual(body["seq"], last_seq, f"trial {trial} ({kind})")
+                if stored_seq == last_seq:
+                    self.assertEqual(body["revision"], stored_revision)
+                    self.assertEqual(numbers(body["scene"]["model"]), numbers(stored_scene["model"]),
+                                     f"trial {trial} ({kind}): restored state differs from the stored one")
+                else:
+                    tally["acked_after_last_shown"] += 1
+                    self.assertEqual(body["revision"], stored_revision + 1)
+                    self.assertEqual(len(edits_after), last_seq - stored_seq, "the journal has every edit after the checkpoint")
+                    if kind in ("strip", "composite") and set(edits_after) <= {"drag", "drag_end", "solve"}:
+                        # Applied without their solves, these move no control point (a drag of a point
+                        # with a handle moves the handle's target; a rebuild maps the numbers through the
+                        # model's normalization: equal within 1e-12 of the size).
+                        worst = max(abs(a - b) for a, b in zip(numbers(control_points(kind, body["scene"]["model"])),
+                                                               numbers(control_points(kind, stored_scene["model"]))))
+                        self.assertLessEqual(worst, 1e-12 * size,
+                                             f"trial {trial} ({kind}): edits {edits_after} after the checkpoint changed the scene")
+                        tally["acked_after_compared_exactly"] = tally.get("acked_after_compared_exactly", 0) + 1
+                self.assertNotIn("null", json.dumps(body["scene"]))
+                daemon.kill()
+            print("\nkill trials:", json.dumps(tally))
+            self.assertGreater(tally["compared_exactly"] + tally["compared_float32"], self.TRIALS // 2)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+class JobRestartTest(unittest.TestCase):
+    """Issue 12: a job interrupted by SIGKILL is run again after the restart and gives the same
+    result as the same job run without interruption (solves are deterministic: no time budget)."""
+
+    def test_a_job_killed_while_running_finishes_after_the_restart_with_the_same_result(self):
+        tmp = tempfile.mkdtemp(prefix="devsurf-jobkill-")
+        try:
+            with open(COMPOSITE) as f:
+                scene = json.load(f)
+            # Long enough to be killed while running: every iteration runs (no early stop).
+            scene["solver"] = dict(scene.get("solver", {}), iterations=3000, residual_tolerance=0,
+                                   relative_change_tolerance=0)
+            daemon = Daemon(tmp).start()
+            status, _, body = daemon.json("POST", "/api/jobs", scene)
+            self.assertEqual(status, 202, body)
+            killed_job = body["id"]
+            deadline = time.monotonic() + 60
+            while True:
+                status, _, job = daemon.json("GET", f"/api/jobs/{killed_job}")
+                if job["state"] == "running" and job["progress"]["iteration"] > 10:
+                    break
+                self.assertLess(time.monotonic(), deadline, job)
+                time.sleep(0.02)
+            self.assertLess(job["progress"]["iteration"], 3000, "the job finished before it could be killed")
+            daemon.kill()
+            daemon = Daemon(tmp).start()
+            status, _, body = daemon.json("POST", "/api/jobs", scene)  # the same scene, uninterrupted
+            self.assertEqual(status, 202, body)
+            fresh_job = body["id"]
+            reports = {}
+            for job_id in (killed_job, fresh_job):
+                deadline = time.monotonic() + 300
+                while True:
+                    status, _, job = daemon.json("GET", f"/api/jobs/{job_id}")
+                    if job["state"] not in ("queued", "running"):
+                        break
+                    self.assertLess(time.monotonic(), deadline, job)
+                    time.sleep(0.1)
+                self.assertEqual(job["state"], "succeeded", job)
+                reports[job_id] = job["report"]
+            a, b = reports[killed_job], reports[fresh_job]
+            self.assertEqual(a["iterations"], b["iterations"])
+            self.assertEqual(numbers(a["scene"]["model"]), numbers(b["scene"]["model"]))
+            self.assertEqual(a["metrics"], b["metrics"])
+            daemon.stop()
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+class QuarantineTest(unittest.TestCase):
+    """Issue 12: a session that cannot be restored is kept, quarantined and reported — never
+    deleted — and every other session is restored as usual."""
+
+    def test_unrestorable_sessions_are_quarantined_kept_and_reported(self):
+        import sqlite3
+        tmp = tempfile.mkdtemp(prefix="devsurf-quarantine-")
+        try:
+            daemon = Daemon(tmp).start()
+            created = []
+            for _ in range(3):
+                with open(DEMO) as f:
+                    status, _, body = daemon.json("POST", "/api/sessions", json.load(f))
+                self.assertEqual(status, 201, body)
+                created.append(body)
+
+            async def edit(s):
+                ws, state = await join(daemon.port, s["id"], s["edit_token"])
+                await ws.send(drag(1, 0.6))
+                await ws.send(json.dumps({"type": "drag_end", "op": 2, "target": {"curve": "b", "index": 6}}))
+                await recv_until(ws, lambda m: m["type"] == "solved", timeout=30)
+                await ws.close()
+            for s in created:
+                asyncio.run(edit(s))
+            daemon.kill()
+            db = os.path.join(tmp, "devsurf.db")
+            con = sqlite3.connect(db)
+            unreadable, invalid, healthy = created
+            con.execute("UPDATE snapshots SET scene = '{\"format\": tru' WHERE session_id = ?", (unreadable["id"],))
+            bad_scene = json.loads(con.execute("SELECT scene FROM snapshots WHERE session_id = ? ORDER BY seq DESC",
+                                               (invalid["id"],)).fetchone()[0])
+            bad_scene["model"]["fixed"] = [{"curve": "a", "index": 99}]
+            con.execute("UPDATE snapshots SET scene = ? WHERE session_id = ?", (json.dumps(bad_scene), invalid["id"]))
+            rows_before = {s["id"]: con.execute("SELECT COUNT(*) FROM snapshots WHERE session_id = ?", (s["id"],)).fetchone()[0]
+                           + con.execute("SELECT COUNT(*) FROM edits WHERE session_id = ?", (s["id"],)).fetchone()[0]
+                           for s in created}
+            con.commit()
+            con.close()
+            for round_ in range(2):  # quarantined again after another restart: nothing was deleted
+                daemon = Daemon(tmp).start()
+                status, _, health = daemon.json("GET", "/api/health")
+                self.assertEqual(health["sessions_quarantined"], 2, health)
+                for s in (unreadable, invalid):
+                    auth = {"Authorization": "Bearer " + s["view_token"]}
+                    status, _, body = daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth)
+                    self.assertEqual(status, 503, body)
+                    self.assertEqual(body["error"]["code"], "quarantined")
+                    status, _, body = daemon.json("GET", f"/api/sessions/{s['id']}", headers={"Authorization": "Bearer x"})
+                    self.assertEqual(status, 404, "a wrong token learns nothing")
+                    status, _, scene = daemon.json("GET", f"/api/sessions/{s['id']}/export?format=json", headers=auth)
+                    self.assertEqual(status, 200, scene)
+                    self.assertEqual(scene["format"], "devsurf-scene")
+                status, _, scene = daemon.json("GET", f"/api/sessions/{invalid['id']}/export?format=json",
+                                               headers={"Authorization": "Bearer " + invalid["edit_token"]})
+                self.assertEqual(scene["model"]["fixed"], [{"curve": "a", "index": 99}], "the stored design comes back as stored")
+                status, _, body = daemon.json("GET", f"/api/sessions/{healthy['id']}",
+                                              headers={"Authorization": "Bearer " + healthy["view_token"]})
+                self.assertEqual(status, 200, body)
+                daemon.stop()
+            con = sqlite3.connect(db)
+            reasons = dict(con.execute("SELECT id, quarantine FROM sessions"))
+            for s in created:
+                rows = (con.execute("SELECT COUNT(*) FROM snapshots WHERE session_id = ?", (s["id"],)).fetchone()[0]
+                        + con.execute("SELECT COUNT(*) FROM edits WHERE session_id = ?", (s["id"],)).fetchone()[0])
+                self.assertEqual(rows, rows_before[s["id"]], "no row of any session was deleted")
+            con.close()
+            self.assertIn("snapshot", reasons[unreadable["id"]])
+            self.assertIn("model.fixed[0]", reasons[invalid["id"]])
+            self.assertIsNone(reasons[healthy["id"]])
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)

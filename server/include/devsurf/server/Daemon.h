@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -69,6 +70,17 @@ class Daemon {
   std::string prometheus() const;
   void checkSceneLimits(const nlohmann::json& scene) const;
 
+  /// A session a restart could not restore: kept in the store, reported, its last stored scene
+  /// downloadable by its owner.
+  struct Quarantined {
+    std::string reason;
+    Session::Tokens tokens;
+    nlohmann::json scene;  ///< the newest stored scene (checkpoint, else the initial one)
+    std::int64_t seq = 0;
+  };
+  /// The quarantined session `id` if `token` opens it, else nullopt.
+  std::optional<Quarantined> quarantinedSession(const std::string& id, const std::string& token) const;
+
   DaemonOptions options_;
   std::unique_ptr<store::Store> store_;
   std::unique_ptr<SessionJournal> journal_;
@@ -81,6 +93,7 @@ class Daemon {
   std::map<std::string, std::shared_ptr<Session>> sessions_;
   std::map<std::string, std::pair<std::string, std::string>> demoTokens_;  ///< id → edit, view
   std::map<std::uint64_t, std::shared_ptr<Client>> clients_;
+  std::map<std::string, Quarantined> quarantined_;
   std::atomic<std::uint64_t> httpRequests_{0};
 };
 

@@ -30,13 +30,24 @@ enum class Delivery {
 /// Where a session's messages to one participant go (a WebSocket connection, a test).
 using MessageSink = std::function<void(std::string text, Delivery delivery, const std::string& key)>;
 
+/// A state of a session as participants are shown it: the scene (temporary drag handles left
+/// out), the session's own settings, the seq of the last edit applied and the revision, which
+/// grows by one with every state shown.
+struct SessionCheckpoint {
+  std::int64_t seq = 0;
+  std::int64_t revision = 0;
+  nlohmann::json scene;
+  nlohmann::json state;  ///< {"drag_iterations", "release_iterations"}
+};
+
 /// What a session writes so that a restarted daemon can restore it.
 class SessionJournal {
  public:
   virtual ~SessionJournal() = default;
   /// Durable on return: only then is the edit acknowledged.
   virtual void appendEdit(const std::string& session, std::int64_t seq, const nlohmann::json& edit) = 0;
-  virtual void saveSnapshot(const std::string& session, std::int64_t seq, const nlohmann::json& scene) = 0;
+  /// Durable on return: only then is the state shown to anyone (streamed, sent, served by REST).
+  virtual void saveCheckpoint(const std::string& session, const SessionCheckpoint& checkpoint) = 0;
 };
 
 enum class Role { None, View, Edit };
@@ -81,7 +92,6 @@ struct SessionSettings {
   int maxIterationsPerRequest = 1000;
   int maxParticipants = 32;
   int undoDepth = 100;
-  int snapshotEvery = 50;           ///< edits between snapshots in the journal
   int surfaceSamples = 96;          ///< u samples of the streamed surface (strips)
   int compositeSamplesPerSpan = 12; ///< samples per spline span of the streamed composite faces
 };
@@ -90,7 +100,16 @@ struct SessionSettings {
 struct SessionCounters {
   std::atomic<std::uint64_t> iterations{0};
   std::atomic<std::uint64_t> messages{0};
-  std::atomic<std::uint64_t> errors{0};
+  /// Counts an error answered to a client (WebSocket `error` or REST 4xx/5xx) by its code.
+  void recordError(const std::string& code) {
+    std::lock_guard<std::mutex> lock(errorsMutex_);
+    ++errors_[code];
+  }
+  /// Errors answered so far, by code.
+  std::map<std::string, std::uint64_t> errorsByCode() const {
+    std::lock_guard<std::mutex> lock(errorsMutex_);
+    return errors_;
+  }
   /// Histogram of the wall time of session solver iterations (milliseconds, cumulative buckets
   /// are formed when exported).
   static constexpr double kBucketsMs[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000};
@@ -103,6 +122,10 @@ struct SessionCounters {
     iterationMicros += static_cast<std::uint64_t>(ms * 1000.0);
     ++iterations;
   }
+
+ private:
+  mutable std::mutex errorsMutex_;
+  std::map<std::string, std::uint64_t> errors_;
 };
 
 /// One editing session: a scene, its model ("strip", "composite", "quasi_strip" or
@@ -135,8 +158,8 @@ class SolveFailed : public std::runtime_error {
 
 class Session : public std::enable_shared_from_this<Session> {
  public:
-  /// SHA-1 hex digests of the session's capability tokens (the tokens themselves are only ever
-  /// shown to the creator).
+  /// Hashes (Tokens.h: tokenHash, SHA-256 hex) of the session's capability tokens (the tokens
+  /// themselves are only ever shown to the creator).
   struct Tokens {
     std::string editHash;
     std::string viewHash;
@@ -148,15 +171,37 @@ class Session : public std::enable_shared_from_this<Session> {
           Scheduler schedule, SessionJournal* journal, SessionCounters* counters,
           bool demo = false);
 
-  /// Restores a session: the scene of the last snapshot, then every journalled edit after it.
-  void replay(const std::vector<std::pair<std::int64_t, nlohmann::json>>& edits, std::int64_t lastSeq);
+  /// Restores a session built from its last checkpoint's scene (or the initial scene): the
+  /// checkpoint's session state and revision, then every journalled edit after it, applied
+  /// without solving (the solves that had shown nothing yet when the daemon stopped), so the
+  /// session is exactly in the last state it showed, plus the edits acknowledged since. A
+  /// temporary drag handle does not survive a restart (its participant is gone).
+  /// @param[in] state     SessionCheckpoint::state, or null
+  /// @param[in] revision  SessionCheckpoint::revision (0 without a checkpoint)
+  /// @param[in] edits     (seq, edit) after the checkpoint, in order
+  /// @param[in] lastSeq   seq of the last acknowledged edit
+  void restore(const nlohmann::json& state, std::int64_t revision,
+               const std::vector<std::pair<std::int64_t, nlohmann::json>>& edits, std::int64_t lastSeq);
 
   const std::string& id() const { return id_; }
   bool demo() const { return demo_; }
   const std::string& name() const { return name_; }
-  const Tokens& tokens() const { return tokens_; }
   /// The role a token grants (constant-time comparisons).
   Role authenticate(const std::string& token) const;
+  /// The role a token grants against stored token hashes (Tokens.h: hashMatches).
+  static Role roleOf(const Tokens& tokens, const std::string& token);
+  /// Replaces the token hashes (demo sessions: their public tokens are derived anew at start).
+  void setTokens(Tokens tokens);
+
+  /// The last state shown, read at once: its seq (edits acknowledged since, not yet shown, are
+  /// not in it), revision, scene and metrics — what REST readers get and a restart restores.
+  struct Shown {
+    std::int64_t seq = 0;
+    std::int64_t revision = 0;
+    nlohmann::json scene;
+    nlohmann::json metrics;
+  };
+  Shown shown() const;
 
   /// Adds a participant; sends it the full state and tells everyone who is there.
   /// @returns the participant id, or −1 when the session is full (an error is sent)
@@ -175,6 +220,8 @@ class Session : public std::enable_shared_from_this<Session> {
   /// @throws ExportUnavailable when the format does not apply
   ExportedFile exportAs(const std::string& format) const;
   std::int64_t seq() const { return seq_.load(); }
+  /// The revision of the state REST readers get (sceneJson, metricsJson): the last one shown.
+  std::int64_t revision() const;
 
  private:
   struct Participant {
@@ -203,14 +250,25 @@ class Session : public std::enable_shared_from_this<Session> {
 
   /// Applies an edit to the model; returns false (after sending an error) if it is rejected.
   bool apply(int participant, const nlohmann::json& edit, bool replaying);
-  /// Records an applied edit: seq, journal (durable), ack to the sender, edit to the others.
-  void commit(int participant, const nlohmann::json& edit, const std::vector<nlohmann::json>& ops);
+  /// Records an applied edit: seq, journal (durable, with `result` when not null), ack to the
+  /// sender, edit to the others.
+  void commit(int participant, const nlohmann::json& edit, const std::vector<nlohmann::json>& ops,
+              const nlohmann::json& result = nullptr);
   /// Runs iterations within the limits (the session's band applied), streaming iterates; when
   /// `final`, ends with `solved` (the metrics and the quality verdict). Returns false if
   /// interrupted by queued work.
-  /// The scene clients read (cachedScene_) brought up to date, and a snapshot when one is due:
-  /// after every solve that ends an interaction (`solved`), else every snapshotEvery edits.
-  void settleState(bool solved);
+  /// Makes the current state durable (SessionJournal::saveCheckpoint) and the one REST readers
+  /// get, as the next revision — before any message shows it. Checks it first: a state with a
+  /// non-finite coordinate or metric is never stored or shown; then it returns false and says
+  /// why in `failure` (the caller rolls back once it is safe: not inside a solve).
+  bool checkpoint(std::string* failure);
+  /// checkpoint() if the state changed since the last one, else nothing; on a failure rolls back
+  /// and returns false. Call before a message shows the state.
+  bool showState();
+  /// The session's own settings that a checkpoint keeps beside the scene.
+  nlohmann::json sessionStateJson() const;
+  /// Back to the last checkpointed scene (temporary handles dropped), telling everyone why.
+  void rollBack(const std::string& why);
   bool runSolver(SolveLimits limits, bool final);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
@@ -270,7 +328,8 @@ class Session : public std::enable_shared_from_this<Session> {
   std::vector<nlohmann::json> releasedHandles_;  // … of ended drags (weight 0 in the model until a rebuild)
   std::deque<proto::Scene> undo_, redo_;
   std::atomic<std::int64_t> seq_{0};
-  std::int64_t editsSinceSnapshot_ = 0;
+  std::int64_t revision_ = 0;  // of the last checkpoint (worker only; cachedRevision_ for readers)
+  bool changed_ = false;       // the model's state differs from the last checkpoint
 
   mutable std::mutex mutex_;  // guards participants_, queue_, scheduled_, cached json
   std::map<int, Participant> participants_;
@@ -278,6 +337,8 @@ class Session : public std::enable_shared_from_this<Session> {
   std::deque<std::shared_ptr<Work>> queue_;
   bool scheduled_ = false;
   nlohmann::json cachedScene_, cachedMetrics_;
+  std::int64_t cachedRevision_ = 0;
+  std::int64_t shownSeq_ = 0;
 };
 
 }  // namespace devsurf::server

@@ -4,13 +4,22 @@
 
 namespace devsurf::server {
 
-/// A 128-bit random token as 32 lowercase hex digits, from the operating system's random source
-/// (std::random_device reads /dev/urandom on Linux).
+/// A 128-bit random token as 32 lowercase hex digits, from OpenSSL's CSPRNG (RAND_bytes).
+/// @throws std::runtime_error if the generator cannot be seeded
 std::string randomToken();
 
-/// SHA-1 of a string as 40 hex digits (Boost.Uuid's implementation). Used to store tokens and to
-/// fingerprint request bodies; a token is 128 random bits, so preimage resistance is what counts.
-std::string sha1Hex(const std::string& text);
+/// SHA-256 of a string as 64 lowercase hex digits (OpenSSL's EVP interface). Used to store
+/// tokens and to fingerprint request bodies; a token is 128 random bits, so preimage resistance
+/// is what counts.
+std::string sha256Hex(const std::string& text);
+
+/// The hash stored for a capability token: sha256Hex(token).
+std::string tokenHash(const std::string& token);
+
+/// Whether `token` (a capability token, or a request body for idempotency fingerprints) hashes to `storedHash`, compared in constant time (CRYPTO_memcmp; only the
+/// length can leak). Hashes stored before SHA-256 (40 hex digits: SHA-1, also through OpenSSL)
+/// still match their tokens, so sessions created by earlier versions stay reachable.
+bool hashMatches(const std::string& token, const std::string& storedHash);
 
 /// Constant-time string comparison (only the length can leak).
 bool constantTimeEquals(const std::string& a, const std::string& b);

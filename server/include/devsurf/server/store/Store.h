@@ -105,6 +105,9 @@ struct SessionRecord {
   bool demo = false;
   nlohmann::json initialScene;    ///< the scene at seq 0
   std::int64_t createdMs = 0;     ///< stored as given
+  /// Set (by quarantineSession) when a restart could not restore the session: why. Such a
+  /// session is kept with everything it stored, never deleted by the daemon.
+  std::optional<std::string> quarantine;
 };
 
 /// One accepted edit. Seqs are per session, start at 1 and have no gaps.
@@ -114,10 +117,15 @@ struct EditRecord {
   std::int64_t timeMs = 0;        ///< when it was accepted (ms since epoch)
 };
 
-/// The full scene after applying edits 1..seq to the initial scene.
+/// The full scene after applying edits 1..seq to the initial scene, with what the session keeps
+/// beside it (sessionState: null or an object of the session's choosing) and the revision of the
+/// state participants were shown (a session checkpoints every state it shows; several snapshots
+/// of one seq replace each other).
 struct Snapshot {
   std::int64_t seq = 0;
   nlohmann::json scene;
+  nlohmann::json sessionState;    ///< null when saved without one
+  std::int64_t revision = 0;
 };
 
 /// What a restart needs to rebuild a session: start from snapshot->scene (or session.initialScene
@@ -128,6 +136,9 @@ struct RestoredSession {
   std::optional<Snapshot> snapshot;       ///< the newest snapshot
   std::vector<EditRecord> editsAfterSnapshot;
   std::int64_t lastSeq = 0;               ///< seq of the last acknowledged edit (0: none)
+  /// Set when a stored row of the session does not parse (snapshot and edits are then
+  /// incomplete): the session cannot be restored and should be quarantined.
+  std::optional<std::string> loadError;
 };
 
 enum class JobState { Queued, Running, Succeeded, Failed, Cancelled };
@@ -179,7 +190,7 @@ struct StoreInfo {
 
 class Store {
  public:
-  static constexpr int kSchemaVersion = 1;
+  static constexpr int kSchemaVersion = 2;
   static constexpr const char* kFileName = "devsurf.db";
 
   /// Opens (creating the directory and the database if missing) DIR/devsurf.db, switches it to
@@ -217,6 +228,11 @@ class Store {
   /// older than the keepSnapshots-th newest, and edits with seq ≤ that snapshot's seq.
   /// @throws NotFoundError, StoreError for a seq outside that range
   void saveSnapshot(const std::string& sessionId, std::int64_t seq, const nlohmann::json& scene);
+  /// The same with the session's own state and the revision (Snapshot::sessionState, revision).
+  void saveSnapshot(const std::string& sessionId, const Snapshot& snapshot);
+  /// Marks a session that could not be restored (SessionRecord::quarantine = reason); it stays
+  /// with its initial scene, snapshots and edits. @throws NotFoundError
+  void quarantineSession(const std::string& id, const std::string& reason);
 
   /// Every session, oldest first (createdMs, then id), each read in one consistent transaction.
   std::vector<RestoredSession> loadSessions() const;
