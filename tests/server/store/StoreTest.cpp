@@ -337,6 +337,115 @@ TEST(StoreSessions, DeleteCascadesToEditsAndSnapshots) {
   EXPECT_EQ(store.loadSessions().size(), 2u);
 }
 
+TEST(StoreSessions, CheckpointsKeepTheSessionStateAndRevisionAndReplaceEachOtherWithinASeq) {
+  TempDir tmp;
+  {
+    Store store(tmp.str());
+    store.createSession(makeSession("s"));
+    for (std::int64_t seq = 1; seq <= 4; ++seq) store.appendEdit("s", seq, editFor(seq));
+    store.saveSnapshot("s", Snapshot{4, json{{"at", "4a"}}, json{{"drag_iterations", 7}}, 11});
+    store.saveSnapshot("s", Snapshot{4, json{{"at", "4b"}}, json{{"drag_iterations", 8}}, 12});  // the next state shown
+    store.appendEdit("s", 5, editFor(5));
+  }
+  Store store(tmp.str());
+  auto r = store.loadSession("s");
+  ASSERT_TRUE(r && r->snapshot);
+  EXPECT_EQ(r->snapshot->seq, 4);
+  EXPECT_EQ(r->snapshot->scene, (json{{"at", "4b"}}));
+  EXPECT_EQ(r->snapshot->sessionState, (json{{"drag_iterations", 8}}));
+  EXPECT_EQ(r->snapshot->revision, 12);
+  ASSERT_EQ(r->editsAfterSnapshot.size(), 1u);
+  EXPECT_EQ(r->editsAfterSnapshot[0].seq, 5);
+  EXPECT_FALSE(r->loadError);
+  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots WHERE session_id = 's'"), 1);
+}
+
+TEST(StoreSessions, AQuarantinedSessionKeepsEveryRowAndItsReasonAcrossReopening) {
+  TempDir tmp;
+  {
+    Store store(tmp.str());
+    store.createSession(makeSession("q"));
+    for (std::int64_t seq = 1; seq <= 3; ++seq) store.appendEdit("q", seq, editFor(seq));
+    store.saveSnapshot("q", 2, json{{"at", 2}});
+    store.quarantineSession("q", "model.fixed[0]: no control point 99");
+    EXPECT_THROW(store.quarantineSession("nope", "x"), NotFoundError);
+  }
+  Store store(tmp.str());
+  auto r = store.loadSession("q");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->session.quarantine, std::optional<std::string>("model.fixed[0]: no control point 99"));
+  ASSERT_TRUE(r->snapshot);
+  EXPECT_EQ(r->editsAfterSnapshot.size(), 1u);
+  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits WHERE session_id = 'q'"), 3);
+}
+
+TEST(StoreSessions, ARowThatDoesNotParseMakesOnlyItsSessionUnrestorable) {
+  TempDir tmp;
+  {
+    Store store(tmp.str());
+    for (const char* id : {"a", "b"}) {
+      store.createSession(makeSession(id));
+      store.appendEdit(id, 1, editFor(1));
+      store.saveSnapshot(id, 1, json{{"at", 1}});
+    }
+  }
+  rawInt(tmp.path(), "UPDATE snapshots SET scene = '{\"at\": ' WHERE session_id = 'a'");
+  Store store(tmp.str());
+  const auto all = store.loadSessions();
+  ASSERT_EQ(all.size(), 2u);
+  for (const RestoredSession& r : all) {
+    if (r.session.id == "a") {
+      ASSERT_TRUE(r.loadError);
+      EXPECT_NE(r.loadError->find("snapshot of session a"), std::string::npos) << *r.loadError;
+    } else {
+      EXPECT_FALSE(r.loadError);
+      ASSERT_TRUE(r.snapshot);
+      EXPECT_EQ(r.snapshot->scene, (json{{"at", 1}}));
+    }
+  }
+}
+
+TEST(StoreOpen, AVersion1DatabaseMigratesKeepingItsSessions) {
+  TempDir tmp;
+  {
+    sqlite3* db = nullptr;
+    const std::string file = (tmp.path() / Store::kFileName).string();
+    ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+    const char* v1 = R"sql(
+CREATE TABLE sessions (id TEXT NOT NULL PRIMARY KEY, edit_token_hash TEXT NOT NULL, view_token_hash TEXT NOT NULL,
+  name TEXT NOT NULL, demo INTEGER NOT NULL CHECK (demo IN (0, 1)), initial_scene TEXT NOT NULL,
+  created_ms INTEGER NOT NULL, last_seq INTEGER NOT NULL DEFAULT 0 CHECK (last_seq >= 0)) STRICT;
+CREATE TABLE edits (session_id TEXT NOT NULL REFERENCES sessions(id) ON DELETE CASCADE,
+  seq INTEGER NOT NULL CHECK (seq >= 1), edit TEXT NOT NULL, time_ms INTEGER NOT NULL, PRIMARY KEY (session_id, seq)) STRICT;
+CREATE TABLE snapshots (session_id TEXT NOT NULL REFERENCES sessions(id) ON DELETE CASCADE,
+  seq INTEGER NOT NULL CHECK (seq >= 0), scene TEXT NOT NULL, created_ms INTEGER NOT NULL, PRIMARY KEY (session_id, seq)) STRICT;
+CREATE TABLE jobs (id TEXT NOT NULL PRIMARY KEY, state TEXT NOT NULL
+  CHECK (state IN ('queued','running','succeeded','failed','cancelled')), scene TEXT NOT NULL,
+  idempotency_key TEXT UNIQUE, idempotency_fingerprint TEXT NOT NULL, report TEXT, error TEXT,
+  created_ms INTEGER NOT NULL, updated_ms INTEGER NOT NULL, progress_iteration INTEGER NOT NULL DEFAULT 0,
+  progress_of INTEGER NOT NULL DEFAULT 0) STRICT;
+CREATE INDEX jobs_by_state ON jobs (state, updated_ms);
+INSERT INTO sessions VALUES ('old', 'a9993e364706816aba3e25717850c26c9cd0d89d', 'v', 'old', 0, '{"x":1}', 5, 2);
+INSERT INTO edits VALUES ('old', 2, '{"op":"move"}', 6);
+INSERT INTO snapshots VALUES ('old', 1, '{"x":2}', 6);
+PRAGMA user_version = 1;
+)sql";
+    ASSERT_EQ(sqlite3_exec(db, v1, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+    sqlite3_close(db);
+  }
+  Store store(tmp.str());
+  EXPECT_EQ(store.info().schemaVersion, 2);
+  auto r = store.loadSession("old");
+  ASSERT_TRUE(r && r->snapshot);
+  EXPECT_EQ(r->session.editTokenHash, "a9993e364706816aba3e25717850c26c9cd0d89d");
+  EXPECT_FALSE(r->session.quarantine);
+  EXPECT_EQ(r->snapshot->scene, (json{{"x", 2}}));
+  EXPECT_TRUE(r->snapshot->sessionState.is_null());
+  EXPECT_EQ(r->snapshot->revision, 0);
+  ASSERT_EQ(r->editsAfterSnapshot.size(), 1u);
+  EXPECT_EQ(r->lastSeq, 2);
+}
+
 // --- jobs ---------------------------------------------------------------------------------------
 
 TEST(StoreJobs, StateNames) {
