@@ -551,14 +551,15 @@ void Session::pushUndo(const proto::Scene& before) {
 }
 
 void Session::commit(int participant, const json& edit, const std::vector<json>& ops, const json& result) {
-  const std::int64_t seq = ++seq_;
+  const std::int64_t seq = seq_.load() + 1;
   json logged = edit;
   logged.erase("op");
   if (journal_) {
     json entry = logged;
     if (!result.is_null()) entry["result"] = result;
-    journal_->appendEdit(id_, seq, entry);  // durable before the ack
+    journal_->appendEdit(id_, seq, entry);  // durable before the ack (a failure leaves seq as it was)
   }
+  seq_ = seq;
   for (const json& op : ops) {
     json ack{{"type", "ack"}, {"seq", seq}};
     if (!op.is_null()) ack["op"] = op;
@@ -1091,7 +1092,19 @@ bool Session::checkpoint(std::string* failure) {
     return false;
   }
   SessionCheckpoint c{seq_.load(), revision_ + 1, std::move(scene), sessionStateJson()};
-  if (journal_) journal_->saveCheckpoint(id_, c);  // durable before anyone is shown it
+  if (journal_) {
+    try {
+      journal_->saveCheckpoint(id_, c);  // durable before anyone is shown it
+    } catch (const std::exception& e) {
+      // The store failed (disk full …): the state stays in the model, unshown, until a later
+      // checkpoint succeeds; REST readers keep the last stored one. Nothing is rolled back.
+      if (counters_) counters_->recordError("internal");
+      broadcast({{"type", "error"}, {"code", "internal"}, {"seq", seq_.load()},
+                 {"message", std::string("the session's state could not be stored (") + e.what() +
+                                 "); it is shown once it is"}});
+      return false;
+    }
+  }
   revision_ = c.revision;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -1112,7 +1125,7 @@ bool Session::showState() {
   }
   std::string failure;
   if (checkpoint(&failure)) return true;
-  rollBack(failure);
+  if (!failure.empty()) rollBack(failure);  // empty: the store failed, the state waits unshown
   return false;
 }
 

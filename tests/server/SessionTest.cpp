@@ -4,6 +4,8 @@
 #include "devsurf/server/Tokens.h"
 #include "server/SessionTesting.h"
 
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -295,6 +297,58 @@ TEST(Session, ARestartInTheMiddleOfADragRestoresTheLastIterateWithoutTheDragHand
   ex2.runAll();
   const json state = fresh.last("state");
   for (const json& h : state["constraints"]["handles"]) EXPECT_FALSE(h["temporary"].get<bool>()) << h;
+}
+
+/// A store that fails (disk full, I/O error) on the next append or checkpoint.
+struct FlakyJournal : MemoryJournal {
+  bool failAppend = false, failCheckpoint = false;
+  void appendEdit(const std::string& s, std::int64_t seq, const json& edit) override {
+    if (std::exchange(failAppend, false)) throw std::runtime_error("disk full");
+    MemoryJournal::appendEdit(s, seq, edit);
+  }
+  void saveCheckpoint(const std::string& s, const SessionCheckpoint& c) override {
+    if (std::exchange(failCheckpoint, false)) throw std::runtime_error("disk full");
+    MemoryJournal::saveCheckpoint(s, c);
+  }
+};
+
+TEST(Session, AnEditTheJournalCannotStoreIsNeitherAcknowledgedNorShownAndTheNextOneFollowsOn) {
+  ManualExecutor ex;
+  FlakyJournal journal;
+  auto s = makeSession(ex, &journal);
+  Inbox inbox;
+  const int pid = s->join(Role::Edit, "", inbox.sink());
+  ex.runAll();
+  const json before = s->sceneJson();
+  journal.failAppend = true;
+  s->post(pid, {{"type", "set_fixed"}, {"op", 1}, {"target", {{"curve", "a"}, {"index", 3}}}, {"fixed", true}});
+  ex.runAll();
+  EXPECT_TRUE(inbox.ofType("ack").empty());
+  EXPECT_EQ(inbox.last("error")["code"], "internal");
+  EXPECT_EQ(s->seq(), 0);
+  EXPECT_EQ(s->sceneJson(), before);
+  s->post(pid, {{"type", "set_fixed"}, {"op", 2}, {"target", {{"curve", "a"}, {"index", 4}}}, {"fixed", true}});
+  ex.runAll();
+  ASSERT_EQ(inbox.ofType("ack").size(), 1u);
+  EXPECT_EQ(inbox.last("ack")["seq"], 1);
+  ASSERT_EQ(journal.edits.size(), 1u);
+  EXPECT_EQ(journal.edits[0].first, 1);
+  // A checkpoint that cannot be written: the acknowledged edit stays in the model, unshown (REST
+  // readers keep the last stored state) until the next checkpoint shows it with what follows.
+  const json shown = s->sceneJson();
+  journal.failCheckpoint = true;
+  const std::size_t updates = inbox.ofType("update").size();
+  s->post(pid, {{"type", "set_fixed"}, {"op", 3}, {"target", {{"curve", "a"}, {"index", 5}}}, {"fixed", true}});
+  ex.runAll();
+  EXPECT_EQ(inbox.ofType("update").size(), updates);
+  EXPECT_EQ(inbox.last("error")["code"], "internal");
+  EXPECT_EQ(s->sceneJson(), shown);
+  s->post(pid, {{"type", "set_fixed"}, {"op", 4}, {"target", {{"curve", "a"}, {"index", 6}}}, {"fixed", true}});
+  ex.runAll();
+  ASSERT_EQ(inbox.ofType("update").size(), updates + 1);
+  const json fixed = inbox.last("update")["scene"]["model"]["fixed"];
+  for (int index : {4, 5, 6}) EXPECT_NE(std::find(fixed.begin(), fixed.end(), json{{"curve", "a"}, {"index", index}}), fixed.end()) << index;
+  EXPECT_EQ(journal.checkpoints.back().scene, s->sceneJson());
 }
 
 // ---- composite sessions ----

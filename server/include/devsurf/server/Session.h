@@ -260,7 +260,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// Makes the current state durable (SessionJournal::saveCheckpoint) and the one REST readers
   /// get, as the next revision — before any message shows it. Checks it first: a state with a
   /// non-finite coordinate or metric is never stored or shown; then it returns false and says
-  /// why in `failure` (the caller rolls back once it is safe: not inside a solve).
+  /// why in `failure` (the caller rolls back once it is safe: not inside a solve). When the
+  /// journal throws it returns false with `failure` empty: the state stays, unshown, and
+  /// participants get `internal`.
   bool checkpoint(std::string* failure);
   /// checkpoint() if the state changed since the last one, else nothing; on a failure rolls back
   /// and returns false. Call before a message shows the state.
