@@ -545,6 +545,17 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     if (client->participant >= 0) return fail(op, "conflict", "already joined a session on this connection", "type");
     auto session = findSession(message["session"]);
     const Role role = session ? session->authenticate(message["token"]) : Role::None;
+    if (!session) {
+      if (const auto q = quarantinedSession(message["session"], message["token"])) {
+        fail(op, "quarantined",
+             "this session could not be restored after a restart and is kept unchanged (" + q->reason +
+                 "); its last stored scene: GET /api/sessions/" + message["session"].get<std::string>() +
+                 "/export?format=json",
+             "session");
+        c->close(transport::CloseCode::PolicyViolation, "quarantined");
+        return;
+      }
+    }
     if (role == Role::None) {
       fail(op, "unauthorized", "unknown session or wrong token", "token");
       c->close(transport::CloseCode::PolicyViolation, "unauthorized");

@@ -475,6 +475,14 @@ class QuarantineTest(unittest.TestCase):
                     status, _, scene = daemon.json("GET", f"/api/sessions/{s['id']}/export?format=json", headers=auth)
                     self.assertEqual(status, 200, scene)
                     self.assertEqual(scene["format"], "devsurf-scene")
+                async def join_quarantined():
+                    ws = await websockets.connect(f"ws://127.0.0.1:{daemon.port}/ws")
+                    await ws.send(json.dumps({"type": "join", "session": invalid["id"], "token": invalid["edit_token"]}))
+                    answer = json.loads(await asyncio.wait_for(ws.recv(), 10))
+                    await ws.close()
+                    return answer
+                answer = asyncio.run(join_quarantined())
+                self.assertEqual((answer["type"], answer["code"], answer["path"]), ("error", "quarantined", "session"), answer)
                 status, _, scene = daemon.json("GET", f"/api/sessions/{invalid['id']}/export?format=json",
                                                headers={"Authorization": "Bearer " + invalid["edit_token"]})
                 self.assertEqual(scene["model"]["fixed"], [{"curve": "a", "index": 99}], "the stored design comes back as stored")
