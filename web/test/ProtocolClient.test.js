@@ -206,16 +206,18 @@ describe('ProtocolClient', () => {
     expect(errors).toHaveLength(0);
   });
 
-  it('stops for good after unauthorized', () => {
-    client.connect('s1', 'bad');
-    const ws = socket();
-    ws.open();
-    ws.receive({ type: 'error', code: 'unauthorized', message: 'unknown session or token' });
-    ws.drop(1008);
-    expect(state.connection).toBe('offline');
-    expect(state.lastError.code).toBe('unauthorized');
-    expect(timers.queue).toHaveLength(0);
-  });
+  for (const code of ['unauthorized', 'quarantined']) {
+    it(`stops for good after ${code}`, () => {
+      client.connect('s1', 'bad');
+      const ws = socket();
+      ws.open();
+      ws.receive({ type: 'error', code, message: 'no' });
+      ws.drop(1008);
+      expect(state.connection).toBe('offline');
+      expect(state.lastError.code).toBe(code);
+      expect(timers.queue).toHaveLength(0);
+    });
+  }
 
   it('close() goes offline without reconnecting', () => {
     const ws = joinedClient();

@@ -5,7 +5,8 @@
 // - on an unexpected close: reconnect with exponential back-off (250 ms, 500 ms, … capped at 8 s),
 //   reset after a successful join; commands still pending when the connection drops fail with a
 //   local `disconnected` error (their outcome is unknown: the resync shows the truth);
-// - `unauthorized` (bad token or unknown session) is final: the state goes `offline`.
+// - `unauthorized` (bad token or unknown session) and `quarantined` (a session a restart could
+//   not restore) are final: the state goes `offline`.
 // The connection state is kept in the editor state (`connection`).
 
 import { JoinCommand } from '../commands/JoinCommand.js';
@@ -51,7 +52,7 @@ export class ProtocolClient {
     /** Delays (ms) of the reconnects scheduled so far (for tests and diagnostics). */
     this.scheduledDelays = [];
     this.joinInfo = null;
-    /** The `unauthorized` error that ended the connection for good, if any. */
+    /** The `unauthorized` or `quarantined` error that ended the connection for good, if any. */
     this.fatal = null;
   }
 
@@ -159,7 +160,7 @@ export class ProtocolClient {
       case 'error': {
         const p = msg.op !== undefined ? this.pending.get(msg.op) : undefined;
         if (p) this.pending.delete(msg.op);
-        if (msg.code === 'unauthorized') this.fatal = msg;
+        if (msg.code === 'unauthorized' || msg.code === 'quarantined') this.fatal = msg;
         this.state.applyError(msg, p ? p.command : null);
         return;
       }
