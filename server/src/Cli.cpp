@@ -16,9 +16,14 @@
 
 #include <httplib.h>
 #include <pthread.h>
+#include <sys/resource.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 namespace devsurf::server {
 namespace {
@@ -38,6 +43,10 @@ constexpr const char* kUsage =
     "        [--max-control-points N] [--max-iterations N] [--job-workers N]\n"
     "        [--max-jobs N] [--job-timeout-ms MS] [--drag-iterations N] [--release-iterations N]\n"
     "        [--log-level trace|debug|info|warn|error|off]\n"
+    "        [--max-connections N] [--max-connections-per-address N] [--max-header-bytes BYTES]\n"
+    "        [--max-header-fields N] [--header-timeout-ms MS] [--body-timeout-ms MS]\n"
+    "        [--keep-alive-timeout-ms MS] [--keep-alive-requests N] [--write-timeout-ms MS]\n"
+    "        [--http-workers N]\n"
     "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
     "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
     "        Submit a batch job; with --wait, show progress and write the report.\n"
@@ -71,6 +80,22 @@ long parseNumber(const std::string& flag, const std::string& value, long lo, lon
     throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
                                 std::to_string(hi) + ", got \"" + value + "\"");
   return n;
+}
+
+/// Process settings of the daemon. glibc keeps freed memory in its per-thread arenas and raises
+/// its mmap threshold after every large free, so a few large request bodies left the daemon at
+/// gigabytes of RSS: a fixed 1 MiB threshold makes large buffers (bodies, responses) mmapped and
+/// returned on free (the transport also calls malloc_trim after large requests). The soft limit
+/// on open files is raised to the hard one so that --max-connections can be reached.
+void tuneProcessForServing() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+  rlimit files{};
+  if (getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
+  }
 }
 
 }  // namespace
@@ -167,7 +192,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
       else if (a == "--workers") o.workerThreads = static_cast<int>(parseNumber(a, value(), 0, 256));
       else if (a == "--max-sessions") o.maxSessions = static_cast<int>(parseNumber(a, value(), 1, 100000));
       else if (a == "--max-clients") o.maxClientsPerSession = static_cast<int>(parseNumber(a, value(), 1, 10000));
-      else if (a == "--max-body") o.maxBodyBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 30));
+      else if (a == "--max-body") o.http.maxBodyBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 30));
       else if (a == "--max-message") o.maxMessageBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 28));
       else if (a == "--message-rate") o.messageRate = static_cast<double>(parseNumber(a, value(), 1, 100000));
       else if (a == "--max-control-points") o.maxControlPoints = static_cast<int>(parseNumber(a, value(), 4, 10000000));
@@ -183,12 +208,23 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
         if (logLevel == spdlog::level::off && level != "off")
           throw std::invalid_argument("--log-level: expected trace, debug, info, warn, error, critical or off, got \"" + level + "\"");
       }
+      else if (a == "--max-connections") o.http.maxConnections = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
+      else if (a == "--max-connections-per-address") o.http.maxConnectionsPerAddress = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
+      else if (a == "--max-header-bytes") o.http.maxHeaderBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 20));
+      else if (a == "--max-header-fields") o.http.maxHeaderFields = static_cast<std::size_t>(parseNumber(a, value(), 8, 10000));
+      else if (a == "--header-timeout-ms") o.http.headerTimeout = std::chrono::milliseconds(parseNumber(a, value(), 100, 3600000));
+      else if (a == "--body-timeout-ms") o.http.bodyTimeout = std::chrono::milliseconds(parseNumber(a, value(), 100, 3600000));
+      else if (a == "--keep-alive-timeout-ms") o.http.keepAliveTimeout = std::chrono::milliseconds(parseNumber(a, value(), 100, 3600000));
+      else if (a == "--keep-alive-requests") o.http.maxRequestsPerConnection = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
+      else if (a == "--write-timeout-ms") o.http.writeTimeout = std::chrono::milliseconds(parseNumber(a, value(), 100, 3600000));
+      else if (a == "--http-workers") o.http.workers = static_cast<int>(parseNumber(a, value(), 1, 256));
       else throw std::invalid_argument("unknown option " + a);
     }
   } catch (const std::invalid_argument& e) {
     err << "devsurf serve: " << e.what() << "\n" << kUsage;
     return 2;
   }
+  tuneProcessForServing();
   // Logs go to stderr; stdout carries only the line with the URL (scripts read it).
   if (!spdlog::get("devsurf")) spdlog::set_default_logger(spdlog::stderr_color_mt("devsurf"));
   spdlog::set_level(logLevel);

@@ -141,6 +141,7 @@ int Daemon::start() {
   jobs_->restore();
 
   transport::TransportLimits limits;
+  limits.http = options_.http;
   limits.maxMessageBytes = options_.maxMessageBytes * 4;  // beyond this: close 1009; below: error message
   transport::WebSocketHandlers handlers;
   handlers.onOpen = [this](const std::shared_ptr<transport::Connection>& c) {
@@ -154,7 +155,6 @@ int Daemon::start() {
   };
   handlers.onClose = [this](const std::shared_ptr<transport::Connection>& c) { onClose(c); };
   http_ = std::make_unique<transport::Server>(handlers, limits);
-  http_->set_payload_max_length(options_.maxBodyBytes);
   routes();
   const int port = http_->bind(options_.bind, options_.port);
   spdlog::info("devsurf listening on http://{}:{} (data in {}, {} sessions)", options_.bind, port,

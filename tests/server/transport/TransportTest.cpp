@@ -1,160 +1,15 @@
 // HTTP + WebSocket transport: every test runs its own server on an ephemeral 127.0.0.1 port.
-#include "devsurf/server/transport/Client.h"
-#include "devsurf/server/transport/Server.h"
-
-#include <gtest/gtest.h>
-
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <memory>
-#include <mutex>
-#include <string>
-#include <thread>
-#include <vector>
+
+#include "server/transport/TransportTesting.h"
 
 namespace devsurf::server::transport {
 namespace {
 
 using namespace std::chrono_literals;
+using namespace devsurf::server::transport::testing;
 using Clock = std::chrono::steady_clock;
-
-/// Records every handler call; optionally echoes messages.
-struct Recorder {
-  std::mutex mutex;
-  std::condition_variable cv;
-  std::vector<std::shared_ptr<Connection>> opened;
-  std::map<std::uint64_t, int> closeCount;
-  std::map<std::uint64_t, std::vector<std::string>> messages;
-  std::atomic<int> handlerCalls{0};
-  std::atomic<int> concurrentInOneConnection{0};
-  bool echo = true;
-
-  WebSocketHandlers handlers() {
-    WebSocketHandlers h;
-    h.onOpen = [this](const std::shared_ptr<Connection>& c) {
-      ++handlerCalls;
-      std::lock_guard<std::mutex> lk(mutex);
-      opened.push_back(c);
-      cv.notify_all();
-    };
-    h.onMessage = [this](const std::shared_ptr<Connection>& c, std::string message) {
-      ++handlerCalls;
-      if (echo) c->send(message);
-      std::lock_guard<std::mutex> lk(mutex);
-      messages[c->id()].push_back(std::move(message));
-      cv.notify_all();
-    };
-    h.onClose = [this](const std::shared_ptr<Connection>& c) {
-      ++handlerCalls;
-      std::lock_guard<std::mutex> lk(mutex);
-      ++closeCount[c->id()];
-      cv.notify_all();
-    };
-    return h;
-  }
-
-  template <class Pred>
-  bool waitFor(Pred pred, std::chrono::milliseconds timeout = 5s) {
-    std::unique_lock<std::mutex> lk(mutex);
-    return cv.wait_for(lk, timeout, pred);
-  }
-
-  std::shared_ptr<Connection> waitOpened(std::size_t index) {
-    std::unique_lock<std::mutex> lk(mutex);
-    if (!cv.wait_for(lk, 5s, [&] { return opened.size() > index; })) return nullptr;
-    return opened[index];
-  }
-
-  int totalCloses() {
-    int n = 0;
-    for (const auto& entry : closeCount) n += entry.second;
-    return n;
-  }
-};
-
-/// Server + serve() thread.
-struct Harness {
-  explicit Harness(TransportLimits limits = {}, bool echo = true) {
-    recorder.echo = echo;
-    server = std::make_unique<Server>(recorder.handlers(), limits);
-    server->Get("/api/hello", [](const httplib::Request&, httplib::Response& res) {
-      res.set_content("hello", "text/plain");
-    });
-    port = server->bind("127.0.0.1", 0);
-    thread = std::thread([this] { server->serve(); });
-  }
-  ~Harness() {
-    server->stop();
-    if (thread.joinable()) thread.join();
-  }
-
-  Recorder recorder;
-  std::unique_ptr<Server> server;
-  int port = 0;
-  std::thread thread;
-};
-
-std::string numbered(int i, std::size_t size) {
-  std::string s = std::to_string(i) + ":";
-  if (s.size() < size) s.resize(size, 'x');
-  return s;
-}
-
-int numberOf(const std::string& s) { return std::stoi(s.substr(0, s.find(':'))); }
-
-// ---- raw sockets (for requests httplib::Client would not send) ---------------------------
-int rawConnect(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  timeval tv{5, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof(tv));
-  return fd;
-}
-
-void rawSend(int fd, const std::string& data) {
-  ASSERT_EQ(::send(fd, data.data(), data.size(), MSG_NOSIGNAL), static_cast<ssize_t>(data.size()));
-}
-
-/// Reads one HTTP response head (and a Content-Length body).
-std::string rawReadResponse(int fd) {
-  std::string data;
-  char buf[4096];
-  std::size_t headEnd = std::string::npos;
-  while ((headEnd = data.find("\r\n\r\n")) == std::string::npos) {
-    const auto n = ::recv(fd, buf, sizeof(buf), 0);
-    if (n <= 0) return data;
-    data.append(buf, static_cast<std::size_t>(n));
-  }
-  std::size_t length = 0;
-  const auto pos = data.find("Content-Length: ");
-  if (pos != std::string::npos && pos < headEnd) length = std::stoul(data.substr(pos + 16));
-  while (data.size() < headEnd + 4 + length) {
-    const auto n = ::recv(fd, buf, sizeof(buf), 0);
-    if (n <= 0) break;
-    data.append(buf, static_cast<std::size_t>(n));
-  }
-  return data;
-}
-
-const char* const kUpgradeHeaders =
-    "Host: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-    "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
 
 // ---- tests -----------------------------------------------------------------------------------
 
@@ -449,7 +304,7 @@ TEST(TransportTest, SlowClientReliableBacklogOverflowClosesWith1008) {
 
 TEST(TransportTest, ConnectionsBeyondTheLimitGet503) {
   TransportLimits limits;
-  limits.maxConnections = 2;
+  limits.http.maxConnections = 2;
   Harness h(limits);
   Client a, b, c;
   a.connect("127.0.0.1", h.port);

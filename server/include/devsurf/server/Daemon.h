@@ -27,7 +27,6 @@ struct DaemonOptions {
   std::string apiKey;                       ///< when set, creating sessions and jobs needs it
   std::string webRoot;                      ///< built web app served at / (empty = none)
   std::vector<std::string> demoScenes;      ///< scene files opened as public demo sessions
-  std::size_t maxBodyBytes = 16u << 20;     ///< REST request bodies
   std::size_t maxMessageBytes = 1u << 20;   ///< one WebSocket message
   double messageRate = 200.0;               ///< WebSocket messages per second per connection (burst 2×)
   int maxSessions = 256;
@@ -35,6 +34,9 @@ struct DaemonOptions {
   int maxControlPoints = 20000;             ///< per scene (sum over curves)
   int maxIterationsPerRequest = 1000;
   int workerThreads = 0;                    ///< session workers; 0 = hardware concurrency
+  /// HTTP requests and connections: body (--max-body), head size and fields, deadlines,
+  /// connection caps, route workers (defaults in transport/Limits.h).
+  transport::HttpLimits http;
   JobLimits jobs;
   SessionSettings session;
 };

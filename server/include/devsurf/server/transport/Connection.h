@@ -20,6 +20,8 @@
 #include <memory>
 #include <string>
 
+#include "devsurf/server/transport/Limits.h"
+
 namespace devsurf::server::transport {
 
 /// WebSocket close status codes used by the transport (RFC 6455 §7.4.1).
@@ -86,21 +88,6 @@ struct WebSocketHandlers {
   /// Exactly once per opened connection, whatever ended it (close frame from either side,
   /// TCP drop, protocol error, Server::stop()).
   std::function<void(const std::shared_ptr<Connection>&)> onClose;
-};
-
-struct TransportLimits {
-  std::size_t maxMessageBytes = 1 << 20;  // larger incoming messages: close 1009 with a reason
-  std::size_t maxQueuedBytes = 8 << 20;   // outgoing backlog per connection (see send())
-  std::size_t maxQueuedMessages = 4096;
-  std::size_t maxConnections = 1024;      // further upgrade requests get HTTP 503
-  int ioThreads = 2;                      // threads of the WebSocket io_context (at least 1)
-  /// Reading the upgrade request + handshake.
-  std::chrono::milliseconds handshakeTimeout{10000};
-  /// Flush + closing handshake of close(), and the grace period of Server::stop(); after it the
-  /// TCP connection is dropped.
-  std::chrono::milliseconds closeTimeout{5000};
-  /// No data from the client for half of this: ping; for all of it: drop. 0 = never.
-  std::chrono::milliseconds idleTimeout{60000};
 };
 
 }  // namespace devsurf::server::transport
