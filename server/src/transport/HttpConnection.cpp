@@ -145,11 +145,7 @@ bool iequals(const std::string& a, const char* b) {
 }
 
 void ipAndPort(const tcp::endpoint& endpoint, std::string& ip, int& port) {
-  auto address = endpoint.address();
-  if (address.is_v6() && address.to_v6().is_v4_mapped()) {
-    address = net::ip::make_address_v4(net::ip::v4_mapped, address.to_v6());
-  }
-  ip = address.to_string();
+  ip = unmappedAddress(endpoint.address()).to_string();
   port = endpoint.port();
 }
 

@@ -22,13 +22,6 @@ namespace devsurf::server::transport::detail {
 
 namespace {
 
-net::ip::address unmapped(const net::ip::address& address) {
-  if (address.is_v6() && address.to_v6().is_v4_mapped()) {
-    return net::ip::make_address_v4(net::ip::v4_mapped, address.to_v6());
-  }
-  return address;
-}
-
 const char* statusText(int status) {
   switch (status) {
     case 400: return "Bad Request";
@@ -67,14 +60,21 @@ std::string jsonString(const std::string& text) {
 
 }  // namespace
 
+net::ip::address unmappedAddress(const net::ip::address& address) {
+  if (address.is_v6() && address.to_v6().is_v4_mapped()) {
+    return net::ip::make_address_v4(net::ip::v4_mapped, address.to_v6());
+  }
+  return address;
+}
+
 std::string formatEndpoint(const tcp::endpoint& endpoint) {
-  const auto address = unmapped(endpoint.address());
+  const auto address = unmappedAddress(endpoint.address());
   if (address.is_v6()) return "[" + address.to_string() + "]:" + std::to_string(endpoint.port());
   return address.to_string() + ":" + std::to_string(endpoint.port());
 }
 
 std::string addressKey(const tcp::endpoint& endpoint) {
-  return unmapped(endpoint.address()).to_string();
+  return unmappedAddress(endpoint.address()).to_string();
 }
 
 std::string errorJson(const std::string& code, const std::string& message) {

@@ -48,6 +48,8 @@ struct ServerCore;
 /// A complete request as read from the peer: head and decoded body.
 using HttpRequest = http::request<http::string_body>;
 
+/// IPv4-mapped IPv6 addresses (::ffff:a.b.c.d) as IPv4; others unchanged.
+net::ip::address unmappedAddress(const net::ip::address& address);
 /// "ip:port" of an endpoint ("[v6]:port" for IPv6; IPv4-mapped IPv6 addresses as IPv4).
 std::string formatEndpoint(const tcp::endpoint& endpoint);
 /// The peer's IP address as the per-address connection cap counts it.
