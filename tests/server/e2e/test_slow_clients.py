@@ -24,6 +24,12 @@ def rss_mb(pid, field="VmRSS"):
     raise RuntimeError(f"no {field} for pid {pid}")
 
 
+def sanitized(pid):
+    """Whether the daemon runs under ASan/TSan, whose allocators keep freed memory on purpose."""
+    with open(f"/proc/{pid}/maps") as f:
+        return any("libasan" in line or "libtsan" in line for line in f)
+
+
 def health(port, timeout=10.0):
     """The status of GET /api/health, or the name of the exception (a timeout, a reset)."""
     try:
@@ -162,7 +168,8 @@ class OversizedRequestsTest(DaemonTestCase):
         s.close()
         self.assert_error(status, body, 413, "too_large")
         self.assertIn("16777216 bytes", json.loads(body)["error"]["message"])
-        self.assertLess(rss_mb(pid, "VmHWM"), 600, f"peak RSS after a {sent // MB} MiB chunked body")
+        if not sanitized(pid):
+            self.assertLess(rss_mb(pid, "VmHWM"), 600, f"peak RSS after a {sent // MB} MiB chunked body")
         self.assertEqual(health(self.daemon.port), 200)
 
     def test_large_rejected_bodies_leave_no_lasting_memory(self):
@@ -186,5 +193,6 @@ class OversizedRequestsTest(DaemonTestCase):
                 c.close()
         self.assertEqual(statuses, [400] * 8 + [413] * 2)
         time.sleep(0.5)
-        self.assertLess(rss_mb(pid), 600, "RSS after ten 16-17 MB bodies")
+        if not sanitized(pid):
+            self.assertLess(rss_mb(pid), 600, "RSS after ten 16-17 MB bodies")
         self.assertEqual(health(self.daemon.port), 200)
