@@ -170,6 +170,15 @@ class ProtocolTest(DaemonTestCase):
         demos = self.daemon.json("GET", "/api/sessions")[2]["sessions"]
         self.assertEqual(demos[0]["id"], "demo-strip-lifted-corner")
 
+    def test_a_scene_posted_as_curl_d_posts_it_is_accepted_whatever_its_size(self):
+        # curl -d labels the body application/x-www-form-urlencoded; the API reads JSON anyway.
+        with open(os.path.join(ROOT, "examples", "composite-column.json"), "rb") as f:
+            body = f.read()
+        self.assertGreater(len(body), 8192)
+        status, _, raw = self.daemon.request("POST", "/api/jobs", body,
+                                             {"Content-Type": "application/x-www-form-urlencoded"})
+        self.assertEqual(status, 202, raw[:300])
+
     def test_job_lifecycle_with_idempotency_and_cancel(self):
         with open(os.path.join(ROOT, "examples", "strip-twisted.json")) as f:
             scene = json.load(f)
