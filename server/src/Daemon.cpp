@@ -171,8 +171,9 @@ void Daemon::stop() {
 
 void Daemon::restoreSessions() {
   for (const store::RestoredSession& r : store_->loadSessions()) {
-    std::string reason = r.session.quarantine.value_or("");
-    if (reason.empty() && r.loadError) reason = *r.loadError;
+    // A quarantined session is tried again at every start: what stopped it may have been
+    // transient (an I/O error) or fixed since (an upgrade, an operator's repair).
+    std::string reason = r.loadError.value_or("");
     if (reason.empty()) {
       try {
         const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
@@ -180,10 +181,15 @@ void Daemon::restoreSessions() {
             r.session.id, proto::sceneFromJson(scene), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
             options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
             journal_.get(), &counters_, r.session.demo);
+        if (r.snapshot) session->setInitialScene(proto::sceneFromJson(r.session.initialScene));
         std::vector<std::pair<std::int64_t, json>> edits;
         for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
         session->restore(r.snapshot ? r.snapshot->sessionState : json(), r.snapshot ? r.snapshot->revision : 0, edits,
                          r.lastSeq);
+        if (r.session.quarantine) {
+          spdlog::info("session {} was quarantined ({}) and is restored now", r.session.id, *r.session.quarantine);
+          store_->liftQuarantine(r.session.id);
+        }
         std::lock_guard<std::mutex> lock(mutex_);
         sessions_[r.session.id] = session;
         continue;
@@ -193,7 +199,7 @@ void Daemon::restoreSessions() {
     }
     // Kept, never deleted: the store still holds its initial scene, snapshot and journal, and its
     // last stored scene can be downloaded (GET /api/sessions/{id}/export?format=json).
-    if (!r.session.quarantine) {
+    if (r.session.quarantine != reason) {
       spdlog::error("session {} could not be restored and is quarantined: {}", r.session.id, reason);
       try {
         store_->quarantineSession(r.session.id, reason);
@@ -204,7 +210,7 @@ void Daemon::restoreSessions() {
     Quarantined q;
     q.reason = reason;
     q.tokens = Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash};
-    q.scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
+    q.scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;  // null if even that did not parse
     q.seq = r.snapshot ? r.snapshot->seq : 0;
     std::lock_guard<std::mutex> lock(mutex_);
     quarantined_[r.session.id] = std::move(q);
@@ -414,6 +420,18 @@ void Daemon::routes() {
                          {"participants", session->participantCount()}});
   });
   s.Delete(R"(/api/sessions/([A-Za-z0-9_-]+))", [this, sessionFor](const httplib::Request& req, httplib::Response& res) {
+    if (const auto q = quarantinedSession(req.matches[1], bearer(req))) {
+      // Its owner may delete a quarantined session (the daemon never does).
+      if (Session::roleOf(q->tokens, bearer(req)) != Role::Edit)
+        return replyError(res, 403, "forbidden", "this needs the session's edit token");
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        quarantined_.erase(req.matches[1]);
+      }
+      store_->deleteSession(req.matches[1]);
+      res.status = 204;
+      return;
+    }
     auto session = sessionFor(req, res, Role::Edit);
     if (!session) return;
     {
@@ -428,6 +446,8 @@ void Daemon::routes() {
     if (!findSession(req.matches[1]) && format == "json") {
       // A quarantined session's last stored scene, for its owner: nothing is lost.
       if (const auto q = quarantinedSession(req.matches[1], bearer(req))) {
+        if (q->scene.is_null())
+          return replyError(res, 503, "quarantined", "this session's stored rows do not parse (" + q->reason + ")", "session");
         res.set_header("Content-Disposition", "attachment; filename=\"" + std::string(req.matches[1]) + ".json\"");
         return replyJson(res, 200, q->scene);
       }

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <spdlog/spdlog.h>
+
 #include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Report.h"
@@ -104,6 +106,8 @@ void Session::setTokens(Tokens tokens) {
   std::lock_guard<std::mutex> lock(mutex_);
   tokens_ = std::move(tokens);
 }
+
+void Session::setInitialScene(proto::Scene scene) { initialScene_ = std::move(scene); }
 
 Session::Shown Session::shown() const {
   std::lock_guard<std::mutex> lock(mutex_);
@@ -444,8 +448,13 @@ void Session::post(int participant, json message) {
 }
 
 bool Session::hasQueuedWork() const {
+  // Only work that changes the model interrupts a solve: a ping, a selection or a newcomer's
+  // state waits for it (else another participant's click would cancel a release's `solved`).
   std::lock_guard<std::mutex> lock(mutex_);
-  return !queue_.empty();
+  return std::any_of(queue_.begin(), queue_.end(), [](const std::shared_ptr<Work>& w) {
+    const std::string type = w->message.value("type", "");
+    return type != "ping" && type != "presence" && type != "_state" && type != "_presence";
+  });
 }
 
 void Session::drain() {
@@ -463,14 +472,13 @@ void Session::drain() {
     try {
       handle(*work);
     } catch (const std::exception& e) {
-      // Never let one message take the session down: back to the last committed scene.
+      // Never let one message take the session down: back to what a restart would restore (the
+      // last checkpoint and the edits acknowledged since), and shown as such.
       error(work->participant, work->message.value("op", json()), "internal", e.what());
       try {
-        dragHandles_.clear();
-        releasedHandles_.clear();
-        rebuild(proto::sceneFromJson(sceneJson()));
-        changed_ = false;  // the last checkpoint, as every participant was last shown it
-      } catch (const std::exception&) {
+        recover();
+      } catch (const std::exception& again) {
+        spdlog::error("session {}: cannot recover after \"{}\": {}", id_, e.what(), again.what());
       }
     }
   }
@@ -554,12 +562,11 @@ void Session::commit(int participant, const json& edit, const std::vector<json>&
   const std::int64_t seq = seq_.load() + 1;
   json logged = edit;
   logged.erase("op");
-  if (journal_) {
-    json entry = logged;
-    if (!result.is_null()) entry["result"] = result;
-    journal_->appendEdit(id_, seq, entry);  // durable before the ack (a failure leaves seq as it was)
-  }
+  json entry = logged;
+  if (!result.is_null()) entry["result"] = result;
+  if (journal_) journal_->appendEdit(id_, seq, entry);  // durable before the ack (a failure leaves seq as it was)
   seq_ = seq;
+  unshownEdits_.emplace_back(seq, std::move(entry));  // until a checkpoint holds its effect
   for (const json& op : ops) {
     json ack{{"type", "ack"}, {"seq", seq}};
     if (!op.is_null()) ack["op"] = op;
@@ -709,8 +716,6 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       return reject("invalid", "\"normals\" applies to strip sessions; a composite keeps free normal vectors per face",
                     "normals");
     for (const auto& [k, v] : edit["solver"].items()) doc["solver"][k] = v;
-    if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
-    if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
     if (edit.contains("normals")) model["normals"] = edit["normals"];
   } else if (type == "set_crease") {
     if (!isComposite()) return reject("invalid", "applies to composite sessions; this session edits a strip", "type");
@@ -740,12 +745,17 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   }
   try {
     const proto::Scene next = proto::sceneFromJson(doc);
-    pushUndo();
+    const proto::Scene before = persistentScene();
+    rebuild(next);
+    pushUndo(before);
     dragHandles_.clear();
     releasedHandles_.clear();
-    rebuild(next);
   } catch (const proto::SceneError& e) {
     return reject("invalid", e.what(), e.path());
+  }
+  if (type == "set_solver") {  // the session's own settings, once the scene took the rest
+    if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
+    if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
   }
   return true;
 }
@@ -981,7 +991,10 @@ void Session::handle(const Work& work) {
   const int pid = work.participant;
 
   if (type == "_state") {
-    showState();  // what the newcomer is shown is durable like everything else shown
+    // What the newcomer is shown is durable like everything else shown. When the store cannot
+    // take the current state, the session goes back to what a restart would restore (the last
+    // checkpoint and the journalled edits since: durable by construction).
+    if (!showState()) recover();
     send(pid, stateMessage(pid));  // first message the participant sees …
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -1091,7 +1104,9 @@ bool Session::checkpoint(std::string* failure) {
     if (failure) *failure = "the solve gave a non-finite " + bad;
     return false;
   }
-  SessionCheckpoint c{seq_.load(), revision_ + 1, std::move(scene), sessionStateJson()};
+  json state = sessionStateJson();
+  state["metrics"] = metrics;  // as measured now: a model rebuilt from the scene measures from itself
+  SessionCheckpoint c{seq_.load(), revision_ + 1, std::move(scene), std::move(state)};
   if (journal_) {
     try {
       journal_->saveCheckpoint(id_, c);  // durable before anyone is shown it
@@ -1113,6 +1128,7 @@ bool Session::checkpoint(std::string* failure) {
     cachedRevision_ = revision_;
     shownSeq_ = c.seq;
   }
+  unshownEdits_.clear();
   changed_ = false;
   return true;
 }
@@ -1131,9 +1147,10 @@ bool Session::showState() {
 
 void Session::rollBack(const std::string& why) {
   if (counters_) counters_->recordError("diverged");
+  rebuild(proto::sceneFromJson(sceneJson()));  // the last checkpoint: what everyone was last shown
   dragHandles_.clear();
   releasedHandles_.clear();
-  rebuild(proto::sceneFromJson(sceneJson()));  // the last checkpoint: what everyone was last shown
+  unshownEdits_.clear();  // their effect went with the state: the checkpoint below takes their seq
   // Checkpointed again at the current seq, so a restart does not re-apply the edits that led here.
   checkpoint(nullptr);
   broadcast({{"type", "error"}, {"code", "diverged"}, {"seq", seq_.load()}, {"revision", revision_},
@@ -1151,35 +1168,52 @@ void Session::restore(const json& state, std::int64_t revision,
     std::lock_guard<std::mutex> lock(mutex_);
     cachedRevision_ = revision;
     shownSeq_ = edits.empty() ? lastSeq : edits.front().first - 1;
+    // The metrics as they were shown (a model built from the scene measures from that scene:
+    // displacements and ruling ratios would start over).
+    if (state.is_object() && state.contains("metrics")) cachedMetrics_ = state["metrics"];
   }
-  // The edits acknowledged after the last checkpoint had shown nothing yet: they are applied,
-  // not solved (a solve under a time budget would not give back what the daemon computed, and
-  // nobody saw it). Undo and redo carry the scene they produced.
-  for (const auto& [seq, edit] : edits) {
-    seq_ = seq;
-    const std::string type = edit.value("type", "");
-    if ((type == "undo" || type == "redo") && edit.contains("result")) {
-      dragHandles_.clear();
-      releasedHandles_.clear();
-      rebuild(proto::sceneFromJson(edit["result"]));
-    } else if (type == "drag_end") {
-      releaseDragHandle(edit["target"]);
-    } else {
-      apply(0, edit, true);
-    }
-  }
+  applyUnsolved(edits);
   seq_ = lastSeq;
-  if (!dragHandles_.empty() || !releasedHandles_.empty()) {
-    // Temporary handles end with their participants, and after a restart there are none.
-    const proto::Scene scene = persistentScene();
-    dragHandles_.clear();
-    releasedHandles_.clear();
-    rebuild(scene);
-  }
+  unshownEdits_ = edits;
   if (!edits.empty()) {
     changed_ = true;  // a new revision at the last seq, even when the edits changed nothing (drag_end)
     showState();
   }
+}
+
+void Session::applyUnsolved(const std::vector<std::pair<std::int64_t, json>>& edits) {
+  // The edits acknowledged after the last checkpoint had shown nothing yet: they are applied,
+  // not solved (a solve under a time budget would not give back what the daemon computed, and
+  // nobody saw it). Undo and redo carry the scene they produced.
+  for (const auto& [seq, edit] : edits) {
+    const std::string type = edit.value("type", "");
+    if ((type == "undo" || type == "redo") && edit.contains("result")) {
+      rebuild(proto::sceneFromJson(edit["result"]));
+      dragHandles_.clear();
+      releasedHandles_.clear();
+    } else if (type == "drag_end") {
+      releaseDragHandle(edit["target"]);
+    } else if (!apply(0, edit, true)) {
+      spdlog::warn("session {}: journalled edit {} ({}) no longer applies; skipped", id_, seq, type);
+    }
+  }
+  if (!dragHandles_.empty() || !releasedHandles_.empty()) {
+    // Temporary handles end with their participants (after a restart there are none).
+    const proto::Scene scene = persistentScene();
+    rebuild(scene);
+    dragHandles_.clear();
+    releasedHandles_.clear();
+  }
+}
+
+void Session::recover() {
+  rebuild(proto::sceneFromJson(sceneJson()));  // the last checkpoint
+  dragHandles_.clear();
+  releasedHandles_.clear();
+  const auto edits = unshownEdits_;
+  applyUnsolved(edits);
+  changed_ = true;
+  showState();
 }
 
 }  // namespace devsurf::server

@@ -354,10 +354,15 @@ struct Store::Impl {
       s.viewTokenHash = q.text(2);
       s.name = q.text(3);
       s.demo = q.int64(4) != 0;
-      s.initialScene = parseJson(q.text(5), "initial scene of session " + id);
       s.createdMs = q.int64(6);
       r.lastSeq = q.int64(7);
       s.quarantine = q.optText(8);
+      try {
+        s.initialScene = parseJson(q.text(5), "initial scene of session " + id);
+      } catch (const StoreError& e) {
+        r.loadError = e.what();  // quarantined by the caller; every other session is restored
+        return r;
+      }
     }
     // A row that does not parse makes this session unrestorable, not the store: the caller
     // quarantines it (loadError) and every other session is restored.
@@ -583,6 +588,14 @@ void Store::saveSnapshot(const std::string& sessionId, const Snapshot& snapshot)
         .run();
   }
   t.commit();
+}
+
+void Store::liftQuarantine(const std::string& id) {
+  std::lock_guard<std::mutex> lock(impl_->writeMutex);
+  Connection& w = *impl_->writer;
+  Query q(w, "UPDATE sessions SET quarantine = NULL WHERE id = ?");
+  q.bind(1, id).run();
+  if (w.changes() == 0) throw NotFoundError("no session '" + id + "'");
 }
 
 void Store::quarantineSession(const std::string& id, const std::string& reason) {

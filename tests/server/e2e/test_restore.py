@@ -433,7 +433,7 @@ class QuarantineTest(unittest.TestCase):
         try:
             daemon = Daemon(tmp).start()
             created = []
-            for _ in range(3):
+            for _ in range(4):
                 with open(DEMO) as f:
                     status, _, body = daemon.json("POST", "/api/sessions", json.load(f))
                 self.assertEqual(status, 201, body)
@@ -450,10 +450,13 @@ class QuarantineTest(unittest.TestCase):
             daemon.kill()
             db = os.path.join(tmp, "devsurf.db")
             con = sqlite3.connect(db)
-            unreadable, invalid, healthy = created
+            unreadable, invalid, healthy, broken_initial = created
+            con.execute("UPDATE sessions SET initial_scene = 'not json' WHERE id = ?", (broken_initial["id"],))
+            con.execute("DELETE FROM snapshots WHERE session_id = ?", (broken_initial["id"],))
             con.execute("UPDATE snapshots SET scene = '{\"format\": tru' WHERE session_id = ?", (unreadable["id"],))
             bad_scene = json.loads(con.execute("SELECT scene FROM snapshots WHERE session_id = ? ORDER BY seq DESC",
                                                (invalid["id"],)).fetchone()[0])
+            bad_scene_fixed = json.loads(json.dumps(bad_scene))
             bad_scene["model"]["fixed"] = [{"curve": "a", "index": 99}]
             con.execute("UPDATE snapshots SET scene = ? WHERE session_id = ?", (json.dumps(bad_scene), invalid["id"]))
             rows_before = {s["id"]: con.execute("SELECT COUNT(*) FROM snapshots WHERE session_id = ?", (s["id"],)).fetchone()[0]
@@ -464,7 +467,10 @@ class QuarantineTest(unittest.TestCase):
             for round_ in range(2):  # quarantined again after another restart: nothing was deleted
                 daemon = Daemon(tmp).start()
                 status, _, health = daemon.json("GET", "/api/health")
-                self.assertEqual(health["sessions_quarantined"], 2, health)
+                self.assertEqual(health["sessions_quarantined"], 3, health)
+                status, _, body = daemon.json("GET", f"/api/sessions/{broken_initial['id']}",
+                                              headers={"Authorization": "Bearer " + broken_initial["view_token"]})
+                self.assertEqual((status, body["error"]["code"]), (503, "quarantined"), body)
                 for s in (unreadable, invalid):
                     auth = {"Authorization": "Bearer " + s["view_token"]}
                     status, _, body = daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth)
@@ -499,6 +505,33 @@ class QuarantineTest(unittest.TestCase):
             con.close()
             self.assertIn("snapshot", reasons[unreadable["id"]])
             self.assertIn("model.fixed[0]", reasons[invalid["id"]])
+            self.assertIn("initial scene", reasons[broken_initial["id"]])
             self.assertIsNone(reasons[healthy["id"]])
+            # Repaired by an operator, a quarantined session comes back at the next start; its owner
+            # may delete one that stays broken (the daemon never does).
+            con = sqlite3.connect(db)
+            con.execute("UPDATE snapshots SET scene = ? WHERE session_id = ?", (json.dumps(bad_scene_fixed), invalid["id"]))
+            con.commit()
+            con.close()
+            daemon = Daemon(tmp).start()
+            status, _, health = daemon.json("GET", "/api/health")
+            self.assertEqual(health["sessions_quarantined"], 2, health)
+            status, _, body = daemon.json("GET", f"/api/sessions/{invalid['id']}",
+                                          headers={"Authorization": "Bearer " + invalid["view_token"]})
+            self.assertEqual(status, 200, body)
+            status, _, _ = daemon.json("DELETE", f"/api/sessions/{unreadable['id']}",
+                                       headers={"Authorization": "Bearer " + unreadable["view_token"]})
+            self.assertEqual(status, 403)
+            status, _, _ = daemon.json("DELETE", f"/api/sessions/{unreadable['id']}",
+                                       headers={"Authorization": "Bearer " + unreadable["edit_token"]})
+            self.assertEqual(status, 204)
+            status, _, health = daemon.json("GET", "/api/health")
+            self.assertEqual(health["sessions_quarantined"], 1, health)
+            daemon.stop()
+            con = sqlite3.connect(db)
+            reasons = dict(con.execute("SELECT id, quarantine FROM sessions"))
+            con.close()
+            self.assertIsNone(reasons[invalid["id"]], "the quarantine is lifted once the session restores")
+            self.assertNotIn(unreadable["id"], reasons)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)

@@ -369,6 +369,7 @@ TEST(StoreSessions, AQuarantinedSessionKeepsEveryRowAndItsReasonAcrossReopening)
     store.saveSnapshot("q", 2, json{{"at", 2}});
     store.quarantineSession("q", "model.fixed[0]: no control point 99");
     EXPECT_THROW(store.quarantineSession("nope", "x"), NotFoundError);
+    EXPECT_THROW(store.liftQuarantine("nope"), NotFoundError);
   }
   Store store(tmp.str());
   auto r = store.loadSession("q");
@@ -377,6 +378,8 @@ TEST(StoreSessions, AQuarantinedSessionKeepsEveryRowAndItsReasonAcrossReopening)
   ASSERT_TRUE(r->snapshot);
   EXPECT_EQ(r->editsAfterSnapshot.size(), 1u);
   EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits WHERE session_id = 'q'"), 3);
+  store.liftQuarantine("q");
+  EXPECT_FALSE(store.loadSession("q")->session.quarantine);
 }
 
 TEST(StoreSessions, ARowThatDoesNotParseMakesOnlyItsSessionUnrestorable) {
@@ -390,13 +393,22 @@ TEST(StoreSessions, ARowThatDoesNotParseMakesOnlyItsSessionUnrestorable) {
     }
   }
   rawInt(tmp.path(), "UPDATE snapshots SET scene = '{\"at\": ' WHERE session_id = 'a'");
+  {
+    Store store(tmp.str());
+    store.createSession(makeSession("c"));
+  }
+  rawInt(tmp.path(), "UPDATE sessions SET initial_scene = 'nope' WHERE id = 'c'");
   Store store(tmp.str());
   const auto all = store.loadSessions();
-  ASSERT_EQ(all.size(), 2u);
+  ASSERT_EQ(all.size(), 3u);
   for (const RestoredSession& r : all) {
     if (r.session.id == "a") {
       ASSERT_TRUE(r.loadError);
       EXPECT_NE(r.loadError->find("snapshot of session a"), std::string::npos) << *r.loadError;
+    } else if (r.session.id == "c") {
+      ASSERT_TRUE(r.loadError);
+      EXPECT_NE(r.loadError->find("initial scene of session c"), std::string::npos) << *r.loadError;
+      EXPECT_EQ(r.session.editTokenHash, "edit-hash-c");  // enough to let its owner reach it
     } else {
       EXPECT_FALSE(r.loadError);
       ASSERT_TRUE(r.snapshot);

@@ -192,6 +192,9 @@ class Session : public std::enable_shared_from_this<Session> {
   static Role roleOf(const Tokens& tokens, const std::string& token);
   /// Replaces the token hashes (demo sessions: their public tokens are derived anew at start).
   void setTokens(Tokens tokens);
+  /// The scene `reset` returns to (the one the session was created with; a restored session is
+  /// built from its last checkpoint and told this separately). Before the session is shared.
+  void setInitialScene(proto::Scene scene);
 
   /// The last state shown, read at once: its seq (edits acknowledged since, not yet shown, are
   /// not in it), revision, scene and metrics — what REST readers get and a restart restores.
@@ -271,6 +274,12 @@ class Session : public std::enable_shared_from_this<Session> {
   nlohmann::json sessionStateJson() const;
   /// Back to the last checkpointed scene (temporary handles dropped), telling everyone why.
   void rollBack(const std::string& why);
+  /// Applies journalled edits without solving them (restore(), recover()), then drops temporary
+  /// handles. An edit that no longer applies is logged and skipped.
+  void applyUnsolved(const std::vector<std::pair<std::int64_t, nlohmann::json>>& edits);
+  /// After an exception in the middle of an edit: the state a restart would restore (the last
+  /// checkpoint and the edits acknowledged since, applied), shown as such.
+  void recover();
   bool runSolver(SolveLimits limits, bool final);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
@@ -332,6 +341,9 @@ class Session : public std::enable_shared_from_this<Session> {
   std::atomic<std::int64_t> seq_{0};
   std::int64_t revision_ = 0;  // of the last checkpoint (worker only; cachedRevision_ for readers)
   bool changed_ = false;       // the model's state differs from the last checkpoint
+  /// Edits acknowledged (journalled) since the last checkpoint, as journalled: what a restart
+  /// would apply on top of it (recover() does the same).
+  std::vector<std::pair<std::int64_t, nlohmann::json>> unshownEdits_;
 
   mutable std::mutex mutex_;  // guards participants_, queue_, scheduled_, cached json
   std::map<int, Participant> participants_;

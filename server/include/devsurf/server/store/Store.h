@@ -233,6 +233,8 @@ class Store {
   /// Marks a session that could not be restored (SessionRecord::quarantine = reason); it stays
   /// with its initial scene, snapshots and edits. @throws NotFoundError
   void quarantineSession(const std::string& id, const std::string& reason);
+  /// Clears the mark (the session was restored after all). @throws NotFoundError
+  void liftQuarantine(const std::string& id);
 
   /// Every session, oldest first (createdMs, then id), each read in one consistent transaction.
   std::vector<RestoredSession> loadSessions() const;
