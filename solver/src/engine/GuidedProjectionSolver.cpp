@@ -45,8 +45,9 @@ std::vector<std::pair<std::string, double>> SolveSummary::finalResidualsByName()
   return out;
 }
 
-GuidedProjectionSolver::GuidedProjectionSolver(Problem& problem, LinearSolverKind kind)
-    : problem_(problem), equations_(problem), linear_(makeLinearSolver(kind)), kind_(kind) {
+GuidedProjectionSolver::GuidedProjectionSolver(Problem& problem, LinearSolverKind kind, const Deadline& deadline)
+    : problem_(problem), equations_(problem, deadline), linear_(makeLinearSolver(kind)), kind_(kind) {
+  deadline.check();
   linear_->analyzePattern(equations_.matrix());
   delta_.setZero(equations_.numReduced());
   previousX_.setZero(problem.x().size());
@@ -153,6 +154,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   int rejectedInARow = 0;
   summary.reason = TerminationReason::MaxIterations;
   for (int k = 0; k < options.maxIterations; ++k) {
+    options.deadline.check();  // throws: x is the last iterate
     const Clock::time_point iterStart = Clock::now();
     const IterationRecord& previous = summary.iterations.back();
     const double previousObjective = previous.objective;

@@ -70,7 +70,7 @@ long sortUnique(std::vector<std::vector<int>>& lists) {
 
 }  // namespace
 
-NormalEquations::NormalEquations(const Problem& problem) {
+NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadline) {
   const VariableLayout& layout = problem.layout();
   const int numVariables = layout.numVariables();
   const std::vector<int> natural = layout.freeIndex();  // variable → natural free column
@@ -85,6 +85,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
   std::vector<JacobianEntry> entries;
   std::vector<int> marker(numVariables, -1);
   for (int t = 0; t < numTerms; ++t) {
+    deadline.check();
     const Term& term = *problem.term(t).term;
     TermPlan& plan = plans_[t];
     entries.clear();
@@ -312,6 +313,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
   //    that share a row (this is H's pattern there), then the cliques of declared groups' kept
   //    columns (fill; automatic groups have none).
   std::vector<std::vector<int>> neighbours(numReduced_);
+  deadline.check();
   for (int c = 0; c < numReduced_; ++c) neighbours[c].push_back(c);
   auto addClique = [&neighbours](const std::vector<int>& cols) {
     for (std::size_t a = 0; a < cols.size(); ++a)
@@ -319,6 +321,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
   };
   std::vector<int> rowKept;
   for (int row = 0; row < numRows; ++row) {
+    if (row % 4096 == 0) deadline.check();
     const int g = rowGroup[row];
     if (g >= 0 && !groupDeclared[g]) continue;  // covered by the group's clique below
     rowKept.clear();
@@ -372,6 +375,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
     }
   }
 
+  deadline.check();
   // 6. Fill-reducing ordering (AMD) of the reduced pattern, computed once.
   std::vector<int> oldToNew(numReduced_);
   {
@@ -390,6 +394,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
     for (int k = 0; k < numReduced_; ++k) oldToNew[newToOld.indices()[k]] = k;
   }
 
+  deadline.check();
   // 7. The permuted upper-triangular pattern with sorted row indices per column.
   {
     std::vector<std::vector<int>> permuted(numReduced_);
@@ -428,6 +433,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
 
   // 8. Direct rows (no eliminated variable): entries with reduced columns and the pair slots.
   for (int t = 0; t < numTerms; ++t) {
+    deadline.check();
     TermPlan& plan = plans_[t];
     const std::vector<int>& start = rowStarts[t];
     const std::vector<int>& order = rowOrders[t];
@@ -463,6 +469,7 @@ NormalEquations::NormalEquations(const Problem& problem) {
                                   static_cast<std::size_t>(plan.directStart[i + 1] - plan.directStart[i]));
   rowValues_.assign(longestDirectRow, 0.0);
 
+  deadline.check();
   // 9. Elimination blocks and groups in processing order.
   int maxRows = 0, maxSize = 0, maxKept = 0, maxBlockRows = 0;
   std::vector<int> localColumn(numFree_, -1);

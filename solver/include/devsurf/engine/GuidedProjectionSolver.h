@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/LinearSolver.h"
 #include "devsurf/engine/NormalEquations.h"
 #include "devsurf/engine/Problem.h"
@@ -87,6 +88,10 @@ struct SolverOptions {
   double fairnessDecay = 0.8;            ///< ε_fair is multiplied by this every iteration
   double regularization = 1e-2;          ///< ε_reg: Tikhonov weight of ‖x − x_k‖² (Tang Fig. 17)
   double timeBudgetMs = 0.0;             ///< stop after this much wall time (0 = no budget)
+  /// A hard limit of whoever runs the solve (a job's time limit): checked before every iteration;
+  /// once passed, solve() throws DeadlineExceeded with x at the last iterate. Unlike
+  /// timeBudgetMs, which ends a solve normally (TimeBudget). Default: never.
+  Deadline deadline;
   double residualTolerance = 1e-14;      ///< stop when the objective Σ(w r)² falls below
   double relativeChangeTolerance = 1e-9; ///< stop when |E_k − E_{k−1}| ≤ tol · E_{k−1}
                                          ///< (E = objective; checked from the second step on,
@@ -129,8 +134,10 @@ struct SolveSummary {
 class GuidedProjectionSolver {
  public:
   /// Analyzes `problem`'s topology. The problem must outlive the solver and keep its topology.
+  /// @throws DeadlineExceeded once `deadline` has passed (checked while the pattern is analyzed)
   explicit GuidedProjectionSolver(Problem& problem,
-                                  LinearSolverKind kind = LinearSolverKind::SimplicialLDLT);
+                                  LinearSolverKind kind = LinearSolverKind::SimplicialLDLT,
+                                  const Deadline& deadline = {});
 
   /// Runs guided projection on problem.x() in place.
   SolveSummary solve(const SolverOptions& options);

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "devsurf/engine/LinearSolver.h"
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/Problem.h"
 
 namespace devsurf::engine {
@@ -37,8 +38,9 @@ namespace devsurf::engine {
 class NormalEquations {
  public:
   /// @throws std::logic_error if a term lists a variable twice in one row, an entry is out of
-  ///         range, or a row couples two declared elimination groups.
-  explicit NormalEquations(const Problem& problem);
+  ///         range, or a row couples two declared elimination groups; DeadlineExceeded once
+  ///         `deadline` has passed (checked between the phases and in the loops over rows).
+  explicit NormalEquations(const Problem& problem, const Deadline& deadline = {});
 
   /// Evaluates every term at x (after linearizeAt) and fills the part of the reduced system that
   /// involves no eliminated variable; eliminate() completes it.
