@@ -125,6 +125,7 @@ void CompositeModel::buildDevelopmentMesh() {
     devTriangleFace_.push_back(f);
   };
   for (int f = 0; f < F; ++f) {
+    options_.deadline.check();
     const FaceInfo& info = topo.face(f);
     if (info.type == FaceType::Planar) {
       const std::vector<int>& c = info.corners;
@@ -322,6 +323,7 @@ Eigen::MatrixX2d CompositeModel::unfold(const Eigen::VectorXd& x) const {
     std::deque<int> queue{root};
     visited[root] = true;
     while (!queue.empty()) {
+      options_.deadline.check();
       const int f = queue.front();
       queue.pop_front();
       const std::vector<int>& ts = faceTriangles[f];

@@ -185,6 +185,7 @@ CompositeModel::CompositeModel(CompositeDesign design, CompositeOptions options)
   scale_ = std::max((pts.colwise().maxCoeff() - pts.colwise().minCoeff()).norm(), 1e-300);
   if (options_.normalize) normalization_ = engine::Normalization::fromPoints(pts);
   buildProblem();
+  options_.deadline = {};  // it bounds the construction only (unfold() runs in solves too)
 }
 
 int CompositeModel::pointIndex(const PointSlot& s) const {
@@ -293,6 +294,7 @@ void CompositeModel::buildProblem() {
   const int P = static_cast<int>(problem_.x().size() / 3);
   std::vector<int> hardUnit, softUnit;
   for (int f = 0; f < F; ++f) {
+    options_.deadline.check();
     const FaceInfo& info = topo.face(f);
     const int offN = problem_.layout().block(normalBlock_[f]).offset;
     if (!stripLike(info)) {
@@ -461,7 +463,7 @@ void CompositeModel::buildProblem() {
 
   initializeNormals();
   initializeOsculatingNormals();
-  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
+  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);
 }
 
 std::vector<int> CompositeModel::vertexStar(int v) const {

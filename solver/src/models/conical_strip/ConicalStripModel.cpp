@@ -291,6 +291,9 @@ const ConicalStripResult& ConicalStripModel::result() const {
 
 const ConicalStripSummary& ConicalStripModel::solve() {
   const Clock::time_point start = Clock::now();
+  const engine::Deadline& deadline = options_.deadline;
+  solved_ = false;
+  deadline.check();
   summary_ = ConicalStripSummary{};
   result_ = ConicalStripResult{};
   ConicalStripResult& r = result_;
@@ -300,6 +303,7 @@ const ConicalStripSummary& ConicalStripModel::solve() {
   r.paramsQ = curveQ_.equalArcLengthParameters(design_.nq);
   r.samplesP.resize(design_.np, 3);
   r.samplesQ.resize(design_.nq, 3);
+  deadline.check();
   for (int k = 0; k < design_.np; ++k) r.samplesP.row(k) = curveP_.point(r.paramsP[k]).transpose();
   for (int k = 0; k < design_.nq; ++k) r.samplesQ.row(k) = curveQ_.point(r.paramsQ[k]).transpose();
   r.cornersP = r.samplesP;
@@ -322,6 +326,7 @@ const ConicalStripSummary& ConicalStripModel::solve() {
   };
   // Steps 2–5.
   while (p.index < p.last() || q.index < q.last()) {
+    deadline.check();
     const ConicalPatch* previous = r.greedyPatches.empty() ? nullptr : &r.greedyPatches.back();
     std::vector<Candidate> quads, triangles;
     if (p.index < p.last() && q.index + 2 <= q.last()) {
@@ -395,6 +400,7 @@ const ConicalStripSummary& ConicalStripModel::solve() {
     }
     r.patches.reserve(m);
     for (size_t k = 0; k < m; ++k) {
+      if (k % 64 == 0) deadline.check();
       const ConicalPatch& greedy = r.greedyPatches[k];
       const ConicalPatch elevated = elevateDegree(greedy);
       const bool baseIsP = elevated.baseSide == StripSide::P;
@@ -426,11 +432,11 @@ const ConicalStripSummary& ConicalStripModel::solve() {
   summary_.g1Ms = millisecondsSince(g1Start);
 
   const Clock::time_point metricsStart = Clock::now();
-  r.metrics = measureStrip(r.patches, curveP_, curveQ_, options_.outlineSamples);
+  r.metrics = measureStrip(r.patches, curveP_, curveQ_, options_.outlineSamples, deadline);
   r.greedyMetrics = design_.g1 ? measureStrip(r.greedyPatches, curveP_, curveQ_,
-                                              options_.outlineSamples)
+                                              options_.outlineSamples, deadline)
                                : r.metrics;
-  r.unfolded = unfoldStrip(r.patches, options_.outlineSamples);
+  r.unfolded = unfoldStrip(r.patches, options_.outlineSamples, deadline);
   summary_.metricsMs = millisecondsSince(metricsStart);
 
   summary_.termination = "completed";
@@ -444,7 +450,7 @@ const ConicalStripSummary& ConicalStripModel::solve() {
 
 ConicalStripMetrics measureStrip(const std::vector<ConicalPatch>& patches,
                                  const ArcLengthCurve& curveP, const ArcLengthCurve& curveQ,
-                                 int outlineSamples) {
+                                 int outlineSamples, const engine::Deadline& deadline) {
   ConicalStripMetrics m;
   const auto searchRange = [](const ArcLengthCurve& c, double u0, double u1) {
     const double s0 = c.arcLength(u0), s1 = c.arcLength(u1);
@@ -452,6 +458,7 @@ ConicalStripMetrics measureStrip(const std::vector<ConicalPatch>& patches,
     return std::pair<double, double>{c.parameterAt(s0 - margin), c.parameterAt(s1 + margin)};
   };
   for (size_t k = 0; k < patches.size(); ++k) {
+    if (k % 16 == 0) deadline.check();
     const ConicalPatch& patch = patches[k];
     (patch.type == PatchType::Triangular ? m.n3 : m.n4) += 1;
     m.projectionResidualMax = std::max(m.projectionResidualMax, projectionResidual(patch));
@@ -478,7 +485,7 @@ ConicalStripMetrics measureStrip(const std::vector<ConicalPatch>& patches,
 }
 
 std::vector<UnfoldedPatch> unfoldStrip(const std::vector<ConicalPatch>& patches,
-                                       int outlineSamples) {
+                                       int outlineSamples, const engine::Deadline& deadline) {
   std::vector<UnfoldedPatch> out;
   out.reserve(patches.size());
   // Places X given placed Y, Z (2D) from 3D distances, on the side that keeps the orientation of
@@ -497,6 +504,7 @@ std::vector<UnfoldedPatch> unfoldStrip(const std::vector<ConicalPatch>& patches,
   };
   Eigen::Vector2d a2(0.0, 0.0), b2(0.0, 0.0);
   for (size_t k = 0; k < patches.size(); ++k) {
+    if (k % 64 == 0) deadline.check();
     const ConicalPatch& patch = patches[k];
     UnfoldedPatch u;
     u.a.resize(outlineSamples + 1, 2);

@@ -243,6 +243,7 @@ void QuasiStripModel::build() {
   Eigen::MatrixX3d points(K, 3), tangents(K, 3);
   std::vector<int> normalOffsets;
   for (int i = 0; i < K; ++i) {
+    if (i % 256 == 0) options_.deadline.check();
     const terms::CurveJet a = w->e1->evaluate(w->samples[i]);
     points.row(i) = a.point.transpose();
     tangents.row(i) = a.d1.transpose();
@@ -275,6 +276,7 @@ void QuasiStripModel::build() {
                       std::sqrt(design_.endPoints.weight), engine::Strength::Soft);
     }
   }
+  options_.deadline.check();
   if (options_.optimizer == Optimizer::GuidedProjection || options_.polishIterations > 0)
     w->engine = std::make_unique<engine::GuidedProjectionSolver>(problem);
   working_ = std::move(w);
@@ -310,10 +312,12 @@ double warpAtDeg(const terms::ExtendedCurve& e1, const terms::ExtendedCurve& e2,
 
 /// Largest and mean warp over `rulings` rulings equally spaced over the working domain [0, 1].
 std::pair<double, double> denseWarpDeg(const terms::ExtendedCurve& e1, const terms::ExtendedCurve& e2,
-                                       const spline::BSplineCurve& sigma, int rulings) {
+                                       const spline::BSplineCurve& sigma, int rulings,
+                                       const engine::Deadline& deadline) {
   const int n = std::max(2, rulings);
   double worst = 0.0, sum = 0.0;
   for (int i = 0; i < n; ++i) {
+    if (i % 256 == 0) deadline.check();
     const double warp = warpAtDeg(e1, e2, sigma, static_cast<double>(i) / (n - 1));
     // A NaN warp makes the state unusable: keep it visible to the caller.
     if (!(warp <= worst)) worst = warp;
@@ -342,7 +346,9 @@ double QuasiStripModel::guidedProjectionSteps(int round, QuasiStripSummary& summ
   summary.termination = engine::terminationReasonName(engine::TerminationReason::MaxIterations);
   summary.converged = false;
   int accepted = 0;
+  o.deadline = options_.deadline;
   for (int k = 0; k < maxIterations; ++k) {
+    options_.deadline.check();
     if (options_.timeBudgetMs > 0.0 && msSince(start) > options_.timeBudgetMs) {
       summary.termination = engine::terminationReasonName(engine::TerminationReason::TimeBudget);
       break;
@@ -424,6 +430,7 @@ void QuasiStripModel::solveRound(int round, QuasiStripSummary& summary, std::vec
     const spline::BSplineCurve sigma = m.curve();
     double worst = 0.0, sum = 0.0;
     for (double t : w.samples) {
+      if (options_.deadline.expired()) break;  // (inside libLBFGS' callback: no throw; checked after it)
       const double warp = warpAtDeg(*w.e1, *w.e2, sigma, t);
       worst = std::max(worst, warp);
       sum += warp;
@@ -443,6 +450,8 @@ void QuasiStripModel::solveRound(int round, QuasiStripSummary& summary, std::vec
   const LbfgsResult r = minimizeLbfgs(
       [&objective](const Eigen::VectorXd& v, Eigen::VectorXd& g) { return objective(v, g); }, x, lo,
       [&](int k, double f, double g) {
+        // No exception may cross libLBFGS (C): stop here, throw below.
+        if (options_.deadline.expired()) return false;
         summary.iterations.push_back({k, f, 0.0, g, msSince(start), round});
         if (k % 10 != 0) return true;
         warp = sampleWarpDeg(x);
@@ -467,6 +476,7 @@ void QuasiStripModel::solveRound(int round, QuasiStripSummary& summary, std::vec
         }
         return true;
       });
+  options_.deadline.check();
   summary.termination = warpReached ? "warp_tolerance" : warpStalled ? "warp_stalled" : lbfgsTerminationName(r.reason);
   summary.converged = warpReached || warpStalled || r.reason == LbfgsTermination::GradientTolerance ||
                       r.reason == LbfgsTermination::RelativeDecrease ||
@@ -501,7 +511,7 @@ QuasiStripModel::Candidate QuasiStripModel::capture(int round, std::string termi
   c.x = w.problem.x();
   const Mapping m = workingMapping(options_.method, w.mappingKnots, design_.mapping.degree, w.samples,
                                    w.problem.blockValues(w.shapeBlock));
-  c.warpMaxDense = denseWarpDeg(*w.e1, *w.e2, m.curve(), options_.denseRulings).first;
+  c.warpMaxDense = denseWarpDeg(*w.e1, *w.e2, m.curve(), options_.denseRulings, options_.deadline).first;
   // How far the end rulings are from C2's ends along C2: past the working end (the design's end
   // plus its explicit extension; σ ≥ 0 keeps the begin), or short of the design's ends (beyond
   // extension.tolerance), as fractions of C2's domain or arc length, whichever is larger.
@@ -615,6 +625,7 @@ QuasiStripSummary QuasiStripModel::solve() {
   };
   std::size_t best = 0;
   for (int round = 1;; ++round) {
+    options_.deadline.check();
     const std::size_t first = candidates.size();
     solveRound(round - 1, summary, candidates);
     summary.rounds = round;
@@ -725,6 +736,7 @@ void QuasiStripModel::computeResults() {
   const int normalOffset = w.problem.layout().block(w.normalBlock).offset;
   double sum = 0.0;
   for (int i = 0; i < K; ++i) {
+    if (i % 256 == 0) options_.deadline.check();
     const double warp = warpAtDeg(*w.e1, *w.e2, sigma, w.samples[i]);
     r.sampleParameters.push_back(w.t0 + w.samples[i] * (w.t1 - w.t0));
     r.sampleWarpDeg.push_back(warp);
@@ -734,7 +746,7 @@ void QuasiStripModel::computeResults() {
     r.normals.row(i) = (n.norm() > 0 ? n.normalized() : n).transpose();
   }
   r.warpAngleMeanDeg = sum / K;
-  std::tie(r.warpAngleMaxDegDense, r.warpAngleMeanDegDense) = denseWarpDeg(*w.e1, *w.e2, sigma, options_.denseRulings);
+  std::tie(r.warpAngleMaxDegDense, r.warpAngleMeanDegDense) = denseWarpDeg(*w.e1, *w.e2, sigma, options_.denseRulings, options_.deadline);
 
   // σ in the design's parameters: t = t0 + t̃ (t1 − t0), T = T0 + T̃ (T1 − T0).
   r.mapping = m;
@@ -754,6 +766,7 @@ void QuasiStripModel::computeResults() {
   r.trimEnd = w.t0 + trimEnd * (w.t1 - w.t0);
 
   // Algorithm 1 on the working curves, then back to design parameters and coordinates.
+  options_.deadline.check();
   r.surface = convertRuledSurface(w.w1, w.w2, m, trimBegin, trimEnd);
   for (double& k : r.surface.knots) k = w.t0 + k * (w.t1 - w.t0);
   for (int i = 0; i < r.surface.side0.rows(); ++i) {

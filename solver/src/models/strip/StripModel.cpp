@@ -111,6 +111,7 @@ StripModel::StripModel(StripDesign design, StripOptions options)
     normalization_ = engine::Normalization::fromPoints(all);
   }
   buildProblem();
+  options_.deadline = {};  // it bounds the construction only
 }
 
 void StripModel::buildProblem() {
@@ -259,7 +260,7 @@ void StripModel::buildProblem() {
   for (int t : handleTerms_) problem_.term(t).relaxable = true;  // step control may weaken the pull
 
   initializeNormals();
-  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver);
+  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);
 }
 
 int StripModel::pointOffset(const ControlPointRef& p) const {

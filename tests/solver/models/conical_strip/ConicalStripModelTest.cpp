@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iostream>
 #include <stdexcept>
@@ -252,6 +253,30 @@ TEST(ConicalStripModel, ABadDesignIsRejectedWithTheNameOfTheField) {
   EXPECT_EQ(messageOf(d).rfind("q:", 0), 0u);
   EXPECT_THROW(ConicalStripModel(figure11LikeDesign()).result(), std::logic_error);
 }
+
+TEST(ConicalStripModel, ASolvePastItsDeadlineStopsInsideTheGreedyConstructionAndStaysUnsolved) {
+  // 10 000 samples a side take tens of seconds; a 50 ms deadline stops the greedy march.
+  ConicalStripDesign design = figure11LikeDesign();
+  design.np = design.nq = 10000;
+  ConicalStripOptions options;
+  options.deadline = engine::Deadline::after(50.0, "the test's budget");
+  ConicalStripModel model(design, options);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    model.solve();
+    FAIL() << "no DeadlineExceeded";
+  } catch (const engine::DeadlineExceeded& e) {
+    EXPECT_EQ(std::string(e.what()), "the test's budget of 50 ms was exceeded");
+  }
+  // Generous: it stops within one greedy step of the deadline, not after the 20 000 samples.
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  EXPECT_FALSE(model.solved());
+  // Without the deadline the same model solves.
+  ConicalStripModel small(figure11LikeDesign(), ConicalStripOptions{});
+  small.setDeadline(engine::Deadline::after(60000.0));
+  EXPECT_EQ(small.solve().termination, "completed");
+}
+
 
 }  // namespace
 }  // namespace devsurf::models::conical_strip

@@ -242,5 +242,24 @@ TEST(QuasiStripModel, RejectsBadDesignsNamingTheField) {
   EXPECT_EQ(message(d).rfind("c1:", 0), 0u) << message(d);
 }
 
+TEST(QuasiStripModel, BuildingOrSolvingPastTheDeadlineThrowsDeadlineExceeded) {
+  // Building: a deadline that has passed stops the constructor.
+  auto cancelled = std::make_shared<std::atomic<bool>>(true);
+  QuasiStripOptions stopped;
+  stopped.deadline = engine::Deadline().withCancelFlag(cancelled);
+  EXPECT_THROW(QuasiStripModel(twistedConeDesign(), stopped), engine::DeadlineExceeded);
+  // Solving: 20 000 samples take seconds of L-BFGS; 100 ms stop it between iterations.
+  QuasiStripDesign design = twistedConeDesign();
+  design.samples = 20000;
+  QuasiStripModel model(design);
+  model.setDeadline(engine::Deadline::after(100.0, "the test's budget"));
+  try {
+    model.solve();
+    FAIL() << "no DeadlineExceeded";
+  } catch (const engine::DeadlineExceeded& e) {
+    EXPECT_EQ(std::string(e.what()), "the test's budget of 100 ms was exceeded");
+  }
+}
+
 }  // namespace
 }  // namespace devsurf::models::quasi_strip

@@ -56,6 +56,11 @@ struct CompositeOptions {
   /// legGuardRatio of its length at build time); false = off.
   bool creaseBacktrackGuard = true;
   double legGuardRatio = 0.25;
+  /// Whoever builds the model gives up here (a job's time limit, a session's budget): checked
+  /// while the faces, the development mesh and its unfolding are built and the pattern analyzed;
+  /// once passed, the constructor throws engine::DeadlineExceeded. Solves have their own
+  /// (engine::SolverOptions::deadline). Default: never.
+  engine::Deadline deadline;
 };
 
 /// An interior edge of the composite as extracted: where it runs and how it is folded.

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/models/conical_strip/ArcLengthCurve.h"
 #include "devsurf/models/conical_strip/ConicalPatch.h"
 #include "devsurf/spline/BSplineCurve.h"
@@ -47,6 +48,10 @@ struct ConicalStripOptions {
   /// cubic's inner control legs onto the G1 tangents, clamped to [min, max] × the chord length.
   double tangentLengthMin = 0.05;
   double tangentLengthMax = 0.6;
+  /// Whoever runs solve() gives up here (a job's time limit, a session's budget): checked in every
+  /// greedy step and in the loops over samples and patches; once passed, solve() throws
+  /// engine::DeadlineExceeded and the model stays unsolved. Default: never.
+  engine::Deadline deadline;
 };
 
 /// Counts and timings of one run (no timing is asserted anywhere; the bench reports them).
@@ -139,11 +144,14 @@ class ConicalStripModel {
 
   /// Runs the greedy algorithm (and the G1 adjustment), computes metrics and the development.
   /// Calling it again recomputes from scratch.
+  /// @throws engine::DeadlineExceeded once options.deadline has passed (solved() is then false)
   const ConicalStripSummary& solve();
 
   bool solved() const { return solved_; }
   const ConicalStripDesign& design() const { return design_; }
   const ConicalStripOptions& options() const { return options_; }
+  /// Replaces options.deadline (for the next solve()).
+  void setDeadline(engine::Deadline deadline) { options_.deadline = std::move(deadline); }
   const ConicalStripSummary& summary() const { return summary_; }
   /// @throws std::logic_error before solve().
   const ConicalStripResult& result() const;
@@ -162,12 +170,15 @@ class ConicalStripModel {
 
 /// The metrics of a chain of patches against the two input curves (used for both the greedy and
 /// the final patches). `outlineSamples` boundary samples per patch for the deviation.
+/// @throws engine::DeadlineExceeded once `deadline` has passed
 ConicalStripMetrics measureStrip(const std::vector<ConicalPatch>& patches,
                                  const ArcLengthCurve& curveP, const ArcLengthCurve& curveQ,
-                                 int outlineSamples);
+                                 int outlineSamples, const engine::Deadline& deadline = {});
 
 /// Unfolds a chain of patches into the plane: each patch sampled at outlineSamples+1 rulings and
 /// unfolded triangle by triangle (edge lengths kept exactly), continuing across shared rulings.
-std::vector<UnfoldedPatch> unfoldStrip(const std::vector<ConicalPatch>& patches, int outlineSamples);
+/// @throws engine::DeadlineExceeded once `deadline` has passed
+std::vector<UnfoldedPatch> unfoldStrip(const std::vector<ConicalPatch>& patches, int outlineSamples,
+                                       const engine::Deadline& deadline = {});
 
 }  // namespace devsurf::models::conical_strip

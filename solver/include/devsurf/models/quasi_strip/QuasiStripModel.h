@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/engine/Problem.h"
 #include "devsurf/models/quasi_strip/Lbfgs.h"
@@ -117,6 +118,12 @@ struct QuasiStripOptions {
   bool fixEndPointsRetry = true;
   double timeBudgetMs = 0.0;               ///< per solve round (0 = none)
   int denseRulings = 1000;                 ///< rulings of the *_dense warp metrics (Fig. 7 f)
+  /// Whoever builds and solves the model gives up here (a job's time limit, a session's budget):
+  /// checked while the model is built, between optimizer iterations and rounds, and in the loops
+  /// over the samples and dense rulings; once passed, the constructor or solve() throws
+  /// engine::DeadlineExceeded (the model is then not to be used). Unlike timeBudgetMs, which ends
+  /// a round normally. Default: never.
+  engine::Deadline deadline;
 };
 
 /// One iteration as the summary records it (iteration 0 = initial state).
@@ -196,7 +203,8 @@ class QuasiStripModel {
  public:
   /// Validates the design and builds the working curves and the problem.
   /// @throws std::invalid_argument naming the field ("c1.weights: …", "mapping.degree: …",
-  ///         "samples: …", "extension.c1End: …", "endPoints.weight: …").
+  ///         "samples: …", "extension.c1End: …", "endPoints.weight: …"); engine::DeadlineExceeded
+  ///         once options.deadline has passed.
   explicit QuasiStripModel(QuasiStripDesign design, QuasiStripOptions options = {});
   ~QuasiStripModel();
   QuasiStripModel(const QuasiStripModel&) = delete;
@@ -216,12 +224,15 @@ class QuasiStripModel {
   /// acceptable, the initial mapping is returned: termination kIdentityFallback, converged false.
   /// summary.selectedRound and summary.selection say which state was returned and why.
   /// Every call starts again from T = t.
+  /// @throws engine::DeadlineExceeded once options.deadline has passed
   QuasiStripSummary solve();
 
   /// Results at the current state (before solve(): the initial mapping T = t).
   const QuasiStripResults& results() const { return results_; }
   const QuasiStripDesign& design() const { return design_; }
   const QuasiStripOptions& options() const { return options_; }
+  /// Replaces options.deadline (for the next solve()).
+  void setDeadline(engine::Deadline deadline) { options_.deadline = std::move(deadline); }
 
   /// The ruled surface (1−s) C1(t) + s C2(σ(t)) in design coordinates, t on C1 (extended where
   /// C1 is extended).

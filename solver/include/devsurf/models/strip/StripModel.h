@@ -77,6 +77,10 @@ struct StripOptions {
   /// model was built) and "curve_leg_length" (no leg shrinks below legGuardRatio of its length then).
   bool backtrackGuard = true;
   double legGuardRatio = 0.25;
+  /// Whoever builds the model gives up here (a job's time limit, a session's budget): checked
+  /// while the pattern is analyzed; once passed, the constructor throws engine::DeadlineExceeded.
+  /// Solves have their own (engine::SolverOptions::deadline). Default: never.
+  engine::Deadline deadline;
 };
 
 /// Sampled geometry for drawing and export (in the design's coordinates).
