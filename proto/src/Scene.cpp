@@ -548,7 +548,7 @@ void checkModelNumbers(const json& j, const std::string& path, bool coordinates)
 
 }  // namespace
 
-Scene sceneFromJson(const json& document) {
+Scene sceneFromJson(const json& document, const ResourceLimits& limits) {
   const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
   if (!errors.empty()) throw SceneError(errors[0].path, errors[0].rule, errors[0].message);
   if (document.contains("model")) checkModelNumbers(document["model"], "model", false);
@@ -594,43 +594,50 @@ Scene sceneFromJson(const json& document) {
                                       std::numeric_limits<int>::max(), "control point");
       d.handles.push_back({{curveRef(h.at("curve")), index}, point3(h.at("position")), h.value("weight", s.handleWeight)});
     }
+    scene.model = std::move(d);
+    checkResourceLimits(scene, limits);
     try {
-      models::strip::StripModel::validateDesign(d);
+      models::strip::StripModel::validateDesign(std::get<StripDesign>(scene.model));
     } catch (const std::invalid_argument& e) {
       throw semanticError("model", e.what(), "model");
     }
-    scene.model = std::move(d);
   } else if (kind == "composite") {
-    composite::CompositeDesign d = compositeFromJson(model, s.handleWeight);
+    scene.model = compositeFromJson(model, s.handleWeight);
+    checkResourceLimits(scene, limits);
     try {
-      composite::CompositeModel::validateDesign(d);
+      composite::CompositeModel::validateDesign(std::get<composite::CompositeDesign>(scene.model));
     } catch (const std::invalid_argument& e) {
       throw semanticError("model", e.what(), "model");
     }
-    scene.model = std::move(d);
   } else if (kind == "quasi_strip") {
-    QuasiStripScene q = quasiStripFromJson(model);
+    scene.model = quasiStripFromJson(model);
+    checkResourceLimits(scene, limits);
+    const QuasiStripScene& q = std::get<QuasiStripScene>(scene.model);
+    // The model validates the curves, mapping and samples as it is built; without the engine (no
+    // guided projection, no polish) building it is cheap.
+    quasi::QuasiStripOptions checkOptions = q.options;
+    checkOptions.optimizer = quasi::Optimizer::Lbfgs;
+    checkOptions.polishIterations = 0;
     try {
-      quasi::QuasiStripModel check(q.design, q.options);  // validates the curves, mapping, samples
+      quasi::QuasiStripModel check(q.design, checkOptions);
     } catch (const std::invalid_argument& e) {
       throw semanticError("model", quasiStripFieldPath(e.what()), "model");
     }
-    scene.model = std::move(q);
   } else if (kind == "conical_strip") {
-    conical::ConicalStripDesign d = conicalStripFromJson(model);
+    scene.model = conicalStripFromJson(model);
+    checkResourceLimits(scene, limits);
     try {
-      conical::ConicalStripModel check(d);  // validates the curves and parameters
+      conical::ConicalStripModel check(std::get<conical::ConicalStripDesign>(scene.model));  // validates the curves and parameters
     } catch (const std::invalid_argument& e) {
       throw semanticError("model", e.what(), "model");
     }
-    scene.model = std::move(d);
   } else {
     throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");
   }
   return scene;
 }
 
-Scene sceneFromText(const std::string& text) {
+Scene sceneFromText(const std::string& text, const ResourceLimits& limits) {
   json document;
   try {
     document = parseBoundedJson(text);
@@ -639,7 +646,7 @@ Scene sceneFromText(const std::string& text) {
   } catch (const JsonSyntaxError& e) {
     throw SceneError("", "json", std::string("not valid JSON: ") + e.what());
   }
-  return sceneFromJson(document);
+  return sceneFromJson(document, limits);
 }
 
 json sceneToJson(const Scene& scene) {

@@ -13,6 +13,7 @@
 #include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/JsonSchemaValidator.h"
+#include "devsurf/proto/ResourceLimits.h"
 
 namespace devsurf::proto {
 
@@ -101,11 +102,14 @@ const SchemaRegistry& schemaRegistry();
 const nlohmann::json& embeddedDocument(const std::string& name);
 
 /// Validates against scene.schema.json, then checks what a schema cannot say (degrees and knots
-/// that match, indices in range, knot vector rules) and converts.
-/// @throws SceneError naming the JSON path and rule of the first problem found
-Scene sceneFromJson(const nlohmann::json& document);
+/// that match, indices in range, knot vector rules), converts, and checks the result against
+/// `limits` (checkResourceLimits: control points per scene, iterations, the estimated memory)
+/// before any model is built.
+/// @throws SceneError naming the JSON path and rule of the first problem found (rule "limit" for
+///         a resource limit)
+Scene sceneFromJson(const nlohmann::json& document, const ResourceLimits& limits = {});
 /// Parses text first (a parse error is a SceneError with path "(root)" and rule "json").
-Scene sceneFromText(const std::string& text);
+Scene sceneFromText(const std::string& text, const ResourceLimits& limits = {});
 
 /// Where a scene's control points are: the centre and the diagonal of their bounding box (handles
 /// and the development left out).
