@@ -33,7 +33,10 @@ constexpr const char* kUsage =
     "\n"
     "commands:\n"
     "  solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]...\n"
+    "        [--memory-budget-mb MB]\n"
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
+    "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
+    "        20 000 control points); --memory-budget-mb raises the first.\n"
     "        FORMAT is obj, off, ply or stl (the sampled surface as quads; stl: two\n"
     "        triangles per quad, zero-area ones left out); for composite\n"
     "        scenes with a development also fold (FOLD 1.2) and svg (fold pattern, mm).\n"
@@ -47,6 +50,7 @@ constexpr const char* kUsage =
     "        [--max-header-fields N] [--header-timeout-ms MS] [--body-timeout-ms MS]\n"
     "        [--keep-alive-timeout-ms MS] [--keep-alive-requests N] [--write-timeout-ms MS]\n"
     "        [--http-workers N]\n"
+    "        [--memory-budget-mb MB] [--session-time-budget-ms MS]\n"
     "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
     "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
     "        Submit a batch job; with --wait, show progress and write the report.\n"
@@ -105,11 +109,14 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   std::string scenePath, outPath;
   int iterations = -1;
   std::vector<std::string> exports;
+  proto::ResourceLimits limits;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
       if (a == "--iterations") iterations = static_cast<int>(parseNumber(a, value(), 0, 10000));
+      else if (a == "--memory-budget-mb")
+        limits.memoryBudgetBytes = static_cast<double>(parseNumber(a, value(), 16, 1L << 30)) * 1024.0 * 1024.0;
       else if (a == "--out") outPath = value();
       else if (a == "--export") exports.push_back(value());
       else if (!a.empty() && a[0] == '-' && a != "-") throw std::invalid_argument("unknown option " + a);
@@ -140,7 +147,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
 
   try {
     const auto start = std::chrono::steady_clock::now();
-    SceneSolver solver(proto::sceneFromText(text));
+    SceneSolver solver(proto::sceneFromText(text, limits));
     const engine::SolveSummary summary = solver.solve(iterations);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const nlohmann::json report = solver.report(summary, ms);
@@ -200,6 +207,9 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
       else if (a == "--job-workers") o.jobs.workers = static_cast<int>(parseNumber(a, value(), 1, 256));
       else if (a == "--max-jobs") o.jobs.maxQueued = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
       else if (a == "--job-timeout-ms") o.jobs.maxRunMs = static_cast<double>(parseNumber(a, value(), 1, 86400000));
+      else if (a == "--memory-budget-mb") o.memoryBudgetMb = static_cast<double>(parseNumber(a, value(), 16, 1L << 30));
+      else if (a == "--session-time-budget-ms")
+        o.session.rebuildTimeBudgetMs = static_cast<double>(parseNumber(a, value(), 100, 86400000));
       else if (a == "--drag-iterations") o.session.dragIterations = static_cast<int>(parseNumber(a, value(), 1, 100));
       else if (a == "--release-iterations") o.session.releaseIterations = static_cast<int>(parseNumber(a, value(), 0, 1000));
       else if (a == "--log-level") {

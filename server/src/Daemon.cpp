@@ -45,6 +45,13 @@ void replyError(httplib::Response& res, int status, const std::string& code, con
   res.set_content(proto::wireText(json{{"error", e}}), "application/json");
 }
 
+/// A refused scene: 400 `invalid` or `limit` (a resource limit), 422 `time_budget` (building the
+/// model took longer than the session's time budget), naming the field.
+void replySceneError(httplib::Response& res, const proto::SceneError& e) {
+  if (e.rule() == "time_budget") return replyError(res, 422, "time_budget", e.what(), e.path());
+  replyError(res, 400, e.rule() == "limit" ? "limit" : "invalid", e.what(), e.path());
+}
+
 void replyJson(httplib::Response& res, int status, const json& body) {
   res.status = status;
   res.set_content(proto::wireText(body), "application/json");
@@ -120,6 +127,12 @@ Daemon::Daemon(DaemonOptions options)
                                        : std::max(1u, std::thread::hardware_concurrency())) {
   options_.session.maxParticipants = options_.maxClientsPerSession;
   options_.session.maxIterationsPerRequest = options_.maxIterationsPerRequest;
+  // One set of scene limits for sessions (creation, edits, restore) and jobs.
+  proto::ResourceLimits& limits = options_.session.resources;
+  limits.maxControlPoints = options_.maxControlPoints;
+  limits.maxIterations = std::max(options_.maxIterationsPerRequest, options_.jobs.maxIterations);
+  limits.memoryBudgetBytes = options_.memoryBudgetMb * 1024.0 * 1024.0;
+  options_.jobs.resources = limits;
 }
 
 Daemon::~Daemon() {
@@ -178,7 +191,7 @@ void Daemon::restoreSessions() {
       try {
         const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
         auto session = std::make_shared<Session>(
-            r.session.id, proto::sceneFromJson(scene), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
+            r.session.id, proto::sceneFromJson(scene, options_.session.resources), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
             options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
             journal_.get(), &counters_, r.session.demo);
         if (r.snapshot) session->setInitialScene(proto::sceneFromJson(r.session.initialScene));
@@ -278,35 +291,6 @@ std::shared_ptr<Session> Daemon::findSession(const std::string& id) const {
   return it == sessions_.end() ? nullptr : it->second;
 }
 
-void Daemon::checkSceneLimits(const json& scene) const {
-  // Runs before the schema (to refuse what is too large before it is converted), so it reads
-  // only what has the expected type and leaves every other judgement to the schema.
-  if (!scene.is_object())
-    throw proto::SceneError("", "type", "expected a scene: an object with format, version and model");
-  int points = 0;
-  auto count = [](const json& list) { return list.is_array() ? static_cast<int>(list.size()) : 0; };
-  if (scene.contains("model") && scene["model"].is_object()) {
-    const json& model = scene["model"];
-    for (const char* c : {"a", "b", "c1", "c2", "p", "q"})
-      if (model.contains(c) && model[c].is_object() && model[c].contains("points")) points += count(model[c]["points"]);
-    // Composites: vertices and the S edges' interior control points.
-    if (model.contains("vertices")) points += count(model["vertices"]);
-    if (model.contains("edges") && model["edges"].is_array())
-      for (const json& e : model["edges"])
-        if (e.is_object() && e.contains("points")) points += count(e["points"]);
-  }
-  if (points > options_.maxControlPoints)
-    throw proto::SceneError("model", "limit",
-                            "too many control points (" + std::to_string(points) + "; this server allows " +
-                                std::to_string(options_.maxControlPoints) + ")");
-  const json* solver = scene.contains("solver") && scene["solver"].is_object() ? &scene["solver"] : nullptr;
-  const long long iterations = solver && solver->contains("iterations") && (*solver)["iterations"].is_number_integer()
-                                   ? (*solver)["iterations"].get<long long>()
-                                   : 0;
-  if (iterations > options_.maxIterationsPerRequest && iterations > options_.jobs.maxIterations)
-    throw proto::SceneError("solver.iterations", "limit", "at most " + std::to_string(options_.jobs.maxIterations));
-}
-
 void Daemon::routes() {
   httplib::Server& s = *http_;
   auto needApiKey = [this](const httplib::Request& req, httplib::Response& res) {
@@ -372,8 +356,7 @@ void Daemon::routes() {
     if (static_cast<int>(sessionCount()) >= options_.maxSessions)
       return replyError(res, 503, "limit", "this server holds its maximum of " + std::to_string(options_.maxSessions) + " sessions");
     try {
-      checkSceneLimits(*body);
-      const proto::Scene scene = proto::sceneFromJson(*body);
+      const proto::Scene scene = proto::sceneFromJson(*body, options_.session.resources);
       const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);
@@ -381,7 +364,7 @@ void Daemon::routes() {
                            {"links", {{"edit", "/?session=" + id + "&token=" + edit},
                                       {"view", "/?session=" + id + "&token=" + view}}}});
     } catch (const proto::SceneError& e) {
-      replyError(res, 400, "invalid", e.what(), e.path());
+      replySceneError(res, e);
     } catch (const std::invalid_argument& e) {
       // Valid JSON the model cannot build (a degenerate design): the message names the field.
       replyError(res, 422, "invalid_design", e.what(), "model");
@@ -471,12 +454,11 @@ void Daemon::routes() {
     if (key && (key->empty() || key->size() > 200))
       return replyError(res, 400, "invalid", "Idempotency-Key: 1 to 200 characters", "Idempotency-Key");
     try {
-      checkSceneLimits(*body);
       const JobQueue::Submitted s = jobs_->submit(*body, key);
       res.set_header("Location", "/api/jobs/" + s.id);
       replyJson(res, s.created ? 202 : 200, {{"id", s.id}, {"state", store::jobStateName(jobs_->job(s.id)->state)}});
     } catch (const proto::SceneError& e) {
-      replyError(res, 400, "invalid", e.what(), e.path());
+      replySceneError(res, e);
     } catch (const QueueFullError& e) {
       res.set_header("Retry-After", "5");
       replyError(res, 503, "queue_full", e.what());
@@ -514,7 +496,10 @@ void Daemon::routes() {
     }
     const std::string format = req.has_param("format") ? req.get_param_value("format") : "json";
     if (format == "json") return replyJson(res, 200, *job->report);
-    replyExport(res, job->id, [&job, &format]() { return SceneSolver::exportScene((*job->report)["scene"], format); });
+    replyExport(res, job->id, [this, &job, &format]() {
+      return SceneSolver::exportScene((*job->report)["scene"], format, options_.jobs.resources,
+                                      engine::Deadline::after(options_.jobs.maxRunMs, "the job's time limit"));
+    });
   });
 
   if (!options_.webRoot.empty() && std::filesystem::is_directory(options_.webRoot)) s.set_mount_point("/", options_.webRoot);

@@ -36,7 +36,7 @@ void JobQueue::restore() {
 }
 
 JobQueue::Submitted JobQueue::submit(const json& scene, const std::optional<std::string>& key) {
-  proto::sceneFromJson(scene);  // validation: throws SceneError naming the field
+  proto::sceneFromJson(scene, limits_.resources);  // validation and limits: throws SceneError naming the field
   const std::string body = scene.dump();
   const std::string fingerprint = sha256Hex(body);
   if (key) {
@@ -132,13 +132,23 @@ void JobQueue::run(JobRecord job) {
   job.state = JobState::Running;
   job.updatedMs = store::wallClockMs();
   store_.updateJob(job);
+  // A cancellation by shutdown leaves the job running in the store: a restart re-queues it.
+  auto leftForRestart = [this, &job]() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!stopping_) return false;
+    cancel_.erase(job.id);
+    progress_.erase(job.id);
+    return true;
+  };
   try {
-    proto::Scene scene = proto::sceneFromJson(job.scene);
+    // The job's time limit bounds everything from here, the model's construction included; a
+    // cancellation stops it the same way.
+    const engine::Deadline deadline =
+        engine::Deadline::after(limits_.maxRunMs, "the job's time limit").withCancelFlag(cancelled);
+    proto::Scene scene = proto::sceneFromJson(job.scene, limits_.resources);
     scene.solver.iterations = std::min(scene.solver.iterations, limits_.maxIterations);
-    if (scene.solver.timeBudgetMs <= 0 || scene.solver.timeBudgetMs > limits_.maxRunMs)
-      scene.solver.timeBudgetMs = limits_.maxRunMs;
     const auto start = std::chrono::steady_clock::now();
-    SceneSolver solver(scene);
+    SceneSolver solver(scene, deadline);
     const std::string id = job.id;
     const engine::SolveSummary summary =
         solver.solve(-1, [this, id, cancelled, of = scene.solver.iterations](const engine::IterationRecord& r) {
@@ -151,17 +161,7 @@ void JobQueue::run(JobRecord job) {
     // quasi_strip and conical_strip have their own iteration limits (or none): done is done.
     job.progressOf = solver.keepsInputGeometry() ? job.progressIteration : scene.solver.iterations;
     if (cancelled->load()) {
-      bool stopping;
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        stopping = stopping_;
-      }
-      if (stopping) {  // shutdown: leave it running in the store; a restart re-queues it
-        std::lock_guard<std::mutex> lock(mutex_);
-        cancel_.erase(job.id);
-        progress_.erase(job.id);
-        return;
-      }
+      if (leftForRestart()) return;
       job.state = JobState::Cancelled;
     } else if (summary.reason == engine::TerminationReason::Diverged) {
       job.state = JobState::Failed;
@@ -177,6 +177,14 @@ void JobQueue::run(JobRecord job) {
         job.state = JobState::Succeeded;
         job.report = std::move(report);
       }
+    }
+  } catch (const engine::DeadlineExceeded& e) {
+    if (e.cancelled()) {
+      if (leftForRestart()) return;
+      job.state = JobState::Cancelled;
+    } else {
+      job.state = JobState::Failed;
+      job.error = std::string(e.what()) + " (devsurf serve --job-timeout-ms); the job was stopped";
     }
   } catch (const std::exception& e) {
     job.state = JobState::Failed;

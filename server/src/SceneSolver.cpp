@@ -79,14 +79,17 @@ engine::TerminationReason engineReason(const std::string& name) {
 
 }  // namespace
 
-SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
+SceneSolver::SceneSolver(proto::Scene scene, engine::Deadline deadline)
+    : scene_(std::move(scene)), deadline_(std::move(deadline)) {
   if (std::holds_alternative<proto::QuasiStripScene>(scene_.model)) {
     buildQuasiStrip(-1);
     return;
   }
   if (const auto* c = std::get_if<conical::ConicalStripDesign>(&scene_.model)) {
     try {
-      conical_ = std::make_unique<conical::ConicalStripModel>(*c);
+      conical::ConicalStripOptions options;
+      options.deadline = deadline_;
+      conical_ = std::make_unique<conical::ConicalStripModel>(*c, options);
     } catch (const std::invalid_argument& e) {
       throw proto::SceneError("model", "model", e.what());
     }
@@ -94,17 +97,20 @@ SceneSolver::SceneSolver(proto::Scene scene) : scene_(std::move(scene)) {
   }
   if (const auto* c = std::get_if<models::composite::CompositeDesign>(&scene_.model)) {
     initialComposite_ = *c;
+    models::composite::CompositeOptions options = scene_.solver.compositeOptions();
+    options.deadline = deadline_;
     try {
-      composite_ = std::make_unique<models::composite::CompositeModel>(initialComposite_,
-                                                                       scene_.solver.compositeOptions());
+      composite_ = std::make_unique<models::composite::CompositeModel>(initialComposite_, options);
     } catch (const std::invalid_argument& e) {
       throw proto::SceneError("model", "model", e.what());
     }
     return;
   }
   initial_ = std::get<models::strip::StripDesign>(scene_.model);
+  models::strip::StripOptions options = scene_.solver.stripOptions();
+  options.deadline = deadline_;
   try {
-    strip_ = std::make_unique<models::strip::StripModel>(initial_, scene_.solver.stripOptions());
+    strip_ = std::make_unique<models::strip::StripModel>(initial_, options);
   } catch (const std::invalid_argument& e) {
     throw proto::SceneError("model", "model", e.what());
   }
@@ -124,6 +130,7 @@ void SceneSolver::buildQuasiStrip(int iterations) {
     options.timeBudgetMs = scene_.solver.timeBudgetMs;
     options.lbfgs.timeBudgetMs = scene_.solver.timeBudgetMs;
   }
+  options.deadline = deadline_;
   try {
     quasi_ = std::make_unique<quasi::QuasiStripModel>(q.design, options);
   } catch (const std::invalid_argument& e) {
@@ -225,8 +232,12 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
   if (limits.regularization >= 0.0) options.regularization = limits.regularization;
   options.projectionOnly = limits.projectionOnly;
   options.callback = std::move(onIteration);
+  options.deadline = deadline_;
   if (quasi_) {
-    if (iterationsOverride >= 0) buildQuasiStrip(iterationsOverride);
+    if (iterationsOverride >= 0)
+      buildQuasiStrip(iterationsOverride);
+    else
+      quasi_->setDeadline(deadline_);
     quasiSummary_ = quasi_->solve();
     // The model's reason may be compound ("warp_stalled, then guided projection: relative_change"):
     // the report's termination is the engine reason of the polish when it stopped on a tolerance of
@@ -259,6 +270,7 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
     return summary;
   }
   if (conical_) {
+    conical_->setDeadline(deadline_);
     const conical::ConicalStripSummary& cs = conical_->solve();
     termination_ = cs.termination;
     engine::SolveSummary summary;
@@ -590,15 +602,20 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
   }
 }
 
-ExportedFile SceneSolver::exportScene(const nlohmann::json& scene, const std::string& format) {
-  std::unique_ptr<SceneSolver> solver;
+ExportedFile SceneSolver::exportScene(const nlohmann::json& scene, const std::string& format,
+                                      const proto::ResourceLimits& limits, engine::Deadline deadline) {
   try {
-    solver = std::make_unique<SceneSolver>(proto::sceneFromJson(scene));
-  } catch (const proto::SceneError& e) {
-    throw ExportFailed("format: " + format + ": the current scene no longer builds a model (" + e.what() + ")");
+    std::unique_ptr<SceneSolver> solver;
+    try {
+      solver = std::make_unique<SceneSolver>(proto::sceneFromJson(scene, limits), deadline);
+    } catch (const proto::SceneError& e) {
+      throw ExportFailed("format: " + format + ": the current scene no longer builds a model (" + e.what() + ")");
+    }
+    if (solver->keepsInputGeometry()) solver->solve();  // what they export is computed from the input
+    return solver->exportAs(format);
+  } catch (const engine::DeadlineExceeded& e) {
+    throw ExportFailed("format: " + format + ": building the model to export it took too long (" + e.what() + ")");
   }
-  if (solver->keepsInputGeometry()) solver->solve();  // what they export is computed from the input
-  return solver->exportAs(format);
 }
 
 }  // namespace devsurf::server

@@ -61,6 +61,12 @@ std::string nonFiniteMetric(const json& metrics) {
   return {};
 }
 
+/// The error code of a refused scene: `limit` (a resource limit), `time_budget` (the session's
+/// time budget ran out while the model was built), else `invalid`.
+std::string codeOf(const proto::SceneError& e) {
+  return e.rule() == "limit" || e.rule() == "time_budget" ? e.rule() : std::string("invalid");
+}
+
 }  // namespace
 
 Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSettings settings,
@@ -115,23 +121,37 @@ Session::Shown Session::shown() const {
 }
 
 void Session::rebuild(const proto::Scene& scene) {
-  auto next = std::make_unique<SceneSolver>(scene);  // throws SceneError on a bad design
-  if (next->keepsInputGeometry()) {
-    // The curves' models are solved whole on every change; a failure leaves the current model.
-    engine::SolveSummary summary;
-    proto::Metrics m;
-    try {
-      summary = next->solve();
-      m = next->metrics();
-    } catch (const std::exception& e) {
-      throw SolveFailed("solve_failed", std::string("the solve failed (") + e.what() +
-                                            "); the session keeps its last good state");
+  // Building the model (and solving quasi/conical strips whole) runs under the session's time
+  // budget; over it, nothing changes (the current model stays).
+  const engine::Deadline deadline = engine::Deadline::after(settings_.rebuildTimeBudgetMs, "this session's time budget");
+  std::unique_ptr<SceneSolver> next;
+  engine::SolveSummary summary;
+  try {
+    next = std::make_unique<SceneSolver>(scene, deadline);  // throws SceneError on a bad design
+    if (next->keepsInputGeometry()) {
+      // The curves' models are solved whole on every change; a failure leaves the current model.
+      proto::Metrics m;
+      try {
+        summary = next->solve();
+        m = next->metrics();
+      } catch (const engine::DeadlineExceeded&) {
+        throw;
+      } catch (const std::exception& e) {
+        throw SolveFailed("solve_failed", std::string("the solve failed (") + e.what() +
+                                              "); the session keeps its last good state");
+      }
+      const bool finite = std::all_of(m.begin(), m.end(), [](const auto& kv) { return std::isfinite(kv.second); });
+      if (summary.reason == engine::TerminationReason::Diverged || !finite)
+        throw SolveFailed("diverged", "the solve diverged; the session keeps its last good state");
     }
-    const bool finite = std::all_of(m.begin(), m.end(), [](const auto& kv) { return std::isfinite(kv.second); });
-    if (summary.reason == engine::TerminationReason::Diverged || !finite)
-      throw SolveFailed("diverged", "the solve diverged; the session keeps its last good state");
-    lastSummary_ = std::move(summary);
+  } catch (const engine::DeadlineExceeded& e) {
+    throw proto::SceneError("model", "time_budget",
+                            std::string("building") + (next && next->keepsInputGeometry() ? " and solving" : "") +
+                                " the model took too long: " + e.what() +
+                                " (devsurf serve --session-time-budget-ms); nothing was applied");
   }
+  next->setDeadline({});  // later solves (drags) have budgets of their own
+  if (next->keepsInputGeometry()) lastSummary_ = std::move(summary);
   solver_ = std::move(next);
   changed_ = true;  // shown (and checkpointed) by the message that reports the change
 }
@@ -377,7 +397,8 @@ json Session::metricsJson() const {
 }
 
 ExportedFile Session::exportAs(const std::string& format) const {
-  return SceneSolver::exportScene(sceneJson(), format);
+  return SceneSolver::exportScene(sceneJson(), format, settings_.resources,
+                                  engine::Deadline::after(settings_.rebuildTimeBudgetMs, "this session's time budget"));
 }
 
 int Session::participantCount() const {
@@ -744,14 +765,14 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     return reject("invalid", "unknown message type \"" + type + "\"", "type");
   }
   try {
-    const proto::Scene next = proto::sceneFromJson(doc);
+    const proto::Scene next = proto::sceneFromJson(doc, settings_.resources);  // limits: code `limit`
     const proto::Scene before = persistentScene();
-    rebuild(next);
+    rebuild(next);  // throws (a design the model rejects, the time budget): nothing changed
     pushUndo(before);
     dragHandles_.clear();
     releasedHandles_.clear();
   } catch (const proto::SceneError& e) {
-    return reject("invalid", e.what(), e.path());
+    return reject(codeOf(e), e.what(), e.path());
   }
   if (type == "set_solver") {  // the session's own settings, once the scene took the rest
     if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
@@ -827,13 +848,13 @@ bool Session::applyCurveEdit(int participant, const json& edit, bool replaying, 
       }
       proto::Scene next;
       try {
-        next = proto::sceneFromJson(doc);
+        next = proto::sceneFromJson(doc, settings_.resources);
       } catch (const proto::SceneError& e) {
         // The scene's paths (model.mapping.degree) as the message spells them (params.mapping.degree).
         std::string path = e.path(), message = e.what();
         if (path.rfind("model.", 0) == 0) path = "params." + path.substr(6);
         if (message.rfind(e.path(), 0) == 0) message = path + message.substr(e.path().size());
-        return reject("invalid", message, path);
+        return reject(codeOf(e), message, path);
       }
       rebuild(next);
       pushUndo(current);
@@ -852,7 +873,7 @@ bool Session::applyCurveEdit(int participant, const json& edit, bool replaying, 
   } catch (const SolveFailed& e) {
     return reject(e.code(), e.what(), type == "set_params" ? "params" : type == "drag" ? "position" : "type");
   } catch (const proto::SceneError& e) {
-    return reject("invalid", e.what(), e.path());
+    return reject(codeOf(e), e.what(), type == "set_params" && e.path() == "model" ? "params" : e.path());
   }
 }
 
@@ -1147,7 +1168,7 @@ bool Session::showState() {
 
 void Session::rollBack(const std::string& why) {
   if (counters_) counters_->recordError("diverged");
-  rebuild(proto::sceneFromJson(sceneJson()));  // the last checkpoint: what everyone was last shown
+  rebuild(proto::sceneFromJson(sceneJson(), settings_.resources));  // the last checkpoint: what everyone was last shown
   dragHandles_.clear();
   releasedHandles_.clear();
   unshownEdits_.clear();  // their effect went with the state: the checkpoint below takes their seq
@@ -1188,7 +1209,7 @@ void Session::applyUnsolved(const std::vector<std::pair<std::int64_t, json>>& ed
   for (const auto& [seq, edit] : edits) {
     const std::string type = edit.value("type", "");
     if ((type == "undo" || type == "redo") && edit.contains("result")) {
-      rebuild(proto::sceneFromJson(edit["result"]));
+      rebuild(proto::sceneFromJson(edit["result"], settings_.resources));
       dragHandles_.clear();
       releasedHandles_.clear();
     } else if (type == "drag_end") {
@@ -1207,7 +1228,7 @@ void Session::applyUnsolved(const std::vector<std::pair<std::int64_t, json>>& ed
 }
 
 void Session::recover() {
-  rebuild(proto::sceneFromJson(sceneJson()));  // the last checkpoint
+  rebuild(proto::sceneFromJson(sceneJson(), settings_.resources));  // the last checkpoint
   dragHandles_.clear();
   releasedHandles_.clear();
   const auto edits = unshownEdits_;

@@ -31,8 +31,10 @@ struct DaemonOptions {
   double messageRate = 200.0;               ///< WebSocket messages per second per connection (burst 2×)
   int maxSessions = 256;
   int maxClientsPerSession = 32;
-  int maxControlPoints = 20000;             ///< per scene (sum over curves)
+  int maxControlPoints = 20000;             ///< per scene (sum over curves), proto::ResourceLimits
   int maxIterationsPerRequest = 1000;
+  /// Estimated peak memory of one session's or job's model (proto::ResourceLimits::memoryBudgetBytes).
+  double memoryBudgetMb = 512.0;
   int workerThreads = 0;                    ///< session workers; 0 = hardware concurrency
   /// HTTP requests and connections: body (--max-body), head size and fields, deadlines,
   /// connection caps, route workers (defaults in transport/Limits.h).
@@ -70,7 +72,6 @@ class Daemon {
   void onClose(const std::shared_ptr<transport::Connection>& c);
   nlohmann::json openApi() const;
   std::string prometheus() const;
-  void checkSceneLimits(const nlohmann::json& scene) const;
 
   /// A session a restart could not restore: kept in the store, reported, its last stored scene
   /// downloadable by its owner.

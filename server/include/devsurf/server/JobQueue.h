@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "devsurf/proto/ResourceLimits.h"
 #include "devsurf/server/store/Store.h"
 
 namespace devsurf::server {
@@ -22,8 +23,15 @@ namespace devsurf::server {
 struct JobLimits {
   int workers = 1;                 ///< jobs solved at once
   std::size_t maxQueued = 64;      ///< queued (not yet running) jobs; more → QueueFullError
-  double maxRunMs = 120000.0;      ///< wall time per job; longer → the solve stops (time_budget)
+  /// Wall time per job (`--job-timeout-ms`), building the model included, for every kind: a job
+  /// still working then is stopped (engine::Deadline, checked between iterations and inside the
+  /// models' long loops) and ends `failed` with an error naming the limit. A scene's own
+  /// solver.time_budget_ms below it ends the solve normally (termination time_budget).
+  double maxRunMs = 120000.0;
   int maxIterations = 10000;       ///< iterations per job
+  /// What a job's scene may ask for (memory estimate, control points); checked at submission and
+  /// again when the job runs.
+  proto::ResourceLimits resources;
 };
 
 class QueueFullError : public std::runtime_error {

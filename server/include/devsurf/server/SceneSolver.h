@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/io/IgesWriter.h"
 #include "devsurf/io/QuadMesh.h"
@@ -85,11 +86,19 @@ struct QualityVerdict {
 class SceneSolver {
  public:
   /// Builds the model (validation happened in proto::sceneFromJson).
-  /// @throws proto::SceneError for designs the model rejects
-  explicit SceneSolver(proto::Scene scene);
+  /// @param deadline  bounds the construction and every solve() until setDeadline() (a job's time
+  ///                  limit, a session's budget for a structural edit); default: never
+  /// @throws proto::SceneError for designs the model rejects, engine::DeadlineExceeded once
+  ///         `deadline` has passed
+  explicit SceneSolver(proto::Scene scene, engine::Deadline deadline = {});
+
+  /// The deadline of the next solves (engine::Deadline{}: none).
+  void setDeadline(engine::Deadline deadline) { deadline_ = std::move(deadline); }
 
   /// Runs the scene's solver settings (iterations overridden when ≥ 0; quasi_strip: the optimizer's
-  /// iteration limit; conical_strip: ignored).
+  /// iteration limit; conical_strip: ignored). Every kind checks the deadline (setDeadline)
+  /// between iterations and inside its long loops.
+  /// @throws engine::DeadlineExceeded once it has passed (the model is then not to be used)
   /// @param[in] onIteration  optional per-iteration callback; return false to abort (quasi_strip
   ///            and conical_strip cannot be interrupted: it is called once, with the last record)
   engine::SolveSummary solve(int iterationsOverride = -1,
@@ -154,9 +163,10 @@ class SceneSolver {
   ///         ExportFailed when the model's current state cannot be exported
   ExportedFile exportAs(const std::string& format) const;
   /// exportAs of a scene document (a session's current scene, a job's solved scene): builds the
-  /// model first (and solves it when it keepsInputGeometry()); a document or design the model now
-  /// rejects is ExportFailed too.
-  static ExportedFile exportScene(const nlohmann::json& scene, const std::string& format);
+  /// model first (and solves it when it keepsInputGeometry()) within `limits` and `deadline`; a
+  /// document or design the model now rejects, or a build over the deadline, is ExportFailed too.
+  static ExportedFile exportScene(const nlohmann::json& scene, const std::string& format,
+                                  const proto::ResourceLimits& limits = {}, engine::Deadline deadline = {});
   /// The scene solved as `devsurf solve` solves it (its own solver settings): where demo sessions
   /// start. Kinds that keep their input geometry return the scene itself.
   /// @throws proto::SceneError for designs the model rejects
@@ -176,6 +186,7 @@ class SceneSolver {
   void buildQuasiStrip(int iterations);
 
   proto::Scene scene_;
+  engine::Deadline deadline_;
   models::strip::StripDesign initial_;
   std::unique_ptr<models::strip::StripModel> strip_;
   models::composite::CompositeDesign initialComposite_;

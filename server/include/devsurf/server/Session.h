@@ -94,6 +94,14 @@ struct SessionSettings {
   int undoDepth = 100;
   int surfaceSamples = 96;          ///< u samples of the streamed surface (strips)
   int compositeSamplesPerSpan = 12; ///< samples per spline span of the streamed composite faces
+  /// What the session's scene may ask for (control points, iterations, estimated memory): every
+  /// structural edit (set_params, set_solver, …) is checked before its model is built; one over
+  /// a limit is refused with code `limit`, naming the field.
+  proto::ResourceLimits resources;
+  /// Time budget of building the session's model after a structural edit, and for quasi_strip
+  /// and conical_strip of solving it whole (`--session-time-budget-ms`): an edit over it is refused
+  /// with code `time_budget`, nothing applied and nothing journalled (engine::Deadline).
+  double rebuildTimeBudgetMs = 5000.0;
 };
 
 /// Counters the daemon exports on /api/metrics.
