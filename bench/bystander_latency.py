@@ -14,28 +14,43 @@ With --heavy the attacker also sends conical np = nq = 10 000 (within the schema
 it runs until the session's time budget (--session-time-budget-ms, default 5 s) stops it with
 `time_budget`, holding one session worker and one core meanwhile.
 
+The attacker sends --attack-rate edits per second (default 20; 0 = each as soon as the last is
+answered, a flood that the daemon's per-connection --message-rate, 200/s by default, answers with
+`rate_limited` beyond its burst). The daemon runs with its default limits.
+
 Reports p50/p99 of the bystander at baseline and under attack (goal: within 2× of baseline), the
 attacker's time to each answer, and the daemon's resident memory before and after.
 
 Usage: bench/bystander_latency.py [--bin build/server/devsurf] [--seconds 20] [--spans 370] [--heavy]
+       [--attack-rate 20]
 Needs Debian's python3-websockets (scripts/setup.sh installs it).
 """
 import argparse
 import asyncio
 import json
 import os
+import re
 import shutil
 import statistics
 import sys
 import tempfile
 import time
+import subprocess
 import urllib.error
 import urllib.request
 
 import websockets
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ws_latency import ROOT, create, drag_client, percentile, start_daemon, strip_scene  # noqa: E402
+from ws_latency import ROOT, create, drag_client, percentile, strip_scene  # noqa: E402
+
+
+def start_daemon(binary, data):
+    """The daemon with its default limits (message rate, budgets)."""
+    proc = subprocess.Popen([binary, "serve", "--port", "0", "--data", data],
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    port = int(re.search(r":(\d+)/", proc.stdout.readline()).group(1))
+    return proc, port
 
 
 def example(name):
@@ -69,7 +84,7 @@ async def answer(ws, op, timeout=120.0):
     end = time.monotonic() + timeout
     while True:
         m = json.loads(await asyncio.wait_for(ws.recv(), end - time.monotonic()))
-        if m.get("op") == op and m["type"] in ("ack", "error"):
+        if (m.get("op") == op and m["type"] in ("ack", "error")) or m.get("code") == "rate_limited":
             return m
 
 
@@ -83,7 +98,7 @@ def post_session(port, scene):
         return e.code, json.loads(e.read() or b"{}")
 
 
-async def attacker(port, sessions, until, heavy, answers):
+async def attacker(port, sessions, until, heavy, rate, answers):
     """Sends the runaway edits one after the other until `until`; answers[name] = [(ms, code)…]."""
     quasi = await joined(port, sessions["quasi"])
     conical = await joined(port, sessions["conical"])
@@ -112,11 +127,13 @@ async def attacker(port, sessions, until, heavy, answers):
             m = await answer(ws, op)
             code = m.get("code", m["type"])
         answers.setdefault(name, []).append(((time.monotonic() - start) * 1000.0, code))
+        if rate > 0:
+            await asyncio.sleep(max(0.0, start + 1.0 / rate - time.monotonic()))
     for ws in (quasi, conical, strip):
         await ws.close()
 
 
-def run(binary, spans, seconds, heavy):
+def run(binary, spans, seconds, heavy, rate):
     data = tempfile.mkdtemp(prefix="devsurf-bystander-")
     proc, port = start_daemon(binary, data)
     try:
@@ -135,7 +152,7 @@ def run(binary, spans, seconds, heavy):
                 tasks = [drag_client(port, bystander["id"], bystander["edit_token"], 0, seconds, 60.0, latencies,
                                      counts, errors)]
                 if attack:
-                    tasks.append(attacker(port, sessions, time.monotonic() + seconds, heavy, answers))
+                    tasks.append(attacker(port, sessions, time.monotonic() + seconds, heavy, rate, answers))
                 await asyncio.gather(*tasks)
 
             asyncio.run(both())
@@ -151,8 +168,8 @@ def run(binary, spans, seconds, heavy):
                       f"max {max(ms):7.1f} ms: {', '.join(codes)}")
             return percentile(latencies, 50), percentile(latencies, 99)
 
-        print(f"bystander: strip of {spans} spans, 60 drags/s for {seconds} s per phase"
-              f"{'; attacker with --heavy' if heavy else ''}")
+        print(f"bystander: strip of {spans} spans, 60 drags/s for {seconds} s per phase; attacker "
+              f"{f'{rate:g} edits/s' if rate > 0 else 'flooding'}{' with --heavy' if heavy else ''}")
         base = drag_phase("baseline    ", False)
         attacked = drag_phase("under attack", True)
         print(f"ratio under attack / baseline: p50 {attacked[0] / base[0]:.2f}×, p99 {attacked[1] / base[1]:.2f}× "
@@ -169,8 +186,9 @@ def main():
     parser.add_argument("--seconds", type=float, default=20.0)
     parser.add_argument("--spans", type=int, default=370)
     parser.add_argument("--heavy", action="store_true", help="also conical np = nq = 10 000 (runs to the time budget)")
+    parser.add_argument("--attack-rate", type=float, default=20.0, help="attacker edits per second (0: flood)")
     args = parser.parse_args()
-    run(args.bin, args.spans, args.seconds, args.heavy)
+    run(args.bin, args.spans, args.seconds, args.heavy, args.attack_rate)
 
 
 if __name__ == "__main__":
