@@ -187,18 +187,23 @@ void Daemon::restoreSessions() {
     // A quarantined session is tried again at every start: what stopped it may have been
     // transient (an I/O error) or fixed since (an upgrade, an operator's repair).
     std::string reason = r.loadError.value_or("");
+    // What was built and shown before comes back without a time budget (a restart may run on a
+    // busier machine); the session's budget applies again to the edits that follow.
+    SessionSettings restoring = options_.session;
+    restoring.rebuildTimeBudgetMs = 0.0;
     if (reason.empty()) {
       try {
         const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
         auto session = std::make_shared<Session>(
             r.session.id, proto::sceneFromJson(scene, options_.session.resources), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
-            options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
+            restoring, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
             journal_.get(), &counters_, r.session.demo);
         if (r.snapshot) session->setInitialScene(proto::sceneFromJson(r.session.initialScene));
         std::vector<std::pair<std::int64_t, json>> edits;
         for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
         session->restore(r.snapshot ? r.snapshot->sessionState : json(), r.snapshot ? r.snapshot->revision : 0, edits,
                          r.lastSeq);
+        session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
         if (r.session.quarantine) {
           spdlog::info("session {} was quarantined ({}) and is restored now", r.session.id, *r.session.quarantine);
           store_->liftQuarantine(r.session.id);

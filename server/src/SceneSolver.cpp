@@ -126,7 +126,7 @@ void SceneSolver::buildQuasiStrip(int iterations) {
     options.lbfgs.maxIterations = limit;
     options.polishIterations = std::min(options.polishIterations, limit);
   }
-  if (scene_.solver.timeBudgetMs > 0.0) {
+  if (scene_.solver.timeBudgetMs > 0.0 && sceneTimeBudgetApplies_) {
     options.timeBudgetMs = scene_.solver.timeBudgetMs;
     options.lbfgs.timeBudgetMs = scene_.solver.timeBudgetMs;
   }

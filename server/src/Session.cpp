@@ -115,6 +115,8 @@ void Session::setTokens(Tokens tokens) {
 
 void Session::setInitialScene(proto::Scene scene) { initialScene_ = std::move(scene); }
 
+void Session::setRebuildTimeBudget(double ms) { settings_.rebuildTimeBudgetMs = ms; }
+
 Session::Shown Session::shown() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return {shownSeq_, cachedRevision_, cachedScene_, cachedMetrics_};
@@ -128,6 +130,7 @@ void Session::rebuild(const proto::Scene& scene) {
   engine::SolveSummary summary;
   try {
     next = std::make_unique<SceneSolver>(scene, deadline);  // throws SceneError on a bad design
+    next->setSceneTimeBudgetApplies(false);  // the same scene, the same strip: a restart recomputes it
     if (next->keepsInputGeometry()) {
       // The curves' models are solved whole on every change; a failure leaves the current model.
       proto::Metrics m;

@@ -94,6 +94,11 @@ class SceneSolver {
 
   /// The deadline of the next solves (engine::Deadline{}: none).
   void setDeadline(engine::Deadline deadline) { deadline_ = std::move(deadline); }
+  /// Whether the scene's `solver.time_budget_ms` cuts quasi_strip solves short (default true).
+  /// Sessions turn it off: they solve those strips whole from the scene, and a restart solves the
+  /// same scene again, so the result must not depend on the clock; their own deadline bounds the
+  /// work and refuses instead of truncating.
+  void setSceneTimeBudgetApplies(bool applies) { sceneTimeBudgetApplies_ = applies; }
 
   /// Runs the scene's solver settings (iterations overridden when ≥ 0; quasi_strip: the optimizer's
   /// iteration limit; conical_strip: ignored). Every kind checks the deadline (setDeadline)
@@ -187,6 +192,7 @@ class SceneSolver {
 
   proto::Scene scene_;
   engine::Deadline deadline_;
+  bool sceneTimeBudgetApplies_ = true;
   models::strip::StripDesign initial_;
   std::unique_ptr<models::strip::StripModel> strip_;
   models::composite::CompositeDesign initialComposite_;

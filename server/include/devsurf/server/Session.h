@@ -203,6 +203,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// The scene `reset` returns to (the one the session was created with; a restored session is
   /// built from its last checkpoint and told this separately). Before the session is shared.
   void setInitialScene(proto::Scene scene);
+  /// SessionSettings::rebuildTimeBudgetMs from now on (a restore builds without one: what was
+  /// built and shown before must come back, even on a machine slower at the moment).
+  void setRebuildTimeBudget(double ms);
 
   /// The last state shown, read at once: its seq (edits acknowledged since, not yet shown, are
   /// not in it), revision, scene and metrics — what REST readers get and a restart restores.
