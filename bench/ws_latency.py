@@ -30,7 +30,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 def start_daemon(binary, data):
     proc = subprocess.Popen([binary, "serve", "--port", "0", "--data", data, "--max-sessions", "1000",
-                             "--message-rate", "1000"],
+                             "--message-rate", "1000", "--max-connections-per-address", "4096",
+                             "--max-connections", "8192"],
                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     port = int(re.search(r":(\d+)/", proc.stdout.readline()).group(1))
     return proc, port

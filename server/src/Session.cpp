@@ -487,18 +487,26 @@ void Session::drain() {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (queue_.empty()) {
-        scheduled_ = false;
-        return;
+        // Idle: a release or solve that newer work interrupted is finished now, unless a drag is
+        // still on (its own release will end with `solved`).
+        if (!settlePending_ || !dragHandles_.empty()) {
+          scheduled_ = false;
+          return;
+        }
+      } else {
+        work = queue_.front();
+        queue_.pop_front();
       }
-      work = queue_.front();
-      queue_.pop_front();
     }
     try {
-      handle(*work);
+      if (work)
+        handle(*work);
+      else
+        settle();
     } catch (const std::exception& e) {
       // Never let one message take the session down: back to what a restart would restore (the
       // last checkpoint and the edits acknowledged since), and shown as such.
-      error(work->participant, work->message.value("op", json()), "internal", e.what());
+      if (work) error(work->participant, work->message.value("op", json()), "internal", e.what());
       try {
         recover();
       } catch (const std::exception& again) {
@@ -974,7 +982,9 @@ bool Session::runSolver(SolveLimits limits, bool final) {
     broadcast({{"type", "error"}, {"code", "diverged"}, {"seq", seq},
                {"message", "the solver diverged; the session keeps its last good state"}});
   }
+  if (final && interrupted) settlePending_ = true;  // settle() finishes it once the session is idle
   if (final && !interrupted) {
+    settlePending_ = false;
     if (!showState()) return true;  // what a client reads after `solved` is what a restart restores
     broadcast({{"type", "solved"}, {"seq", seq}, {"revision", revision_}, {"metrics", metricsJson()},
                {"reason", engine::terminationReasonName(summary.reason)},
@@ -993,7 +1003,10 @@ void Session::release(const json& target, int iterations) {
   withHandle.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
   const bool finished = keepsInput() || iterations == 0 || runSolver(withHandle, false);
   releaseDragHandle(target);
-  if (!finished) return;  // newer work waits: it continues from here
+  if (!finished) {  // newer work waits: it continues from here, and settle() ends the release later
+    settlePending_ = true;
+    return;
+  }
   // Phase 2: projection steps (no handles, no fairness) until every hard row is within the
   // tolerance: feasibility restored with the least motion.
   SolveLimits polish;
@@ -1005,6 +1018,17 @@ void Session::release(const json& target, int iterations) {
   polish.regularization = settings_.polishRegularization;
   polish.timeBudgetMs = std::max(
       1.0, settings_.releaseTimeBudgetMs - std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  runSolver(polish, true);
+}
+
+void Session::settle() {
+  settlePending_ = false;
+  SolveLimits polish;
+  polish.iterations = settings_.maxIterationsPerRequest;
+  polish.hardTolerance = settings_.releaseHardTolerance;
+  polish.projectionOnly = true;
+  polish.regularization = settings_.polishRegularization;
+  polish.timeBudgetMs = settings_.releaseTimeBudgetMs;
   runSolver(polish, true);
 }
 

@@ -474,6 +474,33 @@ TEST(Session, AnAcknowledgedEditThatWasNotShownSurvivesALaterJournalFailure) {
   EXPECT_EQ(journal.checkpoints.back().seq, 2);
 }
 
+TEST(Session, EveryDragEndIsAnsweredBySolvedEvenWhenAnotherParticipantsWorkInterruptsIt) {
+  for (const bool otherDrags : {true, false}) {
+    JoinedEditor e;
+    auto& [ex, journal, s, inbox, pid] = e;
+    Inbox other;
+    const int b = s->join(Role::Edit, "bob", other.sink());
+    ex.runAll();
+    s->post(pid, drag(1, 1.0));
+    ex.runAll();
+    // A releases while B's work is already queued: the release is interrupted at once.
+    s->post(pid, {{"type", "drag_end"}, {"op", 2}, {"target", {{"curve", "b"}, {"index", 6}}}});
+    if (otherDrags)
+      s->post(b, {{"type", "drag"}, {"op", 3}, {"target", {{"curve", "b"}, {"index", 3}}}, {"position", {3.0, 1.0, 0.3}}});
+    else
+      s->post(b, {{"type", "set_fixed"}, {"op", 3}, {"target", {{"curve", "a"}, {"index", 3}}}, {"fixed", true}});
+    ex.runAll();
+    if (otherDrags) {
+      EXPECT_TRUE(inbox.ofType("solved").empty()) << "B's drag is still on: its release answers for both";
+      s->post(b, {{"type", "drag_end"}, {"op", 4}, {"target", {{"curve", "b"}, {"index", 3}}}});
+      ex.runAll();
+    }
+    ASSERT_FALSE(inbox.ofType("solved").empty()) << (otherDrags ? "after B's drag" : "after B's edit");
+    EXPECT_EQ(inbox.last("solved")["seq"], s->seq());
+    EXPECT_TRUE(inbox.last("solved")["quality"]["met"].get<bool>()) << inbox.last("solved").dump();
+  }
+}
+
 // ---- composite sessions ----
 
 /// examples/composite-curved-fold.json without its handle: a flat 2 × 2 sheet split by one curved

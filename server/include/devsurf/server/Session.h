@@ -294,6 +294,11 @@ class Session : public std::enable_shared_from_this<Session> {
   bool runSolver(SolveLimits limits, bool final);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
+  /// Finishes a release or solve that newer work interrupted (settlePending_): the projection
+  /// phase, then `solved`. drain() calls it once the queue is empty and no drag is on, so every
+  /// drag_end and solve is answered by a `solved` (another participant's drag or edit may come
+  /// first).
+  void settle();
   /// Builds the scene's model (and, for quasi_strip/conical_strip, solves it whole) and installs
   /// it; on any failure the current model stays.
   /// @throws proto::SceneError (a design the model rejects), SolveFailed (a failed/diverged solve)
@@ -352,6 +357,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::atomic<std::int64_t> seq_{0};
   std::int64_t revision_ = 0;  // of the last checkpoint (worker only; cachedRevision_ for readers)
   bool changed_ = false;       // the model's state differs from the last checkpoint
+  bool settlePending_ = false; // a release or solve was interrupted before its `solved`
   /// Edits acknowledged (journalled) since the last checkpoint, as journalled: what a restart
   /// would apply on top of it (recover() does the same).
   std::vector<std::pair<std::int64_t, nlohmann::json>> unshownEdits_;

@@ -23,8 +23,10 @@ namespace devsurf::server::transport {
 struct HttpLimits {
   /// Open TCP connections of any kind (HTTP and WebSocket). More: 503 and close.
   std::size_t maxConnections = 1024;
-  /// Open TCP connections from one peer IP address. More: 503 and close.
-  std::size_t maxConnectionsPerAddress = 128;
+  /// Open TCP connections from one peer IP address. More: 503 and close. A classroom behind one
+  /// NAT address (a browser tab holds one WebSocket and a few HTTP connections) fits in 256; raise
+  /// it for larger ones behind a single address.
+  std::size_t maxConnectionsPerAddress = 256;
   /// Request line and header fields together, in bytes.
   std::size_t maxHeaderBytes = 16 * 1024;
   /// Header fields of one request (trailer fields of a chunked body count too).
