@@ -84,8 +84,9 @@ def check_value(value, where, failures, key=None, depth=0):
     elif isinstance(value, dict):
         if value.get("dtype") == "float32" and isinstance(value.get("data"), str):
             floats = array.array("f")
-            floats.frombytes(base64.b64decode(value["data"]))
-            if not all(math.isfinite(x) for x in floats):
+            data = base64.b64decode(value["data"])
+            floats.frombytes(data[:len(data) // 4 * 4])
+            if not math.isfinite(sum(floats)):  # NaN and ±inf propagate; float32s cannot overflow a double sum
                 failures.add(where, f"non-finite float32 in array {key!r}")
         for k, v in value.items():
             check_value(v, where, failures, k, depth + 1)
@@ -166,6 +167,7 @@ class RawWebSocket:
         self.port, self.rng, self.failures, self.where = port, rng, failures, where
         self.inbox = asyncio.Queue()
         self.closed = False
+        self.close_info = None  # (code, reason) of the server's close frame
         self.replies = 0
 
     async def open(self):
@@ -226,8 +228,13 @@ class RawWebSocket:
                 payload = await self.reader.readexactly(n)
                 opcode = b0 & 0x0F
                 if opcode == 0x8:
+                    self.close_info = (int.from_bytes(payload[:2], "big") if len(payload) >= 2 else None,
+                                       payload[2:].decode("utf-8", "replace"))
                     break
-                if opcode in (0x9, 0xA):
+                if opcode == 0x9:  # answer the server's keep-alive ping, as a browser does
+                    self.writer.write(self.frame(0xA, payload[:125]))
+                    continue
+                if opcode == 0xA:
                     continue
                 buffer += payload
                 if not b0 & 0x80:
@@ -240,8 +247,10 @@ class RawWebSocket:
                 message = parse_reply(data.decode("utf-8", "replace"), self.where, self.failures)
                 if isinstance(message, dict):
                     self.inbox.put_nowait(message)
-        except (asyncio.IncompleteReadError, ConnectionError, OSError):
-            pass
+        except (asyncio.IncompleteReadError, ConnectionError, OSError) as e:
+            self.close_info = self.close_info or (None, f"{type(e).__name__}: {e}")
+        except Exception as e:  # a reply this client cannot read is a finding, not a silent end
+            self.failures.add(self.where, f"unreadable reply: {type(e).__name__}: {e}")
         finally:
             self.closed = True
             self.inbox.put_nowait(None)
@@ -372,9 +381,10 @@ class Worker:
         self.counts[kind] = self.counts.get(kind, 0) + 1
         self.log.write(f"{self.sent} {kind} {detail[:300]}\n")
 
-    def no_answer(self, ws, kind):
+    def no_answer(self, ws, kind, since):
         self.unanswered += 1
-        self.log.write(f"  no answer to {kind} within 120 s ({'closed' if ws.closed else 'open'})\n")
+        self.log.write(f"  no answer to {kind} after {time.monotonic() - since:.1f} s "
+                       f"({f'closed {ws.close_info}' if ws.closed else 'open'})\n")
 
     def more(self):
         return self.budget[0] > 0 and time.monotonic() < self.deadline
@@ -535,8 +545,9 @@ class Worker:
                     await ws.send_text(json.dumps({"type": "drag_end", "op": op, "target": target,
                                                    **({"iterations": rng.randint(0, 50)} if rng.random() < 0.3 else {})}))
                     self.note("ws.drag_end")
+                    t0 = time.monotonic()
                     if not await ws.wait_for(lambda m, op=op: m.get("type") == "solved" or (m.get("type") == "error" and m.get("op") == op), 120):
-                        self.no_answer(ws, "drag_end")
+                        self.no_answer(ws, "drag_end", t0)
                     continue
                 if r < 0.55:
                     m = {"type": "set_fixed", "target": target, "fixed": rng.random() < 0.5}
@@ -570,9 +581,10 @@ class Worker:
                 m["op"] = op
                 await ws.send_text(json.dumps(m))
                 self.note("ws." + m["type"], json.dumps(m))
+                t0 = time.monotonic()
                 if not await ws.wait_for(lambda x, op=op: x.get("op") == op and x.get("type") in ("ack", "error")
                                          or (m["type"] == "solve" and x.get("type") == "solved"), 120):
-                    self.no_answer(ws, m["type"])
+                    self.no_answer(ws, m["type"], t0)
             if rng.random() < 0.3:  # leave mid-drag
                 target, p = rng.choice(points)
                 await ws.send_text(json.dumps({"type": "drag", "op": op + 1, "target": target, "position": [v + 0.05 for v in p]}))
@@ -731,7 +743,7 @@ def start_daemon(args, data_dir, stderr_path):
     for path in sorted(glob.glob(os.path.join(ROOT, "examples", "*.json"))):
         demos += ["--demo", path]
     cmd = [args.bin, "serve", "--port", "0", "--bind", HOST, "--data", data_dir, "--max-body", str(MAX_BODY),
-           "--message-rate", "1000", *demos]
+           "--message-rate", "1000", *demos, *args.daemon_arg]
     stderr = open(stderr_path, "w")
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=stderr, text=True, env=env)
     line = proc.stdout.readline()
@@ -751,6 +763,8 @@ def main():
     parser.add_argument("--seconds", type=float, default=300, help="stop sending after this long")
     parser.add_argument("--health-timeout", type=float, default=60)
     parser.add_argument("--keep", action="store_true", help="keep the data directory and the logs")
+    parser.add_argument("--daemon-arg", action="append", default=[],
+                        help="one more argument of `devsurf serve` (repeat: --daemon-arg=--release-iterations --daemon-arg=20)")
     args = parser.parse_args()
     args.out = tempfile.mkdtemp(prefix="devsurf-hostile-")
     data_dir = os.path.join(args.out, "data")
@@ -797,7 +811,9 @@ def main():
         for f in failures.items[:40]:
             print("  - " + f)
         sys.exit(1)
-    if not args.keep:
+    if args.keep:
+        print(f"hostile_client: logs in {args.out}")
+    else:
         shutil.rmtree(args.out, ignore_errors=True)
     print("hostile_client: passed (no crash, no sanitizer report, health answered, no 500/internal/null/non-finite reply)")
 
