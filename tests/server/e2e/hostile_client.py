@@ -46,8 +46,9 @@ HOST = "127.0.0.1"  # loopback only
 SANITIZER_REPORT = re.compile(r"ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:|"
                               r"WARNING: ThreadSanitizer|ERROR: ThreadSanitizer|SUMMARY: \w+Sanitizer")
 # Keys whose value may be null by contract (docs/protocol.md, the schemas): a presence selection
-# or drag of nothing, a cylinder's projection point.
-NULLABLE_KEYS = {"selection", "dragging", "projection_point"}
+# or drag of nothing, a cylinder's projection point, and per-edge values of a FOLD export that
+# the format writes as null (io/FoldWriter.h: an edge without a curve).
+NULLABLE_KEYS = {"selection", "dragging", "projection_point", "edges_devsurf:curve", "edges_foldAngle"}
 MAX_BODY = 2 << 20  # the daemon runs with --max-body 2 MiB, so oversized bodies stay cheap
 
 
