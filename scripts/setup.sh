@@ -13,6 +13,7 @@ APT_PACKAGES=(
   libocct-data-exchange-dev libtbb-dev liblbfgs-dev libssl-dev
   libopenblas0-serial
   python3 python3-websockets
+  clang libclang-rt-dev
   chromium fonts-liberation fonts-dejavu-core
 )
 

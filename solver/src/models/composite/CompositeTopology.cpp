@@ -29,6 +29,18 @@ namespace {
 
 [[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
 
+/// OpenMesh writes a face it cannot add to its global error stream; the topology reports that
+/// face itself, by path. The stream is switched off once per process (a thread-safe static):
+/// saving, disabling and restoring its switch around every build raced between sessions that
+/// build composites on different worker threads (ThreadSanitizer, hostile client).
+void silenceOpenMeshErrors() {
+  static const bool silenced = [] {
+    omerr().disable();
+    return true;
+  }();
+  (void)silenced;
+}
+
 std::string edgePath(int e) { return "edges[" + std::to_string(e) + "]"; }
 std::string facePath(int f) { return "faces[" + std::to_string(f) + "]"; }
 
@@ -315,20 +327,16 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
   std::vector<OpenMesh::VertexHandle> vh(numVertices_);
   for (int v = 0; v < numVertices_; ++v)
     vh[v] = m.add_vertex({design.vertices(v, 0), design.vertices(v, 1), design.vertices(v, 2)});
-  const bool errorsWere = omerr().is_enabled();
-  omerr().disable();
+  silenceOpenMeshErrors();
   for (int f = 0; f < numFaces; ++f) {
     std::vector<OpenMesh::VertexHandle> loop;
     for (int c : faces_[f].corners) loop.push_back(vh[c]);
     const auto fh = m.add_face(loop);
-    if (!fh.is_valid()) {
-      if (errorsWere) omerr().enable();
+    if (!fh.is_valid())
       fail(facePath(f) + ": makes the mesh non-manifold at one of its vertices (the faces around a vertex must "
            "form one fan)");
-    }
     m.property(mesh_->sceneFace, fh) = f;
   }
-  if (errorsWere) omerr().enable();
   for (const auto eh : m.edges()) {
     const int a = eh.v0().idx(), b = eh.v1().idx();
     m.property(mesh_->sceneEdge, eh) = byVertices.at({std::min(a, b), std::max(a, b)});

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+#include <vector>
+
 #include "CompositeFixtures.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "support/ExpectError.h"
@@ -237,6 +240,27 @@ TEST(CompositeTopology, ConsistencyErrorsNameTheFaceEdgeOrVertex) {
     d.handles = {{PointRef::ofVertex(1), Eigen::Vector3d(0, 0, std::nan("")), 1.0}};
     expectInvalid(d, "handles[0].position: coordinates must be finite");
   }
+}
+
+// Found by ThreadSanitizer under the hostile client: every build saved, disabled and restored
+// OpenMesh's global error stream, a data race between sessions building composites on different
+// worker threads (a thread could also restore it while another relied on it being off). Under the
+// tsan preset this test reproduced the report; in every build it checks that concurrent builds
+// give every thread the same topology.
+TEST(CompositeTopology, BuildsOnSeveralThreadsAtOnceGiveTheSameTopology) {
+  std::vector<std::thread> threads;
+  std::vector<int> faces(4, -1), interior(4, -1);
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([t, &faces, &interior]() {
+      for (int i = 0; i < 20; ++i) {
+        const CompositeTopology topology(foldedCylinders());
+        faces[t] = topology.numFaces();
+        interior[t] = topology.edge(0).interior() ? 1 : 0;
+      }
+    });
+  for (auto& th : threads) th.join();
+  EXPECT_EQ(faces, std::vector<int>(4, 2));
+  EXPECT_EQ(interior, std::vector<int>(4, 1));
 }
 
 TEST(CompositeTopology, StripWithAdjacentSEdgesIsRejected) {
