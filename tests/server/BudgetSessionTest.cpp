@@ -21,30 +21,8 @@ using testing::Inbox;
 using testing::ManualExecutor;
 using testing::MemoryJournal;
 
-json example(const std::string& name) {
-  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name + ".json");
-  return json::parse(file);
-}
-
-/// A session on an example with one joined editor whose state has arrived.
-struct Editor {
-  Editor(const std::string& name, SessionSettings settings = {})
-      : session(std::make_shared<Session>("b1", proto::sceneFromJson(example(name)),
-                                          Session::Tokens{sha256Hex("edit"), sha256Hex("view")}, settings,
-                                          ex.scheduler(), &journal, nullptr)) {
-    pid = session->join(Role::Edit, "", inbox.sink());
-    ex.runAll();
-  }
-  void send(const json& message) {
-    session->post(pid, message);
-    ex.runAll();
-  }
-  ManualExecutor ex;
-  MemoryJournal journal;
-  std::shared_ptr<Session> session;
-  Inbox inbox;
-  int pid = -1;
-};
+using Editor = testing::ExampleEditor;
+using testing::exampleJson;
 
 /// Resident memory of this process, bytes.
 double residentBytes() {
@@ -123,7 +101,7 @@ TEST(BudgetSession, AStructuralEditOverTheMemoryBudgetIsRefusedNamingTheFieldAnd
   SessionSettings settings;
   // Room for the strip as it is, not for 20 000 normal-spline control points.
   settings.resources.memoryBudgetBytes =
-      proto::estimateResources(proto::sceneFromJson(example("strip-lifted-corner"))).bytes + 1024.0 * 1024;
+      proto::estimateResources(testing::exampleScene("strip-lifted-corner")).bytes + 1024.0 * 1024;
   Editor e("strip-lifted-corner", settings);
   e.send({{"type", "set_solver"}, {"op", 1}, {"solver", json::object()}, {"normals", {{"type", "spline"}, {"points", 20000}}}});
   const json err = e.inbox.last("error");

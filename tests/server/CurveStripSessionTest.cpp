@@ -22,32 +22,14 @@ using testing::Inbox;
 using testing::ManualExecutor;
 using testing::MemoryJournal;
 
-proto::Scene exampleScene(const std::string& name) {
-  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name + ".json");
-  return proto::sceneFromJson(json::parse(file));
-}
+using testing::exampleScene;
 
 std::shared_ptr<Session> makeSession(ManualExecutor& ex, const std::string& example, SessionJournal* journal) {
   return std::make_shared<Session>("q1", exampleScene(example), Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
-/// A session on an example with one joined editor whose state has arrived.
-struct Editor {
-  explicit Editor(const std::string& example) : session(makeSession(ex, example, &journal)) {
-    pid = session->join(Role::Edit, "", inbox.sink());
-    ex.runAll();
-  }
-  void send(const json& message) {
-    session->post(pid, message);
-    ex.runAll();
-  }
-  ManualExecutor ex;
-  MemoryJournal journal;
-  std::shared_ptr<Session> session;
-  Inbox inbox;
-  int pid = -1;
-};
+using Editor = testing::ExampleEditor;
 
 json point(const json& scene, const std::string& curve, int index) { return scene["model"][curve]["points"][index]; }
 

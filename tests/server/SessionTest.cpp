@@ -59,6 +59,19 @@ struct FlakyJournal : MemoryJournal {
   }
 };
 
+/// A session restored as the daemon restores one: built from a checkpoint's scene, told the scene
+/// it was created with (the lifted corner), then restore() with the edits journalled after it.
+std::shared_ptr<Session> restoredFrom(ManualExecutor& ex, const SessionCheckpoint& checkpoint,
+                                      const std::vector<std::pair<std::int64_t, json>>& editsAfter,
+                                      std::int64_t lastSeq) {
+  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(checkpoint.scene),
+                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
+                                            SessionSettings{}, ex.scheduler(), nullptr, nullptr);
+  restored->setInitialScene(liftedCornerScene());
+  restored->restore(checkpoint.state, checkpoint.revision, editsAfter, lastSeq);
+  return restored;
+}
+
 json drag(int op, double z) {
   return {{"type", "drag"}, {"op", op}, {"target", {{"curve", "b"}, {"index", 6}}}, {"position", {6.0, 1.0, z}}};
 }
@@ -247,10 +260,7 @@ TEST(Session, ARestartRestoresTheLastStateShownExactly) {
   EXPECT_EQ(last.seq, s->seq());
   EXPECT_EQ(last.revision, inbox.last("solved")["revision"]);
   ManualExecutor ex2;
-  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(last.scene),
-                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
-                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
-  restored->restore(last.state, last.revision, journal.editsAfterLastCheckpoint(), journal.edits.back().first);
+  auto restored = restoredFrom(ex2, last, journal.editsAfterLastCheckpoint(), journal.edits.back().first);
   EXPECT_EQ(restored->seq(), s->seq());
   EXPECT_EQ(restored->revision(), s->revision());
   EXPECT_EQ(restored->sceneJson(), s->sceneJson());  // bit for bit: the checkpoint's numbers as stored
@@ -312,10 +322,7 @@ TEST(Session, ARestartInTheMiddleOfADragRestoresTheLastIterateWithoutTheDragHand
   const SessionCheckpoint& last = journal.checkpoints.back();
   ASSERT_EQ(last.revision, lastIterate["revision"]);
   ManualExecutor ex2;
-  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(last.scene),
-                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
-                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
-  restored->restore(last.state, last.revision, journal.editsAfterLastCheckpoint(), journal.edits.back().first);
+  auto restored = restoredFrom(ex2, last, journal.editsAfterLastCheckpoint(), journal.edits.back().first);
   EXPECT_EQ(restored->seq(), s->seq());
   EXPECT_EQ(restored->sceneJson()["model"]["b"], last.scene["model"]["b"]);
   // The drag's temporary handle ended with its participant: a new one joins with none.
@@ -374,11 +381,7 @@ TEST(Session, AfterARestartResetStillReturnsToTheSceneTheSessionWasCreatedWith) 
   ex.runAll();
   const SessionCheckpoint& last = journal.checkpoints.back();
   ManualExecutor ex2;
-  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(last.scene),
-                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
-                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
-  restored->setInitialScene(proto::sceneFromJson(initial));
-  restored->restore(last.state, last.revision, {}, s->seq());
+  auto restored = restoredFrom(ex2, last, {}, s->seq());
   Inbox in2;
   const int p2 = restored->join(Role::Edit, "", in2.sink());
   ex2.runAll();
@@ -395,10 +398,7 @@ TEST(Session, MetricsComeBackAfterARestartAsTheyWereShown) {
   ex.runAll();
   const SessionCheckpoint& last = journal.checkpoints.back();
   ManualExecutor ex2;
-  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(last.scene),
-                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
-                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
-  restored->restore(last.state, last.revision, {}, s->seq());
+  auto restored = restoredFrom(ex2, last, {}, s->seq());
   EXPECT_EQ(restored->metricsJson(), s->metricsJson());
   EXPECT_GT(s->metricsJson().value("displacement_max_b", 0.0), 0.1) << s->metricsJson().dump();
 }
@@ -437,11 +437,7 @@ TEST(Session, EditsJournalledAfterTheLastCheckpointRestoreToWhatTheSessionHad) {
   for (const auto& edit : journal.edits)
     if (edit.first > good.seq) after.push_back(edit);
   ManualExecutor ex2;
-  auto restored = std::make_shared<Session>("s1", proto::sceneFromJson(good.scene),
-                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
-                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
-  restored->setInitialScene(liftedCornerScene());
-  restored->restore(good.state, good.revision, after, s->seq());
+  auto restored = restoredFrom(ex2, good, after, s->seq());
   const json back = restored->sceneJson();
   EXPECT_EQ(back["model"]["fixed"], live["model"]["fixed"]);
   EXPECT_EQ(back["model"]["handles"].size(), live["model"]["handles"].size());

@@ -5,7 +5,9 @@
 // journal.
 
 #include <cstdint>
+#include <fstream>
 #include <functional>
+#include <memory>
 #include <map>
 #include <string>
 #include <utility>
@@ -14,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "devsurf/server/Session.h"
+#include "devsurf/server/Tokens.h"
 
 namespace devsurf::server::testing {
 
@@ -68,6 +71,33 @@ struct MemoryJournal : SessionJournal {
       if (e.first > after) out.push_back(e);
     return out;
   }
+};
+
+/// An example scene from examples/NAME.json, as shipped.
+inline nlohmann::json exampleJson(const std::string& name) {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name + ".json");
+  return nlohmann::json::parse(file);
+}
+inline proto::Scene exampleScene(const std::string& name) { return proto::sceneFromJson(exampleJson(name)); }
+
+/// A session on an example with one joined editor whose state has arrived; its edits run at once.
+struct ExampleEditor {
+  explicit ExampleEditor(const std::string& example, SessionSettings settings = {})
+      : session(std::make_shared<Session>("e1", exampleScene(example),
+                                          Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
+                                          settings, ex.scheduler(), &journal, nullptr)) {
+    pid = session->join(Role::Edit, "", inbox.sink());
+    ex.runAll();
+  }
+  void send(const nlohmann::json& message) {
+    session->post(pid, message);
+    ex.runAll();
+  }
+  ManualExecutor ex;
+  MemoryJournal journal;
+  std::shared_ptr<Session> session;
+  Inbox inbox;
+  int pid = -1;
 };
 
 }  // namespace devsurf::server::testing
