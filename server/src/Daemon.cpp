@@ -167,6 +167,7 @@ int Daemon::start() {
     onMessage(c, std::move(text));
   };
   handlers.onClose = [this](const std::shared_ptr<transport::Connection>& c) { onClose(c); };
+  handlers.onRefused = [this](const std::string& code) { counters_.recordError(code); };
   http_ = std::make_unique<transport::Server>(handlers, limits);
   routes();
   const int port = http_->bind(options_.bind, options_.port);

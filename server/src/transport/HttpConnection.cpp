@@ -408,6 +408,7 @@ void HttpConnection::runRoutes(const std::shared_ptr<HttpRequest>& request, bool
   }
   if (response->empty()) {
     *response = errorResponse(500, "internal", "the request could not be processed");
+    if (core_->handlers.onRefused) core_->handlers.onRefused("internal");
     close = true;
   }
   HttpRequest().swap(*request);  // free the body here, not on an io thread
@@ -450,6 +451,7 @@ void HttpConnection::answer(int status, const std::string& code, const std::stri
                 message);
   disarmDeadline();
   parser_.reset();
+  if (core_->handlers.onRefused) core_->handlers.onRefused(code);
   write(std::make_shared<const std::string>(errorResponse(status, code, message)),
         /*closeAfter=*/true);
 }

@@ -130,6 +130,7 @@ void WebSocketSession::accept() {
 }
 
 void WebSocketSession::reject(int status, const std::string& code, const std::string& message) {
+  if (core_->handlers.onRefused) core_->handlers.onRefused(code);
   auto response = std::make_shared<std::string>(errorResponse(status, code, message));
   auto& stream = beast::get_lowest_layer(ws_);
   stream.expires_after(core_->limits.http.writeTimeout);

@@ -253,7 +253,10 @@ class BadInputAnswersTest(DaemonTestCase):
             await ws.close()
         asyncio.run(run())
         self.daemon.request("POST", "/api/sessions", b"{oops", {"Content-Type": "application/json"})
+        status, _, _ = self.daemon.request("GET", "/api/health", headers={f"X-F{i}": "1" for i in range(300)})
+        self.assertEqual(status, 431)  # answered by the transport before any route: counted too
         after = counts()
+        self.assertEqual(after.get("too_large", 0) - before.get("too_large", 0), 1, after)
         self.assertEqual(after.get("invalid_json", 0) - before.get("invalid_json", 0), 2, after)
         self.assertGreaterEqual(after.get("invalid", 0) - before.get("invalid", 0), 1, after)
 

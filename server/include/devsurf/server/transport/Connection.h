@@ -88,6 +88,9 @@ struct WebSocketHandlers {
   /// Exactly once per opened connection, whatever ended it (close frame from either side,
   /// TCP drop, protocol error, Server::stop()).
   std::function<void(const std::shared_ptr<Connection>&)> onClose;
+  /// The transport answered a request itself with an error (431, 413, 408, 415, 400, 503, 500),
+  /// before any route saw it: its code ("too_large", "timeout", "limit", …), for the metrics.
+  std::function<void(const std::string& code)> onRefused;
 };
 
 }  // namespace devsurf::server::transport
