@@ -12,6 +12,7 @@
 #include "devsurf/server/SceneSolver.h"
 
 #include <csignal>
+#include <mutex>
 #include <thread>
 
 #include <httplib.h>
@@ -246,16 +247,34 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   try {
     Daemon daemon(o);
-    const int port = daemon.start();
-    out << "devsurf serving on http://" << (o.bind == "0.0.0.0" ? "localhost" : o.bind) << ":" << port << "/" << std::endl;
-    std::thread waiter([&signals, &daemon]() {
+    // The signal thread runs from the start: a SIGTERM while sessions are being restored ends
+    // the start-up there (everything restored so far is stored) instead of waiting for it.
+    std::mutex phase;
+    bool serving = false, signalled = false;
+    std::thread waiter([&signals, &daemon, &phase, &serving, &signalled]() {
       int sig = 0;
       sigwait(&signals, &sig);
       spdlog::info("signal {}: shutting down", sig);
-      daemon.stop();
+      std::lock_guard<std::mutex> lock(phase);
+      signalled = true;
+      if (serving)
+        daemon.stop();
+      else
+        daemon.abandonStart();
     });
-    daemon.run();
-    pthread_kill(waiter.native_handle(), SIGTERM);  // wake it if the server stopped by itself
+    const int port = daemon.start();
+    {
+      std::lock_guard<std::mutex> lock(phase);
+      serving = port > 0 && !signalled;
+    }
+    if (serving) {
+      out << "devsurf serving on http://" << (o.bind == "0.0.0.0" ? "localhost" : o.bind) << ":" << port << "/" << std::endl;
+      daemon.run();
+    }
+    {
+      std::lock_guard<std::mutex> lock(phase);
+      if (!signalled) pthread_kill(waiter.native_handle(), SIGTERM);  // wake it: the server stopped by itself
+    }
     waiter.join();
     spdlog::info("stopped");
     return 0;

@@ -151,6 +151,10 @@ int Daemon::start() {
   jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs);
   restoreSessions();
   openDemos();
+  if (startAbandoned_) {
+    spdlog::info("stopped during start-up");
+    return -1;
+  }
   jobs_->restore();
 
   transport::TransportLimits limits;
@@ -185,6 +189,7 @@ void Daemon::stop() {
 
 void Daemon::restoreSessions() {
   for (const store::RestoredSession& r : store_->loadSessions()) {
+    if (startAbandoned_) return;  // a signal during start-up: what is restored so far is stored
     // A quarantined session is tried again at every start: what stopped it may have been
     // transient (an I/O error) or fixed since (an upgrade, an operator's repair).
     std::string reason = r.loadError.value_or("");
@@ -238,6 +243,7 @@ void Daemon::restoreSessions() {
 
 void Daemon::openDemos() {
   for (const std::string& path : options_.demoScenes) {
+    if (startAbandoned_) return;
     const std::string id = "demo-" + std::filesystem::path(path).stem().string();
     const std::string edit = demoToken(path, "edit"), view = demoToken(path, "view");
     {

@@ -4,6 +4,7 @@ import json
 import os
 import random
 import shutil
+import signal
 import tempfile
 import time
 import unittest
@@ -533,5 +534,45 @@ class QuarantineTest(unittest.TestCase):
             con.close()
             self.assertIsNone(reasons[invalid["id"]], "the quarantine is lifted once the session restores")
             self.assertNotIn(unreadable["id"], reasons)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+class SignalDuringStartUpTest(unittest.TestCase):
+    """Issue 12: a SIGTERM while a restarted daemon restores its sessions ends the start-up there
+    (exit 0, nothing served) instead of being ignored until every session is back."""
+
+    def test_sigterm_while_restoring_stops_the_daemon_and_loses_nothing(self):
+        import subprocess
+        tmp = tempfile.mkdtemp(prefix="devsurf-startsig-")
+        try:
+            daemon = Daemon(tmp, "--session-time-budget-ms", "120000").start()
+            with open(CONICAL) as f:
+                scene = json.load(f)
+            scene["model"]["np"] = scene["model"]["nq"] = 1500  # each one takes a second or more to solve
+            ids = []
+            for _ in range(3):
+                status, _, body = daemon.json("POST", "/api/sessions", scene)
+                self.assertEqual(status, 201, body)
+                ids.append(body)
+            daemon.stop()
+            log_path = os.path.join(tmp, "start.log")
+            with open(log_path, "w") as log:
+                proc = subprocess.Popen([BIN, "serve", "--port", "0", "--data", tmp, "--log-level", "info"],
+                                        stdout=subprocess.PIPE, stderr=log, text=True)
+                time.sleep(0.5)  # restoring: three whole conical solves
+                proc.send_signal(signal.SIGTERM)
+                out, _ = proc.communicate(timeout=120)
+            self.assertEqual(proc.returncode, 0)
+            self.assertNotIn("serving on", out, "it must not start serving after the signal")
+            with open(log_path) as f:
+                self.assertIn("stopped during start-up", f.read())
+            import sqlite3  # and everything is still stored, nothing quarantined
+            con = sqlite3.connect(os.path.join(tmp, "devsurf.db"))
+            rows = dict(con.execute("SELECT id, quarantine FROM sessions"))
+            con.close()
+            for s in ids:
+                self.assertIn(s["id"], rows)
+                self.assertIsNone(rows[s["id"]])
         finally:
             shutil.rmtree(tmp, ignore_errors=True)

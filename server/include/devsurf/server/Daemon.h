@@ -51,8 +51,11 @@ class Daemon {
   explicit Daemon(DaemonOptions options);
   ~Daemon();
 
-  /// Opens the store, restores sessions and jobs, opens demo sessions, binds. Returns the port.
+  /// Opens the store, restores sessions and jobs, opens demo sessions, binds. Returns the port,
+  /// or −1 when abandonStart() was called meanwhile (nothing bound).
   int start();
+  /// From another thread (a signal during start-up): start() stops restoring and returns −1.
+  void abandonStart() { startAbandoned_ = true; }
   /// Serves until stop() (blocking).
   void run();
   /// Graceful: closes WebSockets (1001), stops accepting, finishes the current iteration.
@@ -98,6 +101,7 @@ class Daemon {
   std::map<std::uint64_t, std::shared_ptr<Client>> clients_;
   std::map<std::string, Quarantined> quarantined_;
   std::atomic<std::uint64_t> httpRequests_{0};
+  std::atomic<bool> startAbandoned_{false};
 };
 
 /// Demo sessions are public: their tokens derive from the scene's file name.
