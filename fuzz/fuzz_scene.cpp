@@ -45,6 +45,9 @@ bool boundForSpeed(proto::Scene& scene) {
           model.design.mapping.coefficients = std::min(model.design.mapping.coefficients, 16);
           model.maxIterations = 1;
           return model.design.c1.points.rows() + model.design.c2.points.rows() <= kMaxControlPoints;
+        } else if constexpr (std::is_same_v<T, models::quad_mesh::QuadMeshDesign>) {
+          return model.mesh.rows() <= 4 * kMaxControlPoints &&
+                 (!model.reference || model.reference->triangles.rows() <= 4 * kMaxControlPoints);
         } else {
           model.np = std::min(model.np, 24);
           model.nq = std::min(model.nq, 24);

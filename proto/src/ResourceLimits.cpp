@@ -177,6 +177,23 @@ void estimateConicalStrip(const models::conical_strip::ConicalStripDesign& d, Re
       kConicalBytesPerSample * (static_cast<double>(d.np) + d.nq));
 }
 
+/// Quad mesh (issue 13): per face and squared free entries of its isometry rows (3 rows of up to
+/// 24 variables when both meshes move), and per vertex (x, terms' index lists, metrics, geometry).
+constexpr double kQuadBytesPerRowPair = 24.0;
+constexpr double kQuadBytesPerVertex = 2048.0;
+
+void estimateQuadMesh(const models::quad_mesh::QuadMeshDesign& d, ResourceEstimate& e) {
+  const double V = static_cast<double>(d.mesh.rows()), F = static_cast<double>(d.faces.size());
+  const double perRow = d.variable == models::quad_mesh::VariableMeshes::Both ? 24.0 : 12.0;
+  add(e, "model.faces", number(F) + " faces × 3 isometry rows of " + number(perRow) + " unknowns",
+      kQuadBytesPerRowPair * 3.0 * F * perRow * perRow);
+  add(e, "model.mesh", number(V) + " vertices of M and M′", kQuadBytesPerVertex * V);
+  if (d.reference)
+    add(e, "model.reference.triangles", number(static_cast<double>(d.reference->triangles.rows())) +
+                                            " reference triangles (search tree)",
+        200.0 * static_cast<double>(d.reference->triangles.rows()));
+}
+
 /// Control points of the scene's curves and vertices, and the largest list (its path).
 int countControlPoints(const Scene& scene, std::string& largestPath) {
   long total = 0, largest = -1;
@@ -201,6 +218,8 @@ int countControlPoints(const Scene& scene, std::string& largestPath) {
   } else if (const auto* k = std::get_if<models::conical_strip::ConicalStripDesign>(&scene.model)) {
     count(k->p.points.rows(), "model.p.points");
     count(k->q.points.rows(), "model.q.points");
+  } else if (const auto* m = std::get_if<models::quad_mesh::QuadMeshDesign>(&scene.model)) {
+    count(m->mesh.rows(), "model.mesh");
   }
   return static_cast<int>(std::min<long>(total, 2147483647L));
 }
@@ -228,6 +247,8 @@ ResourceEstimate estimateResources(const Scene& scene) {
     estimateQuasiStrip(*q, e);
   else if (const auto* k = std::get_if<models::conical_strip::ConicalStripDesign>(&scene.model))
     estimateConicalStrip(*k, e);
+  else if (const auto* m = std::get_if<models::quad_mesh::QuadMeshDesign>(&scene.model))
+    estimateQuadMesh(*m, e);
   std::stable_sort(e.parts.begin(), e.parts.end(),
                    [](const ResourcePart& x, const ResourcePart& y) { return x.bytes > y.bytes; });
   e.bytes = kBaseBytes;

@@ -1,4 +1,5 @@
 #include "devsurf/proto/Scene.h"
+#include "devsurf/proto/QuadMeshScene.h"
 
 #include "devsurf/proto/BoundedJson.h"
 
@@ -508,7 +509,8 @@ const char* modelKind(const ModelData& model) {
     case 0: return "strip";
     case 1: return "composite";
     case 2: return "quasi_strip";
-    default: return "conical_strip";
+    case 3: return "conical_strip";
+    default: return "quad_mesh";
   }
 }
 
@@ -540,7 +542,7 @@ void checkModelNumbers(const json& j, const std::string& path, bool coordinates)
   } else if (j.is_object()) {
     for (const auto& [key, value] : j.items()) {
       const bool inner = coordinates || key == "points" || key == "vertices" || key == "position" || key == "at" ||
-                         key == "boundary";
+                         key == "boundary" || key == "mesh" || key == "unfolding" || key == "target";
       checkModelNumbers(value, path + "." + key, inner);
     }
   }
@@ -631,6 +633,16 @@ Scene sceneFromJson(const json& document, const ResourceLimits& limits) {
     } catch (const std::invalid_argument& e) {
       throw semanticError("model", e.what(), "model");
     }
+  } else if (kind == "quad_mesh") {
+    scene.model = quadMeshFromJson(model);
+    checkResourceLimits(scene, limits);
+    const auto& d = std::get<models::quad_mesh::QuadMeshDesign>(scene.model);
+    try {
+      models::quad_mesh::QuadMeshModel::validateDesign(d);
+      models::quad_mesh::QuadMeshTopology check(static_cast<int>(d.mesh.rows()), d.faces);
+    } catch (const std::invalid_argument& e) {
+      throw semanticError("model", e.what(), "model");
+    }
   } else {
     throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");
   }
@@ -662,6 +674,8 @@ json sceneToJson(const Scene& scene) {
     j["model"] = quasiStripToJson(*q);
   } else if (const auto* cs = std::get_if<conical::ConicalStripDesign>(&scene.model)) {
     j["model"] = conicalStripToJson(*cs);
+  } else if (const auto* qm = std::get_if<models::quad_mesh::QuadMeshDesign>(&scene.model)) {
+    j["model"] = quadMeshToJson(*qm);
   } else {
     const StripDesign& d = std::get<StripDesign>(scene.model);
     json m;
@@ -718,7 +732,7 @@ void collectControlPoints(const json& j, bool inside, Eigen::Vector3d& lo, Eigen
     for (const json& e : j) collectControlPoints(e, inside, lo, hi, count);
   } else if (j.is_object()) {
     for (const auto& [key, value] : j.items())
-      if (key != "handles" && key != "development") collectControlPoints(value, inside || key == "points" || key == "vertices", lo, hi, count);
+      if (key != "handles" && key != "development") collectControlPoints(value, inside || key == "points" || key == "vertices" || key == "mesh", lo, hi, count);
   }
 }
 

@@ -95,6 +95,19 @@ SceneSolver::SceneSolver(proto::Scene scene, engine::Deadline deadline)
     }
     return;
   }
+  if (const auto* q = std::get_if<models::quad_mesh::QuadMeshDesign>(&scene_.model)) {
+    initialQuadMesh_ = *q;
+    models::quad_mesh::QuadMeshOptions options;
+    options.normalize = scene_.solver.normalize;
+    options.linearSolver = scene_.solver.compositeOptions().linearSolver;
+    options.deadline = deadline_;
+    try {
+      quadMesh_ = std::make_unique<models::quad_mesh::QuadMeshModel>(initialQuadMesh_, options);
+    } catch (const std::invalid_argument& e) {
+      throw proto::SceneError("model", "model", e.what());
+    }
+    return;
+  }
   if (const auto* c = std::get_if<models::composite::CompositeDesign>(&scene_.model)) {
     initialComposite_ = *c;
     models::composite::CompositeOptions options = scene_.solver.compositeOptions();
@@ -148,6 +161,16 @@ const conical::ConicalStripModel& SceneSolver::conicalStripModel() const {
   return *conical_;
 }
 
+models::quad_mesh::QuadMeshModel& SceneSolver::quadMeshModel() {
+  if (!quadMesh_) throw std::logic_error("SceneSolver: the scene is not a quad_mesh");
+  return *quadMesh_;
+}
+
+const models::quad_mesh::QuadMeshModel& SceneSolver::quadMeshModel() const {
+  if (!quadMesh_) throw std::logic_error("SceneSolver: the scene is not a quad_mesh");
+  return *quadMesh_;
+}
+
 models::strip::StripModel& SceneSolver::stripModel() {
   if (!strip_) throw std::logic_error("SceneSolver: the scene is not a strip");
   return *strip_;
@@ -174,6 +197,7 @@ proto::Scene SceneSolver::solvedScene(const proto::Scene& scene) {
 
 void SceneSolver::resetStepControl() {
   if (composite_) composite_->solver().resetStepControl();
+  if (quadMesh_) quadMesh_->solver().resetStepControl();
   if (strip_) strip_->solver().resetStepControl();
 }
 
@@ -213,6 +237,11 @@ QualityVerdict SceneSolver::quality() const {
     // C¹ ramp of width 0.05, so a converged polygon held by it may sit slightly past 90°.
     atMost("crease_backtrack_max", 0.05);
     atLeast("ruling_length_min_ratio", 0.25);
+  } else if (quadMesh_) {
+    // Fig. 22: L-Err up to 0.38 % for solvable tasks (8b); glued pairs together; M′ not folded over.
+    atMost("length_error", 5e-3);
+    atMost("glue_gap_max", 1e-4);
+    atMost("unfolding_flipped_faces", 0.0);
   } else {
     atMost("warp_angle_max_deg", 0.05);
     atLeast("ruling_length_min_ratio", 0.25);
@@ -283,6 +312,10 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
     return summary;
   }
   if (composite_) return composite_->solve(options);
+  if (quadMesh_) {
+    quadMeshSummary_ = quadMesh_->solve(options);
+    return quadMeshSummary_.summary;
+  }
   return strip_->solve(options);
 }
 
@@ -291,6 +324,10 @@ proto::Scene SceneSolver::currentScene() const {
   if (keepsInputGeometry()) return s;  // the input curves do not move
   if (composite_) {
     s.model = composite_->design();
+    return s;
+  }
+  if (quadMesh_) {
+    s.model = quadMesh_->design();
     return s;
   }
   s.model = strip_->design();
@@ -345,6 +382,7 @@ proto::Metrics SceneSolver::metrics() const {
     m["patches"] = static_cast<double>(r.patches.size());
     return m;
   }
+  if (quadMesh_) return quadMeshMetrics();
   if (composite_) {
     const models::composite::CompositeQuality q = composite_->quality();
     const models::composite::CompositeDesign d = composite_->design();
@@ -416,6 +454,9 @@ nlohmann::json SceneSolver::report(const engine::SolveSummary& summary, double t
 }
 
 void SceneSolver::igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const {
+  if (quadMesh_)
+    throw ExportUnavailable("format: iges exports B-spline surfaces; a quad_mesh scene is a mesh (use obj, "
+                            "unfolding_obj, svg or fold)");
   if (composite_) {
     composite_->igesEntities(surfaces, curves);
   } else if (quasi_) {
@@ -490,6 +531,19 @@ void SceneSolver::exportTo(const std::string& spec) const {
     throw std::invalid_argument("--export: expected FORMAT:FILE, e.g. obj:strip.obj, got \"" + spec + "\"");
   const std::string format = spec.substr(0, colon);
   const std::string path = spec.substr(colon + 1);
+  if (quadMesh_) {
+    ExportedFile file;
+    try {
+      file = quadMeshExport(format);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("--export " + std::string(e.what()).substr(8));
+    }
+    std::FILE* out = std::fopen(path.c_str(), "wb");
+    if (!out) throw std::runtime_error("cannot write " + path);
+    const bool ok = std::fwrite(file.content.data(), 1, file.content.size(), out) == file.content.size();
+    if (std::fclose(out) != 0 || !ok) throw std::runtime_error("cannot write " + path);
+    return;
+  }
   if (format == "fold" || format == "svg") {
     // The messages start "format: <format>…"; on the command line they name the option instead.
     auto option = [](const std::exception& e) { return "--export " + std::string(e.what()).substr(8); };
@@ -567,6 +621,7 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 }
 
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
+  if (quadMesh_) return quadMeshExport(format);
   if (format != "obj" && format != "fold" && format != "svg" && format != "iges")
     throw ExportUnavailable("format: expected json, obj, iges, fold or svg, got \"" + format + "\"");
   if (format == "iges") {

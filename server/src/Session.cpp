@@ -50,6 +50,20 @@ json compositeTargetJson(const composite::CompositeDesign& d, const composite::P
 
 json point3Json(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
 
+namespace qm = models::quad_mesh;
+
+/// A quad_mesh vertex of a target or scene entry ({"vertex"} with optional "on").
+qm::VertexRef quadRefOf(const json& target) {
+  return {target.value("on", std::string("mesh")) == "unfolding" ? qm::MeshSide::Unfolding : qm::MeshSide::Mesh,
+          target.at("vertex").get<int>()};
+}
+
+/// Canonical target of a quad_mesh vertex: {"vertex": i} on M, {"on": "unfolding", "vertex": i} on M′.
+json quadTargetJson(const qm::VertexRef& v) {
+  if (v.on == qm::MeshSide::Unfolding) return {{"on", "unfolding"}, {"vertex", v.vertex}};
+  return {{"vertex", v.vertex}};
+}
+
 bool isEdit(const std::string& type) {
   return type != "presence" && type != "ping" && type != "join";
 }
@@ -171,6 +185,12 @@ proto::Scene Session::persistentScene() const {
                      c->handles.end());
     return s;
   }
+  if (auto* q = std::get_if<qm::QuadMeshDesign>(&s.model)) {
+    q->handles.erase(std::remove_if(q->handles.begin(), q->handles.end(),
+                                    [this](const qm::VertexHandle& h) { return isDragHandle(quadTargetJson(h.vertex)); }),
+                     q->handles.end());
+    return s;
+  }
   auto& d = std::get<StripDesign>(s.model);
   d.handles.erase(std::remove_if(d.handles.begin(), d.handles.end(),
                                  [this](const models::strip::Handle& h) { return isDragHandle(targetJson(h.point)); }),
@@ -194,6 +214,10 @@ proto::Scene Session::withoutReleasedHandles(proto::Scene s) const {
                                       return isReleasedHandle(compositeTargetJson(design, h.point));
                                     }),
                      c->handles.end());
+  } else if (auto* q = std::get_if<qm::QuadMeshDesign>(&s.model)) {
+    q->handles.erase(std::remove_if(q->handles.begin(), q->handles.end(),
+                                    [this](const qm::VertexHandle& h) { return isReleasedHandle(quadTargetJson(h.vertex)); }),
+                     q->handles.end());
   } else if (auto* d = std::get_if<StripDesign>(&s.model)) {
     d->handles.erase(std::remove_if(d->handles.begin(), d->handles.end(),
                                     [this](const models::strip::Handle& h) { return isReleasedHandle(targetJson(h.point)); }),
@@ -203,7 +227,9 @@ proto::Scene Session::withoutReleasedHandles(proto::Scene s) const {
 }
 
 void Session::setHandleWeight(int handle, double weight) {
-  if (isComposite())
+  if (solver_->isQuadMesh())
+    solver_->quadMeshModel().setHandleWeight(handle, weight);
+  else if (isComposite())
     solver_->compositeModel().setHandleWeight(handle, weight);
   else
     solver_->stripModel().setHandleWeight(handle, weight);
@@ -211,6 +237,7 @@ void Session::setHandleWeight(int handle, double weight) {
 
 const engine::Problem& Session::problem() const {
   if (isComposite()) return solver_->compositeModel().problem();
+  if (solver_->isQuadMesh()) return solver_->quadMeshModel().problem();
   return solver_->stripModel().problem();
 }
 
@@ -219,6 +246,15 @@ json Session::geometryJson(json* iterateMetrics) const {
     if (iterateMetrics) *iterateMetrics = json(solver_->metrics());
     if (solver_->isConicalStrip()) return proto::conicalStripGeometryJson(solver_->conicalStripModel());
     return proto::quasiStripGeometryJson(solver_->quasiStripModel(), settings_.surfaceSamples);
+  }
+  if (solver_->isQuadMesh()) {
+    const qm::QuadMeshModel& model = solver_->quadMeshModel();
+    const qm::QuadMeshQuality q = model.quality();
+    if (iterateMetrics)
+      *iterateMetrics = {{"length_error", q.lengthError}, {"area_error", q.areaError},
+                         {"isometry_residual_max", q.isometryResidualMax}, {"glue_gap_max", q.glueGapMax},
+                         {"unfolding_flipped_faces", q.unfoldingFlippedFaces}};
+    return proto::quadMeshGeometryJson(model, q);
   }
   if (isComposite()) {
     const composite::CompositeModel& model = solver_->compositeModel();
@@ -255,6 +291,10 @@ json Session::constraintsJson() const {
     for (const auto& f : c->fixed) fixed.push_back(compositeTargetJson(*c, f));
     for (const auto& h : c->handles)
       if (!isReleasedHandle(compositeTargetJson(*c, h.point))) addHandle(compositeTargetJson(*c, h.point), h.position, h.weight);
+  } else if (const auto* q = std::get_if<qm::QuadMeshDesign>(&current.model)) {
+    for (const auto& f : q->fixed) fixed.push_back(quadTargetJson(f));
+    for (const auto& h : q->handles)
+      if (!isReleasedHandle(quadTargetJson(h.vertex))) addHandle(quadTargetJson(h.vertex), h.target, h.weight);
   } else {
     const auto& d = std::get<StripDesign>(current.model);
     for (const auto& f : d.fixed) fixed.push_back(targetJson(f));
@@ -292,6 +332,27 @@ json Session::canonicalTarget(const json& target, std::string& path, std::string
       return nullptr;
     }
     return {{"curve", curve}, {"index", index}};
+  }
+  if (const auto* q = std::get_if<qm::QuadMeshDesign>(&current.model)) {
+    if (!target.contains("vertex")) {
+      path = "target";
+      message = "this session edits a quad_mesh; address vertices as {\"vertex\": i} (M) or {\"vertex\": i, \"on\": "
+                "\"unfolding\"} (M′)";
+      return nullptr;
+    }
+    const qm::VertexRef r = quadRefOf(target);
+    const int nv = static_cast<int>(q->mesh.rows());
+    if (r.vertex >= nv) {
+      path = "target.vertex";
+      message = "no vertex " + std::to_string(r.vertex) + " (the mesh has " + std::to_string(nv) + ")";
+      return nullptr;
+    }
+    return quadTargetJson(r);
+  }
+  if (target.contains("on")) {
+    path = "target.on";
+    message = std::string("\"on\" addresses the meshes of a quad_mesh; this session edits a ") + proto::modelKind(current.model);
+    return nullptr;
   }
   if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model)) {
     if (target.contains("curve")) {
@@ -348,6 +409,7 @@ json Session::canonicalTarget(const json& target, std::string& path, std::string
 json Session::pointKey(const proto::Scene& current, const json& entry) const {
   if (const auto* c = std::get_if<composite::CompositeDesign>(&current.model))
     return compositeTargetJson(*c, compositeRefOf(entry));
+  if (std::holds_alternative<qm::QuadMeshDesign>(current.model)) return quadTargetJson(quadRefOf(entry));
   return {{"curve", entry.at("curve")}, {"index", entry.at("index")}};
 }
 
@@ -357,6 +419,11 @@ int Session::handleIndex(const proto::Scene& current, const json& target) const 
       if (compositeTargetJson(*c, c->handles[i].point) == target) return static_cast<int>(i);
     return -1;
   }
+  if (const auto* q = std::get_if<qm::QuadMeshDesign>(&current.model)) {
+    for (std::size_t i = 0; i < q->handles.size(); ++i)
+      if (quadTargetJson(q->handles[i].vertex) == target) return static_cast<int>(i);
+    return -1;
+  }
   const auto& d = std::get<StripDesign>(current.model);
   for (std::size_t i = 0; i < d.handles.size(); ++i)
     if (targetJson(d.handles[i].point) == target) return static_cast<int>(i);
@@ -364,7 +431,9 @@ int Session::handleIndex(const proto::Scene& current, const json& target) const 
 }
 
 void Session::setHandleTarget(int handle, const Eigen::Vector3d& position) {
-  if (isComposite())
+  if (solver_->isQuadMesh())
+    solver_->quadMeshModel().setHandleTarget(handle, position);
+  else if (isComposite())
     solver_->compositeModel().setHandleTarget(handle, position);
   else
     solver_->stripModel().setHandleTarget(handle, position);
@@ -660,6 +729,8 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       proto::Scene s = withoutReleasedHandles(current);
       if (auto* c = std::get_if<composite::CompositeDesign>(&s.model))
         c->handles.push_back({compositeRefOf(target), pos, s.solver.handleWeight});
+      else if (auto* q = std::get_if<qm::QuadMeshDesign>(&s.model))
+        q->handles.push_back({quadRefOf(target), pos, s.solver.handleWeight});
       else
         std::get<StripDesign>(s.model).handles.push_back({refOf(target), pos, s.solver.handleWeight});
       releasedHandles_.clear();
@@ -768,6 +839,19 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       je.erase("crease");
     else
       je["crease"] = crease;
+  } else if (type == "set_params" && std::holds_alternative<qm::QuadMeshDesign>(current.model)) {
+    static const std::vector<std::string> kQuadMesh = {"weights", "schedule", "variable", "conformal", "gauss_image",
+                                                       "glue"};
+    for (const auto& [key, value] : edit["params"].items()) {
+      if (std::find(kQuadMesh.begin(), kQuadMesh.end(), key) == kQuadMesh.end())
+        return reject("invalid", "\"" + key + "\" is not a quad_mesh parameter (weights, schedule, variable, conformal, "
+                                 "gauss_image, glue)",
+                      "params." + key);
+      if (key == "weights" || key == "schedule")
+        for (const auto& [k, v] : value.items()) model[key][k] = v;
+      else
+        model[key] = value;
+    }
   } else if (type == "set_params") {
     return reject("invalid", std::string("applies to quasi_strip and conical_strip sessions; this session edits a ") +
                                  proto::modelKind(current.model) + " (use set_solver)",

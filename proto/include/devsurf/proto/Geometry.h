@@ -7,6 +7,7 @@
 
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/conical_strip/ConicalStripModel.h"
+#include "devsurf/models/quad_mesh/QuadMeshModel.h"
 #include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 
@@ -92,5 +93,20 @@ nlohmann::json quasiStripGeometryJson(const models::quasi_strip::QuasiStripModel
 ///    on P and 2i+1 on Q), "quads", "quad_patch"} from ConicalStripResult::unfolded, or null.
 nlohmann::json conicalStripGeometryJson(const models::conical_strip::ConicalStripModel& model,
                                         int samplesPerPatch = 8, int curveSamples = 128);
+
+/// quad_mesh geometry (Jiang et al. 2020) for drawing and editing (docs/protocol.md, "quad_mesh
+/// geometry"), design units:
+///  * "mesh" [V,3] (M), "unfolding" [V,3] (M′; z = 0 when "planar"), "faces" [F,4] int32 (ccw;
+///    a triangle has −1 in column 3), "edges" [E,2] int32 (each once, i < j), "edge_boundary"
+///    [E,1] int32 (1 on the boundary), "edge_length_error" [E,1] ((l′ − l)/l per edge: L-Err's
+///    parts), "face_area_error" [F,1] ((A′ − A)/A per face);
+///  * "glue" [G,2] int32 vertex pairs glued on M, "glue_unfolding" [G′,2] on M′;
+///  * "variable" ("mesh" | "unfolding" | "both"), "planar" (bool), "conformal" (bool);
+///  * "curvature": null unless the design asks for the Gauss image, else per face "gauss" [F,1],
+///    "mean" [F,1], "kappa1", "kappa2" [F,1] and "rulings" [F,6] (a segment through the face's
+///    centre along its ruling direction, half the face's size each way; where |K| is not small
+///    against κ1² the segment has zero length).
+nlohmann::json quadMeshGeometryJson(const models::quad_mesh::QuadMeshModel& model,
+                                    const models::quad_mesh::QuadMeshQuality& quality);
 
 }  // namespace devsurf::proto

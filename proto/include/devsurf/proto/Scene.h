@@ -10,6 +10,7 @@
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/conical_strip/ConicalStripModel.h"
+#include "devsurf/models/quad_mesh/QuadMeshModel.h"
 #include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/JsonSchemaValidator.h"
@@ -71,12 +72,15 @@ struct QuasiStripScene {
   int maxIterations = 0;
 };
 
-/// One variant per model kind ("strip", "composite", "quasi_strip", "conical_strip").
+/// One variant per model kind ("strip", "composite", "quasi_strip", "conical_strip", "quad_mesh").
 /// conical_strip (Chu et al.) is its design alone: the greedy construction has no solver settings.
+/// quad_mesh (Jiang et al. 2020) carries its own weights and Algorithm-1 schedule; of the scene's
+/// solver object it uses iterations (all rounds together), regularization, tolerances, time budget,
+/// linear solver, normalize and step control (not fairness/fairness_decay).
 using ModelData = std::variant<models::strip::StripDesign, models::composite::CompositeDesign, QuasiStripScene,
-                               models::conical_strip::ConicalStripDesign>;
+                               models::conical_strip::ConicalStripDesign, models::quad_mesh::QuadMeshDesign>;
 
-/// The scene kind of a model ("strip", "composite", "quasi_strip", "conical_strip").
+/// The scene kind of a model ("strip", "composite", "quasi_strip", "conical_strip", "quad_mesh").
 const char* modelKind(const ModelData& model);
 
 /// A scene document (format "devsurf-scene", version 1): a saved design, a batch job, a CLI

@@ -13,6 +13,7 @@
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/conical_strip/ConicalStripModel.h"
+#include "devsurf/models/quad_mesh/QuadMeshModel.h"
 #include "devsurf/models/quasi_strip/QuasiStripModel.h"
 #include "devsurf/models/strip/StripModel.h"
 #include "devsurf/proto/Report.h"
@@ -134,6 +135,7 @@ class SceneSolver {
   bool isComposite() const { return composite_ != nullptr; }
   bool isQuasiStrip() const { return quasi_ != nullptr; }
   bool isConicalStrip() const { return conical_ != nullptr; }
+  bool isQuadMesh() const { return quadMesh_ != nullptr; }
   /// Whether the model keeps the scene's geometry and computes a `result` (quasi_strip,
   /// conical_strip): such scenes are solved before they are exported.
   bool keepsInputGeometry() const { return quasi_ != nullptr || conical_ != nullptr; }
@@ -145,6 +147,9 @@ class SceneSolver {
   const models::quasi_strip::QuasiStripModel& quasiStripModel() const;
   /// @throws std::logic_error if the scene is not a conical_strip
   const models::conical_strip::ConicalStripModel& conicalStripModel() const;
+  /// @throws std::logic_error if the scene is not a quad_mesh
+  models::quad_mesh::QuadMeshModel& quadMeshModel();
+  const models::quad_mesh::QuadMeshModel& quadMeshModel() const;
   /// Writes an export "format:path" (format obj, off, ply, stl: the sampled surface, stl as
   /// io::triangulateQuads' triangles; composites: all faces in one mesh, see CompositeGeometry::merged; fold, svg: the crease pattern of a
   /// composite with a development, CompositeModel::creasePattern, FOLD 1.2 or SVG in mm; iges:
@@ -186,6 +191,9 @@ class SceneSolver {
   void igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const;
   /// The sampled surface for obj exports.
   io::QuadMesh sampledSurface() const;
+  /// quad_mesh: metrics() and exportAs() (SceneSolverQuadMesh.cpp).
+  proto::Metrics quadMeshMetrics() const;
+  ExportedFile quadMeshExport(const std::string& format) const;
   /// (Re)builds the quasi_strip model with the scene's options and an iteration limit (< 0: the
   /// scene's max_iterations, or the optimizer's default without one).
   void buildQuasiStrip(int iterations);
@@ -200,6 +208,9 @@ class SceneSolver {
   std::unique_ptr<models::quasi_strip::QuasiStripModel> quasi_;
   models::quasi_strip::QuasiStripSummary quasiSummary_;
   std::unique_ptr<models::conical_strip::ConicalStripModel> conical_;
+  std::unique_ptr<models::quad_mesh::QuadMeshModel> quadMesh_;
+  models::quad_mesh::QuadMeshDesign initialQuadMesh_;
+  models::quad_mesh::QuadMeshSolveSummary quadMeshSummary_;
   std::string termination_;  ///< the model's own termination reason (quasi_strip, conical_strip)
 };
 

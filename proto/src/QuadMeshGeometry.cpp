@@ -1,0 +1,80 @@
+#include <algorithm>
+#include <cmath>
+
+#include "devsurf/proto/Geometry.h"
+
+namespace devsurf::proto {
+
+namespace qm = models::quad_mesh;
+
+nlohmann::json quadMeshGeometryJson(const qm::QuadMeshModel& model, const qm::QuadMeshQuality& quality) {
+  const qm::QuadMeshTopology& topology = model.topology();
+  const Eigen::MatrixX3d mesh = model.meshVertices(), unfolding = model.unfoldingVertices();
+  const auto& faces = topology.faces();
+  const auto& edges = topology.edges();
+  const int F = static_cast<int>(faces.size()), E = static_cast<int>(edges.size());
+  Eigen::MatrixXi faceArray(F, 4), edgeArray(E, 2), edgeBoundary(E, 1);
+  for (int f = 0; f < F; ++f)
+    for (int k = 0; k < 4; ++k) faceArray(f, k) = faces[f][k];
+  for (int e = 0; e < E; ++e) {
+    edgeArray(e, 0) = edges[e][0];
+    edgeArray(e, 1) = edges[e][1];
+    edgeBoundary(e, 0) = topology.edgeOnBoundary()[e] ? 1 : 0;
+  }
+  Eigen::MatrixXd faceAreaError(F, 1);
+  auto area = [](const Eigen::MatrixX3d& v, const qm::Face& f) {
+    auto tri = [&v](int a, int b, int c) {
+      return 0.5 * (v.row(b) - v.row(a)).cross(v.row(c) - v.row(a)).norm();
+    };
+    if (qm::faceSize(f) == 3) return tri(f[0], f[1], f[2]);
+    return 0.5 * (tri(f[0], f[1], f[2]) + tri(f[0], f[2], f[3]) + tri(f[1], f[2], f[3]) + tri(f[1], f[3], f[0]));
+  };
+  for (int f = 0; f < F; ++f) {
+    const double a = area(mesh, faces[f]), b = area(unfolding, faces[f]);
+    faceAreaError(f, 0) = a > 0 ? (b - a) / a : 0.0;
+  }
+  const qm::QuadMeshDesign design = model.design();
+  std::vector<std::array<int, 2>> glueMesh, glueUnfolding;
+  for (const qm::GluePair& g : design.glue) (g.on == qm::MeshSide::Mesh ? glueMesh : glueUnfolding).push_back({g.a, g.b});
+  auto pairArray = [](const std::vector<std::array<int, 2>>& pairs) {
+    Eigen::MatrixXi m(static_cast<Eigen::Index>(pairs.size()), 2);
+    for (std::size_t i = 0; i < pairs.size(); ++i) m.row(static_cast<Eigen::Index>(i)) << pairs[i][0], pairs[i][1];
+    return m;
+  };
+  nlohmann::json j = {{"mesh", float32Array(mesh)},
+                      {"unfolding", float32Array(unfolding)},
+                      {"faces", int32Array(faceArray)},
+                      {"edges", int32Array(edgeArray)},
+                      {"edge_boundary", int32Array(edgeBoundary)},
+                      {"edge_length_error", float32Array(quality.edgeLengthError)},
+                      {"face_area_error", float32Array(faceAreaError)},
+                      {"glue", int32Array(pairArray(glueMesh))},
+                      {"glue_unfolding", int32Array(pairArray(glueUnfolding))},
+                      {"variable", qm::variableMeshesName(design.variable)},
+                      {"planar", design.unfoldingPlanar},
+                      {"conformal", design.conformal},
+                      {"curvature", nullptr}};
+  if (design.gaussImage) {
+    const qm::QuadMeshCurvature c = model.curvature();
+    Eigen::MatrixXd rulings = Eigen::MatrixXd::Zero(F, 6);
+    for (int f = 0; f < F; ++f) {
+      const int n = qm::faceSize(faces[f]);
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (int k = 0; k < n; ++k) centre += mesh.row(faces[f][k]).transpose();
+      centre /= n;
+      double size = 0.0;
+      for (int k = 0; k < n; ++k) size = std::max(size, (mesh.row(faces[f][k]).transpose() - centre).norm());
+      const double k1 = std::max(std::abs(c.kappa1[f]), std::abs(c.kappa2[f]));
+      const bool developable = std::abs(c.gauss[f]) <= 0.05 * k1 * k1 || k1 == 0.0;
+      const Eigen::Vector3d half = developable ? Eigen::Vector3d(0.5 * size * c.ruling.row(f).transpose())
+                                               : Eigen::Vector3d::Zero();
+      rulings.row(f) << (centre - half).transpose(), (centre + half).transpose();
+    }
+    j["curvature"] = {{"gauss", float32Array(c.gauss)},   {"mean", float32Array(c.mean)},
+                      {"kappa1", float32Array(c.kappa1)}, {"kappa2", float32Array(c.kappa2)},
+                      {"rulings", float32Array(rulings)}};
+  }
+  return j;
+}
+
+}  // namespace devsurf::proto

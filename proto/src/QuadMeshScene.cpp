@@ -1,0 +1,212 @@
+#include "devsurf/proto/QuadMeshScene.h"
+
+#include <string>
+
+#include "devsurf/proto/Scene.h"
+
+namespace devsurf::proto {
+
+namespace qm = models::quad_mesh;
+using nlohmann::json;
+
+namespace {
+
+std::string at(const std::string& list, std::size_t i) { return list + "[" + std::to_string(i) + "]"; }
+
+/// An index into V vertices, named by path.
+int vertexIndex(const json& j, const std::string& path, std::size_t V) {
+  if (!j.is_number_integer() && !j.is_number_unsigned()) throw SceneError(path, "type", "must be an integer index");
+  if (j.is_number_integer() && !j.is_number_unsigned() && j.get<std::int64_t>() < 0)
+    throw SceneError(path, "index", "negative index " + j.dump());
+  const std::uint64_t value = j.get<std::uint64_t>();
+  if (value >= V)
+    throw SceneError(path, "index",
+                     "vertex " + j.dump() + " does not exist (" + std::to_string(V) + " vertices)");
+  return static_cast<int>(value);
+}
+
+qm::MeshSide sideFromJson(const json& j) {
+  return j.value("on", std::string("mesh")) == "unfolding" ? qm::MeshSide::Unfolding : qm::MeshSide::Mesh;
+}
+
+Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+
+}  // namespace
+
+qm::QuadMeshDesign quadMeshFromJson(const json& m) {
+  qm::QuadMeshDesign d;
+  const json& mesh = m.at("mesh");
+  const std::size_t V = mesh.size();
+  d.mesh.resize(static_cast<Eigen::Index>(V), 3);
+  for (std::size_t i = 0; i < V; ++i) d.mesh.row(static_cast<Eigen::Index>(i)) = point3(mesh[i]).transpose();
+
+  const json& faces = m.at("faces");
+  d.faces.reserve(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    qm::Face face{-1, -1, -1, -1};
+    for (std::size_t k = 0; k < faces[f].size(); ++k)
+      face[k] = vertexIndex(faces[f][k], "model.faces[" + std::to_string(f) + "][" + std::to_string(k) + "]", V);
+    d.faces.push_back(face);
+  }
+
+  d.unfoldingPlanar = m.value("unfolding_planar", true);
+  if (m.contains("unfolding")) {
+    const json& u = m["unfolding"];
+    if (u.size() != V)
+      throw SceneError("model.unfolding", "count",
+                       std::to_string(u.size()) + " points, the mesh has " + std::to_string(V) + " vertices");
+    d.unfolding = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(V), 3);
+    for (std::size_t i = 0; i < V; ++i) {
+      const json& p = u[i];
+      if (!d.unfoldingPlanar && p.size() != 3)
+        throw SceneError(at("model.unfolding", i), "type", "expected [x, y, z]: the unfolding is not planar");
+      for (std::size_t k = 0; k < p.size(); ++k) d.unfolding(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = p[k].get<double>();
+      if (d.unfoldingPlanar && p.size() == 3 && p[2].get<double>() != 0.0)
+        throw SceneError(at("model.unfolding", i), "planar", "a planar unfolding has z = 0 (or give [x, y])");
+    }
+  }
+  const std::string variable = m.value("variable", std::string("mesh"));
+  d.variable = variable == "both" ? qm::VariableMeshes::Both
+               : variable == "unfolding" ? qm::VariableMeshes::Unfolding
+                                          : qm::VariableMeshes::Mesh;
+  d.conformal = m.value("conformal", false);
+  d.gaussImage = m.value("gauss_image", false);
+  if (m.contains("conformal_factors")) d.conformalFactors = m["conformal_factors"].get<std::vector<double>>();
+
+  const json handles = m.value("handles", json::array());
+  for (std::size_t i = 0; i < handles.size(); ++i) {
+    const json& h = handles[i];
+    qm::VertexHandle handle;
+    handle.vertex = {sideFromJson(h), vertexIndex(h.at("vertex"), at("model.handles", i) + ".vertex", V)};
+    handle.target = point3(h.at("position"));
+    handle.weight = h.value("weight", 1.0);
+    d.handles.push_back(handle);
+  }
+  const json fixed = m.value("fixed", json::array());
+  for (std::size_t i = 0; i < fixed.size(); ++i)
+    d.fixed.push_back({sideFromJson(fixed[i]), vertexIndex(fixed[i].at("vertex"), at("model.fixed", i) + ".vertex", V)});
+  const json glue = m.value("glue", json::array());
+  for (std::size_t i = 0; i < glue.size(); ++i) {
+    const qm::MeshSide side = sideFromJson(glue[i]);
+    const json& pairs = glue[i].at("pairs");
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const std::string path = at(at("model.glue", i) + ".pairs", k);
+      const int a = vertexIndex(pairs[k][0], path + "[0]", V), b = vertexIndex(pairs[k][1], path + "[1]", V);
+      if (a == b) throw SceneError(path, "pair", "a vertex cannot be glued to itself (" + std::to_string(a) + ")");
+      d.glue.push_back({side, a, b});
+    }
+  }
+  if (m.contains("reference")) {
+    const json& r = m["reference"];
+    qm::ReferenceSurface ref;
+    const json& rv = r.at("vertices");
+    const json& rt = r.at("triangles");
+    ref.vertices.resize(static_cast<Eigen::Index>(rv.size()), 3);
+    for (std::size_t i = 0; i < rv.size(); ++i) ref.vertices.row(static_cast<Eigen::Index>(i)) = point3(rv[i]).transpose();
+    ref.triangles.resize(static_cast<Eigen::Index>(rt.size()), 3);
+    for (std::size_t t = 0; t < rt.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        ref.triangles(static_cast<Eigen::Index>(t), k) =
+            vertexIndex(rt[t][k], "model.reference.triangles[" + std::to_string(t) + "][" + std::to_string(k) + "]",
+                        rv.size());
+    d.reference = std::move(ref);
+  }
+  const json w = m.value("weights", json::object());
+  qm::QuadMeshWeights& q = d.weights;
+  q.isometry = w.value("isometry", q.isometry);
+  q.conformality = w.value("conformality", q.conformality);
+  q.conformalFactor = w.value("conformal_factor", q.conformalFactor);
+  q.position = w.value("position", q.position);
+  q.fairnessMesh = w.value("fairness_mesh", q.fairnessMesh);
+  q.fairnessUnfolding = w.value("fairness_unfolding", q.fairnessUnfolding);
+  q.proximityPoint = w.value("proximity_point", q.proximityPoint);
+  q.proximityPlane = w.value("proximity_plane", q.proximityPlane);
+  q.mapping = w.value("mapping", q.mapping);
+  q.normals = w.value("normals", q.normals);
+  q.symmetry = w.value("symmetry", q.symmetry);
+  const json s = m.value("schedule", json::object());
+  qm::IsometrySchedule& sc = d.schedule;
+  sc.energyMin = s.value("energy_min", sc.energyMin);
+  sc.isometryMin = s.value("isometry_min", sc.isometryMin);
+  sc.roundIterations = s.value("round_iterations", sc.roundIterations);
+  sc.rounds = s.value("rounds", sc.rounds);
+  sc.fairnessDivisor = s.value("fairness_divisor", sc.fairnessDivisor);
+  return d;
+}
+
+json quadMeshToJson(const qm::QuadMeshDesign& d) {
+  json m;
+  m["kind"] = "quad_mesh";
+  json faces = json::array();
+  for (const qm::Face& f : d.faces) {
+    json face = json::array({f[0], f[1], f[2]});
+    if (f[3] >= 0) face.push_back(f[3]);
+    faces.push_back(std::move(face));
+  }
+  m["faces"] = std::move(faces);
+  json mesh = json::array();
+  for (Eigen::Index i = 0; i < d.mesh.rows(); ++i) mesh.push_back({d.mesh(i, 0), d.mesh(i, 1), d.mesh(i, 2)});
+  m["mesh"] = std::move(mesh);
+  if (d.unfolding.rows() > 0) {
+    json u = json::array();
+    for (Eigen::Index i = 0; i < d.unfolding.rows(); ++i) {
+      if (d.unfoldingPlanar)
+        u.push_back({d.unfolding(i, 0), d.unfolding(i, 1)});
+      else
+        u.push_back({d.unfolding(i, 0), d.unfolding(i, 1), d.unfolding(i, 2)});
+    }
+    m["unfolding"] = std::move(u);
+  }
+  m["unfolding_planar"] = d.unfoldingPlanar;
+  m["variable"] = qm::variableMeshesName(d.variable);
+  m["conformal"] = d.conformal;
+  if (!d.conformalFactors.empty()) m["conformal_factors"] = d.conformalFactors;
+  m["gauss_image"] = d.gaussImage;
+  json handles = json::array();
+  for (const qm::VertexHandle& h : d.handles)
+  {
+    json entry = {{"vertex", h.vertex.vertex},
+                  {"position", {h.target.x(), h.target.y(), h.target.z()}},
+                  {"weight", h.weight}};
+    if (h.vertex.on == qm::MeshSide::Unfolding) entry["on"] = "unfolding";
+    handles.push_back(std::move(entry));
+  }
+  if (!handles.empty()) m["handles"] = std::move(handles);
+  json fixed = json::array();
+  for (const qm::VertexRef& v : d.fixed) {
+    json entry = {{"vertex", v.vertex}};
+    if (v.on == qm::MeshSide::Unfolding) entry["on"] = "unfolding";
+    fixed.push_back(std::move(entry));
+  }
+  if (!fixed.empty()) m["fixed"] = std::move(fixed);
+  json meshPairs = json::array(), unfoldingPairs = json::array();
+  for (const qm::GluePair& g : d.glue) (g.on == qm::MeshSide::Mesh ? meshPairs : unfoldingPairs).push_back({g.a, g.b});
+  json glue = json::array();
+  if (!meshPairs.empty()) glue.push_back({{"on", "mesh"}, {"pairs", std::move(meshPairs)}});
+  if (!unfoldingPairs.empty()) glue.push_back({{"on", "unfolding"}, {"pairs", std::move(unfoldingPairs)}});
+  if (!glue.empty()) m["glue"] = std::move(glue);
+  if (d.reference) {
+    json rv = json::array(), rt = json::array();
+    for (Eigen::Index i = 0; i < d.reference->vertices.rows(); ++i)
+      rv.push_back({d.reference->vertices(i, 0), d.reference->vertices(i, 1), d.reference->vertices(i, 2)});
+    for (Eigen::Index t = 0; t < d.reference->triangles.rows(); ++t)
+      rt.push_back({d.reference->triangles(t, 0), d.reference->triangles(t, 1), d.reference->triangles(t, 2)});
+    m["reference"] = {{"vertices", std::move(rv)}, {"triangles", std::move(rt)}};
+  }
+  const qm::QuadMeshWeights& w = d.weights;
+  m["weights"] = {{"isometry", w.isometry},           {"conformality", w.conformality},
+                  {"conformal_factor", w.conformalFactor}, {"position", w.position},
+                  {"fairness_mesh", w.fairnessMesh},  {"fairness_unfolding", w.fairnessUnfolding},
+                  {"proximity_point", w.proximityPoint}, {"proximity_plane", w.proximityPlane},
+                  {"mapping", w.mapping},             {"normals", w.normals},
+                  {"symmetry", w.symmetry}};
+  const qm::IsometrySchedule& s = d.schedule;
+  m["schedule"] = {{"energy_min", s.energyMin},
+                   {"isometry_min", s.isometryMin},
+                   {"round_iterations", s.roundIterations},
+                   {"rounds", s.rounds},
+                   {"fairness_divisor", s.fairnessDivisor}};
+  return m;
+}
+
+}  // namespace devsurf::proto

@@ -1,0 +1,95 @@
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/models/quad_mesh/QuadMeshTopology.h"
+
+namespace devsurf::models::quad_mesh {
+
+/// Which of the two combinatorially equal meshes a vertex reference means: M (the surface in
+/// space) or M′ (the unfolding: planar, or a second surface).
+enum class MeshSide { Mesh, Unfolding };
+const char* meshSideName(MeshSide side);  ///< "mesh", "unfolding"
+
+/// Which meshes the optimization moves (004_… §3.1: either or both).
+enum class VariableMeshes { Mesh, Unfolding, Both };
+const char* variableMeshesName(VariableMeshes v);  ///< "mesh", "unfolding", "both"
+
+struct VertexRef {
+  MeshSide on = MeshSide::Mesh;
+  int vertex = 0;
+  bool operator==(const VertexRef& o) const { return on == o.on && vertex == o.vertex; }
+};
+
+/// A vertex pulled toward a target (E_pos, first sum; the browser's drag).
+struct VertexHandle {
+  VertexRef vertex;
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< design units; z ignored on a planar M′
+  double weight = 1.0;                               ///< multiplies QuadMeshWeights::position
+};
+
+/// Two vertices of one mesh forced together (E_pos, second sum): gluing, cutting and gluing,
+/// D-forms, zero-width holes for curved folds (004_… §5).
+struct GluePair {
+  MeshSide on = MeshSide::Mesh;
+  int a = 0, b = 0;
+};
+
+/// The reference shape Φ of the proximity energies (004_… §2.3.2): a triangle mesh.
+struct ReferenceSurface {
+  Eigen::MatrixX3d vertices;   ///< R×3
+  Eigen::MatrixX3i triangles;  ///< T×3, indices into vertices
+};
+
+/// Weights of Fig. 22 (scene "weights"; defaults as Fig. 7: w_iso = w_pos = 1, w_fair = 0.1).
+struct QuadMeshWeights {
+  double isometry = 1.0;          ///< w_iso, eq. 1 (hard)
+  double conformality = 1.0;      ///< w_conf, eq. 2 (hard; replaces eq. 1 when conformal)
+  double conformalFactor = 0.1;   ///< w_λ, E_λ = Σ(λ_f − 1)²
+  double position = 1.0;          ///< w_pos: handles (× their weight) and gluing
+  double fairnessMesh = 0.1;      ///< w_fair,M at round 0 of Algorithm 1 (0 = off)
+  double fairnessUnfolding = 0.1; ///< w_fair,M′ at round 0 (0 = off)
+  double proximityPoint = 0.0;    ///< w_prox,1 (needs a reference)
+  double proximityPlane = 0.0;    ///< w_prox,2 (needs a reference)
+  double mapping = 0.0;           ///< w_map, E_map (0 = off)
+  double normals = 1.0;           ///< w_norm, eq. 3 (Gauss image)
+  double symmetry = 1.0;          ///< w_sym, eq. 5 (Gauss image)
+};
+
+/// Algorithm 1 (004_… §2.3.3): rounds of at most `roundIterations` guided-projection steps that
+/// end early once E ≤ energyMin (or E stops changing); after each round w_fair ← w_fair / divisor;
+/// done when E_iso ≤ isometryMin or after `rounds` rounds (or the solve's iteration limit).
+struct IsometrySchedule {
+  double energyMin = 1e-12;     ///< E_min (normalized units: the mesh has diameter 1)
+  double isometryMin = 1e-12;   ///< E_iso,min
+  int roundIterations = 10;     ///< iterations per round at most
+  int rounds = 3;               ///< rounds at most
+  double fairnessDivisor = 10;  ///< w_fair is divided by this after every round (≥ 1)
+};
+
+/// Everything that defines a quad-mesh design (scene kind "quad_mesh").
+struct QuadMeshDesign {
+  std::vector<Face> faces;             ///< F faces, ccw seen from the front; triangles [3] = −1
+  Eigen::MatrixX3d mesh;               ///< M, V×3
+  /// M′, V×3 (z = 0 when planar). Empty when the scene gave none: the model then starts it as M
+  /// projected onto its least-squares plane (only allowed when M′ is a variable).
+  Eigen::MatrixX3d unfolding;
+  bool unfoldingPlanar = true;         ///< M′ lies in the plane z = 0
+  VariableMeshes variable = VariableMeshes::Mesh;
+  bool conformal = false;              ///< eq. 2 with per-face λ_f and E_λ instead of eq. 1
+  bool gaussImage = false;             ///< report curvatures (vertex normals of the Gauss image)
+  std::vector<VertexRef> fixed;
+  std::vector<VertexHandle> handles;
+  std::vector<GluePair> glue;
+  std::optional<ReferenceSurface> reference;
+  QuadMeshWeights weights;
+  IsometrySchedule schedule;
+  /// Per-face conformal factors λ_f (F values) of a conformal design after a solve; empty = 1.
+  std::vector<double> conformalFactors;
+};
+
+}  // namespace devsurf::models::quad_mesh

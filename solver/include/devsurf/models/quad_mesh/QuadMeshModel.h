@@ -1,0 +1,121 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/engine/Deadline.h"
+#include "devsurf/engine/GuidedProjectionSolver.h"
+#include "devsurf/engine/LinearSolver.h"
+#include "devsurf/engine/Normalization.h"
+#include "devsurf/engine/Problem.h"
+#include "devsurf/models/quad_mesh/QuadMeshDesign.h"
+#include "devsurf/models/quad_mesh/QuadMeshTopology.h"
+
+namespace devsurf::models::quad_mesh {
+
+/// Model switches; defaults as documented.
+struct QuadMeshOptions {
+  bool normalize = true;  ///< solve with M scaled to diameter 1 (M′ by the same factor)
+  engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;  ///< fixed at build
+  /// Checked while the model is built (engine::DeadlineExceeded); solves have their own.
+  engine::Deadline deadline;
+};
+
+/// The isometry quality of Fig. 22 and the gluing, in the design's units.
+struct QuadMeshQuality {
+  double lengthError = 0.0;     ///< L-Err: ‖L′ − L‖ / ‖L‖ over all edges (a fraction, not %)
+  double areaError = 0.0;       ///< A-Err: ‖A′ − A‖ / ‖A‖ over faces (a quad: mean of both
+                                ///< triangulations)
+  double isometryResidualMax = 0.0;  ///< max |c_iso,j(f)| ÷ diameter(M)² (eq. 1; conformal: eq. 2)
+  double glueGapMax = 0.0;      ///< max ‖v_a − v_b‖ of a glued pair ÷ diameter(M)
+  double handleDistanceMax = 0.0;  ///< max distance of a handled vertex from its target (units)
+  double unfoldingFlippedFaces = 0; ///< faces of a planar M′ turned clockwise (negative area)
+  Eigen::VectorXd edgeLengthError;  ///< per edge (topology().edges()) (l′ − l) / l
+};
+
+/// Per-face curvatures of M from the Gauss image (004_… §2.2, eq. 4): filled by curvature().
+struct QuadMeshCurvature {
+  Eigen::MatrixX3d normals;       ///< V×3 vertex normals n_i of σ(M) (not unit)
+  Eigen::VectorXd gauss, mean;    ///< K(f), H(f), F values (units 1/length², 1/length)
+  Eigen::VectorXd kappa1, kappa2; ///< principal curvatures κ1 ≥ κ2
+  Eigen::MatrixX3d direction1, direction2, ruling;  ///< unit vectors per face
+};
+
+/// What one Algorithm-1 solve did: the engine's per-iteration records over all rounds (numbered
+/// on), the rounds run and the fairness weight of each.
+struct QuadMeshSolveSummary {
+  engine::SolveSummary summary;
+  int rounds = 0;
+  std::vector<double> roundFairness;  ///< w_fair,M (or M′ when M is fixed) per round
+  bool isometryReached = false;       ///< E_iso ≤ schedule.isometryMin at the end
+};
+
+/// Quad-mesh isometries and discrete developables (Jiang et al. 2020, 004_…): M and M′ with
+/// congruent checkerboard patterns (eq. 1), or similar ones (eq. 2), solved by guided projection
+/// under Algorithm 1.
+///
+/// Variables (normalized: M centred and scaled to diameter 1, M′ centred and scaled by the same
+/// factor): "mesh" (3 per vertex), "unfolding" (3 per vertex; z fixed when planar), "conformal
+/// factors" (one per face, when conformal). Fixed meshes and vertices leave the system.
+/// Terms: "isometry" (hard, eq. 1) or "conformality" (hard, eq. 2) + "conformal_factor" (soft);
+/// "glue" (hard, E_pos pairs); "handle" (soft, one per handle, relaxable); "fairness_mesh",
+/// "fairness_unfolding" (soft, Algorithm 1 lowers them); "proximity_point", "proximity_plane"
+/// (soft, foot points on the reference renewed every iteration); "mapping" (soft, E_map).
+class QuadMeshModel {
+ public:
+  /// @throws std::invalid_argument naming the part ("handles[2].vertex: …", "faces[7]: …")
+  explicit QuadMeshModel(QuadMeshDesign design, QuadMeshOptions options = {});
+  ~QuadMeshModel();
+
+  /// The checks the constructor makes, without building anything.
+  /// @throws std::invalid_argument
+  static void validateDesign(const QuadMeshDesign& design);
+
+  /// Algorithm 1 from the current state: `options.maxIterations` bounds the steps of all rounds
+  /// together; `options.firstIteration` resumes the schedule (round = firstIteration ÷
+  /// roundIterations); fairness/fairnessDecay of `options` are not used (the schedule's are).
+  QuadMeshSolveSummary solve(const engine::SolverOptions& options);
+
+  /// The design with the current geometry (design units; λ_f when conformal).
+  QuadMeshDesign design() const;
+  const QuadMeshTopology& topology() const { return topology_; }
+  /// M and M′ in design units (V×3).
+  Eigen::MatrixX3d meshVertices() const;
+  Eigen::MatrixX3d unfoldingVertices() const;
+
+  void setHandleTarget(int i, const Eigen::Vector3d& target);
+  void setHandleWeight(int i, double weight);
+  int handleCount() const { return static_cast<int>(design_.handles.size()); }
+
+  QuadMeshQuality quality() const;
+  /// Solves the Gauss image of the current M (M fixed; models::quad_mesh::solveGaussImage) and
+  /// evaluates eq. 4 per face.
+  QuadMeshCurvature curvature() const;
+
+  engine::Problem& problem() { return problem_; }
+  const engine::Problem& problem() const { return problem_; }
+  engine::GuidedProjectionSolver& solver() { return *solver_; }
+  int numUnknowns() const { return problem_.layout().numFree(); }
+  /// The weight of the fairness terms in round r of Algorithm 1.
+  double fairnessWeight(double roundZeroWeight, int round) const;
+
+ private:
+  void buildProblem();
+  int pointOffset(const VertexRef& v) const;
+  const engine::Normalization& normalizationOf(MeshSide side) const;
+
+  QuadMeshDesign design_;  ///< faces, constraints, weights; positions live in x
+  QuadMeshOptions options_;
+  QuadMeshTopology topology_;
+  engine::Normalization meshNormalization_, unfoldingNormalization_;
+  engine::Problem problem_;
+  std::unique_ptr<engine::GuidedProjectionSolver> solver_;
+  int blockMesh_ = -1, blockUnfolding_ = -1, blockFactors_ = -1;
+  int isometryTerm_ = -1, factorTerm_ = -1, glueTerm_ = -1;
+  int fairnessMeshTerm_ = -1, fairnessUnfoldingTerm_ = -1;
+  std::vector<int> handleTerms_;
+};
+
+}  // namespace devsurf::models::quad_mesh

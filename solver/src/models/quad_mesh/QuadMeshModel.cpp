@@ -1,0 +1,459 @@
+#include "devsurf/models/quad_mesh/QuadMeshModel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Eigenvalues>
+
+#include "devsurf/spatial/TriangleMeshProximity.h"
+#include "devsurf/terms/CheckerboardConformalityTerm.h"
+#include "devsurf/terms/CheckerboardIsometryTerm.h"
+#include "devsurf/terms/ConformalFactorTerm.h"
+#include "devsurf/terms/HandleTargetTerm.h"
+#include "devsurf/terms/MappingRegularityTerm.h"
+#include "devsurf/terms/PolylineFairnessTerm.h"
+#include "devsurf/terms/ReferencePlaneDistanceTerm.h"
+#include "devsurf/terms/ReferencePointDistanceTerm.h"
+#include "devsurf/terms/VertexCoincidenceTerm.h"
+
+namespace devsurf::models::quad_mesh {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+
+std::string indexed(const char* name, std::size_t i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
+
+bool finiteRows(const Eigen::MatrixX3d& m) { return m.allFinite(); }
+
+void checkVertex(const VertexRef& v, int vertexCount, const std::string& path) {
+  if (v.vertex < 0 || v.vertex >= vertexCount)
+    fail(path + ".vertex: " + std::to_string(v.vertex) + " is not a vertex (the mesh has " +
+         std::to_string(vertexCount) + ")");
+}
+
+void checkWeight(double w, const std::string& path) {
+  if (!std::isfinite(w) || w < 0) fail(path + ": must be a finite number ≥ 0");
+}
+
+/// M projected onto its least-squares plane, oriented so that the faces keep their turning sense
+/// (z = 0): the start of an unfolding the scene did not give.
+Eigen::MatrixX3d projectedOntoPlane(const Eigen::MatrixX3d& mesh, const std::vector<Face>& faces) {
+  const Eigen::RowVector3d centre = mesh.colwise().mean();
+  const Eigen::MatrixX3d centred = mesh.rowwise() - centre;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(centred.transpose() * centred);
+  const Eigen::Vector3d e1 = eig.eigenvectors().col(2), e2 = eig.eigenvectors().col(1);
+  Eigen::MatrixX3d flat = Eigen::MatrixX3d::Zero(mesh.rows(), 3);
+  flat.col(0) = centred * e1;
+  flat.col(1) = centred * e2;
+  double signedArea = 0.0;
+  for (const Face& f : faces) {
+    const int n = faceSize(f);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d a = flat.row(f[k]), b = flat.row(f[(k + 1) % n]);
+      signedArea += a.x() * b.y() - a.y() * b.x();
+    }
+  }
+  if (signedArea < 0) flat.col(1) = -flat.col(1);
+  return flat;
+}
+
+double triangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+/// A face's area: a triangle's, or the mean of a quad's two triangulations (004_… Fig. 22).
+double faceArea(const Eigen::MatrixX3d& v, const Face& f) {
+  if (faceSize(f) == 3) return triangleArea(v.row(f[0]), v.row(f[1]), v.row(f[2]));
+  const Eigen::Vector3d p0 = v.row(f[0]), p1 = v.row(f[1]), p2 = v.row(f[2]), p3 = v.row(f[3]);
+  return 0.5 * (triangleArea(p0, p1, p2) + triangleArea(p0, p2, p3) + triangleArea(p1, p2, p3) +
+                triangleArea(p1, p3, p0));
+}
+
+double diameter(const Eigen::MatrixX3d& v) {
+  if (v.rows() == 0) return 0.0;
+  return (v.colwise().maxCoeff() - v.colwise().minCoeff()).norm();
+}
+
+}  // namespace
+
+const char* meshSideName(MeshSide side) { return side == MeshSide::Mesh ? "mesh" : "unfolding"; }
+
+const char* variableMeshesName(VariableMeshes v) {
+  switch (v) {
+    case VariableMeshes::Mesh: return "mesh";
+    case VariableMeshes::Unfolding: return "unfolding";
+    case VariableMeshes::Both: return "both";
+  }
+  return "mesh";
+}
+
+void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
+  const int V = static_cast<int>(d.mesh.rows());
+  if (V < 3) fail("mesh: at least 3 vertices are needed");
+  if (!finiteRows(d.mesh)) fail("mesh: every coordinate must be a finite number");
+  if (d.unfolding.rows() == 0) {
+    if (d.variable == VariableMeshes::Mesh)
+      fail("unfolding: required when only the mesh is variable (the unfolding is what it is bent from)");
+  } else {
+    if (d.unfolding.rows() != V)
+      fail("unfolding: " + std::to_string(d.unfolding.rows()) + " vertices, the mesh has " + std::to_string(V));
+    if (!finiteRows(d.unfolding)) fail("unfolding: every coordinate must be a finite number");
+  }
+  if (!d.conformalFactors.empty()) {
+    if (d.conformalFactors.size() != d.faces.size())
+      fail("conformal_factors: one per face (" + std::to_string(d.faces.size()) + ") expected");
+    for (std::size_t f = 0; f < d.conformalFactors.size(); ++f)
+      if (!std::isfinite(d.conformalFactors[f])) fail(indexed("conformal_factors", f) + ": must be finite");
+  }
+  for (std::size_t i = 0; i < d.fixed.size(); ++i) checkVertex(d.fixed[i], V, indexed("fixed", i));
+  for (std::size_t i = 0; i < d.handles.size(); ++i) {
+    const std::string path = indexed("handles", i);
+    checkVertex(d.handles[i].vertex, V, path);
+    if (!d.handles[i].target.allFinite()) fail(path + ".target: every coordinate must be a finite number");
+    checkWeight(d.handles[i].weight, path + ".weight");
+  }
+  for (std::size_t i = 0; i < d.glue.size(); ++i) {
+    const std::string path = indexed("glue", i);
+    const GluePair& g = d.glue[i];
+    if (g.a < 0 || g.a >= V || g.b < 0 || g.b >= V)
+      fail(path + ": vertex pair (" + std::to_string(g.a) + ", " + std::to_string(g.b) + ") is not in [0, " +
+           std::to_string(V) + ")");
+    if (g.a == g.b) fail(path + ": a vertex cannot be glued to itself (" + std::to_string(g.a) + ")");
+  }
+  const QuadMeshWeights& w = d.weights;
+  checkWeight(w.isometry, "weights.isometry");
+  checkWeight(w.conformality, "weights.conformality");
+  checkWeight(w.conformalFactor, "weights.conformal_factor");
+  checkWeight(w.position, "weights.position");
+  checkWeight(w.fairnessMesh, "weights.fairness_mesh");
+  checkWeight(w.fairnessUnfolding, "weights.fairness_unfolding");
+  checkWeight(w.proximityPoint, "weights.proximity_point");
+  checkWeight(w.proximityPlane, "weights.proximity_plane");
+  checkWeight(w.mapping, "weights.mapping");
+  checkWeight(w.normals, "weights.normals");
+  checkWeight(w.symmetry, "weights.symmetry");
+  if ((w.proximityPoint > 0 || w.proximityPlane > 0) && !d.reference)
+    fail("reference: the proximity weights need a reference surface");
+  if (d.reference) {
+    const ReferenceSurface& r = *d.reference;
+    if (r.vertices.rows() < 3 || r.triangles.rows() < 1)
+      fail("reference: at least 3 vertices and one triangle are needed");
+    if (!r.vertices.allFinite()) fail("reference.vertices: every coordinate must be a finite number");
+    for (Eigen::Index t = 0; t < r.triangles.rows(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (r.triangles(t, k) < 0 || r.triangles(t, k) >= r.vertices.rows())
+          fail("reference.triangles[" + std::to_string(t) + "]: vertex " + std::to_string(r.triangles(t, k)) +
+               " is not in [0, " + std::to_string(r.vertices.rows()) + ")");
+  }
+  const IsometrySchedule& s = d.schedule;
+  if (!(s.energyMin >= 0) || !std::isfinite(s.energyMin)) fail("schedule.energy_min: must be a finite number ≥ 0");
+  if (!(s.isometryMin >= 0) || !std::isfinite(s.isometryMin))
+    fail("schedule.isometry_min: must be a finite number ≥ 0");
+  if (s.roundIterations < 1) fail("schedule.round_iterations: must be ≥ 1");
+  if (s.rounds < 1) fail("schedule.rounds: must be ≥ 1");
+  if (!(s.fairnessDivisor >= 1) || !std::isfinite(s.fairnessDivisor))
+    fail("schedule.fairness_divisor: must be a finite number ≥ 1");
+}
+
+namespace {
+QuadMeshDesign validated(QuadMeshDesign design) {
+  QuadMeshModel::validateDesign(design);
+  return design;
+}
+}  // namespace
+
+QuadMeshModel::QuadMeshModel(QuadMeshDesign design, QuadMeshOptions options)
+    : design_(validated(std::move(design))),
+      options_(std::move(options)),
+      topology_(static_cast<int>(design_.mesh.rows()), design_.faces) {
+  if (design_.unfolding.rows() == 0) {
+    design_.unfolding = projectedOntoPlane(design_.mesh, design_.faces);
+  }
+  if (design_.unfoldingPlanar) design_.unfolding.col(2).setZero();
+  if (options_.normalize) {
+    meshNormalization_ = engine::Normalization::fromPoints(design_.mesh);
+    unfoldingNormalization_ = engine::Normalization::fromPoints(design_.unfolding);
+    unfoldingNormalization_.scale = meshNormalization_.scale;
+    if (design_.unfoldingPlanar) unfoldingNormalization_.centre.z() = 0.0;
+  }
+  buildProblem();
+}
+
+QuadMeshModel::~QuadMeshModel() = default;
+
+const engine::Normalization& QuadMeshModel::normalizationOf(MeshSide side) const {
+  return side == MeshSide::Mesh ? meshNormalization_ : unfoldingNormalization_;
+}
+
+int QuadMeshModel::pointOffset(const VertexRef& v) const {
+  const int block = v.on == MeshSide::Mesh ? blockMesh_ : blockUnfolding_;
+  return problem_.layout().block(block).offset + 3 * v.vertex;
+}
+
+double QuadMeshModel::fairnessWeight(double roundZeroWeight, int round) const {
+  return roundZeroWeight / std::pow(design_.schedule.fairnessDivisor, std::max(0, round));
+}
+
+void QuadMeshModel::buildProblem() {
+  const int V = topology_.vertexCount();
+  const int F = static_cast<int>(design_.faces.size());
+  blockMesh_ = problem_.addBlock("mesh", 3 * V);
+  blockUnfolding_ = problem_.addBlock("unfolding", 3 * V);
+  {
+    Eigen::MatrixX3d m = design_.mesh, u = design_.unfolding;
+    meshNormalization_.normalizeRows(m);
+    unfoldingNormalization_.normalizeRows(u);
+    auto mx = problem_.blockValues(blockMesh_);
+    auto ux = problem_.blockValues(blockUnfolding_);
+    for (int i = 0; i < V; ++i) {
+      mx.segment<3>(3 * i) = m.row(i).transpose();
+      ux.segment<3>(3 * i) = u.row(i).transpose();
+    }
+  }
+  engine::VariableLayout& layout = problem_.layout();
+  const bool meshVariable = design_.variable != VariableMeshes::Unfolding;
+  const bool unfoldingVariable = design_.variable != VariableMeshes::Mesh;
+  if (!meshVariable) layout.setBlockFixed(blockMesh_);
+  if (!unfoldingVariable) layout.setBlockFixed(blockUnfolding_);
+  if (design_.unfoldingPlanar)
+    for (int i = 0; i < V; ++i) layout.setFixed(blockUnfolding_, 3 * i + 2, 1);
+  for (const VertexRef& v : design_.fixed)
+    layout.setFixed(v.on == MeshSide::Mesh ? blockMesh_ : blockUnfolding_, 3 * v.vertex, 3);
+
+  std::vector<int> meshOffsets(V), unfoldingOffsets(V);
+  for (int i = 0; i < V; ++i) {
+    meshOffsets[i] = pointOffset({MeshSide::Mesh, i});
+    unfoldingOffsets[i] = pointOffset({MeshSide::Unfolding, i});
+  }
+  const QuadMeshWeights& w = design_.weights;
+  if (design_.conformal) {
+    blockFactors_ = problem_.addBlock("conformal factors", F);
+    auto lambda = problem_.blockValues(blockFactors_);
+    for (int f = 0; f < F; ++f)
+      lambda[f] = design_.conformalFactors.empty() ? 1.0 : design_.conformalFactors[f];
+    const int factorOffset = layout.block(blockFactors_).offset;
+    isometryTerm_ = problem_.addTerm(std::make_unique<terms::CheckerboardConformalityTerm>(
+                                         "conformality", design_.faces, meshOffsets, unfoldingOffsets, factorOffset),
+                                     w.conformality, engine::Strength::Hard);
+    factorTerm_ = problem_.addTerm(std::make_unique<terms::ConformalFactorTerm>("conformal_factor", factorOffset, F),
+                                   w.conformalFactor, engine::Strength::Soft);
+  } else {
+    isometryTerm_ = problem_.addTerm(
+        std::make_unique<terms::CheckerboardIsometryTerm>("isometry", design_.faces, meshOffsets, unfoldingOffsets),
+        w.isometry, engine::Strength::Hard);
+  }
+  if (!design_.glue.empty()) {
+    std::vector<int> offsets = meshOffsets;
+    offsets.insert(offsets.end(), unfoldingOffsets.begin(), unfoldingOffsets.end());
+    std::vector<std::array<int, 2>> pairs;
+    for (const GluePair& g : design_.glue) {
+      const int shift = g.on == MeshSide::Mesh ? 0 : V;
+      pairs.push_back({g.a + shift, g.b + shift});
+    }
+    glueTerm_ = problem_.addTerm(std::make_unique<terms::VertexCoincidenceTerm>("glue", pairs, offsets), w.position,
+                                 engine::Strength::Hard);
+  }
+  for (std::size_t i = 0; i < design_.handles.size(); ++i) {
+    const VertexHandle& h = design_.handles[i];
+    Eigen::Vector3d target = normalizationOf(h.vertex.on).toNormalized(h.target);
+    if (h.vertex.on == MeshSide::Unfolding && design_.unfoldingPlanar) target.z() = 0.0;
+    const int id = problem_.addTerm(std::make_unique<terms::HandleTargetTerm>("handle", pointOffset(h.vertex), target),
+                                    w.position * h.weight, engine::Strength::Soft);
+    problem_.term(id).relaxable = true;
+    handleTerms_.push_back(id);
+  }
+  const auto& triples = topology_.polylineTriples();
+  if (meshVariable && w.fairnessMesh > 0 && !triples.empty())
+    fairnessMeshTerm_ = problem_.addTerm(
+        std::make_unique<terms::PolylineFairnessTerm>("fairness_mesh", triples, meshOffsets), w.fairnessMesh,
+        engine::Strength::Soft);
+  if (unfoldingVariable && w.fairnessUnfolding > 0 && !triples.empty())
+    fairnessUnfoldingTerm_ = problem_.addTerm(
+        std::make_unique<terms::PolylineFairnessTerm>("fairness_unfolding", triples, unfoldingOffsets),
+        w.fairnessUnfolding, engine::Strength::Soft);
+  if (design_.reference && meshVariable && (w.proximityPoint > 0 || w.proximityPlane > 0)) {
+    Eigen::MatrixX3d reference = design_.reference->vertices;
+    meshNormalization_.normalizeRows(reference);
+    auto proximity = std::make_shared<const spatial::TriangleMeshProximity>(reference, design_.reference->triangles);
+    if (w.proximityPoint > 0)
+      problem_.addTerm(std::make_unique<terms::ReferencePointDistanceTerm>("proximity_point", meshOffsets, proximity),
+                       w.proximityPoint, engine::Strength::Soft);
+    if (w.proximityPlane > 0)
+      problem_.addTerm(std::make_unique<terms::ReferencePlaneDistanceTerm>("proximity_plane", meshOffsets, proximity),
+                       w.proximityPlane, engine::Strength::Soft);
+  }
+  if (w.mapping > 0 && !topology_.mappingQuadruples().empty())
+    problem_.addTerm(std::make_unique<terms::MappingRegularityTerm>("mapping", topology_.mappingQuadruples(),
+                                                                    meshOffsets, unfoldingOffsets),
+                     w.mapping, engine::Strength::Soft);
+  solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);
+}
+
+QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) {
+  const IsometrySchedule& s = design_.schedule;
+  QuadMeshSolveSummary out;
+  engine::SolveSummary& merged = out.summary;
+  int round = std::max(0, options.firstIteration) / s.roundIterations;
+  int stepsIntoRound = std::max(0, options.firstIteration) % s.roundIterations;
+  int remaining = std::max(0, options.maxIterations);
+  const double isoWeight = design_.conformal ? design_.weights.conformality : design_.weights.isometry;
+  while (true) {
+    const double fairMesh = fairnessWeight(design_.weights.fairnessMesh, round);
+    const double fairUnfolding = fairnessWeight(design_.weights.fairnessUnfolding, round);
+    if (fairnessMeshTerm_ >= 0) problem_.setWeight(fairnessMeshTerm_, fairMesh);
+    if (fairnessUnfoldingTerm_ >= 0) problem_.setWeight(fairnessUnfoldingTerm_, fairUnfolding);
+    const double roundFairness = fairnessMeshTerm_ >= 0 ? fairMesh : fairUnfolding;
+
+    engine::SolverOptions o = options;
+    o.maxIterations = std::min(remaining, s.roundIterations - stepsIntoRound);
+    o.residualTolerance = std::max(options.residualTolerance, s.energyMin);
+    const int numbering = merged.iterations.empty() ? 0 : merged.iterations.back().iteration;
+    if (options.callback) {
+      o.callback = [&options, numbering, roundFairness, &merged](const engine::IterationRecord& record) {
+        if (record.iteration == 0 && !merged.iterations.empty()) return true;  // shown already
+        engine::IterationRecord shifted = record;
+        shifted.iteration += numbering;
+        shifted.fairnessWeight = roundFairness;
+        return options.callback(shifted);
+      };
+    }
+    engine::SolveSummary r = solver_->solve(o);
+    for (std::size_t k = merged.iterations.empty() ? 0 : 1; k < r.iterations.size(); ++k) {
+      engine::IterationRecord record = r.iterations[k];
+      record.iteration += numbering;
+      record.fairnessWeight = roundFairness;
+      merged.iterations.push_back(std::move(record));
+    }
+    merged.termNames = r.termNames;
+    merged.reason = r.reason;
+    merged.converged = r.converged;
+    merged.totalMs += r.totalMs;
+    out.rounds += 1;
+    out.roundFairness.push_back(roundFairness);
+    remaining -= r.stepsTaken();
+
+    const double isoResidual =
+        r.iterations.empty() ? 0.0 : r.iterations.back().termResiduals[isometryTerm_] / (isoWeight * isoWeight);
+    if (isoWeight > 0 && isoResidual <= s.isometryMin) {
+      out.isometryReached = true;
+      break;
+    }
+    using engine::TerminationReason;
+    if (r.reason == TerminationReason::Aborted || r.reason == TerminationReason::Diverged ||
+        r.reason == TerminationReason::TimeBudget || r.reason == TerminationReason::Stalled)
+      break;
+    if (remaining <= 0 || round + 1 >= s.rounds) break;
+    ++round;
+    stepsIntoRound = 0;
+  }
+  if (out.isometryReached) merged.converged = true;
+  return out;
+}
+
+Eigen::MatrixX3d QuadMeshModel::meshVertices() const {
+  const int V = topology_.vertexCount();
+  Eigen::MatrixX3d m(V, 3);
+  auto x = problem_.blockValues(blockMesh_);
+  for (int i = 0; i < V; ++i) m.row(i) = x.segment<3>(3 * i).transpose();
+  meshNormalization_.denormalizeRows(m);
+  return m;
+}
+
+Eigen::MatrixX3d QuadMeshModel::unfoldingVertices() const {
+  const int V = topology_.vertexCount();
+  Eigen::MatrixX3d u(V, 3);
+  auto x = problem_.blockValues(blockUnfolding_);
+  for (int i = 0; i < V; ++i) u.row(i) = x.segment<3>(3 * i).transpose();
+  unfoldingNormalization_.denormalizeRows(u);
+  if (design_.unfoldingPlanar) u.col(2).setZero();
+  return u;
+}
+
+QuadMeshDesign QuadMeshModel::design() const {
+  QuadMeshDesign d = design_;
+  d.mesh = meshVertices();
+  d.unfolding = unfoldingVertices();
+  if (blockFactors_ >= 0) {
+    auto lambda = problem_.blockValues(blockFactors_);
+    d.conformalFactors.assign(lambda.data(), lambda.data() + lambda.size());
+  }
+  return d;
+}
+
+void QuadMeshModel::setHandleTarget(int i, const Eigen::Vector3d& target) {
+  VertexHandle& h = design_.handles.at(i);
+  h.target = target;
+  Eigen::Vector3d normalized = normalizationOf(h.vertex.on).toNormalized(target);
+  if (h.vertex.on == MeshSide::Unfolding && design_.unfoldingPlanar) normalized.z() = 0.0;
+  static_cast<terms::HandleTargetTerm&>(*problem_.term(handleTerms_.at(i)).term).setTarget(normalized);
+}
+
+void QuadMeshModel::setHandleWeight(int i, double weight) {
+  design_.handles.at(i).weight = weight;
+  problem_.setWeight(handleTerms_.at(i), design_.weights.position * weight);
+}
+
+QuadMeshQuality QuadMeshModel::quality() const {
+  QuadMeshQuality q;
+  const Eigen::MatrixX3d m = meshVertices(), u = unfoldingVertices();
+  const auto& edges = topology_.edges();
+  Eigen::VectorXd L(edges.size()), Lp(edges.size());
+  q.edgeLengthError.resize(static_cast<Eigen::Index>(edges.size()));
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    L[e] = (m.row(edges[e][0]) - m.row(edges[e][1])).norm();
+    Lp[e] = (u.row(edges[e][0]) - u.row(edges[e][1])).norm();
+    q.edgeLengthError[e] = L[e] > 0 ? (Lp[e] - L[e]) / L[e] : 0.0;
+  }
+  q.lengthError = L.norm() > 0 ? (Lp - L).norm() / L.norm() : 0.0;
+  const auto& faces = design_.faces;
+  Eigen::VectorXd A(faces.size()), Ap(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    A[f] = faceArea(m, faces[f]);
+    Ap[f] = faceArea(u, faces[f]);
+    if (design_.unfoldingPlanar) {
+      const Face& face = faces[f];
+      const int n = faceSize(face);
+      double signedArea = 0.0;
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d a = u.row(face[k]), b = u.row(face[(k + 1) % n]);
+        signedArea += a.x() * b.y() - a.y() * b.x();
+      }
+      if (signedArea < 0) q.unfoldingFlippedFaces += 1;
+    }
+  }
+  q.areaError = A.norm() > 0 ? (Ap - A).norm() / A.norm() : 0.0;
+  const double size = std::max(diameter(m), 1e-300);
+  for (const Face& f : faces) {
+    if (faceSize(f) == 3) {
+      for (int k = 0; k < 3; ++k) {
+        const int a = f[k], b = f[(k + 1) % 3];
+        const double c = (m.row(a) - m.row(b)).squaredNorm() - (u.row(a) - u.row(b)).squaredNorm();
+        q.isometryResidualMax = std::max(q.isometryResidualMax, std::abs(c) / (size * size));
+      }
+      continue;
+    }
+    const Eigen::Vector3d d0 = m.row(f[0]) - m.row(f[2]), d1 = m.row(f[1]) - m.row(f[3]);
+    const Eigen::Vector3d e0 = u.row(f[0]) - u.row(f[2]), e1 = u.row(f[1]) - u.row(f[3]);
+    const double c0 = d0.squaredNorm() - e0.squaredNorm(), c1 = d1.squaredNorm() - e1.squaredNorm(),
+                 c2 = d0.dot(d1) - e0.dot(e1);
+    q.isometryResidualMax =
+        std::max(q.isometryResidualMax, std::max({std::abs(c0), std::abs(c1), std::abs(c2)}) / (size * size));
+  }
+  for (const GluePair& g : design_.glue) {
+    const Eigen::MatrixX3d& p = g.on == MeshSide::Mesh ? m : u;
+    q.glueGapMax = std::max(q.glueGapMax, (p.row(g.a) - p.row(g.b)).norm() / size);
+  }
+  for (const VertexHandle& h : design_.handles) {
+    if (h.weight <= 0) continue;
+    const Eigen::MatrixX3d& p = h.vertex.on == MeshSide::Mesh ? m : u;
+    Eigen::Vector3d target = h.target;
+    if (h.vertex.on == MeshSide::Unfolding && design_.unfoldingPlanar) target.z() = 0.0;
+    q.handleDistanceMax = std::max(q.handleDistanceMax, (p.row(h.vertex.vertex).transpose() - target).norm());
+  }
+  return q;
+}
+
+}  // namespace devsurf::models::quad_mesh
