@@ -1,0 +1,42 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/engine/Term.h"
+#include "devsurf/spatial/TriangleMeshProximity.h"
+
+namespace devsurf::terms {
+
+/// Proximity to a reference triangle mesh Φ by foot points (004_… §2.3.2, E_prox,1 — the ICP-like
+/// part): per point three rows v_i − v_i*, v_i* the point of Φ closest to v_i. Foot points are
+/// renewed in linearizeAt() and are constants within an iteration (the Jacobian is the identity);
+/// engine::checkJacobian calls linearizeAt() once before differencing, as the solver does. Until
+/// the first linearizeAt() the foot points are the origin. Units of length.
+class ReferencePointDistanceTerm final : public engine::Term {
+ public:
+  /// @param[in] pointOffsets  index in x of each point's x coordinate (y at +1, z at +2)
+  /// @param[in] reference     Φ (shared, immutable; may serve several terms)
+  /// @throws std::invalid_argument on a null reference, a negative offset or overlapping blocks
+  ReferencePointDistanceTerm(std::string name, std::vector<int> pointOffsets,
+                             std::shared_ptr<const spatial::TriangleMeshProximity> reference);
+
+  int numResiduals() const override { return 3 * static_cast<int>(offsets_.size()); }
+  void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  /// Foot points of the points at x.
+  void linearizeAt(const Eigen::VectorXd& x) override;
+  void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
+
+  /// Foot point of point i from the last linearization.
+  const Eigen::Vector3d& footPoint(int i) const { return feet_[i]; }
+
+ private:
+  std::vector<int> offsets_;
+  std::shared_ptr<const spatial::TriangleMeshProximity> reference_;
+  std::vector<Eigen::Vector3d> feet_;
+};
+
+}  // namespace devsurf::terms

@@ -1,0 +1,41 @@
+#include "devsurf/terms/ReferencePointDistanceTerm.h"
+
+#include <stdexcept>
+
+#include "devsurf/terms/VertexProductRows.h"
+
+namespace devsurf::terms {
+
+ReferencePointDistanceTerm::ReferencePointDistanceTerm(
+    std::string name, std::vector<int> pointOffsets,
+    std::shared_ptr<const spatial::TriangleMeshProximity> reference)
+    : Term(std::move(name)), offsets_(std::move(pointOffsets)), reference_(std::move(reference)) {
+  const std::string who = "ReferencePointDistanceTerm";
+  if (!reference_) throw std::invalid_argument(who + ": no reference mesh");
+  std::vector<std::pair<int, int>> blocks;
+  appendPointBlocks(offsets_, blocks);
+  requireDisjointBlocks(who, std::move(blocks));
+  feet_.assign(offsets_.size(), Eigen::Vector3d::Zero());
+}
+
+void ReferencePointDistanceTerm::jacobianStructure(
+    std::vector<engine::JacobianEntry>& entries) const {
+  for (int i = 0; i < static_cast<int>(offsets_.size()); ++i)
+    for (int c = 0; c < 3; ++c) entries.push_back({3 * i + c, offsets_[i] + c});
+}
+
+void ReferencePointDistanceTerm::linearizeAt(const Eigen::VectorXd& x) {
+  for (std::size_t i = 0; i < offsets_.size(); ++i)
+    feet_[i] = reference_->closest(x.segment<3>(offsets_[i])).point;
+}
+
+void ReferencePointDistanceTerm::evaluate(const Eigen::VectorXd& x, double* residuals,
+                                          double* jacobian) const {
+  for (int i = 0; i < static_cast<int>(offsets_.size()); ++i)
+    for (int c = 0; c < 3; ++c) {
+      residuals[3 * i + c] = x[offsets_[i] + c] - feet_[i][c];
+      if (jacobian) jacobian[3 * i + c] = 1.0;
+    }
+}
+
+}  // namespace devsurf::terms
