@@ -248,10 +248,10 @@ void QuadMeshModel::buildProblem() {
   if (!design_.glue.empty()) {
     std::vector<int> offsets = meshOffsets;
     offsets.insert(offsets.end(), unfoldingOffsets.begin(), unfoldingOffsets.end());
-    std::vector<std::array<int, 2>> pairs;
+    std::vector<std::pair<int, int>> pairs;
     for (const GluePair& g : design_.glue) {
       const int shift = g.on == MeshSide::Mesh ? 0 : V;
-      pairs.push_back({g.a + shift, g.b + shift});
+      pairs.emplace_back(g.a + shift, g.b + shift);
     }
     glueTerm_ = problem_.addTerm(std::make_unique<terms::VertexCoincidenceTerm>("glue", pairs, offsets), w.position,
                                  engine::Strength::Hard);

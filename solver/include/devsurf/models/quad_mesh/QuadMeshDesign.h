@@ -55,7 +55,10 @@ struct QuadMeshWeights {
   double fairnessUnfolding = 0.1; ///< w_fair,M′ at round 0 (0 = off)
   double proximityPoint = 0.0;    ///< w_prox,1 (needs a reference)
   double proximityPlane = 0.0;    ///< w_prox,2 (needs a reference)
-  double mapping = 0.0;           ///< w_map, E_map (0 = off)
+  /// w_map, E_map (0 = off). Default 1, a departure from Fig. 22 (which lists no w_map): eq. 1
+  /// couples only vertices of equal parity along the diagonals, and E_map ties the two lattices
+  /// together without resisting bending (docs/architecture.md "quad_mesh").
+  double mapping = 1.0;
   double normals = 1.0;           ///< w_norm, eq. 3 (Gauss image)
   double symmetry = 1.0;          ///< w_sym, eq. 5 (Gauss image)
 };
