@@ -57,7 +57,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
   if (format == "obj") return {polygonObjText(model.meshVertices(), model.topology().faces(), title + " (M)"), "model/obj", "obj"};
   if (format == "unfolding_obj")
     return {polygonObjText(model.unfoldingVertices(), model.topology().faces(), title + " (unfolding M')"),
-            "model/obj", "obj"};
+            "model/obj", "unfolding.obj"};
   throw ExportUnavailable("format: expected json, obj, unfolding_obj, svg or fold for a quad_mesh scene, got \"" +
                           format + "\"");
 }
