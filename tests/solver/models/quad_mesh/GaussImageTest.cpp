@@ -76,7 +76,9 @@ TEST(GaussImage, SphereNormalsPointOutwardAndGiveKOneOverRSquared) {
               << ", max |−H r − 1| = " << meanError << ", max ||n| − 1| = " << normError << "\n";
     EXPECT_LT(gaussError, cells == 16 ? 0.025 : 0.007);
     EXPECT_LT(meanError, cells == 16 ? 0.012 : 0.0035);
-    if (previous > 0.0) EXPECT_LT(gaussError, previous / 3.0);  // second order
+    if (previous > 0.0) {
+      EXPECT_LT(gaussError, previous / 3.0);  // second order
+    }
     previous = gaussError;
   }
 }
