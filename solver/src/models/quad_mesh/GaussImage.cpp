@@ -9,84 +9,12 @@
 #include "devsurf/engine/Normalization.h"
 #include "devsurf/engine/Problem.h"
 #include "devsurf/terms/GaussImageNormalTerm.h"
+#include "devsurf/terms/NormalDirectionAnchorTerm.h"
+#include "devsurf/terms/PolylineFairnessTerm.h"
 #include "devsurf/terms/ShapeOperatorSymmetryTerm.h"
 
 namespace devsurf::models::quad_mesh {
 namespace {
-
-/// E_fair on the normals: per triple (i, j, k) three rows n_i − 2n_j + n_k (linear).
-/// \note Stand-in for terms::PolylineFairnessTerm(triples, pointOffsets) (branch issue13-terms),
-///       which has the same rows; swap it in at merge.
-class NormalFairnessTerm final : public engine::Term {
- public:
-  NormalFairnessTerm(std::string name, std::vector<std::array<int, 3>> triples,
-                     std::vector<int> pointOffsets)
-      : Term(std::move(name)), triples_(std::move(triples)), offsets_(std::move(pointOffsets)) {}
-
-  int numResiduals() const override { return 3 * static_cast<int>(triples_.size()); }
-
-  void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override {
-    for (int t = 0; t < static_cast<int>(triples_.size()); ++t)
-      for (int k = 0; k < 3; ++k)
-        for (const int vertex : triples_[t]) entries.push_back({3 * t + k, offsets_[vertex] + k});
-  }
-
-  void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override {
-    for (int t = 0; t < static_cast<int>(triples_.size()); ++t) {
-      const auto& [i, j, k] = triples_[t];
-      const Eigen::Vector3d r =
-          x.segment<3>(offsets_[i]) - 2.0 * x.segment<3>(offsets_[j]) + x.segment<3>(offsets_[k]);
-      for (int c = 0; c < 3; ++c) {
-        residuals[3 * t + c] = r[c];
-        if (jacobian) {
-          jacobian[9 * t + 3 * c + 0] = 1.0;
-          jacobian[9 * t + 3 * c + 1] = -2.0;
-          jacobian[9 * t + 3 * c + 2] = 1.0;
-        }
-      }
-    }
-  }
-
- private:
-  std::vector<std::array<int, 3>> triples_;
-  std::vector<int> offsets_;
-};
-
-/// Keeps each normal near the direction it started in: per vertex three rows (I − u uᵀ) n_i with
-/// u the unit start normal (rank 2: the length along u is free). Linear.
-class NormalDirectionAnchorTerm final : public engine::Term {
- public:
-  NormalDirectionAnchorTerm(std::string name, Eigen::MatrixX3d directions,
-                            std::vector<int> pointOffsets)
-      : Term(std::move(name)),
-        directions_(std::move(directions)),
-        offsets_(std::move(pointOffsets)) {}
-
-  int numResiduals() const override { return 3 * static_cast<int>(offsets_.size()); }
-
-  void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override {
-    for (int i = 0; i < static_cast<int>(offsets_.size()); ++i)
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) entries.push_back({3 * i + r, offsets_[i] + c});
-  }
-
-  void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override {
-    for (int i = 0; i < static_cast<int>(offsets_.size()); ++i) {
-      const Eigen::Vector3d u = directions_.row(i).transpose();
-      const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - u * u.transpose();
-      const Eigen::Vector3d r = P * x.segment<3>(offsets_[i]);
-      for (int row = 0; row < 3; ++row) {
-        residuals[3 * i + row] = r[row];
-        if (jacobian)
-          for (int c = 0; c < 3; ++c) jacobian[9 * i + 3 * row + c] = P(row, c);
-      }
-    }
-  }
-
- private:
-  Eigen::MatrixX3d directions_;
-  std::vector<int> offsets_;
-};
 
 /// Unit area-weighted vertex normals (zero for a vertex whose faces cancel).
 Eigen::MatrixX3d areaWeightedNormals(const Eigen::MatrixX3d& mesh,
@@ -163,11 +91,11 @@ Eigen::MatrixX3d solveGaussImage(const Eigen::MatrixX3d& mesh,
                   options.symmetryWeight, engine::Strength::Hard);
   if (!polylineTriples.empty() && options.fairnessWeight > 0.0)
     problem.addTerm(
-        std::make_unique<NormalFairnessTerm>("normal fairness", polylineTriples, normalOffsets),
+        std::make_unique<terms::PolylineFairnessTerm>("normal fairness", polylineTriples, normalOffsets),
         options.fairnessWeight, engine::Strength::Soft);
 
   if (options.anchorWeight > 0.0)
-    problem.addTerm(std::make_unique<NormalDirectionAnchorTerm>("normal direction", initial,
+    problem.addTerm(std::make_unique<terms::NormalDirectionAnchorTerm>("normal direction", initial,
                                                                 normalOffsets),
                     options.anchorWeight, engine::Strength::Soft);
 
