@@ -62,7 +62,7 @@ std::string cuttingPatternSvg(const Eigen::MatrixXd& V, const std::vector<Polygo
   checkLength(o.labelSizeMm, "labelSizeMm", false);
   if (o.decimals < 0 || o.decimals > 12)
     throw std::invalid_argument("CuttingPatternOptions: decimals must lie in [0, 12]");
-  const GlueSeams seams = findGlueSeams(static_cast<int>(V.rows()), faces, gluePairs);
+  const GlueSeams seams = findGlueSeams(static_cast<int>(V.rows()), faces, gluePairs, V);
 
   const double s = mmPerUnit, m = o.marginMm;
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;

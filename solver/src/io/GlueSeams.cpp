@@ -1,6 +1,7 @@
 #include "devsurf/io/GlueSeams.h"
 
 #include <algorithm>
+#include <cmath>
 #include <deque>
 #include <map>
 #include <numeric>
@@ -38,8 +39,33 @@ class DisjointSets {
 }  // namespace
 
 GlueSeams findGlueSeams(int vertexCount, const std::vector<PolygonFace>& faces,
-                        const std::vector<std::array<int, 2>>& gluePairs) {
+                        const std::vector<std::array<int, 2>>& gluePairs,
+                        const Eigen::MatrixXd& unfolding) {
   validatePolygonFaces(faces, vertexCount);
+  if (unfolding.rows() > 0 && unfolding.rows() != vertexCount)
+    throw std::invalid_argument("the unfolding has " + std::to_string(unfolding.rows()) +
+                                " vertices, not " + std::to_string(vertexCount));
+  // Angle sums of the material at each vertex in M′ (the corner rule of seams).
+  std::vector<double> angleSum(static_cast<std::size_t>(vertexCount), 0.0);
+  if (unfolding.rows() > 0) {
+    for (const PolygonFace& face : faces) {
+      const int n = cornerCount(face);
+      for (int c = 0; c < n; ++c) {
+        const int v = face[static_cast<std::size_t>(c)];
+        const Eigen::VectorXd p = unfolding.row(v).transpose();
+        const Eigen::VectorXd a = unfolding.row(face[static_cast<std::size_t>((c + 1) % n)]).transpose() - p;
+        const Eigen::VectorXd b = unfolding.row(face[static_cast<std::size_t>((c + n - 1) % n)]).transpose() - p;
+        const double denominator = a.norm() * b.norm();
+        if (denominator > 0.0)
+          angleSum[static_cast<std::size_t>(v)] += std::acos(std::clamp(a.dot(b) / denominator, -1.0, 1.0));
+      }
+    }
+  }
+  auto seamGoesOn = [&unfolding, &angleSum](int v, int w) {
+    if (unfolding.rows() == 0) return true;
+    const double total = angleSum[static_cast<std::size_t>(v)] + angleSum[static_cast<std::size_t>(w)];
+    return std::abs(total - 2.0 * M_PI) <= 0.25 * M_PI;
+  };
   GlueSeams out;
   std::vector<PolygonEdge>& edges = out.edges;
 
@@ -135,7 +161,7 @@ GlueSeams findGlueSeams(int vertexCount, const std::vector<PolygonFace>& faces,
           if (f == e || f == partner || edges[static_cast<std::size_t>(f)].seam >= 0) continue;
           const int fPartner = edges[static_cast<std::size_t>(f)].gluedTo;
           const int w = sharedVertex(partner, fPartner);
-          if (w < 0 || glued.find(w) != glued.find(v)) continue;
+          if (w < 0 || glued.find(w) != glued.find(v) || !seamGoesOn(v, w)) continue;
           assign(f, side);
         }
       }

@@ -32,7 +32,7 @@ ordered buildDocument(const Eigen::MatrixXd& unfolding, const Eigen::MatrixXd& m
     throw std::invalid_argument("FOLD: coordinates must be finite");
   if (!(std::isfinite(o.unitToMm) && o.unitToMm > 0.0))
     throw std::invalid_argument("FOLD: unitToMm must be finite and > 0");
-  const GlueSeams seams = findGlueSeams(static_cast<int>(unfolding.rows()), faces, gluePairs);
+  const GlueSeams seams = findGlueSeams(static_cast<int>(unfolding.rows()), faces, gluePairs, unfolding);
 
   const std::string named = exactFrameUnit(o.unitToMm);
   const std::string unit = named.empty() ? std::string("mm") : named;

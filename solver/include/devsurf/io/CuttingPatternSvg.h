@@ -36,7 +36,7 @@ struct CuttingPatternOptions {
 /// edges (class "glue", blue dashed, data-seam="k"); then <g id="labels">: per seam k = 1, 2, …
 /// two <text class="glue-label" data-seam="k" data-side="0|1">k</text>, one beside the middle of
 /// each side's edges, inside the piece (towards the edge's face). Glue pairs, glue edges and seams
-/// are those of findGlueSeams; both edges of a glued pair carry the same seam number.
+/// are those of findGlueSeams (with the unfolding's corner rule); both edges of a glued pair carry the same seam number.
 ///
 /// @param unfolding V×2 (or V×3: z is ignored) vertices of M′ in design units
 /// @param faces counter-clockwise in M′ (a triangle has [3] = -1)

@@ -30,7 +30,10 @@ struct PolygonEdge {
 /// as glued even if the model means the edge itself to stay open — e.g. the side edges of a strip
 /// one face wide whose top and bottom are glued.)
 /// A *seam* is a maximal chain of glue pairs (e, e′), (f, f′), … where e and f share a vertex v,
-/// e′ and f′ share a vertex v′, and v ~ v′ — consecutive glued edges along one seam line; side 0
+/// e′ and f′ share a vertex v′, and v ~ v′ — consecutive glued edges along one seam line. With
+/// the unfolding's coordinates given, a seam also ends at a vertex where the material meets at a
+/// corner or a cone point: the angle sums of v and v′ (their faces' corner angles in M′) differ
+/// from 2π by more than π/4 (a hole's corner, the apex of a cone with two seams). Side 0
 /// holds the chain's edges on the side of the seam's lowest-numbered edge. Seams are numbered in
 /// the order of their lowest-numbered edge. Edges are numbered in the order faces meet them
 /// (face 0's edges first, each face's in its corner order).
@@ -40,10 +43,13 @@ struct GlueSeams {
 };
 
 /// @param vertexCount number of vertices of the mesh (M and M′ share indices)
+/// @param unfolding V×2 or V×3 vertices of M′ for the corner rule above, or no rows (seams then
+///        run through every shared glued vertex)
 /// @throws std::invalid_argument naming the face for bad faces (validatePolygonFaces) or an
 ///         edge of more than two faces, naming the glue pair for an index out of range or a pair
 ///         (i, i).
 GlueSeams findGlueSeams(int vertexCount, const std::vector<PolygonFace>& faces,
-                        const std::vector<std::array<int, 2>>& gluePairs);
+                        const std::vector<std::array<int, 2>>& gluePairs,
+                        const Eigen::MatrixXd& unfolding = Eigen::MatrixXd());
 
 }  // namespace devsurf::io
