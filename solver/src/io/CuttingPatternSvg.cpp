@@ -1,0 +1,181 @@
+#include "devsurf/io/CuttingPatternSvg.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "devsurf/io/GlueSeams.h"
+
+namespace devsurf::io {
+namespace {
+
+/// Locale-independent fixed-point number with trailing zeros removed.
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  std::string s = res.ec == std::errc() ? std::string(buf, res.ptr) : std::string("0");
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+std::string xmlEscape(const std::string& in) {
+  std::string out;
+  for (const char ch : in) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default:
+        if (static_cast<unsigned char>(ch) >= 0x20 || ch == '\t' || ch == '\n') out += ch;
+    }
+  }
+  return out;
+}
+
+void checkLength(double v, const char* name, bool allowZero) {
+  if (!std::isfinite(v) || v < 0.0 || (!allowZero && v == 0.0))
+    throw std::invalid_argument(std::string("CuttingPatternOptions: ") + name +
+                                (allowZero ? " must be finite and >= 0" : " must be finite and > 0"));
+}
+
+}  // namespace
+
+std::string cuttingPatternSvg(const Eigen::MatrixXd& V, const std::vector<PolygonFace>& faces,
+                              const std::vector<std::array<int, 2>>& gluePairs, double mmPerUnit,
+                              const CuttingPatternOptions& o) {
+  if (V.cols() != 2 && V.cols() != 3)
+    throw std::invalid_argument("cutting pattern: the unfolding must have 2 or 3 columns");
+  if (!V.allFinite()) throw std::invalid_argument("cutting pattern: the unfolding must be finite");
+  if (!(std::isfinite(mmPerUnit) && mmPerUnit > 0.0))
+    throw std::invalid_argument("cutting pattern: mmPerUnit must be finite and > 0");
+  checkLength(o.marginMm, "marginMm", true);
+  checkLength(o.cutWidthMm, "cutWidthMm", false);
+  checkLength(o.glueWidthMm, "glueWidthMm", false);
+  checkLength(o.meshWidthMm, "meshWidthMm", false);
+  checkLength(o.labelSizeMm, "labelSizeMm", false);
+  if (o.decimals < 0 || o.decimals > 12)
+    throw std::invalid_argument("CuttingPatternOptions: decimals must lie in [0, 12]");
+  const GlueSeams seams = findGlueSeams(static_cast<int>(V.rows()), faces, gluePairs, V);
+
+  const double s = mmPerUnit, m = o.marginMm;
+  double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
+  if (V.rows() > 0) {
+    xmin = V.col(0).minCoeff();
+    xmax = V.col(0).maxCoeff();
+    ymin = V.col(1).minCoeff();
+    ymax = V.col(1).maxCoeff();
+  }
+  const double W = (xmax - xmin) * s + 2 * m, H = (ymax - ymin) * s + 2 * m;
+  auto num = [&o](double v) { return fixed(v, o.decimals); };
+  auto X = [&num, m, s, xmin](double x) { return num(m + (x - xmin) * s); };
+  auto Y = [&num, m, s, ymax](double y) { return num(m + (ymax - y) * s); };  // SVG's y points down
+
+  auto line = [&V, &X, &Y](const PolygonEdge& e, const char* cls, const std::string& extra) {
+    return std::string("    <line class=\"") + cls + "\" data-v0=\"" + std::to_string(e.v0) +
+           "\" data-v1=\"" + std::to_string(e.v1) + "\"" + extra + " x1=\"" + X(V(e.v0, 0)) +
+           "\" y1=\"" + Y(V(e.v0, 1)) + "\" x2=\"" + X(V(e.v1, 0)) + "\" y2=\"" + Y(V(e.v1, 1)) +
+           "\"/>\n";
+  };
+  std::string mesh, cuts, glue;
+  for (const PolygonEdge& e : seams.edges) {
+    if (e.faceCount == 2) {
+      if (o.drawMesh) mesh += line(e, "mesh", "");
+    } else if (e.gluedTo < 0) {
+      cuts += line(e, "cut", "");
+    } else {
+      glue += line(e, "glue", " data-seam=\"" + std::to_string(e.seam + 1) + "\"");
+    }
+  }
+
+  // Seam numbers: beside the edge of each side nearest the mean of that side's edge midpoints,
+  // moved towards the edge's face so the number stays on the piece when it is cut out.
+  std::string labels;
+  for (int seam = 0; seam < seams.seamCount; ++seam) {
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      int count = 0;
+      for (const PolygonEdge& e : seams.edges)
+        if (e.seam == seam && e.side == side) {
+          mean += 0.5 * (V.row(e.v0).head<2>() + V.row(e.v1).head<2>()).transpose();
+          ++count;
+        }
+      if (count == 0) continue;
+      mean /= count;
+      const PolygonEdge* best = nullptr;
+      double bestDistance = std::numeric_limits<double>::infinity();
+      for (const PolygonEdge& e : seams.edges) {
+        if (e.seam != seam || e.side != side) continue;
+        const Eigen::Vector2d mid = 0.5 * (V.row(e.v0).head<2>() + V.row(e.v1).head<2>()).transpose();
+        const double d = (mid - mean).squaredNorm();
+        if (d < bestDistance) {
+          bestDistance = d;
+          best = &e;
+        }
+      }
+      const Eigen::Vector2d a = V.row(best->v0).head<2>().transpose();
+      const Eigen::Vector2d b = V.row(best->v1).head<2>().transpose();
+      const PolygonFace& face = faces[static_cast<std::size_t>(best->face)];
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      for (int c = 0; c < cornerCount(face); ++c) centre += V.row(face[static_cast<std::size_t>(c)]).head<2>().transpose();
+      centre /= cornerCount(face);
+      const Eigen::Vector2d mid = 0.5 * (a + b);
+      Eigen::Vector2d edge = b - a;
+      Eigen::Vector2d inward(-edge.y(), edge.x());
+      if (inward.dot(centre - mid) < 0.0) inward = -inward;
+      const double length = inward.norm();
+      const Eigen::Vector2d at = length > 0.0 ? Eigen::Vector2d(mid + inward / length * (0.7 * o.labelSizeMm / s))
+                                              : mid;
+      labels += "    <text class=\"glue-label\" data-seam=\"" + std::to_string(seam + 1) +
+                "\" data-side=\"" + std::to_string(side) + "\" x=\"" + X(at.x()) + "\" y=\"" +
+                Y(at.y()) + "\">" + std::to_string(seam + 1) + "</text>\n";
+    }
+  }
+
+  const std::string title = o.title.empty() ? std::string("devsurf cutting pattern") : o.title;
+  std::string out;
+  out += "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n";
+  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + num(W) +
+         "mm\" height=\"" + num(H) + "mm\" viewBox=\"0 0 " + num(W) + " " + num(H) + "\">\n";
+  out += "  <title>" + xmlEscape(title) + "</title>\n";
+  out += "  <desc>" +
+         xmlEscape("Cutting pattern of a quad mesh's unfolding, exported by devsurf. Units: "
+                   "millimetres, one user unit = 1 mm; scale: 1 design unit = " + num(s) +
+                   " mm; margin " + num(m) + " mm. Cut along the solid black lines. Blue dashed "
+                   "edges are glued: edges with the same number are glued to each other, "
+                   "running in the same direction along the seam. Faint grey lines are mesh "
+                   "edges (no folds). The unfolding's y axis points up (not mirrored).") +
+         "</desc>\n";
+  if (!mesh.empty())
+    out += "  <g id=\"mesh\" fill=\"none\" stroke=\"#c8c8c8\" stroke-width=\"" + num(o.meshWidthMm) +
+           "\" stroke-linecap=\"round\">\n" + mesh + "  </g>\n";
+  out += "  <g id=\"cuts\" fill=\"none\" stroke=\"#000000\" stroke-width=\"" + num(o.cutWidthMm) +
+         "\" stroke-linecap=\"round\">\n" + cuts + "  </g>\n";
+  out += "  <g id=\"glue\" fill=\"none\" stroke=\"#0050c8\" stroke-width=\"" + num(o.glueWidthMm) +
+         "\" stroke-dasharray=\"" + num(2.0 * o.glueWidthMm / 0.3) + " " + num(1.0 * o.glueWidthMm / 0.3) +
+         "\" stroke-linecap=\"butt\">\n" + glue + "  </g>\n";
+  out += "  <g id=\"labels\" fill=\"#0050c8\" font-family=\"sans-serif\" font-size=\"" +
+         num(o.labelSizeMm) + "\" text-anchor=\"middle\" dominant-baseline=\"central\">\n" + labels +
+         "  </g>\n";
+  out += "</svg>\n";
+  return out;
+}
+
+void writeCuttingPatternSvg(const Eigen::MatrixXd& unfolding, const std::vector<PolygonFace>& faces,
+                            const std::vector<std::array<int, 2>>& gluePairs, double mmPerUnit,
+                            const std::string& path, const CuttingPatternOptions& options) {
+  const std::string text = cuttingPatternSvg(unfolding, faces, gluePairs, mmPerUnit, options);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error("cannot write SVG file " + path);
+  out << text;
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write SVG file " + path);
+}
+
+}  // namespace devsurf::io
