@@ -60,7 +60,7 @@ def dump(value, indent=0):
 
 WEIGHTS = {"isometry": 1, "conformality": 1, "conformal_factor": 0.1, "position": 1,
            "fairness_mesh": 0.1, "fairness_unfolding": 0.1, "proximity_point": 0,
-           "proximity_plane": 0, "mapping": 0, "normals": 1, "symmetry": 1}
+           "proximity_plane": 0, "mapping": 1, "normals": 1, "symmetry": 1}
 SCHEDULE = {"energy_min": 1e-12, "isometry_min": 1e-12, "round_iterations": 10, "rounds": 3,
             "fairness_divisor": 10}
 
@@ -88,8 +88,11 @@ def scene(name, description, faces, mesh, variable, unfolding=None, units=None, 
     return doc
 
 
-def handle(vertex, target, on="mesh", weight=1):
-    return {"on": on, "vertex": vertex, "target": list(target), "weight": weight}
+def handle(vertex, position, on="mesh", weight=1):
+    h = {"vertex": vertex, "position": list(position), "weight": weight}
+    if on != "mesh":
+        h["on"] = on
+    return h
 
 
 # --- meshes ----------------------------------------------------------------------------------

@@ -1,6 +1,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 #include "devsurf/proto/Geometry.h"
 
 namespace devsurf::proto {

@@ -1,6 +1,9 @@
 // SceneSolver's quad_mesh parts (Jiang et al. 2020): metrics and exports.
 #include <sstream>
 
+#include "devsurf/io/CuttingPatternSvg.h"
+#include "devsurf/io/PolygonMesh.h"
+#include "devsurf/io/QuadMeshFold.h"
 #include "devsurf/server/SceneSolver.h"
 
 namespace devsurf::server {
@@ -9,20 +12,12 @@ namespace qm = models::quad_mesh;
 
 namespace {
 
-/// Wavefront OBJ of a quad-dominant mesh (1-based indices, one "f" line per face).
-std::string polygonObjText(const Eigen::MatrixX3d& vertices, const std::vector<qm::Face>& faces,
-                           const std::string& title) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "# devsurf: " << title << "\n";
-  for (Eigen::Index i = 0; i < vertices.rows(); ++i)
-    out << "v " << vertices(i, 0) << ' ' << vertices(i, 1) << ' ' << vertices(i, 2) << "\n";
-  for (const qm::Face& f : faces) {
-    out << 'f';
-    for (int k = 0; k < qm::faceSize(f); ++k) out << ' ' << f[k] + 1;
-    out << "\n";
-  }
-  return out.str();
+/// The pairs glued on M (those on M′ join vertices of the unfolding itself and are not seams).
+std::vector<std::array<int, 2>> meshGluePairs(const qm::QuadMeshDesign& d) {
+  std::vector<std::array<int, 2>> pairs;
+  for (const qm::GluePair& g : d.glue)
+    if (g.on == qm::MeshSide::Mesh) pairs.push_back({g.a, g.b});
+  return pairs;
 }
 
 }  // namespace
@@ -54,10 +49,34 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
 ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
   const qm::QuadMeshModel& model = *quadMesh_;
   const std::string title = scene_.name.empty() ? std::string("quad mesh") : scene_.name;
-  if (format == "obj") return {polygonObjText(model.meshVertices(), model.topology().faces(), title + " (M)"), "model/obj", "obj"};
+  const auto& faces = model.topology().faces();
+  if (format == "obj") return {io::objString(model.meshVertices(), faces, title + " (M)"), "model/obj", "obj"};
   if (format == "unfolding_obj")
-    return {polygonObjText(model.unfoldingVertices(), model.topology().faces(), title + " (unfolding M')"),
-            "model/obj", "unfolding.obj"};
+    return {io::objString(model.unfoldingVertices(), faces, title + " (unfolding M')"), "model/obj", "unfolding.obj"};
+  if (format == "svg" || format == "fold") {
+    const qm::QuadMeshDesign d = model.design();
+    if (!d.unfoldingPlanar)
+      throw ExportUnavailable("format: " + format + " draws a planar unfolding; this scene's M′ is a second surface "
+                              "(unfolding_planar false)");
+    const double mm = proto::millimetresPerUnit(scene_.units);
+    try {
+      if (format == "svg") {
+        io::CuttingPatternOptions options;
+        options.title = title;
+        return {io::cuttingPatternSvg(d.unfolding, faces, meshGluePairs(d), mm, options), "image/svg+xml", "svg"};
+      }
+      io::QuadMeshFoldOptions options;
+      options.title = title;
+      options.description = scene_.description;
+      options.unitToMm = mm;
+      return {io::quadMeshFoldString(d.unfolding, d.mesh, faces, meshGluePairs(d), options), "application/json",
+              "fold"};
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::invalid_argument& e) {
+      throw ExportFailed("format: " + format + ": the mesh in its current state cannot be written (" + e.what() + ")");
+    }
+  }
   throw ExportUnavailable("format: expected json, obj, unfolding_obj, svg or fold for a quad_mesh scene, got \"" +
                           format + "\"");
 }

@@ -7,6 +7,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "devsurf/metrics/CheckerboardCurvature.h"
+#include "devsurf/models/quad_mesh/GaussImage.h"
 #include "devsurf/spatial/TriangleMeshProximity.h"
 #include "devsurf/terms/CheckerboardConformalityTerm.h"
 #include "devsurf/terms/CheckerboardIsometryTerm.h"
@@ -286,7 +288,7 @@ void QuadMeshModel::buildProblem() {
                        w.proximityPlane, engine::Strength::Soft);
   }
   if (w.mapping > 0 && !topology_.mappingQuadruples().empty())
-    problem_.addTerm(std::make_unique<terms::MappingRegularityTerm>("mapping", topology_.mappingQuadruples(),
+    mappingTerm_ = problem_.addTerm(std::make_unique<terms::MappingRegularityTerm>("mapping", topology_.mappingQuadruples(),
                                                                     meshOffsets, unfoldingOffsets),
                      w.mapping, engine::Strength::Soft);
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);
@@ -454,6 +456,35 @@ QuadMeshQuality QuadMeshModel::quality() const {
     q.handleDistanceMax = std::max(q.handleDistanceMax, (p.row(h.vertex.vertex).transpose() - target).norm());
   }
   return q;
+}
+
+QuadMeshCurvature QuadMeshModel::curvature() const {
+  const Eigen::MatrixX3d mesh = meshVertices();
+  GaussImageOptions options;
+  options.normalWeight = design_.weights.normals;
+  options.symmetryWeight = design_.weights.symmetry;
+  QuadMeshCurvature c;
+  c.normals = solveGaussImage(mesh, design_.faces, topology_.polylineTriples(), options);
+  const std::vector<metrics::FaceCurvature> faces = metrics::checkerboardCurvature(mesh, c.normals, design_.faces);
+  const Eigen::Index F = static_cast<Eigen::Index>(faces.size());
+  c.gauss.resize(F);
+  c.mean.resize(F);
+  c.kappa1.resize(F);
+  c.kappa2.resize(F);
+  c.direction1.resize(F, 3);
+  c.direction2.resize(F, 3);
+  c.ruling.resize(F, 3);
+  for (Eigen::Index f = 0; f < F; ++f) {
+    const metrics::FaceCurvature& k = faces[static_cast<std::size_t>(f)];
+    c.gauss[f] = k.gauss;
+    c.mean[f] = k.mean;
+    c.kappa1[f] = k.principalMax;
+    c.kappa2[f] = k.principalMin;
+    c.direction1.row(f) = k.directionMax.transpose();
+    c.direction2.row(f) = k.directionMin.transpose();
+    c.ruling.row(f) = k.ruling.transpose();
+  }
+  return c;
 }
 
 }  // namespace devsurf::models::quad_mesh
