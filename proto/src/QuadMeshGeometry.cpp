@@ -43,7 +43,8 @@ nlohmann::json quadMeshGeometryJson(const qm::QuadMeshModel& model, const qm::Qu
     for (std::size_t i = 0; i < pairs.size(); ++i) m.row(static_cast<Eigen::Index>(i)) << pairs[i][0], pairs[i][1];
     return m;
   };
-  nlohmann::json j = {{"mesh", float32Array(mesh)},
+  nlohmann::json j = {{"kind", "quad_mesh"},
+                      {"mesh", float32Array(mesh)},
                       {"unfolding", float32Array(unfolding)},
                       {"faces", int32Array(faceArray)},
                       {"edges", int32Array(edgeArray)},

@@ -96,6 +96,7 @@ nlohmann::json conicalStripGeometryJson(const models::conical_strip::ConicalStri
 
 /// quad_mesh geometry (Jiang et al. 2020) for drawing and editing (docs/protocol.md, "quad_mesh
 /// geometry"), design units:
+///  * "kind": "quad_mesh";
 ///  * "mesh" [V,3] (M), "unfolding" [V,3] (M′; z = 0 when "planar"), "faces" [F,4] int32 (ccw;
 ///    a triangle has −1 in column 3), "edges" [E,2] int32 (each once, i < j), "edge_boundary"
 ///    [E,1] int32 (1 on the boundary), "edge_length_error" [E,1] ((l′ − l)/l per edge: L-Err's
