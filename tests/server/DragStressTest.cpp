@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+#include <set>
+
 #include <algorithm>
 #include <chrono>
 #include <cctype>
@@ -56,6 +59,8 @@ std::vector<Eigen::Vector3d> allPoints(const json& model) {
       for (const json& p : model[c]["points"]) pts.push_back(vec(p));
   if (model.contains("vertices"))
     for (const json& p : model["vertices"]) pts.push_back(vec(p));
+  if (model.contains("mesh"))  // quad_mesh: M
+    for (const json& p : model["mesh"]) pts.push_back(vec(p));
   if (model.contains("edges"))
     for (const json& e : model["edges"])
       for (const json& p : e.value("points", json::array())) pts.push_back(vec(p));
@@ -117,6 +122,40 @@ std::vector<DragTarget> dragTargets(const json& model, const Eigen::Vector3d& ce
     else if (!anyInterior.empty()) out.push_back(farthest(anyInterior));
     return out;
   }
+  if (kind == "quad_mesh") {
+    // M's vertices (M′'s when only the unfolding moves): the boundary vertex farthest from the
+    // centre, the boundary vertex nearest to it and the interior vertex farthest from it.
+    const bool onUnfolding = model.value("variable", "mesh") == "unfolding";
+    const json& points = model[onUnfolding ? "unfolding" : "mesh"];
+    std::map<std::pair<int, int>, int> edgeFaces;
+    for (const json& f : model["faces"])
+      for (std::size_t k = 0; k < f.size(); ++k) {
+        const int a = f[k], b = f[(k + 1) % f.size()];
+        ++edgeFaces[{std::min(a, b), std::max(a, b)}];
+      }
+    std::set<int> boundary;
+    for (const auto& [e, n] : edgeFaces)
+      if (n == 1) boundary.insert({e.first, e.second});
+    std::vector<DragTarget> rim, inner;
+    for (std::size_t v = 0; v < points.size(); ++v) {
+      json t = {{"vertex", static_cast<int>(v)}};
+      if (onUnfolding) t = {{"on", "unfolding"}, {"vertex", static_cast<int>(v)}};
+      if (isFixed(model, t) || isFixed(model, json{{"on", onUnfolding ? "unfolding" : "mesh"}, {"vertex", static_cast<int>(v)}}))
+        continue;
+      const json& p = points[v];
+      const Eigen::Vector3d position(p[0].get<double>(), p[1].get<double>(), p.size() > 2 ? p[2].get<double>() : 0.0);
+      (boundary.count(static_cast<int>(v)) ? rim : inner).push_back({boundary.count(static_cast<int>(v)) ? "corner" : "interior point", t, position});
+    }
+    if (!rim.empty()) {
+      out.push_back(farthest(rim));
+      out.push_back(*std::min_element(rim.begin(), rim.end(), [&centre](const DragTarget& a, const DragTarget& b) {
+        return (a.position - centre).norm() < (b.position - centre).norm();
+      }));
+      out.back().role = "rim point";
+    }
+    if (!inner.empty()) out.push_back(farthest(inner));
+    return out;
+  }
   const bool quasi = kind == "quasi_strip", conical = kind == "conical_strip";
   const std::string first = quasi ? "c1" : conical ? "p" : "a", second = quasi ? "c2" : conical ? "q" : "b";
   auto point = [&model](const std::string& curve, int index) {
@@ -155,6 +194,8 @@ struct DragOutcome {
   double releaseMs = 0.0;
   double handleLag = 0.0;            ///< distance of the released point from the pointer / drag length
   int stripFlips = 0;                ///< strips: development triangles turned over (OBJ export)
+  double objLengthError = 0.0;       ///< quad_mesh: L-Err recomputed from the obj and unfolding_obj exports
+  bool conformal = false;            ///< quad_mesh: a conformal design (L-Err is not its measure)
   std::vector<std::string> nonFinite;  ///< metrics that are not finite
 };
 
@@ -168,6 +209,10 @@ double narrowestRuling(const checks::ObjMesh& mesh) {
 
 /// Where the scene has a target now.
 Eigen::Vector3d currentPosition(const json& model, const json& target) {
+  if (model["kind"] == "quad_mesh") {
+    const json& p = model[target.value("on", "mesh") == "unfolding" ? "unfolding" : "mesh"][target["vertex"].get<std::size_t>()];
+    return {p[0].get<double>(), p[1].get<double>(), p.size() > 2 ? p[2].get<double>() : 0.0};
+  }
   if (target.contains("vertex")) return vec(model["vertices"][target["vertex"].get<std::size_t>()]);
   if (target.contains("edge"))
     return vec(model["edges"][target["edge"].get<std::size_t>()]["points"][target["index"].get<std::size_t>() - 1]);
@@ -226,6 +271,11 @@ DragOutcome runDrag(const std::string& preset, const DragTarget& t, const Eigen:
   out.solved = f.inbox.last("solved");
   out.metrics = f.session->metricsJson();
   out.obj = checks::objFlatness(checks::parseObj(f.session->exportAs("obj").content));
+  if (kind == "quad_mesh") {
+    out.objLengthError = checks::objEdgeLengthError(checks::parseObj(f.session->exportAs("obj").content),
+                                                   checks::parseObj(f.session->exportAs("unfolding_obj").content));
+    out.conformal = f.session->sceneJson()["model"].value("conformal", false);
+  }
   if (kind == "strip") {
     const checks::ObjMesh mesh = checks::parseObj(f.session->exportAs("obj").content);
     out.rulingMinRatio = narrowestRuling(mesh) / startRuling;
@@ -283,6 +333,17 @@ Violations violations(const std::string& kind, const DragOutcome& o) {
       if (!o.foldError.empty()) v.tears.push_back("FOLD export: " + o.foldError);
       above(v.accuracy, "edge length error (FOLD)", o.fold.lengthError, 5e-3);
     }
+  } else if (kind == "quad_mesh") {
+    // Never: M′ folded over. Fabrication: L-Err ≤ 1 % after the release (conformal maps 5 %,
+    // Fig. 4: 4.2 %), from the session and independently from the two OBJ exports; glued pairs
+    // within 1e-4 of the size. The presets as shipped meet 0.5 % (PresetAsShipped); after a drag of
+    // 25 % of the diagonal the D-forms — rigid shapes: two convex domains glue to one surface —
+    // end at up to 0.67 % within the 2 s release budget (measured, 18 drags).
+    above(v.tears, "unfolding_flipped_faces", m.value("unfolding_flipped_faces", 1.0), 0.0);
+    const double limit = o.conformal ? 0.05 : 1e-2;
+    above(v.accuracy, "length_error", m.value("length_error", 1.0), limit);
+    above(v.accuracy, "length error (OBJ)", o.objLengthError, limit);
+    above(v.accuracy, "glue_gap_max", m.value("glue_gap_max", 1.0), 1e-4);
   } else if (kind == "strip") {
     if (!(o.rulingMinRatio >= 0.25)) v.tears.push_back("narrowest ruling " + std::to_string(o.rulingMinRatio) + " of the start");
     above(v.tears, "development triangles turned over", o.stripFlips, 0.0);
@@ -319,9 +380,10 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
 
   const std::vector<DragTarget> targets = dragTargets(model, centre);
   ASSERT_FALSE(targets.empty()) << preset << ": no point to drag";
+  // quad_mesh rows: "δmax" is the session's length_error, "dev err" the one recomputed from the OBJs.
   std::printf("%-28s %-15s %-8s %4s %9s %9s %9s %9s %9s %4s %8s %6s %8s %5s %6s %s\n", "preset", "target", "dir", "len",
-              "drag", "δmax", "δmax obj", "δmean obj", "K max", "flip", "dev err", "ruling", "warp", "lag", "rel ms",
-              "reason");
+              "drag", kind == "quad_mesh" ? "L-Err" : "δmax", "δmax obj", "δmean obj", "K max", "flip",
+              kind == "quad_mesh" ? "L-Err obj" : "dev err", "ruling", "warp", "lag", "rel ms", "reason");
   int drags = 0, misses = 0;
   for (const DragTarget& t : targets) {
     Eigen::Vector3d inward = centre - t.position;
@@ -331,7 +393,11 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
     const Eigen::Vector3d up = planeNormal, sideways = planeNormal.cross(inward).normalized();
     const std::pair<const char*, Eigen::Vector3d> directions[] = {{"up", up}, {"sideways", sideways}, {"inward", inward}};
     for (const auto& [dirName, dir] : directions) {
-      for (double fraction : {0.10, 0.25, 0.40}) {
+      // quad_mesh presets: one length per direction (a D-form's release takes ~1 s: 27 drags of each
+      // would add minutes to CI for little more coverage than 9).
+      const std::vector<double> fractions =
+          kind == "quad_mesh" ? std::vector<double>{0.25} : std::vector<double>{0.10, 0.25, 0.40};
+      for (double fraction : fractions) {
         // ~0.7 s of mouse moves as the web app sends them; the strips between curves rebuild
         // their whole solve per message, so there the queue coalesces them six at a time.
         // DEVSURF_DRAG_ONLY="interior point/inward/25" runs one drag of each preset (for study).
@@ -344,8 +410,10 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
         std::printf("%-28s %-15s %-8s %3.0f%% %9.2e %9.2e %9.2e %9.2e %9.2e %4d %8.2e %6.3f %8.2e %5.2f %6.0f %s\n",
                     preset.substr(0, 28).c_str(), (t.role + " " + t.target.dump()).substr(0, 15).c_str(), dirName,
                     fraction * 100, kind == "composite" ? o.streamedFlatnessMax : o.streamedWarpMax,
-                    m.value("face_flatness_max", 0.0), o.obj.max, o.obj.mean, m.value("vertex_curvature_max", 0.0),
-                    kind == "strip" ? o.stripFlips : o.fold.flippedFaces, o.fold.lengthError, o.rulingMinRatio,
+                    kind == "quad_mesh" ? m.value("length_error", 0.0) : m.value("face_flatness_max", 0.0), o.obj.max,
+                    o.obj.mean, m.value("vertex_curvature_max", 0.0),
+                    kind == "strip" ? o.stripFlips : o.fold.flippedFaces,
+                    kind == "quad_mesh" ? o.objLengthError : o.fold.lengthError, o.rulingMinRatio,
                     m.value("warp_angle_max_deg", 0.0), o.handleLag, o.releaseMs,
                     o.solved.is_null() ? "-" : o.solved.value("reason", "").c_str());
         std::fflush(stdout);

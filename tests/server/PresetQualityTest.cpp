@@ -42,6 +42,10 @@ TEST_P(PresetAsShipped, SolvedAsDevsurfSolveSolvesItMeetsTheQualityThresholds) {
   // Independently, from what a user downloads.
   const checks::ObjMesh mesh = checks::parseObj(solver.exportAs("obj").content);
   ASSERT_FALSE(mesh.faces.empty());
+  if (solver.isQuadMesh()) {
+    const double l = checks::objEdgeLengthError(mesh, checks::parseObj(solver.exportAs("unfolding_obj").content));
+    EXPECT_NEAR(l, metrics.at("length_error"), 1e-9 + 1e-6 * l) << "L-Err recomputed from the OBJ exports of M and M′";
+  }
   if (solver.isComposite()) {
     const checks::FlatnessStats flat = checks::objFlatness(mesh);
     EXPECT_LE(flat.max, 1e-3) << "face flatness recomputed from the OBJ export";

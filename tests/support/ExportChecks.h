@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -43,6 +44,27 @@ inline ObjMesh parseObj(const std::string& text) {
     }
   }
   return mesh;
+}
+
+/// L-Err of Jiang et al. 2020 (Fig. 22), recomputed from two OBJ files of the same faces (a
+/// quad_mesh's M and its unfolding M′): ‖L′ − L‖ / ‖L‖ over every edge of the faces (each once).
+inline double objEdgeLengthError(const ObjMesh& mesh, const ObjMesh& unfolding) {
+  if (mesh.faces != unfolding.faces || mesh.vertices.size() != unfolding.vertices.size())
+    throw std::runtime_error("objEdgeLengthError: the two OBJ files have different faces");
+  std::set<std::pair<int, int>> edges;
+  for (const auto& f : mesh.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const int a = f[k], b = f[(k + 1) % f.size()];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  double diff = 0.0, norm = 0.0;
+  for (const auto& [a, b] : edges) {
+    const double l = (mesh.vertices[a] - mesh.vertices[b]).norm();
+    const double lp = (unfolding.vertices[a] - unfolding.vertices[b]).norm();
+    diff += (lp - l) * (lp - l);
+    norm += l * l;
+  }
+  return std::sqrt(diff / norm);
 }
 
 /// Tang et al. 2016 Fig. 17 face flatness of one quad: distance of the lines of its diagonals over

@@ -8,8 +8,9 @@
 namespace devsurf::terms {
 
 TriangleOrientationTerm::TriangleOrientationTerm(std::string name, int offset, std::vector<std::array<int, 3>> triangles,
-                                                 std::vector<double> minArea)
-    : Term(std::move(name)), offset_(offset) {
+                                                 std::vector<double> minArea, int stride)
+    : Term(std::move(name)), offset_(offset), stride_(stride) {
+  if (stride < 2) throw std::invalid_argument("TriangleOrientationTerm: stride must be ≥ 2");
   if (triangles.size() != minArea.size())
     throw std::invalid_argument("TriangleOrientationTerm: one minimum area per triangle");
   for (std::size_t t = 0; t < triangles.size(); ++t) {
@@ -25,14 +26,14 @@ TriangleOrientationTerm::TriangleOrientationTerm(std::string name, int offset, s
 void TriangleOrientationTerm::jacobianStructure(std::vector<engine::JacobianEntry>& entries) const {
   for (int t = 0; t < numResiduals(); ++t)
     for (int v : triangles_[t])
-      for (int c = 0; c < 2; ++c) entries.push_back({t, offset_ + 2 * v + c});
+      for (int c = 0; c < 2; ++c) entries.push_back({t, offset_ + stride_ * v + c});
 }
 
 void TriangleOrientationTerm::evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const {
   for (int t = 0; t < numResiduals(); ++t) {
     const auto& tri = triangles_[t];
-    const Eigen::Vector2d p0 = x.segment<2>(offset_ + 2 * tri[0]), p1 = x.segment<2>(offset_ + 2 * tri[1]),
-                          p2 = x.segment<2>(offset_ + 2 * tri[2]);
+    const Eigen::Vector2d p0 = x.segment<2>(offset_ + stride_ * tri[0]), p1 = x.segment<2>(offset_ + stride_ * tri[1]),
+                          p2 = x.segment<2>(offset_ + stride_ * tri[2]);
     const double area = 0.5 * ((p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y()));
     const double g = 1.0 - area * inverseMin_[t];
     residuals[t] = hingeResidual(g);

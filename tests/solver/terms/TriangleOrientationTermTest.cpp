@@ -36,6 +36,22 @@ TEST(TriangleOrientationTerm, JacobianMatchesFiniteDifferencesActiveAndInactive)
   }
 }
 
+TEST(TriangleOrientationTerm, ReadsVerticesStoredWithThreeScalarsEach) {
+  // A quad mesh's planar unfolding: (x, y, z) per vertex from x[1]; vertex 3 mirrored below.
+  Eigen::VectorXd x(13);
+  x << 9, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, -1, 0;
+  TriangleOrientationTerm term("unfolding_orientation", 1, {{0, 1, 2}, {1, 3, 2}}, {0.05, 0.05}, 3);
+  const Eigen::VectorXd r = testing::residuals(term, x);
+  EXPECT_EQ(r[0], 0.0);
+  EXPECT_DOUBLE_EQ(r[1], hingeResidual(1.0 + 0.5 / 0.05));
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    TriangleOrientationTerm random("unfolding_orientation", 1, {{0, 1, 2}, {1, 3, 2}, {0, 3, 1}}, {0.01, 0.3, 2.0}, 3);
+    testing::expectJacobianMatches(random, testing::randomVector(13, seed));
+    testing::expectNoDuplicateEntries(random);
+  }
+  EXPECT_THROW(TriangleOrientationTerm("t", 0, {{0, 1, 2}}, {0.1}, 1), std::invalid_argument);
+}
+
 TEST(TriangleOrientationTerm, TrianglesWithoutAPositiveMinimumHaveNoRow) {
   TriangleOrientationTerm term("development_orientation", 2, {{0, 1, 2}, {1, 3, 2}}, {0.0, 0.1});
   EXPECT_EQ(term.numResiduals(), 1);

@@ -18,11 +18,13 @@ namespace devsurf::terms {
 /// Hard; triangles with m_t ≤ 0 get no row.
 class TriangleOrientationTerm final : public engine::Term {
  public:
-  /// @param[in] offset     index in x of vertex 0's x coordinate (vertex k at offset + 2k)
+  /// @param[in] offset     index in x of vertex 0's x coordinate (vertex k at offset + stride·k)
   /// @param[in] triangles  vertex indices, counterclockwise
   /// @param[in] minArea    one minimum signed area m_t per triangle (≤ 0: not guarded)
+  /// @param[in] stride     scalars per vertex in x (2: a development's (x, y); 3: a quad mesh's
+  ///                       unfolding stored as (x, y, z) with z held 0); ≥ 2
   TriangleOrientationTerm(std::string name, int offset, std::vector<std::array<int, 3>> triangles,
-                          std::vector<double> minArea);
+                          std::vector<double> minArea, int stride = 2);
 
   int numResiduals() const override { return static_cast<int>(triangles_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
@@ -30,6 +32,7 @@ class TriangleOrientationTerm final : public engine::Term {
 
  private:
   int offset_;
+  int stride_;
   std::vector<std::array<int, 3>> triangles_;  ///< guarded ones only
   std::vector<double> inverseMin_;             ///< 1/m_t
 };

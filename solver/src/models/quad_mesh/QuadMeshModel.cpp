@@ -18,6 +18,7 @@
 #include "devsurf/terms/PolylineFairnessTerm.h"
 #include "devsurf/terms/ReferencePlaneDistanceTerm.h"
 #include "devsurf/terms/ReferencePointDistanceTerm.h"
+#include "devsurf/terms/TriangleOrientationTerm.h"
 #include "devsurf/terms/VertexCoincidenceTerm.h"
 
 namespace devsurf::models::quad_mesh {
@@ -286,6 +287,29 @@ void QuadMeshModel::buildProblem() {
     if (w.proximityPlane > 0)
       problem_.addTerm(std::make_unique<terms::ReferencePlaneDistanceTerm>("proximity_plane", meshOffsets, proximity),
                        w.proximityPlane, engine::Strength::Soft);
+  }
+  if (unfoldingVariable && design_.unfoldingPlanar) {
+    // Degeneracy guard "unfolding_orientation" (hard, ARCHITECTURE §8): eq. 1 sees lengths only and
+    // cannot tell a face of M′ from its mirror image; both triangles of every face keep a tenth of
+    // the signed area they started with (faces that start clockwise are not guarded).
+    std::vector<std::array<int, 3>> triangles;
+    std::vector<double> minArea;
+    auto u = problem_.blockValues(blockUnfolding_);
+    for (const Face& f : design_.faces) {
+      const int n = faceSize(f);
+      for (int t = 0; t < n - 2; ++t) {
+        const std::array<int, 3> tri = n == 3 ? std::array<int, 3>{f[0], f[1], f[2]}
+                                     : t == 0 ? std::array<int, 3>{f[0], f[1], f[2]}
+                                              : std::array<int, 3>{f[2], f[3], f[0]};
+        const Eigen::Vector2d p0 = u.segment<2>(3 * tri[0]), p1 = u.segment<2>(3 * tri[1]), p2 = u.segment<2>(3 * tri[2]);
+        const double area = 0.5 * ((p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y()));
+        triangles.push_back(tri);
+        minArea.push_back(0.1 * area);
+      }
+    }
+    problem_.addTerm(std::make_unique<terms::TriangleOrientationTerm>(
+                         "unfolding_orientation", layout.block(blockUnfolding_).offset, triangles, minArea, 3),
+                     1.0, engine::Strength::Hard);
   }
   if (w.mapping > 0 && !topology_.mappingQuadruples().empty())
     mappingTerm_ = problem_.addTerm(std::make_unique<terms::MappingRegularityTerm>("mapping", topology_.mappingQuadruples(),
