@@ -37,7 +37,7 @@ struct QuadMeshQuality {
 
 /// Per-face curvatures of M from the Gauss image (004_… §2.2, eq. 4): filled by curvature().
 struct QuadMeshCurvature {
-  Eigen::MatrixX3d normals;       ///< V×3 vertex normals n_i of σ(M) (not unit)
+  Eigen::MatrixX3d normals;       ///< V×3 unit vertex normals n_i (the Gauss image σ(M))
   Eigen::VectorXd gauss, mean;    ///< K(f), H(f), F values (units 1/length², 1/length)
   Eigen::VectorXd kappa1, kappa2; ///< principal curvatures κ1 ≥ κ2
   Eigen::MatrixX3d direction1, direction2, ruling;  ///< unit vectors per face
@@ -92,8 +92,8 @@ class QuadMeshModel {
   int handleCount() const { return static_cast<int>(design_.handles.size()); }
 
   QuadMeshQuality quality() const;
-  /// Solves the Gauss image of the current M (M fixed; models::quad_mesh::solveGaussImage) and
-  /// evaluates eq. 4 per face.
+  /// Per-face curvatures of the current M by eq. 4 with unit area-weighted vertex normals (see the
+  /// .cpp for why not solveGaussImage's).
   QuadMeshCurvature curvature() const;
 
   engine::Problem& problem() { return problem_; }
