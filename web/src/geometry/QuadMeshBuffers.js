@@ -22,7 +22,7 @@ export const QUAD_COLOR_MODES = {
 
 /** sRGB colours of the neutral drawing (faces without a field, edges over coloured faces). */
 export const QUAD_PAPER = [0.86, 0.84, 0.79];
-export const QUAD_EDGE = [0.2, 0.22, 0.26];
+export const QUAD_EDGE = [0.38, 0.4, 0.44];
 export const QUAD_BOUNDARY_EDGE = [0.06, 0.06, 0.08];
 
 /** Whether a geometry message is a quad_mesh's (by kind, or by its fields when kind is absent). */
@@ -350,6 +350,12 @@ export class QuadMeshBuffers {
     if (this.glued[i]) return 0x5ee6a0;
     if (this.boundary[i]) return 0xffd9b0;
     return 0xf4f6f8;
+  }
+
+  /** Sprite size factor: interior vertices small (still picked within the view's tolerance). */
+  pointScale(item) {
+    const i = item.vertex;
+    return this.glued[i] || this.boundary[i] ? 1 : 0.6;
   }
 
   dispose() {

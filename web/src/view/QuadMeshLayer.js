@@ -5,7 +5,7 @@
 import * as THREE from 'three';
 
 export const QUAD_COLORS = {
-  rulings: 0x1b2a3a,
+  rulings: 0xc2410c,
   glue: 0x5ee6a0,
 };
 

@@ -432,9 +432,11 @@ export class Viewport {
       const selected = sameTarget(st.selection, item) || sameTarget(dragging, item);
       const hovered = sameTarget(this.hovered, item);
       const vertex = item.vertex !== undefined;
-      const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1);
       const handle = handleMap.get(key);
       const fixed = fixedSet.has(key);
+      // Dense meshes (quad_mesh) draw their plain points smaller.
+      const plain = b.pointScale && !(selected || hovered || handle || fixed) ? b.pointScale(item) : 1;
+      const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1) * plain;
       let color;
       if (b.pointColor) color = b.pointColor(item);
       else color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : b.slot(item.curve) === 'a' ? 0xffd9b0 : 0xc8f1fa;
