@@ -238,6 +238,14 @@ test('where the unfolding is variable, a vertex of M′ drags in the 2D view', {
     assert.equal(st.lastError, null);
     assert.ok(moved > 0.05, `the corner of M′ followed the pointer (moved ${moved})`);
     assert.deepEqual(st.selection, { vertex: corner, on: 'unfolding' });
+    // F fixes the selected vertex of M′ (the scene lists it with on: unfolding); F again frees it.
+    await page.keyboard.press('f');
+    const fixed = await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { s, ok: (s.scene.model.fixed || []).some((f) => f.vertex === corner && f.on === 'unfolding') };
+    });
+    assert.ok(fixed.ok, `vertex ${corner} of M′ is fixed: ${JSON.stringify(fixed.s.scene.model.fixed)}`);
+    await page.waitForFunction(() => /fixed/.test(document.querySelector('.sel-title').textContent));
     await h.settleFrames(page);
     await h.screenshotPage(page, '13-quad-unfolding-drag');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
