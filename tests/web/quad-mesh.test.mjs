@@ -177,7 +177,8 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
       const m = s.scene.model.mesh;
       return Math.hypot(...m[a].map((v, i) => v - m[b][i]));
     };
-    console.log(`glue: pair ${a}–${b} removed, dragged apart: gap ${gap(opened.server).toFixed(3)}, glue_gap_max ${opened.server.metrics.glue_gap_max}`);
+    console.log(`glue: pair ${a}–${b} removed, dragged apart: gap ${gap(opened.server).toFixed(3)}, glue_gap_max ${opened.server.metrics.glue_gap_max}, `
+      + `L-Err ${opened.server.metrics.length_error}`);
 
     // Glue mode: pick a, then b on M′ (apart there: the cut).
     await page.getByTestId('glue-mode').click();
@@ -199,7 +200,8 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
     assert.ok(glued.pairs.some((p) => (p[0] === a && p[1] === b) || (p[0] === b && p[1] === a)), `${a}–${b} is glued`);
     const done = await caughtUp(page, daemon, demo, glued.s.seq);
     const m = done.server.metrics;
-    console.log(`glue: re-glued ${a}–${b}: gap ${gap(done.server).toExponential(2)}, glue_gap_max ${m.glue_gap_max}, L-Err ${m.length_error}`);
+    console.log(`glue: re-glued ${a}–${b}: gap ${gap(done.server).toExponential(2)}, glue_gap_max ${m.glue_gap_max}, L-Err ${m.length_error}, `
+      + `solved ${done.st.lastSolved && done.st.lastSolved.reason}`);
     assert.ok(done.st.lastSolved && done.st.lastSolved.seq === done.server.seq, 'the page got the solve after the glue');
     assert.ok(m.glue_gap_max < 1e-4, `the solve closes the gap: glue_gap_max ${m.glue_gap_max}`);
     await page.waitForFunction((n) => document.querySelectorAll('[data-testid="glue-pair"]').length === n, pairs0.length);
