@@ -23,6 +23,10 @@ window.__devsurf = {
   edgeScreenPosition(edge) {
     return editor ? editor.edgeScreenPosition(edge) : null;
   },
+  /** quad_mesh: CSS px position of vertex i of M′ relative to the unfolding view (unfolding-view). */
+  unfoldingScreenPosition(vertex) {
+    return editor ? editor.unfolding.vertexScreenPosition(vertex) : null;
+  },
   iterateApplyTimes() {
     return editor ? editor.applyTimes.slice() : [];
   },

@@ -5,6 +5,7 @@ import { Command } from './Command.js';
 export const PARAM_KEYS = {
   quasi_strip: ['mapping', 'samples', 'method', 'optimizer', 'lambda1', 'lambda2', 'max_iterations'],
   conical_strip: ['np', 'nq', 'h3', 'h4', 'ra', 'objective', 'g1'],
+  quad_mesh: ['weights', 'schedule', 'variable', 'conformal', 'gauss_image', 'glue'],
 };
 
 const INTEGER = ['samples', 'max_iterations', 'np', 'nq'];
@@ -13,7 +14,41 @@ const ENUMS = {
   method: ['bspline', 'discrete'],
   optimizer: ['lbfgs', 'guided_projection'],
   objective: ['normal_variation', 'bending_energy'],
+  variable: ['mesh', 'unfolding', 'both'],
 };
+
+const BOOLEANS = ['g1', 'conformal', 'gauss_image'];
+
+/** quad_mesh `glue`: [{on: 'mesh'|'unfolding', pairs: [[i, j], …]}] (vertex pairs, i ≠ j). */
+function checkedGlue(value) {
+  if (!Array.isArray(value)) throw new TypeError('params.glue: expected a list of {on, pairs}');
+  return value.map((g, k) => {
+    if (!g || typeof g !== 'object') throw new TypeError(`params.glue[${k}]: expected {on, pairs}`);
+    const on = g.on === undefined ? 'mesh' : g.on;
+    if (on !== 'mesh' && on !== 'unfolding') throw new TypeError(`params.glue[${k}].on: expected mesh or unfolding`);
+    if (!Array.isArray(g.pairs)) throw new TypeError(`params.glue[${k}].pairs: expected a list of vertex pairs`);
+    const pairs = g.pairs.map((p, m) => {
+      if (!Array.isArray(p) || p.length !== 2 || !p.every((i) => Number.isInteger(i) && i >= 0)) {
+        throw new TypeError(`params.glue[${k}].pairs[${m}]: expected two vertex indices`);
+      }
+      if (p[0] === p[1]) throw new TypeError(`params.glue[${k}].pairs[${m}]: a vertex is not glued to itself`);
+      return [p[0], p[1]];
+    });
+    return { on, pairs };
+  });
+}
+
+/** quad_mesh `weights` / `schedule`: an object of finite numbers ≥ 0, merged field by field. */
+function checkedNumbers(key, value) {
+  if (!value || typeof value !== 'object' || Array.isArray(value)) throw new TypeError(`params.${key}: expected an object of numbers`);
+  const out = {};
+  for (const [k, v] of Object.entries(value)) {
+    if (typeof v !== 'number' || !Number.isFinite(v) || v < 0) throw new TypeError(`params.${key}.${k}: expected a number ≥ 0`);
+    out[k] = v;
+  }
+  if (!Object.keys(out).length) throw new TypeError(`params.${key}: expected at least one field`);
+  return out;
+}
 
 /** Checks one parameter against the schema's rules; throws a TypeError naming the field. */
 function checked(key, value) {
@@ -34,10 +69,12 @@ function checked(key, value) {
     if (!ENUMS[key].includes(value)) throw new TypeError(`params.${key}: expected one of ${ENUMS[key].join(', ')}`);
     return value;
   }
-  if (key === 'g1') {
-    if (typeof value !== 'boolean') throw new TypeError('params.g1: expected true or false');
+  if (BOOLEANS.includes(key)) {
+    if (typeof value !== 'boolean') throw new TypeError(`params.${key}: expected true or false`);
     return value;
   }
+  if (key === 'glue') return checkedGlue(value);
+  if (key === 'weights' || key === 'schedule') return checkedNumbers(key, value);
   if (typeof value !== 'number' || !Number.isFinite(value)) throw new TypeError(`params.${key}: expected a number`);
   if (INTEGER.includes(key) && !Number.isInteger(value)) throw new TypeError(`params.${key}: expected an integer`);
   if ((key === 'samples' || key === 'np' || key === 'nq') && value < 2) throw new TypeError(`params.${key}: must be ≥ 2`);
@@ -48,18 +85,19 @@ function checked(key, value) {
 }
 
 /**
- * quasi_strip / conical_strip sessions: change the model's parameters (a structural, undoable
- * edit; the server rebuilds and solves the strip whole).
+ * quasi_strip / conical_strip / quad_mesh sessions: change the model's parameters (a structural,
+ * undoable edit; the server rebuilds the model — strips are solved whole; a quad_mesh's `glue`
+ * replaces the list, its weights and schedule are merged field by field).
  */
 export class SetParamsCommand extends Command {
   /**
-   * @param {string} kind  'quasi_strip' | 'conical_strip'
+   * @param {string} kind  'quasi_strip' | 'conical_strip' | 'quad_mesh'
    * @param {object} params  any subset of PARAM_KEYS[kind]
    */
   constructor(kind, params, options) {
     super('set_params', options);
     const keys = PARAM_KEYS[kind];
-    if (!keys) throw new TypeError(`set_params: applies to quasi_strip and conical_strip sessions, not ${kind}`);
+    if (!keys) throw new TypeError(`set_params: applies to quasi_strip, conical_strip and quad_mesh sessions, not ${kind}`);
     this.params = {};
     for (const [k, v] of Object.entries(params || {})) {
       if (v === undefined) continue;

@@ -69,3 +69,36 @@ export function cssGradient(direction = 'to right') {
   for (let i = 0; i <= 10; i++) parts.push(`${cssColorAt(i / 10)} ${i * 10}%`);
   return `linear-gradient(${direction}, ${parts.join(', ')})`;
 }
+
+// Diverging map for signed fields (Gauss and mean curvature): blue below 0, a light neutral at 0,
+// red above; t ∈ [−1, 1].
+const DIVERGING = [
+  [-1.0, [0.15, 0.3, 0.7]],
+  [-0.5, [0.45, 0.62, 0.86]],
+  [0.0, [0.9, 0.9, 0.88]],
+  [0.5, [0.93, 0.58, 0.45]],
+  [1.0, [0.72, 0.13, 0.15]],
+];
+
+/** Writes the diverging colour of t ∈ [−1, 1] (clamped; NaN → 0) into out[offset..offset+2]. */
+export function divergingColorAt(t, out, offset = 0) {
+  if (!(t > -1)) t = Number.isNaN(t) ? 0 : -1;
+  else if (t > 1) t = 1;
+  let k = 1;
+  while (k < DIVERGING.length - 1 && DIVERGING[k][0] < t) k++;
+  const [t0, c0] = DIVERGING[k - 1];
+  const [t1, c1] = DIVERGING[k];
+  const s = (t - t0) / (t1 - t0);
+  for (let c = 0; c < 3; c++) out[offset + c] = c0[c] + (c1[c] - c0[c]) * s;
+  return out;
+}
+
+/** CSS linear-gradient() of the diverging map, left (−1) to right (+1). */
+export function cssDivergingGradient(direction = 'to right') {
+  const parts = [];
+  for (let i = 0; i <= 10; i++) {
+    const c = divergingColorAt(i / 5 - 1, [0, 0, 0]);
+    parts.push(`rgb(${Math.round(c[0] * 255)}, ${Math.round(c[1] * 255)}, ${Math.round(c[2] * 255)}) ${i * 10}%`);
+  }
+  return `linear-gradient(${direction}, ${parts.join(', ')})`;
+}

@@ -5,6 +5,9 @@ import { CONICAL_COLOR_MODES, PATCH_TYPE_COLORS, StripBuffers } from '../geometr
 import { MappingPlot } from './MappingPlot.js';
 import { ParamsPanel } from './ParamsPanel.js';
 import { CompositeBuffers, COMPOSITE_COLOR_MODES } from '../geometry/CompositeBuffers.js';
+import { QuadMeshBuffers, isQuadMeshGeometry } from '../geometry/QuadMeshBuffers.js';
+import { UnfoldingView } from '../view/UnfoldingView.js';
+import { QuadMeshControls } from './QuadMeshControls.js';
 import { ProtocolClient, defaultSocketUrl } from '../net/ProtocolClient.js';
 import { listSessions } from '../net/api.js';
 import { Viewport } from '../view/Viewport.js';
@@ -36,7 +39,8 @@ export class Editor {
     this.applyTimes = [];
     this.buffers = new StripBuffers();
     this.composite = new CompositeBuffers();
-    /** 'strip' | 'composite': the kind of the last geometry applied. */
+    this.quad = new QuadMeshBuffers();
+    /** 'strip' | 'composite' | 'quad_mesh': the kind of the last geometry applied. */
     this.kind = 'strip';
     /** The strip kind shown: 'strip' | 'quasi_strip' | 'conical_strip'. */
     this.modelKind = 'strip';
@@ -108,14 +112,22 @@ export class Editor {
       this.development.render();
     });
     this.normalsToggle = toggle('Normals', 'normals', false);
-    this.stripOnlyOptions = [toggle('Rulings', 'rulings', true), this.normalsToggle];
+    this.rulingsToggle = toggle('Rulings', 'rulings', true);
+    this.stripOnlyOptions = [this.rulingsToggle, this.normalsToggle];
+    this.quadControls = new QuadMeshControls({
+      state: st, quad: this.quad, send: (c) => this.send(c), toasts: { showInfo: (t) => this.toasts.showInfo(t) }, errorSlots: this.errorSlots,
+      changed: () => this._quadChanged(),
+    });
     this.conicalOnlyOptions = [h('label', { class: 'chip', title: 'Colour the patches by', hidden: true }, 'Colour ', this.conicalColorMode)];
     this.compositeOnlyOptions = [h('label', { class: 'chip', title: 'Colour the faces by', hidden: true }, 'Colour ', this.colorMode)];
     this.viewOptions = h('div', { class: 'view-options' },
-      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, ...this.compositeOnlyOptions, ...this.conicalOnlyOptions, toggle('Control polygons', 'polygons', true),
+      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, ...this.compositeOnlyOptions, ...this.conicalOnlyOptions, ...this.quadControls.viewOptions,
+      this.polygonsToggle = toggle('Control polygons', 'polygons', true),
       h('button', { class: 'btn small', title: 'Fit the strip into the view (Space)', onclick: () => this.viewport.fit() }, 'Fit (Space)'));
     this.banner = h('div', { class: 'banner', hidden: true, role: 'status' });
-    const viewportWrap = h('div', { class: 'viewport-wrap' }, this.viewportEl, this.viewOptions, this.banner,
+    // quad_mesh sessions: the unfolding M′ beside the 3D view of M.
+    this.unfoldingEl = h('div', { class: 'unfolding-pane', testid: 'unfolding-view', hidden: true });
+    const viewportWrap = h('div', { class: 'viewport-wrap' }, this.viewportEl, this.unfoldingEl, this.viewOptions, this.banner,
       h('div', { class: 'viewport-errors' }, this.errorSlots.slot('viewport')),
       this.hint = h('div', { class: 'hint' }, 'drag points · F fix · H handle · S solve · ? help'));
 
@@ -126,9 +138,9 @@ export class Editor {
     this.residualSection = h('section', { class: 'subpanel' }, h('h3', {}, 'Residuals ', h('span', { class: 'muted small' }, '(weighted squared, per term)')), this.plotEl);
     this.mappingSection = h('section', { class: 'subpanel', hidden: true, testid: 'mapping-panel' },
       h('h3', {}, 'Mapping σ ', h('span', { class: 'muted small' }, '(rulings join C1(t) and C2(σ(t)))')), this.mappingEl);
+    this.developmentSection = h('section', { class: 'subpanel' }, h('h3', {}, 'Development ', this.developmentTitle), this.developmentEl);
     const bottom = h('div', { class: 'bottom-panels' },
-      h('section', { class: 'subpanel' }, h('h3', {}, 'Development ', this.developmentTitle), this.developmentEl),
-      this.mappingSection, this.residualSection);
+      this.developmentSection, this.quadControls.metricsSection, this.mappingSection, this.residualSection);
 
     this.sidebar = h('aside', { class: 'sidebar' });
     const main = h('main', { class: 'main' }, viewportWrap, bottom);
@@ -138,7 +150,12 @@ export class Editor {
     // Views.
     this.viewport = new Viewport(this.viewportEl, {
       state: st, buffers: this.buffers, composite: this.composite, send: (c) => this.send(c), select: (t) => this.select(t),
-      selectEdge: (e) => st.setSelectedEdge(e),
+      selectEdge: (e) => st.setSelectedEdge(e), quad: this.quad,
+      pointDown: (t) => this.kind === 'quad_mesh' && this._quadPointDown(t),
+    });
+    this.unfolding = new UnfoldingView(this.unfoldingEl, {
+      state: st, quad: this.quad, send: (c) => this.send(c), select: (t) => this.select(t),
+      pointDown: (t) => this.quadControls.pointDown(t), glueFirst: () => this.quadControls.glueFirst,
     });
     this.legend = new Legend(viewportWrap);
     this.development = new DevelopmentView(this.developmentEl, { buffers: this.buffers, composite: this.composite });
@@ -150,6 +167,7 @@ export class Editor {
       state: st, pointOf: (t) => this.pointOf(t), errorSlots: this.errorSlots,
       toggleFixed: () => this.toggleFixed(), toggleHandle: () => this.toggleHandle(),
     });
+    this.sidebar.appendChild(this.quadControls.gluePanel);
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.paramsSection = h('section', { class: 'panel panel-gui', hidden: true });
     this.sidebar.appendChild(this.paramsSection);
@@ -193,12 +211,16 @@ export class Editor {
     st.on('error', ({ message, command }) => this._showError(message, command));
     st.on('selection', (sel) => {
       this.viewport.requestRender();
+      if (this.kind === 'quad_mesh') this.unfolding.render();
       if (st.connection === 'connected') this.send(new PresenceCommand(sel));
     });
     st.on('presence', () => this.viewport.requestRender());
     st.on('edge-selection', () => this.viewport.updateComposite());
     st.on('solved', () => this.development.refit());
-    st.on('scene', () => this.viewport.requestRender());
+    st.on('scene', () => {
+      this.viewport.requestRender();
+      if (this.kind === 'quad_mesh') this.unfolding.render();
+    });
   }
 
   /** Decode + buffer update + render, measured as 'iterate-apply' for iterates. */
@@ -206,8 +228,9 @@ export class Editor {
     const timed = source === 'iterate' && typeof performance !== 'undefined' && performance.mark;
     if (timed) performance.mark('iterate-apply-start');
     try {
-      const kind = geometry && geometry.kind === 'composite' ? 'composite' : 'strip';
+      const kind = isQuadMeshGeometry(geometry) ? 'quad_mesh' : geometry && geometry.kind === 'composite' ? 'composite' : 'strip';
       if (kind === 'composite') this.composite.apply(geometry);
+      else if (kind === 'quad_mesh') this.quad.apply(geometry);
       else this.buffers.apply(geometry);
       if (kind !== this.kind) this._setKind(kind);
       if (kind === 'strip') this._setModelKind(this.buffers.modelKind);
@@ -224,7 +247,8 @@ export class Editor {
     if (!this.viewport.hasFit) this.viewport.fit();
     this._updateLegend();
     this.viewport.renderNow();
-    this.development.render();
+    if (this.kind === 'quad_mesh') this.unfolding.render();
+    else this.development.render();
     if (timed) {
       performance.mark('iterate-apply-end');
       const m = performance.measure('iterate-apply', 'iterate-apply-start', 'iterate-apply-end');
@@ -243,8 +267,37 @@ export class Editor {
     this.development.setKind(kind);
     for (const el of this.stripOnlyOptions) el.hidden = kind !== 'strip';
     for (const el of this.compositeOnlyOptions) el.hidden = kind !== 'composite';
-    if (kind === 'composite') for (const el of this.conicalOnlyOptions) el.hidden = true;
+    if (kind !== 'strip') for (const el of this.conicalOnlyOptions) el.hidden = true;
+    const quad = kind === 'quad_mesh';
+    this.rulingsToggle.hidden = !(kind === 'strip' || quad);
+    this.polygonsToggle.hidden = quad;
+    this.quadControls.setVisible(quad);
+    this.unfoldingEl.hidden = !quad;
+    this.unfolding.setVisible(quad);
+    this.developmentSection.hidden = quad;
+    this.solverSection.hidden = quad;
+    this.hint.textContent = quad ? 'drag vertices · F fix · H handle · G glue · S solve · ? help' : 'drag points · F fix · H handle · S solve · ? help';
     this.root.dataset.kind = kind;
+    // The 3D view just changed size (M′ takes half of it): fit in the new size.
+    this.viewport.resize();
+  }
+
+  /** A press on a vertex of M in the 3D view: gluing picks, or no drag when M is held fixed. */
+  _quadPointDown(t) {
+    if (this.quadControls.pointDown(t)) return true;
+    if (!this.quad.meshVariable) {
+      this.select(t);
+      this.toasts.showInfo('M is held fixed in this session (variable: unfolding): drag the vertices of M′.');
+      return true;
+    }
+    return false;
+  }
+
+  /** Colour mode or glue marks changed: legend and both views. */
+  _quadChanged() {
+    this._updateLegend();
+    this.viewport.requestRender();
+    this.unfolding.render();
   }
 
   /** Strip kinds: 'strip' | 'quasi_strip' | 'conical_strip' (panels, options, hints). */
@@ -278,6 +331,13 @@ export class Editor {
       this.legend.update(this.buffers.colorRange, this.buffers.warpMax, this.buffers.colorInfo);
       return;
     }
+    if (this.kind === 'quad_mesh') {
+      const info = this.quad.colorInfo;
+      const note = this.quadControls.legendNote;
+      this.legend.update(this.quad.colorRange * info.scale, this.quad.colorMax * info.scale,
+        { title: note ? `${info.title} (${note})` : info.title, unit: info.unit ? ` ${info.unit}` : '', diverging: info.diverging });
+      return;
+    }
     if (this.kind === 'composite') {
       const info = this.composite.colorInfo;
       this.legend.update(this.composite.colorRange, this.composite.colorMax, { title: info.title, unit: info.unit });
@@ -288,7 +348,7 @@ export class Editor {
 
   /** [x, y, z] of a point target of the shown model, or null. */
   pointOf(t) {
-    return (this.kind === 'composite' ? this.composite : this.buffers).pointOf(targetOf(t));
+    return this.viewport.activeBuffers().pointOf(targetOf(t));
   }
 
   _showError(message, command) {
@@ -421,6 +481,13 @@ export class Editor {
         if (Array.isArray(edge.points)) edge.points = edge.points.map((p, k) => round(this.composite.pointOf({ edge: e, index: k + 1 }) || p));
       }
     }
+    if (model.kind === 'quad_mesh' && this.quad.hasData) {
+      const V = this.quad.vertexCount;
+      if (Array.isArray(model.mesh) && model.mesh.length === V) model.mesh = model.mesh.map((v, i) => round(this.quad.pointOf({ vertex: i })));
+      if (Array.isArray(model.unfolding) && model.unfolding.length === V) {
+        model.unfolding = model.unfolding.map((v, i) => round(this.quad.pointOf({ vertex: i, on: 'unfolding' })).slice(0, v.length));
+      }
+    }
     for (const c of this.buffers.curveNames) {
       const n = this.buffers.count(c);
       if (model[c] && model[c].points && model[c].points.length === n) {
@@ -454,6 +521,7 @@ export class Editor {
       const typing = t && (t.tagName === 'INPUT' || t.tagName === 'TEXTAREA' || t.tagName === 'SELECT' || t.isContentEditable);
       if (e.key === 'Escape') {
         if (this.help.visible) this.help.hide();
+        else if (!typing && this.quadControls.glueMode) this.quadControls.toggleGlueMode(false);
         else if (!typing) this.select(null);
         return;
       }
@@ -486,6 +554,9 @@ export class Editor {
       } else if (key === 'h') {
         e.preventDefault();
         this.toggleHandle();
+      } else if (key === 'g' && this.kind === 'quad_mesh') {
+        e.preventDefault();
+        this.quadControls.toggleGlueMode();
       } else if (key === 's') {
         e.preventDefault();
         this.solve();

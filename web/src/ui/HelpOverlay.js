@@ -6,6 +6,7 @@ const SHORTCUTS = [
   ['Click', 'select a control point (others see it in your colour)'],
   ['F', 'fix / unfix the selected point'],
   ['H', 'add / remove a handle at the selected point'],
+  ['G', 'quad meshes: glue mode — click two boundary vertices (in M or M′) to glue them'],
   ['S', 'solve until every constraint is met (within 2 s)'],
   ['Ctrl+Z', 'undo (the session’s shared history)'],
   ['Ctrl+Shift+Z / Ctrl+Y', 'redo'],

@@ -5,7 +5,7 @@ import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { exportSession } from '../net/api.js';
-import { cssGradient } from '../geometry/colormap.js';
+import { cssDivergingGradient, cssGradient } from '../geometry/colormap.js';
 import { displayName, setDisplayName } from './preferences.js';
 
 /** Status line: connection, iteration, max warp, time per iteration, last solve, seq. */
@@ -26,6 +26,8 @@ export class StatusBar {
     this.normalJump = h('span', { class: 'num', testid: 'status-normal-jump' }, '–');
     this.patchesItem = h('span', { class: 'status-item', title: 'Conical patches: triangular (n3) and quadrilateral (n4), Chu et al.', hidden: true }, 'patches ', this.patches);
     this.normalJumpItem = h('span', { class: 'status-item', title: 'Largest angle between the normals of neighbouring patches (0° = G1)', hidden: true }, 'max normal jump ', this.normalJump, '°');
+    this.lengthError = h('span', { class: 'num', testid: 'status-length-error' }, '–');
+    this.lengthErrorItem = h('span', { class: 'status-item', title: 'L-Err: edge length error of M′ against M, ‖L′ − L‖/‖L‖ (Jiang et al. Fig. 22)', hidden: true }, 'L-Err ', this.lengthError, ' %');
     this.time = h('span', { class: 'num' }, '–');
     this.apply = h('span', { class: 'num' }, '–');
     this.solved = h('span', { class: 'muted', testid: 'status-solved' }, '');
@@ -36,7 +38,7 @@ export class StatusBar {
       h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
       this.warpItem = h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
       this.warpMeanItem = h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
-      this.flatnessItem, this.patchesItem, this.normalJumpItem,
+      this.flatnessItem, this.patchesItem, this.normalJumpItem, this.lengthErrorItem,
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
       h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
       h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
@@ -69,14 +71,18 @@ export class StatusBar {
     const m = st.metrics || {};
     if (typeof m.warp_angle_max_deg === 'number') this.warp.textContent = formatNumber(m.warp_angle_max_deg);
     if (typeof m.warp_angle_mean_deg === 'number') this.warpMean.textContent = formatNumber(m.warp_angle_mean_deg);
+    // quad meshes (Jiang et al.): L-Err instead of a warp angle.
+    const quad = typeof m.length_error === 'number' && typeof m.warp_angle_max_deg !== 'number';
+    this.lengthErrorItem.hidden = !quad;
+    if (quad) this.lengthError.textContent = Number((100 * m.length_error).toPrecision(3)).toString();
     this.flatnessItem.hidden = typeof m.face_flatness_max !== 'number';
     if (!this.flatnessItem.hidden) this.flatness.textContent = m.face_flatness_max.toExponential(1);
     // Conical strips (Chu et al.) report patches and normal jumps instead of a warp angle.
     const conical = typeof m.n3 === 'number' && typeof m.warp_angle_max_deg !== 'number';
     this.patchesItem.hidden = !conical;
     this.normalJumpItem.hidden = !conical;
-    this.warpItem.hidden = conical;
-    this.warpMeanItem.hidden = conical;
+    this.warpItem.hidden = conical || quad;
+    this.warpMeanItem.hidden = conical || quad;
     if (conical) {
       this.patches.textContent = `${m.n3 + m.n4} (▲ ${m.n3} · ▮ ${m.n4})`;
       const jump = ((m.normal_jump_max_rad || 0) * 180) / Math.PI;
@@ -215,7 +221,8 @@ export class ExportPanel {
     const run = (format) => async () => {
       try {
         const blob = await exportSession(state.session, token, format);
-        download(blob, `${slug(state.scene && state.scene.name, state.session)}.${format}`);
+        const file = format === 'unfolding_obj' ? '-unfolding.obj' : `.${format}`;
+        download(blob, `${slug(state.scene && state.scene.name, state.session)}${file}`);
       } catch (e) {
         const msg = { code: e.code || 'error', message: e.message };
         errorSlots.show('export', msg.message);
@@ -226,16 +233,24 @@ export class ExportPanel {
       h('h3', {}, 'Export'),
       h('div', { class: 'button-row' },
         h('button', { class: 'btn', testid: 'export-json', title: 'The current scene as a devsurf scene file (from the server)', onclick: run('json') }, 'Export JSON'),
-        h('button', { class: 'btn', testid: 'export-obj', title: 'The sampled surface as OBJ quads (from the server)', onclick: run('obj') }, 'Export OBJ'),
+        this.objButton = h('button', { class: 'btn', testid: 'export-obj', title: 'The sampled surface as OBJ quads (from the server)', onclick: run('obj') }, 'Export OBJ'),
         this.foldButton = h('button', { class: 'btn', testid: 'export-fold', title: 'The crease pattern as FOLD 1.2 (composites with a development)', onclick: run('fold') }, 'Export FOLD'),
         this.svgButton = h('button', { class: 'btn', testid: 'export-svg', title: 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed', onclick: run('svg') }, 'Export SVG'),
+        this.unfoldingObjButton = h('button', { class: 'btn', testid: 'export-unfolding-obj', title: 'The unfolding M′ as an OBJ mesh (from the server)', onclick: run('unfolding_obj') }, 'Export OBJ of M′'),
         h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
       errorSlots.slot('export'));
     parent.appendChild(this.root);
     const update = () => {
       const composite = state.kind === 'composite';
-      this.foldButton.hidden = !composite;
-      this.svgButton.hidden = !composite;
+      const quad = state.kind === 'quad_mesh';
+      this.foldButton.hidden = !composite && !quad;
+      this.svgButton.hidden = !composite && !quad;
+      this.unfoldingObjButton.hidden = !quad;
+      this.objButton.textContent = quad ? 'Export OBJ of M' : 'Export OBJ';
+      this.objButton.title = quad ? 'The mesh M as an OBJ mesh (from the server)' : 'The sampled surface as OBJ quads (from the server)';
+      this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames' : 'The crease pattern as FOLD 1.2 (composites with a development)';
+      this.svgButton.title = quad ? 'The cutting pattern of M′ at true size: cuts, glue edges numbered in pairs'
+        : 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed';
     };
     state.on('scene', update);
     update();
@@ -301,22 +316,32 @@ export class Legend {
       title: 'Largest value among the drawn samples. The status bar reports the solver\'s metric, taken at its own (denser) samples.',
     });
     this.title = h('div', { class: 'legend-title', testid: 'legend-title' }, 'warp angle');
+    this.bar = h('div', { class: 'legend-bar', style: { background: cssGradient() } });
     this.root = h('div', { class: 'legend', 'aria-label': 'Colour scale' },
       this.title,
-      h('div', { class: 'legend-bar', style: { background: cssGradient() } }),
+      this.bar,
       h('div', { class: 'legend-labels' }, this.min, this.current, this.max));
     parent.appendChild(this.root);
   }
 
-  /** @param {object} [scale] {title, unit} (default: warp angle in degrees) */
+  /**
+   * @param {object} [scale] {title, unit, diverging} (default: warp angle in degrees); a diverging
+   * scale runs from −range (blue) through 0 to +range (red), `max` is then the largest |value|.
+   */
   update(range, max, scale = { title: 'warp angle', unit: '°' }) {
     this.showCategories(null);
     const unit = scale.unit;
     this.title.textContent = scale.title;
-    this.min.textContent = `0${unit}`;
     const fmt = (x) => (x !== 0 && Math.abs(x) < 0.01 ? x.toExponential(1) : formatNumber(x, 2));
+    const diverging = !!scale.diverging;
+    if (this._diverging !== diverging) {
+      this.bar.style.background = diverging ? cssDivergingGradient() : cssGradient();
+      this._diverging = diverging;
+    }
+    this.min.textContent = diverging ? `−${fmt(range)}${unit}` : `0${unit}`;
+    this.root.dataset.scale = diverging ? 'diverging' : 'sequential';
     this.max.textContent = `${fmt(range)}${unit}`;
-    this.current.textContent = `drawn max ${fmt(max)}${unit}`;
+    this.current.textContent = diverging ? `max |·| ${fmt(max)}${unit}` : `drawn max ${fmt(max)}${unit}`;
   }
 
   /** A categorical legend ([{label, color (CSS)}]) instead of the scale; null returns to the scale. */

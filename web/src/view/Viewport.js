@@ -11,6 +11,7 @@ import { DragCommand } from '../commands/DragCommand.js';
 import { DragEndCommand } from '../commands/DragEndCommand.js';
 import { sameTarget as sameEntry, targetKey, targetLabel, targetOf } from '../commands/Command.js';
 import { PointSprites, SHAPE_CUBE, SHAPE_DIAMOND, SHAPE_SPHERE } from './PointSprites.js';
+import { QuadMeshLayer } from './QuadMeshLayer.js';
 
 export const COLORS = {
   background: 0x161a21,
@@ -131,15 +132,18 @@ export class Viewport {
   /**
    * @param {HTMLElement} container  the element holding the canvas (data-testid="viewport")
    * @param {object} deps  {state, buffers (StripBuffers), composite (CompositeBuffers),
-   *   send(command), select(target|null), selectEdge(edge|null)}
+   *   quad (QuadMeshBuffers), send(command), select(target|null), selectEdge(edge|null),
+   *   pointDown(target) → true when it consumed the press (no drag; e.g. gluing picks)}
    */
   constructor(container, deps) {
     this.container = container;
     this.state = deps.state;
     this.buffers = deps.buffers;
     this.composite = deps.composite;
+    this.quad = deps.quad || null;
+    this.pointDown = deps.pointDown || (() => false);
     this.selectEdge = deps.selectEdge || (() => {});
-    /** 'strip' | 'composite': which buffers are shown. */
+    /** 'strip' | 'composite' | 'quad_mesh': which buffers are shown. */
     this.kind = 'strip';
     this.send = deps.send;
     this.select = deps.select;
@@ -281,6 +285,8 @@ export class Viewport {
     this.selectedEdgeLine.renderOrder = 4;
     this.compositeGroup.add(this.selectedEdgeLine);
 
+    this.quadLayer = this.quad ? new QuadMeshLayer(scene, this.quad) : null;
+
     this.ghost = new THREE.Mesh(new THREE.SphereGeometry(1, 20, 12), new THREE.MeshBasicMaterial({ color: COLORS.ghost, wireframe: true, depthTest: false, transparent: true, opacity: 0.9 }));
     this.ghost.visible = false;
     this.ghost.renderOrder = 6;
@@ -299,7 +305,12 @@ export class Viewport {
       this.curveLines[c].visible = strip;
     }
     this.surfaceMesh.visible = strip && this.options.surface;
-    this.compositeGroup.visible = !strip;
+    this.compositeGroup.visible = this.kind === 'composite';
+    if (this.quadLayer) {
+      this.quadLayer.setVisible(this.kind === 'quad_mesh', {
+        surface: this.options.surface, rulings: this.options.rulings, glue: this.options.glue !== false,
+      });
+    }
     this.compositeSurface.visible = this.options.surface;
     this.compositeLines.polygons.visible = this.options.polygons;
     this.requestRender();
@@ -315,6 +326,7 @@ export class Viewport {
 
   /** The buffers of the shown model. */
   activeBuffers() {
+    if (this.kind === 'quad_mesh' && this.quad) return this.quad;
     return this.kind === 'composite' ? this.composite : this.buffers;
   }
 
@@ -420,10 +432,14 @@ export class Viewport {
       const selected = sameTarget(st.selection, item) || sameTarget(dragging, item);
       const hovered = sameTarget(this.hovered, item);
       const vertex = item.vertex !== undefined;
-      const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1);
       const handle = handleMap.get(key);
       const fixed = fixedSet.has(key);
-      let color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : b.slot(item.curve) === 'a' ? 0xffd9b0 : 0xc8f1fa;
+      // Dense meshes (quad_mesh) draw their plain points smaller.
+      const plain = b.pointScale && !(selected || hovered || handle || fixed) ? b.pointScale(item) : 1;
+      const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1) * plain;
+      let color;
+      if (b.pointColor) color = b.pointColor(item);
+      else color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : b.slot(item.curve) === 'a' ? 0xffd9b0 : 0xc8f1fa;
       if (fixed) color = COLORS.fixed;
       if (handle) color = COLORS.handle;
       if (selected) color = COLORS.selected;
@@ -530,7 +546,10 @@ export class Viewport {
       const p = b.pointOf(t);
       if (p) pts.push(new THREE.Vector3(p[0], p[1], p[2]));
     }
-    for (const h of this.state.constraints.handles) if (h.position) pts.push(new THREE.Vector3().fromArray(h.position));
+    for (const h of this.state.constraints.handles) {
+      const t = targetOf(h);
+      if (h.position && !(t && t.on === 'unfolding')) pts.push(new THREE.Vector3().fromArray(h.position));
+    }
     if (!pts.length) return;
     const box = new THREE.Box3().setFromPoints(pts);
     const center = box.getCenter(new THREE.Vector3());
@@ -634,6 +653,12 @@ export class Viewport {
       this.selectEdge(hit.edgeMarker);
       this.controls.enabled = true;
       this._downAt = null;
+      return;
+    }
+    if (this.pointDown(hit)) {
+      this.controls.enabled = true;
+      this._downAt = null;
+      this.requestRender();
       return;
     }
     this.controls.enabled = false;
