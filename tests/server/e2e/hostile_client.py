@@ -314,6 +314,11 @@ def targets_of(scene):
     for e, edge in enumerate(model.get("edges", [])):
         for k, p in enumerate(edge.get("points", [])):
             out.append(({"edge": e, "index": k}, p[:3]))
+    if model.get("kind") == "quad_mesh":  # vertices of M, and of M′ (z = 0 when planar)
+        for i, p in enumerate(model.get("mesh", [])):
+            out.append(({"vertex": i}, p[:3]))
+        for i, p in enumerate(model.get("unfolding", [])):
+            out.append(({"vertex": i, "on": "unfolding"}, (list(p) + [0.0])[:3]))
     return out
 
 
