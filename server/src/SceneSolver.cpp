@@ -532,6 +532,24 @@ void SceneSolver::exportTo(const std::string& spec) const {
     throw std::invalid_argument("--export: expected FORMAT:FILE, e.g. obj:strip.obj, got \"" + spec + "\"");
   const std::string format = spec.substr(0, colon);
   const std::string path = spec.substr(colon + 1);
+  if (quadMesh_ && format == "stl") {
+    // M as triangles (io::triangulateQuads; a triangle travels as a quad with its last vertex
+    // repeated, whose zero-area half is left out).
+    io::QuadMesh m;
+    m.vertices = quadMesh_->meshVertices();
+    const auto& faces = quadMesh_->topology().faces();
+    m.quads.resize(static_cast<Eigen::Index>(faces.size()), 4);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      m.quads.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2],
+          faces[f][3] < 0 ? faces[f][2] : faces[f][3];
+    const std::string staging = path + ".partial.stl";
+    io::writeMesh(m, staging);
+    if (std::rename(staging.c_str(), path.c_str()) != 0) {
+      std::remove(staging.c_str());
+      throw std::runtime_error("cannot write " + path);
+    }
+    return;
+  }
   if (quadMesh_) {
     ExportedFile file;
     try {

@@ -78,7 +78,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
     }
   }
   throw ExportUnavailable("format: expected json, obj, unfolding_obj, svg or fold for a quad_mesh scene, got \"" +
-                          format + "\"");
+                          format + "\" (devsurf solve also writes stl)");
 }
 
 }  // namespace devsurf::server

@@ -91,9 +91,9 @@ class QuadPresetsTest(unittest.TestCase):
                 self.assertEqual(used, set(range(n)), "every vertex is in a face")
                 self.assertTrue(all(c <= 2 for c in edges_of(m["faces"]).values()), "manifold")
                 for h in m["handles"]:
-                    self.assertIn(h["on"], ("mesh", "unfolding"))
+                    self.assertIn(h.get("on", "mesh"), ("mesh", "unfolding"))
                     self.assertTrue(0 <= h["vertex"] < n)
-                    self.assertEqual(len(h["target"]), 3)
+                    self.assertEqual(len(h["position"]), 3)
                 for fx in m["fixed"]:
                     self.assertTrue(0 <= fx["vertex"] < n)
                 if "reference" in m:

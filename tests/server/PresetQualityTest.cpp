@@ -66,7 +66,7 @@ TEST(PresetAsShipped, EveryKindHasAPreset) {
     std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
     kinds.insert(json::parse(file)["model"]["kind"].get<std::string>());
   }
-  EXPECT_EQ(kinds, (std::set<std::string>{"strip", "composite", "quasi_strip", "conical_strip"}));
+  EXPECT_EQ(kinds, (std::set<std::string>{"strip", "composite", "quasi_strip", "conical_strip", "quad_mesh"}));
 }
 
 }  // namespace

@@ -71,7 +71,8 @@ std::vector<Triangle> readAsciiStl(const std::string& path) {
   return facets;
 }
 
-/// The quads of an OBJ file, read with the suites' independent OBJ reader (support/ExportChecks.h).
+/// The quads of an OBJ file, read with the suites' independent OBJ reader (support/ExportChecks.h);
+/// a triangle (quad_mesh faces may be triangles) as a quad with its last vertex repeated.
 std::vector<std::array<Eigen::Vector3d, 4>> readObjQuads(const std::string& path) {
   std::ifstream file(path);
   std::ostringstream text;
@@ -79,10 +80,10 @@ std::vector<std::array<Eigen::Vector3d, 4>> readObjQuads(const std::string& path
   const devsurf::testing::ObjMesh mesh = devsurf::testing::parseObj(text.str());
   std::vector<std::array<Eigen::Vector3d, 4>> quads;
   for (const std::vector<int>& f : mesh.faces) {
-    EXPECT_EQ(f.size(), 4u) << path;
-    if (f.size() != 4) continue;
+    EXPECT_TRUE(f.size() == 4u || f.size() == 3u) << path;
+    if (f.size() != 4 && f.size() != 3) continue;
     std::array<Eigen::Vector3d, 4> q;
-    for (std::size_t c = 0; c < 4; ++c) q[c] = mesh.vertices.at(static_cast<std::size_t>(f[c]));
+    for (std::size_t c = 0; c < 4; ++c) q[c] = mesh.vertices.at(static_cast<std::size_t>(f[std::min(c, f.size() - 1)]));
     quads.push_back(q);
   }
   return quads;

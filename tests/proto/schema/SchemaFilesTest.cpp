@@ -157,7 +157,7 @@ TEST_F(SchemaFiles, UnknownModelKind) {
   json doc = scene();
   doc["model"]["kind"] = "sphere";
   EXPECT_EQ(expectOne(scene(doc), "model.kind", "enum"),
-            "unknown kind \"sphere\" (expected one of: strip, composite, quasi_strip, conical_strip)");
+            "unknown kind \"sphere\" (expected one of: strip, composite, quasi_strip, conical_strip, quad_mesh)");
 }
 
 TEST_F(SchemaFiles, PointWithTwoNumbers) {
