@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 
+#include "devsurf/models/quad_mesh/FaceMeasures.h"
 #include "devsurf/proto/Geometry.h"
 
 namespace devsurf::proto {
@@ -24,15 +25,8 @@ nlohmann::json quadMeshGeometryJson(const qm::QuadMeshModel& model, const qm::Qu
     edgeBoundary(e, 0) = topology.edgeOnBoundary()[e] ? 1 : 0;
   }
   Eigen::MatrixXd faceAreaError(F, 1);
-  auto area = [](const Eigen::MatrixX3d& v, const qm::Face& f) {
-    auto tri = [&v](int a, int b, int c) {
-      return 0.5 * (v.row(b) - v.row(a)).cross(v.row(c) - v.row(a)).norm();
-    };
-    if (qm::faceSize(f) == 3) return tri(f[0], f[1], f[2]);
-    return 0.5 * (tri(f[0], f[1], f[2]) + tri(f[0], f[2], f[3]) + tri(f[1], f[2], f[3]) + tri(f[1], f[3], f[0]));
-  };
   for (int f = 0; f < F; ++f) {
-    const double a = area(mesh, faces[f]), b = area(unfolding, faces[f]);
+    const double a = qm::faceArea(mesh, faces[f]), b = qm::faceArea(unfolding, faces[f]);
     faceAreaError(f, 0) = a > 0 ? (b - a) / a : 0.0;
   }
   const qm::QuadMeshDesign design = model.design();

@@ -1,4 +1,5 @@
 #include "devsurf/models/quad_mesh/GaussImage.h"
+#include "devsurf/models/quad_mesh/FaceMeasures.h"
 
 #include <memory>
 #include <stdexcept>
@@ -15,24 +16,6 @@
 
 namespace devsurf::models::quad_mesh {
 namespace {
-
-/// Unit area-weighted vertex normals (zero for a vertex whose faces cancel).
-Eigen::MatrixX3d areaWeightedNormals(const Eigen::MatrixX3d& mesh,
-                                     const std::vector<std::array<int, 4>>& faces) {
-  Eigen::MatrixX3d normals = Eigen::MatrixX3d::Zero(mesh.rows(), 3);
-  for (const auto& face : faces) {
-    const int n = face[3] < 0 ? 3 : 4;
-    const auto v = [&mesh, &face](int c) -> Eigen::Vector3d { return mesh.row(face[c]); };
-    const Eigen::Vector3d vectorArea = n == 4 ? 0.5 * (v(2) - v(0)).cross(v(3) - v(1))
-                                              : 0.5 * (v(1) - v(0)).cross(v(2) - v(0));
-    for (int c = 0; c < n; ++c) normals.row(face[c]) += vectorArea.transpose();
-  }
-  for (Eigen::Index i = 0; i < normals.rows(); ++i) {
-    const double length = normals.row(i).norm();
-    if (length > 0.0) normals.row(i) /= length;
-  }
-  return normals;
-}
 
 }  // namespace
 
@@ -72,7 +55,7 @@ Eigen::MatrixX3d solveGaussImage(const Eigen::MatrixX3d& mesh,
   const int meshBlock = problem.addBlock("mesh", 3 * numVertices);
   const int normalBlock = problem.addBlock("normals", 3 * numVertices);
   problem.layout().setBlockFixed(meshBlock);
-  const Eigen::MatrixX3d initial = areaWeightedNormals(unitMesh, faces);
+  const Eigen::MatrixX3d initial = unitVertexNormals(unitMesh, faces);
   std::vector<int> meshOffsets(numVertices), normalOffsets(numVertices);
   const int meshBase = problem.layout().block(meshBlock).offset;
   const int normalBase = problem.layout().block(normalBlock).offset;

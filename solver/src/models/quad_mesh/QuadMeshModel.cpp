@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "devsurf/metrics/CheckerboardCurvature.h"
+#include "devsurf/models/quad_mesh/FaceMeasures.h"
 #include "devsurf/spatial/TriangleMeshProximity.h"
 #include "devsurf/terms/CheckerboardConformalityTerm.h"
 #include "devsurf/terms/CheckerboardIsometryTerm.h"
@@ -52,27 +53,9 @@ Eigen::MatrixX3d projectedOntoPlane(const Eigen::MatrixX3d& mesh, const std::vec
   flat.col(0) = centred * e1;
   flat.col(1) = centred * e2;
   double signedArea = 0.0;
-  for (const Face& f : faces) {
-    const int n = faceSize(f);
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d a = flat.row(f[k]), b = flat.row(f[(k + 1) % n]);
-      signedArea += a.x() * b.y() - a.y() * b.x();
-    }
-  }
+  for (const Face& f : faces) signedArea += signedPlanarArea(flat, f);
   if (signedArea < 0) flat.col(1) = -flat.col(1);
   return flat;
-}
-
-double triangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  return 0.5 * (b - a).cross(c - a).norm();
-}
-
-/// A face's area: a triangle's, or the mean of a quad's two triangulations (004_… Fig. 22).
-double faceArea(const Eigen::MatrixX3d& v, const Face& f) {
-  if (faceSize(f) == 3) return triangleArea(v.row(f[0]), v.row(f[1]), v.row(f[2]));
-  const Eigen::Vector3d p0 = v.row(f[0]), p1 = v.row(f[1]), p2 = v.row(f[2]), p3 = v.row(f[3]);
-  return 0.5 * (triangleArea(p0, p1, p2) + triangleArea(p0, p2, p3) + triangleArea(p1, p2, p3) +
-                triangleArea(p1, p3, p0));
 }
 
 double diameter(const Eigen::MatrixX3d& v) {
@@ -439,16 +422,7 @@ QuadMeshQuality QuadMeshModel::quality() const {
   for (std::size_t f = 0; f < faces.size(); ++f) {
     A[f] = faceArea(m, faces[f]);
     Ap[f] = faceArea(u, faces[f]);
-    if (design_.unfoldingPlanar) {
-      const Face& face = faces[f];
-      const int n = faceSize(face);
-      double signedArea = 0.0;
-      for (int k = 0; k < n; ++k) {
-        const Eigen::Vector3d a = u.row(face[k]), b = u.row(face[(k + 1) % n]);
-        signedArea += a.x() * b.y() - a.y() * b.x();
-      }
-      if (signedArea < 0) q.unfoldingFlippedFaces += 1;
-    }
+    if (design_.unfoldingPlanar && signedPlanarArea(u, faces[f]) < 0) q.unfoldingFlippedFaces += 1;
   }
   q.areaError = A.norm() > 0 ? (Ap - A).norm() / A.norm() : 0.0;
   const double size = std::max(diameter(m), 1e-300);
@@ -490,17 +464,7 @@ QuadMeshCurvature QuadMeshModel::curvature() const {
   // its degenerate solutions on developables — measured on the solved bent-sheet preset:
   // |K|/H² median 0.30 with it, 7e-4 with these; 0.96 against 1e-15 on the exact cone of
   // quad-cone-deficit — so the model reports these; solveGaussImage stays a library function.
-  c.normals = Eigen::MatrixX3d::Zero(mesh.rows(), 3);
-  for (const Face& f : design_.faces) {
-    const Eigen::Vector3d area =
-        faceSize(f) == 4 ? Eigen::Vector3d((mesh.row(f[2]) - mesh.row(f[0])).cross(mesh.row(f[3]) - mesh.row(f[1])))
-                         : Eigen::Vector3d((mesh.row(f[1]) - mesh.row(f[0])).cross(mesh.row(f[2]) - mesh.row(f[0])));
-    for (int k = 0; k < faceSize(f); ++k) c.normals.row(f[k]) += area.transpose();
-  }
-  for (Eigen::Index i = 0; i < c.normals.rows(); ++i) {
-    const double length = c.normals.row(i).norm();
-    if (length > 0) c.normals.row(i) /= length;
-  }
+  c.normals = unitVertexNormals(mesh, design_.faces);
   const std::vector<metrics::FaceCurvature> faces = metrics::checkerboardCurvature(mesh, c.normals, design_.faces);
   const Eigen::Index F = static_cast<Eigen::Index>(faces.size());
   c.gauss.resize(F);
