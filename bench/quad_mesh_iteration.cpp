@@ -9,7 +9,9 @@
 //
 // - "preset": the preset's weights (position 10, fairness 0.1 on M and M′, E_map 1, proximity
 //   0.001 / 0.001 to the reference Φ = M triangulated, foot points renewed every iteration);
-// - "defaults": QuadMeshWeights{} (no reference, no proximity).
+// - "defaults": QuadMeshWeights{} (no reference, no proximity);
+// - "preset_factorize": the preset's weights with a factorization in every iteration
+//   (QuadMeshOptions::factorizationReuseFrom off), what the model did before factorization reuse.
 //
 // One benchmark iteration = 10 guided-projection iterations of Algorithm 1 (round 0) from the same
 // start (tolerances 0, so all 10 run; step control on as in `devsurf solve`). The model is built
@@ -17,7 +19,8 @@
 // normal equations and of the linear solver) is the counter build_ms.
 //
 // Counters: unknowns, nnz (structural upper-triangular nonzeros of the full normal matrix), the
-// reduced matrix the linear solver factors (reduced, reduced_nnz), steps (iterations run),
+// steps (iterations run), factorizations and pcg_solves (preconditioned solves with an earlier
+// factorization) per 10 iterations,
 // per-iteration phase times from the engine's IterationRecords (averaged over the 10 iterations
 // and the repetitions), ten_iterations_ms, length_error (L-Err after the 10 iterations) and
 // peak_rss_mb (getrusage, whole process: run one size per process for a size's own peak, as
@@ -28,6 +31,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -100,14 +104,16 @@ struct Fixture {
   double buildMs = 0.0;
 };
 
-Fixture& fixture(const std::string& key, int n, bool presetWeights) {
+Fixture& fixture(const std::string& key, int n, bool presetWeights, bool factorizeEveryIteration) {
   static Fixture f;
   if (f.key == key) return f;
   f.model.reset();
   f.key = key;
   const quad::QuadMeshDesign design = saddleGrid(n, presetWeights);
   const auto start = std::chrono::steady_clock::now();
-  f.model = std::make_unique<quad::QuadMeshModel>(design, quad::QuadMeshOptions{});
+  quad::QuadMeshOptions modelOptions;
+  if (factorizeEveryIteration) modelOptions.factorizationReuseFrom = std::numeric_limits<int>::max();
+  f.model = std::make_unique<quad::QuadMeshModel>(design, modelOptions);
   f.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   f.x0 = f.model->problem().x();
   proto::SolverSettings settings;  // what `devsurf solve` uses for a scene without a solver object
@@ -118,12 +124,13 @@ Fixture& fixture(const std::string& key, int n, bool presetWeights) {
   return f;
 }
 
-void runTenIterations(benchmark::State& state, int n, bool presetWeights) {
-  const std::string key = std::to_string(n) + (presetWeights ? "/preset" : "/defaults");
-  Fixture& f = fixture(key, n, presetWeights);
+void runTenIterations(benchmark::State& state, int n, bool presetWeights, bool factorizeEveryIteration) {
+  const std::string key = std::to_string(n) + (presetWeights ? "/preset" : "/defaults") +
+                          (factorizeEveryIteration ? "/factorize" : "");
+  Fixture& f = fixture(key, n, presetWeights, factorizeEveryIteration);
   quad::QuadMeshModel& model = *f.model;
   double assembly = 0, factorization = 0, solve = 0, iteration = 0, total = 0, lengthError = 0;
-  int steps = 0, runs = 0;
+  int steps = 0, runs = 0, factorizations = 0, pcgSolves = 0;
   for (auto _ : state) {
     state.PauseTiming();
     model.problem().x() = f.x0;  // every timed solve starts from the same state
@@ -141,6 +148,8 @@ void runTenIterations(benchmark::State& state, int n, bool presetWeights) {
       factorization += records[k].factorizationMs;
       solve += records[k].solveMs;
       iteration += records[k].totalMs;
+      factorizations += records[k].factorized ? 1 : 0;
+      pcgSolves += records[k].pcgIterations;
     }
     steps += static_cast<int>(records.size()) - 1;
     total += result.summary.totalMs;
@@ -156,6 +165,8 @@ void runTenIterations(benchmark::State& state, int n, bool presetWeights) {
   state.counters["unknowns"] = Counter(model.numUnknowns());
   state.counters["nnz"] = Counter(static_cast<double>(model.solver().normalMatrixNonZeros()));
   state.counters["steps"] = Counter(static_cast<double>(steps) / runs);
+  state.counters["factorizations"] = Counter(static_cast<double>(factorizations) / runs);
+  state.counters["pcg_solves"] = Counter(static_cast<double>(pcgSolves) / runs);
   state.counters["build_ms"] = Counter(f.buildMs);
   state.counters["assembly_ms"] = Counter(assembly * perStep);
   state.counters["factorization_ms"] = Counter(factorization * perStep);
@@ -174,12 +185,17 @@ void registerAll() {
   };
   // 5n² unknowns: 10 125, 40 500, 100 820, 250 880.
   const std::vector<Size> sizes{{45, 5}, {90, 5}, {142, 3}, {224, 1}};
-  for (const bool presetWeights : {true, false}) {
+  struct Variant {
+    const char* name;
+    bool presetWeights, factorizeEveryIteration;
+  };
+  const std::vector<Variant> variants{{"preset", true, false}, {"preset_factorize", true, true},
+                                      {"defaults", false, false}};
+  for (const Variant& v : variants) {
     for (const Size& s : sizes) {
-      const std::string name =
-          std::string("QuadMeshApprox/") + (presetWeights ? "preset/" : "defaults/") + std::to_string(s.n);
-      benchmark::RegisterBenchmark(name.c_str(), [s, presetWeights](benchmark::State& state) {
-        runTenIterations(state, s.n, presetWeights);
+      const std::string name = std::string("QuadMeshApprox/") + v.name + "/" + std::to_string(s.n);
+      benchmark::RegisterBenchmark(name.c_str(), [s, v](benchmark::State& state) {
+        runTenIterations(state, s.n, v.presetWeights, v.factorizeEveryIteration);
       })
           ->Unit(benchmark::kMillisecond)
           ->Iterations(1)

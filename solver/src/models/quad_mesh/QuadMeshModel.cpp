@@ -335,6 +335,8 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
 
     engine::SolverOptions o = options;
     o.maxIterations = std::min(remaining, s.roundIterations - stepsIntoRound);
+    if (o.factorizationReuse.maxAge <= 0 && numUnknowns() >= options_.factorizationReuseFrom)
+      o.factorizationReuse.maxAge = s.roundIterations;
     o.residualTolerance = std::max(options.residualTolerance, s.energyMin);
     const int numbering = merged.iterations.empty() ? 0 : merged.iterations.back().iteration;
     if (options.callback) {
