@@ -71,6 +71,37 @@ std::vector<double> GuidedProjectionSolver::termResiduals(const Eigen::VectorXd&
   return out;
 }
 
+bool GuidedProjectionSolver::solveWithEarlierFactorization(const FactorizationReuseOptions& reuse, int& solves) {
+  const SymmetricUpper& H = equations_.matrix();
+  const Eigen::VectorXd& g = equations_.rhs();
+  const double target = reuse.tolerance * g.norm();
+  Eigen::VectorXd& r = pcgResidual_;
+  Eigen::VectorXd& z = pcgPreconditioned_;
+  Eigen::VectorXd& p = pcgDirection_;
+  Eigen::VectorXd& Hp = pcgProduct_;
+  linear_->solve(g, delta_);  // the earlier matrix's step: the start
+  ++solves;
+  r = g;
+  r.noalias() -= H.selfadjointView<Eigen::Upper>() * delta_;
+  double rz = 0.0;
+  for (int it = 0;; ++it) {
+    if (!(r.norm() > target)) return std::isfinite(r.norm());
+    if (it >= reuse.maxIterations) return false;
+    linear_->solve(r, z);
+    ++solves;
+    const double rzNext = r.dot(z);
+    if (it == 0) p = z;
+    else p = z + (rzNext / rz) * p;
+    rz = rzNext;
+    Hp.noalias() = H.selfadjointView<Eigen::Upper>() * p;
+    const double curvature = p.dot(Hp);
+    if (!(curvature > 0.0)) return false;
+    const double alpha = rz / curvature;
+    delta_ += alpha * p;
+    r -= alpha * Hp;
+  }
+}
+
 SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   const Clock::time_point start = Clock::now();
   SolveSummary summary;
@@ -152,9 +183,13 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   }
 
   int rejectedInARow = 0;
+  // Iterations since the linear solver's factorization was made in this solve() (−1: none yet;
+  // FactorizationReuseOptions).
+  int factorAge = -1;
   summary.reason = TerminationReason::MaxIterations;
   for (int k = 0; k < options.maxIterations; ++k) {
     options.deadline.check();  // throws: x is the last iterate
+    if (factorAge >= 0) ++factorAge;
     const Clock::time_point iterStart = Clock::now();
     const IterationRecord& previous = summary.iterations.back();
     const double previousObjective = previous.objective;
@@ -177,9 +212,24 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
                           limit);
       rec.assemblyMs += millisecondsSince(t0);
       // Factorization of H: block elimination of the elimination groups (Schur complement, see
-      // NormalEquations), then the sparse factorization of the reduced matrix.
+      // NormalEquations), then the sparse factorization of the reduced matrix — or, with
+      // factorization reuse, CG on the reduced matrix preconditioned with an earlier factorization.
       t0 = Clock::now();
-      bool factored = equations_.eliminate() && linear_->factorize(equations_.matrix());
+      bool factored = equations_.eliminate();
+      bool reused = false;
+      const FactorizationReuseOptions& reuse = options.factorizationReuse;
+      if (factored && reuse.maxAge > 0 && factorAge >= 0 && factorAge <= reuse.maxAge) {
+        rec.factorizationMs += millisecondsSince(t0);
+        t0 = Clock::now();
+        reused = solveWithEarlierFactorization(reuse, rec.pcgIterations);
+        rec.solveMs += millisecondsSince(t0);
+        t0 = Clock::now();
+      }
+      if (factored && !reused) {
+        factored = linear_->factorize(equations_.matrix());
+        factorAge = factored ? 0 : -1;
+        rec.factorized = rec.factorized || factored;
+      }
       rec.factorizationMs += millisecondsSince(t0);
       // With step control, a system that is numerically not positive definite (ε_reg² D tiny
       // against JᵀJ of stiff rows) is damped and factorized again rather than ending the solve.
@@ -191,11 +241,13 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
         rec.assemblyMs += millisecondsSince(t0);
         t0 = Clock::now();
         factored = equations_.eliminate() && linear_->factorize(equations_.matrix());
+        factorAge = factored ? 0 : -1;
+        rec.factorized = rec.factorized || factored;
         rec.factorizationMs += millisecondsSince(t0);
       }
       if (!factored) return false;
       t0 = Clock::now();
-      linear_->solve(equations_.rhs(), delta_);
+      if (!reused) linear_->solve(equations_.rhs(), delta_);
       problem_.x() = previousX_;
       // Kept variables from delta_, eliminated ones by back-substitution; ‖δ‖ over all of them.
       const double norm = std::sqrt(equations_.applyStep(delta_, problem_.x()));

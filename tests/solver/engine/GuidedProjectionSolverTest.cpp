@@ -250,6 +250,71 @@ TEST(GuidedProjectionSolver, EliminationLeavesTheIteratesUnchanged) {
   }
 }
 
+/// Reusing the first factorization (CG preconditioned with it) takes the steps of a solver that
+/// factorizes every iteration, with one factorization per solve(); the next solve() factorizes
+/// again first.
+TEST(GuidedProjectionSolver, FactorizationReuseTakesTheSameStepsWithOneFactorization) {
+  std::vector<LinearSolverKind> kinds{LinearSolverKind::SimplicialLDLT};
+  if (cholmodAvailable()) kinds.push_back(LinearSolverKind::Cholmod);
+  for (LinearSolverKind kind : kinds) {
+    Problem reusing, factorizing;
+    testing::buildStripLike(reusing, 5, 7, 3);
+    testing::buildStripLike(factorizing, 5, 7, 3);
+    GuidedProjectionSolver s1(reusing, kind);
+    GuidedProjectionSolver s2(factorizing, kind);
+    SolverOptions options;
+    options.maxIterations = 6;
+    options.regularization = 0.1;
+    options.residualTolerance = 0.0;
+    options.relativeChangeTolerance = 0.0;
+    const SolveSummary b = s2.solve(options);
+    options.factorizationReuse.maxAge = 10;
+    options.factorizationReuse.maxIterations = 100;
+    options.factorizationReuse.tolerance = 1e-13;
+    const SolveSummary a = s1.solve(options);
+    ASSERT_EQ(a.stepsTaken(), 6);
+    ASSERT_EQ(b.stepsTaken(), 6);
+    EXPECT_LT((reusing.x() - factorizing.x()).norm(), 1e-9 * factorizing.x().norm());
+    for (int k = 1; k <= 6; ++k) {
+      EXPECT_NEAR(a.iterations[k].stepNorm, b.iterations[k].stepNorm, 1e-9 * (1.0 + b.iterations[k].stepNorm));
+      EXPECT_TRUE(b.iterations[k].factorized);
+      EXPECT_EQ(b.iterations[k].pcgIterations, 0);
+      EXPECT_EQ(a.iterations[k].factorized, k == 1) << "iteration " << k;
+      if (k > 1) EXPECT_GE(a.iterations[k].pcgIterations, 1) << "iteration " << k;
+    }
+    const SolveSummary again = s1.solve(options);
+    ASSERT_GE(again.iterations.size(), 2u);
+    EXPECT_TRUE(again.iterations[1].factorized);
+    EXPECT_EQ(again.iterations[1].pcgIterations, 0);
+  }
+}
+
+/// When CG does not reach the tolerance within its iterations, the matrix is factorized after all:
+/// the steps are still the factorizing solver's.
+TEST(GuidedProjectionSolver, FactorizationReuseFactorizesWhenCgGivesUp) {
+  Problem reusing, factorizing;
+  testing::buildStripLike(reusing, 5, 7, 3);
+  testing::buildStripLike(factorizing, 5, 7, 3);
+  GuidedProjectionSolver s1(reusing);
+  GuidedProjectionSolver s2(factorizing);
+  SolverOptions options;
+  options.maxIterations = 4;
+  options.regularization = 0.1;
+  options.residualTolerance = 0.0;
+  options.relativeChangeTolerance = 0.0;
+  const SolveSummary b = s2.solve(options);
+  options.factorizationReuse.maxAge = 10;
+  options.factorizationReuse.maxIterations = 0;  // only the start (one preconditioned solve)
+  options.factorizationReuse.tolerance = 1e-300;
+  const SolveSummary a = s1.solve(options);
+  ASSERT_EQ(a.stepsTaken(), 4);
+  EXPECT_LT((reusing.x() - factorizing.x()).norm(), 1e-12 * factorizing.x().norm());
+  for (int k = 1; k <= 4; ++k) {
+    EXPECT_TRUE(a.iterations[k].factorized) << "iteration " << k;
+    EXPECT_EQ(a.iterations[k].pcgIterations, k == 1 ? 0 : 1) << "iteration " << k;
+  }
+}
+
 /// x0·x1 = 1 has one row touching both variables: both are eliminated as one group and the
 /// linear solver sees an empty system.
 TEST(GuidedProjectionSolver, AnEmptyReducedSystemWorksWithEitherSolver) {

@@ -48,7 +48,13 @@ struct IterationRecord {
   double assemblyMs = 0.0;             ///< linearize, evaluate, fill H and g
   double factorizationMs = 0.0;        ///< numeric factorization (incl. the block elimination
                                        ///< of elimination groups, see NormalEquations)
-  double solveMs = 0.0;                ///< triangular solves and the update of x
+  double solveMs = 0.0;                ///< triangular solves and the update of x (with
+                                       ///< factorization reuse: the whole PCG solve)
+  /// Triangular-solve pairs spent on conjugate gradients preconditioned with an earlier
+  /// factorization (FactorizationReuseOptions; also when CG gave up and the matrix was then
+  /// factorized); 0: none.
+  int pcgIterations = 0;
+  bool factorized = false;             ///< the matrix was factorized in this iteration
   double totalMs = 0.0;                ///< whole iteration including residual evaluation
 };
 
@@ -80,6 +86,22 @@ struct StepControlOptions {
   double maxPullLimit = 1.0;       ///< nor rises above this
 };
 
+/// Reuse of a factorization across the iterations of one solve() (off by default): H changes
+/// little from one step to the next, so instead of factorizing H_k the step solves H_k δ = −g_k
+/// by conjugate gradients preconditioned with the factorization of an earlier H_j of the same
+/// solve() — each CG iteration costs a pair of triangular solves and a product with H_k, far less
+/// than a factorization of a large 2D-like system (quad meshes of 10⁵ unknowns: bench/
+/// quad_mesh_iteration). The step is H_k's own up to `tolerance` (relative residual), not a
+/// different method. If CG has not converged after `maxIterations` (or meets a direction of
+/// non-positive curvature), H_k is factorized and solved directly, and that factorization is
+/// reused from then on. The first iteration of every solve() factorizes, so a solve does not
+/// depend on what the solver did before.
+struct FactorizationReuseOptions {
+  int maxAge = 0;           ///< reuse a factorization for at most this many later iterations (0: off)
+  int maxIterations = 10;   ///< CG iterations before giving up and factorizing
+  double tolerance = 1e-8;  ///< ‖H δ + g‖ ≤ tolerance · ‖g‖ (reduced system)
+};
+
 /// Options of a guided-projection solve; every field has a documented default
 /// (000_… §3.2 eq. 6 and §7; 003_… §4.1, §5.6).
 struct SolverOptions {
@@ -101,6 +123,7 @@ struct SolverOptions {
   /// the soft targets.
   double hardTolerance = 0.0;
   StepControlOptions stepControl;        ///< see StepControlOptions
+  FactorizationReuseOptions factorizationReuse;  ///< off by default; see there
   /// The schedule's iteration of the first step: the fairness weight of step k is
   /// ε_fair·decay^(firstIteration + k), so a session's many short solves of one drag continue one
   /// schedule instead of restarting it.
@@ -161,6 +184,11 @@ class GuidedProjectionSolver {
   const std::string linearSolverName() const { return linear_->name(); }
 
  private:
+  /// delta_ = solution of matrix() δ = rhs() by CG preconditioned with the linear solver's current
+  /// factorization (of an earlier matrix). False if it did not reach `reuse.tolerance` within
+  /// `reuse.maxIterations` or met non-positive curvature. `solves`: preconditioner applications.
+  bool solveWithEarlierFactorization(const FactorizationReuseOptions& reuse, int& solves);
+
   Problem& problem_;
   NormalEquations equations_;
   std::unique_ptr<LinearSolver> linear_;
@@ -171,6 +199,8 @@ class GuidedProjectionSolver {
   std::vector<double> termMaxAbs_;   ///< per term: largest |r| of the last residual evaluation
   double pullLimit_ = 0.0;           ///< step control: see StepControlOptions (0: not yet set)
   double dampingScale_ = 1.0;        ///< step control: ε_reg multiplier
+  // Factorization reuse (FactorizationReuseOptions): PCG work vectors over the reduced system.
+  Eigen::VectorXd pcgResidual_, pcgPreconditioned_, pcgDirection_, pcgProduct_;
 };
 
 }  // namespace devsurf::engine

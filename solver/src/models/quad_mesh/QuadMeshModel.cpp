@@ -318,6 +318,10 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
 
     engine::SolverOptions o = options;
     o.maxIterations = std::min(remaining, s.roundIterations - stepsIntoRound);
+    if (o.factorizationReuse.maxAge <= 0 && numUnknowns() >= options_.factorizationReuseFrom) {
+      o.factorizationReuse.maxAge = s.roundIterations;
+      o.factorizationReuse.tolerance = 1e-6;  // L-Err after 10 steps as with 1e-8 to 9 digits
+    }
     o.residualTolerance = std::max(options.residualTolerance, s.energyMin);
     const int numbering = merged.iterations.empty() ? 0 : merged.iterations.back().iteration;
     if (options.callback) {

@@ -21,6 +21,15 @@ struct QuadMeshOptions {
   engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;  ///< fixed at build
   /// Checked while the model is built (engine::DeadlineExceeded); solves have their own.
   engine::Deadline deadline;
+  /// From this many free unknowns on, solve() reuses the first factorization of every round for
+  /// the round's later steps (engine::FactorizationReuseOptions: CG preconditioned with it, the
+  /// steps to a relative residual of 1e-6; a factorization again when CG needs more than 10
+  /// solves), unless the caller's options already ask for reuse. Measured with
+  /// bench/quad_mesh_iteration (saddle, M and M′ variable, docs/architecture.md "quad_mesh
+  /// performance"): from ~40 000 unknowns the factorization is most of an iteration and 4–8
+  /// preconditioned solves replace it (40 500: 264 → 138 ms per iteration; 250 880: 3.57 → 1.03 s;
+  /// L-Err after 10 steps unchanged to 9 digits); at 10 000 a factorization costs ~10 solves.
+  int factorizationReuseFrom = 40000;
 };
 
 /// The isometry quality of Fig. 22 and the gluing, in the design's units.
