@@ -33,6 +33,35 @@ Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<dou
 
 }  // namespace
 
+void acceptQuadMeshShorthand(json& m) {
+  if (!m.is_object()) return;
+  if (m.contains("mesh") && m["mesh"].is_object()) {
+    json mesh = m["mesh"];
+    if (mesh.contains("faces") && !m.contains("faces")) m["faces"] = mesh["faces"];
+    m["mesh"] = mesh.contains("vertices") ? mesh["vertices"] : json::array();
+  }
+  if (m.contains("unfolding") && m["unfolding"].is_object() && m["unfolding"].contains("vertices")) {
+    json vertices = m["unfolding"]["vertices"];
+    m["unfolding"] = std::move(vertices);
+  }
+  if (m.contains("variables") && !m.contains("variable")) {
+    m["variable"] = m["variables"];
+    m.erase("variables");
+  }
+  if (m.contains("fixed") && m["fixed"].is_array()) {
+    json fixed = json::array();
+    for (const json& f : m["fixed"]) fixed.push_back(f.is_number_integer() ? json{{"vertex", f}} : f);
+    m["fixed"] = std::move(fixed);
+  }
+  if (m.contains("glue") && m["glue"].is_array() && !m["glue"].empty() && m["glue"][0].is_array())
+    m["glue"] = json::array({{{"on", "mesh"}, {"pairs", m["glue"]}}});
+  if (m.contains("reference") && m["reference"].is_object() && m["reference"].contains("faces") &&
+      !m["reference"].contains("triangles")) {
+    m["reference"]["triangles"] = m["reference"]["faces"];
+    m["reference"].erase("faces");
+  }
+}
+
 qm::QuadMeshDesign quadMeshFromJson(const json& m) {
   qm::QuadMeshDesign d;
   const json& mesh = m.at("mesh");

@@ -550,7 +550,16 @@ void checkModelNumbers(const json& j, const std::string& path, bool coordinates)
 
 }  // namespace
 
-Scene sceneFromJson(const json& document, const ResourceLimits& limits) {
+Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
+  // A quad_mesh model may be written in issue 13's shorthand; it is read as the scene's spelling.
+  const bool shorthand = given.is_object() && given.contains("model") && given["model"].is_object() &&
+                         given["model"].value("kind", json()) == "quad_mesh";
+  json rewritten;
+  if (shorthand) {
+    rewritten = given;
+    acceptQuadMeshShorthand(rewritten["model"]);
+  }
+  const json& document = shorthand ? rewritten : given;
   const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
   if (!errors.empty()) throw SceneError(errors[0].path, errors[0].rule, errors[0].message);
   if (document.contains("model")) checkModelNumbers(document["model"], "model", false);

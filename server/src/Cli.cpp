@@ -1,11 +1,13 @@
 #include "devsurf/server/Cli.h"
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
 
+#include "devsurf/io/QuadMesh.h"
 #include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Daemon.h"
@@ -40,7 +42,9 @@ constexpr const char* kUsage =
     "        20 000 control points); --memory-budget-mb raises the first.\n"
     "        FORMAT is obj, off, ply or stl (the sampled surface as quads; stl: two\n"
     "        triangles per quad, zero-area ones left out); for composite\n"
-    "        scenes with a development also fold (FOLD 1.2) and svg (fold pattern, mm).\n"
+    "        scenes with a development also fold (FOLD 1.2) and svg (fold pattern, mm);\n"
+    "        for quad_mesh scenes obj (M), unfolding_obj (M′), stl, svg (cutting pattern,\n"
+    "        mm) and fold (both frames).\n"
     "  serve [--port 8080] [--bind 127.0.0.1] [--data DIR] [--api-key KEY] [--web DIR]\n"
     "        [--demo SCENE]... [--workers N] [--max-sessions N] [--max-clients N]\n"
     "        [--max-body BYTES] [--max-message BYTES] [--message-rate PER_S]\n"
@@ -53,6 +57,12 @@ constexpr const char* kUsage =
     "        [--http-workers N]\n"
     "        [--memory-budget-mb MB] [--session-time-budget-ms MS]\n"
     "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
+    "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
+    "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
+    "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"
+    "        optionally with its unfolding M′ (same vertices and faces; planar when every z is\n"
+    "        0). Without one, M′ is computed (both meshes move); --proximity keeps M near the\n"
+    "        input (Fig. 8: make a mesh developable close to its original).\n"
     "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
     "        Submit a batch job; with --wait, show progress and write the report.\n"
     "  version   Print the version.\n"
@@ -182,6 +192,92 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     err << "devsurf solve: " << e.what() << "\n";
     return 1;
   }
+}
+
+int importCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  std::string meshPath, unfoldingPath, outPath, variables, name, units = "mm";
+  bool proximity = false;
+  try {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
+      if (a == "--unfolding") unfoldingPath = value();
+      else if (a == "--variables") variables = value();
+      else if (a == "--proximity") proximity = true;
+      else if (a == "--name") name = value();
+      else if (a == "--units") units = value();
+      else if (a == "--out") outPath = value();
+      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else if (meshPath.empty()) meshPath = a;
+      else throw std::invalid_argument("unexpected argument " + a);
+    }
+    if (meshPath.empty()) throw std::invalid_argument("missing MESH (an .obj, .off or .ply file)");
+    if (!variables.empty() && variables != "mesh" && variables != "unfolding" && variables != "both")
+      throw std::invalid_argument("--variables: expected mesh, unfolding or both, got \"" + variables + "\"");
+    proto::millimetresPerUnit(units);
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf import: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  try {
+    int skipped = 0;
+    const io::PolygonMeshFile mesh = io::readPolygonMesh(meshPath, &skipped);
+    if (skipped > 0)
+      throw std::runtime_error(meshPath + ": " + std::to_string(skipped) +
+                               " faces could not be added (non-manifold or turned against their neighbours)");
+    nlohmann::json model = {{"kind", "quad_mesh"}};
+    nlohmann::json vertices = nlohmann::json::array(), faces = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+      vertices.push_back({mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2)});
+    for (const auto& f : mesh.faces) {
+      nlohmann::json face = {f[0], f[1], f[2]};
+      if (f[3] >= 0) face.push_back(f[3]);
+      faces.push_back(std::move(face));
+    }
+    model["mesh"] = {{"vertices", vertices}, {"faces", faces}};
+    if (!unfoldingPath.empty()) {
+      const io::PolygonMeshFile flat = io::readPolygonMesh(unfoldingPath);
+      if (flat.vertices.rows() != mesh.vertices.rows() || flat.faces != mesh.faces)
+        throw std::runtime_error(unfoldingPath + ": the unfolding must have the mesh's vertices and faces (" +
+                                 std::to_string(flat.vertices.rows()) + " vertices, " + std::to_string(flat.faces.size()) +
+                                 " faces; the mesh has " + std::to_string(mesh.vertices.rows()) + ", " +
+                                 std::to_string(mesh.faces.size()) + ")");
+      const bool planar = flat.vertices.col(2).cwiseAbs().maxCoeff() == 0.0;
+      nlohmann::json u = nlohmann::json::array();
+      for (Eigen::Index i = 0; i < flat.vertices.rows(); ++i)
+        u.push_back(planar ? nlohmann::json{flat.vertices(i, 0), flat.vertices(i, 1)}
+                           : nlohmann::json{flat.vertices(i, 0), flat.vertices(i, 1), flat.vertices(i, 2)});
+      model["unfolding"] = {{"vertices", u}};
+      model["unfolding_planar"] = planar;
+    }
+    model["variables"] = !variables.empty() ? variables : unfoldingPath.empty() ? "both" : "mesh";
+    if (proximity) {
+      model["reference"] = {{"vertices", vertices}, {"faces", nlohmann::json::array()}};
+      for (const auto& f : mesh.faces) {
+        model["reference"]["faces"].push_back({f[0], f[1], f[2]});
+        if (f[3] >= 0) model["reference"]["faces"].push_back({f[0], f[2], f[3]});
+      }
+      model["weights"] = {{"proximity_point", 0.001}, {"proximity_plane", 0.001}};  // Fig. 22, rows 10 and 20
+    }
+    nlohmann::json document = {{"format", "devsurf-scene"}, {"version", 1}, {"model", model}};
+    document["name"] = name.empty() ? std::filesystem::path(meshPath).stem().string() : name;
+    if (units != "mm") document["units"] = units;
+    // Read back as any scene is: the schema, indices, the model's checks and the limits.
+    const nlohmann::json scene = proto::sceneToJson(proto::sceneFromJson(document));
+    const std::string text = scene.dump(1) + "\n";
+    if (outPath.empty()) {
+      out << text;
+    } else {
+      std::ofstream file(outPath, std::ios::binary);
+      if (!(file << text)) throw std::runtime_error("cannot write " + outPath);
+    }
+    return 0;
+  } catch (const proto::SceneError& e) {
+    err << "devsurf import: " << meshPath << ": " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    err << "devsurf import: " << e.what() << "\n";
+  }
+  return 1;
 }
 
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -374,6 +470,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "solve") return solveCommand(rest, in, out, err);
   if (command == "serve") return serveCommand(rest, out, err);
   if (command == "job") return jobCommand(rest, out, err);
+  if (command == "import") return importCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";
     return 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <stdexcept>
 #include <vector>
 
@@ -111,6 +112,43 @@ QuadMesh readQuadMesh(const std::string& path) {
       mesh.quads(f.idx(), c++) = v.idx();
     }
     if (c != 4) throw std::runtime_error(path + ": face " + std::to_string(f.idx()) + " is not a quad");
+  }
+  return mesh;
+}
+
+PolygonMeshFile readPolygonMesh(const std::string& path, int* facesSkipped) {
+  silenceOpenMeshLogs();
+  PolyMesh in;
+  if (!OpenMesh::IO::read_mesh(in, path)) throw std::runtime_error("cannot read mesh file " + path);
+  PolygonMeshFile mesh;
+  mesh.vertices.resize(static_cast<Eigen::Index>(in.n_vertices()), 3);
+  for (const auto& v : in.vertices()) {
+    const auto& p = in.point(v);
+    mesh.vertices.row(v.idx()) << p[0], p[1], p[2];
+  }
+  for (const auto& f : in.faces()) {
+    std::array<int, 4> face{-1, -1, -1, -1};
+    int c = 0;
+    for (const auto& v : f.vertices()) {
+      if (c == 4)
+        throw std::runtime_error(path + ": face " + std::to_string(f.idx()) +
+                                 " has more than four vertices (quad-dominant meshes have triangles and quads)");
+      face[static_cast<std::size_t>(c++)] = v.idx();
+    }
+    mesh.faces.push_back(face);
+  }
+  if (facesSkipped) {
+    *facesSkipped = 0;
+    std::string extension = path.substr(path.find_last_of('.') + 1);
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (extension == "obj") {
+      std::ifstream file(path);
+      std::string line;
+      int faces = 0;
+      while (std::getline(file, line))
+        if (line.size() > 1 && line[0] == 'f' && std::isspace(static_cast<unsigned char>(line[1]))) ++faces;
+      *facesSkipped = std::max(0, faces - static_cast<int>(mesh.faces.size()));
+    }
   }
   return mesh;
 }

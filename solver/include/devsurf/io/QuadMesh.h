@@ -1,5 +1,8 @@
 #pragma once
 
+#include <array>
+#include <vector>
+
 #include <string>
 
 #include <Eigen/Core>
@@ -28,5 +31,19 @@ void writeMesh(const QuadMesh& mesh, const std::string& path);
 /// Reads a polygon mesh through OpenMesh (faces that are not quads are rejected).
 /// @throws std::runtime_error naming the file when reading fails.
 QuadMesh readQuadMesh(const std::string& path);
+
+/// A quad-dominant mesh as read from a file: vertices V×3 and faces of 3 or 4 vertices (a
+/// triangle has −1 in its fourth slot).
+struct PolygonMeshFile {
+  Eigen::MatrixX3d vertices;
+  std::vector<std::array<int, 4>> faces;
+};
+
+/// Reads an OBJ, OFF or PLY mesh through OpenMesh (by extension) with its vertex order; faces of
+/// more than four vertices are refused. OpenMesh leaves out faces it cannot add (non-manifold
+/// ones); `facesSkipped` says how many faces the file had that are not in the result when the
+/// format tells (OBJ: counted from its "f" lines), else 0.
+/// @throws std::runtime_error naming the file (and the face) when reading fails.
+PolygonMeshFile readPolygonMesh(const std::string& path, int* facesSkipped = nullptr);
 
 }  // namespace devsurf::io
