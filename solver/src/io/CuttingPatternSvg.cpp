@@ -1,49 +1,21 @@
 #include "devsurf/io/CuttingPatternSvg.h"
 
-#include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
 #include "devsurf/io/GlueSeams.h"
+#include "devsurf/io/SvgWriting.h"
 
 namespace devsurf::io {
 namespace {
 
-/// Locale-independent fixed-point number with trailing zeros removed.
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
-  std::string s = res.ec == std::errc() ? std::string(buf, res.ptr) : std::string("0");
-  if (s.find('.') != std::string::npos) {
-    while (s.back() == '0') s.pop_back();
-    if (s.back() == '.') s.pop_back();
-  }
-  if (s == "-0") s = "0";
-  return s;
-}
-
-std::string xmlEscape(const std::string& in) {
-  std::string out;
-  for (const char ch : in) {
-    switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default:
-        if (static_cast<unsigned char>(ch) >= 0x20 || ch == '\t' || ch == '\n') out += ch;
-    }
-  }
-  return out;
-}
-
 void checkLength(double v, const char* name, bool allowZero) {
-  if (!std::isfinite(v) || v < 0.0 || (!allowZero && v == 0.0))
-    throw std::invalid_argument(std::string("CuttingPatternOptions: ") + name +
-                                (allowZero ? " must be finite and >= 0" : " must be finite and > 0"));
+  checkSvgLength(v, "CuttingPatternOptions", name, allowZero);
 }
+
+/// The cutting pattern's established escaping: apostrophes as they are, carriage returns dropped.
+constexpr XmlEscapeOptions kEscape{/*escapeApostrophe=*/false, /*keepCarriageReturn=*/false};
 
 }  // namespace
 
@@ -65,17 +37,11 @@ std::string cuttingPatternSvg(const Eigen::MatrixXd& V, const std::vector<Polygo
   const GlueSeams seams = findGlueSeams(static_cast<int>(V.rows()), faces, gluePairs, V);
 
   const double s = mmPerUnit, m = o.marginMm;
-  double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
-  if (V.rows() > 0) {
-    xmin = V.col(0).minCoeff();
-    xmax = V.col(0).maxCoeff();
-    ymin = V.col(1).minCoeff();
-    ymax = V.col(1).maxCoeff();
-  }
-  const double W = (xmax - xmin) * s + 2 * m, H = (ymax - ymin) * s + 2 * m;
-  auto num = [&o](double v) { return fixed(v, o.decimals); };
-  auto X = [&num, m, s, xmin](double x) { return num(m + (x - xmin) * s); };
-  auto Y = [&num, m, s, ymax](double y) { return num(m + (ymax - y) * s); };  // SVG's y points down
+  const SvgPage page{svgBounds(V), s, m};
+  const double W = page.widthMm(), H = page.heightMm();
+  const SvgNumberFormat num(o.decimals);
+  auto X = [&num, &page](double x) { return num(page.x(x)); };
+  auto Y = [&num, &page](double y) { return num(page.y(y)); };  // SVG's y points down
 
   auto line = [&V, &X, &Y](const PolygonEdge& e, const char* cls, const std::string& extra) {
     return std::string("    <line class=\"") + cls + "\" data-v0=\"" + std::to_string(e.v0) +
@@ -139,19 +105,13 @@ std::string cuttingPatternSvg(const Eigen::MatrixXd& V, const std::vector<Polygo
   }
 
   const std::string title = o.title.empty() ? std::string("devsurf cutting pattern") : o.title;
-  std::string out;
-  out += "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n";
-  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + num(W) +
-         "mm\" height=\"" + num(H) + "mm\" viewBox=\"0 0 " + num(W) + " " + num(H) + "\">\n";
-  out += "  <title>" + xmlEscape(title) + "</title>\n";
-  out += "  <desc>" +
-         xmlEscape("Cutting pattern of a quad mesh's unfolding, exported by devsurf. Units: "
-                   "millimetres, one user unit = 1 mm; scale: 1 design unit = " + num(s) +
-                   " mm; margin " + num(m) + " mm. Cut along the solid black lines. Blue dashed "
-                   "edges are glued: edges with the same number are glued to each other, "
-                   "running in the same direction along the seam. Faint grey lines are mesh "
-                   "edges (no folds). The unfolding's y axis points up (not mirrored).") +
-         "</desc>\n";
+  const std::string description =
+      "Cutting pattern of a quad mesh's unfolding, exported by devsurf. Units: millimetres, one "
+      "user unit = 1 mm; scale: 1 design unit = " + num(s) + " mm; margin " + num(m) +
+      " mm. Cut along the solid black lines. Blue dashed edges are glued: edges with the same "
+      "number are glued to each other, running in the same direction along the seam. Faint grey "
+      "lines are mesh edges (no folds). The unfolding's y axis points up (not mirrored).";
+  std::string out = svgDocumentHead(W, H, num, title, description, kEscape);
   if (!mesh.empty())
     out += "  <g id=\"mesh\" fill=\"none\" stroke=\"#c8c8c8\" stroke-width=\"" + num(o.meshWidthMm) +
            "\" stroke-linecap=\"round\">\n" + mesh + "  </g>\n";
@@ -170,12 +130,7 @@ std::string cuttingPatternSvg(const Eigen::MatrixXd& V, const std::vector<Polygo
 void writeCuttingPatternSvg(const Eigen::MatrixXd& unfolding, const std::vector<PolygonFace>& faces,
                             const std::vector<std::array<int, 2>>& gluePairs, double mmPerUnit,
                             const std::string& path, const CuttingPatternOptions& options) {
-  const std::string text = cuttingPatternSvg(unfolding, faces, gluePairs, mmPerUnit, options);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write SVG file " + path);
-  out << text;
-  out.flush();
-  if (!out) throw std::runtime_error("cannot write SVG file " + path);
+  writeSvgFile(path, cuttingPatternSvg(unfolding, faces, gluePairs, mmPerUnit, options));
 }
 
 }  // namespace devsurf::io

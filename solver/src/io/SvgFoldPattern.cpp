@@ -1,66 +1,23 @@
 #include "devsurf/io/SvgFoldPattern.h"
 
 #include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
+#include "devsurf/io/SvgWriting.h"
+
 namespace devsurf::io {
 namespace {
 
-/// Locale-independent fixed-point number with trailing zeros removed.
-class NumberFormat {
- public:
-  explicit NumberFormat(int decimals) : decimals_(decimals) {}
-  std::string operator()(double v) const {
-    char buf[64];
-    const auto res = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals_);
-    std::string s = res.ec == std::errc() ? std::string(buf, res.ptr) : std::string("0");
-    if (s.find('.') != std::string::npos) {
-      while (s.back() == '0') s.pop_back();
-      if (s.back() == '.') s.pop_back();
-    }
-    if (s == "-0") s = "0";
-    return s;
-  }
-
- private:
-  int decimals_;
-};
-
-/// Text or attribute value for XML 1.0: escapes markup, drops disallowed control characters.
-std::string xmlEscape(const std::string& in) {
-  std::string out;
-  out.reserve(in.size());
-  for (char ch : in) {
-    switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default:
-        if (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n' && ch != '\r')
-          break;
-        out += ch;
-    }
-  }
-  return out;
-}
-
 void checkLength(double v, const char* name, bool allowZero) {
-  if (!std::isfinite(v) || v < 0.0 || (!allowZero && v == 0.0))
-    throw std::invalid_argument(std::string("SvgFoldOptions: ") + name +
-                                (allowZero ? " must be finite and >= 0" : " must be finite and > 0"));
+  checkSvgLength(v, "SvgFoldOptions", name, allowZero);
 }
 
 /// Presentation attributes of a line style; `scale` multiplies its dash pattern.
 std::string strokeAttributes(const SvgLineStyle& st, const std::string& width, double scale,
-                             const NumberFormat& num) {
+                             const SvgNumberFormat& num) {
   std::string a = " class=\"" + std::string(st.cssClass) + "\" stroke=\"" + st.color +
                   "\" stroke-width=\"" + width + "\"";
   if (std::string(st.dasharray) == "none") return a;
@@ -99,45 +56,34 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
   if (o.decimals < 0 || o.decimals > 12)
     throw std::invalid_argument("SvgFoldOptions: decimals must lie in [0, 12]");
 
-  const NumberFormat num(o.decimals);
+  const SvgNumberFormat num(o.decimals);
   const double s = p.unitToMm;
-  double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
-  if (p.numVertices() > 0) {
-    xmin = p.vertices2d.col(0).minCoeff();
-    xmax = p.vertices2d.col(0).maxCoeff();
-    ymin = p.vertices2d.col(1).minCoeff();
-    ymax = p.vertices2d.col(1).maxCoeff();
-  }
+  const SvgBounds bounds = svgBounds(p.vertices2d);
   // Style lengths, scaled down for a pattern smaller than the reference size.
-  const double side = std::max(xmax - xmin, ymax - ymin) * s;
+  const double side = std::max(bounds.xmax - bounds.xmin, bounds.ymax - bounds.ymin) * s;
   const double style = o.styleReferenceMm > 0.0 && side > 0.0 && side < o.styleReferenceMm
                            ? side / o.styleReferenceMm : 1.0;
   const double m = o.marginMm * style, boundaryWidth = o.boundaryWidthMm * style,
                foldWidth = o.foldWidthMm * style, flatWidth = o.flatWidthMm * style,
                rulingWidth = o.rulingWidthMm * style;
-  const double W = (xmax - xmin) * s + 2 * m, H = (ymax - ymin) * s + 2 * m;
-  auto X = [&](double x) { return num(m + (x - xmin) * s); };
-  auto Y = [&](double y) { return num(m + (ymax - y) * s); };  // SVG's y points down
+  const SvgPage page{bounds, s, m};
+  const double W = page.widthMm(), H = page.heightMm();
+  auto X = [&num, &page](double x) { return num(page.x(x)); };
+  auto Y = [&num, &page](double y) { return num(page.y(y)); };  // SVG's y points down
 
   const std::string title = !o.title.empty() ? o.title
                             : !p.title.empty() ? p.title
                                                : std::string("devsurf fold pattern");
-  std::string out;
-  out += "<?xml version=\"1.0\" encoding=\"UTF-8\" standalone=\"no\"?>\n";
-  out += "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" + num(W) +
-         "mm\" height=\"" + num(H) + "mm\" viewBox=\"0 0 " + num(W) + " " + num(H) + "\">\n";
-  out += "  <title>" + xmlEscape(title) + "</title>\n";
-  out += "  <desc>" +
-         xmlEscape("Fold pattern (development) exported by devsurf. Units: millimetres, one user "
-                   "unit = 1 mm; scale: 1 model unit = " + num(s) + " mm; margin " + num(m) +
-                   " mm. Lines: boundary and cuts solid black; mountain folds red dash-dot; "
-                   "valley folds blue dashed; flat creases light grey dotted; rulings thin grey. "
-                   "The development's y axis points up (the drawing is not mirrored): the front "
-                   "side of the sheet faces the viewer and valley folds close towards it." +
-                   (style < 1.0 ? " Line widths, dashes and margin are scaled by " + num(style) +
-                                  " for this small pattern."
-                            : std::string())) +
-         "</desc>\n";
+  const std::string description =
+      "Fold pattern (development) exported by devsurf. Units: millimetres, one user unit = 1 mm; "
+      "scale: 1 model unit = " + num(s) + " mm; margin " + num(m) +
+      " mm. Lines: boundary and cuts solid black; mountain folds red dash-dot; "
+      "valley folds blue dashed; flat creases light grey dotted; rulings thin grey. "
+      "The development's y axis points up (the drawing is not mirrored): the front "
+      "side of the sheet faces the viewer and valley folds close towards it." +
+      (style < 1.0 ? " Line widths, dashes and margin are scaled by " + num(style) + " for this small pattern."
+                   : std::string());
+  std::string out = svgDocumentHead(W, H, num, title, description);
 
   // Rulings.
   if (o.drawRulings && p.rulings.rows() > 0) {
@@ -243,12 +189,7 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
 
 void writeSvgFoldPattern(const CreasePattern& pattern, const std::string& path,
                          const SvgFoldOptions& options) {
-  const std::string text = svgFoldPattern(pattern, options);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write SVG file " + path);
-  out << text;
-  out.flush();
-  if (!out) throw std::runtime_error("cannot write SVG file " + path);
+  writeSvgFile(path, svgFoldPattern(pattern, options));
 }
 
 }  // namespace devsurf::io

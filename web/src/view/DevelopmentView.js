@@ -8,6 +8,7 @@
 
 import { colorAt } from '../geometry/colormap.js';
 import { PATCH_TYPE_COLORS } from '../geometry/StripBuffers.js';
+import { CanvasPanel, fitStillFills } from './CanvasPanel.js';
 
 const MARGIN = 14;
 
@@ -15,46 +16,17 @@ function css(rgb, alpha = 1) {
   return `rgba(${Math.round(rgb[0] * 255)}, ${Math.round(rgb[1] * 255)}, ${Math.round(rgb[2] * 255)}, ${alpha})`;
 }
 
-export class DevelopmentView {
+export class DevelopmentView extends CanvasPanel {
   constructor(container, deps) {
-    this.container = container;
+    super(container, 'development-canvas');
     this.buffers = deps.buffers;
     this.composite = deps.composite || null;
     /** 'strip' | 'composite'. */
     this.kind = 'strip';
-    this.canvas = document.createElement('canvas');
-    this.canvas.className = 'development-canvas';
-    container.appendChild(this.canvas);
-    this.ctx = this.canvas.getContext('2d');
-    this.transform = null;
     this.highContrast = false;
     this._rgb = [0, 0, 0];
-    this.canvas.addEventListener('dblclick', () => {
-      this.transform = null;
-      this.render();
-    });
-    this._resizeObserver = new ResizeObserver(() => this.resize());
-    this._resizeObserver.observe(container);
-    this.resize();
-  }
-
-  /** Forgets the fit (the next render fits the drawing to the panel again). */
-  refit() {
-    this.transform = null;
-    this.render();
-  }
-
-  resize() {
-    const dpr = Math.min(window.devicePixelRatio || 1, 2);
-    this.width = Math.max(1, this.container.clientWidth);
-    this.height = Math.max(1, this.container.clientHeight);
-    this.canvas.width = Math.round(this.width * dpr);
-    this.canvas.height = Math.round(this.height * dpr);
-    this.canvas.style.width = `${this.width}px`;
-    this.canvas.style.height = `${this.height}px`;
-    this.dpr = dpr;
-    this.transform = null;
-    this.render();
+    this.canvas.addEventListener('dblclick', () => this.refit());
+    this._observeResize();
   }
 
   /** Bounding box of the development, in the rotated frame if `rotate`. */
@@ -90,13 +62,7 @@ export class DevelopmentView {
   _fitStillGood(v, n) {
     const t = this.transform;
     if (!t) return false;
-    const b = this._bounds(v, n, t.rotate);
-    const W = this.width - 2 * MARGIN;
-    const H = this.height - 2 * MARGIN - 14;
-    const w = (b.x1 - b.x0) * t.scale;
-    const h = (b.y1 - b.y0) * t.scale;
-    const inside = Math.abs(((b.x0 + b.x1) / 2 - t.cx) * t.scale) + w / 2 <= W / 2 + 1 && Math.abs(((b.y0 + b.y1) / 2 - t.cy) * t.scale) + h / 2 <= H / 2 + 1;
-    return inside && (w >= 0.8 * W || h >= 0.8 * H);
+    return fitStillFills(this._bounds(v, n, t.rotate), t, this.width - 2 * MARGIN, this.height - 2 * MARGIN - 14, 0.8);
   }
 
   setKind(kind) {
@@ -104,14 +70,6 @@ export class DevelopmentView {
     this.kind = kind;
     this.transform = null;
     this.render();
-  }
-
-  _message(text) {
-    const ctx = this.ctx;
-    ctx.fillStyle = '#8893a5';
-    ctx.font = '13px system-ui, sans-serif';
-    ctx.textAlign = 'center';
-    ctx.fillText(text, this.width / 2, this.height / 2);
   }
 
   render() {
@@ -126,10 +84,7 @@ export class DevelopmentView {
     const dev = this.buffers.development;
     const n = dev.count;
     if (!this.buffers.hasData || n === 0) {
-      ctx.fillStyle = '#8893a5';
-      ctx.font = '13px system-ui, sans-serif';
-      ctx.textAlign = 'center';
-      ctx.fillText(this.buffers.hasData ? 'no development for this geometry' : 'waiting for geometry…', W / 2, H / 2);
+      this._message(this.buffers.hasData ? 'no development for this geometry' : 'waiting for geometry…');
       return;
     }
     const v = dev.vertices;
@@ -373,9 +328,5 @@ export class DevelopmentView {
     ctx.font = `${this.highContrast ? 13 : 11}px system-ui, sans-serif`;
     ctx.textAlign = 'left';
     ctx.fillText(`${len >= 1 ? len : len.toPrecision(1)} ${len === 1 ? 'unit' : 'units'}`, x + px + 6, y + 1);
-  }
-
-  dispose() {
-    this._resizeObserver.disconnect();
   }
 }

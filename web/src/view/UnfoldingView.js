@@ -7,9 +7,9 @@
 // the same latest-wins coalescing as the 3D view (one DragCommand per animation frame, a
 // DragEndCommand on release). The container's data-faces / data-glue count what was drawn.
 
-import { DragCommand } from '../commands/DragCommand.js';
-import { DragEndCommand } from '../commands/DragEndCommand.js';
 import { targetKey } from '../commands/Command.js';
+import { CanvasPanel, fitStillFills } from './CanvasPanel.js';
+import { DragCommandStream } from './DragCommandStream.js';
 
 const MARGIN = 16;
 const PICK_PX = 9;
@@ -19,52 +19,27 @@ const SELECTED = '#ffd60a';
 
 const css = (c, o = 0) => `rgb(${Math.round(c[o] * 255)}, ${Math.round(c[o + 1] * 255)}, ${Math.round(c[o + 2] * 255)})`;
 
-export class UnfoldingView {
+export class UnfoldingView extends CanvasPanel {
   /** @param {object} deps {state, quad (QuadMeshBuffers), send(command), select(target|null), pointDown(target) → bool, glueFirst() → vertex|null} */
   constructor(container, deps) {
-    this.container = container;
+    super(container, 'unfolding-canvas');
     this.state = deps.state;
     this.quad = deps.quad;
     this.send = deps.send;
     this.select = deps.select;
     this.pointDown = deps.pointDown || (() => false);
     this.glueFirst = deps.glueFirst || (() => null);
-    this.canvas = document.createElement('canvas');
-    this.canvas.className = 'unfolding-canvas';
-    container.appendChild(this.canvas);
-    this.ctx = this.canvas.getContext('2d');
-    this.transform = null;
     this.drag = null;
     this.pan = null;
     this.hovered = null;
     this.visible = false;
     this._bindPointer();
-    this._resizeObserver = new ResizeObserver(() => this.resize());
-    this._resizeObserver.observe(container);
-    this.resize();
+    this._observeResize();
   }
 
   setVisible(visible) {
     this.visible = visible;
     if (visible) this.resize();
-  }
-
-  resize() {
-    const dpr = Math.min(window.devicePixelRatio || 1, 2);
-    this.width = Math.max(1, this.container.clientWidth);
-    this.height = Math.max(1, this.container.clientHeight);
-    this.canvas.width = Math.round(this.width * dpr);
-    this.canvas.height = Math.round(this.height * dpr);
-    this.canvas.style.width = `${this.width}px`;
-    this.canvas.style.height = `${this.height}px`;
-    this.dpr = dpr;
-    this.transform = null;
-    this.render();
-  }
-
-  refit() {
-    this.transform = null;
-    this.render();
   }
 
   _bounds() {
@@ -91,12 +66,7 @@ export class UnfoldingView {
     const t = this.transform;
     if (!t) return false;
     if (!t.auto) return true;
-    const b = this._bounds();
-    const W = this.width - 2 * MARGIN, H = this.height - 2 * MARGIN - 16;
-    const w = (b.x1 - b.x0) * t.scale, h = (b.y1 - b.y0) * t.scale;
-    const inside = Math.abs(((b.x0 + b.x1) / 2 - t.cx) * t.scale) + w / 2 <= W / 2 + 1
-      && Math.abs(((b.y0 + b.y1) / 2 - t.cy) * t.scale) + h / 2 <= H / 2 + 1;
-    return inside && (w >= 0.7 * W || h >= 0.7 * H);
+    return fitStillFills(this._bounds(), t, this.width - 2 * MARGIN, this.height - 2 * MARGIN - 16, 0.7);
   }
 
   /** CSS px (relative to the container) of M′ point (x, y). */
@@ -125,10 +95,7 @@ export class UnfoldingView {
     const q = this.quad;
     if (!this.visible) return;
     if (!q.hasData) {
-      ctx.fillStyle = '#8893a5';
-      ctx.font = '13px system-ui, sans-serif';
-      ctx.textAlign = 'center';
-      ctx.fillText('waiting for geometry…', W / 2, H / 2);
+      this._message('waiting for geometry…');
       return;
     }
     if (!this._fitStillGood()) this.transform = this._fit();
@@ -327,7 +294,7 @@ export class UnfoldingView {
     this.drag = {
       target, pointerId: e.pointerId, z: q.unfolding[3 * i + 2],
       offset: { x: q.unfolding[3 * i] - p.x, y: q.unfolding[3 * i + 1] - p.y },
-      pending: null, raf: 0, moved: false,
+      commands: new DragCommandStream((c) => this.send(c), target, 'unfolding'),
     };
     this.canvas.style.cursor = 'grabbing';
     this.render();
@@ -339,9 +306,7 @@ export class UnfoldingView {
       if (e.pointerId !== d.pointerId) return;
       const s = this._local(e);
       const p = this.fromScreen(s.x, s.y);
-      d.pending = [p.x + d.offset.x, p.y + d.offset.y, this.quad.planar ? 0 : d.z];
-      d.moved = true;
-      if (!d.raf) d.raf = requestAnimationFrame(() => this._flushDrag());
+      d.commands.move([p.x + d.offset.x, p.y + d.offset.y, this.quad.planar ? 0 : d.z]);
       return;
     }
     const pan = this.pan;
@@ -364,24 +329,11 @@ export class UnfoldingView {
     }
   }
 
-  _flushDrag() {
-    const d = this.drag;
-    if (!d) return;
-    d.raf = 0;
-    if (!d.pending) return;
-    const p = d.pending;
-    d.pending = null;
-    this.send(new DragCommand(d.target, p, { source: 'unfolding' }));
-  }
-
   _onUp(e) {
     try { this.canvas.releasePointerCapture(e.pointerId); } catch { /* ignore */ }
     const d = this.drag;
     if (d && e.pointerId === d.pointerId) {
-      if (d.raf) cancelAnimationFrame(d.raf);
-      d.raf = 0;
-      if (d.pending) this._flushDrag();
-      if (d.moved) this.send(new DragEndCommand(d.target, undefined, { source: 'unfolding' }));
+      d.commands.end();
       this.drag = null;
       this.canvas.style.cursor = '';
       this.render();
@@ -392,9 +344,5 @@ export class UnfoldingView {
       this.pan = null;
       if (!pan.moved && this.state.selection) this.select(null);
     }
-  }
-
-  dispose() {
-    this._resizeObserver.disconnect();
   }
 }

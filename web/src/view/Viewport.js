@@ -1,17 +1,16 @@
 // The 3D view: shaded strip coloured by warp angle, boundary curves a/b, control polygons and
 // control points (free: spheres; fixed: cubes; handles: magenta with their target), rulings and
 // normals (toggles), other participants' selection/drag in their colour. Control points are
-// picked with a Raycaster and dragged in the view plane with pointer events: pointerdown on a
+// picked with a Raycaster and dragged in the view plane by ViewportPointer.js: pointerdown on a
 // point disables orbiting, pointermove sends at most one DragCommand per animation frame
 // (latest wins), pointerup sends the last position and a DragEndCommand.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
-import { DragCommand } from '../commands/DragCommand.js';
-import { DragEndCommand } from '../commands/DragEndCommand.js';
-import { sameTarget as sameEntry, targetKey, targetLabel, targetOf } from '../commands/Command.js';
+import { targetKey, targetLabel, targetOf } from '../commands/Command.js';
 import { PointSprites, SHAPE_CUBE, SHAPE_DIAMOND, SHAPE_SPHERE } from './PointSprites.js';
 import { QuadMeshLayer } from './QuadMeshLayer.js';
+import { ViewportPointer, sameTarget } from './ViewportPointer.js';
 
 export const COLORS = {
   background: 0x161a21,
@@ -64,13 +63,6 @@ function isSoftwareGL() {
   } catch {
     return false;
   }
-}
-
-/** Same point target, or the same edge marker ({edgeMarker: e}). */
-function sameTarget(a, b) {
-  if (!a || !b) return false;
-  if (a.edgeMarker !== undefined || b.edgeMarker !== undefined) return a.edgeMarker === b.edgeMarker;
-  return sameEntry(a, b);
 }
 
 /** An InstancedMesh that grows (is recreated) when more instances are needed. */
@@ -150,6 +142,7 @@ export class Viewport {
     this.options = { rulings: true, normals: false, polygons: true, surface: true };
     this.pointRadiusPx = POINT_RADIUS_PX;
     this.dirty = true;
+    /** Hovered and dragged point, set by the pointer handling (ViewportPointer), drawn here. */
     this.hovered = null;
     this.drag = null;
     this.hasFit = false;
@@ -184,7 +177,7 @@ export class Viewport {
       this.controls.enableDamping = true;
       this.controls.dampingFactor = 0.12;
       this.controls.addEventListener('change', () => this.requestRender());
-      this._bindPointer();
+      this.pointer = new ViewportPointer(this, { pickSlackPx: PICK_TOLERANCE_PX - POINT_RADIUS_PX });
     } else {
       this.canvas = null;
       this.controls = { target: new THREE.Vector3(), update: () => false, enabled: true };
@@ -383,7 +376,7 @@ export class Viewport {
   renderNow() {
     this.dirty = false;
     this._updateClipping();
-    this._layoutInstances();
+    this.layoutInstances();
     if (this.renderer) this.renderer.render(this.scene, this.camera);
     this._updateLabels();
   }
@@ -400,14 +393,14 @@ export class Viewport {
   }
 
   /** World units per CSS pixel at the depth of `p`. */
-  _worldPerPixel(p) {
+  worldPerPixel(p) {
     const d = tmpW.copy(p).sub(this.camera.position).dot(this.camera.getWorldDirection(tmpDir));
     const h = 2 * Math.max(d, 1e-6) * Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
     return h / this.height;
   }
 
   /** Places the control-point, handle and presence instances (screen-constant sizes). */
-  _layoutInstances() {
+  layoutInstances() {
     const b = this.activeBuffers();
     const st = this.state;
     if (!b.hasData) return;
@@ -447,7 +440,7 @@ export class Viewport {
       if (handle) {
         const t = handle.position;
         tmpV2.set(t[0], t[1], t[2]);
-        this.handleTargets.push(tmpV2, radiusPx * this._worldPerPixel(tmpV2), COLORS.handle, item);
+        this.handleTargets.push(tmpV2, radiusPx * this.worldPerPixel(tmpV2), COLORS.handle, item);
         links.push(tmpV.x, tmpV.y, tmpV.z, t[0], t[1], t[2]);
       }
     }
@@ -472,14 +465,14 @@ export class Viewport {
       const q = b.pointOf(t);
       if (!q) continue;
       tmpV.set(q[0], q[1], q[2]);
-      this.halos.push(tmpV, this.pointRadiusPx * this._worldPerPixel(tmpV) * (p.dragging ? 2.3 : 1.9), p.color || '#ffffff', { participant: p, target: t });
+      this.halos.push(tmpV, this.pointRadiusPx * this.worldPerPixel(tmpV) * (p.dragging ? 2.3 : 1.9), p.color || '#ffffff', { participant: p, target: t });
     }
     this.halos.end();
 
     if (this.drag && this.drag.position) {
       this.ghost.visible = true;
       this.ghost.position.copy(this.drag.position);
-      this.ghost.scale.setScalar(this.pointRadiusPx * 0.8 * this._worldPerPixel(this.drag.position));
+      this.ghost.scale.setScalar(this.pointRadiusPx * 0.8 * this.worldPerPixel(this.drag.position));
     } else {
       this.ghost.visible = false;
     }
@@ -602,154 +595,6 @@ export class Viewport {
     this.camera.updateMatrixWorld();
     tmpV.set(p[0], p[1], p[2]).project(this.camera);
     return { x: ((tmpV.x + 1) / 2) * this.width, y: ((1 - tmpV.y) / 2) * this.height };
-  }
-
-  // ---- picking and dragging -------------------------------------------------------------------
-
-  _ndc(event) {
-    const rect = this.canvas.getBoundingClientRect();
-    return new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
-  }
-
-  /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
-  pick(event) {
-    if (!this.activeBuffers().hasData || !this.canvas) return null;
-    this._layoutInstances();
-    this.camera.updateMatrixWorld();
-    const raycaster = new THREE.Raycaster();
-    raycaster.setFromCamera(this._ndc(event), this.camera);
-    return this.points.pick(raycaster, (p) => this._worldPerPixel(p), PICK_TOLERANCE_PX - POINT_RADIUS_PX);
-  }
-
-  _bindPointer() {
-    const canvas = this.canvas;
-    // Capture phase on the container: runs before OrbitControls' listener on the canvas, so a
-    // press on a control point can switch orbiting off before it starts.
-    this.container.addEventListener('pointerdown', (e) => this._onPointerDown(e), { capture: true });
-    canvas.addEventListener('pointermove', (e) => this._onPointerMove(e));
-    canvas.addEventListener('pointerup', (e) => this._onPointerUp(e));
-    canvas.addEventListener('pointercancel', (e) => this._onPointerUp(e));
-    canvas.addEventListener('pointerleave', () => {
-      if (!this.drag && this.hovered) {
-        this.hovered = null;
-        this.requestRender();
-      }
-    });
-    canvas.addEventListener('contextmenu', (e) => e.preventDefault());
-  }
-
-  _onPointerDown(e) {
-    if (e.target !== this.canvas) return;
-    this._downAt = { x: e.clientX, y: e.clientY };
-    if (e.button !== 0 || e.ctrlKey || e.metaKey || e.shiftKey) return;
-    const hit = this.pick(e);
-    if (!hit) {
-      this.controls.enabled = true;
-      return;
-    }
-    e.preventDefault();
-    if (hit.edgeMarker !== undefined) {
-      // Edge markers select the edge (crease panel); they are not dragged.
-      this.selectEdge(hit.edgeMarker);
-      this.controls.enabled = true;
-      this._downAt = null;
-      return;
-    }
-    if (this.pointDown(hit)) {
-      this.controls.enabled = true;
-      this._downAt = null;
-      this.requestRender();
-      return;
-    }
-    this.controls.enabled = false;
-    this.select(hit);
-    const p = this.activeBuffers().pointOf(hit);
-    const point = new THREE.Vector3(p[0], p[1], p[2]);
-    const normal = this.camera.getWorldDirection(new THREE.Vector3());
-    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point);
-    const onPlane = this._rayOnPlane(e, plane) || point.clone();
-    this.drag = {
-      target: hit,
-      plane,
-      offset: point.clone().sub(onPlane),
-      pointerId: e.pointerId,
-      position: null,
-      pending: null,
-      raf: 0,
-      moved: false,
-    };
-    try { this.canvas.setPointerCapture(e.pointerId); } catch { /* synthetic events */ }
-    this.canvas.style.cursor = 'grabbing';
-    this.requestRender();
-  }
-
-  _rayOnPlane(e, plane) {
-    const raycaster = new THREE.Raycaster();
-    raycaster.setFromCamera(this._ndc(e), this.camera);
-    return raycaster.ray.intersectPlane(plane, new THREE.Vector3());
-  }
-
-  _onPointerMove(e) {
-    const d = this.drag;
-    if (d) {
-      if (e.pointerId !== d.pointerId) return;
-      const hit = this._rayOnPlane(e, d.plane);
-      if (!hit) return;
-      d.position = hit.add(d.offset);
-      d.pending = d.position.clone();
-      d.moved = true;
-      // At most one drag message per animation frame; the latest position wins.
-      if (!d.raf) d.raf = requestAnimationFrame(() => this._flushDrag());
-      this.requestRender();
-      return;
-    }
-    if (e.buttons) return;
-    // Hover feedback, at most once per frame.
-    this._hoverEvent = e;
-    if (!this._hoverRaf) {
-      this._hoverRaf = requestAnimationFrame(() => {
-        this._hoverRaf = 0;
-        const hit = this.pick(this._hoverEvent);
-        this.canvas.style.cursor = hit ? 'grab' : '';
-        if (!sameTarget(hit, this.hovered)) {
-          this.hovered = hit;
-          this.requestRender();
-        }
-      });
-    }
-  }
-
-  _flushDrag() {
-    const d = this.drag;
-    if (!d) return;
-    d.raf = 0;
-    if (!d.pending) return;
-    const p = d.pending;
-    d.pending = null;
-    this.send(new DragCommand(d.target, [p.x, p.y, p.z], { source: 'viewport' }));
-  }
-
-  _onPointerUp(e) {
-    const d = this.drag;
-    if (d) {
-      if (e.pointerId !== d.pointerId) return;
-      if (d.raf) cancelAnimationFrame(d.raf);
-      d.raf = 0;
-      if (d.pending) this._flushDrag();
-      if (d.moved) this.send(new DragEndCommand(d.target, undefined, { source: 'viewport' }));
-      this.drag = null;
-      this.controls.enabled = true;
-      try { this.canvas.releasePointerCapture(e.pointerId); } catch { /* ignore */ }
-      this.canvas.style.cursor = 'grab';
-      this.requestRender();
-      return;
-    }
-    this.controls.enabled = true;
-    // A click (no orbit) on empty space clears the selection.
-    if (this._downAt && e.button === 0 && Math.hypot(e.clientX - this._downAt.x, e.clientY - this._downAt.y) < 4) {
-      if (!this.pick(e)) this.select(null);
-    }
-    this._downAt = null;
   }
 
   dispose() {

@@ -1,0 +1,171 @@
+// Pointer handling of the 3D view (Viewport): control points are picked with a Raycaster on the
+// point sprites (a few px of slack around their drawn radius) and dragged in the view plane
+// through the point: pointerdown on a point switches orbiting off and selects it (an edge marker
+// selects its edge; `pointDown` may take the press first, e.g. gluing picks), pointermove sends at
+// most one DragCommand per animation frame (latest wins, DragCommandStream), pointerup sends the
+// last position and a DragEndCommand. Hovering sets the cursor; a click on empty space clears the
+// selection. The view draws what this sets on it: view.drag ({target, pointerId, plane, offset,
+// position: the dragged point's latest position, commands}) and view.hovered.
+
+import * as THREE from 'three';
+import { sameTarget as sameEntry } from '../commands/Command.js';
+import { DragCommandStream } from './DragCommandStream.js';
+
+/** Same point target, or the same edge marker ({edgeMarker: e}). */
+export function sameTarget(a, b) {
+  if (!a || !b) return false;
+  if (a.edgeMarker !== undefined || b.edgeMarker !== undefined) return a.edgeMarker === b.edgeMarker;
+  return sameEntry(a, b);
+}
+
+export class ViewportPointer {
+  /**
+   * Listens to the view's canvas (and, in the capture phase, its container).
+   * @param {import('./Viewport.js').Viewport} view
+   * @param {object} options {pickSlackPx: how far outside a point's drawn radius a press still picks it}
+   */
+  constructor(view, { pickSlackPx }) {
+    this.view = view;
+    this.pickSlackPx = pickSlackPx;
+    this._downAt = null;
+    this._hoverEvent = null;
+    this._hoverRaf = 0;
+    this._bind();
+  }
+
+  _ndc(event) {
+    const view = this.view;
+    const rect = view.canvas.getBoundingClientRect();
+    return new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
+  }
+
+  /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
+  pick(event) {
+    const view = this.view;
+    if (!view.activeBuffers().hasData || !view.canvas) return null;
+    view.layoutInstances();
+    view.camera.updateMatrixWorld();
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(this._ndc(event), view.camera);
+    return view.points.pick(raycaster, (p) => view.worldPerPixel(p), this.pickSlackPx);
+  }
+
+  _bind() {
+    const view = this.view;
+    const canvas = view.canvas;
+    // Capture phase on the container: runs before OrbitControls' listener on the canvas, so a
+    // press on a control point can switch orbiting off before it starts.
+    view.container.addEventListener('pointerdown', (e) => this._onPointerDown(e), { capture: true });
+    canvas.addEventListener('pointermove', (e) => this._onPointerMove(e));
+    canvas.addEventListener('pointerup', (e) => this._onPointerUp(e));
+    canvas.addEventListener('pointercancel', (e) => this._onPointerUp(e));
+    canvas.addEventListener('pointerleave', () => {
+      if (!view.drag && view.hovered) {
+        view.hovered = null;
+        view.requestRender();
+      }
+    });
+    canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+  }
+
+  _onPointerDown(e) {
+    const view = this.view;
+    if (e.target !== view.canvas) return;
+    this._downAt = { x: e.clientX, y: e.clientY };
+    if (e.button !== 0 || e.ctrlKey || e.metaKey || e.shiftKey) return;
+    const hit = this.pick(e);
+    if (!hit) {
+      view.controls.enabled = true;
+      return;
+    }
+    e.preventDefault();
+    if (hit.edgeMarker !== undefined) {
+      // Edge markers select the edge (crease panel); they are not dragged.
+      view.selectEdge(hit.edgeMarker);
+      view.controls.enabled = true;
+      this._downAt = null;
+      return;
+    }
+    if (view.pointDown(hit)) {
+      view.controls.enabled = true;
+      this._downAt = null;
+      view.requestRender();
+      return;
+    }
+    view.controls.enabled = false;
+    view.select(hit);
+    const p = view.activeBuffers().pointOf(hit);
+    const point = new THREE.Vector3(p[0], p[1], p[2]);
+    const normal = view.camera.getWorldDirection(new THREE.Vector3());
+    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, point);
+    const onPlane = this._rayOnPlane(e, plane) || point.clone();
+    view.drag = {
+      target: hit,
+      plane,
+      offset: point.clone().sub(onPlane),
+      pointerId: e.pointerId,
+      position: null,
+      commands: new DragCommandStream((c) => view.send(c), hit, 'viewport'),
+    };
+    try { view.canvas.setPointerCapture(e.pointerId); } catch { /* synthetic events */ }
+    view.canvas.style.cursor = 'grabbing';
+    view.requestRender();
+  }
+
+  _rayOnPlane(e, plane) {
+    const view = this.view;
+    const raycaster = new THREE.Raycaster();
+    raycaster.setFromCamera(this._ndc(e), view.camera);
+    return raycaster.ray.intersectPlane(plane, new THREE.Vector3());
+  }
+
+  _onPointerMove(e) {
+    const view = this.view;
+    const d = view.drag;
+    if (d) {
+      if (e.pointerId !== d.pointerId) return;
+      const hit = this._rayOnPlane(e, d.plane);
+      if (!hit) return;
+      d.position = hit.add(d.offset);
+      // At most one drag message per animation frame; the latest position wins.
+      d.commands.move([d.position.x, d.position.y, d.position.z]);
+      view.requestRender();
+      return;
+    }
+    if (e.buttons) return;
+    // Hover feedback, at most once per frame.
+    this._hoverEvent = e;
+    if (!this._hoverRaf) {
+      this._hoverRaf = requestAnimationFrame(() => {
+        this._hoverRaf = 0;
+        const hit = this.pick(this._hoverEvent);
+        view.canvas.style.cursor = hit ? 'grab' : '';
+        if (!sameTarget(hit, view.hovered)) {
+          view.hovered = hit;
+          view.requestRender();
+        }
+      });
+    }
+  }
+
+  _onPointerUp(e) {
+    const view = this.view;
+    const d = view.drag;
+    if (d) {
+      if (e.pointerId !== d.pointerId) return;
+      d.commands.end();
+      view.drag = null;
+      view.controls.enabled = true;
+      try { view.canvas.releasePointerCapture(e.pointerId); } catch { /* ignore */ }
+      view.canvas.style.cursor = 'grab';
+      view.requestRender();
+      return;
+    }
+    view.controls.enabled = true;
+    // A click (no orbit) on empty space clears the selection.
+    if (this._downAt && e.button === 0 && Math.hypot(e.clientX - this._downAt.x, e.clientY - this._downAt.y) < 4) {
+      if (!this.pick(e)) view.select(null);
+    }
+    this._downAt = null;
+  }
+}
