@@ -174,7 +174,7 @@ void Session::rebuild(const proto::Scene& scene) {
 }
 
 proto::Scene Session::persistentScene() const {
-  proto::Scene s = solver_->currentScene();
+  proto::Scene s = withoutZeroWeightHandles(solver_->currentScene());
   if (keepsInput()) return s;
   if (auto* c = std::get_if<composite::CompositeDesign>(&s.model)) {
     const composite::CompositeDesign& design = *c;
@@ -206,7 +206,22 @@ bool Session::isReleasedHandle(const json& target) const {
   return std::find(releasedHandles_.begin(), releasedHandles_.end(), target) != releasedHandles_.end();
 }
 
+proto::Scene Session::withoutZeroWeightHandles(proto::Scene s) {
+  // A handle of weight 0 is a released temporary one (setHandleWeight); no scene may carry it
+  // (the schema and the models want weights > 0). The long hostile-client run found one left in
+  // a composite after its release list was cleared, and every later rebuild and recovery refused it.
+  auto drop = [](auto& handles) {
+    handles.erase(std::remove_if(handles.begin(), handles.end(), [](const auto& h) { return !(h.weight > 0.0); }),
+                  handles.end());
+  };
+  if (auto* c = std::get_if<composite::CompositeDesign>(&s.model)) drop(c->handles);
+  else if (auto* q = std::get_if<qm::QuadMeshDesign>(&s.model)) drop(q->handles);
+  else if (auto* d = std::get_if<StripDesign>(&s.model)) drop(d->handles);
+  return s;
+}
+
 proto::Scene Session::withoutReleasedHandles(proto::Scene s) const {
+  s = withoutZeroWeightHandles(std::move(s));
   if (auto* c = std::get_if<composite::CompositeDesign>(&s.model)) {
     const composite::CompositeDesign& design = *c;
     c->handles.erase(std::remove_if(c->handles.begin(), c->handles.end(),
@@ -574,8 +589,14 @@ void Session::drain() {
         settle();
     } catch (const std::exception& e) {
       // Never let one message take the session down: back to what a restart would restore (the
-      // last checkpoint and the edits acknowledged since), and shown as such.
-      if (work) error(work->participant, work->message.value("op", json()), "internal", e.what());
+      // last checkpoint and the edits acknowledged since), and shown as such. A scene the model
+      // refused on the way (a drag's first contact rebuilds; the session's time budget) is the
+      // sender's error by its own code, not an internal one (hostile client, 20 000 messages).
+      if (work) {
+        const auto* scene = dynamic_cast<const proto::SceneError*>(&e);
+        error(work->participant, work->message.value("op", json()), scene ? codeOf(*scene) : "internal", e.what(),
+              scene ? scene->path() : std::string());
+      }
       try {
         recover();
       } catch (const std::exception& again) {

@@ -114,3 +114,22 @@ TEST(BudgetSession, AStructuralEditOverTheMemoryBudgetIsRefusedNamingTheFieldAnd
 
 }  // namespace
 }  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+TEST(BudgetSession, ADragWhoseFirstContactRebuildRunsOutOfTimeIsAnsweredByItsOwnCodeNotInternal) {
+  // The first drag of a point adds a temporary handle: a rebuild under the session's time budget.
+  // Out of time there, the sender hears `time_budget` (the long hostile-client run saw `internal`).
+  Editor e("composite-curved-fold");
+  e.session->setRebuildTimeBudget(1e-6);
+  const json before = e.session->sceneJson();
+  e.send({{"type", "drag"}, {"op", 1}, {"target", {{"vertex", 0}}}, {"position", {0.1, 0.2, 0.3}}});
+  const json error = e.inbox.last("error");
+  ASSERT_FALSE(error.is_null());
+  EXPECT_EQ(error["code"], "time_budget") << error.dump();
+  EXPECT_EQ(e.session->sceneJson()["model"], before["model"]);
+}
+
+}  // namespace
+}  // namespace devsurf::server

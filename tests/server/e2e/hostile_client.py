@@ -48,7 +48,11 @@ SANITIZER_REPORT = re.compile(r"ERROR: AddressSanitizer|ERROR: LeakSanitizer|run
 # Keys whose value may be null by contract (docs/protocol.md, the schemas): a presence selection
 # or drag of nothing, a cylinder's projection point, and per-edge values of a FOLD export that
 # the format writes as null (io/FoldWriter.h: an edge without a curve).
-NULLABLE_KEYS = {"selection", "dragging", "projection_point", "edges_devsurf:curve", "edges_foldAngle"}
+# Keys whose null is documented (docs/protocol.md): nothing selected or dragged, no development
+# managed (a composite without one, a conical strip not solved yet), no curvature asked for (a
+# quad_mesh without gauss_image) — absence, not a non-finite metric or coordinate.
+NULLABLE_KEYS = {"selection", "dragging", "projection_point", "edges_devsurf:curve", "edges_foldAngle",
+                 "development", "curvature"}
 MAX_BODY = 2 << 20  # the daemon runs with --max-body 2 MiB, so oversized bodies stay cheap
 
 

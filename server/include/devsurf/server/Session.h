@@ -325,6 +325,8 @@ class Session : public std::enable_shared_from_this<Session> {
   bool isDragHandle(const nlohmann::json& target) const;
   /// A temporary handle whose drag ended: still in the model, at weight 0.
   bool isReleasedHandle(const nlohmann::json& target) const;
+  /// The scene without handles of weight 0 (released temporary handles).
+  static proto::Scene withoutZeroWeightHandles(proto::Scene s);
   proto::Scene withoutReleasedHandles(proto::Scene scene) const;
   void setHandleWeight(int handle, double weight);
   void setHandleTarget(int handle, const Eigen::Vector3d& position);
