@@ -32,13 +32,13 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
   m["glue_gap_max"] = q.glueGapMax;
   m["handle_distance_max"] = q.handleDistanceMax;
   m["unfolding_flipped_faces"] = q.unfoldingFlippedFaces;
-  const Eigen::MatrixX3d mesh = model.meshVertices(), unfolding = model.unfoldingVertices();
+  const Eigen::MatrixX3d mesh = model.meshVertices();
   double moved = 0.0;
   if (initialQuadMesh_.mesh.rows() == mesh.rows()) moved = (mesh - initialQuadMesh_.mesh).rowwise().norm().maxCoeff();
   m["displacement_max"] = moved;
   m["rounds"] = quadMeshSummary_.rounds;
   m["unknowns"] = model.numUnknowns();
-  if (model.design().gaussImage) {
+  if (initialQuadMesh_.gaussImage) {
     const qm::QuadMeshCurvature c = model.curvature();
     m["gauss_curvature_max_abs"] = c.gauss.size() ? c.gauss.cwiseAbs().maxCoeff() : 0.0;
     m["mean_curvature_max_abs"] = c.mean.size() ? c.mean.cwiseAbs().maxCoeff() : 0.0;
