@@ -118,6 +118,7 @@ void Server::stop() {
     // 3. Routes still running finish (their answers go nowhere now); then the io threads.
     core.stopWorkers();
     core.stopThreads();
+    core.finishLeftovers(core.limits.closeTimeout + std::chrono::milliseconds(500));
     {
       std::lock_guard<std::mutex> lk(serveMutex_);
       stopped_ = true;

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cstdio>
 #include <future>
 #include <stdexcept>
@@ -142,6 +143,38 @@ void ServerCore::stopThreads() {
     if (t.joinable()) t.join();
   }
   threads.clear();
+}
+
+void ServerCore::finishLeftovers(std::chrono::milliseconds limit) {
+  assert(threads.empty() && "finishLeftovers runs after stopThreads");
+  std::vector<std::shared_ptr<WebSocketSession>> leftSessions;
+  std::vector<std::shared_ptr<HttpConnection>> leftHttp;
+  {
+    std::lock_guard<std::mutex> lk(mutex);
+    for (const auto& entry : sessions) leftSessions.push_back(entry.second);
+    for (const auto& entry : httpConnections) leftHttp.push_back(entry.second);
+  }
+  // Posted, then run below with everything that was still queued when the threads stopped: a
+  // finished connection cancels its timers and closes its socket, so its pending operations
+  // complete (aborted) and the io_context runs out of work.
+  for (auto& session : leftSessions) session->abort();
+  for (auto& connection : leftHttp) connection->abort();
+  if (!leftSessions.empty() || !leftHttp.empty()) {
+    spdlog::warn("transport: finishing {} WebSocket(s) and {} HTTP connection(s) after the io "
+                 "threads stopped",
+                 leftSessions.size(), leftHttp.size());
+  }
+  leftSessions.clear();
+  leftHttp.clear();
+  ioc.restart();
+  try {
+    ioc.run_for(limit);
+  } catch (const std::exception& e) {
+    spdlog::error("transport: exception while finishing connections: {}", e.what());
+  }
+  std::lock_guard<std::mutex> lk(mutex);
+  sessions.clear();
+  httpConnections.clear();
 }
 
 int ServerCore::bind(const std::string& host, int port) {

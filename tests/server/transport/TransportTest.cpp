@@ -394,6 +394,44 @@ TEST(TransportTest, StopDoesNotWaitForeverForAClientThatNeverReads) {
   EXPECT_THROW(late.connect("127.0.0.1", h.port, "/ws", 1s), std::runtime_error);
 }
 
+TEST(TransportTest, AHandlerBlockingTheIoThreadAtStopLeavesNoConnectionAlive) {
+  // The shutdown leak of the long hostile run: a handler held the only io thread through the
+  // whole close grace, the io_context was stopped with the connection's handlers still queued,
+  // and handler → connection → core → io_context → handler kept them all alive.
+  TransportLimits limits;
+  limits.ioThreads = 2;  // one is held by the handler (and the connection's strand with it)
+  limits.closeTimeout = 100ms;
+  std::mutex mutex;
+  std::weak_ptr<Connection> opened;
+  std::atomic<int> closes{0};
+  std::atomic<bool> blocking{false};
+  WebSocketHandlers handlers;
+  handlers.onOpen = [&mutex, &opened](const std::shared_ptr<Connection>& c) {
+    std::lock_guard<std::mutex> lk(mutex);
+    opened = c;
+  };
+  handlers.onMessage = [&blocking](const std::shared_ptr<Connection>&, std::string) {
+    blocking = true;
+    std::this_thread::sleep_for(5s);  // longer than the close grace and the io threads' wait
+  };
+  handlers.onClose = [&closes](const std::shared_ptr<Connection>&) { ++closes; };
+  auto server = std::make_unique<Server>(handlers, limits);
+  const int port = server->bind("127.0.0.1", 0);
+  std::thread serving([&server] { server->serve(); });
+  Client ws;
+  ws.connect("127.0.0.1", port);
+  ws.send("block the io thread");
+  const auto deadline = Clock::now() + 5s;
+  while (!blocking && Clock::now() < deadline) std::this_thread::sleep_for(10ms);
+  ASSERT_TRUE(blocking);
+  server->stop();
+  serving.join();
+  EXPECT_EQ(closes.load(), 1);  // the participant left: onClose ran
+  server.reset();
+  std::lock_guard<std::mutex> lk(mutex);
+  EXPECT_TRUE(opened.expired()) << "a connection outlived the stopped and destroyed server";
+}
+
 TEST(TransportTest, NonWebSocketRequestsGoToHttplib) {
   Harness h;
   h.server->Get("/wsx", [](const httplib::Request&, httplib::Response& res) {
