@@ -56,7 +56,7 @@ def components(n, faces):
 class QuadPresetsTest(unittest.TestCase):
     def test_there_are_presets_for_every_task_of_the_issue(self):
         names = {os.path.basename(p)[:-5] for p in PRESETS}
-        for name in ("quad-bend-sheet", "quad-developable-approx", "quad-cut-glue",
+        for name in ("quad-bend-sheet", "quad-developable-approx", "quad-cut-glue", "quad-cut-glue-diagonal",
                      "quad-cone-deficit", "quad-cone-excess", "quad-dform-convex",
                      "quad-dform-nonconvex", "quad-curved-fold", "quad-conformal-flatten",
                      "quad-cylinder-exact"):
@@ -126,6 +126,24 @@ class QuadPresetsTest(unittest.TestCase):
                         self.assertNotEqual(i, j)
                         self.assertIn(i, boundary)
                         self.assertIn(j, boundary)
+
+    def test_the_diagonal_cut_runs_along_quad_diagonals_and_every_edge_of_it_is_glued(self):
+        """Fig. 16: features may follow diagonals. Every edge of the hole in M′ is the diagonal of
+        a grid cell (|dx| = |dy|), and every vertex on it is glued, except the seam's two tips."""
+        m = load(os.path.join(ROOT, "examples", "quad-cut-glue-diagonal.json"))["model"]
+        u = m["unfolding"]
+        xs, ys = [p[0] for p in u], [p[1] for p in u]
+        outer = lambda v: u[v][0] in (min(xs), max(xs)) or u[v][1] in (min(ys), max(ys))
+        hole = [tuple(e) for e, c in edges_of(m["faces"]).items() if c == 1 and not all(outer(v) for v in e)]
+        self.assertEqual(len(hole), 16)
+        for a, b in hole:
+            dx, dy = abs(u[a][0] - u[b][0]), abs(u[a][1] - u[b][1])
+            self.assertGreater(dx, 0)
+            self.assertAlmostEqual(dx, dy, delta=1e-12)
+        glued = {v for g in m["glue"] for pair in g["pairs"] for v in pair}
+        on_hole = {v for e in hole for v in e}
+        self.assertEqual(len(on_hole - glued), 2, "only the two tips of the seam are unglued")
+        self.assertTrue(any(len(f) == 3 for f in m["faces"]), "the cut splits the quads it crosses")
 
     def test_glued_boundary_edges_have_equal_lengths_in_the_unfolding(self):
         """An arc-length preserving gluing: a boundary edge whose ends are glued to the ends of
