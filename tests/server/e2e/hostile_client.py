@@ -13,8 +13,10 @@ while another task asks GET /api/health every two seconds.
 
 It fails (exit 1) when the daemon dies or does not exit 0 on SIGTERM, when its stderr holds a
 sanitizer report (AddressSanitizer, LeakSanitizer, UndefinedBehaviorSanitizer, ThreadSanitizer),
-when /api/health stops answering, or when any reply is a 500 / `internal` error or carries a
-`null` or non-finite number (JSON or float32 geometry arrays).
+when /api/health stops answering, when an edit or a request gets no answer in 120 s (a
+drag_end's answer is its ack; its `solved` may come later, after other participants' work, and
+is only counted), or when any reply is a 500 / `internal` error or carries a `null` or
+non-finite number (JSON or float32 geometry arrays).
 
   hostile_client.py --bin build-fuzz/server/devsurf --seed 1 --messages 2000 --seconds 240
   hostile_client.py --bin build/server/devsurf --seed 7 --messages 30000 --seconds 3600   (long run)
@@ -822,6 +824,9 @@ def main():
     reports = SANITIZER_REPORT.findall(stderr)
     if reports:
         failures.add("sanitizer", f"{len(reports)} report line(s) in the daemon's stderr:\n" + _excerpt(stderr))
+    unanswered = sum(w.unanswered for w in workers)
+    if unanswered:  # silence is not an answer (issue 12): every edit gets its ack or an error
+        failures.add("silence", f"{unanswered} request(s) without an answer in 120 s (see 'no answer' in the worker logs)")
     sent = sum(w.sent for w in workers)
     counts = {}
     for w in workers:

@@ -125,6 +125,7 @@ class QuadMeshModel {
   std::unique_ptr<engine::GuidedProjectionSolver> solver_;
   int blockMesh_ = -1, blockUnfolding_ = -1, blockFactors_ = -1;
   int isometryTerm_ = -1, factorTerm_ = -1, glueTerm_ = -1;
+  double isometryRowScale_ = 0.0;  ///< mean squared diagonal of M′ at build (normalized)
   int fairnessMeshTerm_ = -1, fairnessUnfoldingTerm_ = -1, mappingTerm_ = -1;
   std::vector<int> handleTerms_;
 };
