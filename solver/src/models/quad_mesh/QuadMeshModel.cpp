@@ -14,7 +14,9 @@
 #include "devsurf/terms/CheckerboardConformalityTerm.h"
 #include "devsurf/terms/CheckerboardIsometryTerm.h"
 #include "devsurf/terms/ConformalFactorTerm.h"
+#include "devsurf/spline/CubicSubdivision.h"
 #include "devsurf/terms/HandleTargetTerm.h"
+#include "devsurf/terms/LinearPointMapTerm.h"
 #include "devsurf/terms/MappingRegularityTerm.h"
 #include "devsurf/terms/PolylineFairnessTerm.h"
 #include "devsurf/terms/ReferencePlaneDistanceTerm.h"
@@ -87,6 +89,16 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
     if (d.unfolding.rows() != V)
       fail("unfolding: " + std::to_string(d.unfolding.rows()) + " vertices, the mesh has " + std::to_string(V));
     if (!finiteRows(d.unfolding)) fail("unfolding: every coordinate must be a finite number");
+  }
+  if (d.control) {
+    const ControlNet& net = *d.control;
+    if (net.rows < 4 || net.columns < 4 || net.rounds < 0 || net.rounds > 4)
+      fail("control: at least 4 × 4 points and 0 … 4 rounds are needed");
+    if (net.points.rows() != static_cast<Eigen::Index>(net.rows) * net.columns || !net.points.allFinite())
+      fail("control.points: rows × columns finite points are needed");
+    const long long refined = static_cast<long long>(spline::cubicSubdividedCount(net.rows, net.rounds)) *
+                              spline::cubicSubdividedCount(net.columns, net.rounds);
+    if (refined != V) fail("mesh: the control net's refinement has " + std::to_string(refined) + " vertices, the mesh " + std::to_string(V));
   }
   if (!d.conformalFactors.empty()) {
     if (d.conformalFactors.size() != d.faces.size())
@@ -213,6 +225,23 @@ void QuadMeshModel::buildProblem() {
   for (int i = 0; i < V; ++i) {
     meshOffsets[i] = pointOffset({MeshSide::Mesh, i});
     unfoldingOffsets[i] = pointOffset({MeshSide::Unfolding, i});
+  }
+  if (design_.control) {
+    // Algorithm 2: the control points are the design; S^k(M) follows them by a hard linear map.
+    const ControlNet& net = *design_.control;
+    subdivision_ = spline::cubicGridSubdivisionMatrix(net.rows, net.columns, net.rounds);
+    const int C = static_cast<int>(net.points.rows());
+    blockControl_ = problem_.addBlock("control", 3 * C);
+    Eigen::MatrixX3d c = net.points;
+    meshNormalization_.normalizeRows(c);
+    auto cx = problem_.blockValues(blockControl_);
+    for (int j = 0; j < C; ++j) cx.segment<3>(3 * j) = c.row(j).transpose();
+    if (!meshVariable) layout.setBlockFixed(blockControl_);
+    std::vector<int> controlOffsets(C);
+    for (int j = 0; j < C; ++j) controlOffsets[j] = layout.block(blockControl_).offset + 3 * j;
+    problem_.addTerm(std::make_unique<terms::LinearPointMapTerm>(
+                         "subdivision", Eigen::SparseMatrix<double, Eigen::RowMajor>(subdivision_), meshOffsets, controlOffsets),
+                     kSubdivisionWeight, engine::Strength::Hard);
   }
   const QuadMeshWeights& w = design_.weights;
   if (design_.conformal) {
@@ -387,12 +416,23 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
 }
 
 Eigen::MatrixX3d QuadMeshModel::meshVertices() const {
+  if (blockControl_ >= 0) return subdivision_ * controlPoints();  // S^k(M) exactly
   const int V = topology_.vertexCount();
   Eigen::MatrixX3d m(V, 3);
   auto x = problem_.blockValues(blockMesh_);
   for (int i = 0; i < V; ++i) m.row(i) = x.segment<3>(3 * i).transpose();
   meshNormalization_.denormalizeRows(m);
   return m;
+}
+
+Eigen::MatrixX3d QuadMeshModel::controlPoints() const {
+  if (blockControl_ < 0) return {};
+  const int C = static_cast<int>(design_.control->points.rows());
+  Eigen::MatrixX3d c(C, 3);
+  auto x = problem_.blockValues(blockControl_);
+  for (int j = 0; j < C; ++j) c.row(j) = x.segment<3>(3 * j).transpose();
+  meshNormalization_.denormalizeRows(c);
+  return c;
 }
 
 Eigen::MatrixX3d QuadMeshModel::unfoldingVertices() const {
@@ -407,6 +447,7 @@ Eigen::MatrixX3d QuadMeshModel::unfoldingVertices() const {
 
 QuadMeshDesign QuadMeshModel::design() const {
   QuadMeshDesign d = design_;
+  if (d.control) d.control->points = controlPoints();
   d.mesh = meshVertices();
   d.unfolding = unfoldingVertices();
   if (blockFactors_ >= 0) {

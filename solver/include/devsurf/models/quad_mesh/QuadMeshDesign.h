@@ -74,6 +74,17 @@ struct IsometrySchedule {
   double fairnessDivisor = 10;  ///< w_fair is divided by this after every round (≥ 1)
 };
 
+/// The control mesh M of a developable spline surface (004_… §4, Algorithm 2; issue 14): a grid
+/// of control points whose bicubic clamped B-spline surface M^∞ is the design. A design with one
+/// has `mesh` = S^k(M), its refinement by `rounds` rounds of eq. 8 (spline::
+/// cubicGridSubdivisionMatrix), and the optimization moves the control points: S^k(M) follows
+/// them through a hard linear map (LinearPointMapTerm) while eq. 1 holds it isometric to M′.
+struct ControlNet {
+  int rows = 0, columns = 0;  ///< ≥ 4 each; point (r, c) is row r·columns + c of `points`
+  int rounds = 2;             ///< k, 0 … 4 (Algorithm 2's default 2)
+  Eigen::MatrixX3d points;    ///< rows·columns × 3, design units
+};
+
 /// Everything that defines a quad-mesh design (scene kind "quad_mesh").
 struct QuadMeshDesign {
   std::vector<Face> faces;             ///< F faces, ccw seen from the front; triangles [3] = −1
@@ -93,6 +104,17 @@ struct QuadMeshDesign {
   IsometrySchedule schedule;
   /// Per-face conformal factors λ_f (F values) of a conformal design after a solve; empty = 1.
   std::vector<double> conformalFactors;
+  /// Set for a developable spline surface: `mesh` and `faces` are then its refined grid
+  /// (splineSurfaceDesign builds them).
+  std::optional<ControlNet> control;
 };
+
+/// A design for Algorithm 2: `mesh` = S^k(M) of the control net, `faces` the refined grid's quads
+/// (counter-clockwise when rows run along +y and columns along +x), M′ left to the model (its
+/// least-squares-plane projection of S^k(M)), both S^k(M) (through M) and M′ variable, weights and
+/// schedule at their defaults.
+/// @throws std::invalid_argument if the net has fewer than 4 rows or columns, rounds outside
+///         0 … 4, or points of another count or not finite
+QuadMeshDesign splineSurfaceDesign(ControlNet net);
 
 }  // namespace devsurf::models::quad_mesh

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/GuidedProjectionSolver.h"
@@ -95,6 +96,11 @@ class QuadMeshModel {
   /// M and M′ in design units (V×3).
   Eigen::MatrixX3d meshVertices() const;
   Eigen::MatrixX3d unfoldingVertices() const;
+  /// The control points of a spline-surface design (design units; empty without a control net).
+  /// Then meshVertices() is S^k of them exactly.
+  Eigen::MatrixX3d controlPoints() const;
+  /// Weight of the hard map S^k(M) = S·M (normalized units) in a spline-surface design.
+  static constexpr double kSubdivisionWeight = 10.0;
 
   void setHandleTarget(int i, const Eigen::Vector3d& target);
   void setHandleWeight(int i, double weight);
@@ -123,7 +129,8 @@ class QuadMeshModel {
   engine::Normalization meshNormalization_, unfoldingNormalization_;
   engine::Problem problem_;
   std::unique_ptr<engine::GuidedProjectionSolver> solver_;
-  int blockMesh_ = -1, blockUnfolding_ = -1, blockFactors_ = -1;
+  int blockMesh_ = -1, blockUnfolding_ = -1, blockFactors_ = -1, blockControl_ = -1;
+  Eigen::SparseMatrix<double> subdivision_;  ///< S^k for a control net (design_.control), else empty
   int isometryTerm_ = -1, factorTerm_ = -1, glueTerm_ = -1;
   double isometryRowScale_ = 0.0;  ///< mean squared diagonal of M′ at build (normalized)
   int fairnessMeshTerm_ = -1, fairnessUnfoldingTerm_ = -1, mappingTerm_ = -1;
