@@ -1,8 +1,10 @@
 #include "devsurf/proto/QuadMeshScene.h"
 
+#include <optional>
 #include <string>
 
 #include "devsurf/proto/Scene.h"
+#include "devsurf/spline/CubicSubdivision.h"
 
 namespace devsurf::proto {
 
@@ -33,8 +35,68 @@ Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<dou
 
 }  // namespace
 
+namespace {
+
+/// A well-formed control net (as the schema wants it, and not larger than the schema allows),
+/// or nullopt: the schema then names what is wrong.
+std::optional<qm::ControlNet> controlNetIfWellFormed(const json& c) {
+  if (!c.is_object()) return std::nullopt;
+  const auto integer = [&c](const char* key, int fallback, int low, int high) -> std::optional<int> {
+    if (!c.contains(key)) return fallback >= 0 ? std::optional<int>(fallback) : std::nullopt;
+    if (!c[key].is_number_integer()) return std::nullopt;
+    const auto v = c[key].get<long long>();
+    if (v < low || v > high) return std::nullopt;
+    return static_cast<int>(v);
+  };
+  const auto rows = integer("rows", -1, 4, 200), columns = integer("columns", -1, 4, 200), rounds = integer("rounds", 2, 0, 4);
+  if (!rows || !columns || !rounds || !c.contains("points") || !c["points"].is_array()) return std::nullopt;
+  const json& points = c["points"];
+  if (points.size() != static_cast<std::size_t>(*rows) * static_cast<std::size_t>(*columns) || points.size() > 40000) return std::nullopt;
+  qm::ControlNet net;
+  net.rows = *rows;
+  net.columns = *columns;
+  net.rounds = *rounds;
+  net.points.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const json& p = points[i];
+    if (!p.is_array() || p.size() != 3) return std::nullopt;
+    for (int k = 0; k < 3; ++k) {
+      if (!p[k].is_number()) return std::nullopt;
+      net.points(static_cast<Eigen::Index>(i), k) = p[k].get<double>();
+    }
+  }
+  if (!net.points.allFinite()) return std::nullopt;
+  // The refined mesh must stay within the mesh limits of the schema (200 000 vertices).
+  const long long refined = static_cast<long long>(spline::cubicSubdividedCount(net.rows, net.rounds)) *
+                            spline::cubicSubdividedCount(net.columns, net.rounds);
+  if (refined > 200000) return std::nullopt;
+  return net;
+}
+
+/// A control net's mesh and faces are its refinement (written over any given): the rest of the
+/// scene's checks then see the mesh the model will have.
+void fillFromControlNet(json& m) {
+  if (!m.is_object() || !m.contains("control")) return;
+  const std::optional<qm::ControlNet> net = controlNetIfWellFormed(m["control"]);
+  if (!net) {
+    // The schema reports the control net's fault; faces and mesh must not be reported missing first.
+    if (!m.contains("faces")) m["faces"] = json::array({json::array({0, 1, 2})});
+    if (!m.contains("mesh")) m["mesh"] = json::array({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    return;
+  }
+  const qm::QuadMeshDesign d = qm::splineSurfaceDesign(*net);
+  json faces = json::array(), mesh = json::array();
+  for (const qm::Face& f : d.faces) faces.push_back({f[0], f[1], f[2], f[3]});
+  for (Eigen::Index i = 0; i < d.mesh.rows(); ++i) mesh.push_back({d.mesh(i, 0), d.mesh(i, 1), d.mesh(i, 2)});
+  m["faces"] = std::move(faces);
+  m["mesh"] = std::move(mesh);
+}
+
+}  // namespace
+
 void acceptQuadMeshShorthand(json& m) {
   if (!m.is_object()) return;
+  fillFromControlNet(m);
   if (m.contains("mesh") && m["mesh"].is_object()) {
     json mesh = m["mesh"];
     if (mesh.contains("faces") && !m.contains("faces")) m["faces"] = mesh["faces"];
@@ -78,6 +140,15 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
     d.faces.push_back(face);
   }
 
+  if (m.contains("control")) {
+    std::optional<qm::ControlNet> net = controlNetIfWellFormed(m["control"]);
+    if (!net) throw SceneError("model.control", "invalid", "rows × columns finite points, 4 … 200 each, 0 … 4 rounds");
+    const qm::QuadMeshDesign refined = qm::splineSurfaceDesign(*net);
+    if (refined.mesh.rows() != d.mesh.rows() || refined.faces != d.faces)
+      throw SceneError("model.mesh", "control", "the mesh of a control net is its refinement S^k(M)");
+    d.mesh = refined.mesh;
+    d.control = std::move(net);
+  }
   d.unfoldingPlanar = m.value("unfolding_planar", true);
   if (m.contains("unfolding")) {
     const json& u = m["unfolding"];
@@ -185,6 +256,13 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
         u.push_back({d.unfolding(i, 0), d.unfolding(i, 1), d.unfolding(i, 2)});
     }
     m["unfolding"] = std::move(u);
+  }
+  if (d.control) {
+    json points = json::array();
+    for (Eigen::Index i = 0; i < d.control->points.rows(); ++i)
+      points.push_back({d.control->points(i, 0), d.control->points(i, 1), d.control->points(i, 2)});
+    m["control"] = {{"rows", d.control->rows}, {"columns", d.control->columns}, {"rounds", d.control->rounds},
+                    {"points", std::move(points)}};
   }
   m["unfolding_planar"] = d.unfoldingPlanar;
   m["variable"] = qm::variableMeshesName(d.variable);

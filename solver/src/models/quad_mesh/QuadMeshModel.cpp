@@ -367,10 +367,13 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
     // The band is absolute (|w r| of one hard row); isometry rows are ‖d‖² − ‖d′‖², of the size of
     // a squared diagonal (1.7e-3 on a 24 × 16 sheet of diameter 1), so the engine's band (0.1 for
     // batch solves, 1e-3 in sessions) let handles stretch the sheet by tens of per cent before it
-    // noticed. With handles, a row may take at most 10 % of its size. (Without handles the band
-    // guards nothing: no target pulls against the hard rows, and starts far from isometric — a
-    // hole pulled shut — stalled under the tight band: cut and glue L-Err 0.0038 % → 0.83 %.)
-    if (isometryRowScale_ > 0 && isoWeight > 0 && !handleTerms_.empty())
+    // noticed. With handles pulling against glue pairs, a row may take at most 10 % of its size.
+    // Only then: without handles the band guards nothing (no target pulls against the hard rows)
+    // and starts far from isometric — a hole pulled shut — stalled under it (cut and glue L-Err
+    // 0.0038 % → 0.83 %); with handles but no glue, a solve started isometric (a solved spline
+    // surface solved again) let the restarted fairness use the band and then stalled (0.011 % →
+    // 2.4 %).
+    if (isometryRowScale_ > 0 && isoWeight > 0 && !handleTerms_.empty() && glueTerm_ >= 0)
       o.stepControl.hardBand = std::min(o.stepControl.hardBand, 0.1 * isoWeight * isometryRowScale_);
     const int numbering = merged.iterations.empty() ? 0 : merged.iterations.back().iteration;
     if (options.callback) {
