@@ -273,9 +273,15 @@ void Daemon::openDemos() {
 std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const std::string& editToken,
                                                const std::string& viewToken, bool demo, const std::string& id) {
   const Session::Tokens tokens{tokenHash(editToken), tokenHash(viewToken)};
+  // A demo is the operator's own scene (--demo), built at startup: like a restored session it
+  // is built without the session's time budget (a slower machine, or a sanitizer build, must not
+  // drop it: three conical demos took over 5 s under ASan), which then applies to its edits.
+  SessionSettings settings = options_.session;
+  if (demo) settings.rebuildTimeBudgetMs = 0.0;
   auto session = std::make_shared<Session>(
-      id, scene, tokens, options_.session, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
+      id, scene, tokens, settings, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
       journal_.get(), &counters_, demo);
+  if (demo) session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
   store::SessionRecord record;
   record.id = id;
   record.editTokenHash = tokens.editHash;

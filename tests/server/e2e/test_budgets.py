@@ -166,5 +166,33 @@ class BudgetRestartTest(unittest.TestCase):
             shutil.rmtree(tmp, ignore_errors=True)
 
 
+
+class DemoBudgetTest(unittest.TestCase):
+    def test_demos_open_whatever_the_session_budget_which_still_bounds_what_users_send(self):
+        tmp = tempfile.mkdtemp(prefix="devsurf-demo-budget-")
+        # A conical strip of 200 × 200 samples takes ~1 s to build: ten times the budget.
+        with open(CONICAL) as f:
+            scene = json.load(f)
+        scene["model"]["np"] = scene["model"]["nq"] = 200
+        demo = f"{tmp}/conical-fine.json"
+        with open(demo, "w") as f:
+            json.dump(scene, f)
+        daemon = Daemon(tmp + "/data", "--session-time-budget-ms", "100", "--demo", demo).start()
+        try:
+            deadline = time.monotonic() + 60
+            ids = []
+            while time.monotonic() < deadline:
+                ids = [s["id"] for s in daemon.json("GET", "/api/sessions")[2]["sessions"]]
+                if len(ids) == 2:
+                    break
+                time.sleep(0.2)
+            self.assertIn("demo-conical-fine", ids, "the demo opens under a 100 ms budget")
+            status, _, body = daemon.json("POST", "/api/sessions", scene)
+            self.assertTrue(400 <= status < 500, (status, body))  # a user's scene is held to the budget
+            self.assertEqual(body["error"]["code"], "time_budget")
+        finally:
+            daemon.stop()
+            shutil.rmtree(tmp, ignore_errors=True)
+
 if __name__ == "__main__":
     unittest.main()
