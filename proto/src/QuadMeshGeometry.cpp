@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 
 #include "devsurf/models/quad_mesh/FaceMeasures.h"
+#include "devsurf/models/quad_mesh/SplineSurface.h"
 #include "devsurf/proto/Geometry.h"
 
 namespace devsurf::proto {
@@ -71,7 +72,46 @@ nlohmann::json quadMeshGeometryJson(const qm::QuadMeshModel& model, const qm::Qu
                       {"kappa1", float32Array(c.kappa1)}, {"kappa2", float32Array(c.kappa2)},
                       {"rulings", float32Array(rulings)}};
   }
+  if (design.control) j["spline"] = splineGeometryJson(*design.control, model.controlPoints());
   return j;
+}
+
+nlohmann::json splineGeometryJson(const qm::ControlNet& net, const Eigen::MatrixX3d& points) {
+  qm::SplineAnalysisOptions options;
+  options.samplesPerSpan = 6;
+  const qm::SplineSurfaceAnalysis a = qm::analyzeSplineSurface(net, points, options);
+  // The control mesh's edges: every grid edge of every patch, once.
+  std::vector<std::array<int, 2>> edges;
+  for (const qm::ControlPatch& p : qm::controlPatches(net))
+    for (int r = 0; r < p.rows; ++r)
+      for (int c = 0; c < p.columns; ++c) {
+        const int i = p.indices[static_cast<std::size_t>(r * p.columns + c)];
+        if (c + 1 < p.columns) edges.push_back({i, p.indices[static_cast<std::size_t>(r * p.columns + c + 1)]});
+        if (r + 1 < p.rows) edges.push_back({i, p.indices[static_cast<std::size_t>((r + 1) * p.columns + c)]});
+      }
+  for (auto& e : edges)
+    if (e[0] > e[1]) std::swap(e[0], e[1]);
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  Eigen::MatrixXi edgeArray(static_cast<Eigen::Index>(edges.size()), 2);
+  for (std::size_t e = 0; e < edges.size(); ++e) edgeArray.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  const double d2 = a.diameter * a.diameter;
+  nlohmann::json patches = nlohmann::json::array(), rulings = nlohmann::json::array();
+  for (std::size_t p = 0; p < a.samples.size(); ++p)
+    patches.push_back({{"rows", a.sampleGridSize[p][0]},
+                       {"columns", a.sampleGridSize[p][1]},
+                       {"points", float32Array(a.samples[p])},
+                       {"gauss_scaled", float32Array(a.gauss[p] * d2)}});
+  for (const Eigen::MatrixX3d& r : a.rulings) rulings.push_back(float32Array(r));
+  return {{"control", float32Array(points)},
+          {"control_edges", int32Array(edgeArray)},
+          {"rounds", net.rounds},
+          {"patches", std::move(patches)},
+          {"rulings", std::move(rulings)},
+          {"gauss_max_scaled", a.gaussMaxScaled},
+          {"gauss_mean_scaled", a.gaussMeanScaled},
+          {"shared_sides", a.sharedSides},
+          {"normal_jump_max_deg", a.normalJumpMaxDegrees}};
 }
 
 }  // namespace devsurf::proto

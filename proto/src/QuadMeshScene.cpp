@@ -28,7 +28,15 @@ int vertexIndex(const json& j, const std::string& path, std::size_t V) {
 }
 
 qm::MeshSide sideFromJson(const json& j) {
-  return j.value("on", std::string("mesh")) == "unfolding" ? qm::MeshSide::Unfolding : qm::MeshSide::Mesh;
+  const std::string on = j.value("on", std::string("mesh"));
+  return on == "unfolding" ? qm::MeshSide::Unfolding : on == "control" ? qm::MeshSide::Control : qm::MeshSide::Mesh;
+}
+
+/// The number of points a reference on `side` may address.
+std::size_t pointCount(qm::MeshSide side, std::size_t V, const qm::QuadMeshDesign& d, const std::string& path) {
+  if (side != qm::MeshSide::Control) return V;
+  if (!d.control) throw SceneError(path + ".on", "control", "\"control\" addresses control points; this scene has no control net");
+  return static_cast<std::size_t>(d.control->points.rows());
 }
 
 Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
@@ -38,24 +46,59 @@ Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<dou
 namespace {
 
 /// A well-formed control net (as the schema wants it, and not larger than the schema allows),
-/// or nullopt: the schema then names what is wrong.
+/// or nullopt: the schema then names what is wrong. Two forms: {rows, columns, points} (one
+/// patch) or {points, patches: [{rows, columns, indices}]}; the patches' indices are checked by
+/// the model (splineRefinement), which names the field.
 std::optional<qm::ControlNet> controlNetIfWellFormed(const json& c) {
   if (!c.is_object()) return std::nullopt;
-  const auto integer = [&c](const char* key, int fallback, int low, int high) -> std::optional<int> {
-    if (!c.contains(key)) return fallback >= 0 ? std::optional<int>(fallback) : std::nullopt;
-    if (!c[key].is_number_integer()) return std::nullopt;
-    const auto v = c[key].get<long long>();
+  const auto integer = [](const json& o, const char* key, int fallback, int low, int high) -> std::optional<int> {
+    if (!o.contains(key)) return fallback >= 0 ? std::optional<int>(fallback) : std::nullopt;
+    if (!o[key].is_number_integer()) return std::nullopt;
+    const auto v = o[key].get<long long>();
     if (v < low || v > high) return std::nullopt;
     return static_cast<int>(v);
   };
-  const auto rows = integer("rows", -1, 4, 200), columns = integer("columns", -1, 4, 200), rounds = integer("rounds", 2, 0, 4);
-  if (!rows || !columns || !rounds || !c.contains("points") || !c["points"].is_array()) return std::nullopt;
+  const auto rounds = integer(c, "rounds", 2, 0, 4);
+  if (!rounds || !c.contains("points") || !c["points"].is_array()) return std::nullopt;
   const json& points = c["points"];
-  if (points.size() != static_cast<std::size_t>(*rows) * static_cast<std::size_t>(*columns) || points.size() > 40000) return std::nullopt;
+  if (points.size() < 16 || points.size() > 40000) return std::nullopt;
   qm::ControlNet net;
-  net.rows = *rows;
-  net.columns = *columns;
   net.rounds = *rounds;
+  if (c.contains("smoothness")) {
+    if (!c["smoothness"].is_number() || !(c["smoothness"].get<double>() >= 0) || c["smoothness"].get<double>() > 1e6)
+      return std::nullopt;
+    net.smoothness = c["smoothness"].get<double>();
+  }
+  long long refined = 0;
+  if (c.contains("patches")) {
+    if (c.contains("rows") || c.contains("columns") || !c["patches"].is_array() || c["patches"].empty() ||
+        c["patches"].size() > 1000)
+      return std::nullopt;
+    for (const json& p : c["patches"]) {
+      if (!p.is_object() || p.size() != 3) return std::nullopt;
+      const auto rows = integer(p, "rows", -1, 4, 200), columns = integer(p, "columns", -1, 4, 200);
+      if (!rows || !columns || !p.contains("indices") || !p["indices"].is_array()) return std::nullopt;
+      qm::ControlPatch patch;
+      patch.rows = *rows;
+      patch.columns = *columns;
+      if (p["indices"].size() != static_cast<std::size_t>(*rows * *columns)) return std::nullopt;
+      for (const json& i : p["indices"]) {
+        if (!i.is_number_integer() || i.get<long long>() < 0 || i.get<long long>() > 40000) return std::nullopt;
+        patch.indices.push_back(static_cast<int>(i.get<long long>()));
+      }
+      refined += static_cast<long long>(spline::cubicSubdividedCount(patch.rows, net.rounds)) *
+                 spline::cubicSubdividedCount(patch.columns, net.rounds);
+      net.patches.push_back(std::move(patch));
+    }
+  } else {
+    const auto rows = integer(c, "rows", -1, 4, 200), columns = integer(c, "columns", -1, 4, 200);
+    if (!rows || !columns) return std::nullopt;
+    if (points.size() != static_cast<std::size_t>(*rows) * static_cast<std::size_t>(*columns)) return std::nullopt;
+    net.rows = *rows;
+    net.columns = *columns;
+    refined = static_cast<long long>(spline::cubicSubdividedCount(net.rows, net.rounds)) *
+              spline::cubicSubdividedCount(net.columns, net.rounds);
+  }
   net.points.resize(static_cast<Eigen::Index>(points.size()), 3);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const json& p = points[i];
@@ -67,10 +110,21 @@ std::optional<qm::ControlNet> controlNetIfWellFormed(const json& c) {
   }
   if (!net.points.allFinite()) return std::nullopt;
   // The refined mesh must stay within the mesh limits of the schema (200 000 vertices).
-  const long long refined = static_cast<long long>(spline::cubicSubdividedCount(net.rows, net.rounds)) *
-                            spline::cubicSubdividedCount(net.columns, net.rounds);
   if (refined > 200000) return std::nullopt;
   return net;
+}
+
+/// splineSurfaceDesign with the model's complaints ("control.patches[1].indices[3]: …") as
+/// SceneErrors naming model.<field>.
+qm::QuadMeshDesign refinedDesign(const qm::ControlNet& net) {
+  try {
+    return qm::splineSurfaceDesign(net);
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    const std::size_t colon = what.find(": ");
+    if (colon == std::string::npos) throw SceneError("model.control", "invalid", what);
+    throw SceneError("model." + what.substr(0, colon), "invalid", what.substr(colon + 2));
+  }
 }
 
 /// A control net's mesh and faces are its refinement (written over any given): the rest of the
@@ -84,7 +138,7 @@ void fillFromControlNet(json& m) {
     if (!m.contains("mesh")) m["mesh"] = json::array({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
     return;
   }
-  const qm::QuadMeshDesign d = qm::splineSurfaceDesign(*net);
+  const qm::QuadMeshDesign d = refinedDesign(*net);
   json faces = json::array(), mesh = json::array();
   for (const qm::Face& f : d.faces) faces.push_back({f[0], f[1], f[2], f[3]});
   for (Eigen::Index i = 0; i < d.mesh.rows(); ++i) mesh.push_back({d.mesh(i, 0), d.mesh(i, 1), d.mesh(i, 2)});
@@ -142,8 +196,11 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
 
   if (m.contains("control")) {
     std::optional<qm::ControlNet> net = controlNetIfWellFormed(m["control"]);
-    if (!net) throw SceneError("model.control", "invalid", "rows × columns finite points, 4 … 200 each, 0 … 4 rounds");
-    const qm::QuadMeshDesign refined = qm::splineSurfaceDesign(*net);
+    if (!net)
+      throw SceneError("model.control", "invalid",
+                       "rows × columns finite points (or patches of them), 4 … 200 each, 0 … 4 rounds, at most 200 000 "
+                       "refined vertices");
+    const qm::QuadMeshDesign refined = refinedDesign(*net);
     if (refined.mesh.rows() != d.mesh.rows() || refined.faces != d.faces)
       throw SceneError("model.mesh", "control", "the mesh of a control net is its refinement S^k(M)");
     d.mesh = refined.mesh;
@@ -177,17 +234,22 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
   for (std::size_t i = 0; i < handles.size(); ++i) {
     const json& h = handles[i];
     qm::VertexHandle handle;
-    handle.vertex = {sideFromJson(h), vertexIndex(h.at("vertex"), at("model.handles", i) + ".vertex", V)};
+    const qm::MeshSide side = sideFromJson(h);
+    handle.vertex = {side, vertexIndex(h.at("vertex"), at("model.handles", i) + ".vertex",
+                                       pointCount(side, V, d, at("model.handles", i)))};
     handle.target = point3(h.at("position"));
     handle.weight = h.value("weight", 1.0);
     d.handles.push_back(handle);
   }
   const json fixed = m.value("fixed", json::array());
   for (std::size_t i = 0; i < fixed.size(); ++i)
-    d.fixed.push_back({sideFromJson(fixed[i]), vertexIndex(fixed[i].at("vertex"), at("model.fixed", i) + ".vertex", V)});
+    d.fixed.push_back({sideFromJson(fixed[i]), vertexIndex(fixed[i].at("vertex"), at("model.fixed", i) + ".vertex",
+                                                          pointCount(sideFromJson(fixed[i]), V, d, at("model.fixed", i)))});
   const json glue = m.value("glue", json::array());
   for (std::size_t i = 0; i < glue.size(); ++i) {
     const qm::MeshSide side = sideFromJson(glue[i]);
+    if (side == qm::MeshSide::Control)
+      throw SceneError(at("model.glue", i) + ".on", "control", "glue joins vertices of M or M′, not control points");
     const json& pairs = glue[i].at("pairs");
     for (std::size_t k = 0; k < pairs.size(); ++k) {
       const std::string path = at(at("model.glue", i) + ".pairs", k);
@@ -261,8 +323,18 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
     json points = json::array();
     for (Eigen::Index i = 0; i < d.control->points.rows(); ++i)
       points.push_back({d.control->points(i, 0), d.control->points(i, 1), d.control->points(i, 2)});
-    m["control"] = {{"rows", d.control->rows}, {"columns", d.control->columns}, {"rounds", d.control->rounds},
-                    {"points", std::move(points)}};
+    json control = {{"rounds", d.control->rounds}, {"points", std::move(points)}};
+    if (d.control->patches.empty()) {
+      control["rows"] = d.control->rows;
+      control["columns"] = d.control->columns;
+    } else {
+      json patches = json::array();
+      for (const qm::ControlPatch& p : d.control->patches)
+        patches.push_back({{"rows", p.rows}, {"columns", p.columns}, {"indices", p.indices}});
+      control["patches"] = std::move(patches);
+    }
+    if (d.control->smoothness > 0) control["smoothness"] = d.control->smoothness;
+    m["control"] = std::move(control);
   }
   m["unfolding_planar"] = d.unfoldingPlanar;
   m["variable"] = qm::variableMeshesName(d.variable);
@@ -275,14 +347,14 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
     json entry = {{"vertex", h.vertex.vertex},
                   {"position", {h.target.x(), h.target.y(), h.target.z()}},
                   {"weight", h.weight}};
-    if (h.vertex.on == qm::MeshSide::Unfolding) entry["on"] = "unfolding";
+    if (h.vertex.on != qm::MeshSide::Mesh) entry["on"] = qm::meshSideName(h.vertex.on);
     handles.push_back(std::move(entry));
   }
   if (!handles.empty()) m["handles"] = std::move(handles);
   json fixed = json::array();
   for (const qm::VertexRef& v : d.fixed) {
     json entry = {{"vertex", v.vertex}};
-    if (v.on == qm::MeshSide::Unfolding) entry["on"] = "unfolding";
+    if (v.on != qm::MeshSide::Mesh) entry["on"] = qm::meshSideName(v.on);
     fixed.push_back(std::move(entry));
   }
   if (!fixed.empty()) m["fixed"] = std::move(fixed);

@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "devsurf/cad/StepWriter.h"
 #include "devsurf/io/FoldWriter.h"
 #include "devsurf/io/SvgFoldPattern.h"
 #include "devsurf/models/conical_strip/ArcLengthCurve.h"
@@ -455,10 +456,9 @@ nlohmann::json SceneSolver::report(const engine::SolveSummary& summary, double t
 }
 
 void SceneSolver::igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const {
-  if (quadMesh_)
-    throw ExportUnavailable("format: iges exports B-spline surfaces; a quad_mesh scene is a mesh (use obj, "
-                            "unfolding_obj, svg or fold)");
-  if (composite_) {
+  if (quadMesh_) {
+    quadMeshIgesEntities(surfaces);
+  } else if (composite_) {
     composite_->igesEntities(surfaces, curves);
   } else if (quasi_) {
     const quasi::RuledBSplineSurface& s = quasi_->results().surface;
@@ -590,9 +590,22 @@ void SceneSolver::exportTo(const std::string& spec) const {
     io::writeIges(path, surfaces, curves, header);
     return;
   }
+  if (format == "step") {
+    ExportedFile file;
+    try {
+      file = exportAs(format);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("--export " + std::string(e.what()).substr(8));
+    }
+    std::FILE* out = std::fopen(path.c_str(), "wb");
+    if (!out) throw std::runtime_error("cannot write " + path);
+    const bool ok = std::fwrite(file.content.data(), 1, file.content.size(), out) == file.content.size();
+    if (std::fclose(out) != 0 || !ok) throw std::runtime_error("cannot write " + path);
+    return;
+  }
   if (format != "obj" && format != "off" && format != "ply" && format != "stl")
     throw std::invalid_argument("--export: unknown format \"" + format +
-                                "\" (expected obj, off, ply, stl, iges, or fold, svg for composites with a development)");
+                                "\" (expected obj, off, ply, stl, iges, step, or fold, svg for composites with a development)");
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
@@ -641,9 +654,9 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
   if (quadMesh_) return quadMeshExport(format);
-  if (format != "obj" && format != "fold" && format != "svg" && format != "iges")
-    throw ExportUnavailable("format: expected json, obj, iges, fold or svg, got \"" + format + "\"");
-  if (format == "iges") {
+  if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step")
+    throw ExportUnavailable("format: expected json, obj, iges, step, fold or svg, got \"" + format + "\"");
+  if (format == "iges" || format == "step") {
     io::IgesHeader header;
     header.fileName = (scene_.name.empty() ? std::string("devsurf") : scene_.name) + ".igs";
     header.units = scene_.units;
@@ -651,14 +664,19 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
     std::vector<io::IgesCurve> curves;
     try {
       igesEntities(surfaces, curves);
+      if (format == "step") {
+        cad::StepOptions options;
+        options.units = scene_.units;
+        return {cad::stepDocument(surfaces, options), "model/step", "step"};
+      }
       return {io::igesDocument(surfaces, curves, header), "model/iges", "igs"};
     } catch (const ExportFailed&) {
       throw;
     } catch (const std::bad_alloc&) {
       throw;
     } catch (const std::exception& e) {
-      throw ExportFailed("format: iges: the model in its current state cannot be written as IGES (" +
-                         std::string(e.what()) + ")");
+      throw ExportFailed("format: " + format + ": the model in its current state cannot be written as " +
+                         (format == "step" ? "STEP" : "IGES") + " (" + std::string(e.what()) + ")");
     }
   }
   if (format == "fold" || format == "svg") {

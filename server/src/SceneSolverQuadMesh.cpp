@@ -1,9 +1,13 @@
 // SceneSolver's quad_mesh parts (Jiang et al. 2020): metrics and exports.
+#include <algorithm>
 #include <sstream>
 
+#include "devsurf/cad/StepWriter.h"
 #include "devsurf/io/CuttingPatternSvg.h"
+#include "devsurf/io/IgesWriter.h"
 #include "devsurf/io/PolygonMesh.h"
 #include "devsurf/io/QuadMeshFold.h"
+#include "devsurf/models/quad_mesh/SplineSurface.h"
 #include "devsurf/server/SceneSolver.h"
 
 namespace devsurf::server {
@@ -38,6 +42,21 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
   m["displacement_max"] = moved;
   m["rounds"] = quadMeshSummary_.rounds;
   m["unknowns"] = model.numUnknowns();
+  if (initialQuadMesh_.control) {
+    // The spline M^∞ itself (issue 14), before (the scene's control points) and now.
+    const qm::ControlNet& net = *initialQuadMesh_.control;
+    const qm::SplineSurfaceAnalysis now = qm::analyzeSplineSurface(net, model.controlPoints());
+    const qm::SplineSurfaceAnalysis before = qm::analyzeSplineSurface(net, net.points);
+    m["spline_gauss_max_scaled"] = now.gaussMaxScaled;
+    m["spline_gauss_mean_scaled"] = now.gaussMeanScaled;
+    m["spline_gauss_max_scaled_initial"] = before.gaussMaxScaled;
+    m["spline_gauss_mean_scaled_initial"] = before.gaussMeanScaled;
+    m["spline_normal_jump_max_deg"] = now.normalJumpMaxDegrees;
+    m["spline_normal_jump_max_deg_initial"] = before.normalJumpMaxDegrees;
+    m["spline_patches"] = static_cast<double>(now.samples.size());
+    m["spline_shared_sides"] = now.sharedSides;
+    m["control_points"] = static_cast<double>(net.points.rows());
+  }
   if (initialQuadMesh_.gaussImage) {
     const qm::QuadMeshCurvature c = model.curvature();
     m["gauss_curvature_max_abs"] = c.gauss.size() ? c.gauss.cwiseAbs().maxCoeff() : 0.0;
@@ -53,6 +72,32 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
   if (format == "obj") return {io::objString(model.meshVertices(), faces, title + " (M)"), "model/obj", "obj"};
   if (format == "unfolding_obj")
     return {io::objString(model.unfoldingVertices(), faces, title + " (unfolding M')"), "model/obj", "unfolding.obj"};
+  if (format == "iges" || format == "step") {
+    if (!initialQuadMesh_.control)
+      throw ExportUnavailable("format: " + format + " exports B-spline surfaces; this quad_mesh scene is a mesh without "
+                              "a control net (use obj, unfolding_obj, svg or fold)");
+    std::vector<io::IgesSurface> surfaces;
+    std::vector<io::IgesCurve> curves;
+    igesEntities(surfaces, curves);
+    try {
+      if (format == "iges") {
+        io::IgesHeader header;
+        header.fileName = title + ".igs";
+        header.units = scene_.units;
+        return {io::igesDocument(surfaces, curves, header), "model/iges", "igs"};
+      }
+      cad::StepOptions options;
+      options.units = scene_.units;
+      options.sew = true;  // patches sharing a side share its edge: one watertight shell
+      options.sewingTolerance = 1e-7 * std::max(1e-300, (model.meshVertices().colwise().maxCoeff() -
+                                                          model.meshVertices().colwise().minCoeff()).norm());
+      return {cad::stepDocument(surfaces, options), "model/step", "step"};
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw ExportFailed("format: " + format + ": the surface in its current state cannot be written (" + e.what() + ")");
+    }
+  }
   if (format == "svg" || format == "fold") {
     const qm::QuadMeshDesign d = model.design();
     if (!d.unfoldingPlanar)
@@ -77,8 +122,29 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
       throw ExportFailed("format: " + format + ": the mesh in its current state cannot be written (" + e.what() + ")");
     }
   }
-  throw ExportUnavailable("format: expected json, obj, unfolding_obj, svg or fold for a quad_mesh scene, got \"" +
+  throw ExportUnavailable("format: expected json, obj, unfolding_obj, svg, fold, or iges, step with a control net, for a "
+                          "quad_mesh scene, got \"" +
                           format + "\" (devsurf solve also writes stl)");
+}
+
+void SceneSolver::quadMeshIgesEntities(std::vector<io::IgesSurface>& surfaces) const {
+  const qm::QuadMeshModel& model = *quadMesh_;
+  if (!initialQuadMesh_.control)
+    throw ExportUnavailable("format: iges exports B-spline surfaces; a quad_mesh scene without a control net is a mesh "
+                            "(use obj, unfolding_obj, svg or fold)");
+  const std::vector<qm::SplinePatchSurface> patches =
+      qm::splinePatchSurfaces(*initialQuadMesh_.control, model.controlPoints());
+  for (std::size_t k = 0; k < patches.size(); ++k) {
+    io::IgesSurface s;
+    s.degreeU = s.degreeV = 3;
+    s.nu = patches[k].nu;
+    s.nv = patches[k].nv;
+    s.knotsU = patches[k].knotsU;
+    s.knotsV = patches[k].knotsV;
+    s.points = patches[k].points;
+    s.label = "PATCH" + std::to_string(k);
+    surfaces.push_back(std::move(s));
+  }
 }
 
 }  // namespace devsurf::server

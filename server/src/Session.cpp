@@ -54,13 +54,15 @@ namespace qm = models::quad_mesh;
 
 /// A quad_mesh vertex of a target or scene entry ({"vertex"} with optional "on").
 qm::VertexRef quadRefOf(const json& target) {
-  return {target.value("on", std::string("mesh")) == "unfolding" ? qm::MeshSide::Unfolding : qm::MeshSide::Mesh,
+  const std::string on = target.value("on", std::string("mesh"));
+  return {on == "unfolding" ? qm::MeshSide::Unfolding : on == "control" ? qm::MeshSide::Control : qm::MeshSide::Mesh,
           target.at("vertex").get<int>()};
 }
 
-/// Canonical target of a quad_mesh vertex: {"vertex": i} on M, {"on": "unfolding", "vertex": i} on M′.
+/// Canonical target of a quad_mesh vertex: {"vertex": i} on M, {"on": "unfolding", "vertex": i} on
+/// M′, {"on": "control", "vertex": i} for a control point of a spline surface.
 json quadTargetJson(const qm::VertexRef& v) {
-  if (v.on == qm::MeshSide::Unfolding) return {{"on", "unfolding"}, {"vertex", v.vertex}};
+  if (v.on != qm::MeshSide::Mesh) return {{"on", qm::meshSideName(v.on)}, {"vertex", v.vertex}};
   return {{"vertex", v.vertex}};
 }
 
@@ -356,6 +358,20 @@ json Session::canonicalTarget(const json& target, std::string& path, std::string
       return nullptr;
     }
     const qm::VertexRef r = quadRefOf(target);
+    if (r.on == qm::MeshSide::Control) {
+      if (!q->control) {
+        path = "target.on";
+        message = "\"control\" addresses control points; this quad_mesh has no control net";
+        return nullptr;
+      }
+      const int np = static_cast<int>(q->control->points.rows());
+      if (r.vertex >= np) {
+        path = "target.vertex";
+        message = "no control point " + std::to_string(r.vertex) + " (the net has " + std::to_string(np) + ")";
+        return nullptr;
+      }
+      return quadTargetJson(r);
+    }
     const int nv = static_cast<int>(q->mesh.rows());
     if (r.vertex >= nv) {
       path = "target.vertex";

@@ -61,6 +61,8 @@ std::vector<Eigen::Vector3d> allPoints(const json& model) {
     for (const json& p : model["vertices"]) pts.push_back(vec(p));
   if (model.contains("mesh"))  // quad_mesh: M
     for (const json& p : model["mesh"]) pts.push_back(vec(p));
+  if (model.contains("control"))  // quad_mesh spline surface: its control points
+    for (const json& p : model["control"]["points"]) pts.push_back(vec(p));
   if (model.contains("edges"))
     for (const json& e : model["edges"])
       for (const json& p : e.value("points", json::array())) pts.push_back(vec(p));
@@ -120,6 +122,35 @@ std::vector<DragTarget> dragTargets(const json& model, const Eigen::Vector3d& ce
     }
     if (!interior.empty()) out.push_back(farthest(interior));
     else if (!anyInterior.empty()) out.push_back(farthest(anyInterior));
+    return out;
+  }
+  if (kind == "quad_mesh" && model.contains("control")) {
+    // A spline surface: its control points, as the web app drags them — the boundary point of a
+    // patch farthest from the centre and the interior point farthest from it.
+    std::set<int> rimPoints;
+    const json& c = model["control"];
+    json patches = c.value("patches", json::array());
+    if (patches.empty()) {
+      json indices = json::array();
+      for (std::size_t i = 0; i < c["points"].size(); ++i) indices.push_back(static_cast<int>(i));
+      patches.push_back({{"rows", c["rows"]}, {"columns", c["columns"]}, {"indices", indices}});
+    }
+    for (const json& p : patches) {
+      const int rows = p["rows"], columns = p["columns"];
+      for (int r = 0; r < rows; ++r)
+        for (int k = 0; k < columns; ++k)
+          if (r == 0 || k == 0 || r == rows - 1 || k == columns - 1)
+            rimPoints.insert(p["indices"][static_cast<std::size_t>(r * columns + k)].get<int>());
+    }
+    std::vector<DragTarget> rim, inner;
+    for (std::size_t i = 0; i < c["points"].size(); ++i) {
+      const json t = {{"on", "control"}, {"vertex", static_cast<int>(i)}};
+      if (isFixed(model, t)) continue;
+      const bool onRim = rimPoints.count(static_cast<int>(i)) > 0;
+      (onRim ? rim : inner).push_back({onRim ? "control corner" : "control interior", t, vec(c["points"][i])});
+    }
+    if (!rim.empty()) out.push_back(farthest(rim));
+    if (!inner.empty()) out.push_back(farthest(inner));
     return out;
   }
   if (kind == "quad_mesh") {
@@ -210,7 +241,9 @@ double narrowestRuling(const checks::ObjMesh& mesh) {
 /// Where the scene has a target now.
 Eigen::Vector3d currentPosition(const json& model, const json& target) {
   if (model["kind"] == "quad_mesh") {
-    const json& p = model[target.value("on", "mesh") == "unfolding" ? "unfolding" : "mesh"][target["vertex"].get<std::size_t>()];
+    const std::string on = target.value("on", "mesh");
+    const json& p = on == "control" ? model["control"]["points"][target["vertex"].get<std::size_t>()]
+                                    : model[on == "unfolding" ? "unfolding" : "mesh"][target["vertex"].get<std::size_t>()];
     return {p[0].get<double>(), p[1].get<double>(), p.size() > 2 ? p[2].get<double>() : 0.0};
   }
   if (target.contains("vertex")) return vec(model["vertices"][target["vertex"].get<std::size_t>()]);

@@ -106,8 +106,17 @@ nlohmann::json conicalStripGeometryJson(const models::conical_strip::ConicalStri
 ///  * "curvature": null unless the design asks for the Gauss image, else per face "gauss" [F,1],
 ///    "mean" [F,1], "kappa1", "kappa2" [F,1] and "rulings" [F,6] (a segment through the face's
 ///    centre along its ruling direction, half the face's size each way; where |K| is not small
-///    against κ1² the segment has zero length).
+///    against κ1² the segment has zero length);
+///  * "spline" (only with a control net): splineGeometryJson of the current control points.
 nlohmann::json quadMeshGeometryJson(const models::quad_mesh::QuadMeshModel& model,
                                     const models::quad_mesh::QuadMeshQuality& quality);
+
+/// The spline surface M^∞ of a control net (issue 14) for the browser: "control" [P,3] float32
+/// control points, "control_edges" [E,2] int32 (the patches' grid edges, each once), "rounds",
+/// "patches" (per patch "rows", "columns" and row-major float32 "points" [rows·columns,3] of M^∞
+/// sampled 6 per span, "gauss_scaled" [rows·columns,1] K · diameter²), "rulings" (float32
+/// polylines [n,3] where M^∞ is developable and curved), "gauss_max_scaled", "gauss_mean_scaled",
+/// "shared_sides", "normal_jump_max_deg" (models::quad_mesh::analyzeSplineSurface).
+nlohmann::json splineGeometryJson(const models::quad_mesh::ControlNet& net, const Eigen::MatrixX3d& points);
 
 }  // namespace devsurf::proto

@@ -161,8 +161,10 @@ class SceneSolver {
   /// The export as bytes: "obj" (sampled surface as quads: strips 200×8, composites every face at
   /// 50 samples per span, 8 across, as exportTo; quasi_strip the converted surface over the
   /// trimmed range 200×8; conical_strip every patch 24×4), "fold" (FOLD 1.2) and "svg" (fold
-  /// pattern, mm) for composites with a development, "iges" (IGES 5.3, media type model/iges) for
-  /// every kind: B-spline surfaces as entity 128 with u along the curves and v across the rulings
+  /// pattern, mm) for composites with a development, "step" (STEP AP214 through OpenCascade, media
+  /// type model/step: the surfaces of "iges" as faces, patches of a control net sewn into shells),
+  /// "iges" (IGES 5.3, media type model/iges) for every kind with B-spline surfaces (quad_mesh:
+  /// only with a control net, its bicubic patches, u along columns, v along rows): B-spline surfaces as entity 128 with u along the curves and v across the rulings
   /// (v = 0 on the first curve), curves as entity 126 — strip: the surface (degree (m, 1)) and
   /// a, b; composite: CompositeModel::igesEntities; quasi_strip: the converted surface (degree
   /// (p·d, 1), u = c1's parameter over the trimmed range) and c1, c2; conical_strip: every patch
@@ -194,6 +196,8 @@ class SceneSolver {
   /// quad_mesh: metrics() and exportAs() (SceneSolverQuadMesh.cpp).
   proto::Metrics quadMeshMetrics() const;
   ExportedFile quadMeshExport(const std::string& format) const;
+  /// A spline-surface quad_mesh's patches as entity-128 records (bicubic, PATCH<k>).
+  void quadMeshIgesEntities(std::vector<io::IgesSurface>& surfaces) const;
   /// (Re)builds the quasi_strip model with the scene's options and an iteration limit (< 0: the
   /// scene's max_iterations, or the optimizer's default without one).
   void buildQuasiStrip(int iterations);

@@ -1,6 +1,7 @@
 #include "devsurf/models/quad_mesh/QuadMeshModel.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -11,7 +12,7 @@
 #include "devsurf/metrics/CheckerboardCurvature.h"
 #include "devsurf/models/quad_mesh/FaceMeasures.h"
 #include "devsurf/spatial/TriangleMeshProximity.h"
-#include "devsurf/spline/CubicSubdivision.h"
+#include "devsurf/models/quad_mesh/SplineSurface.h"
 #include "devsurf/terms/CheckerboardConformalityTerm.h"
 #include "devsurf/terms/CheckerboardIsometryTerm.h"
 #include "devsurf/terms/ConformalFactorTerm.h"
@@ -34,7 +35,14 @@ std::string indexed(const char* name, std::size_t i) { return std::string(name) 
 
 bool finiteRows(const Eigen::MatrixX3d& m) { return m.allFinite(); }
 
-void checkVertex(const VertexRef& v, int vertexCount, const std::string& path) {
+void checkVertex(const VertexRef& v, int vertexCount, const std::string& path, int controlCount = -1) {
+  if (v.on == MeshSide::Control) {
+    if (controlCount < 0) fail(path + ".on: \"control\" addresses control points; this design has no control net");
+    if (v.vertex < 0 || v.vertex >= controlCount)
+      fail(path + ".vertex: " + std::to_string(v.vertex) + " is not a control point (the net has " +
+           std::to_string(controlCount) + ")");
+    return;
+  }
   if (v.vertex < 0 || v.vertex >= vertexCount)
     fail(path + ".vertex: " + std::to_string(v.vertex) + " is not a vertex (the mesh has " +
          std::to_string(vertexCount) + ")");
@@ -67,7 +75,13 @@ double diameter(const Eigen::MatrixX3d& v) {
 
 }  // namespace
 
-const char* meshSideName(MeshSide side) { return side == MeshSide::Mesh ? "mesh" : "unfolding"; }
+const char* meshSideName(MeshSide side) {
+  switch (side) {
+    case MeshSide::Mesh: return "mesh";
+    case MeshSide::Unfolding: return "unfolding";
+    default: return "control";
+  }
+}
 
 const char* variableMeshesName(VariableMeshes v) {
   switch (v) {
@@ -91,13 +105,7 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
     if (!finiteRows(d.unfolding)) fail("unfolding: every coordinate must be a finite number");
   }
   if (d.control) {
-    const ControlNet& net = *d.control;
-    if (net.rows < 4 || net.columns < 4 || net.rounds < 0 || net.rounds > 4)
-      fail("control: at least 4 × 4 points and 0 … 4 rounds are needed");
-    if (net.points.rows() != static_cast<Eigen::Index>(net.rows) * net.columns || !net.points.allFinite())
-      fail("control.points: rows × columns finite points are needed");
-    const long long refined = static_cast<long long>(spline::cubicSubdividedCount(net.rows, net.rounds)) *
-                              spline::cubicSubdividedCount(net.columns, net.rounds);
+    const long long refined = splineRefinement(*d.control).subdivision.rows();  // throws naming the field
     if (refined != V) fail("mesh: the control net's refinement has " + std::to_string(refined) + " vertices, the mesh " + std::to_string(V));
   }
   if (!d.conformalFactors.empty()) {
@@ -106,10 +114,11 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
     for (std::size_t f = 0; f < d.conformalFactors.size(); ++f)
       if (!std::isfinite(d.conformalFactors[f])) fail(indexed("conformal_factors", f) + ": must be finite");
   }
-  for (std::size_t i = 0; i < d.fixed.size(); ++i) checkVertex(d.fixed[i], V, indexed("fixed", i));
+  const int controlCount = d.control ? static_cast<int>(d.control->points.rows()) : -1;
+  for (std::size_t i = 0; i < d.fixed.size(); ++i) checkVertex(d.fixed[i], V, indexed("fixed", i), controlCount);
   for (std::size_t i = 0; i < d.handles.size(); ++i) {
     const std::string path = indexed("handles", i);
-    checkVertex(d.handles[i].vertex, V, path);
+    checkVertex(d.handles[i].vertex, V, path, controlCount);
     if (!d.handles[i].target.allFinite()) fail(path + ".target: every coordinate must be a finite number");
     checkWeight(d.handles[i].weight, path + ".weight");
   }
@@ -120,6 +129,7 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
       fail(path + ": vertex pair (" + std::to_string(g.a) + ", " + std::to_string(g.b) + ") is not in [0, " +
            std::to_string(V) + ")");
     if (g.a == g.b) fail(path + ": a vertex cannot be glued to itself (" + std::to_string(g.a) + ")");
+    if (g.on == MeshSide::Control) fail(path + ".on: glue joins vertices of M or M′, not control points");
   }
   const QuadMeshWeights& w = d.weights;
   checkWeight(w.isometry, "weights.isometry");
@@ -183,11 +193,12 @@ QuadMeshModel::QuadMeshModel(QuadMeshDesign design, QuadMeshOptions options)
 QuadMeshModel::~QuadMeshModel() = default;
 
 const engine::Normalization& QuadMeshModel::normalizationOf(MeshSide side) const {
-  return side == MeshSide::Mesh ? meshNormalization_ : unfoldingNormalization_;
+  return side == MeshSide::Unfolding ? unfoldingNormalization_ : meshNormalization_;  // control: M's
 }
 
 int QuadMeshModel::pointOffset(const VertexRef& v) const {
-  const int block = v.on == MeshSide::Mesh ? blockMesh_ : blockUnfolding_;
+  const int block = v.on == MeshSide::Mesh ? blockMesh_ : v.on == MeshSide::Unfolding ? blockUnfolding_ : blockControl_;
+  assert(block >= 0 && "control points are addressed only in a spline-surface design");
   return problem_.layout().block(block).offset + 3 * v.vertex;
 }
 
@@ -219,7 +230,7 @@ void QuadMeshModel::buildProblem() {
   if (design_.unfoldingPlanar)
     for (int i = 0; i < V; ++i) layout.setFixed(blockUnfolding_, 3 * i + 2, 1);
   for (const VertexRef& v : design_.fixed)
-    layout.setFixed(v.on == MeshSide::Mesh ? blockMesh_ : blockUnfolding_, 3 * v.vertex, 3);
+    if (v.on != MeshSide::Control) layout.setFixed(v.on == MeshSide::Mesh ? blockMesh_ : blockUnfolding_, 3 * v.vertex, 3);
 
   std::vector<int> meshOffsets(V), unfoldingOffsets(V);
   for (int i = 0; i < V; ++i) {
@@ -229,7 +240,7 @@ void QuadMeshModel::buildProblem() {
   if (design_.control) {
     // Algorithm 2: the control points are the design; S^k(M) follows them by a hard linear map.
     const ControlNet& net = *design_.control;
-    subdivision_ = spline::cubicGridSubdivisionMatrix(net.rows, net.columns, net.rounds);
+    subdivision_ = splineRefinement(net).subdivision;
     const int C = static_cast<int>(net.points.rows());
     blockControl_ = problem_.addBlock("control", 3 * C);
     Eigen::MatrixX3d c = net.points;
@@ -237,11 +248,18 @@ void QuadMeshModel::buildProblem() {
     auto cx = problem_.blockValues(blockControl_);
     for (int j = 0; j < C; ++j) cx.segment<3>(3 * j) = c.row(j).transpose();
     if (!meshVariable) layout.setBlockFixed(blockControl_);
+    for (const VertexRef& v : design_.fixed)
+      if (v.on == MeshSide::Control) layout.setFixed(blockControl_, 3 * v.vertex, 3);
     std::vector<int> controlOffsets(C);
     for (int j = 0; j < C; ++j) controlOffsets[j] = layout.block(blockControl_).offset + 3 * j;
     problem_.addTerm(std::make_unique<terms::LinearPointMapTerm>(
                          "subdivision", Eigen::SparseMatrix<double, Eigen::RowMajor>(subdivision_), meshOffsets, controlOffsets),
                      kSubdivisionWeight, engine::Strength::Hard);
+    // Smoothness across shared patch sides, when asked: a − 2b + c per side point (C1 ⇒ G1).
+    const std::vector<std::array<int, 3>> smoothness = splineSmoothnessTriples(net);
+    if (meshVariable && net.smoothness > 0 && !smoothness.empty())
+      problem_.addTerm(std::make_unique<terms::PolylineFairnessTerm>("patch_smoothness", smoothness, controlOffsets),
+                       net.smoothness, engine::Strength::Soft);
   }
   const QuadMeshWeights& w = design_.weights;
   if (design_.conformal) {
@@ -514,9 +532,10 @@ QuadMeshQuality QuadMeshModel::quality() const {
     const Eigen::MatrixX3d& p = g.on == MeshSide::Mesh ? m : u;
     q.glueGapMax = std::max(q.glueGapMax, (p.row(g.a) - p.row(g.b)).norm() / size);
   }
+  const Eigen::MatrixX3d control = controlPoints();
   for (const VertexHandle& h : design_.handles) {
     if (h.weight <= 0) continue;
-    const Eigen::MatrixX3d& p = h.vertex.on == MeshSide::Mesh ? m : u;
+    const Eigen::MatrixX3d& p = h.vertex.on == MeshSide::Mesh ? m : h.vertex.on == MeshSide::Unfolding ? u : control;
     Eigen::Vector3d target = h.target;
     if (h.vertex.on == MeshSide::Unfolding && design_.unfoldingPlanar) target.z() = 0.0;
     q.handleDistanceMax = std::max(q.handleDistanceMax, (p.row(h.vertex.vertex).transpose() - target).norm());

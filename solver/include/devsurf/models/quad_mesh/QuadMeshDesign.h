@@ -12,8 +12,10 @@ namespace devsurf::models::quad_mesh {
 
 /// Which of the two combinatorially equal meshes a vertex reference means: M (the surface in
 /// space) or M′ (the unfolding: planar, or a second surface).
-enum class MeshSide { Mesh, Unfolding };
-const char* meshSideName(MeshSide side);  ///< "mesh", "unfolding"
+/// Which points a vertex reference addresses: M, M′, or (spline-surface designs only) the
+/// control points of the control net, whose refinement is M.
+enum class MeshSide { Mesh, Unfolding, Control };
+const char* meshSideName(MeshSide side);  ///< "mesh", "unfolding", "control"
 
 /// Which meshes the optimization moves (004_… §3.1: either or both).
 enum class VariableMeshes { Mesh, Unfolding, Both };
@@ -74,16 +76,43 @@ struct IsometrySchedule {
   double fairnessDivisor = 10;  ///< w_fair is divided by this after every round (≥ 1)
 };
 
-/// The control mesh M of a developable spline surface (004_… §4, Algorithm 2; issue 14): a grid
-/// of control points whose bicubic clamped B-spline surface M^∞ is the design. A design with one
-/// has `mesh` = S^k(M), its refinement by `rounds` rounds of eq. 8 (spline::
-/// cubicGridSubdivisionMatrix), and the optimization moves the control points: S^k(M) follows
-/// them through a hard linear map (LinearPointMapTerm) while eq. 1 holds it isometric to M′.
-struct ControlNet {
-  int rows = 0, columns = 0;  ///< ≥ 4 each; point (r, c) is row r·columns + c of `points`
-  int rounds = 2;             ///< k, 0 … 4 (Algorithm 2's default 2)
-  Eigen::MatrixX3d points;    ///< rows·columns × 3, design units
+/// One rectangular patch of a control mesh: a rows × columns grid of indices into
+/// ControlNet::points, grid point (r, c) at r·columns + c. Its boundary polylines are the four
+/// sides of the grid; the patch's faces are counter-clockwise seen from the front when rows run
+/// along +y and columns along +x, so its boundary loop is row 0 (c ascending), column C−1 (r
+/// ascending), row R−1 (c descending), column 0 (r descending).
+struct ControlPatch {
+  int rows = 0, columns = 0;  ///< ≥ 4 each
+  std::vector<int> indices;   ///< rows·columns control-point indices, pairwise distinct
 };
+
+/// The control mesh M of a developable spline surface (004_… §4, Algorithm 2; issue 14): control
+/// points grouped into rectangular patches, each the control net of a bicubic clamped B-spline
+/// surface with uniform interior knots; M^∞, the union of those surfaces, is the design. A design
+/// with one has `mesh` = S^k(M), every patch refined by `rounds` rounds of eq. 8 (spline::
+/// cubicGridSubdivisionMatrix) and the refined grids merged where patches share a side, and the
+/// optimization moves the control points: S^k(M) follows them through a hard linear map
+/// (LinearPointMapTerm) while eq. 1 holds it isometric to M′.
+///
+/// Patches that share a boundary polyline (a whole side, the same control points, run in opposite
+/// directions by their boundary loops) share their boundary curve, which depends on those points
+/// only: the model is watertight by construction. Smoothness across such a side is asked with
+/// `smoothness` > 0 (see splineSmoothnessTriples).
+struct ControlNet {
+  /// The single-patch form: a rows × columns grid over all points in order (used when `patches`
+  /// is empty; 0 otherwise).
+  int rows = 0, columns = 0;
+  int rounds = 2;             ///< k, 0 … 4 (Algorithm 2's default 2)
+  Eigen::MatrixX3d points;    ///< all control points, design units
+  std::vector<ControlPatch> patches;  ///< empty: one patch rows × columns
+  /// Weight of the soft smoothness across shared sides (normalized units; 0 = not asked): per
+  /// point b of a shared side with its neighbours a, c across it, a − 2b + c (C1 in the uniform
+  /// parametrization, which implies G1).
+  double smoothness = 0.0;
+};
+
+/// The patches of a net: `patches`, or the single-patch form as one patch.
+std::vector<ControlPatch> controlPatches(const ControlNet& net);
 
 /// Everything that defines a quad-mesh design (scene kind "quad_mesh").
 struct QuadMeshDesign {
