@@ -28,9 +28,15 @@ SCHEDULE = {"energy_min": 1e-12, "isometry_min": 1e-12, "round_iterations": 20, 
             "fairness_divisor": 10}
 
 
-def scene(name, description, control, handles):
+def scene(name, description, control, handles, fairness):
+    # E_map at 10 rather than 1: the two lattices of eq. 1 drift less, and the spline itself ends
+    # flatter. Fairness (Algorithm 1's round-0 weight) low: at 0.1 it acts as a tension that
+    # shrinks the free boundary toward the held corners (both meshes are variable, so nothing
+    # keeps the size) — the surface moved 4.7 cm of 25; at 0.01 1.1 cm (docs/architecture.md).
     model = {"kind": "quad_mesh", "control": control, "variable": "both", "unfolding_planar": True,
-             "handles": handles, "schedule": SCHEDULE}
+             "handles": handles,
+             "weights": {"mapping": 10, "fairness_mesh": fairness, "fairness_unfolding": fairness},
+             "schedule": SCHEDULE}
     return {"format": "devsurf-scene", "version": 1, "name": name, "description": description,
             "units": "cm", "model": model, "solver": {"iterations": 200}}
 
@@ -60,7 +66,7 @@ def single_patch():
                  "Algorithm 2 of Jiang et al. 2020: its refinement S²(M) is held isometric to a flat M′ while "
                  "the four corners stay. Drag control points; the rulings of the limit surface follow.",
                  {"rounds": 2, "points": points, "rows": n, "columns": n},
-                 [hold(i, points[i]) for i in corners])
+                 [hold(i, points[i]) for i in corners], 0.001)
 
 
 def watertight(size=6, shape="roof"):
@@ -86,7 +92,7 @@ def watertight(size=6, shape="roof"):
                  "(Jiang et al. 2020, Fig. 15). It starts kinked along the middle and doubly curved; "
                  "Algorithm 2 with smoothness across the patch boundaries makes it developable and G1.",
                  {"rounds": 2, "points": points, "patches": patches, "smoothness": 1},
-                 [hold(i, points[i]) for i in corners])
+                 [hold(i, points[i]) for i in corners], 0.01)
 
 
 def presets():

@@ -4,11 +4,13 @@
 // to 1e-9, and a watertight model as one shell whose shared sides are shared edges.
 #include <gtest/gtest.h>
 
+#include <BRepMesh_IncrementalMesh.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Reader.hxx>
+#include <StlAPI_Writer.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
@@ -131,8 +133,15 @@ TEST_P(SplineSurfaceCad, StepAndIgesReadBackByOpenCascadeCarryTheSolvedControlPo
             << iges.content.size() << " bytes\n";
   if (patches.size() > 1) EXPECT_EQ(shells, 1);
   EXPECT_EQ(shared, sharedSides);
-  // Written to disk for a look (docs/): the solved model as STEP.
-  if (const char* out = std::getenv("DEVSURF_STEP_OUT")) std::ofstream(std::string(out) + "/" + GetParam() + ".step") << step.content;
+  // For a look (scripts/render_mesh.mjs → docs/): the solved model as STEP, and the shape
+  // OpenCascade imported from it, tessellated by OpenCascade, as STL.
+  if (const char* out = std::getenv("DEVSURF_STEP_OUT")) {
+    const std::string base = std::string(out) + "/" + GetParam().substr(0, GetParam().size() - 5);
+    std::ofstream(base + ".step") << step.content;
+    BRepMesh_IncrementalMesh mesher(s.shape, 1e-3 * size * mm);
+    StlAPI_Writer stl;
+    EXPECT_TRUE(stl.Write(s.shape, (base + ".imported.stl").c_str()));
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Presets, SplineSurfaceCad, ::testing::ValuesIn(splinePresets()),
