@@ -35,7 +35,7 @@ def scene(name, description, control, handles, fairness):
     # keeps the size) — the surface moved 4.7 cm of 25; at 0.01 1.1 cm (docs/architecture.md).
     model = {"kind": "quad_mesh", "control": control, "variable": "both", "unfolding_planar": True,
              "handles": handles,
-             "weights": {"mapping": 10, "fairness_mesh": fairness, "fairness_unfolding": fairness},
+             "weights": {"mapping": 10, "position": 10, "fairness_mesh": fairness, "fairness_unfolding": fairness},
              "schedule": SCHEDULE}
     return {"format": "devsurf-scene", "version": 1, "name": name, "description": description,
             "units": "cm", "model": model, "solver": {"iterations": 200}}

@@ -39,8 +39,11 @@ process.on('exit', () => {
   }
 });
 
-/** Spawns `devsurf serve` once; resolves with its port, or rejects if it exits before listening. */
-function spawnDaemon({ port, dataDir, demos, extra, logName, append }) {
+/**
+ * Spawns `devsurf serve` once; resolves with its port, or rejects if it exits before listening or
+ * prints no first line within `startTimeoutMs` (demo sessions are built before it listens).
+ */
+function spawnDaemon({ port, dataDir, demos, extra, logName, append, startTimeoutMs = 20000 }) {
   const log = fs.openSync(path.join(ARTIFACTS, `daemon-${logName}.log`), append ? 'a' : 'w');
   const args = ['serve', '--port', String(port), '--data', dataDir, '--web', WEB,
     ...demos.flatMap((d) => ['--demo', d]), ...extra];
@@ -51,7 +54,7 @@ function spawnDaemon({ port, dataDir, demos, extra, logName, append }) {
   return new Promise((resolve, reject) => {
     const lines = readline.createInterface({ input: proc.stdout });
     let first = true;
-    const timer = setTimeout(() => { proc.kill('SIGKILL'); reject(new Error('devsurf serve: no first line in 20 s')); }, 20000);
+    const timer = setTimeout(() => { proc.kill('SIGKILL'); reject(new Error(`devsurf serve: no first line in ${startTimeoutMs / 1000} s`)); }, startTimeoutMs);
     lines.on('line', (line) => {
       if (!first) return;       // keep draining stdout so the pipe never fills
       first = false;
@@ -67,10 +70,11 @@ function spawnDaemon({ port, dataDir, demos, extra, logName, append }) {
 }
 
 export class Daemon {
-  constructor({ name = 'e2e', demos = DEMOS, extra = [] } = {}) {
+  constructor({ name = 'e2e', demos = DEMOS, extra = [], startTimeoutMs = 20000 } = {}) {
     this.name = name;
     this.demos = demos;
     this.extra = extra;
+    this.startTimeoutMs = startTimeoutMs;
     this.dataDir = fs.mkdtempSync(path.join(os.tmpdir(), `devsurf-web-${name}-`));
     this.proc = null;
     this.port = null;
@@ -80,7 +84,7 @@ export class Daemon {
   /** `devsurf serve --port 0 --data <fresh dir> --web <dist> --demo …` */
   async start() {
     Object.assign(this, await spawnDaemon({ port: 0, dataDir: this.dataDir, demos: this.demos,
-      extra: this.extra, logName: this.name }));
+      extra: this.extra, logName: this.name, startTimeoutMs: this.startTimeoutMs }));
     return this;
   }
 
@@ -91,7 +95,7 @@ export class Daemon {
     for (;;) {
       try {
         const d = await spawnDaemon({ port: this.port, dataDir: this.dataDir, demos: this.demos,
-          extra: this.extra, logName: this.name, append: true });
+          extra: this.extra, logName: this.name, append: true, startTimeoutMs: this.startTimeoutMs });
         if (d.port !== this.port) throw new Error(`restarted on port ${d.port}, wanted ${this.port}`);
         Object.assign(this, d);
         return this;

@@ -12,7 +12,8 @@ export const CURVE_NAMES = ['a', 'b', 'c1', 'c2', 'p', 'q'];
  * A point as the protocol addresses it: a control point {curve, index} of a strip ('a'|'b'),
  * quasi_strip ('c1'|'c2') or conical_strip ('p'|'q'), or in a
  * composite a vertex {vertex} or control point `index` of an S edge {edge, index}; in a quad_mesh
- * a vertex of M {vertex} or of its unfolding M′ {vertex, on: 'unfolding'} ({on: 'mesh'} is M).
+ * a vertex of M {vertex} or of its unfolding M′ {vertex, on: 'unfolding'} ({on: 'mesh'} is M), or
+ * a control point of its control net {vertex, on: 'control'} (spline surfaces).
  */
 export function target(t) {
   if (t && CURVE_NAMES.includes(t.curve) && isIndex(t.index) && t.vertex === undefined && t.edge === undefined) {
@@ -20,7 +21,7 @@ export function target(t) {
   }
   if (t && isIndex(t.vertex) && t.curve === undefined && t.edge === undefined) {
     if (t.on === undefined || t.on === 'mesh') return { vertex: t.vertex };
-    if (t.on === 'unfolding') return { vertex: t.vertex, on: 'unfolding' };
+    if (t.on === 'unfolding' || t.on === 'control') return { vertex: t.vertex, on: t.on };
   }
   if (t && isIndex(t.edge) && isIndex(t.index) && t.curve === undefined && t.vertex === undefined) {
     return { edge: t.edge, index: t.index };
@@ -36,17 +37,17 @@ export function targetOf(entry) {
   if (!entry) return null;
   const t = entry.target || entry;
   if (t.curve !== undefined) return { curve: t.curve, index: t.index };
-  if (t.vertex !== undefined) return t.on === 'unfolding' ? { vertex: t.vertex, on: 'unfolding' } : { vertex: t.vertex };
+  if (t.vertex !== undefined) return t.on === 'unfolding' || t.on === 'control' ? { vertex: t.vertex, on: t.on } : { vertex: t.vertex };
   if (t.edge !== undefined) return { edge: t.edge, index: t.index };
   return null;
 }
 
-/** A string key of a target ('a3', 'v3', 'u3' (a vertex of M′), 'e0:2'), '' for none. */
+/** A string key of a target ('a3', 'v3', 'u3' (a vertex of M′), 'm3' (a control point of M), 'e0:2'), '' for none. */
 export function targetKey(t) {
   const x = targetOf(t);
   if (!x) return '';
   if (x.curve !== undefined) return `${x.curve}${x.index}`;
-  if (x.vertex !== undefined) return `${x.on === 'unfolding' ? 'u' : 'v'}${x.vertex}`;
+  if (x.vertex !== undefined) return `${x.on === 'unfolding' ? 'u' : x.on === 'control' ? 'm' : 'v'}${x.vertex}`;
   return `e${x.edge}:${x.index}`;
 }
 
@@ -67,6 +68,7 @@ export function targetLabel(t) {
   const x = targetOf(t);
   if (!x) return '';
   if (x.curve !== undefined) return `${x.curve}[${x.index}]`;
+  if (x.on === 'control') return `control point ${x.vertex}`;
   if (x.vertex !== undefined) return `vertex ${x.vertex}${x.on === 'unfolding' ? ' of M′' : ''}`;
   return `edge ${x.edge} [${x.index}]`;
 }

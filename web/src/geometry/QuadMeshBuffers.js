@@ -5,12 +5,17 @@
 // rulings, glue links); M′ is drawn by the 2D unfolding view from the typed arrays and the
 // per-face / per-edge colours computed here, so both views always show the same colour mode:
 //   length_error  |l′ − l|/l per edge on the edges of M and M′ (faces plain paper),
-//   gauss, mean   K or H per face (diverging map centred at 0; needs the Gauss image).
+//   gauss, mean   K or H per face (diverging map centred at 0; needs the Gauss image),
+//   spline_gauss  K·d² of the limit surface M^∞ (spline sessions only; M and M′ plain).
+// A scene with a control net (issue 14) also carries `spline`: its buffers are `this.spline`
+// (SplineBuffers). Its control points are then draggable targets {vertex, on: 'control'} and,
+// while the limit surface M^∞ is the surface shown (`display`), the only ones in the 3D view.
 
 import { BufferGeometry } from 'three';
 import { decodeArray } from './decode.js';
 import { colorAt, divergingColorAt, niceRange, srgbToLinear } from './colormap.js';
 import { ensureFloatAttribute, markUpdated } from './StripBuffers.js';
+import { SplineBuffers, setSegments } from './SplineBuffers.js';
 import { targetOf } from '../commands/Command.js';
 
 /** Colour modes of a quad mesh: what is coloured, the legend and whether curvature is needed. */
@@ -18,7 +23,17 @@ export const QUAD_COLOR_MODES = {
   length_error: { label: 'L-Err per edge', title: 'edge length error |l′ − l|/l', unit: '%', scale: 100, perEdge: true, diverging: false, needsCurvature: false },
   gauss: { label: 'K (Gauss)', title: 'Gauss curvature K', unit: '', scale: 1, perEdge: false, diverging: true, needsCurvature: true, field: 'gauss' },
   mean: { label: 'H (mean)', title: 'mean curvature H', unit: '', scale: 1, perEdge: false, diverging: true, needsCurvature: true, field: 'mean' },
+  spline_gauss: { label: 'K·d² (limit)', title: 'K·d² of the limit surface', unit: '', scale: 1, perEdge: false, diverging: true, needsCurvature: false, spline: true },
 };
+
+/** What the 3D view shows of a spline session: the limit surface M^∞ or the refined mesh S^k(M). */
+export const SPLINE_DISPLAYS = {
+  limit: { label: 'limit surface', title: 'The spline surface itself (its patches sampled), its rulings and the control net' },
+  refined: { label: 'refined Sᵏ(M)', title: 'The refined mesh the solver optimizes (its faces, edges and vertices) and the control net' },
+};
+
+/** Sprite colour of the control points of a spline surface. */
+export const CONTROL_POINT_COLOR = 0x7fd4ff;
 
 /** sRGB colours of the neutral drawing (faces without a field, edges over coloured faces). */
 export const QUAD_PAPER = [0.86, 0.84, 0.79];
@@ -74,21 +89,6 @@ export function maxAbs(values) {
   return m;
 }
 
-/** Writes a line-segment position array (pairs of points of `points`, given by index pairs) into a geometry. */
-function setSegments(geometry, points, pairs, count) {
-  const r = ensureFloatAttribute(geometry, 'position', Math.max(6, 6 * count), 3);
-  const a = r.attribute.array;
-  for (let k = 0; k < count; k++) {
-    const i = pairs[2 * k], j = pairs[2 * k + 1];
-    a[6 * k] = points[3 * i]; a[6 * k + 1] = points[3 * i + 1]; a[6 * k + 2] = points[3 * i + 2];
-    a[6 * k + 3] = points[3 * j]; a[6 * k + 4] = points[3 * j + 1]; a[6 * k + 5] = points[3 * j + 2];
-  }
-  markUpdated(r.attribute);
-  geometry.setDrawRange(0, 2 * count);
-  geometry.computeBoundingSphere();
-  return r.reallocated;
-}
-
 const linear = (c, out, o) => {
   out[o] = srgbToLinear(c[0]);
   out[o + 1] = srgbToLinear(c[1]);
@@ -135,8 +135,13 @@ export class QuadMeshBuffers {
     this.diagonal = 1;
     this.version = 0;
     this.hasData = false;
+    /** The limit surface M^∞ and control net of a spline session (spline.present), issue 14. */
+    this.spline = new SplineBuffers();
+    /** 'limit' | 'refined': which surface the 3D view shows when there is a spline. */
+    this.display = 'limit';
     this._facesText = null;
     this._targets = [];
+    this._allTargets = [];
   }
 
   get vertexCount() {
@@ -153,6 +158,16 @@ export class QuadMeshBuffers {
 
   get hasCurvature() {
     return !!this.curvature;
+  }
+
+  /** Whether the geometry carries a spline surface (a control net). */
+  get hasSpline() {
+    return this.spline.present;
+  }
+
+  /** Whether the 3D view shows the limit surface M^∞ (a spline session in display 'limit'). */
+  get showsLimit() {
+    return this.spline.present && this.display === 'limit';
   }
 
   /** Whether M′ has variables (its vertices can be dragged). */
@@ -201,6 +216,9 @@ export class QuadMeshBuffers {
     for (const list of [this.glue, this.glueUnfolding]) for (const i of list) if (i < V) this.glued[i] = 1;
     if (this._targets.length !== V) this._targets = Array.from({ length: V }, (_, i) => ({ vertex: i }));
     this._diagonal();
+    const hadSpline = this.spline.present;
+    const splineRealloc = this.spline.apply(g.spline);
+    if (splineRealloc || hadSpline !== this.spline.present || this._allTargets.length !== V + this.spline.controlCount) this._joinTargets();
 
     let realloc = this._fillSurface();
     realloc = setSegments(this.edgeLines, this.mesh, this.edges, this.edgeCount) || realloc;
@@ -209,10 +227,24 @@ export class QuadMeshBuffers {
     pairs.set(this.glue);
     pairs.set(this.glueUnfolding, this.glue.length);
     realloc = setSegments(this.glueLines, this.mesh, pairs, pairs.length / 2) || realloc;
+    // Without a spline the spline's colour mode has nothing to show: back to L-Err.
+    if (!this.spline.present && this.colorInfo.spline) this.colorMode = 'length_error';
     this._recolor();
     this.version++;
     this.hasData = true;
-    return realloc;
+    return realloc || splineRealloc;
+  }
+
+  /** Control points first (they win a pick), then the vertices of M. */
+  _joinTargets() {
+    this._allTargets = [...this.spline.targets(), ...this._targets];
+  }
+
+  /** 'limit' | 'refined' (spline sessions); returns whether it changed. */
+  setDisplay(display) {
+    if (!SPLINE_DISPLAYS[display] || display === this.display) return false;
+    this.display = display;
+    return true;
   }
 
   _diagonal() {
@@ -266,9 +298,10 @@ export class QuadMeshBuffers {
     return attr.reallocated;
   }
 
-  /** 'length_error' | 'gauss' | 'mean'; returns whether it changed. */
+  /** 'length_error' | 'gauss' | 'mean' | 'spline_gauss' (with a spline); returns whether it changed. */
   setColorMode(mode) {
     if (!QUAD_COLOR_MODES[mode] || mode === this.colorMode) return false;
+    if (QUAD_COLOR_MODES[mode].spline && this.hasData && !this.spline.present) return false;
     this.colorMode = mode;
     if (this.hasData) this._recolor();
     return true;
@@ -278,9 +311,10 @@ export class QuadMeshBuffers {
     return QUAD_COLOR_MODES[this.colorMode];
   }
 
-  /** The values coloured in the current mode (per edge or per face), or null (no curvature yet). */
+  /** The values coloured in the current mode (per edge or per face), or null (no curvature yet, or M^∞'s). */
   colorValues() {
     const info = this.colorInfo;
+    if (info.spline) return null;
     if (info.perEdge) return this.edgeLengthError;
     return this.curvature ? this.curvature[info.field] : null;
   }
@@ -298,8 +332,15 @@ export class QuadMeshBuffers {
     if (this.faceColors.length !== 3 * F) this.faceColors = new Float32Array(3 * F);
     if (this.edgeColors.length !== 3 * E) this.edgeColors = new Float32Array(3 * E);
     const values = this.colorValues();
-    this.colorMax = values ? maxAbs(values) : 0;
-    this.colorRange = niceRange(this.colorMax, this._minRange());
+    this.spline.setColored(!!info.spline);
+    if (info.spline) {
+      // K·d² of M^∞ (SplineBuffers colours its samples); M and M′ stay plain paper.
+      this.colorMax = this.spline.colorMax;
+      this.colorRange = this.spline.colorRange;
+    } else {
+      this.colorMax = values ? maxAbs(values) : 0;
+      this.colorRange = niceRange(this.colorMax, this._minRange());
+    }
     const fc = this.faceColors, ec = this.edgeColors;
     for (let f = 0; f < F; f++) {
       if (info.perEdge || !values) fc.set(QUAD_PAPER, 3 * f);
@@ -326,14 +367,29 @@ export class QuadMeshBuffers {
     markUpdated(lc);
   }
 
-  /** Targets of the draggable points of the 3D view: every vertex of M. */
+  /**
+   * Targets of the draggable points of the 3D view: every vertex of M; with a spline its control
+   * points too (first), and only them while the limit surface is shown.
+   */
   pointTargets() {
-    return this._targets;
+    if (!this.spline.present) return this._targets;
+    return this.display === 'limit' ? this.spline.targets() : this._allTargets;
   }
 
-  /** [x, y, z] of {vertex} (M) or {vertex, on: 'unfolding'} (M′), or null. */
+  /** How many points the 3D view's point size is chosen for (the control points of a spline). */
+  pointDensityCount() {
+    return this.spline.present ? this.spline.controlCount : this.vertexCount;
+  }
+
+  /** Picking priority: a control point wins over a vertex of M under the pointer. */
+  pickPriority(item) {
+    return item.on === 'control' ? 1 : 0;
+  }
+
+  /** [x, y, z] of {vertex} (M), {vertex, on: 'unfolding'} (M′) or {vertex, on: 'control'}, or null. */
   pointOf(t) {
     const x = targetOf(t);
+    if (x && x.on === 'control') return this.spline.controlPoint(x.vertex);
     if (!x || x.vertex === undefined || x.vertex >= this.vertexCount) return null;
     const p = x.on === 'unfolding' ? this.unfolding : this.mesh;
     const i = 3 * x.vertex;
@@ -347,6 +403,7 @@ export class QuadMeshBuffers {
   /** Sprite colour of a vertex of M in the 3D view (glued vertices green, boundary ones warm). */
   pointColor(item) {
     const i = item.vertex;
+    if (item.on === 'control') return CONTROL_POINT_COLOR;
     if (this.glued[i]) return 0x5ee6a0;
     if (this.boundary[i]) return 0xffd9b0;
     return 0xf4f6f8;
@@ -355,10 +412,15 @@ export class QuadMeshBuffers {
   /** Sprite size factor: interior vertices small (still picked within the view's tolerance). */
   pointScale(item) {
     const i = item.vertex;
-    return this.glued[i] || this.boundary[i] ? 1 : 0.6;
+    if (item.on === 'control') return 1;
+    if (this.glued[i]) return 1;
+    // Next to a control net the vertices of S^k(M) are secondary: smaller than the control points.
+    if (this.spline.present) return this.boundary[i] ? 0.6 : 0.4;
+    return this.boundary[i] ? 1 : 0.6;
   }
 
   dispose() {
     for (const g of [this.surface, this.edgeLines, this.rulings, this.glueLines]) g.dispose();
+    this.spline.dispose();
   }
 }

@@ -233,6 +233,7 @@ export class Editor {
       else if (kind === 'quad_mesh') this.quad.apply(geometry);
       else this.buffers.apply(geometry);
       if (kind !== this.kind) this._setKind(kind);
+      if (kind === 'quad_mesh') this.quadControls.geometryApplied();
       if (kind === 'strip') this._setModelKind(this.buffers.modelKind);
       if (this.modelKind === 'quasi_strip') this.mappingPlot.update();
       if (kind === 'composite') {
@@ -293,8 +294,17 @@ export class Editor {
     return false;
   }
 
-  /** Colour mode or glue marks changed: legend and both views. */
+  /** Colour mode, glue marks, the spline or its display changed: legend, options and both views. */
   _quadChanged() {
+    const spline = this.kind === 'quad_mesh' && this.quad.hasSpline;
+    this.root.dataset.spline = String(spline);
+    if (this.kind === 'quad_mesh') {
+      // A spline session's control net shows with the control-polygon toggle.
+      this.polygonsToggle.hidden = !spline;
+      this.polygonsToggle.lastChild.textContent = spline ? 'Control net' : 'Control polygons';
+      this.hint.textContent = `drag ${spline ? 'control points' : 'vertices'} · F fix · H handle · G glue · S solve · ? help`;
+    }
+    if (this.viewport.quadLayer) this.viewport.quadLayer.refresh();
     this._updateLegend();
     this.viewport.requestRender();
     this.unfolding.render();
@@ -483,6 +493,10 @@ export class Editor {
     }
     if (model.kind === 'quad_mesh' && this.quad.hasData) {
       const V = this.quad.vertexCount;
+      const c = model.control;
+      if (c && Array.isArray(c.points) && c.points.length === this.quad.spline.controlCount) {
+        c.points = c.points.map((p, i) => round(this.quad.pointOf({ vertex: i, on: 'control' })));
+      }
       if (Array.isArray(model.mesh) && model.mesh.length === V) model.mesh = model.mesh.map((v, i) => round(this.quad.pointOf({ vertex: i })));
       if (Array.isArray(model.unfolding) && model.unfolding.length === V) {
         model.unfolding = model.unfolding.map((v, i) => round(this.quad.pointOf({ vertex: i, on: 'unfolding' })).slice(0, v.length));

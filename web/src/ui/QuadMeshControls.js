@@ -1,10 +1,13 @@
-// The controls of a quad_mesh session (Jiang et al. 2020): the colour mode (L-Err per edge, K, H)
-// with the Gauss-image switch, gluing (a mode that picks two boundary vertices in either view and
-// sends set_params glue with the pair appended, then a solve; the list of glued pairs with a
-// remove button each) and the metrics of Fig. 22 (L-Err, A-Err in %, glue gap, …).
+// The controls of a quad_mesh session (Jiang et al. 2020): the colour mode (L-Err per edge, K, H,
+// and K·d² of the limit surface for spline sessions) with the Gauss-image switch, which surface a
+// spline session shows (the limit surface M^∞ or the refined mesh S^k(M)), gluing (a mode that
+// picks two boundary vertices in either view and sends set_params glue with the pair appended,
+// then a solve; the list of glued pairs with a remove button each) and the metrics of Fig. 22
+// (L-Err, A-Err in %, glue gap, …) with, for a spline, M^∞'s scale-free curvature and normal
+// jumps from the streamed geometry (live with every iterate).
 
-import { h, clear, formatNumber } from './dom.js';
-import { QUAD_COLOR_MODES } from '../geometry/QuadMeshBuffers.js';
+import { h, clear } from './dom.js';
+import { QUAD_COLOR_MODES, SPLINE_DISPLAYS } from '../geometry/QuadMeshBuffers.js';
 import { SetParamsCommand } from '../commands/SetParamsCommand.js';
 import { SolveCommand } from '../commands/SolveCommand.js';
 import { glueCommand, gluePairList, withGluePair, withoutGluePair } from '../commands/glue.js';
@@ -17,6 +20,38 @@ export function percent(x) {
   const p = 100 * x;
   if (p === 0) return '0 %';
   return `${Math.abs(p) < 1e-3 ? p.toExponential(2) : Number(p.toPrecision(3))} %`;
+}
+
+/** A number with 3 significant digits (tiny and huge ones exponential). */
+export function significant(x) {
+  if (typeof x !== 'number' || !Number.isFinite(x)) return '–';
+  if (x === 0) return '0';
+  const a = Math.abs(x);
+  return a < 1e-3 || a >= 1e5 ? x.toExponential(2) : String(Number(x.toPrecision(3)));
+}
+
+/**
+ * Rows of a spline surface (issue 14), from the geometry's `spline` (SplineBuffers) and the
+ * session's metrics (`…_initial`: the values at the scene's control points, i.e. before the last
+ * edit was solved): [key, label, format, title, testid]. `format(spline, metrics)` returns the
+ * text, or null to hide the row.
+ */
+const SPLINE_ROWS = [
+  ['gauss_max', 'limit surface: max |K|·d²', (s, m) => withBefore(s.gaussMaxScaled, m.spline_gauss_max_scaled_initial),
+    'Largest |Gauss curvature| × diameter² of the limit surface over its samples (0 where developable); in brackets the value before the last edit was solved', 'metric-spline-gauss-max'],
+  ['gauss_mean', 'limit surface: mean |K|·d²', (s, m) => withBefore(s.gaussMeanScaled, m.spline_gauss_mean_scaled_initial),
+    'Area-weighted mean of |K| × diameter² over the limit surface; in brackets the value before the last edit was solved', 'metric-spline-gauss-mean'],
+  ['normal_jump', 'normal jump', (s) => (s.sharedSides > 0 ? `${significant(s.normalJumpMaxDeg)}° (${s.sharedSides} shared side${s.sharedSides === 1 ? '' : 's'})` : null),
+    'Largest angle between the normals of two patches along a side they share (0° = tangent-continuous)', 'metric-spline-normal-jump'],
+  ['rulings', 'rulings of the limit surface', (s) => String(s.rulingCount),
+    'Rulings traced on the limit surface where it is developable and curved', 'metric-spline-rulings'],
+  ['net', 'control net', (s) => `${s.controlCount} points · ${s.patchCount} patch${s.patchCount === 1 ? '' : 'es'} · k = ${s.rounds}`,
+    'Control points M, bicubic patches, and the subdivision rounds k of the refined mesh Sᵏ(M)', 'metric-control-net'],
+];
+
+function withBefore(now, before) {
+  const text = significant(now);
+  return typeof before === 'number' && Number.isFinite(before) ? `${text} (before ${significant(before)})` : text;
 }
 
 /** Metrics shown for a quad mesh: [metric, label, format, title]. */
@@ -42,6 +77,10 @@ export class QuadMeshControls {
     /** Gluing: null when off, else {on: 'mesh'|'unfolding', first: vertex|null}. */
     this.glueMode = null;
     this.glueOn = 'mesh';
+    /** Whether the last geometry had a spline (the spline controls are shown). */
+    this.spline = false;
+    /** The colour mode was picked by the user (a spline session then keeps it). */
+    this._colorPicked = false;
     this._buildViewOptions();
     this._buildGluePanel();
     this._buildMetricsPanel();
@@ -60,13 +99,30 @@ export class QuadMeshControls {
   _buildViewOptions() {
     this.colorSelect = h('select', { class: 'input small', testid: 'quad-color-mode', 'aria-label': 'Colour by', title: 'Colour M and M′ by' },
       Object.entries(QUAD_COLOR_MODES).map(([value, m]) => h('option', { value, title: m.title }, m.label)));
-    this.colorSelect.addEventListener('change', () => this.setColorMode(this.colorSelect.value));
+    this.colorSelect.addEventListener('change', () => {
+      this._colorPicked = true;
+      this.setColorMode(this.colorSelect.value);
+    });
+    this.splineColorOption = this.colorSelect.querySelector('option[value="spline_gauss"]');
+    this.splineColorOption.hidden = true;
     this.gaussInput = h('input', { type: 'checkbox', testid: 'gauss-image' });
     this.gaussInput.addEventListener('change', () => this._sendGaussImage(this.gaussInput.checked));
+    this.displaySelect = h('select', { class: 'input small', testid: 'quad-display', 'aria-label': 'Show', title: 'The surface shown in the 3D view' },
+      Object.entries(SPLINE_DISPLAYS).map(([value, d]) => h('option', { value, title: d.title }, d.label)));
+    this.displaySelect.addEventListener('change', () => this.setDisplay(this.displaySelect.value));
+    this.displayChip = h('label', { class: 'chip', title: 'Show the limit surface M^∞ (the spline itself) or the refined mesh Sᵏ(M) the solver optimizes', hidden: true },
+      'Show ', this.displaySelect);
     this.viewOptions = [
-      h('label', { class: 'chip', title: 'Colour M and M′ by: L-Err per edge, Gauss curvature K or mean curvature H per face' }, 'Colour ', this.colorSelect),
+      h('label', { class: 'chip', title: 'Colour M and M′ by: L-Err per edge, Gauss curvature K or mean curvature H per face; a spline surface by its K·d²' }, 'Colour ', this.colorSelect),
       h('label', { class: 'chip', title: 'Solve the Gauss image (vertex normals) for curvatures and rulings (set_params gauss_image)' }, this.gaussInput, 'Gauss image'),
+      this.displayChip,
     ];
+  }
+
+  /** 'limit' | 'refined': the surface a spline session shows in the 3D view. */
+  setDisplay(display) {
+    this.displaySelect.value = display;
+    if (this.quad.setDisplay(display)) this.changed();
   }
 
   /** 'length_error' | 'gauss' | 'mean'; K and H switch the Gauss image on when it is off. */
@@ -129,6 +185,10 @@ export class QuadMeshControls {
   pointDown(target) {
     if (!this.glueMode) return false;
     const v = target.vertex;
+    if (target.on === 'control') {
+      this.toasts.showInfo('Control points are not glued: show the refined mesh Sᵏ(M) and pick its boundary vertices, or pick them in M′.');
+      return true;
+    }
     if (!this.quad.isBoundary(v)) {
       this.toasts.showInfo(`Vertex ${v} is not on the boundary: glue boundary vertices (the cut edges).`);
       return true;
@@ -192,12 +252,14 @@ export class QuadMeshControls {
 
   _buildMetricsPanel() {
     this.metricRows = new Map();
-    const rows = METRICS.map(([key, label, , title, testid]) => {
+    this.splineRows = new Map();
+    const row = (map, [key, label, , title, testid]) => {
       const value = h('td', { class: 'num', testid }, '–');
-      const row = h('tr', { title }, h('th', {}, label), value);
-      this.metricRows.set(key, { row, value });
-      return row;
-    });
+      const tr = h('tr', { title }, h('th', {}, label), value);
+      map.set(key, { row: tr, value });
+      return tr;
+    };
+    const rows = [...SPLINE_ROWS.map((r) => row(this.splineRows, r)), ...METRICS.map((r) => row(this.metricRows, r))];
     this.metricsSection = h('section', { class: 'subpanel', hidden: true, testid: 'quad-metrics' },
       h('h3', {}, 'Developability ', h('span', { class: 'muted small' }, '(M′ against M, as in Fig. 22)')),
       h('div', { class: 'quad-metrics-body' }, h('table', { class: 'metrics-table' }, h('tbody', {}, rows))));
@@ -211,6 +273,37 @@ export class QuadMeshControls {
       row.hidden = typeof v !== 'number';
       if (typeof v === 'number') value.textContent = format(v);
     }
+    this._renderSplineMetrics();
+  }
+
+  _renderSplineMetrics() {
+    const s = this.quad.spline;
+    const m = this.state.metrics || {};
+    for (const [key, , format] of SPLINE_ROWS) {
+      const { row, value } = this.splineRows.get(key);
+      const text = s.present ? format(s, m) : null;
+      row.hidden = text === null;
+      if (text !== null) value.textContent = text;
+    }
+  }
+
+  /**
+   * After every geometry applied: the spline's numbers, and the spline controls when a spline
+   * appears (a spline session opens on its limit surface coloured by K·d², unless the user picked
+   * a colour mode) or goes.
+   */
+  geometryApplied() {
+    const spline = this.quad.hasSpline;
+    if (spline !== this.spline) {
+      this.spline = spline;
+      this.displayChip.hidden = !spline || !this.visible;
+      this.splineColorOption.hidden = !spline;
+      if (spline && !this._colorPicked) this.quad.setColorMode('spline_gauss');
+      this.colorSelect.value = this.quad.colorMode;
+      this.displaySelect.value = this.quad.display;
+      this.changed();
+    }
+    this._renderSplineMetrics();
   }
 
   // ---- state -------------------------------------------------------------------------------------
@@ -226,7 +319,9 @@ export class QuadMeshControls {
 
   /** Shows or hides the quad-only controls. */
   setVisible(visible) {
+    this.visible = visible;
     for (const el of this.viewOptions) el.hidden = !visible;
+    this.displayChip.hidden = !visible || !this.spline;
     this.gluePanel.hidden = !visible;
     this.metricsSection.hidden = !visible;
     if (!visible && this.glueMode) this.toggleGlueMode(false);

@@ -221,7 +221,7 @@ export class ExportPanel {
     const run = (format) => async () => {
       try {
         const blob = await exportSession(state.session, token, format);
-        const file = format === 'unfolding_obj' ? '-unfolding.obj' : `.${format}`;
+        const file = format === 'unfolding_obj' ? '-unfolding.obj' : format === 'iges' ? '.igs' : `.${format}`;
         download(blob, `${slug(state.scene && state.scene.name, state.session)}${file}`);
       } catch (e) {
         const msg = { code: e.code || 'error', message: e.message };
@@ -237,6 +237,8 @@ export class ExportPanel {
         this.foldButton = h('button', { class: 'btn', testid: 'export-fold', title: 'The crease pattern as FOLD 1.2 (composites with a development)', onclick: run('fold') }, 'Export FOLD'),
         this.svgButton = h('button', { class: 'btn', testid: 'export-svg', title: 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed', onclick: run('svg') }, 'Export SVG'),
         this.unfoldingObjButton = h('button', { class: 'btn', testid: 'export-unfolding-obj', title: 'The unfolding M′ as an OBJ mesh (from the server)', onclick: run('unfolding_obj') }, 'Export OBJ of M′'),
+        this.igesButton = h('button', { class: 'btn', testid: 'export-iges', title: 'The spline surface as IGES B-spline surfaces, one per patch, in the scene\'s units (from the server)', onclick: run('iges') }, 'Export IGES'),
+        this.stepButton = h('button', { class: 'btn', testid: 'export-step', title: 'The spline surface as STEP, its patches sewn into one shell (from the server)', onclick: run('step') }, 'Export STEP'),
         h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
       errorSlots.slot('export'));
     parent.appendChild(this.root);
@@ -246,6 +248,10 @@ export class ExportPanel {
       this.foldButton.hidden = !composite && !quad;
       this.svgButton.hidden = !composite && !quad;
       this.unfoldingObjButton.hidden = !quad;
+      // Spline surfaces (a quad mesh with a control net) export their B-spline patches for CAD.
+      const spline = quad && !!(state.scene && state.scene.model && state.scene.model.control);
+      this.igesButton.hidden = !spline;
+      this.stepButton.hidden = !spline;
       this.objButton.textContent = quad ? 'Export OBJ of M' : 'Export OBJ';
       this.objButton.title = quad ? 'The mesh M as an OBJ mesh (from the server)' : 'The sampled surface as OBJ quads (from the server)';
       this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames' : 'The crease pattern as FOLD 1.2 (composites with a development)';

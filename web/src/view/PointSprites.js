@@ -135,10 +135,11 @@ export class PointSprites {
 
   /**
    * Raycaster picking: points whose sprite covers the pointer. `worldPerPixel(p)` converts the
-   * sprite radius to world units at the point's depth; among the hits the one nearest the ray
-   * (in pixels) wins. Returns the payload or null.
+   * sprite radius to world units at the point's depth; among the hits the one of the highest
+   * `priority(payload)` (default: all equal) and then nearest the ray (in pixels) wins. Returns
+   * the payload or null.
    */
-  pick(raycaster, worldPerPixel, tolerancePx = 0) {
+  pick(raycaster, worldPerPixel, tolerancePx = 0, priority = null) {
     if (!this.count) return null;
     let maxThreshold = 0;
     const pos = this.geometry.attributes.position.array;
@@ -150,6 +151,7 @@ export class PointSprites {
     raycaster.params.Points = { threshold: maxThreshold };
     const hits = raycaster.intersectObject(this.object, false);
     let best = null;
+    let bestRank = -Infinity;
     let bestScore = Infinity;
     for (const hit of hits) {
       const i = hit.index;
@@ -157,9 +159,11 @@ export class PointSprites {
       p.fromArray(pos, 3 * i);
       const px = hit.distanceToRay / worldPerPixel(p);
       if (px > this.radii[i] + tolerancePx) continue;
-      // Prefer the point nearest the pointer, then the nearest to the camera.
+      // Prefer the higher priority, then the point nearest the pointer, then the nearest to the camera.
+      const rank = priority ? priority(this.items[i]) : 0;
       const score = px + hit.distance * 1e-9;
-      if (score < bestScore) {
+      if (rank > bestRank || (rank === bestRank && score < bestScore)) {
+        bestRank = rank;
         bestScore = score;
         best = this.items[i];
       }

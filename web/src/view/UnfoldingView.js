@@ -217,7 +217,8 @@ export class UnfoldingView extends CanvasPanel {
     }
     if (this.hovered !== null && this.hovered < q.vertexCount) dot(P(this.hovered), 5, 'rgba(255,255,255,0.35)', '#ffffff');
     if (first !== null && first !== undefined && first < q.vertexCount) dot(P(first), 6, 'rgba(94,230,160,0.35)', GLUE);
-    if (sel && sel.vertex !== undefined && sel.vertex < q.vertexCount) dot(P(sel.vertex), 5, SELECTED, '#000000');
+    // A selected control point of a spline surface has no vertex of M′.
+    if (sel && sel.vertex !== undefined && sel.on !== 'control' && sel.vertex < q.vertexCount) dot(P(sel.vertex), 5, SELECTED, '#000000');
   }
 
   // ---- picking, dragging, zoom and pan --------------------------------------------------------

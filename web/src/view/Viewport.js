@@ -301,7 +301,7 @@ export class Viewport {
     this.compositeGroup.visible = this.kind === 'composite';
     if (this.quadLayer) {
       this.quadLayer.setVisible(this.kind === 'quad_mesh', {
-        surface: this.options.surface, rulings: this.options.rulings, glue: this.options.glue !== false,
+        surface: this.options.surface, rulings: this.options.rulings, glue: this.options.glue !== false, controlNet: this.options.polygons,
       });
     }
     this.compositeSurface.visible = this.options.surface;
@@ -376,6 +376,7 @@ export class Viewport {
   renderNow() {
     this.dirty = false;
     this._updateClipping();
+    if (this.quadLayer) this.quadLayer.sync();
     this.layoutInstances();
     if (this.renderer) this.renderer.render(this.scene, this.camera);
     this._updateLabels();
@@ -410,8 +411,9 @@ export class Viewport {
     const targets = b.pointTargets();
     const markers = composite ? this.composite.edges.filter((e) => e.interior) : [];
     const total = targets.length;
-    // Dense control polygons get smaller points so they stay apart.
-    const density = total > 120 ? 0.55 : total > 40 ? 0.75 : 1;
+    // Dense control polygons get smaller points so they stay apart (sized for the primary points).
+    const dense = b.pointDensityCount ? b.pointDensityCount() : total;
+    const density = dense > 120 ? 0.55 : dense > 40 ? 0.75 : 1;
     const radiusPx = this.pointRadiusPx * density;
     this.points.begin(total + markers.length);
     this.handleTargets.begin(handleMap.size);

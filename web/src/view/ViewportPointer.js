@@ -1,11 +1,13 @@
 // Pointer handling of the 3D view (Viewport): control points are picked with a Raycaster on the
-// point sprites (a few px of slack around their drawn radius) and dragged in the view plane
-// through the point: pointerdown on a point switches orbiting off and selects it (an edge marker
-// selects its edge; `pointDown` may take the press first, e.g. gluing picks), pointermove sends at
-// most one DragCommand per animation frame (latest wins, DragCommandStream), pointerup sends the
-// last position and a DragEndCommand. Hovering sets the cursor; a click on empty space clears the
-// selection. The view draws what this sets on it: view.drag ({target, pointerId, plane, offset,
-// position: the dragged point's latest position, commands}) and view.hovered.
+// point sprites (a few px of slack around their drawn radius; where the buffers rank points,
+// `pickPriority`, the higher rank wins: a spline's control points over the vertices of its
+// refined mesh) and dragged in the view plane through the point: pointerdown on a point switches
+// orbiting off and selects it (an edge marker selects its edge; `pointDown` may take the press
+// first, e.g. gluing picks), pointermove sends at most one DragCommand per animation frame
+// (latest wins, DragCommandStream), pointerup sends the last position and a DragEndCommand.
+// Hovering sets the cursor; a click on empty space clears the selection. The view draws what this
+// sets on it: view.drag ({target, pointerId, plane, offset, position: the dragged point's latest
+// position, commands}) and view.hovered.
 
 import * as THREE from 'three';
 import { sameTarget as sameEntry } from '../commands/Command.js';
@@ -47,7 +49,9 @@ export class ViewportPointer {
     view.camera.updateMatrixWorld();
     const raycaster = new THREE.Raycaster();
     raycaster.setFromCamera(this._ndc(event), view.camera);
-    return view.points.pick(raycaster, (p) => view.worldPerPixel(p), this.pickSlackPx);
+    const b = view.activeBuffers();
+    const priority = b.pickPriority ? (item) => (item.edgeMarker !== undefined ? 0 : b.pickPriority(item)) : null;
+    return view.points.pick(raycaster, (p) => view.worldPerPixel(p), this.pickSlackPx, priority);
   }
 
   _bind() {

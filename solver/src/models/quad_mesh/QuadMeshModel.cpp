@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -202,6 +203,19 @@ int QuadMeshModel::pointOffset(const VertexRef& v) const {
   return problem_.layout().block(block).offset + 3 * v.vertex;
 }
 
+bool QuadMeshModel::inOnePatch(const int* vertices, int count) const {
+  if (patchesOfVertex_.empty()) return true;
+  for (int p : patchesOfVertex_[static_cast<std::size_t>(vertices[0])]) {
+    bool all = true;
+    for (int k = 1; k < count && all; ++k) {
+      const auto& list = patchesOfVertex_[static_cast<std::size_t>(vertices[k])];
+      all = std::find(list.begin(), list.end(), p) != list.end();
+    }
+    if (all) return true;
+  }
+  return false;
+}
+
 double QuadMeshModel::fairnessWeight(double roundZeroWeight, int round) const {
   return roundZeroWeight / std::pow(design_.schedule.fairnessDivisor, std::max(0, round));
 }
@@ -240,7 +254,15 @@ void QuadMeshModel::buildProblem() {
   if (design_.control) {
     // Algorithm 2: the control points are the design; S^k(M) follows them by a hard linear map.
     const ControlNet& net = *design_.control;
-    subdivision_ = splineRefinement(net).subdivision;
+    const SplineRefinement refinement = splineRefinement(net);
+    subdivision_ = refinement.subdivision;
+    if (net.smoothness == 0 && refinement.patchVertices.size() > 1) {
+      // Without smoothness asked, patches may meet at an angle: E_fair on S^k(M) stays within
+      // patches (a polyline of S^k(M) crossing a shared side would round the kink).
+      patchesOfVertex_.assign(static_cast<std::size_t>(V), {});
+      for (std::size_t p = 0; p < refinement.patchVertices.size(); ++p)
+        for (int v : refinement.patchVertices[p]) patchesOfVertex_[static_cast<std::size_t>(v)].push_back(static_cast<int>(p));
+    }
     const int C = static_cast<int>(net.points.rows());
     blockControl_ = problem_.addBlock("control", 3 * C);
     Eigen::MatrixX3d c = net.points;
@@ -311,9 +333,16 @@ void QuadMeshModel::buildProblem() {
     handleTerms_.push_back(id);
   }
   const auto& triples = topology_.polylineTriples();
-  if (meshVariable && w.fairnessMesh > 0 && !triples.empty())
+  std::vector<std::array<int, 3>> meshTriples;
+  if (patchesOfVertex_.empty()) {
+    meshTriples = triples;
+  } else {
+    std::copy_if(triples.begin(), triples.end(), std::back_inserter(meshTriples),
+                 [this](const std::array<int, 3>& t) { return inOnePatch(t.data(), 3); });
+  }
+  if (meshVariable && w.fairnessMesh > 0 && !meshTriples.empty())
     fairnessMeshTerm_ = problem_.addTerm(
-        std::make_unique<terms::PolylineFairnessTerm>("fairness_mesh", triples, meshOffsets), w.fairnessMesh,
+        std::make_unique<terms::PolylineFairnessTerm>("fairness_mesh", meshTriples, meshOffsets), w.fairnessMesh,
         engine::Strength::Soft);
   if (unfoldingVariable && w.fairnessUnfolding > 0 && !triples.empty())
     fairnessUnfoldingTerm_ = problem_.addTerm(
@@ -353,10 +382,18 @@ void QuadMeshModel::buildProblem() {
                          "unfolding_orientation", layout.block(blockUnfolding_).offset, triangles, minArea, 3),
                      1.0, engine::Strength::Hard);
   }
-  if (w.mapping > 0 && !topology_.mappingQuadruples().empty())
-    mappingTerm_ = problem_.addTerm(std::make_unique<terms::MappingRegularityTerm>("mapping", topology_.mappingQuadruples(),
-                                                                    meshOffsets, unfoldingOffsets),
-                     w.mapping, engine::Strength::Soft);
+  // E_map compares second differences of M and M′ along polylines: across a side where patches
+  // meet at an angle (no smoothness asked) it would resist the kink like E_fair; kept within patches.
+  std::vector<std::array<int, 4>> quadruples;
+  if (patchesOfVertex_.empty())
+    quadruples = topology_.mappingQuadruples();
+  else
+    for (const auto& q : topology_.mappingQuadruples())
+      if (inOnePatch(q.data(), 4)) quadruples.push_back(q);
+  if (w.mapping > 0 && !quadruples.empty())
+    mappingTerm_ = problem_.addTerm(
+        std::make_unique<terms::MappingRegularityTerm>("mapping", quadruples, meshOffsets, unfoldingOffsets), w.mapping,
+        engine::Strength::Soft);
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);
 }
 

@@ -131,6 +131,11 @@ class QuadMeshModel {
   std::unique_ptr<engine::GuidedProjectionSolver> solver_;
   int blockMesh_ = -1, blockUnfolding_ = -1, blockFactors_ = -1, blockControl_ = -1;
   Eigen::SparseMatrix<double> subdivision_;  ///< S^k for a control net (design_.control), else empty
+  /// Patches of every refined vertex when patches may meet at an angle (several patches, no
+  /// smoothness asked): E_fair on S^k(M) keeps to polylines within one patch. Else empty.
+  std::vector<std::vector<int>> patchesOfVertex_;
+  /// Whether the refined vertices all lie in one patch (always, when patchesOfVertex_ is empty).
+  bool inOnePatch(const int* vertices, int count) const;
   int isometryTerm_ = -1, factorTerm_ = -1, glueTerm_ = -1;
   double isometryRowScale_ = 0.0;  ///< mean squared diagonal of M′ at build (normalized)
   int fairnessMeshTerm_ = -1, fairnessUnfoldingTerm_ = -1, mappingTerm_ = -1;
