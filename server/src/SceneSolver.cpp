@@ -550,10 +550,10 @@ void SceneSolver::exportTo(const std::string& spec) const {
     }
     return;
   }
-  if (quadMesh_) {
+  if (quadMesh_ || format == "step") {  // the bytes of exportAs, written as they are
     ExportedFile file;
     try {
-      file = quadMeshExport(format);
+      file = exportAs(format);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("--export " + std::string(e.what()).substr(8));
     }
@@ -588,19 +588,6 @@ void SceneSolver::exportTo(const std::string& spec) const {
     std::vector<io::IgesCurve> curves;
     igesEntities(surfaces, curves);
     io::writeIges(path, surfaces, curves, header);
-    return;
-  }
-  if (format == "step") {
-    ExportedFile file;
-    try {
-      file = exportAs(format);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("--export " + std::string(e.what()).substr(8));
-    }
-    std::FILE* out = std::fopen(path.c_str(), "wb");
-    if (!out) throw std::runtime_error("cannot write " + path);
-    const bool ok = std::fwrite(file.content.data(), 1, file.content.size(), out) == file.content.size();
-    if (std::fclose(out) != 0 || !ok) throw std::runtime_error("cannot write " + path);
     return;
   }
   if (format != "obj" && format != "off" && format != "ply" && format != "stl")

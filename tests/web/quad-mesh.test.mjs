@@ -38,15 +38,7 @@ async function caughtUp(page, daemon, demo, after) {
   }, { timeout: 30000 });
 }
 
-async function openDemo(page, daemon, id) {
-  const listed = (await daemon.api('GET', '/api/sessions')).body.sessions;
-  const demo = listed.find((s) => s.id === id);
-  assert.ok(demo, `${id} is a demo session: ${listed.map((s) => s.id).join(', ')}`);
-  await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
-  await h.waitState(page, (st) => st.kind === 'quad_mesh', undefined, { what: 'a quad_mesh session' });
-  await page.waitForFunction(() => Number(document.querySelector('[data-testid="unfolding-view"]').dataset.faces) > 0);
-  return demo;
-}
+const openDemo = (page, daemon, id) => h.openQuadMeshDemo(page, daemon, id);
 
 test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K turns the Gauss image on', { timeout: 240000 }, () =>
   ctx.guard('quad-mesh', async () => {

@@ -88,13 +88,7 @@ function recordFrames(page) {
 }
 
 async function openDemo(page, daemon, id) {
-  const listed = (await daemon.api('GET', '/api/sessions')).body.sessions;
-  const demo = listed.find((s) => s.id === id);
-  assert.ok(demo, `${id} is a demo session: ${listed.map((s) => s.id).join(', ')}`);
-  await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
-  await h.waitState(page, (st) => st.kind === 'quad_mesh', undefined, { what: 'a quad_mesh session' });
-  await page.waitForFunction(() => document.querySelector('[data-testid="editor"]').dataset.spline === 'true', null, { timeout: 30000 });
-  await page.waitForFunction(() => Number(document.querySelector('[data-testid="unfolding-view"]').dataset.faces) > 0);
+  const demo = await h.openQuadMeshDemo(page, daemon, id, { spline: true });
   await h.settleFrames(page);
   return demo;
 }

@@ -1,7 +1,4 @@
-import { readFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
 import { describe, expect, it } from 'vitest';
-import { encodeArray } from '../src/geometry/decode.js';
 import {
   QUAD_BOUNDARY_EDGE, QUAD_EDGE, QUAD_PAPER, QuadMeshBuffers, boundaryVertexFlags, isQuadMeshGeometry, maxAbs, triangulateFaces,
 } from '../src/geometry/QuadMeshBuffers.js';
@@ -11,15 +8,8 @@ import {
 } from '../src/commands/index.js';
 import { glueCommand, gluePairList, isGlued, withGluePair, withoutGluePair } from '../src/commands/glue.js';
 import { percent } from '../src/ui/QuadMeshControls.js';
-import { makeValidator } from './helpers/jsonschema.js';
+import { f32, i32, validClient } from './helpers/proto.js';
 
-const schemaDir = fileURLToPath(new URL('../../proto/schemas/', import.meta.url));
-const load = (name) => JSON.parse(readFileSync(schemaDir + name, 'utf8'));
-const validate = makeValidator({ 'ws-client.schema.json': load('ws-client.schema.json'), 'scene.schema.json': load('scene.schema.json') });
-const validClient = (msg) => validate(JSON.parse(JSON.stringify(msg)), 'ws-client.schema.json');
-
-const f32 = (rows, shape) => encodeArray(Float32Array.from(rows.flat()), shape);
-const i32 = (rows, shape) => encodeArray(Int32Array.from(rows.flat()), shape);
 
 /**
  * Two unit quads and a triangle on the right, lifted at x = 2; M′ flat. Vertices:

@@ -1,8 +1,5 @@
-import { readFileSync } from 'node:fs';
-import { fileURLToPath } from 'node:url';
 import { describe, expect, it } from 'vitest';
 import * as THREE from 'three';
-import { encodeArray } from '../src/geometry/decode.js';
 import { SPLINE_GAUSS_MIN_RANGE, SplineBuffers, gridTriangles, polylineSegmentCount } from '../src/geometry/SplineBuffers.js';
 import { CONTROL_POINT_COLOR, QUAD_PAPER, QuadMeshBuffers } from '../src/geometry/QuadMeshBuffers.js';
 import { divergingColorAt, srgbToLinear } from '../src/geometry/colormap.js';
@@ -11,15 +8,8 @@ import {
 } from '../src/commands/index.js';
 import { PointSprites, SHAPE_SPHERE } from '../src/view/PointSprites.js';
 import { significant } from '../src/ui/QuadMeshControls.js';
-import { makeValidator } from './helpers/jsonschema.js';
+import { f32, i32, validClient } from './helpers/proto.js';
 
-const schemaDir = fileURLToPath(new URL('../../proto/schemas/', import.meta.url));
-const load = (name) => JSON.parse(readFileSync(schemaDir + name, 'utf8'));
-const validate = makeValidator({ 'ws-client.schema.json': load('ws-client.schema.json'), 'scene.schema.json': load('scene.schema.json') });
-const validClient = (msg) => validate(JSON.parse(JSON.stringify(msg)), 'ws-client.schema.json');
-
-const f32 = (rows, shape) => encodeArray(Float32Array.from(rows.flat()), shape);
-const i32 = (rows, shape) => encodeArray(Int32Array.from(rows.flat()), shape);
 
 /** A control net of 2 × 3 points; edges of its grid, each once. */
 const CONTROL = [[0, 0, 0], [1, 0, 0], [2, 0, 0.5], [0, 1, 0], [1, 1, 0.25], [2, 1, 0.5]];

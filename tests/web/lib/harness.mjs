@@ -248,6 +248,22 @@ export async function openEditor(page, url) {
   await settleFrames(page);
 }
 
+/**
+ * Opens the editor of a quad_mesh demo session `id` (a daemon's demo, listed by /api/sessions) and
+ * waits until M′ is drawn — and, with `spline`, until the editor shows a spline surface.
+ */
+export async function openQuadMeshDemo(page, daemon, id, { spline = false } = {}) {
+  const listed = (await daemon.api('GET', '/api/sessions')).body.sessions;
+  const demo = listed.find((s) => s.id === id);
+  if (!demo) throw new Error(`${id} is not a demo session: ${listed.map((s) => s.id).join(', ')}`);
+  await openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
+  await waitState(page, (st) => st.kind === 'quad_mesh', undefined, { what: 'a quad_mesh session' });
+  if (spline)
+    await page.waitForFunction(() => document.querySelector('[data-testid="editor"]').dataset.spline === 'true', null, { timeout: 30000 });
+  await page.waitForFunction(() => Number(document.querySelector('[data-testid="unfolding-view"]').dataset.faces) > 0);
+  return demo;
+}
+
 export async function waitForConnected(page, timeout = 30000) {
   await waitState(page, (s) => s.connection === 'connected' && s.seq !== undefined && s.seq !== null,
     undefined, { timeout, what: 'connection connected' });

@@ -239,48 +239,14 @@ TEST(SplineRefinement, MalformedNetsAreRefusedNamingTheField) {
   EXPECT_NE(message(net).find("control.rounds"), std::string::npos) << message(net);
 }
 
-TEST(SplineSurfaceModel, SmoothnessAcrossSharedSidesClosesAKinkWhileTheSheetStaysDevelopable) {
-  // Two patches meeting at 40°: developable (each is a plane), kinked. Asked for smoothness, the
-  // optimization rounds the kink into a developable bend.
-  const double angle = 40.0 * M_PI / 180.0;
-  ControlNet net = twoPatches([](int r, int c) { return Eigen::Vector3d(c / 5.0, r / 5.0, 0.0); },
-                              [angle](int r, int c) {
-                                return Eigen::Vector3d(1.0 + c / 5.0 * std::cos(angle), r / 5.0, c / 5.0 * std::sin(angle));
-                              });
-  const double before = analyzeSplineSurface(net, net.points).normalJumpMaxDegrees;
-  net.smoothness = 1.0;
-  QuadMeshDesign d = splineSurfaceDesign(net);
-  // The far columns held (E_pos on the control points).
-  for (int r = 0; r < 6; ++r) {
-    d.handles.push_back({{MeshSide::Control, net.patches[0].indices[static_cast<std::size_t>(r * 6)]},
-                         net.points.row(net.patches[0].indices[static_cast<std::size_t>(r * 6)]).transpose(), 1.0});
-    d.handles.push_back({{MeshSide::Control, net.patches[1].indices[static_cast<std::size_t>(r * 6 + 5)]},
-                         net.points.row(net.patches[1].indices[static_cast<std::size_t>(r * 6 + 5)]).transpose(), 1.0});
-  }
-  d.schedule.roundIterations = 20;
-  d.schedule.rounds = 5;
-  QuadMeshModel model(d);
-  engine::SolverOptions options;
-  options.maxIterations = 100;
-  model.solve(options);
-  const SplineSurfaceAnalysis after = analyzeSplineSurface(net, model.controlPoints());
-  std::cout << "kink " << before << "° → normal jump " << after.normalJumpMaxDegrees << "°, |K|·d² max "
-            << after.gaussMaxScaled << " mean " << after.gaussMeanScaled << ", L-Err "
-            << 100 * model.quality().lengthError << " %\n";
-  EXPECT_NEAR(before, 40.0, 1e-9);
-  EXPECT_LT(after.normalJumpMaxDegrees, 2.0);
-  EXPECT_LT(model.quality().lengthError, 0.01);
-  EXPECT_LT(after.gaussMeanScaled, 0.5);
-}
 
-}  // namespace
-}  // namespace devsurf::models::quad_mesh
-
-namespace devsurf::models::quad_mesh {
-namespace {
-
-/// The kinked pair with held far columns, solved; the largest normal jump of M^∞ after.
-double kinkAfterSolve(double smoothness, double* lengthError) {
+/// Two patches meeting at a 40° kink (each a plane, so developable), their far columns held (E_pos
+/// on the control points), solved with the given smoothness: the analysis of M^∞ before and after.
+struct KinkSolve {
+  SplineSurfaceAnalysis before, after;
+  double lengthError = 0.0;
+};
+KinkSolve kinkSolved(double smoothness) {
   const double angle = 40.0 * M_PI / 180.0;
   ControlNet net = twoPatches([](int r, int c) { return Eigen::Vector3d(c / 5.0, r / 5.0, 0.0); },
                               [angle](int r, int c) {
@@ -297,8 +263,20 @@ double kinkAfterSolve(double smoothness, double* lengthError) {
   engine::SolverOptions options;
   options.maxIterations = 100;
   model.solve(options);
-  *lengthError = model.quality().lengthError;
-  return analyzeSplineSurface(net, model.controlPoints()).normalJumpMaxDegrees;
+  return {analyzeSplineSurface(net, net.points), analyzeSplineSurface(net, model.controlPoints()),
+          model.quality().lengthError};
+}
+
+TEST(SplineSurfaceModel, SmoothnessAcrossSharedSidesClosesAKinkWhileTheSheetStaysDevelopable) {
+  // Asked for smoothness, the optimization rounds the kink into a developable bend.
+  const KinkSolve k = kinkSolved(1.0);
+  std::cout << "kink " << k.before.normalJumpMaxDegrees << "° → normal jump " << k.after.normalJumpMaxDegrees
+            << "°, |K|·d² max " << k.after.gaussMaxScaled << " mean " << k.after.gaussMeanScaled << ", L-Err "
+            << 100 * k.lengthError << " %\n";
+  EXPECT_NEAR(k.before.normalJumpMaxDegrees, 40.0, 1e-9);
+  EXPECT_LT(k.after.normalJumpMaxDegrees, 2.0);
+  EXPECT_LT(k.lengthError, 0.01);
+  EXPECT_LT(k.after.gaussMeanScaled, 0.5);
 }
 
 TEST(SplineSurfaceModel, WithoutSmoothnessNoTermSmoothsAcrossTheSharedSide) {
@@ -308,15 +286,15 @@ TEST(SplineSurfaceModel, WithoutSmoothnessNoTermSmoothsAcrossTheSharedSide) {
   // boundary (the end stencils), its second differences there are not zero, and evening them out
   // moves the side's neighbours in both patches' planes at once (measured: round-0 E_fair 6e-4
   // at the start, every other term < 1e-10).
-  double lengthError = 0.0, lengthErrorTiny = 0.0;
-  const double kept = kinkAfterSolve(0.0, &lengthError);
+  const KinkSolve kept = kinkSolved(0.0);
   // A vanishing smoothness weight: the across-side fairness and E_map rows are back, the
   // smoothness rows weigh nothing.
-  const double rounded = kinkAfterSolve(1e-12, &lengthErrorTiny);
-  std::cout << "kink 40° without smoothness → normal jump " << kept << "° (with polylines across the side: " << rounded
-            << "°), L-Err " << 100 * lengthError << " %\n";
-  EXPECT_GT(kept, rounded + 3.0);
-  EXPECT_LT(lengthError, 0.01);
+  const KinkSolve rounded = kinkSolved(1e-12);
+  std::cout << "kink 40° without smoothness → normal jump " << kept.after.normalJumpMaxDegrees
+            << "° (with polylines across the side: " << rounded.after.normalJumpMaxDegrees << "°), L-Err "
+            << 100 * kept.lengthError << " %\n";
+  EXPECT_GT(kept.after.normalJumpMaxDegrees, rounded.after.normalJumpMaxDegrees + 3.0);
+  EXPECT_LT(kept.lengthError, 0.01);
 }
 
 }  // namespace
