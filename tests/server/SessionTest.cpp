@@ -669,7 +669,8 @@ TEST(CompositeSession, ExportsObjFoldAndSvgAndRefusesFormatsThatDoNotApply) {
   const ExportedFile svg = e.session->exportAs("svg");
   EXPECT_EQ(svg.mediaType, "image/svg+xml");
   EXPECT_NE(svg.content.find("<svg"), std::string::npos);
-  EXPECT_THROW(e.session->exportAs("step"), ExportUnavailable);
+  EXPECT_EQ(e.session->exportAs("step").mediaType, "model/step");
+  EXPECT_THROW(e.session->exportAs("dxf"), ExportUnavailable);
   JoinedEditor strip;
   EXPECT_THROW(strip.session->exportAs("svg"), ExportUnavailable);
   EXPECT_NE(strip.session->exportAs("obj").content.find("\nf "), std::string::npos);

@@ -194,7 +194,7 @@ TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
   EXPECT_EQ(run({"solve"}).code, 2);
   EXPECT_EQ(run({"solve", "/nonexistent.json"}).code, 2);
   EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--iterations", "many"}).code, 2);
-  EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--export", "step:x.step"}).code, 2);
+  EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--export", "dxf:x.dxf"}).code, 2);
   EXPECT_EQ(run({"frobnicate"}).code, 2);
   EXPECT_EQ(run({"help"}).code, 0);
 }
