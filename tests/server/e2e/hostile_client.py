@@ -325,6 +325,12 @@ def targets_of(scene):
             out.append(({"vertex": i}, p[:3]))
         for i, p in enumerate(model.get("unfolding", [])):
             out.append(({"vertex": i, "on": "unfolding"}, (list(p) + [0.0])[:3]))
+        # A spline surface: its control points (the scene file may give no mesh: the loader
+        # writes S^k(M) from the net).
+        control = model.get("control")
+        if isinstance(control, dict):
+            for i, p in enumerate(control.get("points", [])):
+                out.append(({"vertex": i, "on": "control"}, p[:3]))
     return out
 
 
