@@ -10,7 +10,7 @@ APT_PACKAGES=(
   libeigen3-dev nlohmann-json3-dev libspdlog-dev libopenmesh-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcpp-httplib-dev libboost-dev libsqlite3-dev libsuitesparse-dev
-  libocct-data-exchange-dev libtbb-dev liblbfgs-dev libssl-dev libcgal-dev
+  libocct-data-exchange-dev libtbb-dev liblbfgs-dev libssl-dev libcgal-dev libnanoflann-dev libcgal-demo
   libopenblas0-serial
   python3 python3-websockets
   clang libclang-rt-dev

@@ -1,6 +1,9 @@
 #include "devsurf/server/Cli.h"
 
+#include "CliArguments.h"
+
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -10,6 +13,7 @@
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
+#include "devsurf/reference/ReferenceShape.h"
 #include "devsurf/server/Daemon.h"
 #include "devsurf/server/SceneSolver.h"
 
@@ -31,11 +35,16 @@
 namespace devsurf::server {
 namespace {
 
+using cli::flagValue;
+using cli::parseLength;
+using cli::parseNumber;
+
 constexpr const char* kUsage =
     "usage: devsurf <command> [options]\n"
     "\n"
     "commands:\n"
     "  solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]...\n"
+    "        [--reference SHAPE [--coverage-tolerance T]]\n"
     "        [--memory-budget-mb MB]\n"
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
     "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
@@ -57,6 +66,12 @@ constexpr const char* kUsage =
     "        [--http-workers N]\n"
     "        [--memory-budget-mb MB] [--session-time-budget-ms MS]\n"
     "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
+    "  reference SHAPE [--thin RADIUS] [--seed N] [--out CLOUD.xyz]\n"
+    "        Read a point cloud (.xyz, .pwn, .ply) or mesh (.obj, .off, .ply, .stl) and print\n"
+    "        what it holds as JSON; --thin keeps points at least RADIUS apart, each with a\n"
+    "        normal fitted to its ball (written with --out as x y z nx ny nz lines).\n"
+    "        With solve, --reference reports the distances from SHAPE's points to the solved\n"
+    "        surface (reference_* metrics; coverage within T, default 1% of SHAPE's size).\n"
     "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
     "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"
@@ -74,27 +89,6 @@ std::string readAll(std::istream& in) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
   return buffer.str();
-}
-
-/// The value after the flag at args[i] (advancing i). @throws std::invalid_argument if missing.
-const std::string& flagValue(const std::vector<std::string>& args, std::size_t& i) {
-  if (i + 1 >= args.size()) throw std::invalid_argument(args[i] + ": missing value");
-  return args[++i];
-}
-
-/// An integer flag value in [lo, hi]. @throws std::invalid_argument naming the flag.
-long parseNumber(const std::string& flag, const std::string& value, long lo, long hi) {
-  std::size_t used = 0;
-  long n = 0;
-  try {
-    n = std::stol(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || n < lo || n > hi)
-    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
-                                std::to_string(hi) + ", got \"" + value + "\"");
-  return n;
 }
 
 /// Process settings of the daemon. glibc keeps freed memory in its per-thread arenas and raises
@@ -117,7 +111,8 @@ void tuneProcessForServing() {
 
 int solveCommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out,
                  std::ostream& err) {
-  std::string scenePath, outPath;
+  std::string scenePath, outPath, referencePath;
+  double coverageTolerance = 0.0;
   int iterations = -1;
   std::vector<std::string> exports;
   proto::ResourceLimits limits;
@@ -130,14 +125,27 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
         limits.memoryBudgetBytes = static_cast<double>(parseNumber(a, value(), 16, 1L << 30)) * 1024.0 * 1024.0;
       else if (a == "--out") outPath = value();
       else if (a == "--export") exports.push_back(value());
+      else if (a == "--reference") referencePath = value();
+      else if (a == "--coverage-tolerance") coverageTolerance = parseLength(a, value());
       else if (!a.empty() && a[0] == '-' && a != "-") throw std::invalid_argument("unknown option " + a);
       else if (scenePath.empty()) scenePath = a;
       else throw std::invalid_argument("unexpected argument " + a);
     }
     if (scenePath.empty()) throw std::invalid_argument("missing SCENE (a scene file, or - for standard input)");
+    if (coverageTolerance > 0.0 && referencePath.empty())
+      throw std::invalid_argument("--coverage-tolerance: needs --reference");
   } catch (const std::invalid_argument& e) {
     err << "devsurf solve: " << e.what() << "\n" << kUsage;
     return 2;
+  }
+  reference::ReferenceShape referenceShape;
+  if (!referencePath.empty()) {
+    try {
+      referenceShape = reference::readReferenceShape(referencePath);
+    } catch (const std::invalid_argument& e) {
+      err << "devsurf solve: --reference: " << e.what() << "\n";
+      return 2;
+    }
   }
 
   std::string text;
@@ -161,7 +169,10 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     SceneSolver solver(proto::sceneFromText(text, limits));
     const engine::SolveSummary summary = solver.solve(iterations);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    const nlohmann::json report = solver.report(summary, ms);
+    nlohmann::json report = solver.report(summary, ms);
+    if (!referencePath.empty())
+      for (const auto& [name, value] : solver.referenceMetrics(referenceShape.points, coverageTolerance))
+        report["metrics"][name] = value;
     if (const std::string bad = proto::nonFinitePath(report); !bad.empty()) {
       err << "devsurf solve: the solve produced a non-finite value (" << bad << "); no report written\n";
       return 1;
@@ -471,6 +482,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "serve") return serveCommand(rest, out, err);
   if (command == "job") return jobCommand(rest, out, err);
   if (command == "import") return importCommand(rest, out, err);
+  if (command == "reference") return referenceCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";
     return 0;

@@ -9,6 +9,8 @@
 #include "devsurf/io/FoldWriter.h"
 #include "devsurf/io/SvgFoldPattern.h"
 #include "devsurf/models/conical_strip/ArcLengthCurve.h"
+#include "devsurf/models/quad_mesh/SplineSurface.h"
+#include "devsurf/reference/SurfaceDistance.h"
 
 namespace devsurf::server {
 
@@ -104,6 +106,11 @@ SceneSolver::SceneSolver(proto::Scene scene, engine::Deadline deadline)
     options.deadline = deadline_;
     try {
       quadMesh_ = std::make_unique<models::quad_mesh::QuadMeshModel>(initialQuadMesh_, options);
+      if (initialQuadMesh_.control) {
+        const models::quad_mesh::SplineSurfaceAnalysis before =
+            models::quad_mesh::analyzeSplineSurface(*initialQuadMesh_.control, initialQuadMesh_.control->points);
+        initialSpline_ = {before.gaussMaxScaled, before.gaussMeanScaled, before.normalJumpMaxDegrees};
+      }
     } catch (const std::invalid_argument& e) {
       throw proto::SceneError("model", "model", e.what());
     }
@@ -497,6 +504,16 @@ void SceneSolver::igesEntities(std::vector<io::IgesSurface>& surfaces, std::vect
 
 io::QuadMesh SceneSolver::sampledSurface() const {
   if (composite_) return composite_->geometry(50, 8).merged;
+  if (quadMesh_) {
+    io::QuadMesh m;
+    m.vertices = quadMesh_->meshVertices();
+    const auto& faces = quadMesh_->topology().faces();
+    m.quads.resize(static_cast<Eigen::Index>(faces.size()), 4);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      m.quads.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2],
+          faces[f][3] < 0 ? faces[f][2] : faces[f][3];
+    return m;
+  }
   if (quasi_) {
     const quasi::RuledBSplineSurface& s = quasi_->results().surface;
     const int U = 200, V = 8;
@@ -526,6 +543,19 @@ io::QuadMesh SceneSolver::sampledSurface() const {
   return strip_->geometry(200, 8, 2).surface;
 }
 
+proto::Metrics SceneSolver::referenceMetrics(const Eigen::MatrixX3d& reference, double tolerance) const {
+  const io::QuadMesh surface = sampledSurface();
+  const reference::SurfaceDistance d =
+      reference::surfaceDistance(reference, surface.vertices, io::triangulateQuads(surface), tolerance);
+  return {{"reference_points", d.points},
+          {"reference_distance_max", d.maxDistance},
+          {"reference_distance_rms", d.rmsDistance},
+          {"reference_distance_max_relative", d.maxRelative},
+          {"reference_distance_rms_relative", d.rmsRelative},
+          {"reference_coverage", d.coverage},
+          {"reference_coverage_tolerance", d.tolerance}};
+}
+
 void SceneSolver::exportTo(const std::string& spec) const {
   const std::size_t colon = spec.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
@@ -535,13 +565,7 @@ void SceneSolver::exportTo(const std::string& spec) const {
   if (quadMesh_ && format == "stl") {
     // M as triangles (io::triangulateQuads; a triangle travels as a quad with its last vertex
     // repeated, whose zero-area half is left out).
-    io::QuadMesh m;
-    m.vertices = quadMesh_->meshVertices();
-    const auto& faces = quadMesh_->topology().faces();
-    m.quads.resize(static_cast<Eigen::Index>(faces.size()), 4);
-    for (std::size_t f = 0; f < faces.size(); ++f)
-      m.quads.row(static_cast<Eigen::Index>(f)) << faces[f][0], faces[f][1], faces[f][2],
-          faces[f][3] < 0 ? faces[f][2] : faces[f][3];
+    const io::QuadMesh m = sampledSurface();
     const std::string staging = path + ".partial.stl";
     io::writeMesh(m, staging);
     if (std::rename(staging.c_str(), path.c_str()) != 0) {

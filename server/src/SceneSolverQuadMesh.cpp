@@ -46,13 +46,12 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
     // The spline M^∞ itself (issue 14), before (the scene's control points) and now.
     const qm::ControlNet& net = *initialQuadMesh_.control;
     const qm::SplineSurfaceAnalysis now = qm::analyzeSplineSurface(net, model.controlPoints());
-    const qm::SplineSurfaceAnalysis before = qm::analyzeSplineSurface(net, net.points);
     m["spline_gauss_max_scaled"] = now.gaussMaxScaled;
     m["spline_gauss_mean_scaled"] = now.gaussMeanScaled;
-    m["spline_gauss_max_scaled_initial"] = before.gaussMaxScaled;
-    m["spline_gauss_mean_scaled_initial"] = before.gaussMeanScaled;
+    m["spline_gauss_max_scaled_initial"] = initialSpline_.gaussMaxScaled;
+    m["spline_gauss_mean_scaled_initial"] = initialSpline_.gaussMeanScaled;
     m["spline_normal_jump_max_deg"] = now.normalJumpMaxDegrees;
-    m["spline_normal_jump_max_deg_initial"] = before.normalJumpMaxDegrees;
+    m["spline_normal_jump_max_deg_initial"] = initialSpline_.normalJumpMaxDegrees;
     m["spline_patches"] = static_cast<double>(now.samples.size());
     m["spline_shared_sides"] = now.sharedSides;
     m["control_points"] = static_cast<double>(net.points.rows());

@@ -252,14 +252,23 @@ Eigen::Vector3d currentPosition(const json& model, const json& target) {
   return vec(model[target["curve"].get<std::string>()]["points"][target["index"].get<std::size_t>()]);
 }
 
+/// The preset as the daemon opens a demo (solved first), solved once per preset: every drag of a
+/// preset starts from the same state, and the solve is deterministic (spline-watertight: 5.9 s).
+const proto::Scene& solvedPreset(const std::string& preset) {
+  static std::map<std::string, proto::Scene> solved;
+  auto found = solved.find(preset);
+  if (found == solved.end())
+    found = solved.emplace(preset, SceneSolver::solvedScene(proto::sceneFromJson(readPreset(preset)))).first;
+  return found->second;
+}
+
 struct Fixture {
   ManualExecutor ex;
   std::shared_ptr<Session> session;
   Inbox inbox;
   int pid = 0;
   explicit Fixture(const std::string& preset) {
-    // As the daemon opens a demo: the preset solved first.
-    const proto::Scene scene = SceneSolver::solvedScene(proto::sceneFromJson(readPreset(preset)));
+    const proto::Scene& scene = solvedPreset(preset);
     session = std::make_shared<Session>("drag-stress", scene, Session::Tokens{tokenHash("e"), tokenHash("v")},
                                         SessionSettings{}, ex.scheduler(), nullptr, nullptr, true);
     pid = session->join(Role::Edit, "stress", inbox.sink());

@@ -76,10 +76,13 @@ class ExactRestoreTest(unittest.TestCase):
     CASES = (("strip-lifted-corner.json", {"curve": "b", "index": 6}),
              ("composite-curved-fold.json", {"vertex": 3}),
              ("quasi-strip-twisted.json", {"curve": "c1", "index": 2}),
-             ("conical-strip-hull.json", {"curve": "p", "index": 1}))
+             ("conical-strip-hull.json", {"curve": "p", "index": 1}),
+             ("spline-watertight.json", {"on": "control", "vertex": 60}))
 
     @staticmethod
     def point(model, target):
+        if target.get("on") == "control":
+            return model["control"]["points"][target["vertex"]]
         if "vertex" in target:
             return model["vertices"][target["vertex"]]
         return model[target["curve"]]["points"][target["index"]]

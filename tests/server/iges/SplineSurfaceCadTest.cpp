@@ -131,7 +131,9 @@ TEST_P(SplineSurfaceCad, StepAndIgesReadBackByOpenCascadeCarryTheSolvedControlPo
   std::cout << GetParam() << ": " << patches.size() << " patches, " << shells << " shell(s), " << shared
             << " shared edges (" << sharedSides << " shared sides); STEP " << step.content.size() << " bytes, IGES "
             << iges.content.size() << " bytes\n";
-  if (patches.size() > 1) EXPECT_EQ(shells, 1);
+  if (patches.size() > 1) {
+    EXPECT_EQ(shells, 1);
+  }
   EXPECT_EQ(shared, sharedSides);
   // For a look (scripts/render_mesh.mjs → docs/): the solved model as STEP, and the shape
   // OpenCascade imported from it, tessellated by OpenCascade, as STL.

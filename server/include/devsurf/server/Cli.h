@@ -16,6 +16,10 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
 int solveCommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out,
                  std::ostream& err);
 
+/// `devsurf reference SHAPE [--thin RADIUS] [--seed N] [--out CLOUD.xyz]`: what a reference
+/// shape holds, as JSON; thinned with a fitted normal per kept point when asked (issue 15).
+int referenceCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
 /// `devsurf serve …`: the daemon, until SIGINT/SIGTERM.
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 

@@ -122,6 +122,16 @@ class SceneSolver {
   proto::Scene currentScene() const;
   /// The papers' quality measures plus handle and displacement figures (names carry units).
   proto::Metrics metrics() const;
+  /// One-sided distances from a user's reference points to the current surface (issue 15): the
+  /// sampled surface of the obj export (quad meshes: M) as triangles. Names: reference_points,
+  /// reference_distance_max, …_rms, …_max_relative, …_rms_relative (÷ the reference's bounding-box
+  /// diagonal), reference_coverage (fraction within reference_coverage_tolerance; ≤ 0 asks for 1%
+  /// of that diagonal).
+  /// @param[in] reference  r×3 points in the scene's units
+  proto::Metrics referenceMetrics(const Eigen::MatrixX3d& reference, double tolerance) const;
+  /// The surface as the obj export samples it: strips 200×8, composites 50×8 per face, conical
+  /// patches 25×5, quad meshes M (a triangle repeats its last vertex).
+  io::QuadMesh sampledSurface() const;
   /// The full report of the last solve.
   nlohmann::json report(const engine::SolveSummary& summary, double timeMs) const;
   /// The report's `termination` of the last solve for quasi_strip (an engine reason name, or
@@ -191,8 +201,6 @@ class SceneSolver {
 
   /// The export's B-spline entities (exportAs "iges").
   void igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const;
-  /// The sampled surface for obj exports.
-  io::QuadMesh sampledSurface() const;
   /// quad_mesh: metrics() and exportAs() (SceneSolverQuadMesh.cpp).
   proto::Metrics quadMeshMetrics() const;
   ExportedFile quadMeshExport(const std::string& format) const;
@@ -215,6 +223,11 @@ class SceneSolver {
   std::unique_ptr<models::quad_mesh::QuadMeshModel> quadMesh_;
   models::quad_mesh::QuadMeshDesign initialQuadMesh_;
   models::quad_mesh::QuadMeshSolveSummary quadMeshSummary_;
+  /// The spline M^∞ of the scene's own control points (max, mean |K|·d², normal jump), analysed
+  /// once: the report's "…_initial" metrics.
+  struct InitialSplineMetrics {
+    double gaussMaxScaled = 0.0, gaussMeanScaled = 0.0, normalJumpMaxDegrees = 0.0;
+  } initialSpline_;
   std::string termination_;  ///< the model's own termination reason (quasi_strip, conical_strip)
 };
 

@@ -94,6 +94,48 @@ void validateNet(const ControlNet& net) {
       fail("control.points[" + std::to_string(j) + "]: no patch uses it (every control point must belong to a patch)");
 }
 
+/// A control point in two patches must lie on a whole side the two share, or be a corner of
+/// both (patches touching at a corner). Anything else — a corner of one patch in the middle of
+/// another's side (a T-junction), sides overlapping in part, an interior point reused — leaves a
+/// gap between the refined patches, because the refined boundary curves are not the same curve.
+void refuseJunctionsOffSharedSides(const ControlNet& net, const std::vector<ControlPatch>& patches,
+                                   const std::vector<SharedSide>& shared) {
+  if (patches.size() < 2) return;
+  std::map<std::pair<int, int>, std::vector<int>> sharedPoints;  // (patch a < patch b) → indices on shared sides
+  for (const SharedSide& s : shared) {
+    const std::vector<int> side = sideIndices(patches[static_cast<std::size_t>(s.patchA)], s.sideA, 0);
+    auto& points = sharedPoints[{std::min(s.patchA, s.patchB), std::max(s.patchA, s.patchB)}];
+    points.insert(points.end(), side.begin(), side.end());
+  }
+  struct Place {
+    int patch, position;
+    bool corner;
+  };
+  std::map<int, std::vector<Place>> placesOfPoint;
+  for (int p = 0; p < static_cast<int>(patches.size()); ++p) {
+    const ControlPatch& patch = patches[static_cast<std::size_t>(p)];
+    for (int r = 0; r < patch.rows; ++r)
+      for (int c = 0; c < patch.columns; ++c) {
+        const bool corner = (r == 0 || r == patch.rows - 1) && (c == 0 || c == patch.columns - 1);
+        placesOfPoint[at(patch, r, c)].push_back({p, r * patch.columns + c, corner});
+      }
+  }
+  for (const auto& [point, places] : placesOfPoint)
+    for (std::size_t i = 0; i < places.size(); ++i)
+      for (std::size_t j = i + 1; j < places.size(); ++j) {
+        const Place &a = places[i], &b = places[j];
+        if (a.corner && b.corner) continue;
+        const auto found = sharedPoints.find({std::min(a.patch, b.patch), std::max(a.patch, b.patch)});
+        if (found != sharedPoints.end() &&
+            std::find(found->second.begin(), found->second.end(), point) != found->second.end())
+          continue;
+        fail(patchPath(net, static_cast<std::size_t>(b.patch)) + ".indices[" + std::to_string(b.position) +
+             "]: control point " + std::to_string(point) + " is also in patch " + std::to_string(a.patch) +
+             ", but the two patches do not share a whole side through it (a T-junction or a partly shared "
+             "side leaves a gap); split the longer patch so that the sides match point for point");
+      }
+}
+
 }  // namespace
 
 std::vector<ControlPatch> controlPatches(const ControlNet& net) {
@@ -134,6 +176,7 @@ std::vector<SharedSide> splineSharedSides(const ControlNet& net) {
            ", so the two patches face opposite ways; reverse the rows of one of them");
     shared.push_back({a.patch, a.side, b.patch, b.side});
   }
+  refuseJunctionsOffSharedSides(net, patches, shared);
   return shared;
 }
 

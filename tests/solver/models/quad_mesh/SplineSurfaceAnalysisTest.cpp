@@ -239,6 +239,63 @@ TEST(SplineRefinement, MalformedNetsAreRefusedNamingTheField) {
   EXPECT_NE(message(net).find("control.rounds"), std::string::npos) << message(net);
 }
 
+/// The net with control points no patch uses dropped and the patches' indices renumbered.
+ControlNet withoutUnusedPoints(ControlNet net) {
+  std::vector<int> renumber(static_cast<std::size_t>(net.points.rows()), -1);
+  int used = 0;
+  for (ControlPatch& p : net.patches)
+    for (int& i : p.indices) {
+      if (renumber[static_cast<std::size_t>(i)] < 0) renumber[static_cast<std::size_t>(i)] = used++;
+      i = renumber[static_cast<std::size_t>(i)];
+    }
+  Eigen::MatrixX3d kept(used, 3);
+  for (std::size_t i = 0; i < renumber.size(); ++i)
+    if (renumber[i] >= 0) kept.row(renumber[i]) = net.points.row(static_cast<Eigen::Index>(i));
+  net.points = kept;
+  return net;
+}
+
+TEST(SplineRefinement, PatchesMeetingOffAWholeSharedSideAreRefusedAsAGap) {
+  auto message = [](const ControlNet& net) {
+    try {
+      splineRefinement(net);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // A T-junction: patch 1 of the 2 × 2 arrangement replaced by a 4 × 4 patch whose corner sits in
+  // the middle of patch 0's right side (grid column 5) and that shares only rows 1 … 4 of it.
+  ControlNet net = fourPatches(2);
+  const int C = 11;
+  const Eigen::Index first = net.points.rows();
+  ControlPatch t{4, 4, {}};
+  net.points.conservativeResize(first + 12, 3);
+  int extra = 0;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      if (c == 0) {
+        t.indices.push_back((r + 1) * C + 5);
+        continue;
+      }
+      net.points.row(first + extra) << 0.5 + 0.1 * c, (r + 1) / 8.0, 0.0;
+      t.indices.push_back(static_cast<int>(first + extra++));
+    }
+  net.patches.erase(net.patches.begin() + 1);
+  net.patches.push_back(t);
+  std::string m = message(withoutUnusedPoints(net));
+  EXPECT_NE(m.find("control.patches[3].indices[0]"), std::string::npos) << m;
+  EXPECT_NE(m.find("T-junction"), std::string::npos) << m;
+  // Touching at a corner only is accepted (one shared refined vertex there).
+  net = fourPatches(2);
+  net.patches = {net.patches[0], net.patches[3]};
+  EXPECT_EQ(message(withoutUnusedPoints(net)), "accepted");
+  // An interior point of one patch used by another: refused.
+  net = fourPatches(2);
+  net.patches[3].indices[7] = net.patches[0].indices[7];
+  m = message(withoutUnusedPoints(net));
+  EXPECT_NE(m.find("control.patches[3].indices[7]"), std::string::npos) << m;
+}
 
 /// Two patches meeting at a 40° kink (each a plane, so developable), their far columns held (E_pos
 /// on the control points), solved with the given smoothness: the analysis of M^∞ before and after.

@@ -1,0 +1,46 @@
+#pragma once
+// Flag parsing shared by the `devsurf` subcommands (private to server/src).
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace devsurf::server::cli {
+
+/// The value after the flag at args[i] (advancing i). @throws std::invalid_argument if missing.
+inline const std::string& flagValue(const std::vector<std::string>& args, std::size_t& i) {
+  if (i + 1 >= args.size()) throw std::invalid_argument(args[i] + ": missing value");
+  return args[++i];
+}
+
+/// An integer flag value in [lo, hi]. @throws std::invalid_argument naming the flag.
+inline long parseNumber(const std::string& flag, const std::string& value, long lo, long hi) {
+  std::size_t used = 0;
+  long n = 0;
+  try {
+    n = std::stol(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != value.size() || n < lo || n > hi)
+    throw std::invalid_argument(flag + ": expected an integer from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", got \"" + value + "\"");
+  return n;
+}
+
+/// A positive finite length flag value. @throws std::invalid_argument naming the flag.
+inline double parseLength(const std::string& flag, const std::string& value) {
+  std::size_t used = 0;
+  double x = 0.0;
+  try {
+    x = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != value.size() || !std::isfinite(x) || x <= 0.0)
+    throw std::invalid_argument(flag + ": expected a positive length, got \"" + value + "\"");
+  return x;
+}
+
+}  // namespace devsurf::server::cli

@@ -1,0 +1,215 @@
+// Reference shapes a user brings (issue 15): point clouds as text, meshes and clouds through
+// OpenMesh, held to size limits.
+#include "devsurf/reference/ReferenceShape.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+namespace devsurf::reference {
+namespace {
+
+struct DoubleTraits : public OpenMesh::DefaultTraits {
+  typedef OpenMesh::Vec3d Point;
+  typedef OpenMesh::Vec3d Normal;
+};
+using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+
+/// OpenMesh reports every read and every face it cannot add on global streams; we report by
+/// file and count. Switched off once per process (toggling them raced between threads).
+void silenceOpenMesh() {
+  static const bool silenced = [] {
+    omlog().disable();
+    omout().disable();
+    omerr().disable();
+    return true;
+  }();
+  (void)silenced;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& message) {
+  throw std::invalid_argument(path + ": " + message);
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e;
+}
+
+void checkPointCount(const std::string& path, std::int64_t n, const ReferenceLimits& limits) {
+  if (n > limits.maxPoints)
+    fail(path, "more than " + std::to_string(limits.maxPoints) + " points (the limit; thin the cloud first)");
+}
+
+ReferenceShape readXyz(const std::string& path, const ReferenceLimits& limits) {
+  std::ifstream in(path);
+  if (!in) fail(path, "cannot open");
+  std::vector<double> xyz, normals;
+  std::string line;
+  long lineNumber = 0;
+  int columns = -1;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream fields(line);
+    double v[7];
+    int n = 0;
+    std::string token;
+    while (fields >> token) {
+      if (n == 6) fail(path, "line " + std::to_string(lineNumber) + ": more than 6 numbers (x y z [nx ny nz])");
+      char* end = nullptr;
+      v[n] = std::strtod(token.c_str(), &end);
+      if (end == token.c_str() || *end != '\0')
+        fail(path, "line " + std::to_string(lineNumber) + ": \"" + token + "\" is not a number");
+      if (!std::isfinite(v[n])) fail(path, "line " + std::to_string(lineNumber) + ": a coordinate is not finite");
+      ++n;
+    }
+    if (n == 0) continue;
+    if (n != 3 && n != 6)
+      fail(path, "line " + std::to_string(lineNumber) + ": " + std::to_string(n) +
+                     " numbers; a point is x y z or x y z nx ny nz");
+    if (columns < 0) columns = n;
+    if (n != columns)
+      fail(path, "line " + std::to_string(lineNumber) + ": " + std::to_string(n) + " numbers after lines of " +
+                     std::to_string(columns));
+    xyz.insert(xyz.end(), v, v + 3);
+    if (n == 6) normals.insert(normals.end(), v + 3, v + 6);
+    checkPointCount(path, static_cast<std::int64_t>(xyz.size() / 3), limits);
+  }
+  ReferenceShape shape;
+  shape.format = "xyz";
+  const Eigen::Index count = static_cast<Eigen::Index>(xyz.size() / 3);
+  shape.points = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(xyz.data(), count, 3);
+  if (!normals.empty()) {
+    shape.normals = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(normals.data(), count, 3);
+    for (Eigen::Index i = 0; i < count; ++i) {
+      const double length = shape.normals.row(i).norm();
+      if (length > 0) shape.normals.row(i) /= length;
+    }
+  }
+  return shape;
+}
+
+/// The face count a file declares (OFF and PLY headers, OBJ "f" lines), −1 when it does not say.
+long declaredFaceCount(const std::string& path, const std::string& extension) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (extension == ".off") {
+    while (std::getline(in, line)) {
+      const std::size_t hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      std::istringstream s(line);
+      std::string first;
+      if (!(s >> first)) continue;
+      if (first.find("OFF") != std::string::npos) {
+        long v = 0, f = 0;
+        if (s >> v >> f) return f;  // "OFF v f e" on one line
+        continue;
+      }
+      std::istringstream counts(line);
+      long v = 0, f = 0;
+      if (counts >> v >> f) return f;
+      return -1;
+    }
+    return -1;
+  }
+  if (extension == ".ply") {
+    while (std::getline(in, line)) {
+      if (line.rfind("end_header", 0) == 0) break;
+      std::istringstream s(line);
+      std::string element, name;
+      long n = 0;
+      if (s >> element >> name >> n && element == "element" && name == "face") return n;
+    }
+    return 0;
+  }
+  if (extension == ".obj") {
+    long f = 0;
+    while (std::getline(in, line))
+      if (line.size() > 1 && line[0] == 'f' && std::isspace(static_cast<unsigned char>(line[1]))) ++f;
+    return f;
+  }
+  return -1;
+}
+
+ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& extension,
+                                   const ReferenceLimits& limits) {
+  silenceOpenMesh();
+  PolyMesh mesh;
+  mesh.request_vertex_normals();
+  OpenMesh::IO::Options options;
+  options += OpenMesh::IO::Options::VertexNormal;
+  if (!OpenMesh::IO::read_mesh(mesh, path, options)) fail(path, "OpenMesh could not read it as " + extension.substr(1));
+  checkPointCount(path, static_cast<std::int64_t>(mesh.n_vertices()), limits);
+  ReferenceShape shape;
+  shape.format = extension.substr(1);
+  shape.points.resize(static_cast<Eigen::Index>(mesh.n_vertices()), 3);
+  for (const auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    shape.points.row(v.idx()) << p[0], p[1], p[2];
+  }
+  if (!shape.points.allFinite()) fail(path, "a coordinate is not finite");
+  if (options.check(OpenMesh::IO::Options::VertexNormal)) {
+    shape.normals.resize(shape.points.rows(), 3);
+    for (const auto v : mesh.vertices()) {
+      const auto& n = mesh.normal(v);
+      Eigen::RowVector3d row(n[0], n[1], n[2]);
+      const double length = row.norm();
+      shape.normals.row(v.idx()) = std::isfinite(length) && length > 0 ? Eigen::RowVector3d(row / length)
+                                                                       : Eigen::RowVector3d::Zero();
+    }
+  }
+  std::int64_t triangles = 0;
+  for (const auto f : mesh.faces()) triangles += static_cast<std::int64_t>(mesh.valence(f)) - 2;
+  if (triangles > limits.maxTriangles)
+    fail(path, "more than " + std::to_string(limits.maxTriangles) + " triangles (the limit)");
+  shape.triangles.resize(static_cast<Eigen::Index>(triangles), 3);
+  Eigen::Index row = 0;
+  for (const auto f : mesh.faces()) {
+    std::vector<int> corners;
+    for (const auto v : mesh.fv_range(f)) corners.push_back(v.idx());
+    for (std::size_t k = 1; k + 1 < corners.size(); ++k) shape.triangles.row(row++) << corners[0], corners[k], corners[k + 1];
+  }
+  const long declared = declaredFaceCount(path, extension);
+  if (declared >= 0) shape.facesSkipped = static_cast<int>(std::max(0L, declared - static_cast<long>(mesh.n_faces())));
+  return shape;
+}
+
+}  // namespace
+
+double ReferenceShape::diagonal() const {
+  if (points.rows() == 0) return 0.0;
+  return (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+}
+
+ReferenceShape readReferenceShape(const std::string& path, const ReferenceLimits& limits) {
+  std::error_code error;
+  const auto bytes = std::filesystem::file_size(path, error);
+  if (error) fail(path, "cannot open (" + error.message() + ")");
+  if (bytes > limits.maxFileBytes)
+    fail(path, std::to_string(bytes) + " bytes, over the limit of " + std::to_string(limits.maxFileBytes));
+  const std::string extension = lowerExtension(path);
+  ReferenceShape shape;
+  if (extension == ".xyz" || extension == ".pwn" || extension == ".txt") {
+    shape = readXyz(path, limits);
+  } else if (extension == ".ply" || extension == ".obj" || extension == ".off" || extension == ".stl") {
+    shape = readThroughOpenMesh(path, extension, limits);
+  } else {
+    fail(path, "unknown extension \"" + extension + "\" (point clouds: .xyz, .pwn, .ply; meshes: .obj, .off, .ply, .stl)");
+  }
+  if (shape.points.rows() == 0) fail(path, "no points");
+  return shape;
+}
+
+}  // namespace devsurf::reference
