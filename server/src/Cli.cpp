@@ -145,6 +145,9 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     } catch (const std::invalid_argument& e) {
       err << "devsurf solve: --reference: " << e.what() << "\n";
       return 2;
+    } catch (const std::exception& e) {
+      err << "devsurf solve: --reference: " << referencePath << ": " << e.what() << "\n";
+      return 1;
     }
   }
 
@@ -170,12 +173,18 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     const engine::SolveSummary summary = solver.solve(iterations);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     nlohmann::json report = solver.report(summary, ms);
-    if (!referencePath.empty())
-      for (const auto& [name, value] : solver.referenceMetrics(referenceShape.points, coverageTolerance))
-        report["metrics"][name] = value;
     if (const std::string bad = proto::nonFinitePath(report); !bad.empty()) {
       err << "devsurf solve: the solve produced a non-finite value (" << bad << "); no report written\n";
       return 1;
+    }
+    if (!referencePath.empty()) {
+      try {
+        for (const auto& [name, value] : solver.referenceMetrics(referenceShape.points, coverageTolerance))
+          report["metrics"][name] = value;
+      } catch (const std::exception& e) {
+        err << "devsurf solve: --reference: no distances measured: " << e.what() << "\n";
+        return 1;
+      }
     }
     for (const std::string& spec : exports) solver.exportTo(spec);
     if (outPath.empty()) {

@@ -1,10 +1,13 @@
 // `devsurf reference`: what a user's shape holds, thinned when asked (issue 15).
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <iomanip>
 #include <limits>
 #include <ostream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -49,7 +52,7 @@ int referenceCommand(const std::vector<std::string>& args, std::ostream& out, st
     if (thinning.radius > 0.0) {
       const reference::ThinnedCloud thin = reference::thinPointCloud(shape.points, shape.normals, thinning);
       long fitted = 0;
-      for (Eigen::Index k = 0; k < thin.normals.rows(); ++k) fitted += thin.normals.row(k).squaredNorm() > 0.0;
+      for (const char f : thin.fitted) fitted += f;
       std::vector<double> flatness(thin.flatness.data(), thin.flatness.data() + thin.flatness.size());
       double median = 0.0;
       if (!flatness.empty()) {

@@ -50,8 +50,7 @@ ThinnedCloud thinPointCloud(const Eigen::MatrixX3d& points, const Eigen::MatrixX
     return out;
   }
   const CloudRows cloud{points};
-  KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  const KdTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));  // builds the index
 
   std::vector<int> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
@@ -82,12 +81,14 @@ ThinnedCloud thinPointCloud(const Eigen::MatrixX3d& points, const Eigen::MatrixX
     discarded[static_cast<std::size_t>(i)] = 1;
     Eigen::RowVector3d normal = Eigen::RowVector3d::Zero();
     double ratio = 0.0;
+    bool fitted = false;
     if (static_cast<int>(ball.size()) >= options.minimumNeighbours) {
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
       const Eigen::Vector3d values = eigen.eigenvalues();  // ascending
       if (values(2) > 0.0 && values(1) > 1e-12 * values(2)) {
         normal = eigen.eigenvectors().col(0).transpose();
         ratio = std::max(0.0, values(0)) / values(2);
+        fitted = true;
       }
     }
     if (normals.rows() != 0) {
@@ -102,6 +103,7 @@ ThinnedCloud thinPointCloud(const Eigen::MatrixX3d& points, const Eigen::MatrixX
     out.kept.push_back(i);
     keptNormals.push_back(normal);
     flatness.push_back(ratio);
+    out.fitted.push_back(fitted ? 1 : 0);
   }
   const Eigen::Index m = static_cast<Eigen::Index>(out.kept.size());
   out.points.resize(m, 3);

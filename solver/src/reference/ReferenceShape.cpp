@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -101,56 +104,115 @@ ReferenceShape readXyz(const std::string& path, const ReferenceLimits& limits) {
   return shape;
 }
 
-/// The face count a file declares (OFF and PLY headers, OBJ "f" lines), −1 when it does not say.
-long declaredFaceCount(const std::string& path, const std::string& extension) {
+/// What a mesh file declares before its data: vertex and face counts (−1 where it does not say).
+/// OFF and PLY headers, binary STL's triangle count (checked against the file's size), and for
+/// OBJ and ASCII STL a count of the lines. Read before OpenMesh so that a forged header cannot
+/// make it reserve memory for billions of elements.
+struct DeclaredCounts {
+  long long vertices = -1, faces = -1;
+};
+
+DeclaredCounts declaredCounts(const std::string& path, const std::string& extension, std::uint64_t bytes) {
+  DeclaredCounts counts;
   std::ifstream in(path, std::ios::binary);
   std::string line;
   if (extension == ".off") {
+    bool header = false;
     while (std::getline(in, line)) {
       const std::size_t hash = line.find('#');
       if (hash != std::string::npos) line.resize(hash);
-      std::istringstream s(line);
+      std::istringstream fields(line);
       std::string first;
-      if (!(s >> first)) continue;
-      if (first.find("OFF") != std::string::npos) {
-        long v = 0, f = 0;
-        if (s >> v >> f) return f;  // "OFF v f e" on one line
+      if (!(fields >> first)) continue;
+      if (!header && first.find("OFF") != std::string::npos) {
+        header = true;
+        if (line.find("BINARY") != std::string::npos) fail(path, "binary OFF is not read; write it as ASCII OFF");
+        long long v = 0, f = 0;
+        if (fields >> v >> f) return {v, f};  // "OFF v f e" on one line
         continue;
       }
-      std::istringstream counts(line);
-      long v = 0, f = 0;
-      if (counts >> v >> f) return f;
-      return -1;
+      std::istringstream numbers(line);
+      long long v = 0, f = 0;
+      if (numbers >> v >> f) return {v, f};
+      fail(path, "an OFF file needs its vertex and face counts after the OFF line");
     }
-    return -1;
+    fail(path, "no OFF header");
   }
   if (extension == ".ply") {
+    counts.faces = 0;
     while (std::getline(in, line)) {
       if (line.rfind("end_header", 0) == 0) break;
-      std::istringstream s(line);
+      std::istringstream fields(line);
       std::string element, name;
-      long n = 0;
-      if (s >> element >> name >> n && element == "element" && name == "face") return n;
+      long long n = 0;
+      if (fields >> element >> name >> n && element == "element") {
+        if (name == "vertex") counts.vertices = n;
+        if (name == "face") counts.faces = n;
+      }
     }
-    return 0;
+    return counts;
+  }
+  if (extension == ".stl") {
+    char head[84] = {};
+    in.read(head, 84);
+    const bool ascii = std::string(head, std::min<std::size_t>(5, static_cast<std::size_t>(in.gcount()))) == "solid";
+    if (!ascii || in.gcount() < 84) {
+      if (in.gcount() < 84) fail(path, "too short for a binary STL (84-byte header)");
+      std::uint32_t n = 0;
+      for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
+      if (84ull + 50ull * n != bytes)
+        fail(path, "binary STL declares " + std::to_string(n) + " triangles but has " + std::to_string(bytes) +
+                       " bytes (84 + 50 per triangle expected)");
+      return {3ll * n, static_cast<long long>(n)};
+    }
+    // ASCII (or a binary file whose header starts with "solid"): count facets.
+    in.clear();
+    in.seekg(0);
+    long long facets = 0;
+    while (std::getline(in, line)) {
+      const std::size_t first = line.find_first_not_of(" \t");
+      if (first != std::string::npos && line.compare(first, 5, "facet") == 0) ++facets;
+    }
+    if (facets == 0 && bytes >= 84) {  // binary after all
+      std::uint32_t n = 0;
+      for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
+      if (84ull + 50ull * n == bytes) return {3ll * n, static_cast<long long>(n)};
+    }
+    return {3 * facets, facets};
   }
   if (extension == ".obj") {
-    long f = 0;
-    while (std::getline(in, line))
-      if (line.size() > 1 && line[0] == 'f' && std::isspace(static_cast<unsigned char>(line[1]))) ++f;
-    return f;
+    counts = {0, 0};
+    while (std::getline(in, line)) {
+      if (line.size() > 1 && line[0] == 'v' && std::isspace(static_cast<unsigned char>(line[1]))) ++counts.vertices;
+      if (line.size() > 1 && line[0] == 'f' && std::isspace(static_cast<unsigned char>(line[1]))) ++counts.faces;
+    }
+    return counts;
   }
-  return -1;
+  return counts;
 }
 
-ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& extension,
+ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& extension, std::uint64_t bytes,
                                    const ReferenceLimits& limits) {
+  const DeclaredCounts declared = declaredCounts(path, extension, bytes);
+  if (declared.vertices < -1 || declared.faces < -1) fail(path, "a negative count in its header");
+  checkPointCount(path, declared.vertices, limits);
+  // A face has at least one triangle: a face count over the triangle limit is over it too.
+  if (declared.faces > limits.maxTriangles)
+    fail(path, "declares " + std::to_string(declared.faces) + " faces, more than the limit of " +
+                   std::to_string(limits.maxTriangles) + " triangles");
   silenceOpenMesh();
   PolyMesh mesh;
   mesh.request_vertex_normals();
   OpenMesh::IO::Options options;
   options += OpenMesh::IO::Options::VertexNormal;
-  if (!OpenMesh::IO::read_mesh(mesh, path, options)) fail(path, "OpenMesh could not read it as " + extension.substr(1));
+  try {
+    if (!OpenMesh::IO::read_mesh(mesh, path, options))
+      fail(path, "OpenMesh could not read it as " + extension.substr(1));
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail(path, "OpenMesh could not read it as " + extension.substr(1) + " (" + e.what() + ")");
+  }
   checkPointCount(path, static_cast<std::int64_t>(mesh.n_vertices()), limits);
   ReferenceShape shape;
   shape.format = extension.substr(1);
@@ -181,8 +243,8 @@ ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& e
     for (const auto v : mesh.fv_range(f)) corners.push_back(v.idx());
     for (std::size_t k = 1; k + 1 < corners.size(); ++k) shape.triangles.row(row++) << corners[0], corners[k], corners[k + 1];
   }
-  const long declared = declaredFaceCount(path, extension);
-  if (declared >= 0) shape.facesSkipped = static_cast<int>(std::max(0L, declared - static_cast<long>(mesh.n_faces())));
+  if (declared.faces >= 0)
+    shape.facesSkipped = std::max<std::int64_t>(0, declared.faces - static_cast<std::int64_t>(mesh.n_faces()));
   return shape;
 }
 
@@ -204,7 +266,7 @@ ReferenceShape readReferenceShape(const std::string& path, const ReferenceLimits
   if (extension == ".xyz" || extension == ".pwn" || extension == ".txt") {
     shape = readXyz(path, limits);
   } else if (extension == ".ply" || extension == ".obj" || extension == ".off" || extension == ".stl") {
-    shape = readThroughOpenMesh(path, extension, limits);
+    shape = readThroughOpenMesh(path, extension, bytes, limits);
   } else {
     fail(path, "unknown extension \"" + extension + "\" (point clouds: .xyz, .pwn, .ply; meshes: .obj, .off, .ply, .stl)");
   }

@@ -16,6 +16,7 @@ SurfaceDistance surfaceDistance(const Eigen::MatrixX3d& reference, const Eigen::
                                 const Eigen::MatrixX3i& T, double tolerance) {
   if (reference.rows() == 0) throw std::invalid_argument("reference: no points to measure");
   if (!reference.allFinite()) throw std::invalid_argument("reference: every coordinate must be a finite number");
+  if (!V.allFinite()) throw std::invalid_argument("surface: every vertex coordinate must be a finite number");
   Eigen::MatrixX3i kept(T.rows(), 3);
   Eigen::Index count = 0;
   for (Eigen::Index t = 0; t < T.rows(); ++t) {

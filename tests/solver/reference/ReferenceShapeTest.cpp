@@ -34,7 +34,7 @@ std::string refusal(const std::string& path, const ReferenceLimits& limits = {})
 /// Files of CGAL's demo data (Debian's libcgal-demo), unpacked into `dir`.
 std::string cgalData(const testing::TempDir& dir, const std::string& member) {
   const std::string archive = "/usr/share/doc/libcgal-dev/data.tar.gz";
-  const std::string command = "tar -xzf " + archive + " -C " + dir.str() + " " + member + " 2>/dev/null";
+  const std::string command = "tar -xzf '" + archive + "' -C '" + dir.str() + "' '" + member + "' 2>/dev/null";
   EXPECT_EQ(std::system(command.c_str()), 0) << "libcgal-demo's data (scripts/setup.sh installs it): " << member;
   return (dir.path() / member).string();
 }
@@ -66,7 +66,8 @@ TEST(ReferenceShape, MalformedCloudsAreRefusedNamingTheLine) {
   EXPECT_NE(refusal(write(dir, "f.xyz", "# nothing\n")).find("no points"), std::string::npos);
   EXPECT_NE(refusal(write(dir, "g.dwg", "0 0 0\n")).find("unknown extension \".dwg\""), std::string::npos);
   EXPECT_NE(refusal((dir.path() / "missing.xyz").string()).find("cannot open"), std::string::npos);
-  EXPECT_NE(refusal(write(dir, "h.obj", "this is not a mesh\n")).find("h.obj"), std::string::npos);
+  EXPECT_NE(refusal(write(dir, "h.obj", "this is not a mesh\n")).find("h.obj: no points"), std::string::npos)
+      << refusal(write(dir, "h.obj", "this is not a mesh\n"));
 }
 
 TEST(ReferenceShape, FilesOverALimitAreRefusedNamingIt) {
@@ -83,6 +84,30 @@ TEST(ReferenceShape, FilesOverALimitAreRefusedNamingIt) {
   limits.maxTriangles = 1;
   const std::string quad = "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
   EXPECT_NE(refusal(write(dir, "q.off", quad), limits).find("more than 1 triangles"), std::string::npos);
+}
+
+TEST(ReferenceShape, AHeaderDeclaringMoreThanALimitIsRefusedBeforeOpenMeshReservesForIt) {
+  testing::TempDir dir;
+  // 30 bytes that would have OpenMesh reserve room for four billion vertices.
+  EXPECT_NE(refusal(write(dir, "forged.off", "OFF\n4000000000 1 0\n")).find("more than 5000000 points"),
+            std::string::npos);
+  EXPECT_NE(refusal(write(dir, "forged2.off", "OFF\n3 4000000000 0\n0 0 0\n1 0 0\n0 1 0\n"))
+                .find("declares 4000000000 faces"),
+            std::string::npos);
+  const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 999999999\nproperty float x\n"
+                          "property float y\nproperty float z\nend_header\n";
+  EXPECT_NE(refusal(write(dir, "forged.ply", ply)).find("forged.ply: more than 5000000 points"), std::string::npos);
+  // A binary STL whose count disagrees with its size.
+  std::string stl(84, '\0');
+  stl[80] = '\x10';  // 16 triangles, no data
+  EXPECT_NE(refusal(write(dir, "short.stl", stl)).find("declares 16 triangles but has 84 bytes"), std::string::npos);
+  // The mesh path holds the point limit too (counted from the OBJ's "v" lines).
+  ReferenceLimits limits;
+  limits.maxPoints = 4;
+  EXPECT_NE(refusal(write(dir, "five.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\n"), limits)
+                .find("more than 4 points"),
+            std::string::npos);
+  EXPECT_NE(refusal(write(dir, "binary.off", "OFF BINARY\n")).find("binary OFF"), std::string::npos);
 }
 
 TEST(ReferenceShape, MeshesInEveryFormatSplitPolygonsIntoTriangles) {

@@ -20,9 +20,12 @@ struct ThinnedCloud {
   std::vector<int> kept;      ///< indices into the input, in the order they were chosen
   Eigen::MatrixX3d points;    ///< kept.size()×3
   Eigen::MatrixX3d normals;   ///< kept.size()×3 unit normals (zero rows where none could be fitted)
-  /// Per kept point, the smallest/largest eigenvalue ratio of its ball's covariance (0 for a plane;
-  /// large values mean the ball is not flat at this radius: noise or a feature).
+  /// Per kept point, λ_min/λ_max of its ball's covariance, in [0, 1]: 0 for a plane, growing
+  /// towards 1 where the ball is not flat at this radius (noise, a feature, a thin part); 0 also
+  /// where no normal was fitted (too few points, or all on a line).
   Eigen::VectorXd flatness;
+  /// Per kept point, whether its normal was fitted to its ball (else it is the given one, or 0).
+  std::vector<char> fitted;
 };
 
 /// Thinning "similar to Poisson sampling" (000_… §4.2): points are visited in a seeded random

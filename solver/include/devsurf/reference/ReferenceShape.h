@@ -8,7 +8,8 @@
 namespace devsurf::reference {
 
 /// What a reference file may hold (issue 15: a user's scan or mesh). A file over a limit is
-/// refused before it is parsed in full, with a message naming the limit.
+/// refused with a message naming the limit: by its size on disk and the counts its header
+/// declares before it is parsed, by the counts found while or after it is parsed.
 struct ReferenceLimits {
   std::uint64_t maxFileBytes = 512ull << 20;  ///< bytes on disk (default 512 MiB)
   std::int64_t maxPoints = 5'000'000;         ///< points of a cloud or vertices of a mesh
@@ -20,9 +21,11 @@ struct ReferenceShape {
   Eigen::MatrixX3d points;     ///< n×3 points (a mesh's vertices)
   Eigen::MatrixX3d normals;    ///< n×3 unit normals as the file gives them, or 0 rows
   Eigen::MatrixX3i triangles;  ///< t×3 vertex indices, polygons split as fans; 0 rows for a cloud
-  /// Faces the file has that are not in `triangles`: OpenMesh leaves out faces it cannot add
-  /// (non-manifold ones); counted from the file's own face count (OFF, PLY headers; OBJ "f" lines).
-  int facesSkipped = 0;
+  /// Faces the file declares (OFF, PLY headers; binary STL's count; OBJ "f" and ASCII STL
+  /// "facet" lines) that are not in `triangles` (faces OpenMesh refuses, e.g. with a repeated
+  /// vertex). A non-manifold face is kept: OpenMesh adds it with its own copies of its vertices,
+  /// so `points` may have more rows than the file has vertices.
+  std::int64_t facesSkipped = 0;
   std::string format;  ///< "xyz", "ply", "obj", "off" or "stl" (from the extension)
 
   bool isMesh() const { return triangles.rows() > 0; }
@@ -33,9 +36,13 @@ struct ReferenceShape {
 /// Reads a reference shape by extension: .xyz / .pwn (one point per line, "x y z" or
 /// "x y z nx ny nz", '#' comments), and .ply (a cloud or a mesh, ASCII or binary), .obj, .off, .stl
 /// through OpenMesh. Normals are kept when the file has them (xyz/pwn, PLY vertex normals).
+/// Precision: OpenMesh's readers parse coordinates as single-precision floats (about 7 digits:
+/// scans in large coordinates, e.g. UTM metres, should be shifted near the origin first); .xyz
+/// and .pwn keep doubles. Binary OFF is not read.
 /// @throws std::invalid_argument naming the file (and the line, or the limit) on a missing or
-///         unreadable file, an unknown extension, a malformed or non-finite line, a file over a
-///         limit, a face index out of range, or no points at all.
+///         unreadable file, an unknown extension, a malformed or non-finite line, a header that
+///         declares more than a limit (or disagrees with a binary STL's size), a file over a
+///         limit, or no points at all.
 ReferenceShape readReferenceShape(const std::string& path, const ReferenceLimits& limits = {});
 
 }  // namespace devsurf::reference

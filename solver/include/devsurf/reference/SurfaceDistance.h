@@ -24,7 +24,8 @@ struct SurfaceDistance {
 /// @param[in] reference  r×3 points (a cloud, or a mesh's vertices)
 /// @param[in] V, T       the surface: vertices and triangles
 /// @param[in] tolerance  coverage counts points within it; ≤ 0 means 1% of the reference's diagonal
-/// @throws std::invalid_argument if there are no reference points or no triangle of positive area
+/// @throws std::invalid_argument if there are no reference points, a coordinate is not finite, an
+///         index is out of range, or no triangle has positive area
 SurfaceDistance surfaceDistance(const Eigen::MatrixX3d& reference, const Eigen::MatrixX3d& V,
                                 const Eigen::MatrixX3i& T, double tolerance = 0.0);
 

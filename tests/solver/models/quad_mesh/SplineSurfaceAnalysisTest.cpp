@@ -290,6 +290,31 @@ TEST(SplineRefinement, PatchesMeetingOffAWholeSharedSideAreRefusedAsAGap) {
   net = fourPatches(2);
   net.patches = {net.patches[0], net.patches[3]};
   EXPECT_EQ(message(withoutUnusedPoints(net)), "accepted");
+  // Three patches meeting at one corner (an L): accepted.
+  net = fourPatches(2);
+  net.patches.pop_back();
+  EXPECT_EQ(message(withoutUnusedPoints(net)), "accepted");
+  // Two patches sharing two sides (a ring: B's last column is A's first): accepted.
+  {
+    ControlNet ring;
+    ring.rounds = 1;
+    const int rows = 5, columns = 10;  // points around: column c of the ring, c mod 10
+    ring.points.resize(rows * columns, 3);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < columns; ++c) {
+        const double angle = 2 * M_PI * c / columns;
+        ring.points.row(r * columns + c) << std::cos(angle), std::sin(angle), 0.3 * r;
+      }
+    ControlPatch a{rows, 6, {}}, b{rows, 6, {}};
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < 6; ++c) {
+        a.indices.push_back(r * columns + c);
+        b.indices.push_back(r * columns + (c + 5) % columns);
+      }
+    ring.patches = {a, b};
+    EXPECT_EQ(message(ring), "accepted");
+    EXPECT_EQ(splineSharedSides(ring).size(), 2u);
+  }
   // An interior point of one patch used by another: refused.
   net = fourPatches(2);
   net.patches[3].indices[7] = net.patches[0].indices[7];
