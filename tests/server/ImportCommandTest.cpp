@@ -13,23 +13,16 @@
 #include "devsurf/io/PolygonMesh.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Cli.h"
+#include "server/CliTesting.h"
 
 namespace devsurf::server {
 namespace {
 
+using testing::CliRun;
+using testing::examplePath;
+using testing::runCommand;
+
 using nlohmann::json;
-
-struct CliRun {
-  int code;
-  std::string out, err;
-};
-
-CliRun run(const std::vector<std::string>& args) {
-  std::istringstream in;
-  std::ostringstream out, err;
-  const int code = runCli(args, in, out, err);
-  return {code, out.str(), err.str()};
-}
 
 std::string tempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("devsurf_import_" + std::to_string(::getpid()) + "_" + name)).string();
@@ -61,7 +54,7 @@ std::string writeSaddle(const std::string& name, int n, bool planar = false) {
 
 TEST(ImportCommand, MakesAQuadMeshSceneThatSolvesFromAnObjFile) {
   const std::string mesh = writeSaddle("saddle.obj", 8);
-  const CliRun r = run({"import", mesh, "--proximity", "--units", "cm"});
+  const CliRun r = runCommand({"import", mesh, "--proximity", "--units", "cm"});
   ASSERT_EQ(r.code, 0) << r.err;
   const json scene = json::parse(r.out);
   const json& m = scene["model"];
@@ -75,7 +68,7 @@ TEST(ImportCommand, MakesAQuadMeshSceneThatSolvesFromAnObjFile) {
   // It is a scene like any other: the solver makes the saddle developable near itself.
   const std::string scenePath = tempPath("saddle.json");
   std::ofstream(scenePath) << r.out;
-  const CliRun solved = run({"solve", scenePath});
+  const CliRun solved = runCommand({"solve", scenePath});
   ASSERT_EQ(solved.code, 0) << solved.err;
   const json report = json::parse(solved.out);
   EXPECT_LT(report["metrics"]["length_error"].get<double>(), 5e-3);
@@ -86,26 +79,26 @@ TEST(ImportCommand, MakesAQuadMeshSceneThatSolvesFromAnObjFile) {
 TEST(ImportCommand, TakesAnUnfoldingWithTheSameFacesAndRefusesOneWithout) {
   const std::string mesh = writeSaddle("m.obj", 4), flat = writeSaddle("flat.obj", 4, true),
                     other = writeSaddle("other.obj", 5, true);
-  const CliRun r = run({"import", mesh, "--unfolding", flat});
+  const CliRun r = runCommand({"import", mesh, "--unfolding", flat});
   ASSERT_EQ(r.code, 0) << r.err;
   const json m = json::parse(r.out)["model"];
   EXPECT_EQ(m["variable"], "mesh");
   EXPECT_EQ(m["unfolding"][3].size(), 2u) << "a planar unfolding is written as [x, y]";
-  const CliRun bad = run({"import", mesh, "--unfolding", other});
+  const CliRun bad = runCommand({"import", mesh, "--unfolding", other});
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("the unfolding must have the mesh's vertices and faces"), std::string::npos) << bad.err;
   for (const std::string& p : {mesh, flat, other}) std::filesystem::remove(p);
 }
 
 TEST(ImportCommand, BadFilesAndOptionsAreNamed) {
-  EXPECT_EQ(run({"import"}).code, 2);
-  EXPECT_EQ(run({"import", "x.obj", "--variables", "all"}).code, 2);
-  const CliRun missing = run({"import", tempPath("missing.obj")});
+  EXPECT_EQ(runCommand({"import"}).code, 2);
+  EXPECT_EQ(runCommand({"import", "x.obj", "--variables", "all"}).code, 2);
+  const CliRun missing = runCommand({"import", tempPath("missing.obj")});
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.err.find("cannot read mesh file"), std::string::npos);
   const std::string pentagon = tempPath("pentagon.obj");
   std::ofstream(pentagon) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\nf 1 2 3 4 5\n";
-  const CliRun r = run({"import", pentagon});
+  const CliRun r = runCommand({"import", pentagon});
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("face 0 has more than four vertices"), std::string::npos) << r.err;
   std::filesystem::remove(pentagon);

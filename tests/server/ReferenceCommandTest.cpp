@@ -13,28 +13,19 @@
 
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Cli.h"
+#include "server/CliTesting.h"
 #include "support/ExportChecks.h"
 #include "support/TempDir.h"
 
 namespace devsurf::server {
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out, err;
-};
-
-CliRun run(const std::vector<std::string>& args) {
-  std::istringstream in;
-  std::ostringstream out, err;
-  const int code = runCli(args, in, out, err);
-  return {code, out.str(), err.str()};
-}
-
-std::string example(const std::string& name) { return std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name; }
+using testing::CliRun;
+using testing::examplePath;
+using testing::runCommand;
 
 TEST(ReferenceCommand, DescribesAShapeAndWritesItsThinnedCloudWithNormals) {
-  testing::TempDir dir;
+  devsurf::testing::TempDir dir;
   const std::string cloud = (dir.path() / "plane.xyz").string();
   {
     std::ofstream f(cloud);
@@ -42,7 +33,7 @@ TEST(ReferenceCommand, DescribesAShapeAndWritesItsThinnedCloudWithNormals) {
       for (int j = 0; j <= 40; ++j) f << i * 0.05 << ' ' << j * 0.05 << ' ' << 0.5 * i * 0.05 << '\n';
   }
   const std::string thinned = (dir.path() / "thin.xyz").string();
-  const CliRun r = run({"reference", cloud, "--thin", "0.3", "--seed", "5", "--out", thinned});
+  const CliRun r = runCommand({"reference", cloud, "--thin", "0.3", "--seed", "5", "--out", thinned});
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json report = nlohmann::json::parse(r.out);
   EXPECT_EQ(report["points"], 41 * 41);
@@ -65,20 +56,20 @@ TEST(ReferenceCommand, DescribesAShapeAndWritesItsThinnedCloudWithNormals) {
 }
 
 TEST(ReferenceCommand, BadArgumentsAndFilesAreRefusedNamingThem) {
-  EXPECT_EQ(run({"reference"}).code, 2);
-  const CliRun radius = run({"reference", example("strip-twisted.json"), "--thin", "-1"});
+  EXPECT_EQ(runCommand({"reference"}).code, 2);
+  const CliRun radius = runCommand({"reference", examplePath("strip-twisted.json"), "--thin", "-1"});
   EXPECT_EQ(radius.code, 2);
   EXPECT_NE(radius.err.find("--thin: expected a positive length"), std::string::npos) << radius.err;
-  const CliRun extension = run({"reference", example("strip-twisted.json")});
+  const CliRun extension = runCommand({"reference", examplePath("strip-twisted.json")});
   EXPECT_EQ(extension.code, 2);
   EXPECT_NE(extension.err.find("unknown extension \".json\""), std::string::npos) << extension.err;
-  const CliRun out = run({"reference", "x.xyz", "--out", "y.xyz"});
+  const CliRun out = runCommand({"reference", "x.xyz", "--out", "y.xyz"});
   EXPECT_EQ(out.code, 2);
   EXPECT_NE(out.err.find("give --thin"), std::string::npos) << out.err;
-  const CliRun solve = run({"solve", example("strip-twisted.json"), "--reference", "/nonexistent/scan.xyz"});
+  const CliRun solve = runCommand({"solve", examplePath("strip-twisted.json"), "--reference", "/nonexistent/scan.xyz"});
   EXPECT_EQ(solve.code, 2);
   EXPECT_NE(solve.err.find("--reference: /nonexistent/scan.xyz: cannot open"), std::string::npos) << solve.err;
-  const CliRun tolerance = run({"solve", example("strip-twisted.json"), "--coverage-tolerance", "0.1"});
+  const CliRun tolerance = runCommand({"solve", examplePath("strip-twisted.json"), "--coverage-tolerance", "0.1"});
   EXPECT_EQ(tolerance.code, 2);
   EXPECT_NE(tolerance.err.find("needs --reference"), std::string::npos) << tolerance.err;
 }
@@ -87,7 +78,7 @@ TEST(ReferenceCommand, BadArgumentsAndFilesAreRefusedNamingThem) {
 /// (area-weighted) normals by d; solve --reference must report distances of at most d and, for
 /// most points, close to d; the unmoved vertices are at distance 0 and fully covered.
 TEST(ReferenceCommand, SolveReportsDistancesToTheSolvedSurfaceOfEveryKind) {
-  testing::TempDir dir;
+  devsurf::testing::TempDir dir;
   // One example of every kind, discovered (the first by name).
   std::map<std::string, std::string> exampleOfKind;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples")) {
@@ -100,12 +91,12 @@ TEST(ReferenceCommand, SolveReportsDistancesToTheSolvedSurfaceOfEveryKind) {
   EXPECT_GE(exampleOfKind.size(), 5u);
   for (const auto& [kind, name] : exampleOfKind) {
     const std::string obj = (dir.path() / "surface.obj").string();
-    const CliRun solved = run({"solve", example(name), "--export", "obj:" + obj});
+    const CliRun solved = runCommand({"solve", examplePath(name), "--export", "obj:" + obj});
     ASSERT_EQ(solved.code, 0) << name << ": " << solved.err;
     std::ifstream in(obj);
     std::stringstream text;
     text << in.rdbuf();
-    const testing::ObjMesh mesh = testing::parseObj(text.str());
+    const devsurf::testing::ObjMesh mesh = devsurf::testing::parseObj(text.str());
     ASSERT_GT(mesh.vertices.size(), 10u) << name;
     std::vector<Eigen::Vector3d> normals(mesh.vertices.size(), Eigen::Vector3d::Zero());
     for (const auto& f : mesh.faces)
@@ -131,13 +122,13 @@ TEST(ReferenceCommand, SolveReportsDistancesToTheSolvedSurfaceOfEveryKind) {
         o << w.x() << ' ' << w.y() << ' ' << w.z() << '\n';
       }
     }
-    const CliRun atZero = run({"solve", example(name), "--reference", exact});
+    const CliRun atZero = runCommand({"solve", examplePath(name), "--reference", exact});
     ASSERT_EQ(atZero.code, 0) << name << ": " << atZero.err;
     const nlohmann::json m0 = nlohmann::json::parse(atZero.out)["metrics"];
     EXPECT_LT(m0["reference_distance_max"].get<double>(), 1e-7 * size) << name << " (the OBJ has 9 digits)";
     EXPECT_EQ(m0["reference_coverage"].get<double>(), 1.0) << name;
     EXPECT_EQ(m0["reference_points"].get<double>(), static_cast<double>(mesh.vertices.size())) << name;
-    const CliRun moved = run({"solve", example(name), "--reference", offset, "--coverage-tolerance", std::to_string(d / 2)});
+    const CliRun moved = runCommand({"solve", examplePath(name), "--reference", offset, "--coverage-tolerance", std::to_string(d / 2)});
     ASSERT_EQ(moved.code, 0) << name << ": " << moved.err;
     const nlohmann::json m = nlohmann::json::parse(moved.out)["metrics"];
     EXPECT_LE(m["reference_distance_max"].get<double>(), d + 1e-7 * size) << name;

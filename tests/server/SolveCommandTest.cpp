@@ -11,32 +11,21 @@
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Cli.h"
+#include "server/CliTesting.h"
 
 namespace devsurf::server {
 namespace {
 
-struct CliRun {
-  int code;
-  std::string out, err;
-};
-
-CliRun run(const std::vector<std::string>& args, const std::string& input = "") {
-  std::istringstream in(input);
-  std::ostringstream out, err;
-  const int code = runCli(args, in, out, err);
-  return {code, out.str(), err.str()};
-}
-
-std::string example(const std::string& name) {
-  return std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name;
-}
+using testing::CliRun;
+using testing::examplePath;
+using testing::runCommand;
 
 std::string tempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("devsurf_cli_" + std::to_string(::getpid()) + "_" + name)).string();
 }
 
 TEST(SolveCommand, WritesAValidReportForTheTwistedStripExample) {
-  const CliRun r = run({"solve", example("strip-twisted.json")});
+  const CliRun r = runCommand({"solve", examplePath("strip-twisted.json")});
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json report = nlohmann::json::parse(r.out);
   const auto errors = proto::schemaRegistry().validate(report, "report.schema.json");
@@ -52,7 +41,7 @@ TEST(SolveCommand, WritesAValidReportForTheTwistedStripExample) {
 TEST(SolveCommand, HonoursIterationsOutAndExport) {
   const std::string reportPath = tempPath("report.json");
   const std::string objPath = tempPath("surface.mesh");  // any name: the format says OBJ
-  const CliRun r = run({"solve", example("strip-lifted-corner.json"), "--iterations", "3", "--out",
+  const CliRun r = runCommand({"solve", examplePath("strip-lifted-corner.json"), "--iterations", "3", "--out",
                      reportPath, "--export", "obj:" + objPath});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out.empty());
@@ -68,7 +57,7 @@ TEST(SolveCommand, HonoursIterationsOutAndExport) {
 
 TEST(SolveCommand, ExportsTheFoldPatternOfACompositeWithADevelopment) {
   const std::string fold = tempPath("pattern.fold"), svg = tempPath("pattern.svg");
-  const CliRun r = run({"solve", example("composite-curved-fold.json"), "--export", "fold:" + fold,
+  const CliRun r = runCommand({"solve", examplePath("composite-curved-fold.json"), "--export", "fold:" + fold,
                         "--export", "svg:" + svg});
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json report = nlohmann::json::parse(r.out);
@@ -92,11 +81,11 @@ TEST(SolveCommand, ExportsTheFoldPatternOfACompositeWithADevelopment) {
   EXPECT_NE(text.find("curve-"), std::string::npos);
   // Without a development there is no fold pattern.
   nlohmann::json plain;
-  std::ifstream(example("composite-two-creases.json")) >> plain;
+  std::ifstream(examplePath("composite-two-creases.json")) >> plain;
   plain["model"].erase("development");
   const std::string plainPath = svg + ".scene.json";
   std::ofstream(plainPath) << plain.dump();
-  const CliRun no = run({"solve", plainPath, "--export", "svg:" + svg});
+  const CliRun no = runCommand({"solve", plainPath, "--export", "svg:" + svg});
   std::remove(plainPath.c_str());
   EXPECT_EQ(no.code, 2);
   EXPECT_NE(no.err.find("development"), std::string::npos);
@@ -106,7 +95,7 @@ TEST(SolveCommand, ExportsTheFoldPatternOfACompositeWithADevelopment) {
 TEST(SolveCommand, AnExportTheSolvedStateCannotProduceExitsWithTwoNamingTheOptionAndTheReason) {
   // The development pinned to the mirror image of the sheet's corners: its faces turn clockwise,
   // which no crease pattern accepts.
-  nlohmann::json doc = nlohmann::json::parse(std::ifstream(example("composite-curved-fold.json")));
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(examplePath("composite-curved-fold.json")));
   nlohmann::json corners = nlohmann::json::array();
   for (int v : {0, 2, 3, 5}) {
     const nlohmann::json& p = doc["model"]["vertices"][static_cast<std::size_t>(v)];
@@ -114,7 +103,7 @@ TEST(SolveCommand, AnExportTheSolvedStateCannotProduceExitsWithTwoNamingTheOptio
   }
   doc["model"]["development"] = {{"samples", 4}, {"domain", {{"corners", corners}}}};
   const std::string svg = tempPath("mirrored.svg");
-  const CliRun r = run({"solve", "-", "--iterations", "2", "--export", "svg:" + svg}, doc.dump());
+  const CliRun r = runCommand({"solve", "-", "--iterations", "2", "--export", "svg:" + svg}, doc.dump());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err.rfind("devsurf solve: --export svg: ", 0), 0u) << r.err;
   EXPECT_NE(r.err.find("not a valid crease pattern"), std::string::npos) << r.err;
@@ -123,12 +112,12 @@ TEST(SolveCommand, AnExportTheSolvedStateCannotProduceExitsWithTwoNamingTheOptio
 }
 
 TEST(SolveCommand, TheScenesUnitsSetTheFoldFrameUnitAndTheSvgsTrueSize) {
-  nlohmann::json doc = nlohmann::json::parse(std::ifstream(example("composite-curved-fold.json")));
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(examplePath("composite-curved-fold.json")));
   auto exportIn = [&doc](const std::string& units) {
     nlohmann::json scene = doc;
     if (!units.empty()) scene["units"] = units;
     const std::string fold = tempPath(units + "units.fold"), svg = tempPath(units + "units.svg");
-    const CliRun r = run({"solve", "-", "--iterations", "3", "--export", "fold:" + fold, "--export", "svg:" + svg},
+    const CliRun r = runCommand({"solve", "-", "--iterations", "3", "--export", "fold:" + fold, "--export", "svg:" + svg},
                          scene.dump());
     EXPECT_EQ(r.code, 0) << r.err;
     std::pair<nlohmann::json, std::string> out{nlohmann::json::parse(std::ifstream(fold)), ""};
@@ -172,31 +161,31 @@ TEST(SolveCommand, TheScenesUnitsSetTheFoldFrameUnitAndTheSvgsTrueSize) {
 }
 
 TEST(SolveCommand, ReadsTheSceneFromStandardInput) {
-  std::ifstream file(example("strip-cylinder.json"));
+  std::ifstream file(examplePath("strip-cylinder.json"));
   std::stringstream text;
   text << file.rdbuf();
-  const CliRun r = run({"solve", "-"}, text.str());
+  const CliRun r = runCommand({"solve", "-"}, text.str());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_LT(nlohmann::json::parse(r.out)["metrics"]["displacement_max_b"].get<double>(), 1e-9);
 }
 
 TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
-  const CliRun notJson = run({"solve", "-"}, "{ this is not json");
+  const CliRun notJson = runCommand({"solve", "-"}, "{ this is not json");
   EXPECT_EQ(notJson.code, 2);
   EXPECT_NE(notJson.err.find("not valid JSON"), std::string::npos) << notJson.err;
 
-  nlohmann::json doc = nlohmann::json::parse(std::ifstream(example("strip-twisted.json")));
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(examplePath("strip-twisted.json")));
   doc["model"]["a"]["points"][3] = {1, 2};
-  const CliRun badPoint = run({"solve", "-"}, doc.dump());
+  const CliRun badPoint = runCommand({"solve", "-"}, doc.dump());
   EXPECT_EQ(badPoint.code, 2);
   EXPECT_NE(badPoint.err.find("model.a.points[3]: expected 3 numbers"), std::string::npos) << badPoint.err;
 
-  EXPECT_EQ(run({"solve"}).code, 2);
-  EXPECT_EQ(run({"solve", "/nonexistent.json"}).code, 2);
-  EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--iterations", "many"}).code, 2);
-  EXPECT_EQ(run({"solve", example("strip-twisted.json"), "--export", "dxf:x.dxf"}).code, 2);
-  EXPECT_EQ(run({"frobnicate"}).code, 2);
-  EXPECT_EQ(run({"help"}).code, 0);
+  EXPECT_EQ(runCommand({"solve"}).code, 2);
+  EXPECT_EQ(runCommand({"solve", "/nonexistent.json"}).code, 2);
+  EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--iterations", "many"}).code, 2);
+  EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--export", "dxf:x.dxf"}).code, 2);
+  EXPECT_EQ(runCommand({"frobnicate"}).code, 2);
+  EXPECT_EQ(runCommand({"help"}).code, 0);
 }
 
 }  // namespace

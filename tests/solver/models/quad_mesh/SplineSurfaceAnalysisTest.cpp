@@ -202,15 +202,17 @@ TEST(SplineRefinement, ARefinedSharedSideIsTheRefinedBoundaryCurveOfBothPatches)
   }
 }
 
+/// What splineRefinement says of a net: its refusal, or "accepted".
+std::string message(const ControlNet& net) {
+  try {
+    splineRefinement(net);
+  } catch (const std::invalid_argument& e) {
+    return std::string(e.what());
+  }
+  return std::string("accepted");
+}
+
 TEST(SplineRefinement, MalformedNetsAreRefusedNamingTheField) {
-  auto message = [](const ControlNet& net) {
-    try {
-      splineRefinement(net);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
   ControlNet net = fourPatches(2);
   net.patches[1].indices[7] = 500;
   EXPECT_NE(message(net).find("control.patches[1].indices[7]"), std::string::npos) << message(net);
@@ -256,14 +258,6 @@ ControlNet withoutUnusedPoints(ControlNet net) {
 }
 
 TEST(SplineRefinement, PatchesMeetingOffAWholeSharedSideAreRefusedAsAGap) {
-  auto message = [](const ControlNet& net) {
-    try {
-      splineRefinement(net);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
   // A T-junction: patch 1 of the 2 × 2 arrangement replaced by a 4 × 4 patch whose corner sits in
   // the middle of patch 0's right side (grid column 5) and that shares only rows 1 … 4 of it.
   ControlNet net = fourPatches(2);
