@@ -769,6 +769,9 @@ async def main_async(args, proc, examples, failures):
 def start_daemon(args, data_dir, stderr_path):
     env = dict(os.environ)
     env.setdefault("ASAN_OPTIONS", "abort_on_error=1:halt_on_error=1:detect_leaks=1:allocator_may_return_null=1")
+    # The transport's known shutdown cycle (see the file); everything else still counts.
+    env.setdefault("LSAN_OPTIONS", "suppressions=" + os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                                                  "lsan_transport_shutdown.supp") + ":print_suppressions=0")
     env.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
     env.setdefault("TSAN_OPTIONS", "halt_on_error=0:second_deadlock_stack=1")
     demos = []
