@@ -262,13 +262,15 @@ const proto::Scene& solvedPreset(const std::string& preset) {
   return found->second;
 }
 
-/// The daemon's settings, but the release after drag_end bounded by its iteration count alone:
-/// its 2 s time budget made the outcome depend on the machine's load (on a CI run with two heavy
-/// suites at once, D-form releases stopped at the budget 0.2 % short of the threshold). The drag
-/// itself keeps the 25 ms frame budget, as a mouse drag has.
-SessionSettings releaseByIterations() {
+/// The daemon's settings; for quad meshes the release after drag_end is bounded by its iteration
+/// count alone: its 2 s time budget made the outcome depend on the machine's load (on a CI run with
+/// two heavy suites at once, D-form releases stopped at the budget 0.2 % short of the threshold).
+/// Composites keep the budget: their releases run to the iteration cap (200) at ~16 s each, which
+/// over 18 drags exceeds the test's timeout, and they meet their thresholds well within 2 s.
+/// The drag itself keeps the 25 ms frame budget, as a mouse drag has.
+SessionSettings releaseSettingsFor(const proto::Scene& scene) {
   SessionSettings settings;
-  settings.releaseTimeBudgetMs = 600000.0;
+  if (std::string(proto::modelKind(scene.model)) == "quad_mesh") settings.releaseTimeBudgetMs = 600000.0;
   return settings;
 }
 
@@ -280,7 +282,7 @@ struct Fixture {
   explicit Fixture(const std::string& preset) {
     const proto::Scene& scene = solvedPreset(preset);
     session = std::make_shared<Session>("drag-stress", scene, Session::Tokens{tokenHash("e"), tokenHash("v")},
-                                        releaseByIterations(), ex.scheduler(), nullptr, nullptr, true);
+                                        releaseSettingsFor(scene), ex.scheduler(), nullptr, nullptr, true);
     pid = session->join(Role::Edit, "stress", inbox.sink());
     ex.runAll();
   }
