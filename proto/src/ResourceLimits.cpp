@@ -69,6 +69,16 @@ void estimateStrip(const models::strip::StripDesign& d, ResourceEstimate& e) {
     add(e, "model.normals.points", "normal spline of " + number(points) + " control points",
         points * kBytesPerParameter);
   }
+  if (d.approximation) {
+    // Eq. (9)–(11): six rows per reference point, dense over the curves' (and the normal spline's)
+    // control points: values and structure of 3·2n + 9n + 6n + 3m entries.
+    const double n = static_cast<double>(d.a.points.rows());
+    const double m = splineNormals ? (d.normals.points > 0 ? d.normals.points : n) : 0.0;
+    const double perPoint = 3.0 * 2.0 * n + 9.0 * n + 6.0 * n + 3.0 * m;
+    add(e, "model.approximation.points",
+        "approximation of " + number(static_cast<double>(d.approximation->points.rows())) + " reference points",
+        static_cast<double>(d.approximation->points.rows()) * (perPoint * 16.0 + kBytesPerParameter));
+  }
 }
 
 void estimateComposite(const composite::CompositeDesign& d, ResourceEstimate& e) {

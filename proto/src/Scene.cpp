@@ -70,6 +70,28 @@ StripDesign stripFromJson(const json& m) {
       d.normals.points = n.value("points", 0);
     }
   }
+  if (m.contains("approximation")) {
+    // 000_… §4.2: reference points with normals (from `devsurf fit`, or a thinned cloud).
+    const json& t = m["approximation"];
+    const json& points = t.at("points");
+    const json& normals = t.at("normals");
+    if (normals.size() != points.size())
+      throw SceneError("model.approximation.normals", "size",
+                       "expected one normal per point (" + std::to_string(points.size()) + "), got " +
+                           std::to_string(normals.size()));
+    models::strip::ApproximationTarget target;
+    target.points.resize(static_cast<Eigen::Index>(points.size()), 3);
+    target.normals.resize(static_cast<Eigen::Index>(points.size()), 3);
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      target.points.row(static_cast<Eigen::Index>(j)) = point3(points[j]).transpose();
+      target.normals.row(static_cast<Eigen::Index>(j)) = point3(normals[j]).transpose();
+    }
+    const json weights = t.value("weights", json::object());
+    target.pointWeight = weights.value("point", target.pointWeight);
+    target.tangencyWeight = weights.value("tangency", target.tangencyWeight);
+    target.tangentPlaneWeight = weights.value("tangent_plane", target.tangentPlaneWeight);
+    d.approximation = std::move(target);
+  }
   const json fixed = m.value("fixed", json::array());
   for (std::size_t i = 0; i < fixed.size(); ++i) {
     // Any int here (StripModel::validateDesign checks the range against the curve, after the
@@ -705,6 +727,19 @@ json sceneToJson(const Scene& scene) {
                          {"position", point3Json(h.position)},
                          {"weight", h.weight}});
     if (!handles.empty()) m["handles"] = handles;
+    if (d.approximation) {
+      const models::strip::ApproximationTarget& t = *d.approximation;
+      json points = json::array(), normals = json::array();
+      for (Eigen::Index k = 0; k < t.points.rows(); ++k) {
+        points.push_back(point3Json(t.points.row(k).transpose()));
+        normals.push_back(point3Json(t.normals.row(k).transpose()));
+      }
+      m["approximation"] = {{"points", std::move(points)},
+                            {"normals", std::move(normals)},
+                            {"weights", {{"point", t.pointWeight},
+                                         {"tangency", t.tangencyWeight},
+                                         {"tangent_plane", t.tangentPlaneWeight}}}};
+    }
     j["model"] = std::move(m);
   }
   const SolverSettings& s = scene.solver;

@@ -72,6 +72,14 @@ constexpr const char* kUsage =
     "        normal fitted to its ball (written with --out as x y z nx ny nz lines).\n"
     "        With solve, --reference reports the distances from SHAPE's points to the solved\n"
     "        surface (reference_* metrics; coverage within T, default 1% of SHAPE's size).\n"
+    "  fit SHAPE [--centre X,Y,Z --radius R] [--thin RADIUS] [--seed N]\n"
+    "        [--control-points N] [--rulings auto|across|along] [--flat] [--iterations N]\n"
+    "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
+    "        Make a strip scene that approximates SHAPE within the ball (default: all of it):\n"
+    "        the region thinned (default radius 3% of its size) with a fitted normal per\n"
+    "        point, a strip placed by PCA over it (lifted onto its quadratic height field\n"
+    "        unless --flat), eq. (9)-(11) of Tang et al. 2016 as its approximation target.\n"
+    "        Solve it with solve; the report's approximation_* metrics measure the fit.\n"
     "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
     "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"
@@ -492,6 +500,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "job") return jobCommand(rest, out, err);
   if (command == "import") return importCommand(rest, out, err);
   if (command == "reference") return referenceCommand(rest, out, err);
+  if (command == "fit") return fitCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";
     return 0;

@@ -4,6 +4,8 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
+#include <cmath>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -12,6 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "CliArguments.h"
+#include "devsurf/models/strip/StripFromRegion.h"
+#include "devsurf/proto/Scene.h"
 #include "devsurf/reference/PointThinning.h"
 #include "devsurf/reference/ReferenceShape.h"
 #include "devsurf/server/Cli.h"
@@ -84,6 +88,149 @@ int referenceCommand(const std::vector<std::string>& args, std::ostream& out, st
     return 2;
   } catch (const std::exception& e) {
     err << "devsurf reference: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+namespace {
+
+/// "x,y,z" → a finite point. @throws std::invalid_argument naming the flag
+Eigen::Vector3d parsePoint(const std::string& flag, const std::string& value) {
+  Eigen::Vector3d p;
+  std::size_t start = 0;
+  for (int c = 0; c < 3; ++c) {
+    const std::size_t comma = value.find(',', start);
+    if ((c < 2) != (comma != std::string::npos))
+      throw std::invalid_argument(flag + ": expected x,y,z, got \"" + value + "\"");
+    const std::string part = value.substr(start, c < 2 ? comma - start : std::string::npos);
+    std::size_t used = 0;
+    try {
+      p[c] = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size() || !std::isfinite(p[c]))
+      throw std::invalid_argument(flag + ": expected x,y,z with finite numbers, got \"" + value + "\"");
+    start = comma + 1;
+  }
+  return p;
+}
+
+constexpr const char* kFitUsage =
+    "usage: devsurf fit SHAPE [--centre X,Y,Z --radius R] [--thin RADIUS] [--seed N]\n"
+    "                   [--control-points N] [--rulings auto|across|along] [--flat]\n"
+    "                   [--iterations N] [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n";
+
+}  // namespace
+
+int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  std::string shapePath, outPath, name, units = "mm";
+  std::optional<Eigen::Vector3d> centre;
+  double radius = 0.0, thinRadius = 0.0;
+  std::uint32_t seed = 1;
+  int iterations = 60;
+  models::strip::RegionStripOptions placement;
+  try {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      auto value = [&args, &i]() -> const std::string& { return cli::flagValue(args, i); };
+      if (a == "--centre" || a == "--center") centre = parsePoint(a, value());
+      else if (a == "--radius") radius = cli::parseLength(a, value());
+      else if (a == "--thin") thinRadius = cli::parseLength(a, value());
+      else if (a == "--seed") seed = static_cast<std::uint32_t>(cli::parseNumber(a, value(), 0, 4294967295L));
+      else if (a == "--control-points") placement.controlPoints = static_cast<int>(cli::parseNumber(a, value(), 4, 200));
+      else if (a == "--iterations") iterations = static_cast<int>(cli::parseNumber(a, value(), 0, 10000));
+      else if (a == "--flat") placement.liftToHeightField = false;
+      else if (a == "--rulings") {
+        const std::string& r = value();
+        if (r == "auto") placement.rulings = models::strip::RegionStripOptions::Rulings::Auto;
+        else if (r == "across") placement.rulings = models::strip::RegionStripOptions::Rulings::AcrossLongest;
+        else if (r == "along") placement.rulings = models::strip::RegionStripOptions::Rulings::AlongLongest;
+        else throw std::invalid_argument("--rulings: expected auto, across or along, got \"" + r + "\"");
+      } else if (a == "--name") name = value();
+      else if (a == "--units") units = value();
+      else if (a == "--out") outPath = value();
+      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else if (shapePath.empty()) shapePath = a;
+      else throw std::invalid_argument("unexpected argument " + a);
+    }
+    if (shapePath.empty()) throw std::invalid_argument("missing SHAPE (a point cloud or mesh file)");
+    if (centre.has_value() != (radius > 0.0)) throw std::invalid_argument("--centre and --radius go together");
+    proto::millimetresPerUnit(units);
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf fit: " << e.what() << "\n" << kFitUsage;
+    return 2;
+  }
+  try {
+    const reference::ReferenceShape shape = reference::readReferenceShape(shapePath);
+    // The region: a ball (a brush stroke), or the whole shape.
+    std::vector<int> region;
+    if (centre) region = models::strip::pointsInBall(shape.points, *centre, radius);
+    else for (Eigen::Index j = 0; j < shape.points.rows(); ++j) region.push_back(static_cast<int>(j));
+    if (region.size() < 6)
+      throw std::invalid_argument("--radius: the region holds " + std::to_string(region.size()) +
+                                  " points of " + shapePath + "; a strip needs at least 6");
+    Eigen::MatrixX3d points(static_cast<Eigen::Index>(region.size()), 3), normals(0, 3);
+    if (shape.normals.rows() > 0) normals.resize(points.rows(), 3);
+    for (std::size_t k = 0; k < region.size(); ++k) {
+      points.row(static_cast<Eigen::Index>(k)) = shape.points.row(region[k]);
+      if (shape.normals.rows() > 0) normals.row(static_cast<Eigen::Index>(k)) = shape.normals.row(region[k]);
+    }
+    const double diagonal = (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+    if (!(diagonal > 0.0)) throw std::invalid_argument("--radius: the region's points all coincide");
+    // 000_… §4.2: thin like Poisson sampling; the ball's plane gives each kept point its normal.
+    reference::ThinningOptions thinning;
+    thinning.radius = thinRadius > 0.0 ? thinRadius : 0.03 * diagonal;
+    thinning.seed = seed;
+    const reference::ThinnedCloud thin = reference::thinPointCloud(points, normals, thinning);
+    std::vector<Eigen::Index> withNormal;
+    for (Eigen::Index k = 0; k < thin.points.rows(); ++k)
+      if (thin.normals.row(k).norm() > 0.5) withNormal.push_back(k);
+    if (withNormal.size() < 6)
+      throw std::invalid_argument("--thin: " + std::to_string(withNormal.size()) +
+                                  " thinned points have a fitted normal; a smaller radius keeps more");
+    models::strip::ApproximationTarget target;
+    target.points.resize(static_cast<Eigen::Index>(withNormal.size()), 3);
+    target.normals.resize(static_cast<Eigen::Index>(withNormal.size()), 3);
+    for (std::size_t k = 0; k < withNormal.size(); ++k) {
+      target.points.row(static_cast<Eigen::Index>(k)) = thin.points.row(withNormal[k]);
+      target.normals.row(static_cast<Eigen::Index>(k)) = thin.normals.row(withNormal[k]);
+    }
+    // Fig. 10a: a strip placed by PCA over the region, then eq. (9)–(11) with a normal spline.
+    models::strip::StripDesign design = models::strip::flatStripOverRegion(target.points, placement);
+    design.normals.type = models::strip::NormalRepresentation::Type::Spline;
+    design.normals.points = placement.controlPoints;
+    design.approximation = std::move(target);
+    proto::Scene scene;
+    scene.name = name.empty() ? "strip fitted to " + shapePath : name;
+    scene.description = "A developable strip approximating " + std::to_string(withNormal.size()) +
+                        " thinned points of " + shapePath + " (devsurf fit; Tang et al. 2016 §4.2).";
+    scene.units = units;
+    scene.model = std::move(design);
+    // Fig. 17, row 10 (approximating the bunny): ε₁ = 0.001 and fairness 0.001.
+    scene.solver.iterations = iterations;
+    scene.solver.regularization = 1e-3;
+    scene.solver.fairness = 1e-3;
+    const nlohmann::json document = proto::sceneToJson(scene);
+    proto::sceneFromJson(document);  // the scene written solves: same checks as `devsurf solve`
+    if (outPath.empty()) {
+      out << document.dump(2) << "\n";
+    } else {
+      std::ofstream file(outPath);
+      file << document.dump(2) << "\n";
+      if (!file) {
+        err << "devsurf fit: cannot write " << outPath << "\n";
+        return 1;
+      }
+      err << "devsurf fit: " << outPath << ": a strip over " << withNormal.size() << " of " << region.size()
+          << " region points (thinned at " << thinning.radius << ")\n";
+    }
+    return 0;
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf fit: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "devsurf fit: " << e.what() << "\n";
     return 1;
   }
 }

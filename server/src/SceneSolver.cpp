@@ -432,6 +432,16 @@ proto::Metrics SceneSolver::metrics() const {
   m["ruling_length_min_ratio"] = strip_->rulingLengthMinRatio();
   m["strip_width_min_ratio"] = strip_->stripWidthMinRatio();
   m["unknowns"] = strip_->numUnknowns();
+  if (d.approximation) {
+    // Distances of the approximated points to the sampled surface (CGAL's AABB tree), not the
+    // solver's own foot points; coverage within 1 % of the points' diagonal.
+    try {
+      for (const auto& [name, value] : referenceMetrics(d.approximation->points, 0.0))
+        m["approximation_" + name.substr(std::string("reference_").size())] = value;
+    } catch (const std::exception&) {
+      // A degenerate surface has no distances; the other metrics say what went wrong.
+    }
+  }
   return m;
 }
 

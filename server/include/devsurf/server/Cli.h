@@ -20,6 +20,11 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
 /// shape holds, as JSON; thinned with a fitted normal per kept point when asked (issue 15).
 int referenceCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
+/// `devsurf fit SHAPE [--centre X,Y,Z --radius R] [--thin RADIUS] …`: a strip scene that
+/// approximates a region of a reference shape (000_… §4.2, issue 15): the region thinned with a
+/// normal per point, a strip placed by PCA over it, eq. (9)–(11) as its approximation target.
+int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
 /// `devsurf serve …`: the daemon, until SIGINT/SIGTERM.
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 

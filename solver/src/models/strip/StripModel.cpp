@@ -18,6 +18,10 @@
 #include "devsurf/terms/StripWidthTerm.h"
 #include "devsurf/terms/LinearPoints.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
+#include "devsurf/terms/StripFootPoints.h"
+#include "devsurf/terms/StripPointDistanceTerm.h"
+#include "devsurf/terms/StripReferenceTangencyTerm.h"
+#include "devsurf/terms/StripTangentPlaneDistanceTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
 
 namespace devsurf::models::strip {
@@ -90,6 +94,22 @@ void StripModel::validateDesign(StripDesign& design) {
     if (design.normals.points < design.normals.degree + 1)
       throw std::invalid_argument("normals.points: need at least degree+1 = " +
                                   std::to_string(design.normals.degree + 1) + " control points");
+  }
+  if (design.approximation) {
+    const ApproximationTarget& t = *design.approximation;
+    if (t.points.rows() == 0) throw std::invalid_argument("approximation.points: no points");
+    if (!t.points.allFinite()) throw std::invalid_argument("approximation.points: coordinates must be finite");
+    if (t.normals.rows() != t.points.rows())
+      throw std::invalid_argument("approximation.normals: expected one normal per point (" +
+                                  std::to_string(t.points.rows()) + "), got " + std::to_string(t.normals.rows()));
+    if (!t.normals.allFinite() || (t.normals.rowwise().norm().array() < 1e-12).any())
+      throw std::invalid_argument("approximation.normals: normals must be finite and non-zero");
+    const std::pair<const char*, double> weights[] = {{"point", t.pointWeight},
+                                                      {"tangency", t.tangencyWeight},
+                                                      {"tangent_plane", t.tangentPlaneWeight}};
+    for (const auto& [name, w] : weights)
+      if (!std::isfinite(w) || w < 0.0)
+        throw std::invalid_argument(std::string("approximation.weights.") + name + ": must be finite and ≥ 0");
   }
   const int perSpan = (a.isRational() || b.isRational()) ? 6 * a.degree() - 3 : 3 * a.degree() - 2;
   const int K = perSpan * a.knots.numSpans();
@@ -258,6 +278,32 @@ void StripModel::buildProblem() {
         h.weight, Strength::Soft));
   }
   for (int t : handleTerms_) problem_.term(t).relaxable = true;  // step control may weaken the pull
+
+  if (design_.approximation) {
+    // 000_… §4.2: eq. (9)–(11) over closest points shared by the three terms and renewed at every
+    // linearization; the points in the solver's normalized coordinates (normals only rotate, and
+    // the normalization is a similarity).
+    const ApproximationTarget& target = *design_.approximation;
+    Eigen::MatrixX3d q(target.points.rows(), 3);
+    for (Eigen::Index j = 0; j < q.rows(); ++j)
+      q.row(j) = normalization_.toNormalized(target.points.row(j).transpose()).transpose();
+    auto feet = std::make_shared<terms::StripFootPoints>(a.knots, a.weights, offA, offB, std::move(q));
+    problem_.addTerm(std::make_unique<terms::StripPointDistanceTerm>("approximation_point", feet),
+                     target.pointWeight, Strength::Soft);
+    problem_.addTerm(std::make_unique<terms::StripReferenceTangencyTerm>("approximation_tangency", feet, target.normals),
+                     target.tangencyWeight, Strength::Soft);
+    std::optional<terms::StripTangentPlaneDistanceTerm::NormalSpline> normalSpline;
+    if (!vectors)
+      normalSpline = terms::StripTangentPlaneDistanceTerm::NormalSpline{
+          a.knots.kind() == spline::KnotKind::Periodic
+              ? spline::KnotVector::periodicUniform(design_.normals.degree, normalCount)
+              : spline::KnotVector::clampedUniform(design_.normals.degree, normalCount),
+          offN};
+    problem_.addTerm(std::make_unique<terms::StripTangentPlaneDistanceTerm>(
+                         "approximation_tangent_plane", feet, std::move(normalSpline), a.knots.domainBegin(),
+                         a.knots.domainEnd()),
+                     target.tangentPlaneWeight, Strength::Soft);
+  }
 
   initializeNormals();
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);

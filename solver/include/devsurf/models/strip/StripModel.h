@@ -45,6 +45,17 @@ struct NormalRepresentation {
   int points = 0;             ///< normal spline control points (0 = one per curve control point)
 };
 
+/// Reference points the strip approximates (000_… §4.2): thinned points q_j with normals m_j from
+/// a local plane fit (reference::thinPointCloud), and the weights of eq. (9)–(11). Defaults are
+/// the paper's (Fig. 17, footnote **): 1e-3, 1e-4, 1e-2.
+struct ApproximationTarget {
+  Eigen::MatrixX3d points;            ///< q_j, N×3 (design coordinates)
+  Eigen::MatrixX3d normals;           ///< m_j, N×3 (any length > 0; normalized when used)
+  double pointWeight = 1e-3;          ///< eq. (9): s(u_j, v_j) − q_j
+  double tangencyWeight = 1e-4;       ///< eq. (10): ⟨m_j, a − b⟩, ⟨m_j, a′⟩ at u_j
+  double tangentPlaneWeight = 1e-2;   ///< eq. (11): ⟨s(u_j, v_j) − q_j, n(u_j)⟩
+};
+
 /// Everything that defines a strip design: the two boundary curves and the user's constraints.
 /// Curves a and b share degree, knots and closedness; weights (NURBS) are held constant.
 struct StripDesign {
@@ -52,6 +63,8 @@ struct StripDesign {
   NormalRepresentation normals;
   std::vector<ControlPointRef> fixed;
   std::vector<Handle> handles;
+  /// Reference points to approximate (scene field "approximation"); none by default.
+  std::optional<ApproximationTarget> approximation;
 };
 
 /// Weights and switches of the strip model; defaults as documented in proto/schemas.
@@ -101,7 +114,9 @@ struct StripGeometry {
 /// Variables (normalized coordinates): block "curve a" and "curve b" (3 per control point),
 /// block "normals" (3 per evaluation parameter, or 3 per normal-spline control point).
 /// Terms: "developability" (hard), "unit_normal_hard" (hard), "unit_normal" (soft),
-/// "fairness" (soft, decaying), "handle" (soft, weight per handle).
+/// "fairness" (soft, decaying), "handle" (soft, weight per handle); with an approximation target
+/// "approximation_point" (eq. 9), "approximation_tangency" (eq. 10) and
+/// "approximation_tangent_plane" (eq. 11), all soft, sharing closest points renewed per iteration.
 class StripModel {
  public:
   /// @throws std::invalid_argument with a message naming the offending part ("b.knots: …",
