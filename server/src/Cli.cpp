@@ -80,6 +80,9 @@ constexpr const char* kUsage =
     "        point, a strip placed by PCA over it (lifted onto its quadratic height field\n"
     "        unless --flat), eq. (9)-(11) of Tang et al. 2016 as its approximation target.\n"
     "        Solve it with solve; the report's approximation_* metrics measure the fit.\n"
+    "  merge FIRST.json SECOND.json [--name NAME] [--out SCENE.json]\n"
+    "        Merge two strip scenes into one strip by joining their control-point sequences\n"
+    "        (lined up end to end, the meeting points averaged; approximation targets joined).\n"
     "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
     "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"
@@ -501,6 +504,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "import") return importCommand(rest, out, err);
   if (command == "reference") return referenceCommand(rest, out, err);
   if (command == "fit") return fitCommand(rest, out, err);
+  if (command == "merge") return mergeCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";
     return 0;

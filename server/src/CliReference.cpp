@@ -5,6 +5,8 @@
 #include <iomanip>
 #include <limits>
 #include <optional>
+#include <sstream>
+#include <variant>
 #include <cmath>
 #include <ostream>
 #include <stdexcept>
@@ -231,6 +233,76 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
     return 2;
   } catch (const std::exception& e) {
     err << "devsurf fit: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> paths;
+  std::string outPath, name;
+  try {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      if (a == "--out") outPath = cli::flagValue(args, i);
+      else if (a == "--name") name = cli::flagValue(args, i);
+      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else paths.push_back(a);
+    }
+    if (paths.size() != 2) throw std::invalid_argument("expected two strip scenes, got " + std::to_string(paths.size()));
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf merge: " << e.what() << "\nusage: devsurf merge FIRST.json SECOND.json [--name NAME] [--out SCENE.json]\n";
+    return 2;
+  }
+  std::vector<proto::Scene> scenes;
+  for (const std::string& path : paths) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) {
+      err << "devsurf merge: cannot open " << path << "\n";
+      return 2;
+    }
+    std::ostringstream text;
+    text << file.rdbuf();
+    try {
+      scenes.push_back(proto::sceneFromText(text.str()));
+    } catch (const std::exception& e) {
+      err << "devsurf merge: " << path << ": " << e.what() << "\n";
+      return 2;
+    }
+    if (!std::holds_alternative<models::strip::StripDesign>(scenes.back().model)) {
+      err << "devsurf merge: " << path << ": model.kind: expected \"strip\", got \""
+          << proto::modelKind(scenes.back().model) << "\"\n";
+      return 2;
+    }
+  }
+  try {
+    // Fig. 10c: the control-point sequences joined, end points averaged; solved again by `solve`.
+    const models::strip::StripMerge merge = models::strip::mergeStrips(
+        std::get<models::strip::StripDesign>(scenes[0].model), std::get<models::strip::StripDesign>(scenes[1].model));
+    proto::Scene scene = scenes[0];
+    scene.name = name.empty() ? scenes[0].name + " + " + scenes[1].name : name;
+    scene.description = "Strips of " + paths[0] + " and " + paths[1] + " merged (devsurf merge; Tang et al. 2016 Fig. 10c).";
+    scene.model = merge.merged;
+    const nlohmann::json document = proto::sceneToJson(scene);
+    proto::sceneFromJson(document);
+    if (outPath.empty()) {
+      out << document.dump(2) << "\n";
+    } else {
+      std::ofstream file(outPath);
+      file << document.dump(2) << "\n";
+      if (!file) {
+        err << "devsurf merge: cannot write " << outPath << "\n";
+        return 1;
+      }
+    }
+    err << "devsurf merge: joined with a gap of " << merge.gap << (merge.reversedFirst ? "; first reversed" : "")
+        << (merge.reversedSecond ? "; second reversed" : "") << (merge.swappedSecond ? "; second's a and b exchanged" : "")
+        << "\n";
+    return 0;
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf merge: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "devsurf merge: " << e.what() << "\n";
     return 1;
   }
 }

@@ -85,6 +85,42 @@ TEST(FitCommand, ARegionOfCgalsKittenIsCoveredByAStripThatStaysOnIt) {
   }
 }
 
+TEST(MergeCommand, TwoStripsFittedToHalvesOfACloudMergeIntoOneThatSolvesOverTheWhole) {
+  devsurf::testing::TempDir dir;
+  double sigma = 0.0;
+  const std::string cloud = writeCylinderCloud(dir, sigma);
+  // The halves as the user brushes them: balls around the middles of the two halves, wide enough
+  // to hold their corners (they overlap in the middle).
+  const double c = std::cos(25.0 * M_PI / 180.0), s = std::sin(25.0 * M_PI / 180.0);
+  const std::string left = (dir.path() / "left.json").string(), right = (dir.path() / "right.json").string();
+  ASSERT_EQ(runCommand({"fit", cloud, "--centre", std::to_string(c) + "," + std::to_string(-s) + ",0.6", "--radius", "0.75",
+                        "--out", left}).code, 0);
+  ASSERT_EQ(runCommand({"fit", cloud, "--centre", std::to_string(c) + "," + std::to_string(s) + ",0.6", "--radius", "0.75",
+                        "--out", right}).code, 0);
+  for (const std::string& half : {left, right}) ASSERT_EQ(runCommand({"solve", half, "--out", half}).code, 0);
+  // The solved reports hold the solved scenes; merge those.
+  for (const std::string& half : {left, right}) {
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(half));
+    std::ofstream(half) << report["scene"].dump();
+  }
+  const std::string merged = (dir.path() / "merged.json").string(), report = (dir.path() / "r.json").string();
+  const CliRun merge = runCommand({"merge", left, right, "--out", merged});
+  ASSERT_EQ(merge.code, 0) << merge.err;
+  EXPECT_NE(merge.err.find("joined with a gap of"), std::string::npos);
+  const CliRun solve = runCommand({"solve", merged, "--reference", cloud, "--coverage-tolerance",
+                                   std::to_string(3.0 * sigma), "--out", report});
+  ASSERT_EQ(solve.code, 0) << solve.err;
+  const nlohmann::json metrics = nlohmann::json::parse(std::ifstream(report))["metrics"];
+  EXPECT_LE(metrics["reference_distance_rms"].get<double>(), 2.0 * sigma) << metrics.dump(1);
+  EXPECT_GE(metrics["reference_coverage"].get<double>(), 0.95);
+  EXPECT_LE(metrics["warp_angle_max_deg"].get<double>(), 0.05);
+  // Not strips: refused naming the kind.
+  const CliRun composite = runCommand({"merge", merged, testing::examplePath("composite-curved-fold.json")});
+  EXPECT_EQ(composite.code, 2);
+  EXPECT_NE(composite.err.find("model.kind"), std::string::npos) << composite.err;
+  EXPECT_EQ(runCommand({"merge", merged}).code, 2);
+}
+
 TEST(FitCommand, BadArgumentsAreRefusedNamingThem) {
   devsurf::testing::TempDir dir;
   double sigma = 0.0;

@@ -166,11 +166,28 @@ void ServerCore::finishLeftovers(std::chrono::milliseconds limit) {
   }
   leftSessions.clear();
   leftHttp.clear();
-  ioc.restart();
-  try {
-    ioc.run_for(limit);
-  } catch (const std::exception& e) {
-    spdlog::error("transport: exception while finishing connections: {}", e.what());
+  auto runLeftovers = [this, limit] {
+    ioc.restart();
+    try {
+      ioc.run_for(limit);
+    } catch (const std::exception& e) {
+      spdlog::error("transport: exception while finishing connections: {}", e.what());
+    }
+  };
+  runLeftovers();
+  // Sessions still alive (held by the protocol layer, or by a handler Beast parked in their own
+  // stream) lose their streams; the operations that ends complete (aborted) in a second run.
+  std::vector<std::shared_ptr<WebSocketSession>> alive;
+  {
+    std::lock_guard<std::mutex> lk(mutex);
+    for (const auto& weak : everySession)
+      if (auto session = weak.lock()) alive.push_back(std::move(session));
+    everySession.clear();
+  }
+  if (!alive.empty()) {
+    for (auto& session : alive) session->dropStream();
+    alive.clear();
+    runLeftovers();
   }
   std::lock_guard<std::mutex> lk(mutex);
   sessions.clear();
@@ -283,6 +300,12 @@ void ServerCore::removeHttp(std::uint64_t id) {
 bool ServerCore::addSession(std::uint64_t id, std::shared_ptr<WebSocketSession> session) {
   std::lock_guard<std::mutex> lk(mutex);
   if (stopping) return false;
+  if (everySession.size() >= 64 && everySession.size() >= 2 * sessions.size()) {
+    everySession.erase(std::remove_if(everySession.begin(), everySession.end(),
+                                      [](const std::weak_ptr<WebSocketSession>& w) { return w.expired(); }),
+                       everySession.end());
+  }
+  everySession.push_back(session);
   sessions.emplace(id, std::move(session));
   return true;
 }

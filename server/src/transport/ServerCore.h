@@ -144,6 +144,8 @@ struct ServerCore : std::enable_shared_from_this<ServerCore> {
   std::atomic<bool> stoppingFlag{false};  // lock-free copy of `stopping` for the io threads
   std::unordered_map<std::uint64_t, std::shared_ptr<WebSocketSession>> sessions;
   std::unordered_map<std::uint64_t, std::shared_ptr<HttpConnection>> httpConnections;
+  /// Every WebSocket session ever registered, for finishLeftovers (pruned of expired entries).
+  std::vector<std::weak_ptr<WebSocketSession>> everySession;
   std::size_t openSlots = 0;   // admitted TCP connections (HTTP + WebSocket)
   std::size_t refusing = 0;    // connections being answered 503 (not admitted)
   std::unordered_map<std::string, std::size_t> slotsByAddress;

@@ -16,8 +16,8 @@ WebSocketSession::WebSocketSession(std::shared_ptr<ServerCore> core, beast::tcp_
                                    std::uint64_t id, std::string remote, ConnectionSlot slot,
                                    HttpRequest request)
     : core_(std::move(core)),
-      ws_(std::move(stream)),
-      timer_(ws_.get_executor()),
+      ws_(std::in_place, std::move(stream)),
+      timer_(ws_->get_executor()),
       id_(id),
       remote_(std::move(remote)),
       target_(request.target()),
@@ -62,7 +62,7 @@ void WebSocketSession::send(std::string text, Delivery delivery, std::string key
     postClose(*overflowKick);
     return;
   }
-  if (kick) net::post(ws_.get_executor(), [self = shared_from_this()] { self->writeNext(); });
+  if (kick) net::post(timer_.get_executor(), [self = shared_from_this()] { self->writeNext(); });
 }
 
 void WebSocketSession::close(std::uint16_t code, std::string reason) {
@@ -85,11 +85,11 @@ std::size_t WebSocketSession::queuedMessages() const {
 }
 
 void WebSocketSession::start() {
-  net::dispatch(ws_.get_executor(), [self = shared_from_this()] { self->accept(); });
+  net::dispatch(timer_.get_executor(), [self = shared_from_this()] { self->accept(); });
 }
 
 void WebSocketSession::shutdown() {
-  net::post(ws_.get_executor(), [self = shared_from_this()] {
+  net::post(timer_.get_executor(), [self = shared_from_this()] {
     if (self->finished_) return;
     if (!self->opened_) {
       self->finish(net::error::operation_aborted);
@@ -100,7 +100,7 @@ void WebSocketSession::shutdown() {
 }
 
 void WebSocketSession::abort() {
-  net::post(ws_.get_executor(),
+  net::post(timer_.get_executor(),
             [self = shared_from_this()] { self->finish(net::error::operation_aborted); });
 }
 
@@ -119,20 +119,20 @@ void WebSocketSession::accept() {
                          ? websocket::stream_base::duration(limits.idleTimeout)
                          : websocket::stream_base::none();
   opt.keep_alive_pings = true;
-  beast::get_lowest_layer(ws_).expires_never();  // Beast's websocket timeouts take over
-  ws_.set_option(opt);
-  ws_.set_option(websocket::stream_base::decorator(
+  beast::get_lowest_layer(*ws_).expires_never();  // Beast's websocket timeouts take over
+  ws_->set_option(opt);
+  ws_->set_option(websocket::stream_base::decorator(
       [](websocket::response_type& res) { res.set(http::field::server, "devsurf"); }));
-  ws_.read_message_max(0);  // enforced by onRead, so the close carries a reason
-  ws_.auto_fragment(false);
-  ws_.async_accept(request_,
+  ws_->read_message_max(0);  // enforced by onRead, so the close carries a reason
+  ws_->auto_fragment(false);
+  ws_->async_accept(request_,
                    beast::bind_front_handler(&WebSocketSession::onAccept, shared_from_this()));
 }
 
 void WebSocketSession::reject(int status, const std::string& code, const std::string& message) {
   if (core_->handlers.onRefused) core_->handlers.onRefused(code);
   auto response = std::make_shared<std::string>(errorResponse(status, code, message));
-  auto& stream = beast::get_lowest_layer(ws_);
+  auto& stream = beast::get_lowest_layer(*ws_);
   stream.expires_after(core_->limits.http.writeTimeout);
   net::async_write(stream, net::buffer(*response),
                    [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
@@ -172,7 +172,7 @@ void WebSocketSession::onAccept(beast::error_code ec) {
 // ---- reading -----------------------------------------------------------------------------
 
 void WebSocketSession::readNext() {
-  ws_.async_read_some(buffer_, kReadChunk,
+  ws_->async_read_some(buffer_, kReadChunk,
                       beast::bind_front_handler(&WebSocketSession::onRead, shared_from_this()));
 }
 
@@ -182,7 +182,7 @@ void WebSocketSession::onRead(beast::error_code ec, std::size_t) {
     finish(ec);
     return;
   }
-  if (ws_.got_binary()) {
+  if (ws_->got_binary()) {
     buffer_.clear();
     requestClose(CloseCode::UnsupportedData, "binary frames are not supported", true);
     return;  // Beast's close operation reads (and discards) until the peer's close frame
@@ -194,7 +194,7 @@ void WebSocketSession::onRead(beast::error_code ec, std::size_t) {
                  "message too big (limit " + std::to_string(maxBytes) + " bytes)", true);
     return;
   }
-  if (ws_.is_message_done()) {
+  if (ws_->is_message_done()) {
     std::string message = beast::buffers_to_string(buffer_.data());
     buffer_.consume(buffer_.size());
     if (isOpen() && core_->handlers.onMessage) {
@@ -223,8 +223,8 @@ void WebSocketSession::writeNext() {
     inFlight_ = std::move(next.text);
     queue_.pop_front();
     lk.unlock();
-    ws_.text(true);
-    ws_.async_write(net::buffer(inFlight_),
+    ws_->text(true);
+    ws_->async_write(net::buffer(inFlight_),
                     beast::bind_front_handler(&WebSocketSession::onWrite, shared_from_this()));
     return;
   }
@@ -232,7 +232,7 @@ void WebSocketSession::writeNext() {
     closeStarted_ = true;
     const websocket::close_reason reason = *closeRequest_;
     lk.unlock();
-    ws_.async_close(reason, beast::bind_front_handler(&WebSocketSession::finish,
+    ws_->async_close(reason, beast::bind_front_handler(&WebSocketSession::finish,
                                                       shared_from_this()));
     return;
   }
@@ -272,7 +272,7 @@ std::optional<bool> WebSocketSession::closeLocked(std::uint16_t code, std::strin
 }
 
 void WebSocketSession::postClose(bool kick) {
-  net::post(ws_.get_executor(), [self = shared_from_this(), kick] {
+  net::post(timer_.get_executor(), [self = shared_from_this(), kick] {
     self->armCloseTimer();
     if (kick) self->writeNext();
   });
@@ -301,10 +301,10 @@ void WebSocketSession::finish(beast::error_code ec) {
   // Beast leaves its idle/handshake timer pending after a failed read; turning the timeouts off
   // cancels it, so the io_context can run out of work even while someone still holds this
   // Connection.
-  ws_.set_option(websocket::stream_base::timeout{websocket::stream_base::none(),
+  ws_->set_option(websocket::stream_base::timeout{websocket::stream_base::none(),
                                                  websocket::stream_base::none(), false});
   beast::error_code ignored;
-  auto& stream = beast::get_lowest_layer(ws_);
+  auto& stream = beast::get_lowest_layer(*ws_);
   stream.socket().shutdown(tcp::socket::shutdown_both, ignored);
   stream.close();
   slot_.release();  // before onClose: a client that saw the close may connect again at once
@@ -320,6 +320,13 @@ void WebSocketSession::finish(beast::error_code ec) {
     }
   }
   core_->removeSession(id_);
+}
+
+void WebSocketSession::dropStream() {
+  const auto self = shared_from_this();  // a handler parked in the stream may hold the last one
+  if (!finished_) finish(net::error::operation_aborted);
+  timer_.cancel();
+  ws_.reset();
 }
 
 void WebSocketSession::dropQueueLocked() {

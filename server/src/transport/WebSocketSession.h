@@ -44,6 +44,12 @@ class WebSocketSession final : public Connection,
   void shutdown();
   /// Any thread: drop the TCP connection now.
   void abort();
+  /// Only after the io threads stopped, on the stopping thread: finishes the session if it is
+  /// not finished and destroys the Beast stream, and with it every handler Beast parked inside it
+  /// (a read waiting for a close or write that will never complete holds this session, which
+  /// holds the core, which owns the io_context: a cycle LeakSanitizer reported at exit). Every
+  /// strand handler returns on `finished_` before touching the stream, so none runs after this.
+  void dropStream();
 
  private:
   enum class State { Handshake, Open, Closing, Finished };
@@ -68,7 +74,7 @@ class WebSocketSession final : public Connection,
   void dropQueueLocked();
 
   const std::shared_ptr<ServerCore> core_;
-  websocket::stream<beast::tcp_stream> ws_;
+  std::optional<websocket::stream<beast::tcp_stream>> ws_;  // empty after dropStream()
   net::steady_timer timer_;
   const std::uint64_t id_;
   const std::string remote_;

@@ -25,6 +25,10 @@ int referenceCommand(const std::vector<std::string>& args, std::ostream& out, st
 /// normal per point, a strip placed by PCA over it, eq. (9)–(11) as its approximation target.
 int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
+/// `devsurf merge FIRST.json SECOND.json [--out SCENE.json]`: two strip scenes merged into one
+/// by joining their control-point sequences (000_… Fig. 10c; models::strip::mergeStrips).
+int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
 /// `devsurf serve …`: the daemon, until SIGINT/SIGTERM.
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 

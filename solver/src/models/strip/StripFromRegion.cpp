@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+
+#include "devsurf/spline/Basis.h"
 
 namespace devsurf::models::strip {
 
@@ -104,6 +108,106 @@ StripDesign flatStripOverRegion(const Eigen::MatrixX3d& points, const RegionStri
   design.a = spline::BSplineCurve{knots, A, {}};
   design.b = spline::BSplineCurve{knots, B, {}};
   return design;
+}
+
+}  // namespace devsurf::models::strip
+
+namespace devsurf::models::strip {
+
+StripMerge mergeStrips(const StripDesign& first, const StripDesign& second) {
+  for (const auto& [design, name] : {std::pair{&first, "first"}, std::pair{&second, "second"}}) {
+    if (design->a.knots.kind() == spline::KnotKind::Periodic)
+      throw std::invalid_argument(std::string(name) + ": closed strips cannot be merged");
+    if (design->a.isRational() || design->b.isRational())
+      throw std::invalid_argument(std::string(name) + ": rational (NURBS) curves cannot be merged");
+  }
+  if (first.a.degree() != second.a.degree())
+    throw std::invalid_argument("second: degree " + std::to_string(second.a.degree()) + " differs from the first's " +
+                                std::to_string(first.a.degree()));
+  auto reversed = [](const Eigen::MatrixXd& p) { return Eigen::MatrixXd(p.colwise().reverse()); };
+  StripMerge best;
+  double bestScore = std::numeric_limits<double>::infinity(), bestGap = 0.0;
+  for (int combo = 0; combo < 8; ++combo) {
+    const bool r1 = combo & 1, r2 = combo & 2, swap = combo & 4;
+    const Eigen::MatrixXd a1 = r1 ? reversed(first.a.points) : first.a.points;
+    const Eigen::MatrixXd b1 = r1 ? reversed(first.b.points) : first.b.points;
+    Eigen::MatrixXd a2 = r2 ? reversed(second.a.points) : second.a.points;
+    Eigen::MatrixXd b2 = r2 ? reversed(second.b.points) : second.b.points;
+    if (swap) std::swap(a2, b2);
+    // Joined ends close, outer ends far apart: with overlapping strips the closest ends alone
+    // picked a layout that doubles back over the overlap.
+    const double gap = (a1.row(a1.rows() - 1) - a2.row(0)).norm() + (b1.row(b1.rows() - 1) - b2.row(0)).norm();
+    const double outer = (a1.row(0) - a2.row(a2.rows() - 1)).norm() + (b1.row(0) - b2.row(b2.rows() - 1)).norm();
+    const double score = gap - outer;
+    if (score < bestScore) {
+      bestGap = gap;
+      bestScore = score;
+      best.reversedFirst = r1, best.reversedSecond = r2, best.swappedSecond = swap;
+    }
+  }
+  best.gap = 0.5 * bestGap;
+  // Dense samples of both strips in the chosen orientation; where the strips overlap, each is cut
+  // at the middle of the overlap (joining them as they are would fold the strip back there).
+  const int degree = first.a.degree();
+  // The curves' own knots need not be uniform: sample them as given.
+  auto samplesOf = [](const spline::BSplineCurve& c, bool reverse, int count) {
+    std::vector<double> u(static_cast<std::size_t>(count));
+    const double u0 = c.knots.domainBegin(), u1 = c.knots.domainEnd();
+    for (int k = 0; k < count; ++k) {
+      const double t = static_cast<double>(k) / (count - 1);
+      u[static_cast<std::size_t>(k)] = u0 + (u1 - u0) * (reverse ? 1.0 - t : t);
+    }
+    return c.evaluate(u, 0);
+  };
+  const int K1 = 24 * static_cast<int>(first.a.points.rows()), K2 = 24 * static_cast<int>(second.a.points.rows());
+  const Eigen::MatrixXd Pa = samplesOf(first.a, best.reversedFirst, K1), Pb = samplesOf(first.b, best.reversedFirst, K1);
+  Eigen::MatrixXd Qa = samplesOf(second.a, best.reversedSecond, K2), Qb = samplesOf(second.b, best.reversedSecond, K2);
+  if (best.swappedSecond) std::swap(Qa, Qb);
+  const Eigen::MatrixXd Pm = 0.5 * (Pa + Pb), Qm = 0.5 * (Qa + Qb);
+  Eigen::Index iStar = 0, jStar = 0;
+  (Pm.rowwise() - Qm.row(0)).rowwise().squaredNorm().minCoeff(&iStar);
+  (Qm.rowwise() - Pm.row(K1 - 1)).rowwise().squaredNorm().minCoeff(&jStar);
+  best.overlap = iStar < K1 - 1 || jStar > 0;
+  const Eigen::Index iCut = best.overlap ? (iStar + K1 - 1) / 2 : K1 - 1;
+  const Eigen::Index jCut = best.overlap ? jStar / 2 : 0;
+  const Eigen::Index count = (iCut + 1) + (K2 - jCut);
+  Eigen::MatrixXd joinedA(count, 3), joinedB(count, 3);
+  joinedA << Pa.topRows(iCut + 1), Qa.bottomRows(K2 - jCut);
+  joinedB << Pb.topRows(iCut + 1), Qb.bottomRows(K2 - jCut);
+  // Chord-length parameters along the middle line, so a(u) and b(u) keep their rulings paired.
+  std::vector<double> t(static_cast<std::size_t>(count), 0.0);
+  for (Eigen::Index k = 1; k < count; ++k)
+    t[static_cast<std::size_t>(k)] =
+        t[static_cast<std::size_t>(k - 1)] + (0.5 * (joinedA.row(k) + joinedB.row(k) - joinedA.row(k - 1) - joinedB.row(k - 1))).norm();
+  if (!(t.back() > 0.0)) throw std::invalid_argument("second: the strips are degenerate");
+  for (double& value : t) value /= t.back();
+  const int n = static_cast<int>(first.a.points.rows() + second.a.points.rows() - 1);
+  const spline::KnotVector knots = spline::KnotVector::clampedUniform(degree, n);
+  const Eigen::SparseMatrix<double> N = spline::evaluationMatrix(knots, t, 0);
+  Eigen::SparseMatrix<double> normal = N.transpose() * N;
+  for (int i = 0; i < n; ++i) normal.coeffRef(i, i) += 1e-12;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(normal);
+  if (solver.info() != Eigen::Success) throw std::invalid_argument("second: the merged strip cannot be fitted");
+  const Eigen::MatrixXd A = solver.solve(Eigen::MatrixXd(N.transpose() * joinedA));
+  const Eigen::MatrixXd B = solver.solve(Eigen::MatrixXd(N.transpose() * joinedB));
+  StripDesign& merged = best.merged;
+  merged.a = spline::BSplineCurve{knots, A, {}};
+  merged.b = spline::BSplineCurve{knots, B, {}};
+  merged.normals.type = NormalRepresentation::Type::Spline;
+  merged.normals.degree = first.normals.type == NormalRepresentation::Type::Spline ? first.normals.degree : 3;
+  merged.normals.points = static_cast<int>(A.rows());
+  if (first.approximation || second.approximation) {
+    ApproximationTarget target = first.approximation ? *first.approximation : *second.approximation;
+    if (first.approximation && second.approximation) {
+      const ApproximationTarget& other = *second.approximation;
+      target.points.conservativeResize(target.points.rows() + other.points.rows(), 3);
+      target.normals.conservativeResize(target.normals.rows() + other.normals.rows(), 3);
+      target.points.bottomRows(other.points.rows()) = other.points;
+      target.normals.bottomRows(other.normals.rows()) = other.normals;
+    }
+    merged.approximation = std::move(target);
+  }
+  return best;
 }
 
 }  // namespace devsurf::models::strip

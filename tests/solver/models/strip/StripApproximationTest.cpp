@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "devsurf/models/strip/StripFromRegion.h"
 #include "devsurf/models/strip/StripModel.h"
@@ -68,23 +69,19 @@ struct Fit {
   reference::SurfaceDistance distance;
 };
 
-/// The user's workflow: thin the cloud, place a flat strip by PCA over it, solve with eq. (9)–(11).
-Fit fitStrip(const NoisyPatch& patch, int iterations, bool lifted = true) {
-  const double diagonal = diagonalOf(patch.points);
-  const reference::ThinnedCloud thin =
-      reference::thinPointCloud(patch.points, Eigen::MatrixX3d(0, 3), {.radius = 0.04 * diagonal});
-  RegionStripOptions placement;
-  placement.liftToHeightField = lifted;
-  StripDesign design = flatStripOverRegion(thin.points, placement);
-  design.normals.type = NormalRepresentation::Type::Spline;
-  design.approximation = ApproximationTarget{thin.points, thin.normals};
-  StripModel model(design);
+engine::SolverOptions fitOptions(int iterations) {
   engine::SolverOptions options;
   options.maxIterations = iterations;
   options.regularization = 1e-3;  // Fig. 17, row 10 (the bunny): ε₁ = 0.001, fairness 0.001
   options.fairness = 1e-3;
+  return options;
+}
+
+/// Solves `design` and measures it: distances from `cloud` to a dense triangulation of the result.
+Fit solveAndMeasure(const StripDesign& design, const Eigen::MatrixX3d& cloud, double tolerance, int iterations) {
+  StripModel model(design);
   Fit fit;
-  fit.summary = model.solve(options);
+  fit.summary = model.solve(fitOptions(iterations));
   fit.design = model.design();
   fit.quality = model.quality();
   const StripGeometry g = model.geometry(400, 40, 2);
@@ -94,8 +91,24 @@ Fit fitStrip(const NoisyPatch& patch, int iterations, bool lifted = true) {
     T.row(2 * f) << q(0), q(1), q(2);
     T.row(2 * f + 1) << q(0), q(2), q(3);
   }
-  fit.distance = reference::surfaceDistance(patch.points, g.surface.vertices, T, 3.0 * patch.sigma);
+  fit.distance = reference::surfaceDistance(cloud, g.surface.vertices, T, tolerance);
   return fit;
+}
+
+/// The user's first step: thin the region, place a strip by PCA over it, eq. (9)–(11) as target.
+StripDesign placedStrip(const Eigen::MatrixX3d& region, double thinRadius, bool lifted = true) {
+  const reference::ThinnedCloud thin = reference::thinPointCloud(region, Eigen::MatrixX3d(0, 3), {.radius = thinRadius});
+  RegionStripOptions placement;
+  placement.liftToHeightField = lifted;
+  StripDesign design = flatStripOverRegion(thin.points, placement);
+  design.normals.type = NormalRepresentation::Type::Spline;
+  design.approximation = ApproximationTarget{thin.points, thin.normals};
+  return design;
+}
+
+Fit fitStrip(const NoisyPatch& patch, int iterations, bool lifted = true) {
+  const StripDesign design = placedStrip(patch.points, 0.04 * diagonalOf(patch.points), lifted);
+  return solveAndMeasure(design, patch.points, 3.0 * patch.sigma, iterations);
 }
 
 void expectIssueThresholds(const NoisyPatch& patch, const Fit& fit) {
@@ -125,6 +138,59 @@ TEST(StripApproximation, TheFitHoldsWhetherTheUserStopsEarlyOrLetsItRunLong) {
     SCOPED_TRACE(iterations);
     expectIssueThresholds(patch, fitStrip(patch, iterations));
   }
+}
+
+TEST(StripApproximation, TwoStripsFittedToHalvesOfACylinderMergeIntoOneThatCoversBoth) {
+  // Fig. 10c: each half of the patch (split across the arc) gets its strip; their control-point
+  // sequences joined make one strip, approximated again over the whole cloud.
+  const NoisyPatch patch = noisyCylinder(15);
+  std::vector<Eigen::Index> left, right;
+  for (Eigen::Index j = 0; j < patch.points.rows(); ++j) (patch.points(j, 1) < 0.0 ? left : right).push_back(j);
+  const double radius = 0.04 * diagonalOf(patch.points);
+  const StripDesign first = solveAndMeasure(placedStrip(patch.points(left, Eigen::all), radius), patch.points, 1.0, 60).design;
+  const StripDesign second = solveAndMeasure(placedStrip(patch.points(right, Eigen::all), radius), patch.points, 1.0, 60).design;
+  const StripMerge merge = mergeStrips(first, second);
+  EXPECT_EQ(merge.merged.a.points.rows(), first.a.points.rows() + second.a.points.rows() - 1);
+  EXPECT_LT(merge.gap, 0.1) << "the halves' strips meet near y = 0";
+  ASSERT_TRUE(merge.merged.approximation.has_value());
+  EXPECT_EQ(merge.merged.approximation->points.rows(),
+            first.approximation->points.rows() + second.approximation->points.rows());
+  expectIssueThresholds(patch, solveAndMeasure(merge.merged, patch.points, 3.0 * patch.sigma, 60));
+}
+
+TEST(StripApproximation, MergingLinesUpStripsWhicheverWayTheyRun) {
+  // Two pieces of one straight strip, the second reversed and with a and b exchanged: merged
+  // they are the whole strip again, in the first's orientation.
+  StripDesign first, second;
+  const spline::KnotVector knots = spline::KnotVector::clampedUniform(3, 4);
+  Eigen::MatrixXd A1(4, 3), B1(4, 3), A2(4, 3), B2(4, 3);
+  for (int i = 0; i < 4; ++i) {
+    A1.row(i) << i, 0, 0;
+    B1.row(i) << i, 1, 0;
+    A2.row(3 - i) << 3 + i, 1, 0;  // the second piece's a is on the first's b side, reversed
+    B2.row(3 - i) << 3 + i, 0, 0;
+  }
+  first.a = {knots, A1, {}}, first.b = {knots, B1, {}};
+  second.a = {knots, A2, {}}, second.b = {knots, B2, {}};
+  const StripMerge merge = mergeStrips(first, second);
+  EXPECT_FALSE(merge.reversedFirst);
+  EXPECT_TRUE(merge.reversedSecond);
+  EXPECT_TRUE(merge.swappedSecond);
+  EXPECT_EQ(merge.gap, 0.0);
+  ASSERT_EQ(merge.merged.a.points.rows(), 7);
+  std::vector<double> u(101);
+  for (std::size_t k = 0; k < u.size(); ++k) u[k] = static_cast<double>(k) / 100.0;
+  const Eigen::MatrixXd a = merge.merged.a.evaluate(u, 0), b = merge.merged.b.evaluate(u, 0);
+  EXPECT_NEAR((a.row(0) - Eigen::RowVector3d(0, 0, 0)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((a.row(100) - Eigen::RowVector3d(6, 0, 0)).norm(), 0.0, 1e-9);
+  for (Eigen::Index k = 0; k < a.rows(); ++k) {
+    EXPECT_NEAR(a.row(k).tail<2>().norm(), 0.0, 1e-9);  // on the line y = z = 0 …
+    EXPECT_NEAR((b.row(k) - a.row(k) - Eigen::RowVector3d(0, 1, 0)).norm(), 0.0, 1e-9);  // rulings paired
+    if (k > 0) EXPECT_GT(a(k, 0), a(k - 1, 0));  // … and running one way
+  }
+  StripDesign closed = first;
+  closed.a.knots = closed.b.knots = spline::KnotVector::periodicUniform(3, 4);
+  EXPECT_THROW(mergeStrips(closed, second), std::invalid_argument);
 }
 
 TEST(StripApproximation, AStripLeftFlatAsInThePaperAlsoGrowsOntoTheCylinder) {

@@ -42,3 +42,32 @@ std::vector<int> pointsInBall(const Eigen::MatrixX3d& points, const Eigen::Vecto
 StripDesign flatStripOverRegion(const Eigen::MatrixX3d& points, const RegionStripOptions& options = {});
 
 }  // namespace devsurf::models::strip
+
+namespace devsurf::models::strip {
+
+/// What mergeStrips did to line the strips up.
+struct StripMerge {
+  StripDesign merged;
+  bool reversedFirst = false;   ///< the first strip's curves were reversed
+  bool reversedSecond = false;  ///< the second strip's curves were reversed
+  bool swappedSecond = false;   ///< the second strip's a and b were exchanged
+  double gap = 0.0;             ///< distance between the joined end rulings (mean of both ends)
+  bool overlap = false;         ///< the strips overlapped (each was cut at the overlap's middle)
+};
+
+/// Merges two strips into one (000_… Fig. 10c: "merged by putting together their respective
+/// control point sequences (averaging the end control points)"). The strips are lined up first:
+/// of the eight ways to reverse either and exchange the second's a and b, the one whose joined
+/// end rulings are closest and whose outer end rulings are farthest apart (the sum of the gaps
+/// less the sum of the spans). Then both are sampled densely and joined end to end; where they
+/// overlap (a user's brush strokes do), each is cut at the middle of the overlap, since joining
+/// the control sequences as they are folds the merged strip back there (tested). The merged a and
+/// b are least-squares fits of the joined samples with n₁ + n₂ − 1 control points on clamped
+/// uniform knots, at common chord-length parameters of the middle line, so rulings stay paired;
+/// for strips that meet end to end this reproduces the joined sequences up to the fit.
+/// Approximation targets are concatenated (weights of the first); fixed points and handles are
+/// dropped; normals become a normal spline with one control point per curve control point.
+/// @throws std::invalid_argument for closed or rational curves, or differing degrees
+StripMerge mergeStrips(const StripDesign& first, const StripDesign& second);
+
+}  // namespace devsurf::models::strip
