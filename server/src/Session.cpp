@@ -292,6 +292,15 @@ json Session::geometryJson(json* iterateMetrics) const {
     const metrics::StripQuality q = solver_->stripModel().quality(200);
     *iterateMetrics = {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg},
                        {"ruling_length_min_ratio", solver_->stripModel().rulingLengthMinRatio()}};
+    // A fitted strip: how close it is to its reference points, every iterate (watch it fit).
+    if (const auto& target = solver_->stripModel().approximation()) {
+      try {
+        for (const auto& [name, value] : solver_->referenceMetrics(target->points, 0.0))
+          (*iterateMetrics)["approximation_" + name.substr(std::string("reference_").size())] = value;
+      } catch (const std::exception&) {
+        // A degenerate surface has no distances; the warp metrics say what went wrong.
+      }
+    }
   }
   return proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples);
 }

@@ -114,6 +114,10 @@ export class Editor {
     this.normalsToggle = toggle('Normals', 'normals', false);
     this.rulingsToggle = toggle('Rulings', 'rulings', true);
     this.stripOnlyOptions = [this.rulingsToggle, this.normalsToggle];
+    // Shown when the strip approximates reference points (scene model.approximation).
+    this.referenceToggle = toggle('Reference points', 'reference', true);
+    this.referenceToggle.dataset.testid = 'reference-toggle';
+    this.referenceToggle.hidden = true;
     this.quadControls = new QuadMeshControls({
       state: st, quad: this.quad, send: (c) => this.send(c), toasts: { showInfo: (t) => this.toasts.showInfo(t) }, errorSlots: this.errorSlots,
       changed: () => this._quadChanged(),
@@ -121,7 +125,7 @@ export class Editor {
     this.conicalOnlyOptions = [h('label', { class: 'chip', title: 'Colour the patches by', hidden: true }, 'Colour ', this.conicalColorMode)];
     this.compositeOnlyOptions = [h('label', { class: 'chip', title: 'Colour the faces by', hidden: true }, 'Colour ', this.colorMode)];
     this.viewOptions = h('div', { class: 'view-options' },
-      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, ...this.compositeOnlyOptions, ...this.conicalOnlyOptions, ...this.quadControls.viewOptions,
+      toggle('Surface', 'surface', true), ...this.stripOnlyOptions, this.referenceToggle, ...this.compositeOnlyOptions, ...this.conicalOnlyOptions, ...this.quadControls.viewOptions,
       this.polygonsToggle = toggle('Control polygons', 'polygons', true),
       h('button', { class: 'btn small', title: 'Fit the strip into the view (Space)', onclick: () => this.viewport.fit() }, 'Fit (Space)'));
     this.banner = h('div', { class: 'banner', hidden: true, role: 'status' });
@@ -218,6 +222,9 @@ export class Editor {
     st.on('edge-selection', () => this.viewport.updateComposite());
     st.on('solved', () => this.development.refit());
     st.on('scene', () => {
+      const model = (st.scene && st.scene.model) || {};
+      this.viewport.setReferencePoints(model.approximation ? model.approximation.points : null);
+      this.referenceToggle.hidden = this.viewport.referenceCount === 0;
       this.viewport.requestRender();
       if (this.kind === 'quad_mesh') this.unfolding.render();
     });

@@ -28,6 +28,8 @@ export class StatusBar {
     this.normalJumpItem = h('span', { class: 'status-item', title: 'Largest angle between the normals of neighbouring patches (0° = G1)', hidden: true }, 'max normal jump ', this.normalJump, '°');
     this.lengthError = h('span', { class: 'num', testid: 'status-length-error' }, '–');
     this.lengthErrorItem = h('span', { class: 'status-item', title: 'L-Err: edge length error of M′ against M, ‖L′ − L‖/‖L‖ (Jiang et al. Fig. 22)', hidden: true }, 'L-Err ', this.lengthError, ' %');
+    this.fit = h('span', { class: 'num', testid: 'status-fit' }, '–');
+    this.fitItem = h('span', { class: 'status-item', title: 'A fitted strip: RMS and largest distance of its reference points from the surface, in % of their bounding-box diagonal (Tang et al. §4.2), and the share within 1 %', hidden: true }, 'fit ', this.fit);
     this.time = h('span', { class: 'num' }, '–');
     this.apply = h('span', { class: 'num' }, '–');
     this.solved = h('span', { class: 'muted', testid: 'status-solved' }, '');
@@ -38,7 +40,7 @@ export class StatusBar {
       h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
       this.warpItem = h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
       this.warpMeanItem = h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
-      this.flatnessItem, this.patchesItem, this.normalJumpItem, this.lengthErrorItem,
+      this.flatnessItem, this.patchesItem, this.normalJumpItem, this.lengthErrorItem, this.fitItem,
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
       h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
       h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
@@ -75,6 +77,12 @@ export class StatusBar {
     const quad = typeof m.length_error === 'number' && typeof m.warp_angle_max_deg !== 'number';
     this.lengthErrorItem.hidden = !quad;
     if (quad) this.lengthError.textContent = Number((100 * m.length_error).toPrecision(3)).toString();
+    const fitted = typeof m.approximation_distance_rms_relative === 'number';
+    this.fitItem.hidden = !fitted;
+    if (fitted) {
+      const pct = (x) => Number((100 * x).toPrecision(2)).toString();
+      this.fit.textContent = `RMS ${pct(m.approximation_distance_rms_relative)} % · max ${pct(m.approximation_distance_max_relative)} % · ${pct(m.approximation_coverage)} % covered`;
+    }
     this.flatnessItem.hidden = typeof m.face_flatness_max !== 'number';
     if (!this.flatnessItem.hidden) this.flatness.textContent = m.face_flatness_max.toExponential(1);
     // Conical strips (Chu et al.) report patches and normal jumps instead of a warp angle.

@@ -34,6 +34,8 @@ export const COLORS = {
   edgePoint: 0xc8f1fa,
   edgeMarker: 0x9aa5b5,
   edgeSelected: 0xffd60a,
+  // the points a strip approximates (scene model.approximation)
+  reference: 0x9be15d,
 };
 
 const POINT_RADIUS_PX = 7;
@@ -139,7 +141,9 @@ export class Viewport {
     this.kind = 'strip';
     this.send = deps.send;
     this.select = deps.select;
-    this.options = { rulings: true, normals: false, polygons: true, surface: true };
+    this.options = { rulings: true, normals: false, polygons: true, surface: true, reference: true };
+    /** Points of the scene's approximation target shown (0 when none). */
+    this.referenceCount = 0;
     this.pointRadiusPx = POINT_RADIUS_PX;
     this.dirty = true;
     /** Hovered and dragged point, set by the pointer handling (ViewportPointer), drawn here. */
@@ -230,6 +234,16 @@ export class Viewport {
     this.rulingLines.frustumCulled = false;
     this.rulingLines.renderOrder = 1;
     scene.add(this.rulingLines);
+    // The reference points a fitted strip approximates (000_… §4.2), drawn as dots the surface
+    // can hide: a point in front of the strip is one it does not reach yet.
+    this.referenceGeometry = new THREE.BufferGeometry();
+    this.referenceCloud = new THREE.Points(this.referenceGeometry, new THREE.PointsMaterial({
+      color: COLORS.reference, size: 4, sizeAttenuation: false, transparent: true, opacity: 0.9,
+    }));
+    this.referenceCloud.frustumCulled = false;
+    this.referenceCloud.visible = false;
+    this.referenceCloud.renderOrder = 1;
+    scene.add(this.referenceCloud);
     this.normalLines = new THREE.LineSegments(b.normals, new THREE.LineBasicMaterial({ color: COLORS.normals }));
     this.normalLines.frustumCulled = false;
     this.normalLines.visible = false;
@@ -298,6 +312,7 @@ export class Viewport {
       this.curveLines[c].visible = strip;
     }
     this.surfaceMesh.visible = strip && this.options.surface;
+    this.referenceCloud.visible = strip && this.options.reference && this.referenceCount > 0;
     this.compositeGroup.visible = this.kind === 'composite';
     if (this.quadLayer) {
       this.quadLayer.setVisible(this.kind === 'quad_mesh', {
@@ -307,6 +322,21 @@ export class Viewport {
     this.compositeSurface.visible = this.options.surface;
     this.compositeLines.polygons.visible = this.options.polygons;
     this.requestRender();
+  }
+
+  /**
+   * The points the scene's strip approximates (model.approximation.points, design coordinates),
+   * or none.
+   * @param {number[][]|undefined} points
+   */
+  setReferencePoints(points) {
+    const list = Array.isArray(points) ? points.filter((p) => Array.isArray(p) && p.length === 3 && p.every(Number.isFinite)) : [];
+    const array = new Float32Array(3 * list.length);
+    list.forEach((p, i) => array.set(p, 3 * i));
+    this.referenceGeometry.setAttribute('position', new THREE.BufferAttribute(array, 3));
+    this.referenceGeometry.computeBoundingSphere();
+    this.referenceCount = list.length;
+    this.setOption('reference', this.options.reference);
   }
 
   /** Shows the strip's or the composite's objects. */

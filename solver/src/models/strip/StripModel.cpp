@@ -121,6 +121,10 @@ void StripModel::validateDesign(StripDesign& design) {
 StripModel::StripModel(StripDesign design, StripOptions options)
     : design_(std::move(design)), options_(options) {
   validateDesign(design_);
+  if (design_.approximation) {
+    options_.widthGuardRatio = std::min(options_.widthGuardRatio, options_.approximationGuardRatio);
+    options_.legGuardRatio = std::min(options_.legGuardRatio, options_.approximationGuardRatio);
+  }
   const spline::BSplineCurve& a = design_.a;
   const spline::BSplineCurve& b = design_.b;
   const int n = static_cast<int>(a.points.rows());

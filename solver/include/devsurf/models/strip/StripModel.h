@@ -90,6 +90,11 @@ struct StripOptions {
   /// model was built) and "curve_leg_length" (no leg shrinks below legGuardRatio of its length then).
   bool backtrackGuard = true;
   double legGuardRatio = 0.25;
+  /// With an approximation target the start is a rough placement (a PCA rectangle), not a design
+  /// to keep: the width and leg guards are loosened to at most this ratio of the start. A cone's
+  /// sector narrows its top edge to a fraction of the rectangle's (a scanned lampshade with slant
+  /// 0.6–1.6 needs 0.375 of it and the default 0.25 held the fit at 0.2° warp).
+  double approximationGuardRatio = 0.1;
   /// Whoever builds the model gives up here (a job's time limit, a session's budget): checked
   /// while the pattern is analyzed; once passed, the constructor throws engine::DeadlineExceeded.
   /// Solves have their own (engine::SolverOptions::deadline). Default: never.
@@ -134,6 +139,9 @@ class StripModel {
   /// The current design with control points moved (design coordinates).
   StripDesign design() const;
   const StripOptions& options() const { return options_; }
+
+  /// The reference points the strip approximates, if any (design coordinates).
+  const std::optional<ApproximationTarget>& approximation() const { return design_.approximation; }
 
   /// Moves handle `i` to a new target (design coordinates); no re-analysis.
   void setHandleTarget(int i, const Eigen::Vector3d& position);
