@@ -185,19 +185,11 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
     thinning.radius = thinRadius > 0.0 ? thinRadius : 0.03 * diagonal;
     thinning.seed = seed;
     const reference::ThinnedCloud thin = reference::thinPointCloud(points, normals, thinning);
-    std::vector<Eigen::Index> withNormal;
-    for (Eigen::Index k = 0; k < thin.points.rows(); ++k)
-      if (thin.normals.row(k).norm() > 0.5) withNormal.push_back(k);
-    if (withNormal.size() < 6)
-      throw std::invalid_argument("--thin: " + std::to_string(withNormal.size()) +
+    models::strip::ApproximationTarget target = models::strip::approximationTargetFrom(thin.points, thin.normals);
+    const std::size_t kept = static_cast<std::size_t>(target.points.rows());
+    if (kept < 6)
+      throw std::invalid_argument("--thin: " + std::to_string(kept) +
                                   " thinned points have a fitted normal; a smaller radius keeps more");
-    models::strip::ApproximationTarget target;
-    target.points.resize(static_cast<Eigen::Index>(withNormal.size()), 3);
-    target.normals.resize(static_cast<Eigen::Index>(withNormal.size()), 3);
-    for (std::size_t k = 0; k < withNormal.size(); ++k) {
-      target.points.row(static_cast<Eigen::Index>(k)) = thin.points.row(withNormal[k]);
-      target.normals.row(static_cast<Eigen::Index>(k)) = thin.normals.row(withNormal[k]);
-    }
     // Fig. 10a: a strip placed by PCA over the region, then eq. (9)–(11) with a normal spline.
     models::strip::StripDesign design = models::strip::flatStripOverRegion(target.points, placement);
     design.normals.type = models::strip::NormalRepresentation::Type::Spline;
@@ -205,7 +197,7 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
     design.approximation = std::move(target);
     proto::Scene scene;
     scene.name = name.empty() ? "strip fitted to " + shapePath : name;
-    scene.description = "A developable strip approximating " + std::to_string(withNormal.size()) +
+    scene.description = "A developable strip approximating " + std::to_string(kept) +
                         " thinned points of " + shapePath + " (devsurf fit; Tang et al. 2016 §4.2).";
     scene.units = units;
     scene.model = std::move(design);
@@ -224,7 +216,7 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
         err << "devsurf fit: cannot write " << outPath << "\n";
         return 1;
       }
-      err << "devsurf fit: " << outPath << ": a strip over " << withNormal.size() << " of " << region.size()
+      err << "devsurf fit: " << outPath << ": a strip over " << kept << " of " << region.size()
           << " region points (thinned at " << thinning.radius << ")\n";
     }
     return 0;

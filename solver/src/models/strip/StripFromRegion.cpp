@@ -13,6 +13,17 @@
 
 namespace devsurf::models::strip {
 
+ApproximationTarget approximationTargetFrom(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& normals) {
+  if (normals.rows() != points.rows()) throw std::invalid_argument("approximation.normals: expected one normal per point");
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index k = 0; k < points.rows(); ++k)
+    if (normals.row(k).allFinite() && normals.row(k).norm() > 1e-12 && points.row(k).allFinite()) kept.push_back(k);
+  ApproximationTarget target;
+  target.points = points(kept, Eigen::all);
+  target.normals = normals(kept, Eigen::all);
+  return target;
+}
+
 std::vector<int> pointsInBall(const Eigen::MatrixX3d& points, const Eigen::Vector3d& centre, double radius) {
   if (!centre.allFinite()) throw std::invalid_argument("region.centre: must be finite");
   if (!(radius > 0.0) || !std::isfinite(radius)) throw std::invalid_argument("region.radius: must be positive");

@@ -29,6 +29,11 @@ struct RegionStripOptions {
   bool liftToHeightField = true;
 };
 
+/// The approximation target of thinned points: the rows whose normal could be fitted (non-zero;
+/// reference::thinPointCloud leaves a zero normal where a ball held too few points), with the
+/// paper's default weights.
+ApproximationTarget approximationTargetFrom(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& normals);
+
 /// Indices of the rows of `points` within `radius` of `centre` (a brush stroke's ball).
 std::vector<int> pointsInBall(const Eigen::MatrixX3d& points, const Eigen::Vector3d& centre, double radius);
 
