@@ -2,7 +2,7 @@
 """A concurrent hostile client for `devsurf serve` (issue 12): about ten connections at once, on
 loopback only, bounded in messages and time, seeded so that a failing run can be repeated.
 
-It starts the daemon itself (every examples/*.json as a demo session, a fresh data directory, the
+It starts the daemon itself (every examples/*.json as a demo session, or the first N of each kind with --demos-per-kind N, a fresh data directory, the
 daemon's stderr captured) and mixes, per connection:
   - valid joins and edits on the demo sessions of every kind (drags ending in drag_end, handles,
     fixed points, creases, model parameters, solver settings, undo/redo/reset, solve),
@@ -766,6 +766,20 @@ async def main_async(args, proc, examples, failures):
     return workers, asked
 
 
+def select_examples(paths, per_kind):
+    """The first `per_kind` examples of each kind (a spline control net counts as its own kind), or all."""
+    if per_kind <= 0:
+        return paths
+    chosen, taken = [], {}
+    for path in paths:
+        model = json.load(open(path))["model"]
+        kind = model["kind"] + ("/control" if "control" in model else "") + ("/approximation" if "approximation" in model else "")
+        if taken.get(kind, 0) < per_kind:
+            taken[kind] = taken.get(kind, 0) + 1
+            chosen.append(path)
+    return chosen
+
+
 def start_daemon(args, data_dir, stderr_path):
     env = dict(os.environ)
     env.setdefault("ASAN_OPTIONS", "abort_on_error=1:halt_on_error=1:detect_leaks=1:allocator_may_return_null=1")
@@ -775,7 +789,7 @@ def start_daemon(args, data_dir, stderr_path):
     env.setdefault("UBSAN_OPTIONS", "print_stacktrace=1:halt_on_error=1")
     env.setdefault("TSAN_OPTIONS", "halt_on_error=0:second_deadlock_stack=1")
     demos = []
-    for path in sorted(glob.glob(os.path.join(ROOT, "examples", "*.json"))):
+    for path in args.example_paths:
         demos += ["--demo", path]
     cmd = [args.bin, "serve", "--port", "0", "--bind", HOST, "--data", data_dir, "--max-body", str(MAX_BODY),
            "--message-rate", "1000", *demos, *args.daemon_arg]
@@ -797,6 +811,9 @@ def main():
     parser.add_argument("--messages", type=int, default=2000, help="stop after this many messages in all")
     parser.add_argument("--seconds", type=float, default=300, help="stop sending after this long")
     parser.add_argument("--health-timeout", type=float, default=60)
+    parser.add_argument("--demos-per-kind", type=int, default=0,
+                        help="open only the first N examples of each kind as demo sessions (0: all); the ASan "
+                             "daemon takes ~2 s per demo to start")
     parser.add_argument("--keep", action="store_true", help="keep the data directory and the logs")
     parser.add_argument("--daemon-arg", action="append", default=[],
                         help="one more argument of `devsurf serve` (repeat: --daemon-arg=--release-iterations --daemon-arg=20)")
@@ -804,8 +821,8 @@ def main():
     args.out = tempfile.mkdtemp(prefix="devsurf-hostile-")
     data_dir = os.path.join(args.out, "data")
     stderr_path = os.path.join(args.out, "daemon.stderr")
-    examples = [(os.path.splitext(os.path.basename(p))[0], json.load(open(p)))
-                for p in sorted(glob.glob(os.path.join(ROOT, "examples", "*.json")))]
+    args.example_paths = select_examples(sorted(glob.glob(os.path.join(ROOT, "examples", "*.json"))), args.demos_per_kind)
+    examples = [(os.path.splitext(os.path.basename(p))[0], json.load(open(p))) for p in args.example_paths]
     failures = Failures()
     started = time.monotonic()
     proc, args.port = start_daemon(args, data_dir, stderr_path)
