@@ -118,6 +118,26 @@ Eigen::Vector3d parsePoint(const std::string& flag, const std::string& value) {
   return p;
 }
 
+/// Writes a scene made by a command as JSON to `outPath` (stdout when empty), after reading it
+/// back through the same checks as `devsurf solve`. False (with the message on err) if the file
+/// cannot be written.
+bool writeScene(const proto::Scene& scene, const std::string& outPath, const std::string& command, std::ostream& out,
+                std::ostream& err) {
+  const nlohmann::json document = proto::sceneToJson(scene);
+  proto::sceneFromJson(document);
+  if (outPath.empty()) {
+    out << document.dump(2) << "\n";
+    return true;
+  }
+  std::ofstream file(outPath);
+  file << document.dump(2) << "\n";
+  if (!file) {
+    err << "devsurf " << command << ": cannot write " << outPath << "\n";
+    return false;
+  }
+  return true;
+}
+
 constexpr const char* kFitUsage =
     "usage: devsurf fit SHAPE [--centre X,Y,Z --radius R] [--thin RADIUS] [--seed N]\n"
     "                   [--control-points N] [--rulings auto|across|along] [--flat]\n"
@@ -205,20 +225,10 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
     scene.solver.iterations = iterations;
     scene.solver.regularization = 1e-3;
     scene.solver.fairness = 1e-3;
-    const nlohmann::json document = proto::sceneToJson(scene);
-    proto::sceneFromJson(document);  // the scene written solves: same checks as `devsurf solve`
-    if (outPath.empty()) {
-      out << document.dump(2) << "\n";
-    } else {
-      std::ofstream file(outPath);
-      file << document.dump(2) << "\n";
-      if (!file) {
-        err << "devsurf fit: cannot write " << outPath << "\n";
-        return 1;
-      }
+    if (!writeScene(scene, outPath, "fit", out, err)) return 1;
+    if (!outPath.empty())
       err << "devsurf fit: " << outPath << ": a strip over " << kept << " of " << region.size()
           << " region points (thinned at " << thinning.radius << ")\n";
-    }
     return 0;
   } catch (const std::invalid_argument& e) {
     err << "devsurf fit: " << e.what() << "\n";
@@ -274,18 +284,7 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     scene.name = name.empty() ? scenes[0].name + " + " + scenes[1].name : name;
     scene.description = "Strips of " + paths[0] + " and " + paths[1] + " merged (devsurf merge; Tang et al. 2016 Fig. 10c).";
     scene.model = merge.merged;
-    const nlohmann::json document = proto::sceneToJson(scene);
-    proto::sceneFromJson(document);
-    if (outPath.empty()) {
-      out << document.dump(2) << "\n";
-    } else {
-      std::ofstream file(outPath);
-      file << document.dump(2) << "\n";
-      if (!file) {
-        err << "devsurf merge: cannot write " << outPath << "\n";
-        return 1;
-      }
-    }
+    if (!writeScene(scene, outPath, "merge", out, err)) return 1;
     err << "devsurf merge: joined with a gap of " << merge.gap << (merge.reversedFirst ? "; first reversed" : "")
         << (merge.reversedSecond ? "; second reversed" : "") << (merge.swappedSecond ? "; second's a and b exchanged" : "")
         << "\n";
