@@ -83,6 +83,17 @@ constexpr const char* kUsage =
     "  merge FIRST.json SECOND.json [--name NAME] [--out SCENE.json]\n"
     "        Merge two strip scenes into one strip by joining their control-point sequences\n"
     "        (lined up end to end, the meeting points averaged; approximation targets joined).\n"
+    "  approximate MESH [--patches IDS.txt | --segments K [--seed N]] [--faces N | --spacing H]\n"
+    "        [--iterations N] [--isometry W] [--proximity W] [--fairness W] [--name NAME]\n"
+    "        [--units mm|cm|m|in] [--out SCENE.json]\n"
+    "        Make a quad_mesh scene that approximates a triangle mesh (a disk: one boundary loop)\n"
+    "        by developable patches glued along their borders (Jiang et al. 2020, Sec. 5): the\n"
+    "        mesh mapped to the plane, a grid of about N quads (default 1500) or spacing H laid\n"
+    "        over it, each quad in the patch under its centre. Patches: one id per triangle in\n"
+    "        IDS.txt, K clusters of normals and positions (--segments), or one patch. Solve it\n"
+    "        with solve: length_error, area_error and approximation_* measure the result.\n"
+    "        Weights (Fig. 21's trade-off): isometry and gluing (default 10), proximity to\n"
+    "        MESH (0.01), fairness at the first round (0.1); default 40 iterations.\n"
     "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
     "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"
@@ -505,6 +516,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "reference") return referenceCommand(rest, out, err);
   if (command == "fit") return fitCommand(rest, out, err);
   if (command == "merge") return mergeCommand(rest, out, err);
+  if (command == "approximate") return approximateCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";
     return 0;

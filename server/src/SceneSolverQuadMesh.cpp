@@ -61,6 +61,16 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
     m["gauss_curvature_max_abs"] = c.gauss.size() ? c.gauss.cwiseAbs().maxCoeff() : 0.0;
     m["mean_curvature_max_abs"] = c.mean.size() ? c.mean.cwiseAbs().maxCoeff() : 0.0;
   }
+  if (initialQuadMesh_.reference) {
+    // Distances from the reference's vertices to M (CGAL's AABB tree over M split into
+    // triangles), as for a fitted strip; coverage within 1 % of the reference's diagonal.
+    try {
+      for (const auto& [name, value] : referenceMetrics(initialQuadMesh_.reference->vertices, 0.0))
+        m["approximation_" + name.substr(std::string("reference_").size())] = value;
+    } catch (const std::exception&) {
+      // A degenerate M has no distances; length and area errors say what went wrong.
+    }
+  }
   return m;
 }
 

@@ -28,6 +28,10 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
 /// `devsurf merge FIRST.json SECOND.json [--out SCENE.json]`: two strip scenes merged into one
 /// by joining their control-point sequences (000_… Fig. 10c; models::strip::mergeStrips).
 int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+/// `devsurf approximate MESH …`: a segmented triangle mesh → a quad_mesh scene of glued developable
+/// patches with proximity to the mesh (004_… §5, Fig. 20–21). Exit 0, 2 on bad arguments or input, 1
+/// otherwise.
+int approximateCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
 /// `devsurf serve …`: the daemon, until SIGINT/SIGTERM.
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);

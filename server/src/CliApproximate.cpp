@@ -1,0 +1,160 @@
+// `devsurf approximate`: a segmented reference mesh → glued developable patches (issue 15,
+// 004_… §5, Fig. 20–21).
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <ostream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "CliArguments.h"
+#include "devsurf/models/quad_mesh/SegmentedApproximation.h"
+#include "devsurf/proto/Scene.h"
+#include "devsurf/reference/ReferenceShape.h"
+#include "devsurf/reference/SurfaceSegmentation.h"
+#include "devsurf/server/Cli.h"
+
+namespace devsurf::server {
+namespace {
+
+constexpr const char* kApproximateUsage =
+    "usage: devsurf approximate MESH [--patches IDS.txt | --segments K [--seed N]]\n"
+    "                   [--faces N | --spacing H] [--iterations N]\n"
+    "                   [--isometry W] [--proximity W] [--fairness W] [--name NAME]\n"
+    "                   [--units mm|cm|m|in] [--out SCENE.json]\n";
+
+/// Patch ids, one integer per triangle of the mesh as read (polygons split as fans), separated by
+/// white space; '#' starts a comment.
+std::vector<int> readPatchIds(const std::string& path, Eigen::Index triangles) {
+  std::ifstream file(path);
+  if (!file) throw std::invalid_argument("--patches: cannot read " + path);
+  std::vector<int> ids;
+  std::string line;
+  long lineNumber = 0;
+  while (std::getline(file, line)) {
+    ++lineNumber;
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    std::string word;
+    while (words >> word) {
+      std::size_t used = 0;
+      long value = -1;
+      try {
+        value = std::stol(word, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != word.size() || value < 0 || value > 1'000'000)
+        throw std::invalid_argument("--patches: " + path + " line " + std::to_string(lineNumber) +
+                                    ": expected a patch id 0 … 1000000, got \"" + word + "\"");
+      ids.push_back(static_cast<int>(value));
+      if (static_cast<Eigen::Index>(ids.size()) > triangles) break;
+    }
+  }
+  if (static_cast<Eigen::Index>(ids.size()) != triangles)
+    throw std::invalid_argument("--patches: " + path + " holds " +
+                                (static_cast<Eigen::Index>(ids.size()) > triangles ? std::string("more than ")
+                                                                                   : std::string()) +
+                                std::to_string(ids.size()) + " ids; the mesh has " + std::to_string(triangles) +
+                                " triangles (one id per triangle)");
+  return ids;
+}
+
+double parseWeight(const std::string& flag, const std::string& value) {
+  std::size_t used = 0;
+  double w = -1.0;
+  try {
+    w = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != value.size() || !std::isfinite(w) || w < 0.0 || w > 1e6)
+    throw std::invalid_argument(flag + ": expected a weight 0 … 1e6, got \"" + value + "\"");
+  return w;
+}
+
+}  // namespace
+
+int approximateCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  std::string meshPath, patchPath, outPath, name, units = "mm";
+  reference::NormalSegmentationOptions segmentation;
+  bool segmentsGiven = false;
+  int iterations = 40;
+  models::quad_mesh::SegmentedApproximationOptions options;
+  try {
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      const std::string& a = args[i];
+      auto value = [&args, &i]() -> const std::string& { return cli::flagValue(args, i); };
+      if (a == "--patches") patchPath = value();
+      else if (a == "--segments") segmentation.patches = static_cast<int>(cli::parseNumber(a, value(), 1, 1000)), segmentsGiven = true;
+      else if (a == "--seed") segmentation.seed = static_cast<std::uint32_t>(cli::parseNumber(a, value(), 0, 4294967295L));
+      else if (a == "--faces") options.targetFaces = static_cast<int>(cli::parseNumber(a, value(), 4, 400000));
+      else if (a == "--spacing") options.spacing = cli::parseLength(a, value());
+      else if (a == "--iterations") iterations = static_cast<int>(cli::parseNumber(a, value(), 0, 10000));
+      else if (a == "--isometry") options.weights.isometry = options.weights.position = parseWeight(a, value());
+      else if (a == "--proximity") options.weights.proximityPoint = options.weights.proximityPlane = parseWeight(a, value());
+      else if (a == "--fairness") options.weights.fairnessMesh = options.weights.fairnessUnfolding = parseWeight(a, value());
+      else if (a == "--name") name = value();
+      else if (a == "--units") units = value();
+      else if (a == "--out") outPath = value();
+      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else if (meshPath.empty()) meshPath = a;
+      else throw std::invalid_argument("unexpected argument " + a);
+    }
+    if (meshPath.empty()) throw std::invalid_argument("missing MESH (a triangle mesh: .obj, .off, .ply, .stl)");
+    if (!patchPath.empty() && segmentsGiven) throw std::invalid_argument("--patches and --segments exclude each other");
+    proto::millimetresPerUnit(units);
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf approximate: " << e.what() << "\n" << kApproximateUsage;
+    return 2;
+  }
+  try {
+    const reference::ReferenceShape shape = reference::readReferenceShape(meshPath);
+    if (!shape.isMesh())
+      throw std::invalid_argument(meshPath + ": a point cloud; approximate needs a triangle mesh (fit takes clouds)");
+    std::vector<int> patches = !patchPath.empty() ? readPatchIds(patchPath, shape.triangles.rows())
+                               : segmentsGiven     ? reference::segmentByNormals(shape.points, shape.triangles, segmentation)
+                                                   : std::vector<int>(shape.triangles.rows(), 0);
+    const models::quad_mesh::SegmentedApproximation approx =
+        models::quad_mesh::segmentedApproximation(shape.points, shape.triangles, patches, options);
+    proto::Scene scene;
+    const std::set<int> patchIds(approx.facePatch.begin(), approx.facePatch.end());
+    scene.name = name.empty() ? "developable patches approximating " + meshPath : name;
+    scene.description = "A piecewise-developable approximation of " + meshPath + " (devsurf approximate; Jiang et al. 2020 §5): " +
+                        std::to_string(approx.design.faces.size()) + " quads in " + std::to_string(approx.pieces) +
+                        " patches glued along their borders, each with its own unfolding; both meshes move, kept near the " +
+                        "reference by proximity.";
+    scene.units = units;
+    scene.model = approx.design;
+    scene.solver.iterations = iterations;
+    const nlohmann::json document = proto::sceneToJson(scene);
+    proto::sceneFromJson(document);  // read back through the checks of devsurf solve
+    if (outPath.empty()) {
+      out << document.dump(1) << "\n";
+    } else {
+      std::ofstream file(outPath);
+      if (!(file << document.dump(1) << "\n")) throw std::runtime_error("cannot write " + outPath);
+    }
+    err << "devsurf approximate: " << approx.design.faces.size() << " quads, " << approx.design.mesh.rows() << " vertices, "
+        << approx.pieces << " patches from " << patchIds.size() << " segments, " << approx.design.glue.size()
+        << " glue pairs; spacing " << approx.spacing << "; " << approx.piecesMappedAlone << " of " << approx.pieces
+        << " unfoldings mapped on their own (the rest are not disks)";
+    if (approx.mergedPieces > 0) err << "; " << approx.mergedPieces << " slivers joined a neighbour";
+    if (approx.droppedFaces > 0) err << "; " << approx.droppedFaces << " isolated quads left out";
+    err << "\n";
+    return 0;
+  } catch (const std::invalid_argument& e) {
+    err << "devsurf approximate: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "devsurf approximate: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace devsurf::server
