@@ -93,7 +93,7 @@ constexpr const char* kUsage =
     "        IDS.txt, K clusters of normals and positions (--segments), or one patch. Solve it\n"
     "        with solve: length_error, area_error and approximation_* measure the result.\n"
     "        Weights (Fig. 21's trade-off): isometry and gluing (default 10), proximity to\n"
-    "        MESH (0.01), fairness at the first round (0.1); default 40 iterations.\n"
+    "        MESH (0.01), fairness at the first round (0.01); default 40 iterations.\n"
     "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
     "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"

@@ -144,6 +144,7 @@ int approximateCommand(const std::vector<std::string>& args, std::ostream& out, 
         << approx.pieces << " patches from " << patchIds.size() << " segments, " << approx.design.glue.size()
         << " glue pairs; spacing " << approx.spacing << "; " << approx.piecesMappedAlone << " of " << approx.pieces
         << " unfoldings mapped on their own (the rest are not disks)";
+    if (approx.bordersAligned > 0) err << "; " << approx.bordersAligned << " grid nodes moved onto patch borders";
     if (approx.mergedPieces > 0) err << "; " << approx.mergedPieces << " slivers joined a neighbour";
     if (approx.droppedFaces > 0) err << "; " << approx.droppedFaces << " isolated quads left out";
     err << "\n";

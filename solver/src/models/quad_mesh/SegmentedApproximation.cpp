@@ -6,12 +6,14 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "devsurf/spatial/SegmentSetProximity.h"
 #include "devsurf/spatial/TriangleMeshProximity.h"
 
 namespace devsurf::models::quad_mesh {
@@ -24,6 +26,9 @@ namespace {
 /// A grid node of the parameter plane found inside the map: its triangle and barycentric weights.
 struct NodeHit {
   bool inside = false;
+  /// Outside the map but within reach of its boundary: `at` is the boundary's closest point.
+  bool snapped = false;
+  Eigen::Vector2d at = Eigen::Vector2d::Zero();  ///< where the node is in the map
   int triangle = -1;
   Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
 };
@@ -39,28 +44,27 @@ Eigen::Vector3d barycentricIn(const Eigen::Vector2d& p, const Eigen::Vector2d& a
   return w / w.sum();
 }
 
-/// Connected runs of cells around a grid node that belong to one piece, in the node's cyclic
-/// order (c00, c10, c11, c01: consecutive cells share an edge at the node). Returns for each of
-/// the four slots the run index, or −1.
-std::array<int, 4> fansAround(const std::array<int, 4>& pieceOfSlot, int piece) {
+/// Fans around a grid node: the faces of one piece at the node, grouped where consecutive ones (in
+/// the node's cyclic order c00, c10, c11, c01) share the grid edge between them. `inPiece[s]`:
+/// slot s holds a face of the piece that uses the node; `linked[s]`: slots s and s+1 share their
+/// edge (both faces have it). Returns each slot's fan index, or −1.
+std::array<int, 4> fansAround(const std::array<bool, 4>& inPiece, const std::array<bool, 4>& linked) {
   std::array<int, 4> fan = {-1, -1, -1, -1};
-  int start = -1;
-  for (int s = 0; s < 4; ++s)
-    if (pieceOfSlot[s] != piece) { start = s; break; }
-  if (start < 0) {  // all four cells: one fan
-    fan.fill(0);
-    return fan;
-  }
-  int runs = -1;
-  bool inRun = false;
-  for (int k = 1; k <= 4; ++k) {
-    const int s = (start + k) % 4;
-    if (pieceOfSlot[s] == piece) {
-      if (!inRun) ++runs, inRun = true;
-      fan[s] = runs;
-    } else {
-      inRun = false;
+  int fans = 0;
+  for (int s = 0; s < 4; ++s) {
+    if (!inPiece[s] || fan[s] >= 0) continue;
+    fan[s] = fans;
+    for (int step : {1, 3}) {  // walk both ways while linked
+      int at = s;
+      for (int k = 0; k < 3; ++k) {
+        const int link = step == 1 ? at : (at + 3) % 4;
+        const int next = (at + step) % 4;
+        if (!linked[link] || !inPiece[next] || fan[next] >= 0) break;
+        fan[next] = fans;
+        at = next;
+      }
     }
+    ++fans;
   }
   return fan;
 }
@@ -80,18 +84,30 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
 
   Eigen::MatrixX2d uv = spatial::parameterizeDisk(V, T, options.method);
   {
-    // Turn the map so that its bounding rectangle is smallest: a straight side of the reference
-    // then runs along the grid instead of across it as a staircase (whose corners, each in one
-    // quad only, are the least constrained vertices of eq. 1).
-    double bestArea = std::numeric_limits<double>::infinity(), bestAngle = 0.0;
-    for (int step = 0; step < 180; ++step) {
-      const double angle = step * (M_PI / 360.0);  // 0 … 90° by ½°
-      const Eigen::Matrix2d turn = Eigen::Rotation2Dd(angle).toRotationMatrix();
-      const Eigen::MatrixX2d turned = uv * turn.transpose();
-      const Eigen::Vector2d size = turned.colwise().maxCoeff() - turned.colwise().minCoeff();
-      if (size.prod() < bestArea - 1e-12 * bestArea) bestArea = size.prod(), bestAngle = angle;
-    }
-    uv = (uv * Eigen::Rotation2Dd(bestAngle).toRotationMatrix().transpose()).eval();
+    // Turn the map so that the lines a user sees run along the grid: the borders between patches
+    // (a segmentation following a feature, e.g. a box's edges) and the reference's boundary, by
+    // the length-weighted mean of their directions modulo 90° (4φ averaged on the circle). A line
+    // across the grid becomes a staircase whose corners stand up to h/√2 off it.
+    std::map<std::pair<int, int>, int> edgeUse;
+    for (Eigen::Index t = 0; t < T.rows(); ++t)
+      for (int k = 0; k < 3; ++k) ++edgeUse[std::minmax(T(t, k), T(t, (k + 1) % 3))];
+    std::map<std::pair<int, int>, int> firstPatch;
+    double sx = 0.0, sy = 0.0;
+    auto addDirection = [&sx, &sy, &uv](int a, int b, double weight) {
+      const Eigen::Vector2d e = uv.row(b) - uv.row(a);
+      const double phi = std::atan2(e.y(), e.x());
+      sx += weight * e.norm() * std::cos(4.0 * phi);
+      sy += weight * e.norm() * std::sin(4.0 * phi);
+    };
+    for (Eigen::Index t = 0; t < T.rows(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const auto key = std::minmax(T(t, k), T(t, (k + 1) % 3));
+        if (edgeUse[key] == 1) addDirection(key.first, key.second, 1.0);
+        const auto [it, inserted] = firstPatch.emplace(key, trianglePatch[t]);
+        if (!inserted && it->second != trianglePatch[t]) addDirection(key.first, key.second, 2.0);  // borders count double
+      }
+    const double angle = (sx != 0.0 || sy != 0.0) ? -0.25 * std::atan2(sy, sx) : 0.0;
+    uv = (uv * Eigen::Rotation2Dd(angle).toRotationMatrix().transpose()).eval();
   }
   double area = 0.0;
   for (Eigen::Index t = 0; t < T.rows(); ++t) {
@@ -118,19 +134,25 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   for (Eigen::Index v = 0; v < V.rows(); ++v)
     if (used[v]) lo = lo.cwiseMin(uv.row(v).transpose()), hi = hi.cwiseMax(uv.row(v).transpose());
   const Eigen::Vector2d extent = hi - lo;
-  const long nx = static_cast<long>(std::floor(extent.x() / h)), ny = static_cast<long>(std::floor(extent.y() / h));
-  if (nx < 1 || ny < 1) fail("the quad spacing is larger than the reference's map");
+  // One cell beyond the map on every side: nodes there snap onto its boundary.
+  const long nx = static_cast<long>(std::ceil(extent.x() / h)) + 2, ny = static_cast<long>(std::ceil(extent.y() / h)) + 2;
+  if (extent.x() < h || extent.y() < h) fail("the quad spacing is larger than the reference's map");
   if ((nx + 1) * (ny + 1) > 2'000'000) fail("the quad spacing makes more than 2 000 000 grid nodes");
-  const Eigen::Vector2d origin = lo + 0.5 * (extent - h * Eigen::Vector2d(nx, ny));
+  const Eigen::Vector2d origin = lo - 0.5 * (h * Eigen::Vector2d(nx, ny) - extent);
   const double insideTolerance = 1e-9 * h;
 
-  auto locate = [&locator, &uv, &T, insideTolerance](const Eigen::Vector2d& p) {
+  // A point of the plane in the map (inside), or snapped onto the map's boundary when that is
+  // within `reach`; the triangle and barycentric weights lift it onto the reference.
+  auto locate = [&locator, &uv, &T, insideTolerance](const Eigen::Vector2d& p, double reach) {
     NodeHit hit;
     const spatial::ClosestPoint cp = locator->closest(Eigen::Vector3d(p.x(), p.y(), 0.0));
-    if ((cp.point.head<2>() - p).norm() > insideTolerance) return hit;
-    hit.inside = true;
+    const double distance = (cp.point.head<2>() - p).norm();
+    if (distance > insideTolerance && distance > reach) return hit;
+    hit.inside = distance <= insideTolerance;
+    hit.snapped = !hit.inside;
+    hit.at = hit.inside ? p : Eigen::Vector2d(cp.point.head<2>());
     hit.triangle = cp.triangle;
-    hit.barycentric = barycentricIn(p, uv.row(T(cp.triangle, 0)), uv.row(T(cp.triangle, 1)),
+    hit.barycentric = barycentricIn(hit.at, uv.row(T(cp.triangle, 0)), uv.row(T(cp.triangle, 1)),
                                     uv.row(T(cp.triangle, 2)));
     return hit;
   };
@@ -139,22 +161,71 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
 
   std::vector<NodeHit> nodes((nx + 1) * (ny + 1));
   for (long i = 0; i <= nx; ++i)
-    for (long j = 0; j <= ny; ++j) nodes[nodeId(i, j)] = locate(origin + h * Eigen::Vector2d(i, j));
+    for (long j = 0; j <= ny; ++j) nodes[nodeId(i, j)] = locate(origin + h * Eigen::Vector2d(i, j), 0.75 * h);
 
-  // Cells inside the map, labelled by the patch under their centre.
+  // Cells of the map, labelled by the patch under their centre: those with all corners inside,
+  // and along the boundary those whose outside corners snap onto the boundary (so M follows the
+  // reference's edge instead of stopping a staircase short of it) when the snapped quad stays
+  // convex with sides of at least h/4 — or, failing that, the triangle of three of its corners
+  // (a boundary across the grid is then cut along cell diagonals, not stepped).
+  auto wellShaped = [h](const std::vector<Eigen::Vector2d>& q) {
+    const std::size_t n = q.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const Eigen::Vector2d e = q[(k + 1) % n] - q[k], next = q[(k + 2) % n] - q[(k + 1) % n];
+      if (e.norm() < 0.25 * h || e.x() * next.y() - e.y() * next.x() < 0.1 * h * h) return false;
+    }
+    return true;
+  };
   std::vector<int> cellPatch(nx * ny, -1);
+  std::vector<int> cellMissing(nx * ny, -1);  // a triangle cell: which corner (0 … 3) it leaves out
   for (long i = 0; i < nx; ++i)
     for (long j = 0; j < ny; ++j) {
-      if (!nodes[nodeId(i, j)].inside || !nodes[nodeId(i + 1, j)].inside || !nodes[nodeId(i + 1, j + 1)].inside ||
-          !nodes[nodeId(i, j + 1)].inside)
-        continue;
-      const NodeHit centre = locate(origin + h * Eigen::Vector2d(i + 0.5, j + 0.5));
-      if (centre.inside) cellPatch[cellId(i, j)] = trianglePatch[centre.triangle];
+      const std::array<const NodeHit*, 4> corner = {&nodes[nodeId(i, j)], &nodes[nodeId(i + 1, j)],
+                                                    &nodes[nodeId(i + 1, j + 1)], &nodes[nodeId(i, j + 1)]};
+      int inside = 0, placed = 0;
+      for (const NodeHit* c : corner) inside += c->inside ? 1 : 0, placed += (c->inside || c->snapped) ? 1 : 0;
+      if (inside == 0 || placed < 3) continue;
+      if (inside == 4 || (placed == 4 && wellShaped({corner[0]->at, corner[1]->at, corner[2]->at, corner[3]->at}))) {
+        const NodeHit centre = locate(origin + h * Eigen::Vector2d(i + 0.5, j + 0.5), 0.5 * h);
+        if (centre.inside || (centre.snapped && inside < 4)) {
+          cellPatch[cellId(i, j)] = trianglePatch[centre.triangle];
+          continue;
+        }
+        if (inside == 4) continue;
+      }
+      // A triangle: leave out a corner that is not inside (an unplaced one if there is one).
+      int best = -1;
+      double bestShortest = 0.0;
+      for (int m = 0; m < 4; ++m) {
+        if (corner[m]->inside) continue;
+        if (placed == 3 && (corner[m]->snapped)) continue;
+        std::vector<Eigen::Vector2d> tri;
+        for (int k = 1; k < 4; ++k) tri.push_back(corner[(m + k) % 4]->at);
+        if (!wellShaped(tri)) continue;
+        const double shortest = std::min({(tri[1] - tri[0]).norm(), (tri[2] - tri[1]).norm(), (tri[0] - tri[2]).norm()});
+        if (shortest > bestShortest) bestShortest = shortest, best = m;
+      }
+      if (best < 0) continue;
+      const Eigen::Vector2d centroid =
+          (corner[(best + 1) % 4]->at + corner[(best + 2) % 4]->at + corner[(best + 3) % 4]->at) / 3.0;
+      const NodeHit centre = locate(centroid, 0.5 * h);
+      if (!centre.inside && !centre.snapped) continue;
+      cellPatch[cellId(i, j)] = trianglePatch[centre.triangle];
+      cellMissing[cellId(i, j)] = best;
     }
 
   SegmentedApproximation result;
   result.spacing = h;
   const std::array<std::array<long, 2>, 4> across = {{{-1, 0}, {1, 0}, {0, -1}, {0, 1}}};
+  // The side of a cell toward across[d], as its two corners, and whether both cells have it (a
+  // triangle cell lacks the two sides at its missing corner).
+  static constexpr std::array<std::array<int, 2>, 4> sideCorners = {{{0, 3}, {1, 2}, {0, 1}, {3, 2}}};
+  auto shareSide = [&cellMissing, &sideCorners](long c, long n, int d) {
+    const int opposite = d ^ 1;  // left ↔ right, bottom ↔ top
+    const int mc = cellMissing[c], mn = cellMissing[n];
+    return mc != sideCorners[d][0] && mc != sideCorners[d][1] && mn != sideCorners[opposite][0] &&
+           mn != sideCorners[opposite][1];
+  };
 
   // Pieces: connected components of equally labelled cells (across shared edges); small ones join
   // the neighbouring patch they share most edges with, until none is left.
@@ -176,11 +247,12 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
         stack.pop_back();
         ++size;
         const long ci = cur / ny, cj = cur % ny;
-        for (const auto& d : across) {
-          const long ni = ci + d[0], nj = cj + d[1];
+        for (int d = 0; d < 4; ++d) {
+          const long ni = ci + across[d][0], nj = cj + across[d][1];
           if (ni < 0 || nj < 0 || ni >= nx || nj >= ny) continue;
           const long n = cellId(ni, nj);
-          if (cellPatch[n] == cellPatch[c] && cellPiece[n] < 0) cellPiece[n] = pieceCount, stack.push_back(n);
+          if (cellPatch[n] == cellPatch[c] && cellPiece[n] < 0 && shareSide(cur, n, d))
+            cellPiece[n] = pieceCount, stack.push_back(n);
         }
       }
       pieceSize.push_back(size);
@@ -196,11 +268,11 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
       for (long c = 0; c < nx * ny; ++c) {
         if (cellPiece[c] != p) continue;
         const long ci = c / ny, cj = c % ny;
-        for (const auto& d : across) {
-          const long ni = ci + d[0], nj = cj + d[1];
+        for (int d = 0; d < 4; ++d) {
+          const long ni = ci + across[d][0], nj = cj + across[d][1];
           if (ni < 0 || nj < 0 || ni >= nx || nj >= ny) continue;
           const long n = cellId(ni, nj);
-          if (cellPatch[n] >= 0 && cellPiece[n] != p) ++sharedEdges[cellPatch[n]];
+          if (cellPatch[n] >= 0 && cellPiece[n] != p && shareSide(c, n, d)) ++sharedEdges[cellPatch[n]];
         }
       }
       int to = -1;
@@ -221,6 +293,69 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   labelPieces();
   if (pieceCount == 0) fail("no grid cell lies inside the reference; lower the spacing");
 
+  // Borders between patches follow the segmentation: a node whose cells belong to several
+  // patches moves onto the nearest border between two of them in the map (edges of the reference
+  // between triangles of different patches), unless that would leave one of its cells concave or
+  // a side shorter than h/4. Features a segmentation follows (a box's edges) are then lines of M
+  // instead of staircases across them.
+  {
+    std::map<std::pair<int, int>, std::pair<int, int>> edgeTriangles;  // edge → (triangle, other or −1)
+    std::vector<std::array<int, 2>> borderPatches;
+    std::vector<Eigen::Vector3d> from, to;
+    for (Eigen::Index t = 0; t < T.rows(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const auto key = std::minmax(T(t, k), T(t, (k + 1) % 3));
+        const auto [it, inserted] = edgeTriangles.emplace(key, std::make_pair(static_cast<int>(t), -1));
+        if (inserted) continue;
+        const int other = it->second.first;
+        if (trianglePatch[other] == trianglePatch[t]) continue;
+        borderPatches.push_back({trianglePatch[other], trianglePatch[t]});
+        from.emplace_back(uv(key.first, 0), uv(key.first, 1), 0.0);
+        to.emplace_back(uv(key.second, 0), uv(key.second, 1), 0.0);
+      }
+    if (!from.empty()) {
+      Eigen::MatrixX3d A(static_cast<Eigen::Index>(from.size()), 3), B(static_cast<Eigen::Index>(to.size()), 3);
+      for (std::size_t k = 0; k < from.size(); ++k) A.row(k) = from[k].transpose(), B.row(k) = to[k].transpose();
+      const spatial::SegmentSetProximity borders(A, B);
+      auto cellActive = [&cellPiece, nx, ny, &cellId](long i, long j) {
+        return i >= 0 && j >= 0 && i < nx && j < ny && cellPiece[cellId(i, j)] >= 0;
+      };
+      auto cellShaped = [&nodes, &nodeId, &wellShaped, &cellMissing, &cellId](long i, long j) {
+        const std::array<long, 4> corner = {nodeId(i, j), nodeId(i + 1, j), nodeId(i + 1, j + 1), nodeId(i, j + 1)};
+        std::vector<Eigen::Vector2d> polygon;
+        for (int k = 0; k < 4; ++k)
+          if (k != cellMissing[cellId(i, j)]) polygon.push_back(nodes[corner[k]].at);
+        return wellShaped(polygon);
+      };
+      for (long i = 0; i <= nx; ++i)
+        for (long j = 0; j <= ny; ++j) {
+          const std::array<std::array<long, 2>, 4> around = {{{i - 1, j - 1}, {i, j - 1}, {i, j}, {i - 1, j}}};
+          std::set<int> patchesHere;
+          for (const auto& c : around)
+            if (cellActive(c[0], c[1])) patchesHere.insert(cellPatch[cellId(c[0], c[1])]);
+          if (patchesHere.size() < 2) continue;
+          NodeHit& node = nodes[nodeId(i, j)];
+          const spatial::ClosestSegmentPoint near = borders.closest(Eigen::Vector3d(node.at.x(), node.at.y(), 0.0));
+          const Eigen::Vector2d target = near.point.head<2>();
+          if ((target - node.at).norm() > 0.5 * h || (target - node.at).norm() == 0.0) continue;
+          const auto& pair = borderPatches[near.segment];
+          if (!patchesHere.count(pair[0]) || !patchesHere.count(pair[1])) continue;
+          const NodeHit before = node;
+          const NodeHit moved = locate(target, 1e-6 * h);
+          if (!moved.inside && !moved.snapped) continue;
+          node = moved;
+          node.at = target;
+          node.inside = before.inside;
+          node.snapped = before.snapped;
+          bool ok = true;
+          for (const auto& c : around)
+            if (cellActive(c[0], c[1]) && !cellShaped(c[0], c[1])) ok = false;
+          if (ok) ++result.bordersAligned;
+          else node = before;
+        }
+    }
+  }
+
   // Vertices: one per (node, piece, fan around the node).
   std::map<std::array<long, 3>, int> vertexOf;
   std::vector<std::array<long, 3>> keys;
@@ -233,11 +368,27 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   auto pieceOfCell = [&cellPiece, nx, ny, &cellId](long i, long j) {
     return i < 0 || j < 0 || i >= nx || j >= ny ? -1 : cellPiece[cellId(i, j)];
   };
-  auto fanAt = [&pieceOfCell](long i, long j, int piece, int slot) {
-    // slots around node (i, j): 0 = cell (i−1, j−1), 1 = (i, j−1), 2 = (i, j), 3 = (i−1, j)
-    const std::array<int, 4> around = {pieceOfCell(i - 1, j - 1), pieceOfCell(i, j - 1), pieceOfCell(i, j),
-                                       pieceOfCell(i - 1, j)};
-    return fansAround(around, piece)[slot];
+  auto missingOf = [&cellMissing, nx, ny, &cellId](long i, long j) {
+    return i < 0 || j < 0 || i >= nx || j >= ny ? -1 : cellMissing[cellId(i, j)];
+  };
+  auto fanAt = [&pieceOfCell, &missingOf](long i, long j, int piece, int slot) {
+    // slots around node (i, j): 0 = cell (i−1, j−1), 1 = (i, j−1), 2 = (i, j), 3 = (i−1, j); the
+    // node is corner nodeCorner[s] of slot s's cell (corners 0 … 3 counter-clockwise from (ci, cj))
+    static constexpr std::array<int, 4> nodeCorner = {2, 3, 0, 1};
+    // the far end of the edge between slots s and s+1, as a corner of each of the two cells
+    static constexpr std::array<std::array<int, 2>, 4> farCorner = {{{1, 0}, {2, 1}, {3, 2}, {0, 3}}};
+    const std::array<std::array<long, 2>, 4> cell = {{{i - 1, j - 1}, {i, j - 1}, {i, j}, {i - 1, j}}};
+    std::array<bool, 4> inPiece{}, linked{};
+    std::array<int, 4> missing{};
+    for (int s = 0; s < 4; ++s) {
+      missing[s] = missingOf(cell[s][0], cell[s][1]);
+      inPiece[s] = pieceOfCell(cell[s][0], cell[s][1]) == piece && missing[s] != nodeCorner[s];
+    }
+    for (int s = 0; s < 4; ++s) {
+      const int t = (s + 1) % 4;
+      linked[s] = inPiece[s] && inPiece[t] && missing[s] != farCorner[s][0] && missing[t] != farCorner[s][1];
+    }
+    return fansAround(inPiece, linked)[slot];
   };
   std::vector<Face> faces;
   for (long i = 0; i < nx; ++i)
@@ -246,10 +397,14 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
       if (p < 0) continue;
       // Corners counter-clockwise in the plane; the cell sits in slot 2 of (i, j), 3 of
       // (i+1, j), 0 of (i+1, j+1) and 1 of (i, j+1).
-      faces.push_back({vertexFor(nodeId(i, j), p, fanAt(i, j, p, 2)),
-                       vertexFor(nodeId(i + 1, j), p, fanAt(i + 1, j, p, 3)),
-                       vertexFor(nodeId(i + 1, j + 1), p, fanAt(i + 1, j + 1, p, 0)),
-                       vertexFor(nodeId(i, j + 1), p, fanAt(i, j + 1, p, 1))});
+      const int missing = cellMissing[cellId(i, j)];
+      const std::array<std::array<long, 2>, 4> at = {{{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}}};
+      static constexpr std::array<int, 4> slotOfCorner = {2, 3, 0, 1};
+      std::array<int, 4> corner = {-1, -1, -1, -1};
+      for (int k = 0; k < 4; ++k)
+        if (k != missing) corner[k] = vertexFor(nodeId(at[k][0], at[k][1]), p, fanAt(at[k][0], at[k][1], p, slotOfCorner[k]));
+      if (missing < 0) faces.push_back(corner);
+      else faces.push_back({corner[(missing + 1) % 4], corner[(missing + 2) % 4], corner[(missing + 3) % 4], -1});
       result.facePatch.push_back(cellPatch[cellId(i, j)]);
       result.facePiece.push_back(p);
     }
@@ -262,13 +417,13 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
     // zero; a triangle's rows are its three edges.
     std::vector<int> facesAt(vertexCount, 0);
     for (const Face& q : faces)
-      for (int k = 0; k < 4; ++k) ++facesAt[q[k]];
+      for (int k = 0; k < faceSize(q); ++k) ++facesAt[q[k]];
     std::vector<Face> split;
     std::vector<int> splitPatch, splitPiece;
     for (std::size_t f = 0; f < faces.size(); ++f) {
       const Face& q = faces[f];
       int corner = -1;
-      for (int k = 0; k < 4 && corner < 0; ++k)
+      for (int k = 0; k < 4 && corner < 0 && faceSize(q) == 4; ++k)
         if (facesAt[q[k]] == 1) corner = k;
       if (corner < 0) {
         split.push_back(q);
@@ -304,7 +459,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   std::vector<Eigen::Vector2d> gridAt(vertexCount);
   for (int v = 0; v < vertexCount; ++v) {
     const long node = keys[v][0];
-    gridAt[v] = origin + h * Eigen::Vector2d(static_cast<double>(node / (ny + 1)), static_cast<double>(node % (ny + 1)));
+    gridAt[v] = nodes[node].at;
   }
   Eigen::Vector2d overall = Eigen::Vector2d::Zero();
   for (int v = 0; v < vertexCount; ++v) overall += gridAt[v];
