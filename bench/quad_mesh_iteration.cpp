@@ -11,7 +11,12 @@
 //   0.001 / 0.001 to the reference Φ = M triangulated, foot points renewed every iteration);
 // - "defaults": QuadMeshWeights{} (no reference, no proximity);
 // - "preset_factorize": the preset's weights with a factorization in every iteration
-//   (QuadMeshOptions::factorizationReuseFrom off), what the model did before factorization reuse.
+//   (QuadMeshOptions::factorizationReuseFrom off), what the model did before factorization reuse;
+// - "segmented": 004_… §5 / Fig. 20 (issue 15): the saddle z = 0.35(x² − y²) + 0.15xy² as a
+//   reference triangle mesh (120 × 120 quads split), segmented into 3 × 3 patches, turned into
+//   glued patches by models::quad_mesh::segmentedApproximation with about N quads (the size in
+//   the name) and its default weights (proximity to the reference with foot points renewed every
+//   iteration, gluing); compare Fig. 22 row 20b (160k variables, 42.9 s for 10 iterations).
 //
 // One benchmark iteration = 10 guided-projection iterations of Algorithm 1 (round 0) from the same
 // start (tolerances 0, so all 10 run; step control on as in `devsurf solve`). The model is built
@@ -41,6 +46,7 @@
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/models/quad_mesh/QuadMeshDesign.h"
 #include "devsurf/models/quad_mesh/QuadMeshModel.h"
+#include "devsurf/models/quad_mesh/SegmentedApproximation.h"
 #include "devsurf/proto/Scene.h"
 
 namespace {
@@ -89,6 +95,35 @@ quad::QuadMeshDesign saddleGrid(int n, bool presetWeights) {
   return d;
 }
 
+/// The segmented saddle of the "segmented" variant with about `quads` quads.
+quad::QuadMeshDesign segmentedSaddle(int quads) {
+  const int n = 120;
+  Eigen::MatrixX3d V((n + 1) * (n + 1), 3);
+  Eigen::MatrixX3i T(2 * n * n, 3);
+  std::vector<int> patch;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -1.0 + 2.0 * i / n, y = -1.0 + 2.0 * j / n;
+      V.row(i + (n + 1) * j) << x, y, 0.35 * (x * x - y * y) + 0.15 * x * y * y;
+    }
+  int t = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = i + (n + 1) * j;
+      T.row(t++) << a, a + 1, a + n + 2;
+      T.row(t++) << a, a + n + 2, a + n + 1;
+      const int p = (3 * i / n) + 3 * (3 * j / n);
+      patch.push_back(p);
+      patch.push_back(p);
+    }
+  quad::SegmentedApproximationOptions options;
+  options.targetFaces = quads;
+  quad::QuadMeshDesign d = quad::segmentedApproximation(V, T, patch, options).design;
+  d.schedule.energyMin = 0.0;
+  d.schedule.isometryMin = 0.0;
+  return d;
+}
+
 double peakRssMb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -104,12 +139,12 @@ struct Fixture {
   double buildMs = 0.0;
 };
 
-Fixture& fixture(const std::string& key, int n, bool presetWeights, bool factorizeEveryIteration) {
+Fixture& fixture(const std::string& key, int n, bool presetWeights, bool factorizeEveryIteration, bool segmented) {
   static Fixture f;
   if (f.key == key) return f;
   f.model.reset();
   f.key = key;
-  const quad::QuadMeshDesign design = saddleGrid(n, presetWeights);
+  const quad::QuadMeshDesign design = segmented ? segmentedSaddle(n) : saddleGrid(n, presetWeights);
   const auto start = std::chrono::steady_clock::now();
   quad::QuadMeshOptions modelOptions;
   if (factorizeEveryIteration) modelOptions.factorizationReuseFrom = std::numeric_limits<int>::max();
@@ -124,10 +159,11 @@ Fixture& fixture(const std::string& key, int n, bool presetWeights, bool factori
   return f;
 }
 
-void runTenIterations(benchmark::State& state, int n, bool presetWeights, bool factorizeEveryIteration) {
-  const std::string key = std::to_string(n) + (presetWeights ? "/preset" : "/defaults") +
+void runTenIterations(benchmark::State& state, int n, bool presetWeights, bool factorizeEveryIteration,
+                      bool segmented = false) {
+  const std::string key = std::to_string(n) + (segmented ? "/segmented" : presetWeights ? "/preset" : "/defaults") +
                           (factorizeEveryIteration ? "/factorize" : "");
-  Fixture& f = fixture(key, n, presetWeights, factorizeEveryIteration);
+  Fixture& f = fixture(key, n, presetWeights, factorizeEveryIteration, segmented);
   quad::QuadMeshModel& model = *f.model;
   double assembly = 0, factorization = 0, solve = 0, iteration = 0, total = 0, lengthError = 0;
   int steps = 0, runs = 0, factorizations = 0, pcgSolves = 0;
@@ -191,6 +227,17 @@ void registerAll() {
   };
   const std::vector<Variant> variants{{"preset", true, false}, {"preset_factorize", true, true},
                                       {"defaults", false, false}};
+  // Segmented approximation: about 2 000, 8 000 and 32 000 quads (≈ 5 unknowns per vertex).
+  for (const Size& s : std::vector<Size>{{2000, 5}, {8000, 3}, {32000, 1}}) {
+    const std::string name = "QuadMeshApprox/segmented/" + std::to_string(s.n);
+    benchmark::RegisterBenchmark(name.c_str(), [s](benchmark::State& state) {
+      runTenIterations(state, s.n, false, false, true);
+    })
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(1)
+        ->Repetitions(s.repetitions)
+        ->ReportAggregatesOnly(s.repetitions > 1);
+  }
   for (const Variant& v : variants) {
     for (const Size& s : sizes) {
       const std::string name = std::string("QuadMeshApprox/") + v.name + "/" + std::to_string(s.n);
