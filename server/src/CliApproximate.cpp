@@ -18,6 +18,7 @@
 #include "devsurf/reference/ReferenceShape.h"
 #include "devsurf/reference/SurfaceSegmentation.h"
 #include "devsurf/server/Cli.h"
+#include "devsurf/server/ShapeApproximation.h"
 
 namespace devsurf::server {
 namespace {
@@ -115,24 +116,15 @@ int approximateCommand(const std::vector<std::string>& args, std::ostream& out, 
   }
   try {
     const reference::ReferenceShape shape = reference::readReferenceShape(meshPath);
-    if (!shape.isMesh())
-      throw std::invalid_argument(meshPath + ": a point cloud; approximate needs a triangle mesh (fit takes clouds)");
-    std::vector<int> patches = !patchPath.empty() ? readPatchIds(patchPath, shape.triangles.rows())
-                               : segmentsGiven     ? reference::segmentByNormals(shape.points, shape.triangles, segmentation)
-                                                   : std::vector<int>(shape.triangles.rows(), 0);
-    const models::quad_mesh::SegmentedApproximation approx =
-        models::quad_mesh::segmentedApproximation(shape.points, shape.triangles, patches, options);
-    proto::Scene scene;
-    const std::set<int> patchIds(approx.facePatch.begin(), approx.facePatch.end());
-    scene.name = name.empty() ? "developable patches approximating " + meshPath : name;
-    scene.description = "A piecewise-developable approximation of " + meshPath + " (devsurf approximate; Jiang et al. 2020 §5): " +
-                        std::to_string(approx.design.faces.size()) + " quads in " + std::to_string(approx.pieces) +
-                        " patches glued along their borders, each with its own unfolding; both meshes move, kept near the " +
-                        "reference by proximity.";
-    scene.units = units;
-    scene.model = approx.design;
-    scene.solver.iterations = iterations;
-    const nlohmann::json document = proto::sceneToJson(scene);
+    ApproximationRequest request;
+    if (!patchPath.empty()) request.patchIds = readPatchIds(patchPath, shape.triangles.rows());
+    if (segmentsGiven) request.segments = segmentation.patches, request.seed = segmentation.seed;
+    request.options = options;
+    request.iterations = iterations;
+    request.name = name;
+    request.units = units;
+    const ApproximationResult result = approximateShape(shape, meshPath, request);
+    const nlohmann::json document = proto::sceneToJson(result.scene);
     proto::sceneFromJson(document);  // read back through the checks of devsurf solve
     if (outPath.empty()) {
       out << document.dump(1) << "\n";
@@ -140,14 +132,7 @@ int approximateCommand(const std::vector<std::string>& args, std::ostream& out, 
       std::ofstream file(outPath);
       if (!(file << document.dump(1) << "\n")) throw std::runtime_error("cannot write " + outPath);
     }
-    err << "devsurf approximate: " << approx.design.faces.size() << " quads, " << approx.design.mesh.rows() << " vertices, "
-        << approx.pieces << " patches from " << patchIds.size() << " segments, " << approx.design.glue.size()
-        << " glue pairs; spacing " << approx.spacing << "; " << approx.piecesMappedAlone << " of " << approx.pieces
-        << " unfoldings mapped on their own (the rest are not disks)";
-    if (approx.bordersAligned > 0) err << "; " << approx.bordersAligned << " grid nodes moved onto patch borders";
-    if (approx.mergedPieces > 0) err << "; " << approx.mergedPieces << " slivers joined a neighbour";
-    if (approx.droppedFaces > 0) err << "; " << approx.droppedFaces << " isolated quads left out";
-    err << "\n";
+    err << "devsurf approximate: " << result.summaryText() << "\n";
     return 0;
   } catch (const std::invalid_argument& e) {
     err << "devsurf approximate: " << e.what() << "\n";

@@ -1,4 +1,5 @@
 #include "devsurf/server/Daemon.h"
+#include "devsurf/server/ShapeApproximation.h"
 
 #include "devsurf/proto/BoundedJson.h"
 
@@ -460,6 +461,22 @@ void Daemon::routes() {
       return replyJson(res, 200, session->sceneJson());
     }
     replyExport(res, session->id(), [&session, &format]() { return session->exportAs(format); });
+  });
+
+  // --- a user's mesh → glued developable patches (issue 15): the scene to open or submit ---
+  s.Post("/api/approximations", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
+    try {
+      const std::multimap<std::string, std::string> params(req.params.begin(), req.params.end());
+      const ApproximationRequest request = approximationRequestFromQuery(params);
+      reference::ReferenceLimits limits;
+      limits.maxTriangles = 400'000;  // the map to the plane runs in this request's thread
+      const ApproximationResult result =
+          approximateUpload(req.body, req.has_param("format") ? req.get_param_value("format") : "", request, limits);
+      replyJson(res, 200, {{"scene", proto::sceneToJson(result.scene)}, {"summary", result.summaryJson()}});
+    } catch (const ApproximationInputError& e) {
+      replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
+    }
   });
 
   // --- jobs ---

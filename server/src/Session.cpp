@@ -271,6 +271,15 @@ json Session::geometryJson(json* iterateMetrics) const {
       *iterateMetrics = {{"length_error", q.lengthError}, {"area_error", q.areaError},
                          {"isometry_residual_max", q.isometryResidualMax}, {"glue_gap_max", q.glueGapMax},
                          {"unfolding_flipped_faces", q.unfoldingFlippedFaces}};
+    // Approximating a reference (issue 15): its distance to M, every iterate (watch it fit).
+    if (iterateMetrics && model.reference()) {
+      try {
+        for (const auto& [name, value] : solver_->referenceMetrics(model.reference()->vertices, 0.0))
+          (*iterateMetrics)["approximation_" + name.substr(std::string("reference_").size())] = value;
+      } catch (const std::exception&) {
+        // A degenerate M has no distances; the length error says what went wrong.
+      }
+    }
     return proto::quadMeshGeometryJson(model, q);
   }
   if (isComposite()) {

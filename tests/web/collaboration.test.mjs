@@ -1,9 +1,11 @@
 // 3. Two browser contexts share a session through the edit link; 4. a view link cannot edit.
 import assert from 'node:assert/strict';
+import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
 
-const ctx = h.useDaemonAndBrowser('collaboration');
+// One demo: its sessions are made by the test; one demo lists (a daemon with all demos takes ~20 s to start).
+const ctx = h.useDaemonAndBrowser('collaboration', { demos: [path.join(h.EXAMPLES, 'strip-twisted.json')] });
 
 const participantIds = (st) => (st.participants || []).map((p) => String(p.id)).sort();
 

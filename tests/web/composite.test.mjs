@@ -3,10 +3,12 @@
 //    solve keeps every face developable; switching the crease type of the fold edge is an
 //    undoable edit; the development view has content and follows.
 import assert from 'node:assert/strict';
+import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
 
-const ctx = h.useDaemonAndBrowser('composite');
+// One demo: the demo it opens (a daemon with all demos takes ~20 s to start).
+const ctx = h.useDaemonAndBrowser('composite', { demos: [path.join(h.EXAMPLES, 'composite-curved-fold.json')] });
 
 test('a composite demo opens, a vertex drags, a crease type switches and undoes, the development follows', { timeout: 240000 }, () =>
   ctx.guard('composite', async () => {

@@ -1,10 +1,12 @@
 // 2. Dragging a control point with real pointer events streams iterates, the release solve makes
 //    the strip developable again, and the picture changes.
 import assert from 'node:assert/strict';
+import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
 
-const ctx = h.useDaemonAndBrowser('drag');
+// One demo: the test makes its own session (a daemon with all demos takes ~20 s to start).
+const ctx = h.useDaemonAndBrowser('drag', { demos: [path.join(h.EXAMPLES, 'strip-twisted.json')] });
 
 test('dragging the last control point of b streams iterates and ends developable', { timeout: 180000 }, () =>
   ctx.guard('drag', async () => {

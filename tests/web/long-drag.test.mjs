@@ -3,10 +3,12 @@
 //     developable — checked on the server's metrics and on the quality verdict the page received —
 //     and the editor shows the folded sheet and its development (screenshot, judged from pixels).
 import assert from 'node:assert/strict';
+import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
 
-const ctx = h.useDaemonAndBrowser('long-drag');
+// One demo: the demo it drags (a daemon with all demos takes ~20 s to start).
+const ctx = h.useDaemonAndBrowser('long-drag', { demos: [path.join(h.EXAMPLES, 'composite-curved-fold.json')] });
 
 test('a long drag of the curved fold\'s corner leaves a developable sheet and an intact development', { timeout: 240000 }, () =>
   ctx.guard('long-drag', async () => {

@@ -2,10 +2,12 @@
 //    strip of ~10 000 unknowns (370 spans: 373 + 373 control points), from performance.measure
 //    entries 'iterate-apply' exposed as window.__devsurf.iterateApplyTimes().
 import assert from 'node:assert/strict';
+import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
 
-const ctx = h.useDaemonAndBrowser('measure');
+// One demo: the test makes its own session (a daemon with all demos takes ~20 s to start).
+const ctx = h.useDaemonAndBrowser('measure', { demos: [path.join(h.EXAMPLES, 'strip-twisted.json')] });
 const SPANS = 370;
 const SECONDS = 8;
 

@@ -1,9 +1,11 @@
 // 5. The page reconnects after the daemon is killed and restarted on the same port and data dir.
 import assert from 'node:assert/strict';
+import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
 
-const ctx = h.useDaemonAndBrowser('reconnect');
+// One demo: the test makes its own session (a daemon with all demos takes ~20 s to start).
+const ctx = h.useDaemonAndBrowser('reconnect', { demos: [path.join(h.EXAMPLES, 'strip-twisted.json')] });
 
 const statusText = (page) => page.getByTestId('status-connection').textContent().then((t) => t.trim().toLowerCase());
 

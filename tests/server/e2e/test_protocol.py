@@ -223,11 +223,61 @@ class ProtocolTest(DaemonTestCase):
         self.assertEqual(state, "cancelled")
         self.assertEqual(self.daemon.json("GET", "/api/jobs/nope")[0], 404)
 
+    def test_an_uploaded_mesh_becomes_glued_patches_that_solve_as_a_job_and_open_as_a_session(self):
+        # A gently curved 12 × 12 sheet as OFF text, approximated in 3 patches (issue 15).
+        import math
+        n = 12
+        lines = ["OFF", f"{(n + 1) ** 2} {2 * n * n} 0"]
+        lines += [f"{i / n} {j / n} {0.25 * math.sin(2 * i / n) * math.cos(j / n)}" for j in range(n + 1) for i in range(n + 1)]
+        for j in range(n):
+            for i in range(n):
+                a = j * (n + 1) + i
+                lines += [f"3 {a} {a + 1} {a + n + 2}", f"3 {a} {a + n + 2} {a + n + 1}"]
+        off = ("\n".join(lines) + "\n").encode()
+        status, _, body = self.daemon.json("POST", "/api/approximations?format=off&segments=3&faces=300&iterations=20", off,
+                                           {"Content-Type": "application/octet-stream"})
+        self.assertEqual(status, 200, body)
+        scene, summary = body["scene"], body["summary"]
+        self.assertEqual(scene["model"]["kind"], "quad_mesh")
+        self.assertEqual(scene["solver"]["iterations"], 20)
+        self.assertGreater(summary["quads"], 200)
+        self.assertGreaterEqual(summary["patches"], 2)
+        self.assertEqual(len(scene["model"]["reference"]["triangles"]), 2 * n * n)
+        # As a batch job, with progress, to a developable result near the mesh.
+        status, _, job = self.daemon.json("POST", "/api/jobs", scene)
+        self.assertEqual(status, 202, job)
+        for _ in range(600):
+            status, _, state = self.daemon.json("GET", "/api/jobs/" + job["id"])
+            if state["state"] in ("succeeded", "failed"):
+                break
+            time.sleep(0.05)
+        self.assertEqual(state["state"], "succeeded", state)
+        self.assertEqual(state["progress"]["iteration"], state["progress"]["of"])
+        metrics = state["report"]["metrics"]
+        self.assertLess(metrics["length_error"], 1e-3)
+        self.assertLess(metrics["approximation_distance_rms_relative"], 0.01)
+        # As a session.
+        status, _, session = self.daemon.json("POST", "/api/sessions", scene)
+        self.assertEqual(status, 201, session)
+        # Bad input names the field and loses nothing.
+        cases = [("format=dxf", off, "format"), ("format=off&segments=0", off, "segments"),
+                 ("format=off&faces=lots", off, "faces"), ("format=off&colour=red", off, "colour"),
+                 ("format=off&spacing=-1", off, "spacing"), ("format=off&units=furlong", off, "units"),
+                 ("format=off", b"", "body"), ("format=off", b"OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n", "mesh"),
+                 ("format=off", b"OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "mesh"),
+                 ("format=off", b"OFF\nnot a mesh\n", "body")]
+        for query, data, field in cases:
+            status, _, err = self.daemon.json("POST", "/api/approximations?" + query, data,
+                                              {"Content-Type": "application/octet-stream"})
+            self.assertEqual(status, 400, (query, err))
+            self.assertEqual(err["error"]["path"], field, (query, err))
+        self.assertEqual(self.daemon.json("GET", "/api/health")[0], 200)
+
     def test_openapi_lists_every_route_and_metrics_are_prometheus_text(self):
         status, _, doc = self.daemon.json("GET", "/api/openapi.json")
         self.assertEqual(status, 200)
         self.assertEqual(doc["openapi"], "3.1.0")
-        routes = {"/api/health", "/api/metrics", "/api/openapi.json", "/api/sessions", "/api/sessions/{id}",
+        routes = {"/api/health", "/api/metrics", "/api/openapi.json", "/api/sessions", "/api/sessions/{id}", "/api/approximations",
                   "/api/sessions/{id}/export", "/api/jobs", "/api/jobs/{id}", "/api/jobs/{id}/cancel",
                   "/api/jobs/{id}/result", "/ws"}
         self.assertEqual(set(doc["paths"]), routes)

@@ -44,6 +44,23 @@ export async function createSession(scene, apiKey) {
   return body;
 }
 
+/**
+ * POST /api/approximations?format=…&segments=…&faces=… with a mesh file as the body → {scene,
+ * summary}: glued developable patches approximating the mesh (issue 15).
+ */
+export async function approximateMesh(file, { format, segments, faces, name }, apiKey) {
+  const query = new URLSearchParams({ format });
+  if (segments > 1) query.set('segments', String(segments));
+  if (faces) query.set('faces', String(faces));
+  if (name) query.set('name', name);
+  const headers = { 'Content-Type': 'application/octet-stream' };
+  if (apiKey) headers.Authorization = `Bearer ${apiKey}`;
+  const res = await fetch(apiUrl(`approximations?${query}`), { method: 'POST', headers, body: file });
+  const body = await readJson(res);
+  if (!res.ok) throw new ApiError(res.status, body);
+  return body;
+}
+
 /** GET /api/sessions/{id}/export?format=json|obj|fold|svg with the token as Bearer → Blob */
 export async function exportSession(id, token, format) {
   const res = await fetch(apiUrl(`sessions/${encodeURIComponent(id)}/export?format=${format}`), {

@@ -3,7 +3,7 @@
 
 import { h, clear } from './dom.js';
 import { PRESETS } from '../presets.js';
-import { createSession, listSessions } from '../net/api.js';
+import { approximateMesh, createSession, listSessions } from '../net/api.js';
 import { Toasts } from './Toast.js';
 import { apiKey, rememberSessionTokens, setApiKey } from './preferences.js';
 
@@ -53,6 +53,12 @@ export class StartPage {
     this.dropZone = h('label', { class: 'drop-zone', for: 'scene-file' },
       h('strong', {}, 'Choose a scene file'), h('span', { class: 'muted' }, ' or drop a .json file anywhere on this page'));
 
+    // A user's own mesh → glued developable patches (POST /api/approximations), opened as a session.
+    this.meshInput = h('input', { type: 'file', accept: '.off,.obj,.ply,.stl', testid: 'mesh-file', class: 'input', 'aria-label': 'Mesh file' });
+    this.meshPatches = h('input', { type: 'number', class: 'input narrow', min: '1', max: '1000', value: '8', testid: 'mesh-patches', 'aria-label': 'Patches' });
+    this.meshFaces = h('input', { type: 'number', class: 'input narrow', min: '4', max: '100000', value: '1500', testid: 'mesh-faces', 'aria-label': 'Quads' });
+    this.meshButton = h('button', { class: 'btn', testid: 'approximate-mesh', onclick: () => this._approximateMesh() }, 'Approximate');
+
     this.joinInput = h('input', { type: 'text', class: 'input', placeholder: 'paste an edit or view link', 'aria-label': 'Session link' });
     this.joinError = h('div', { class: 'field-error', hidden: true });
     const join = () => {
@@ -82,6 +88,10 @@ export class StartPage {
           h('div', { class: 'row' }, this.presetSelect, this.newButton), this.presetDescription),
         h('section', { class: 'card' }, h('h2', {}, 'Open a scene file'), this.fileInput, this.dropZone,
           h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1). It becomes a new private session.')),
+        h('section', { class: 'card' }, h('h2', {}, 'Start from your own mesh'),
+          h('p', { class: 'muted small' }, 'A triangle mesh with one boundary (.off, .obj, .ply, .stl) becomes developable patches glued along their borders, each with its flat cutting pattern (Jiang et al. 2020, §5). Solve it in the editor.'),
+          this.meshInput,
+          h('div', { class: 'row' }, h('label', { class: 'small' }, 'Patches ', this.meshPatches), h('label', { class: 'small' }, 'Quads ', this.meshFaces), this.meshButton)),
         h('section', { class: 'card' }, h('h2', {}, 'Join by link'),
           h('div', { class: 'row' }, this.joinInput, h('button', { class: 'btn', onclick: join }, 'Join')), this.joinError)),
       h('div', { class: 'start-status' }, this.apiKeyRow, this.busy, this.createError),
@@ -144,6 +154,38 @@ export class StartPage {
       this.busy.hidden = true;
       this.newButton.disabled = false;
     }
+  }
+
+  async _approximateMesh() {
+    const file = this.meshInput.files && this.meshInput.files[0];
+    const what = file ? `approximate ${file.name}` : 'approximate a mesh';
+    if (!file) {
+      this._showCreateError({ message: 'choose a mesh file first', code: 'invalid', path: 'mesh' }, what);
+      return;
+    }
+    const format = (file.name.split('.').pop() || '').toLowerCase();
+    this.createError.hidden = true;
+    this.busy.textContent = `Approximating ${file.name}…`;
+    this.busy.hidden = false;
+    this.meshButton.disabled = true;
+    let result;
+    try {
+      result = await approximateMesh(file, {
+        format,
+        segments: Number(this.meshPatches.value) || 1,
+        faces: Number(this.meshFaces.value) || 1500,
+        name: `${file.name.replace(/\.[^.]*$/, '')} in developable patches`,
+      }, this.apiKeyInput.value.trim() || apiKey());
+    } catch (e) {
+      this._showCreateError(e, what);
+      this.busy.hidden = true;
+      this.meshButton.disabled = false;
+      return;
+    } finally {
+      this.busy.textContent = 'Creating the session…';
+    }
+    this.meshButton.disabled = false;
+    await this._create(result.scene, what);
   }
 
   _newFromPreset() {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <optional>
+
 #include <memory>
 #include <vector>
 
@@ -105,6 +107,8 @@ class QuadMeshModel {
   void setHandleTarget(int i, const Eigen::Vector3d& target);
   void setHandleWeight(int i, double weight);
   int handleCount() const { return static_cast<int>(design_.handles.size()); }
+  /// The reference Φ of the proximity energies, if the design has one (design units).
+  const std::optional<ReferenceSurface>& reference() const { return design_.reference; }
 
   QuadMeshQuality quality() const;
   /// Per-face curvatures of the current M by eq. 4 with unit area-weighted vertex normals (see the

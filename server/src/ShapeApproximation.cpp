@@ -1,0 +1,195 @@
+// Approximating a user's mesh by glued developable patches: the service behind `devsurf
+// approximate` and POST /api/approximations (issue 15, 004_… §5).
+#include "devsurf/server/ShapeApproximation.h"
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include <unistd.h>
+
+#include "devsurf/reference/SurfaceSegmentation.h"
+
+namespace devsurf::server {
+namespace qm = models::quad_mesh;
+
+namespace {
+
+long integerParameter(const std::string& field, const std::string& value, long lo, long hi) {
+  std::size_t used = 0;
+  long v = 0;
+  try {
+    v = std::stol(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (value.empty() || used != value.size() || v < lo || v > hi)
+    throw ApproximationInputError(field, field + ": expected an integer " + std::to_string(lo) + " … " +
+                                             std::to_string(hi) + ", got \"" + value + "\"");
+  return v;
+}
+
+double numberParameter(const std::string& field, const std::string& value, double lo, double hi, bool positive) {
+  std::size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (value.empty() || used != value.size() || !std::isfinite(v) || v < lo || v > hi || (positive && !(v > 0.0))) {
+    std::ostringstream range;
+    range << (positive ? "a number > " : "a number ") << lo << " … " << hi;
+    throw ApproximationInputError(field, field + ": expected " + range.str() + ", got \"" + value + "\"");
+  }
+  return v;
+}
+
+}  // namespace
+
+nlohmann::json ApproximationResult::summaryJson() const {
+  const qm::SegmentedApproximation& a = approximation;
+  return {{"quads", static_cast<int>(a.design.faces.size())},
+          {"vertices", a.design.mesh.rows()},
+          {"patches", a.pieces},
+          {"segments", segments},
+          {"glue_pairs", static_cast<int>(a.design.glue.size())},
+          {"spacing", a.spacing},
+          {"unfoldings_mapped_alone", a.piecesMappedAlone},
+          {"border_nodes_aligned", a.bordersAligned},
+          {"slivers_merged", a.mergedPieces},
+          {"quads_dropped", a.droppedFaces}};
+}
+
+std::string ApproximationResult::summaryText() const {
+  const qm::SegmentedApproximation& a = approximation;
+  std::ostringstream s;
+  s << a.design.faces.size() << " faces (quads, and triangles along the boundary), " << a.design.mesh.rows()
+    << " vertices, " << a.pieces << " patches from " << segments << " segments, " << a.design.glue.size()
+    << " glue pairs; spacing " << a.spacing << "; " << a.piecesMappedAlone << " of " << a.pieces
+    << " unfoldings mapped on their own (the rest are not disks)";
+  if (a.bordersAligned > 0) s << "; " << a.bordersAligned << " grid nodes moved onto patch borders";
+  if (a.mergedPieces > 0) s << "; " << a.mergedPieces << " slivers joined a neighbour";
+  if (a.droppedFaces > 0) s << "; " << a.droppedFaces << " isolated quads left out";
+  return s.str();
+}
+
+ApproximationResult approximateShape(const reference::ReferenceShape& shape, const std::string& source,
+                                     const ApproximationRequest& request) {
+  if (!shape.isMesh())
+    throw ApproximationInputError("mesh", source + ": a point cloud; approximating by patches needs a triangle mesh "
+                                                   "(fit takes clouds)");
+  std::vector<int> patches = request.patchIds;
+  if (!patches.empty() && static_cast<Eigen::Index>(patches.size()) != shape.triangles.rows())
+    throw ApproximationInputError("patches", "patches: " + std::to_string(patches.size()) + " ids; " + source + " has " +
+                                                 std::to_string(shape.triangles.rows()) + " triangles (one id per triangle)");
+  if (patches.empty()) {
+    if (request.segments > 0) {
+      reference::NormalSegmentationOptions segmentation;
+      segmentation.patches = request.segments;
+      segmentation.seed = request.seed;
+      patches = reference::segmentByNormals(shape.points, shape.triangles, segmentation);
+    } else {
+      patches.assign(static_cast<std::size_t>(shape.triangles.rows()), 0);
+    }
+  }
+  ApproximationResult result;
+  try {
+    result.approximation = qm::segmentedApproximation(shape.points, shape.triangles, patches, request.options);
+  } catch (const std::invalid_argument& e) {
+    throw ApproximationInputError("mesh", source + ": " + e.what());
+  }
+  const qm::SegmentedApproximation& a = result.approximation;
+  result.segments = static_cast<int>(std::set<int>(a.facePatch.begin(), a.facePatch.end()).size());
+  proto::Scene& scene = result.scene;
+  scene.name = request.name.empty() ? "developable patches approximating " + source : request.name;
+  scene.description = "A piecewise-developable approximation of " + source + " (Jiang et al. 2020 §5): " +
+                      std::to_string(a.design.faces.size()) + " faces in " + std::to_string(a.pieces) +
+                      " patches glued along their borders, each with its own unfolding; both meshes move, kept near " +
+                      "the reference by proximity.";
+  scene.units = request.units;
+  scene.model = a.design;
+  scene.solver.iterations = request.iterations;
+  return result;
+}
+
+ApproximationRequest approximationRequestFromQuery(const std::multimap<std::string, std::string>& params) {
+  ApproximationRequest r;
+  std::set<std::string> seen;
+  for (const auto& [key, value] : params) {
+    if (!seen.insert(key).second) throw ApproximationInputError(key, key + ": given more than once");
+    if (key == "format") continue;  // read by approximateUpload's caller
+    if (key == "segments") r.segments = static_cast<int>(integerParameter(key, value, 1, 1000));
+    else if (key == "seed") r.seed = static_cast<std::uint32_t>(integerParameter(key, value, 0, 4294967295L));
+    else if (key == "faces") r.options.targetFaces = static_cast<int>(integerParameter(key, value, 4, 100000));
+    else if (key == "spacing") r.options.spacing = numberParameter(key, value, 0.0, 1e12, true);
+    else if (key == "isometry") r.options.weights.isometry = r.options.weights.position = numberParameter(key, value, 0.0, 1e6, false);
+    else if (key == "proximity")
+      r.options.weights.proximityPoint = r.options.weights.proximityPlane = numberParameter(key, value, 0.0, 1e6, false);
+    else if (key == "fairness")
+      r.options.weights.fairnessMesh = r.options.weights.fairnessUnfolding = numberParameter(key, value, 0.0, 1e6, false);
+    else if (key == "iterations") r.iterations = static_cast<int>(integerParameter(key, value, 0, 10000));
+    else if (key == "name") {
+      if (value.size() > 200) throw ApproximationInputError(key, "name: at most 200 characters");
+      r.name = value;
+    } else if (key == "units") {
+      try {
+        proto::millimetresPerUnit(value);
+      } catch (const std::invalid_argument&) {
+        throw ApproximationInputError(key, "units: expected mm, cm, m or in, got \"" + value + "\"");
+      }
+      r.units = value;
+    } else {
+      throw ApproximationInputError(key, key + ": unknown parameter (segments, seed, faces, spacing, isometry, proximity, "
+                                           "fairness, iterations, name, units, format)");
+    }
+  }
+  return r;
+}
+
+ApproximationResult approximateUpload(const std::string& body, const std::string& format,
+                                      const ApproximationRequest& request, const reference::ReferenceLimits& limits) {
+  if (format != "off" && format != "obj" && format != "ply" && format != "stl")
+    throw ApproximationInputError("format", "format: expected off, obj, ply or stl, got \"" + format + "\"");
+  if (body.empty()) throw ApproximationInputError("body", "body: empty; send the mesh file as the request body");
+  if (body.size() > limits.maxFileBytes)
+    throw ApproximationInputError("body", "body: " + std::to_string(body.size()) + " bytes; the limit is " +
+                                              std::to_string(limits.maxFileBytes), true);
+  // The readers take a path: a private file under the temporary directory, removed on return.
+  static std::atomic<unsigned long> counter{0};
+  std::random_device entropy;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("devsurf-upload-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + std::to_string(entropy()) +
+       "." + format);
+  struct Removal {
+    std::filesystem::path path;
+    ~Removal() {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+  } removal{path};
+  {
+    std::ofstream file(path, std::ios::binary | std::ios::trunc);
+    std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+    if (!(file << body) || !file.flush()) throw std::runtime_error("cannot write the upload to a temporary file");
+  }
+  reference::ReferenceShape shape;
+  try {
+    shape = reference::readReferenceShape(path.string(), limits);
+  } catch (const std::invalid_argument& e) {
+    std::string message = e.what();
+    const std::string name = path.string();
+    for (std::size_t at = message.find(name); at != std::string::npos; at = message.find(name))
+      message.replace(at, name.size(), "body");
+    const bool tooLarge = message.find("limit") != std::string::npos;
+    throw ApproximationInputError("body", message, tooLarge);
+  }
+  return approximateShape(shape, request.name.empty() ? "the uploaded mesh" : request.name, request);
+}
+
+}  // namespace devsurf::server
