@@ -411,7 +411,7 @@ class Worker:
 
     async def run(self):
         actions = [(self.valid_session, 40), (self.hostile_ws, 25), (self.framing, 8), (self.rest_bodies, 15),
-                   (self.rest_reads, 8), (self.garbage_http, 4)]
+                   (self.rest_reads, 8), (self.garbage_http, 4), (self.rest_meshes, 3)]
         total = sum(w for _, w in actions)
         while self.more():
             r = self.rng.uniform(0, total)
@@ -480,6 +480,39 @@ class Worker:
             self.created.append((reply[1]["id"], reply[1]["edit_token"], scene))
         if reply and reply[0] in (200, 202) and isinstance(reply[1], dict) and "id" in reply[1]:
             self.created_job = reply[1]["id"]
+
+    async def rest_meshes(self):
+        """POST /api/approximations: small meshes, broken ones and hostile parameters (issue 15)."""
+        rng = self.rng
+        n = rng.randint(1, 6)
+        verts = [f"{i / n} {j / n} {0.2 * rng.random()}" for j in range(n + 1) for i in range(n + 1)]
+        faces = []
+        for j in range(n):
+            for i in range(n):
+                a = j * (n + 1) + i
+                faces += [f"3 {a} {a + 1} {a + n + 2}", f"3 {a} {a + n + 2} {a + n + 1}"]
+        header = f"{len(verts)} {len(faces)} 0"
+        r = rng.random()
+        if r < 0.15:
+            header = rng.choice(["999999999 1 0", "-1 -1 0", "3 4000000000 0", "nan 1 0"])
+        elif r < 0.3:
+            verts[rng.randrange(len(verts))] = rng.choice(["nan 0 0", "inf 1 2", "1e400 0 0", "x y z", ""])
+        elif r < 0.4:
+            faces[rng.randrange(len(faces))] = rng.choice(["3 0 0 0", "3 0 1 99999", "4 0 1 2", "3 -1 0 1", "2 0 1"])
+        body = ("OFF\n" + header + "\n" + "\n".join(verts + faces) + "\n").encode()
+        if rng.random() < 0.1:
+            body = body[:rng.randrange(len(body))]
+        if rng.random() < 0.05:
+            body = bytes(rng.randrange(256) for _ in range(rng.randint(0, 2000)))
+        params = {"format": rng.choice(["off", "off", "off", "obj", "ply", "stl", "", "dxf"])}
+        for key, values in [("segments", ["1", "3", "0", "-2", "1e9", "x"]), ("faces", ["50", "4", "100001", "nan"]),
+                            ("spacing", ["0.2", "0", "-1", "1e308"]), ("iterations", ["5", "-1", "99999"]),
+                            ("isometry", ["10", "-1", "inf"]), ("units", ["cm", "parsec"]), ("bogus", ["1"])]:
+            if rng.random() < 0.2:
+                params[key] = rng.choice(values)
+        query = "&".join(f"{k}={v}" for k, v in params.items())
+        raw = request("POST", "/api/approximations?" + query, body, content_type="application/octet-stream")
+        await self.rest(raw, "rest.mesh", f"/api/approximations?{query} {body[:120]!r}")
 
     async def rest_reads(self):
         rng = self.rng
