@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <fstream>
 #include <ostream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -66,63 +67,41 @@ std::vector<int> readPatchIds(const std::string& path, Eigen::Index triangles) {
   return ids;
 }
 
-double parseWeight(const std::string& flag, const std::string& value) {
-  std::size_t used = 0;
-  double w = -1.0;
-  try {
-    w = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != value.size() || !std::isfinite(w) || w < 0.0 || w > 1e6)
-    throw std::invalid_argument(flag + ": expected a weight 0 … 1e6, got \"" + value + "\"");
-  return w;
-}
-
 }  // namespace
 
 int approximateCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  std::string meshPath, patchPath, outPath, name, units = "mm";
-  reference::NormalSegmentationOptions segmentation;
-  bool segmentsGiven = false;
-  int iterations = 40;
-  models::quad_mesh::SegmentedApproximationOptions options;
+  std::string meshPath, patchPath, outPath;
+  // Every option but --patches and --out is a parameter of POST /api/approximations: one parser,
+  // one set of ranges and messages (approximationRequestFromQuery).
+  const std::set<std::string> requestOptions = {"segments", "seed", "faces", "spacing", "iterations",
+                                                "isometry", "proximity", "fairness", "name", "units"};
+  std::multimap<std::string, std::string> params;
+  ApproximationRequest request;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       auto value = [&args, &i]() -> const std::string& { return cli::flagValue(args, i); };
       if (a == "--patches") patchPath = value();
-      else if (a == "--segments") segmentation.patches = static_cast<int>(cli::parseNumber(a, value(), 1, 1000)), segmentsGiven = true;
-      else if (a == "--seed") segmentation.seed = static_cast<std::uint32_t>(cli::parseNumber(a, value(), 0, 4294967295L));
-      else if (a == "--faces") options.targetFaces = static_cast<int>(cli::parseNumber(a, value(), 4, 400000));
-      else if (a == "--spacing") options.spacing = cli::parseLength(a, value());
-      else if (a == "--iterations") iterations = static_cast<int>(cli::parseNumber(a, value(), 0, 10000));
-      else if (a == "--isometry") options.weights.isometry = options.weights.position = parseWeight(a, value());
-      else if (a == "--proximity") options.weights.proximityPoint = options.weights.proximityPlane = parseWeight(a, value());
-      else if (a == "--fairness") options.weights.fairnessMesh = options.weights.fairnessUnfolding = parseWeight(a, value());
-      else if (a == "--name") name = value();
-      else if (a == "--units") units = value();
       else if (a == "--out") outPath = value();
+      else if (a.rfind("--", 0) == 0 && requestOptions.count(a.substr(2))) params.emplace(a.substr(2), value());
       else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
       else if (meshPath.empty()) meshPath = a;
       else throw std::invalid_argument("unexpected argument " + a);
     }
     if (meshPath.empty()) throw std::invalid_argument("missing MESH (a triangle mesh: .obj, .off, .ply, .stl)");
-    if (!patchPath.empty() && segmentsGiven) throw std::invalid_argument("--patches and --segments exclude each other");
-    proto::millimetresPerUnit(units);
+    if (!patchPath.empty() && params.count("segments")) throw std::invalid_argument("--patches and --segments exclude each other");
+    try {
+      request = approximationRequestFromQuery(params);
+    } catch (const ApproximationInputError& e) {
+      throw std::invalid_argument(std::string("--") + e.what());
+    }
   } catch (const std::invalid_argument& e) {
     err << "devsurf approximate: " << e.what() << "\n" << kApproximateUsage;
     return 2;
   }
   try {
     const reference::ReferenceShape shape = reference::readReferenceShape(meshPath);
-    ApproximationRequest request;
     if (!patchPath.empty()) request.patchIds = readPatchIds(patchPath, shape.triangles.rows());
-    if (segmentsGiven) request.segments = segmentation.patches, request.seed = segmentation.seed;
-    request.options = options;
-    request.iterations = iterations;
-    request.name = name;
-    request.units = units;
     const ApproximationResult result = approximateShape(shape, meshPath, request);
     const nlohmann::json document = proto::sceneToJson(result.scene);
     proto::sceneFromJson(document);  // read back through the checks of devsurf solve

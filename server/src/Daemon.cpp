@@ -464,7 +464,7 @@ void Daemon::routes() {
   });
 
   // --- a user's mesh → glued developable patches (issue 15): the scene to open or submit ---
-  s.Post("/api/approximations", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/approximations", [needApiKey](const httplib::Request& req, httplib::Response& res) {
     if (!needApiKey(req, res)) return;
     try {
       const std::multimap<std::string, std::string> params(req.params.begin(), req.params.end());

@@ -130,7 +130,7 @@ TEST(ApproximateCommand, RefusesWhatItCannotApproximateNamingTheProblem) {
       {{"approximate", closed}, 2, "closed"},
       {{"approximate", closed, "--patches", ids}, 2, "holds 3 ids; the mesh has 4 triangles"},
       {{"approximate", closed, "--patches", ids, "--segments", "3"}, 2, "exclude each other"},
-      {{"approximate", closed, "--isometry", "-1"}, 2, "--isometry: expected a weight"},
+      {{"approximate", closed, "--isometry", "-1"}, 2, "--isometry: expected a number"},
       {{"approximate", closed, "--segments", "0"}, 2, "--segments"},
       {{"approximate", (dir.path() / "missing.off").string()}, 2, "missing.off"},
   };

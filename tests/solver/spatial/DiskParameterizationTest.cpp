@@ -7,25 +7,10 @@
 #include <Eigen/Geometry>
 
 #include "devsurf/spatial/DiskParameterization.h"
+#include "support/TriangulatedGrid.h"
 
 namespace devsurf::spatial {
 namespace {
-
-/// A (nu × nv)-quad grid split into triangles over [0, width] × [0, height], lifted by `lift`.
-template <typename Lift>
-void gridMesh(int nu, int nv, double width, double height, Lift lift, Eigen::MatrixX3d& V, Eigen::MatrixX3i& T) {
-  V.resize((nu + 1) * (nv + 1), 3);
-  T.resize(2 * nu * nv, 3);
-  for (int j = 0; j <= nv; ++j)
-    for (int i = 0; i <= nu; ++i) V.row(j * (nu + 1) + i) = lift(width * i / nu, height * j / nv).transpose();
-  int t = 0;
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const int a = j * (nu + 1) + i;
-      T.row(t++) << a, a + 1, a + nu + 2;
-      T.row(t++) << a, a + nu + 2, a + nu + 1;
-    }
-}
 
 /// max over triangle edges of | |e′| / |e| − 1 | (an independent check of the map's distortion).
 double edgeStretchMax(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& T, const Eigen::MatrixX2d& uv) {
@@ -51,7 +36,7 @@ TEST(DiskParameterization, AFlatSheetInSpaceMapsToItselfUpToARigidMotionWithBoth
   const Eigen::Matrix3d turn = (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
   Eigen::MatrixX3d V;
   Eigen::MatrixX3i T;
-  gridMesh(12, 8, 3.0, 2.0, [&turn](double x, double y) { return Eigen::Vector3d(turn * Eigen::Vector3d(x, y, 0) + Eigen::Vector3d(5, -1, 2)); }, V, T);
+  devsurf::testing::triangulatedGrid(12, 8, 3.0, 2.0, [&turn](double x, double y) { return Eigen::Vector3d(turn * Eigen::Vector3d(x, y, 0) + Eigen::Vector3d(5, -1, 2)); }, V, T);
   for (ParameterizationMethod method : {ParameterizationMethod::Conformal, ParameterizationMethod::NearIsometric}) {
     const Eigen::MatrixX2d uv = parameterizeDisk(V, T, method);
     // LSCM solves one linear system (exact); ARAP iterates to CGAL's own tolerance.
@@ -65,7 +50,7 @@ TEST(DiskParameterization, ACylinderPatchUnrollsNearlyIsometricallyAndKeepsItsAr
   // 120° of a unit cylinder, height 1.5: developable, so the near-isometric map is its unrolling.
   Eigen::MatrixX3d V;
   Eigen::MatrixX3i T;
-  gridMesh(40, 15, 2.0 * M_PI / 3.0, 1.5, [](double s, double z) { return Eigen::Vector3d(std::cos(s), std::sin(s), z); }, V, T);
+  devsurf::testing::triangulatedGrid(40, 15, 2.0 * M_PI / 3.0, 1.5, [](double s, double z) { return Eigen::Vector3d(std::cos(s), std::sin(s), z); }, V, T);
   const Eigen::MatrixX2d uv = parameterizeDisk(V, T, ParameterizationMethod::NearIsometric);
   EXPECT_LT(edgeStretchMax(V, T, uv), 1e-3);
   EXPECT_GT(signedAreaMin(T, uv), 0.0);
@@ -93,7 +78,7 @@ TEST(DiskParameterization, AMeshThatIsNotADiskIsRefusedSayingWhy) {
   // An annulus: a sheet with one quad's two triangles taken out of its middle.
   Eigen::MatrixX3d G;
   Eigen::MatrixX3i S;
-  gridMesh(5, 5, 1.0, 1.0, [](double x, double y) { return Eigen::Vector3d(x, y, 0); }, G, S);
+  devsurf::testing::triangulatedGrid(5, 5, 1.0, 1.0, [](double x, double y) { return Eigen::Vector3d(x, y, 0); }, G, S);
   Eigen::MatrixX3i holed(S.rows() - 2, 3);
   for (Eigen::Index t = 0, k = 0; t < S.rows(); ++t)
     if (t != 24 && t != 25) holed.row(k++) = S.row(t);

@@ -220,7 +220,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   // The side of a cell toward across[d], as its two corners, and whether both cells have it (a
   // triangle cell lacks the two sides at its missing corner).
   static constexpr std::array<std::array<int, 2>, 4> sideCorners = {{{0, 3}, {1, 2}, {0, 1}, {3, 2}}};
-  auto shareSide = [&cellMissing, &sideCorners](long c, long n, int d) {
+  auto shareSide = [&cellMissing](long c, long n, int d) {
     const int opposite = d ^ 1;  // left ↔ right, bottom ↔ top
     const int mc = cellMissing[c], mn = cellMissing[n];
     return mc != sideCorners[d][0] && mc != sideCorners[d][1] && mn != sideCorners[opposite][0] &&

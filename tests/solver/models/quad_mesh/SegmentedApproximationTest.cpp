@@ -14,25 +14,10 @@
 #include "devsurf/models/quad_mesh/QuadMeshModel.h"
 #include "devsurf/models/quad_mesh/SegmentedApproximation.h"
 #include "devsurf/reference/SurfaceSegmentation.h"
+#include "support/TriangulatedGrid.h"
 
 namespace devsurf::models::quad_mesh {
 namespace {
-
-/// A reference: an nu × nv grid of quads split into triangles over [0, w] × [0, h], lifted.
-template <typename Lift>
-void referenceGrid(int nu, int nv, double w, double h, Lift lift, Eigen::MatrixX3d& V, Eigen::MatrixX3i& T) {
-  V.resize((nu + 1) * (nv + 1), 3);
-  T.resize(2 * nu * nv, 3);
-  for (int j = 0; j <= nv; ++j)
-    for (int i = 0; i <= nu; ++i) V.row(j * (nu + 1) + i) = lift(w * i / nu, h * j / nv).transpose();
-  int t = 0;
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      const int a = j * (nu + 1) + i;
-      T.row(t++) << a, a + 1, a + nu + 2;
-      T.row(t++) << a, a + nu + 2, a + nu + 1;
-    }
-}
 
 /// Edges of every face once (triangles and quads), as the L-Err of Fig. 22 counts them.
 std::set<std::pair<int, int>> faceEdges(const std::vector<Face>& faces) {
@@ -72,7 +57,9 @@ void expectAValidStart(const SegmentedApproximation& s, const std::function<doub
   for (std::size_t f = 0; f < d.faces.size(); ++f)
     for (int k = 0; k < faceSize(d.faces[f]); ++k) {
       const int v = d.faces[f][k];
-      if (pieceOfVertex[v] >= 0) ASSERT_EQ(pieceOfVertex[v], s.facePiece[f]) << what << ": a vertex in two pieces";
+      if (pieceOfVertex[v] >= 0) {
+        ASSERT_EQ(pieceOfVertex[v], s.facePiece[f]) << what << ": a vertex in two pieces";
+      }
       pieceOfVertex[v] = s.facePiece[f];
       ++facesAt[v];
     }
@@ -81,9 +68,12 @@ void expectAValidStart(const SegmentedApproximation& s, const std::function<doub
     ASSERT_LT(offReference(d.mesh.row(v).transpose()), tolerance) << what << ": vertex " << v << " off the reference";
   }
   // eq. 1 holds a quad's diagonals only: no quad may have a corner in no other face.
-  for (const Face& f : d.faces)
-    if (faceSize(f) == 4)
-      for (int k = 0; k < 4; ++k) ASSERT_GT(facesAt[f[k]], 1) << what << ": a quad's corner in no other face";
+  for (const Face& f : d.faces) {
+    if (faceSize(f) != 4) continue;
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_GT(facesAt[f[k]], 1) << what << ": a quad's corner in no other face";
+    }
+  }
   for (const GluePair& g : d.glue) {
     ASSERT_EQ(g.on, MeshSide::Mesh);
     EXPECT_EQ((d.mesh.row(g.a) - d.mesh.row(g.b)).norm(), 0.0) << what << ": glued vertices apart at the start";
@@ -102,7 +92,7 @@ void expectAValidStart(const SegmentedApproximation& s, const std::function<doub
 TEST(SegmentedApproximation, ACylinderInTwoPatchesStartsOnItNearlyIsometricAndSolvesBelowFigure22) {
   Eigen::MatrixX3d V;
   Eigen::MatrixX3i T;
-  referenceGrid(48, 18, 2.0 * M_PI / 3.0, 1.5, [](double s, double z) { return Eigen::Vector3d(std::cos(s), std::sin(s), z); }, V, T);
+  devsurf::testing::triangulatedGrid(48, 18, 2.0 * M_PI / 3.0, 1.5, [](double s, double z) { return Eigen::Vector3d(std::cos(s), std::sin(s), z); }, V, T);
   std::vector<int> patch(T.rows());
   for (Eigen::Index t = 0; t < T.rows(); ++t) patch[t] = V(T(t, 0), 1) + V(T(t, 1), 1) + V(T(t, 2), 1) < 3.0 * std::sin(M_PI / 3.0) ? 0 : 1;
   SegmentedApproximationOptions options;
@@ -136,7 +126,7 @@ TEST(SegmentedApproximation, ASaddleInNinePatchesBecomesPiecewiseDevelopableClos
   Eigen::MatrixX3d V;
   Eigen::MatrixX3i T;
   auto saddle = [](double x, double y) { return 0.35 * (x * x - y * y); };
-  referenceGrid(30, 30, 2.0, 2.0, [&saddle](double u, double v) { return Eigen::Vector3d(u - 1, v - 1, saddle(u - 1, v - 1)); }, V, T);
+  devsurf::testing::triangulatedGrid(30, 30, 2.0, 2.0, [&saddle](double u, double v) { return Eigen::Vector3d(u - 1, v - 1, saddle(u - 1, v - 1)); }, V, T);
   std::vector<int> quadrant(T.rows());
   for (Eigen::Index t = 0; t < T.rows(); ++t) {
     const Eigen::Vector3d c = (V.row(T(t, 0)) + V.row(T(t, 1)) + V.row(T(t, 2))).transpose() / 3.0;
@@ -178,7 +168,7 @@ TEST(SegmentedApproximation, EveryStartIsValidOverAHundredRandomShapesAndSegment
     const Eigen::Matrix3d turn = Eigen::AngleAxisd(6.0 * unit(random), Eigen::Vector3d(unit(random), unit(random), 1.0).normalized()).toRotationMatrix();
     Eigen::MatrixX3d V;
     Eigen::MatrixX3i T;
-    referenceGrid(12 + trial % 8, 10 + trial % 7, w, h,
+    devsurf::testing::triangulatedGrid(12 + trial % 8, 10 + trial % 7, w, h,
                   [&height, &turn](double x, double y) { return Eigen::Vector3d(turn * Eigen::Vector3d(x, y, height(x, y))); }, V, T);
     reference::NormalSegmentationOptions segmentation;
     segmentation.patches = 1 + trial % 7;
@@ -206,7 +196,7 @@ TEST(SegmentedApproximation, EveryStartIsValidOverAHundredRandomShapesAndSegment
 TEST(SegmentedApproximation, RefusesInputItCannotUseNamingWhy) {
   Eigen::MatrixX3d V;
   Eigen::MatrixX3i T;
-  referenceGrid(6, 6, 1.0, 1.0, [](double x, double y) { return Eigen::Vector3d(x, y, 0); }, V, T);
+  devsurf::testing::triangulatedGrid(6, 6, 1.0, 1.0, [](double x, double y) { return Eigen::Vector3d(x, y, 0); }, V, T);
   std::vector<int> ok(T.rows(), 0);
   auto message = [&V, &T](const std::vector<int>& patch, const SegmentedApproximationOptions& o) -> std::string {
     try {
