@@ -259,7 +259,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
       ++pieceCount;
     }
   };
-  for (int pass = 0; pass < 64; ++pass) {
+  for (int pass = 0; pass < 256; ++pass) {
     labelPieces();
     bool changed = false;
     for (int p = 0; p < pieceCount; ++p) {
@@ -285,8 +285,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
           cellPatch[c] = to;  // −1: an isolated sliver is left out
         }
       if (to >= 0) ++result.mergedPieces;
-      changed = true;
-      break;  // relabel: the neighbour's piece has grown
+      changed = true;  // every small piece of this labelling moves at once; relabel and repeat
     }
     if (!changed) break;
   }
