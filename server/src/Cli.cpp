@@ -83,6 +83,17 @@ constexpr const char* kUsage =
     "  merge FIRST.json SECOND.json [--name NAME] [--out SCENE.json]\n"
     "        Merge two strip scenes into one strip by joining their control-point sequences\n"
     "        (lined up end to end, the meeting points averaged; approximation targets joined).\n"
+    "  cover SHAPE [--centre X,Y,Z --radius R] [--strips K] [--thin RADIUS] [--seed N]\n"
+    "        [--control-points N] [--rounds N] [--crease none|fold] [--name NAME]\n"
+    "        [--units mm|cm|m|in] [--region-out POINTS.xyz] [--out SCENE.json]\n"
+    "        Cover a region of SHAPE (a ball, default all of it) by K strips side by side\n"
+    "        (default 4) and make them one composite (Tang et al. 2016 Fig. 10): the region\n"
+    "        cut into bands across its flattest direction, a strip fitted to each, neighbouring\n"
+    "        boundaries paired and pulled together (--rounds sweeps, default 6), then a\n"
+    "        composite with one face per strip and a shared edge per pair (a seam, or a curved\n"
+    "        fold with --crease fold). Prints the fit and the gaps as JSON; --region-out\n"
+    "        writes the covered points, to measure the solved composite against with\n"
+    "        solve --reference POINTS.xyz.\n"
     "  approximate MESH [--patches IDS.txt | --segments K [--seed N]] [--faces N | --spacing H]\n"
     "        [--iterations N] [--isometry W] [--proximity W] [--fairness W] [--name NAME]\n"
     "        [--units mm|cm|m|in] [--out SCENE.json]\n"
@@ -516,6 +527,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "reference") return referenceCommand(rest, out, err);
   if (command == "fit") return fitCommand(rest, out, err);
   if (command == "merge") return mergeCommand(rest, out, err);
+  if (command == "cover") return coverCommand(rest, out, err);
   if (command == "approximate") return approximateCommand(rest, out, err);
   if (command == "version" || command == "--version") {
     out << "devsurf 0.1.0\n";

@@ -28,6 +28,11 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
 /// `devsurf merge FIRST.json SECOND.json [--out SCENE.json]`: two strip scenes merged into one
 /// by joining their control-point sequences (000_… Fig. 10c; models::strip::mergeStrips).
 int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+/// `devsurf cover SHAPE [--centre X,Y,Z --radius R] [--strips K] …`: a region covered by strips
+/// side by side whose paired boundaries become the shared edges of one composite scene (000_…
+/// Fig. 10d–e; models::strip::coverRegion, models::composite::compositeFromStrips).
+int coverCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 /// `devsurf approximate MESH …`: a segmented triangle mesh → a quad_mesh scene of glued developable
 /// patches with proximity to the mesh (004_… §5, Fig. 20–21). Exit 0, 2 on bad arguments or input, 1
 /// otherwise.

@@ -34,6 +34,33 @@ std::vector<int> pointsInBall(const Eigen::MatrixX3d& points, const Eigen::Vecto
   return inside;
 }
 
+QuadraticHeightField fitQuadraticHeightField(const Eigen::MatrixXd& local, double size) {
+  QuadraticHeightField field;
+  field.coefficients = Eigen::VectorXd::Zero(6);
+  if (local.rows() < 6 || !(size > 0.0)) return field;
+  // h(x, y) = c0 + c1 x + c2 y + c3 x² + c4 xy + c5 y² (least squares, coordinates scaled by
+  // `size`); its Hessian [[2c3, c4], [c4, 2c5]] gives the normal curvatures.
+  Eigen::MatrixXd A(local.rows(), 6);
+  for (Eigen::Index j = 0; j < local.rows(); ++j) {
+    const double x = local(j, 0) / size, y = local(j, 1) / size;
+    A.row(j) << 1.0, x, y, x * x, x * y, y * y;
+  }
+  Eigen::VectorXd c = A.colPivHouseholderQr().solve(local.col(2) / size);
+  if (!c.allFinite()) return field;
+  field.coefficients = c;
+  Eigen::Matrix2d H;
+  H << 2.0 * c(3), c(4), c(4), 2.0 * c(5);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> curvature(H);
+  const Eigen::Vector2d k = curvature.eigenvalues();
+  // Curved enough to tell the directions apart: a developable's rulings follow the flatter one.
+  field.curved = std::max(std::abs(k(0)), std::abs(k(1))) > 1e-3;
+  if (field.curved)
+    field.leastCurvature = (std::abs(k(0)) <= std::abs(k(1)) ? Eigen::Vector2d(curvature.eigenvectors().col(0))
+                                                              : Eigen::Vector2d(curvature.eigenvectors().col(1)))
+                               .normalized();
+  return field;
+}
+
 StripDesign flatStripOverRegion(const Eigen::MatrixX3d& points, const RegionStripOptions& options) {
   if (points.rows() < 3) throw std::invalid_argument("region: needs at least 3 points, got " + std::to_string(points.rows()));
   if (!points.allFinite()) throw std::invalid_argument("region: points must be finite");
@@ -60,34 +87,16 @@ StripDesign flatStripOverRegion(const Eigen::MatrixX3d& points, const RegionStri
 
   Eigen::Vector2d ruling(0.0, 1.0);  // in (e1, e2) coordinates: across the longest extent
   if (options.rulings == RegionStripOptions::Rulings::AlongLongest) ruling = Eigen::Vector2d(1.0, 0.0);
-  // Height field over the PCA plane, h(x, y) = c0 + c1 x + c2 y + c3 x² + c4 xy + c5 y² (least
-  // squares, coordinates scaled by `size`); its Hessian [[2c3, c4], [c4, 2c5]] gives the normal
-  // curvatures. Needs 6 points; fewer leave the strip flat.
+  // Height field over the PCA plane (leastCurvatureDirection); needs 6 points, fewer leave the
+  // strip flat.
   const double size = std::sqrt(pca.eigenvalues()(2));
-  Eigen::VectorXd c = Eigen::VectorXd::Zero(6);
-  if (points.rows() >= 6) {
-    Eigen::MatrixXd A(points.rows(), 6);
-    for (Eigen::Index j = 0; j < points.rows(); ++j) {
-      const double x = local(j, 0) / size, y = local(j, 1) / size;
-      A.row(j) << 1.0, x, y, x * x, x * y, y * y;
-    }
-    c = A.colPivHouseholderQr().solve(local.col(2) / size);
-    if (!c.allFinite()) c.setZero();
-  }
+  const QuadraticHeightField field = fitQuadraticHeightField(local, size);
+  const Eigen::VectorXd& c = field.coefficients;
   auto height = [&c, size](double x, double y) {
     x /= size, y /= size;
     return size * (c(0) + c(1) * x + c(2) * y + c(3) * x * x + c(4) * x * y + c(5) * y * y);
   };
-  if (options.rulings == RegionStripOptions::Rulings::Auto && points.rows() >= 6) {
-    Eigen::Matrix2d H;
-    H << 2.0 * c(3), c(4), c(4), 2.0 * c(5);
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> curvature(H);
-    const Eigen::Vector2d k = curvature.eigenvalues();
-    // Curved enough to tell the directions apart: the rulings follow the flatter one.
-    if (std::max(std::abs(k(0)), std::abs(k(1))) > 1e-3)
-      ruling = std::abs(k(0)) <= std::abs(k(1)) ? Eigen::Vector2d(curvature.eigenvectors().col(0))
-                                                 : Eigen::Vector2d(curvature.eigenvectors().col(1));
-  }
+  if (options.rulings == RegionStripOptions::Rulings::Auto && field.curved) ruling = field.leastCurvature;
   ruling.normalize();
   const Eigen::Vector2d along(ruling.y(), -ruling.x());
   const Eigen::Vector3d rulingDir = ruling.x() * e1 + ruling.y() * e2;

@@ -16,6 +16,7 @@
 #include "devsurf/terms/PolygonBacktrackTerm.h"
 #include "devsurf/terms/RulingLengthTerm.h"
 #include "devsurf/terms/StripWidthTerm.h"
+#include "devsurf/terms/CurveTangentLineDistanceTerm.h"
 #include "devsurf/terms/LinearPoints.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/StripFootPoints.h"
@@ -110,6 +111,20 @@ void StripModel::validateDesign(StripDesign& design) {
     for (const auto& [name, w] : weights)
       if (!std::isfinite(w) || w < 0.0)
         throw std::invalid_argument(std::string("approximation.weights.") + name + ": must be finite and ≥ 0");
+  }
+  for (std::size_t t = 0; t < design.boundaryTargets.size(); ++t) {
+    const BoundaryTarget& target = design.boundaryTargets[t];
+    const std::string path = "boundary_targets[" + std::to_string(t) + "]";
+    if (target.polyline.rows() < 2 || !target.polyline.allFinite())
+      throw std::invalid_argument(path + ".polyline: expected at least 2 finite points");
+    for (Eigen::Index k = 0; k + 1 < target.polyline.rows(); ++k)
+      if (!((target.polyline.row(k + 1) - target.polyline.row(k)).norm() > 0.0))
+        throw std::invalid_argument(path + ".polyline: points " + std::to_string(k) + " and " +
+                                    std::to_string(k + 1) + " coincide");
+    if (!std::isfinite(target.weight) || target.weight < 0.0)
+      throw std::invalid_argument(path + ".weight: must be finite and ≥ 0");
+    if (target.samples < 0 || target.samples == 1 || target.samples > 10000)
+      throw std::invalid_argument(path + ".samples: expected 0 (automatic) or 2 … 10000");
   }
   const int perSpan = (a.isRational() || b.isRational()) ? 6 * a.degree() - 3 : 3 * a.degree() - 2;
   const int K = perSpan * a.knots.numSpans();
@@ -307,6 +322,26 @@ void StripModel::buildProblem() {
                          "approximation_tangent_plane", feet, std::move(normalSpline), a.knots.domainBegin(),
                          a.knots.domainEnd()),
                      target.tangentPlaneWeight, Strength::Soft);
+  }
+
+  for (const BoundaryTarget& target : design_.boundaryTargets) {
+    // 000_… §4.2: "sampling the curve a_i(u) at regularly spaced parameter values creates vertices
+    // v_i,k … connected to the remaining variables by the linear evaluation relation (5)".
+    const spline::BSplineCurve& c = target.curve == Curve::A ? a : b;
+    const int samples = target.samples > 0 ? target.samples : 4 * n;
+    std::vector<double> u(static_cast<std::size_t>(samples));
+    for (int k = 0; k < samples; ++k)
+      u[static_cast<std::size_t>(k)] =
+          c.knots.domainBegin() + (c.knots.domainEnd() - c.knots.domainBegin()) * k / (samples - 1);
+    std::vector<Eigen::Vector3d> polyline;
+    for (Eigen::Index k = 0; k < target.polyline.rows(); ++k)
+      polyline.push_back(normalization_.toNormalized(target.polyline.row(k).transpose()));
+    problem_.addTerm(std::make_unique<terms::CurveTangentLineDistanceTerm>(
+                         "boundary_proximity",
+                         terms::LinearPoints{spline::curveEvaluationMatrix(c.knots, c.weights, u, 0),
+                                             target.curve == Curve::A ? offA : offB},
+                         std::move(polyline), target.pinEnds),
+                     target.weight, Strength::Soft);
   }
 
   initializeNormals();

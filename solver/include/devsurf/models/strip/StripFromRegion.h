@@ -37,6 +37,18 @@ ApproximationTarget approximationTargetFrom(const Eigen::MatrixX3d& points, cons
 /// Indices of the rows of `points` within `radius` of `centre` (a brush stroke's ball).
 std::vector<int> pointsInBall(const Eigen::MatrixX3d& points, const Eigen::Vector3d& centre, double radius);
 
+/// A quadratic height field h(x, y) = c0 + c1 x + c2 y + c3 x² + c4 xy + c5 y² fitted by least
+/// squares to points in a PCA frame (x, y in the plane, h along its normal; fitted in coordinates
+/// divided by `size`), and the in-plane direction of least normal curvature (where a developable's
+/// rulings run).
+struct QuadraticHeightField {
+  Eigen::VectorXd coefficients;                      ///< c0 … c5 (zero when not fitted)
+  bool curved = false;                               ///< the larger |curvature| exceeds 1e-3/size
+  Eigen::Vector2d leastCurvature{0.0, 1.0};          ///< unit, in (x, y); (0, 1) when not curved
+};
+/// @param[in] local  N×3 points in the frame; fewer than 6 leave the field zero
+QuadraticHeightField fitQuadraticHeightField(const Eigen::MatrixXd& local, double size);
+
 /// A rectangular strip over the points: in the plane through their centroid spanned by the two
 /// largest principal axes, covering their projection, curves a and b (clamped uniform B-splines of
 /// `degree`) along one side and the opposite side, rulings between them; lifted onto the points'

@@ -56,6 +56,21 @@ struct ApproximationTarget {
   double tangentPlaneWeight = 1e-2;   ///< eq. (11): ⟨s(u_j, v_j) − q_j, n(u_j)⟩
 };
 
+/// A neighbouring strip's boundary that one of this strip's curves is to follow (000_… §4.2,
+/// Fig. 10d: "proximity of boundaries as an additional optimization goal"): samples of the curve
+/// at regularly spaced parameters are kept on the tangent lines of the polyline at their closest
+/// points (terms::CurveTangentLineDistanceTerm, soft, "boundary_proximity"), renewed every
+/// iteration. Used by models::strip::pairStripBoundaries; not a scene field.
+struct BoundaryTarget {
+  Curve curve = Curve::A;
+  /// The other boundary (design coordinates), ≥ 2 points, ordered from the end that this curve's
+  /// start is to meet.
+  Eigen::MatrixX3d polyline;
+  double weight = 0.1;   ///< assembler weight of the rows
+  int samples = 0;       ///< samples of the curve; 0 = 4 per control point
+  bool pinEnds = true;   ///< the curve's ends are held at the polyline's ends too
+};
+
 /// Everything that defines a strip design: the two boundary curves and the user's constraints.
 /// Curves a and b share degree, knots and closedness; weights (NURBS) are held constant.
 struct StripDesign {
@@ -65,6 +80,8 @@ struct StripDesign {
   std::vector<Handle> handles;
   /// Reference points to approximate (scene field "approximation"); none by default.
   std::optional<ApproximationTarget> approximation;
+  /// Neighbouring boundaries to follow (not a scene field; see BoundaryTarget).
+  std::vector<BoundaryTarget> boundaryTargets;
 };
 
 /// Weights and switches of the strip model; defaults as documented in proto/schemas.
