@@ -382,7 +382,7 @@ int coverCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     scene.solver.iterations = 20;
     scene.solver.regularization = 1e-2;
     scene.solver.fairness = 0.0;
-    nlohmann::json report = {{"region_points", points.rows()}, {"strips", options.strips}};
+    nlohmann::json report = {{"region_points", points.rows()}, {"strips", options.strips}, {"steep_fraction", cover.steepFraction}};
     for (const auto& p : cover.pairings)
       report["pairings"].push_back({{"first", p.first},
                                     {"first_curve", models::strip::curveName(p.firstCurve)},
@@ -405,6 +405,10 @@ int coverCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     }
     if (!writeScene(scene, outPath, "cover", out, err)) return 1;
     if (!outPath.empty()) out << report.dump(2) << "\n";
+    if (cover.steepFraction > 0.05)
+      err << "devsurf cover: warning: " << std::lround(100 * cover.steepFraction)
+          << " % of the region's normals are more than 75° from its mean plane's: the region wraps around the shape "
+             "and bands across a plane do not describe it (a smaller --radius)\n";
     const double warp = cover.paired.rounds.empty() ? 0.0 : cover.paired.rounds.back().warpMaxDeg;
     if (warp > 1.0)
       err << "devsurf cover: warning: after the last sweep a strip is " << warp

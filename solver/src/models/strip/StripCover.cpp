@@ -277,6 +277,7 @@ RegionCover coverRegion(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& 
           layout.pointAt(layout.halfLength * (2.0 * i / (n - 1) - 1.0), t2).transpose();
     cuts.push_back(std::move(curve));
   }
+  long steep = 0, thinned = 0;
   for (std::size_t k = 0; k < layout.bands.size(); ++k) {
     const std::vector<int>& band = layout.bands[k];
     Eigen::MatrixX3d bandPoints(static_cast<Eigen::Index>(band.size()), 3), bandNormals(0, 3);
@@ -290,6 +291,9 @@ RegionCover coverRegion(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& 
     if (target.points.rows() < 6)
       throw std::invalid_argument("bands[" + std::to_string(k) + "]: " + std::to_string(target.points.rows()) +
                                   " thinned points with a normal; a smaller thinning radius or fewer strips");
+    for (Eigen::Index j = 0; j < target.normals.rows(); ++j)
+      steep += std::abs(target.normals.row(j).normalized().dot(layout.normal.transpose())) < std::cos(75.0 * M_PI / 180.0);
+    thinned += target.normals.rows();
     StripDesign design;
     design.a = cuts[k];
     design.b = cuts[k + 1];
@@ -298,6 +302,7 @@ RegionCover coverRegion(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& 
     cover.placed.push_back(std::move(design));
     if (k > 0) cover.pairings.push_back({static_cast<int>(k) - 1, Curve::B, static_cast<int>(k), Curve::A, false, 0.0});
   }
+  cover.steepFraction = thinned > 0 ? double(steep) / double(thinned) : 0.0;
   // Fig. 10b and d at once: every sweep fits each strip to its band and keeps its curves on its
   // neighbours'.
   cover.paired = pairStripBoundaries(cover.placed, cover.pairings, options.pairing);

@@ -114,6 +114,10 @@ struct RegionCover {
   std::vector<StripDesign> placed;          ///< the strips at the start (approximation targets set)
   std::vector<BoundaryPairing> pairings;    ///< strip k's b with strip k + 1's a
   StripPairingResult paired;                ///< the strips after the sweeps
+  /// Fraction of the thinned points whose fitted normal is more than 75° from the layout's plane
+  /// normal: where the region wraps around the shape, it is not a height field over the plane and
+  /// the layout's bands do not describe it.
+  double steepFraction = 0.0;
 };
 
 /// 000_… Fig. 10 on a region, automatically laid out: regionLayout; per band thinning
