@@ -1,5 +1,6 @@
 #include "devsurf/server/Daemon.h"
 #include "devsurf/server/ShapeApproximation.h"
+#include "devsurf/server/ShapeFitting.h"
 
 #include "devsurf/proto/BoundedJson.h"
 
@@ -478,6 +479,48 @@ void Daemon::routes() {
       replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
     }
   });
+
+  // --- a user's shape → a preview, a fitted strip, strips covering a region (issue 15) ---
+  // The body is the shape's file (a cloud or a mesh); query parameters as `devsurf fit`/`cover`.
+  auto uploadedShape = [](const httplib::Request& req) {
+    reference::ReferenceLimits limits;
+    limits.maxPoints = 2'000'000;  // thinned and searched in this request's thread
+    limits.maxTriangles = 4'000'000;
+    return readUploadedShape(req.body, req.has_param("format") ? req.get_param_value("format") : "",
+                             {"off", "obj", "ply", "stl", "xyz", "pwn"}, limits);
+  };
+  s.Post("/api/references", [needApiKey, uploadedShape](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
+    try {
+      int shown = 20000;
+      for (const auto& [key, value] : req.params) {
+        if (key == "points") shown = static_cast<int>(integerParameter(key, value, 1, 200000));
+        else if (key != "format") throw ApproximationInputError(key, key + ": unknown parameter (format, points)");
+      }
+      replyJson(res, 200, referencePreview(uploadedShape(req), shown));
+    } catch (const ApproximationInputError& e) {
+      replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
+    }
+  });
+  for (const bool cover : {false, true}) {
+    s.Post(cover ? "/api/covers" : "/api/fits",
+           [needApiKey, uploadedShape, cover](const httplib::Request& req, httplib::Response& res) {
+             if (!needApiKey(req, res)) return;
+             try {
+               const std::multimap<std::string, std::string> params(req.params.begin(), req.params.end());
+               const RegionFitRequest request = regionFitRequestFromQuery(params, cover);
+               const reference::ReferenceShape shape = uploadedShape(req);
+               const std::string source = request.name.empty() ? "the uploaded shape" : request.name;
+               const RegionFitResult result =
+                   cover ? coverShapeWithStrips(shape, source, request) : fitStripToShape(shape, source, request);
+               replyJson(res, 200, {{"scene", proto::sceneToJson(result.scene)}, {"summary", result.summary}});
+             } catch (const ApproximationInputError& e) {
+               replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
+             } catch (const std::invalid_argument& e) {
+               replyError(res, 400, "invalid", e.what(), "body");
+             }
+           });
+  }
 
   // --- jobs ---
   s.Post("/api/jobs", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {

@@ -19,36 +19,6 @@ namespace qm = models::quad_mesh;
 
 namespace {
 
-long integerParameter(const std::string& field, const std::string& value, long lo, long hi) {
-  std::size_t used = 0;
-  long v = 0;
-  try {
-    v = std::stol(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (value.empty() || used != value.size() || v < lo || v > hi)
-    throw ApproximationInputError(field, field + ": expected an integer " + std::to_string(lo) + " … " +
-                                             std::to_string(hi) + ", got \"" + value + "\"");
-  return v;
-}
-
-double numberParameter(const std::string& field, const std::string& value, double lo, double hi, bool positive) {
-  std::size_t used = 0;
-  double v = NAN;
-  try {
-    v = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (value.empty() || used != value.size() || !std::isfinite(v) || v < lo || v > hi || (positive && !(v > 0.0))) {
-    std::ostringstream range;
-    range << (positive ? "a number > " : "a number ") << lo << " … " << hi;
-    throw ApproximationInputError(field, field + ": expected " + range.str() + ", got \"" + value + "\"");
-  }
-  return v;
-}
-
 }  // namespace
 
 nlohmann::json ApproximationResult::summaryJson() const {
@@ -153,42 +123,7 @@ ApproximationRequest approximationRequestFromQuery(const std::multimap<std::stri
 
 ApproximationResult approximateUpload(const std::string& body, const std::string& format,
                                       const ApproximationRequest& request, const reference::ReferenceLimits& limits) {
-  if (format != "off" && format != "obj" && format != "ply" && format != "stl")
-    throw ApproximationInputError("format", "format: expected off, obj, ply or stl, got \"" + format + "\"");
-  if (body.empty()) throw ApproximationInputError("body", "body: empty; send the mesh file as the request body");
-  if (body.size() > limits.maxFileBytes)
-    throw ApproximationInputError("body", "body: " + std::to_string(body.size()) + " bytes; the limit is " +
-                                              std::to_string(limits.maxFileBytes), true);
-  // The readers take a path: a private file under the temporary directory, removed on return.
-  static std::atomic<unsigned long> counter{0};
-  std::random_device entropy;
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() /
-      ("devsurf-upload-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + std::to_string(entropy()) +
-       "." + format);
-  struct Removal {
-    std::filesystem::path path;
-    ~Removal() {
-      std::error_code ignored;
-      std::filesystem::remove(path, ignored);
-    }
-  } removal{path};
-  {
-    std::ofstream file(path, std::ios::binary | std::ios::trunc);
-    std::filesystem::permissions(path, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
-    if (!(file << body) || !file.flush()) throw std::runtime_error("cannot write the upload to a temporary file");
-  }
-  reference::ReferenceShape shape;
-  try {
-    shape = reference::readReferenceShape(path.string(), limits);
-  } catch (const std::invalid_argument& e) {
-    std::string message = e.what();
-    const std::string name = path.string();
-    for (std::size_t at = message.find(name); at != std::string::npos; at = message.find(name))
-      message.replace(at, name.size(), "body");
-    const bool tooLarge = message.find("limit") != std::string::npos;
-    throw ApproximationInputError("body", message, tooLarge);
-  }
+  const reference::ReferenceShape shape = readUploadedShape(body, format, {"off", "obj", "ply", "stl"}, limits);
   return approximateShape(shape, request.name.empty() ? "the uploaded mesh" : request.name, request);
 }
 

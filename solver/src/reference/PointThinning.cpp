@@ -117,4 +117,12 @@ ThinnedCloud thinPointCloud(const Eigen::MatrixX3d& points, const Eigen::MatrixX
   return out;
 }
 
+double suggestedThinningRadius(const Eigen::MatrixX3d& points, bool normalsGiven) {
+  if (points.rows() < 2) return 0.0;
+  const double diagonal = (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) return 0.0;
+  if (normalsGiven) return 0.03 * diagonal;
+  return std::max(0.03 * diagonal, 1.5 * diagonal / std::sqrt(static_cast<double>(points.rows())));
+}
+
 }  // namespace devsurf::reference

@@ -11,22 +11,9 @@
 #include "devsurf/models/quad_mesh/SegmentedApproximation.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/reference/ReferenceShape.h"
+#include "devsurf/server/ShapeUpload.h"
 
 namespace devsurf::server {
-
-/// A bad field of an approximation request (a query parameter, the body, a CLI option): the
-/// route answers 400 naming `field` (413 when `tooLarge`).
-class ApproximationInputError : public std::invalid_argument {
- public:
-  ApproximationInputError(std::string field, const std::string& message, bool tooLarge = false)
-      : std::invalid_argument(message), field_(std::move(field)), tooLarge_(tooLarge) {}
-  const std::string& field() const { return field_; }
-  bool tooLarge() const { return tooLarge_; }
-
- private:
-  std::string field_;
-  bool tooLarge_;
-};
 
 /// What to make of a reference mesh (issue 15, 004_… §5): `devsurf approximate` and
 /// POST /api/approximations.

@@ -257,9 +257,8 @@ RegionCover coverRegion(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& 
   RegionCover cover;
   cover.layout = regionLayout(points, options.strips, options.keep);
   const RegionLayout& layout = cover.layout;
-  const double diagonal = (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
   reference::ThinningOptions thinning;
-  thinning.radius = options.thinRadius > 0.0 ? options.thinRadius : 0.03 * diagonal;
+  thinning.radius = options.thinRadius > 0.0 ? options.thinRadius : reference::suggestedThinningRadius(points, normals.rows() > 0);
   thinning.seed = options.seed;
   // The cut lines between the bands (and the rectangle's two long sides) lifted onto the region's
   // quadratic height field: neighbouring strips start on one shared curve, ends lined up

@@ -100,7 +100,7 @@ RegionLayout regionLayout(const Eigen::MatrixX3d& points, int count, double keep
 struct RegionCoverOptions {
   int strips = 4;                 ///< bands, one strip each
   double keep = 0.7;              ///< regionLayout: the rectangle's half-sizes over the extents
-  double thinRadius = 0.0;        ///< thinning radius; 0 = 3 % of the region's bounding-box diagonal
+  double thinRadius = 0.0;        ///< thinning radius; 0 = reference::suggestedThinningRadius
   std::uint32_t seed = 1;         ///< thinning order
   /// Control points and degree of every curve (the rulings option is not used: they run across
   /// the bands).

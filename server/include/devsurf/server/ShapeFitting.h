@@ -1,0 +1,71 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "devsurf/models/composite/CompositeDesign.h"
+#include "devsurf/models/strip/StripFromRegion.h"
+#include "devsurf/proto/Scene.h"
+#include "devsurf/reference/ReferenceShape.h"
+#include "devsurf/server/ShapeUpload.h"
+
+namespace devsurf::server {
+
+/// A region of a user's shape and what to place on it (issue 15, 000_… §4.2): `devsurf fit`,
+/// `devsurf cover`, POST /api/fits and /api/covers.
+struct RegionFitRequest {
+  std::optional<Eigen::Vector3d> centre;  ///< with radius: a ball (a brush stroke); else all of the shape
+  double radius = 0.0;
+  double thin = 0.0;          ///< thinning radius; 0 = reference::suggestedThinningRadius
+  std::uint32_t seed = 1;     ///< thinning order
+  int controlPoints = 8;      ///< per curve
+  int iterations = 60;        ///< fit: the scene's solver.iterations (Fig. 17 row 10)
+  models::strip::RegionStripOptions::Rulings rulings = models::strip::RegionStripOptions::Rulings::Auto;  ///< fit
+  bool flat = false;          ///< fit: leave the start flat (the paper's Fig. 10a)
+  int strips = 4;             ///< cover: bands, one strip each
+  int rounds = 8;             ///< cover: sweeps
+  models::composite::CreaseKind crease = models::composite::CreaseKind::None;  ///< cover: shared edges
+  std::string name;           ///< the scene's name ("" = from the source)
+  std::string units = "mm";
+};
+
+/// A scene made over a region, what was built (as JSON) and warnings for the user.
+struct RegionFitResult {
+  proto::Scene scene;
+  nlohmann::json summary;
+  std::vector<std::string> warnings;
+  Eigen::MatrixX3d covered;  ///< cover: the points of the bands (the region as covered)
+};
+
+/// The request from query parameters: centre ("x,y,z"), radius, thin, seed, control_points,
+/// iterations, rulings (auto|across|along), flat (true|false), name, units; for a cover also
+/// strips, rounds, crease (none|fold). Unknown ones are refused.
+/// @throws ApproximationInputError naming the parameter
+RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std::string>& params, bool cover);
+
+/// A strip scene approximating the region (000_… §4.2, Fig. 10a–b): the region thinned with a
+/// normal per point, a strip placed by PCA over it, eq. (9)–(11) as its approximation target.
+/// @param[in] source  names the input in the scene's name and description (a file name)
+/// @throws ApproximationInputError (field "radius", "thin", …) for a region too small to fit
+RegionFitResult fitStripToShape(const reference::ReferenceShape& shape, const std::string& source,
+                                const RegionFitRequest& request);
+
+/// A composite scene of strips side by side covering the region (000_… Fig. 10d–e;
+/// models::strip::coverRegion, models::composite::compositeFromStrips). Its summary lists the
+/// pairings and each sweep's gap and warp; warnings when the region wraps around the shape or the
+/// strips end far from developable.
+/// @throws ApproximationInputError naming the parameter the region fails on
+RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, const std::string& source,
+                                     const RegionFitRequest& request);
+
+/// What the browser draws of an uploaded shape before a region is chosen: at most `maxPoints`
+/// of its points (a seeded thinning when there are more), its bounding box and diagonal, counts.
+nlohmann::json referencePreview(const reference::ReferenceShape& shape, int maxPoints);
+
+}  // namespace devsurf::server
