@@ -502,25 +502,26 @@ void Daemon::routes() {
       replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
     }
   });
-  for (const bool cover : {false, true}) {
-    s.Post(cover ? "/api/covers" : "/api/fits",
-           [needApiKey, uploadedShape, cover](const httplib::Request& req, httplib::Response& res) {
-             if (!needApiKey(req, res)) return;
-             try {
-               const std::multimap<std::string, std::string> params(req.params.begin(), req.params.end());
-               const RegionFitRequest request = regionFitRequestFromQuery(params, cover);
-               const reference::ReferenceShape shape = uploadedShape(req);
-               const std::string source = request.name.empty() ? "the uploaded shape" : request.name;
-               const RegionFitResult result =
-                   cover ? coverShapeWithStrips(shape, source, request) : fitStripToShape(shape, source, request);
-               replyJson(res, 200, {{"scene", proto::sceneToJson(result.scene)}, {"summary", result.summary}});
-             } catch (const ApproximationInputError& e) {
-               replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
-             } catch (const std::invalid_argument& e) {
-               replyError(res, 400, "invalid", e.what(), "body");
-             }
-           });
-  }
+  auto regionRoute = [needApiKey, uploadedShape](bool cover) {
+    return [needApiKey, uploadedShape, cover](const httplib::Request& req, httplib::Response& res) {
+      if (!needApiKey(req, res)) return;
+      try {
+        const std::multimap<std::string, std::string> params(req.params.begin(), req.params.end());
+        const RegionFitRequest request = regionFitRequestFromQuery(params, cover);
+        const reference::ReferenceShape shape = uploadedShape(req);
+        const std::string source = request.name.empty() ? "the uploaded shape" : request.name;
+        const RegionFitResult result =
+            cover ? coverShapeWithStrips(shape, source, request) : fitStripToShape(shape, source, request);
+        replyJson(res, 200, {{"scene", proto::sceneToJson(result.scene)}, {"summary", result.summary}});
+      } catch (const ApproximationInputError& e) {
+        replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
+      } catch (const std::invalid_argument& e) {
+        replyError(res, 400, "invalid", e.what(), "body");
+      }
+    };
+  };
+  s.Post("/api/fits", regionRoute(false));
+  s.Post("/api/covers", regionRoute(true));
 
   // --- jobs ---
   s.Post("/api/jobs", [this, needApiKey](const httplib::Request& req, httplib::Response& res) {

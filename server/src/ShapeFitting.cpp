@@ -108,6 +108,10 @@ RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std:
                                              ", name, units, format)");
     }
   }
+  // The sweeps run in the caller's thread (a request's): bounded to about ten seconds.
+  if (cover && r.strips * r.rounds > 400)
+    throw ApproximationInputError("rounds", "rounds: strips × rounds is at most 400 (" + std::to_string(r.strips) +
+                                                " × " + std::to_string(r.rounds) + ")");
   if (r.centre.has_value() != (r.radius > 0.0))
     throw ApproximationInputError(r.centre ? "radius" : "centre", "centre and radius go together");
   return r;

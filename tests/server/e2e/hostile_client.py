@@ -482,7 +482,8 @@ class Worker:
             self.created_job = reply[1]["id"]
 
     async def rest_meshes(self):
-        """POST /api/approximations: small meshes, broken ones and hostile parameters (issue 15)."""
+        """POST /api/approximations, /api/references, /api/fits, /api/covers: small meshes and clouds, broken ones and
+        hostile parameters (issue 15)."""
         rng = self.rng
         n = rng.randint(1, 6)
         verts = [f"{i / n} {j / n} {0.2 * rng.random()}" for j in range(n + 1) for i in range(n + 1)]
@@ -510,9 +511,23 @@ class Worker:
                             ("isometry", ["10", "-1", "inf"]), ("units", ["cm", "parsec"]), ("bogus", ["1"])]:
             if rng.random() < 0.2:
                 params[key] = rng.choice(values)
+        route = "/api/approximations"
+        if rng.random() < 0.4:
+            # The same shapes (and clouds of their vertices) to preview, fit a strip to, or cover.
+            route = rng.choice(["/api/references", "/api/fits", "/api/covers"])
+            if rng.random() < 0.4:
+                body = ("\n".join(verts) + "\n").encode()
+                params["format"] = rng.choice(["xyz", "pwn", "xyz", "off"])
+            params = {"format": params["format"]}
+            for key, values in [("centre", ["0.5,0.5,0", "0,0", "nan,0,0", "1e308,0,0"]), ("radius", ["0.4", "0", "-1", "inf"]),
+                                ("thin", ["0.05", "0", "1e-300"]), ("strips", ["2", "0", "65", "x"]), ("rounds", ["1", "101"]),
+                                ("control_points", ["4", "3", "201"]), ("crease", ["fold", "valley"]),
+                                ("points", ["10", "0", "200001"]), ("flat", ["true", "maybe"]), ("bogus", ["1"])]:
+                if rng.random() < 0.2:
+                    params[key] = rng.choice(values)
         query = "&".join(f"{k}={v}" for k, v in params.items())
-        raw = request("POST", "/api/approximations?" + query, body, content_type="application/octet-stream")
-        await self.rest(raw, "rest.mesh", f"/api/approximations?{query} {body[:120]!r}")
+        raw = request("POST", route + "?" + query, body, content_type="application/octet-stream")
+        await self.rest(raw, "rest.mesh", f"{route}?{query} {body[:120]!r}")
 
     async def rest_reads(self):
         rng = self.rng

@@ -273,11 +273,67 @@ class ProtocolTest(DaemonTestCase):
             self.assertEqual(err["error"]["path"], field, (query, err))
         self.assertEqual(self.daemon.json("GET", "/api/health")[0], 200)
 
+    def test_an_uploaded_cloud_is_previewed_fitted_by_a_strip_and_covered_by_strips(self):
+        # A cylinder patch (radius 1, 100°, height 1.2) as XYZ text without normals (issue 15).
+        import math
+        import random
+        rng = random.Random(7)
+        rows = []
+        for _ in range(3000):
+            a = math.radians(-50 + 100 * rng.random())
+            rows.append(f"{math.cos(a)} {math.sin(a)} {1.2 * rng.random()}")
+        xyz = ("\n".join(rows) + "\n").encode()
+        octet = {"Content-Type": "application/octet-stream"}
+        status, _, preview = self.daemon.json("POST", "/api/references?format=xyz&points=500", xyz, octet)
+        self.assertEqual(status, 200, preview)
+        self.assertEqual((preview["points"], preview["shown"], len(preview["positions"])), (3000, 500, 1500))
+        self.assertAlmostEqual(preview["diagonal"], math.dist(*preview["bounding_box"]), places=9)
+        # A brush stroke → a strip that fits as a job.
+        status, _, fit = self.daemon.json("POST", "/api/fits?format=xyz&centre=1,0,0.6&radius=0.6", xyz, octet)
+        self.assertEqual(status, 200, fit)
+        self.assertEqual(fit["scene"]["model"]["kind"], "strip")
+        self.assertGreater(len(fit["scene"]["model"]["approximation"]["points"]), 30)
+        # Strips side by side → a composite that solves as a job near the points.
+        status, _, cover = self.daemon.json("POST", "/api/covers?format=xyz&strips=3", xyz, octet)
+        self.assertEqual(status, 200, cover)
+        self.assertEqual(cover["scene"]["model"]["kind"], "composite")
+        self.assertEqual(len(cover["scene"]["model"]["faces"]), 3)
+        self.assertEqual(len(cover["summary"]["pairings"]), 2)
+        self.assertEqual(cover["summary"]["warnings"], [])
+        self.assertLess(cover["summary"]["rounds"][-1]["gap_max"], 1e-3)
+        for scene, metric in ((fit["scene"], "approximation_distance_rms_relative"), (cover["scene"], "warp_angle_max_deg")):
+            status, _, job = self.daemon.json("POST", "/api/jobs", scene)
+            self.assertEqual(status, 202, job)
+            for _ in range(600):
+                status, _, state = self.daemon.json("GET", "/api/jobs/" + job["id"])
+                if state["state"] in ("succeeded", "failed"):
+                    break
+                time.sleep(0.05)
+            self.assertEqual(state["state"], "succeeded", state)
+            self.assertLess(state["report"]["metrics"]["warp_angle_max_deg"], 0.05)
+            self.assertLess(state["report"]["metrics"].get(metric, 0.0), 0.01)
+        status, _, session = self.daemon.json("POST", "/api/sessions", fit["scene"])
+        self.assertEqual(status, 201, session)
+        # Bad input names the field.
+        cases = [("/api/fits?format=dxf", xyz, "format"), ("/api/fits?format=xyz&centre=1,0", xyz, "centre"),
+                 ("/api/fits?format=xyz&centre=1,0,0", xyz, "radius"), ("/api/fits?format=xyz&radius=-1&centre=0,0,0", xyz, "radius"),
+                 ("/api/fits?format=xyz&centre=9,9,9&radius=0.1", xyz, "radius"), ("/api/fits?format=xyz&strips=3", xyz, "strips"),
+                 ("/api/covers?format=xyz&strips=0", xyz, "strips"), ("/api/covers?format=xyz&crease=valley", xyz, "crease"),
+                 ("/api/covers?format=xyz&centre=nan,0,0&radius=1", xyz, "centre"), ("/api/covers?format=xyz", b"", "body"),
+                 ("/api/covers?format=xyz", b"1 2\n", "body"), ("/api/references?format=xyz&points=0", xyz, "points"),
+                 ("/api/references?format=xyz&colour=red", xyz, "colour")]
+        for route, data, field in cases:
+            status, _, err = self.daemon.json("POST", route, data, octet)
+            self.assertEqual(status, 400, (route, err))
+            self.assertEqual(err["error"]["path"], field, (route, err))
+        self.assertEqual(self.daemon.json("GET", "/api/health")[0], 200)
+
     def test_openapi_lists_every_route_and_metrics_are_prometheus_text(self):
         status, _, doc = self.daemon.json("GET", "/api/openapi.json")
         self.assertEqual(status, 200)
         self.assertEqual(doc["openapi"], "3.1.0")
         routes = {"/api/health", "/api/metrics", "/api/openapi.json", "/api/sessions", "/api/sessions/{id}", "/api/approximations",
+                  "/api/references", "/api/fits", "/api/covers",
                   "/api/sessions/{id}/export", "/api/jobs", "/api/jobs/{id}", "/api/jobs/{id}/cancel",
                   "/api/jobs/{id}/result", "/ws"}
         self.assertEqual(set(doc["paths"]), routes)

@@ -45,7 +45,7 @@ struct RegionFitResult {
 
 /// The request from query parameters: centre ("x,y,z"), radius, thin, seed, control_points,
 /// iterations, rulings (auto|across|along), flat (true|false), name, units; for a cover also
-/// strips, rounds, crease (none|fold). Unknown ones are refused.
+/// strips, rounds, crease (none|fold), with strips × rounds ≤ 400. Unknown ones are refused.
 /// @throws ApproximationInputError naming the parameter
 RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std::string>& params, bool cover);
 
