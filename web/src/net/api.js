@@ -61,6 +61,35 @@ export async function approximateMesh(file, { format, segments, faces, name }, a
   return body;
 }
 
+/** POST a shape file to `route` with query parameters → the JSON answer (throws ApiError). */
+async function postShape(route, file, query, apiKey) {
+  const headers = { 'Content-Type': 'application/octet-stream' };
+  if (apiKey) headers.Authorization = `Bearer ${apiKey}`;
+  const res = await fetch(apiUrl(`${route}?${query}`), { method: 'POST', headers, body: file });
+  const body = await readJson(res);
+  if (!res.ok) throw new ApiError(res.status, body);
+  return body;
+}
+
+/**
+ * POST /api/references?format=…&points=… with a point cloud or mesh as the body → {points,
+ * triangles, shown, positions (flat x,y,z), bounding_box, diagonal}: what to draw to pick a region.
+ */
+export function previewShape(file, { format, points = 20000 }, apiKey) {
+  return postShape('references', file, new URLSearchParams({ format, points: String(points) }), apiKey);
+}
+
+/**
+ * POST /api/fits (one strip) or /api/covers (strips side by side, a composite) for the region of a
+ * shape within `radius` of `centre` ([x, y, z]) → {scene, summary} (issue 15).
+ */
+export function fitRegion(file, { format, centre, radius, cover, strips, name }, apiKey) {
+  const query = new URLSearchParams({ format, centre: centre.join(','), radius: String(radius) });
+  if (cover) query.set('strips', String(strips));
+  if (name) query.set('name', name);
+  return postShape(cover ? 'covers' : 'fits', file, query, apiKey);
+}
+
 /** GET /api/sessions/{id}/export?format=json|obj|fold|svg with the token as Bearer → Blob */
 export async function exportSession(id, token, format) {
   const res = await fetch(apiUrl(`sessions/${encodeURIComponent(id)}/export?format=${format}`), {

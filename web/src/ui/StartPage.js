@@ -3,7 +3,8 @@
 
 import { h, clear } from './dom.js';
 import { PRESETS } from '../presets.js';
-import { approximateMesh, createSession, listSessions } from '../net/api.js';
+import { approximateMesh, createSession, fitRegion, listSessions, previewShape } from '../net/api.js';
+import { RegionPicker } from './RegionPicker.js';
 import { Toasts } from './Toast.js';
 import { apiKey, rememberSessionTokens, setApiKey } from './preferences.js';
 
@@ -59,6 +60,26 @@ export class StartPage {
     this.meshFaces = h('input', { type: 'number', class: 'input narrow', min: '4', max: '100000', value: '1500', testid: 'mesh-faces', 'aria-label': 'Quads' });
     this.meshButton = h('button', { class: 'btn', testid: 'approximate-mesh', onclick: () => this._approximateMesh() }, 'Approximate');
 
+    // A user's shape → a strip fitted to a region, or strips side by side covering it (POST
+    // /api/references to draw it, then /api/fits or /api/covers), opened as a session.
+    this.shapeInput = h('input', { type: 'file', accept: '.off,.obj,.ply,.stl,.xyz,.pwn', testid: 'shape-file', class: 'input', 'aria-label': 'Shape file' });
+    this.shapeInput.addEventListener('change', () => this._previewShape());
+    this.shapeInfo = h('p', { class: 'muted small', testid: 'shape-info' }, 'A point cloud (.xyz, .pwn, .ply) or a mesh (.off, .obj, .ply, .stl). Click the shape to centre the region.');
+    this.regionCentre = h('input', { type: 'text', class: 'input', testid: 'region-centre', placeholder: 'x, y, z', 'aria-label': 'Region centre' });
+    this.regionCentre.addEventListener('change', () => this._updateRegion());
+    this.regionRadius = h('input', { type: 'range', min: '1', max: '60', step: '1', value: '15', testid: 'region-radius', 'aria-label': 'Region radius (% of the shape)' });
+    this.regionRadius.addEventListener('input', () => this._updateRegion());
+    this.regionRadiusLabel = h('span', { class: 'small mono', testid: 'region-radius-label' });
+    this.regionMode = h('select', { class: 'input', testid: 'region-mode', 'aria-label': 'What to fit' },
+      h('option', { value: 'strip' }, 'one strip, fitted live'),
+      h('option', { value: 'cover' }, 'strips side by side (a composite)'));
+    this.regionStrips = h('input', { type: 'number', class: 'input narrow', min: '1', max: '64', value: '6', testid: 'region-strips', 'aria-label': 'Strips' });
+    this.regionMode.addEventListener('change', () => { this.regionStrips.disabled = this.regionMode.value !== 'cover'; });
+    this.regionStrips.disabled = true;
+    this.regionButton = h('button', { class: 'btn', testid: 'fit-region', disabled: true, onclick: () => this._fitRegion() }, 'Fit');
+    this.regionPicker = null;
+    this.regionView = h('div', { class: 'region-view-slot', hidden: true });
+
     this.joinInput = h('input', { type: 'text', class: 'input', placeholder: 'paste an edit or view link', 'aria-label': 'Session link' });
     this.joinError = h('div', { class: 'field-error', hidden: true });
     const join = () => {
@@ -92,6 +113,12 @@ export class StartPage {
           h('p', { class: 'muted small' }, 'A triangle mesh with one boundary (.off, .obj, .ply, .stl) becomes developable patches glued along their borders, each with its flat cutting pattern (Jiang et al. 2020, §5). Solve it in the editor.'),
           this.meshInput,
           h('div', { class: 'row' }, h('label', { class: 'small' }, 'Patches ', this.meshPatches), h('label', { class: 'small' }, 'Quads ', this.meshFaces), this.meshButton)),
+        h('section', { class: 'card wide', testid: 'shape-card' }, h('h2', {}, 'Fit strips to your own shape'),
+          h('p', { class: 'muted small' }, 'Choose a region of a scan or mesh: one developable strip grows onto it while you watch (Tang et al. 2016 §4.2), or strips side by side become one composite covering it (Fig. 10).'),
+          this.shapeInput, this.shapeInfo, this.regionView,
+          h('div', { class: 'row' }, h('label', { class: 'small' }, 'Centre ', this.regionCentre),
+            h('label', { class: 'small' }, 'Radius ', this.regionRadius, ' ', this.regionRadiusLabel)),
+          h('div', { class: 'row' }, this.regionMode, h('label', { class: 'small' }, 'Strips ', this.regionStrips), this.regionButton)),
         h('section', { class: 'card' }, h('h2', {}, 'Join by link'),
           h('div', { class: 'row' }, this.joinInput, h('button', { class: 'btn', onclick: join }, 'Join')), this.joinError)),
       h('div', { class: 'start-status' }, this.apiKeyRow, this.busy, this.createError),
@@ -185,6 +212,85 @@ export class StartPage {
       this.busy.textContent = 'Creating the session…';
     }
     this.meshButton.disabled = false;
+    await this._create(result.scene, what);
+  }
+
+  /** The shape file, its format, and a message when there is none. */
+  _shapeFile() {
+    const file = this.shapeInput.files && this.shapeInput.files[0];
+    return file ? { file, format: (file.name.split('.').pop() || '').toLowerCase() } : null;
+  }
+
+  async _previewShape() {
+    const shape = this._shapeFile();
+    if (!shape) return;
+    const what = `read ${shape.file.name}`;
+    this.createError.hidden = true;
+    this.regionButton.disabled = true;
+    this.shapeInfo.textContent = `Reading ${shape.file.name}…`;
+    try {
+      this.preview = await previewShape(shape.file, { format: shape.format }, this.apiKeyInput.value.trim() || apiKey());
+    } catch (e) {
+      this.shapeInfo.textContent = `${shape.file.name} could not be read.`;
+      this._showCreateError(e, what);
+      return;
+    }
+    const p = this.preview;
+    this.shapeInfo.textContent = `${shape.file.name}: ${p.points.toLocaleString('en')} points`
+      + (p.triangles ? `, ${p.triangles.toLocaleString('en')} triangles` : '')
+      + (p.shown < p.points ? ` (${p.shown.toLocaleString('en')} drawn)` : '') + '. Click the shape to centre the region; drag to turn it.';
+    if (!this.regionPicker) {
+      this.regionPicker = new RegionPicker({ onPick: (c) => { this.regionCentre.value = c.map((v) => +v.toPrecision(6)).join(', '); this._updateRegion(); } });
+      this.regionView.appendChild(this.regionPicker.element);
+    }
+    this.regionView.hidden = false;
+    this.regionPicker.show(p);
+    this._updateRegion();
+  }
+
+  /** The centre typed or picked ([x, y, z] or null) and the radius in the shape's units. */
+  _region() {
+    const parts = this.regionCentre.value.split(/[\s,]+/).filter(Boolean).map(Number);
+    const centre = parts.length === 3 && parts.every(Number.isFinite) ? parts : null;
+    const radius = this.preview ? (Number(this.regionRadius.value) / 100) * this.preview.diagonal : 0;
+    return { centre, radius };
+  }
+
+  _updateRegion() {
+    const { centre, radius } = this._region();
+    this.regionRadiusLabel.textContent = this.preview ? `${+radius.toPrecision(3)} (${this.regionRadius.value} %)` : `${this.regionRadius.value} %`;
+    if (this.regionPicker) this.regionPicker.setRegion(centre, radius);
+    this.regionButton.disabled = !this.preview || !centre;
+    this.regionCentre.classList.toggle('invalid', this.regionCentre.value.trim() !== '' && !centre);
+  }
+
+  async _fitRegion() {
+    const shape = this._shapeFile();
+    const { centre, radius } = this._region();
+    if (!shape || !centre) return;
+    const cover = this.regionMode.value === 'cover';
+    const strips = Math.max(1, Math.min(64, Math.round(Number(this.regionStrips.value) || 4)));
+    const stem = shape.file.name.replace(/\.[^.]*$/, '');
+    const what = cover ? `cover a region of ${shape.file.name}` : `fit a strip to ${shape.file.name}`;
+    this.createError.hidden = true;
+    this.busy.textContent = cover ? `Fitting ${strips} strips side by side…` : 'Placing the strip…';
+    this.busy.hidden = false;
+    this.regionButton.disabled = true;
+    let result;
+    try {
+      result = await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips,
+        name: cover ? `${stem}: ${strips} strips` : `${stem}: fitted strip` }, this.apiKeyInput.value.trim() || apiKey());
+    } catch (e) {
+      this._showCreateError(e, what);
+      this.busy.hidden = true;
+      this.regionButton.disabled = false;
+      return;
+    } finally {
+      this.busy.textContent = 'Creating the session…';
+    }
+    const warnings = (result.summary && result.summary.warnings) || [];
+    if (warnings.length) this.toasts.showError({ code: 'warning', message: warnings.join(' ') }, what);
+    this.regionButton.disabled = false;
     await this._create(result.scene, what);
   }
 

@@ -1,0 +1,116 @@
+// Fit strips to your own shape (issue 15): the start page reads CGAL's bunny (a mesh nobody here
+// made) through POST /api/references and draws its points; a click on the shape centres the
+// region (the ball brush) and the radius slider sizes it; "one strip" opens a strip session that
+// grows onto the region while Solve streams iterates (the reference points drawn, the fit in the
+// status line), and "strips side by side" opens the composite covering the bunny's back.
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { test } from 'node:test';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('fit-region', { demos: [path.join(h.EXAMPLES, 'strip-twisted.json')] });
+
+function cgalFile(member) {
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'devsurf-cgal-'));
+  execFileSync('tar', ['-xzf', '/usr/share/doc/libcgal-dev/data.tar.gz', '-C', dir, member]);
+  return path.join(dir, member);
+}
+
+async function loadShape(page, daemon, file) {
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('shape-file').setInputFiles(file);
+  await page.getByTestId('region-view').waitFor();
+  await h.poll(async () => /37,706 points, 75,408 triangles/.test(await page.getByTestId('shape-info').textContent()));
+}
+
+test('a click on an uploaded shape centres the region, and one strip fitted there grows onto it while Solve streams',
+  { timeout: 180000 }, () => ctx.guard('fit-region-strip', async () => {
+    const { daemon } = ctx;
+    const bunny = cgalFile('data/meshes/bunny00.off');
+    const page = await ctx.page();
+    await loadShape(page, daemon, bunny);
+    assert.equal(await page.getByTestId('fit-region').isDisabled(), true, 'no region yet');
+    // A click in the middle of the view lands on the bunny and fills the centre.
+    await page.getByTestId('region-view').scrollIntoViewIfNeeded();
+    const box = await page.getByTestId('region-view').boundingBox();
+    await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+    const picked = await h.inputValueWhenSet(page, 'region-centre');
+    const centre = picked.split(/[\s,]+/).map(Number);
+    assert.equal(centre.length, 3);
+    assert.ok(centre.every((v) => Math.abs(v) <= 0.5), `the picked point ${picked} lies on the bunny`);
+    await h.settleFrames(page);
+    await h.screenshotPage(page, '11-start-page-region');
+    // The bunny's back, a ball of 8 % of its diagonal, one strip (doubly curved: one strip stays
+    // ~1.6 % of the region away; eight side by side come to 0.65 %, CoverCommandTest).
+    await page.getByTestId('region-centre').fill('0.187, 0.119, 0.014');
+    await page.getByTestId('region-centre').dispatchEvent('change');
+    await page.getByTestId('region-radius').fill('8');
+    assert.equal(await page.getByTestId('region-radius-label').textContent(), '0.128 (8 %)');
+    await page.getByTestId('fit-region').click();
+    await page.getByTestId('editor').waitFor({ timeout: 60000 });
+    await h.waitForConnected(page);
+    const opened = await h.state(page);
+    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    assert.equal(server.scene.model.kind, 'strip');
+    assert.equal(server.scene.name, 'bunny00: fitted strip');
+    assert.ok(server.scene.model.approximation.points.length > 20, 'the region thinned as the target');
+    await h.waitState(page, (s) => s.metrics && typeof s.metrics.approximation_distance_rms_relative === 'number',
+      undefined, { what: 'the placed strip measured against the region' });
+    const before = (await h.state(page)).metrics.approximation_distance_rms_relative;
+    await page.getByTestId('solve').click();
+    await h.waitState(page, (s) => s.lastSolved && s.metrics && typeof s.metrics.approximation_distance_rms_relative === 'number',
+      undefined, { what: 'a solved fit with approximation metrics', timeout: 90000 });
+    const st = await h.state(page);
+    console.log(`bunny back, one strip: RMS ${(100 * st.metrics.approximation_distance_rms_relative).toFixed(3)} % of the region `
+      + `(placed: ${(100 * before).toFixed(3)} %), covered ${(100 * st.metrics.approximation_coverage).toFixed(1)} %, warp ${st.metrics.warp_angle_max_deg.toExponential(2)}°`);
+    assert.ok(st.metrics.approximation_distance_rms_relative < 0.04, 'the strip lies on the region');
+    assert.ok(st.metrics.approximation_coverage > 0.15, 'the strip covers part of the region');
+    assert.ok(st.metrics.approximation_distance_rms_relative < 0.5 * before, 'the strip grew onto the region');
+    assert.match(await page.getByTestId('status-fit').textContent(), /^RMS [\d.]+ % · max [\d.]+ % · [\d.]+ % covered$/);
+    await h.settleFrames(page);
+    await h.screenshotViewport(page, '11-fit-region-strip');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
+
+test('strips side by side over the bunny\'s back open as one composite that solves developable',
+  { timeout: 180000 }, () => ctx.guard('fit-region-cover', async () => {
+    const { daemon } = ctx;
+    const bunny = cgalFile('data/meshes/bunny00.off');
+    const page = await ctx.page();
+    await loadShape(page, daemon, bunny);
+    await page.getByTestId('region-centre').fill('0.187,0.119,0.014');
+    await page.getByTestId('region-centre').dispatchEvent('change');
+    await page.getByTestId('region-radius').fill('22');
+    await page.getByTestId('region-mode').selectOption('cover');
+    await page.getByTestId('region-strips').fill('8');
+    await page.getByTestId('fit-region').click();
+    await page.getByTestId('editor').waitFor({ timeout: 60000 });
+    await h.waitForConnected(page);
+    const opened = await h.state(page);
+    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    assert.equal(server.scene.model.kind, 'composite');
+    assert.equal(server.scene.model.faces.length, 8);
+    await page.getByTestId('solve').click();
+    await h.waitState(page, (s) => s.lastSolved && s.metrics && s.metrics.warp_angle_max_deg < 0.05,
+      undefined, { what: 'a developable composite', timeout: 90000 });
+    await h.settleFrames(page);
+    const shot = await h.screenshotViewport(page, '11-fit-region-cover');
+    const s = h.pixelStats(shot.image);
+    assert.ok(s.distinct >= 32 && s.dominantShare < 0.97, `the composite is drawn (${s.distinct} colours)`);
+
+    // A region with no points: refused on the start page, naming the field; the page stays usable.
+    const start = await ctx.page();
+    await loadShape(start, daemon, bunny);
+    await start.getByTestId('region-centre').fill('5, 5, 5');
+    await start.getByTestId('region-centre').dispatchEvent('change');
+    await start.getByTestId('fit-region').click();
+    const error = start.locator('.start-status .field-error');
+    await error.waitFor({ state: 'visible' });
+    assert.match(await error.textContent(), /fit a strip to bunny00\.off: radius: the region holds 0 points/);
+    assert.equal(await start.getByTestId('fit-region').isDisabled(), false);
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
