@@ -70,12 +70,14 @@ io::QuadMesh SceneSolver::sampledSurface() const {
   return strip_->geometry(200, 8, 2).surface;
 }
 
-proto::Metrics SceneSolver::referenceMetrics(const Eigen::MatrixX3d& reference, double tolerance) const {
+proto::Metrics SceneSolver::referenceMetrics(const Eigen::MatrixX3d& reference, double tolerance,
+                                             Eigen::VectorXd* distances) const {
   const io::QuadMesh surface = sampledSurface();
   if (!surface.vertices.allFinite())
     throw std::runtime_error("the surface has a non-finite coordinate; no distances measured");
   const reference::SurfaceDistance d =
       reference::surfaceDistance(reference, surface.vertices, io::triangulateQuads(surface), tolerance);
+  if (distances) *distances = d.distances;
   return {{"reference_points", d.points},
           {"reference_distance_max", d.maxDistance},
           {"reference_distance_rms", d.rmsDistance},

@@ -301,17 +301,24 @@ json Session::geometryJson(json* iterateMetrics) const {
     const metrics::StripQuality q = solver_->stripModel().quality(200);
     *iterateMetrics = {{"warp_angle_max_deg", q.warpAngleMaxDeg}, {"warp_angle_mean_deg", q.warpAngleMeanDeg},
                        {"ruling_length_min_ratio", solver_->stripModel().rulingLengthMinRatio()}};
-    // A fitted strip: how close it is to its reference points, every iterate (watch it fit).
-    if (const auto& target = solver_->stripModel().approximation()) {
-      try {
-        for (const auto& [name, value] : solver_->referenceMetrics(target->points, 0.0))
+  }
+  json geometry = proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples);
+  // A fitted strip: how close it is to its reference points, every iterate (watch it fit); each
+  // point's distance rides with the geometry, so the web app colours the points by it.
+  if (const auto& target = solver_->stripModel().approximation()) {
+    try {
+      Eigen::VectorXd distances;
+      const proto::Metrics measured = solver_->referenceMetrics(target->points, 0.0, &distances);
+      if (iterateMetrics)
+        for (const auto& [name, value] : measured)
           (*iterateMetrics)["approximation_" + name.substr(std::string("reference_").size())] = value;
-      } catch (const std::exception&) {
-        // A degenerate surface has no distances; the warp metrics say what went wrong.
-      }
+      geometry["approximation_distances"] = std::vector<double>(distances.data(), distances.data() + distances.size());
+      geometry["approximation_tolerance"] = measured.at("reference_coverage_tolerance");
+    } catch (const std::exception&) {
+      // A degenerate surface has no distances; the warp metrics say what went wrong.
     }
   }
-  return proto::stripGeometryJson(solver_->stripModel(), settings_.surfaceSamples);
+  return geometry;
 }
 
 json Session::constraintsJson() const {

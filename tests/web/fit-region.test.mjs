@@ -71,6 +71,13 @@ test('a click on an uploaded shape centres the region, and one strip fitted ther
     assert.ok(st.metrics.approximation_coverage > 0.15, 'the strip covers part of the region');
     assert.ok(st.metrics.approximation_distance_rms_relative < 0.5 * before, 'the strip grew onto the region');
     assert.match(await page.getByTestId('status-fit').textContent(), /^RMS [\d.]+ % · max [\d.]+ % · [\d.]+ % covered$/);
+    // The reference points are coloured by their distance to the strip.
+    const coloured = await page.evaluate(() => {
+      const v = window.__devsurf && window.__devsurf.editor && window.__devsurf.editor.viewport;
+      const c = v && v.referenceGeometry.getAttribute('color');
+      return c ? { count: c.count, vertexColors: v.referenceCloud.material.vertexColors } : null;
+    });
+    assert.deepEqual(coloured, { count: server.scene.model.approximation.points.length, vertexColors: true });
     await h.settleFrames(page);
     await h.screenshotViewport(page, '11-fit-region-strip');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');

@@ -38,9 +38,11 @@ SurfaceDistance surfaceDistance(const Eigen::MatrixX3d& reference, const Eigen::
   d.tolerance = tolerance > 0.0 ? tolerance : 0.01 * d.diagonal;
   double sumSquares = 0.0;
   long within = 0;
+  d.distances.resize(reference.rows());
   for (Eigen::Index i = 0; i < reference.rows(); ++i) {
     const Eigen::Vector3d q = reference.row(i).transpose();
     const double distance = (surface.closest(q).point - q).norm();
+    d.distances(i) = distance;
     d.maxDistance = std::max(d.maxDistance, distance);
     sumSquares += distance * distance;
     if (distance <= d.tolerance) ++within;

@@ -117,6 +117,7 @@ export class Editor {
     // Shown when the strip approximates reference points (scene model.approximation).
     this.referenceToggle = toggle('Reference points', 'reference', true);
     this.referenceToggle.dataset.testid = 'reference-toggle';
+    this.referenceToggle.title = 'The points the strip approximates, coloured by their distance to it: blue-green on it, red 3 % of their size away or more';
     this.referenceToggle.hidden = true;
     this.quadControls = new QuadMeshControls({
       state: st, quad: this.quad, send: (c) => this.send(c), toasts: { showInfo: (t) => this.toasts.showInfo(t) }, errorSlots: this.errorSlots,
@@ -238,7 +239,10 @@ export class Editor {
       const kind = isQuadMeshGeometry(geometry) ? 'quad_mesh' : geometry && geometry.kind === 'composite' ? 'composite' : 'strip';
       if (kind === 'composite') this.composite.apply(geometry);
       else if (kind === 'quad_mesh') this.quad.apply(geometry);
-      else this.buffers.apply(geometry);
+      else {
+        this.buffers.apply(geometry);
+        this.viewport.setReferenceDistances(geometry.approximation_distances, geometry.approximation_tolerance);
+      }
       if (kind !== this.kind) this._setKind(kind);
       if (kind === 'quad_mesh') this.quadControls.geometryApplied();
       if (kind === 'strip') this._setModelKind(this.buffers.modelKind);

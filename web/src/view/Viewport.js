@@ -7,6 +7,7 @@
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { colorAt } from '../geometry/colormap.js';
 import { targetKey, targetLabel, targetOf } from '../commands/Command.js';
 import { PointSprites, SHAPE_CUBE, SHAPE_DIAMOND, SHAPE_SPHERE } from './PointSprites.js';
 import { QuadMeshLayer } from './QuadMeshLayer.js';
@@ -336,7 +337,34 @@ export class Viewport {
     this.referenceGeometry.setAttribute('position', new THREE.BufferAttribute(array, 3));
     this.referenceGeometry.computeBoundingSphere();
     this.referenceCount = list.length;
+    this.referenceGeometry.deleteAttribute('color');
+    this.referenceCloud.material.vertexColors = false;
+    this.referenceCloud.material.color.set(COLORS.reference);
+    this.referenceCloud.material.needsUpdate = true;
     this.setOption('reference', this.options.reference);
+    // Distances that arrived with a geometry before the scene did.
+    if (this._referenceDistances) this.setReferenceDistances(...this._referenceDistances);
+  }
+
+  /**
+   * Colours the reference points by their distance to the surface (issue 15): 0 calm blue-green,
+   * three times `tolerance` (the coverage tolerance, 1 % of the points' size) and beyond red.
+   * Ignored unless there is one distance per point.
+   * @param {number[]|undefined} distances  per reference point, design units
+   * @param {number} tolerance
+   */
+  setReferenceDistances(distances, tolerance) {
+    this._referenceDistances = Array.isArray(distances) ? [distances, tolerance] : null;
+    if (!Array.isArray(distances) || distances.length !== this.referenceCount || !(tolerance > 0)) return;
+    const colors = new Float32Array(3 * distances.length);
+    for (let i = 0; i < distances.length; ++i) colorAt(distances[i] / (3 * tolerance), colors, 3 * i);
+    this.referenceGeometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    if (!this.referenceCloud.material.vertexColors) {
+      this.referenceCloud.material.vertexColors = true;
+      this.referenceCloud.material.color.set(0xffffff);
+      this.referenceCloud.material.needsUpdate = true;
+    }
+    this.requestRender();
   }
 
   /** Shows the strip's or the composite's objects. */

@@ -128,7 +128,9 @@ class SceneSolver {
   /// diagonal), reference_coverage (fraction within reference_coverage_tolerance; ≤ 0 asks for 1%
   /// of that diagonal).
   /// @param[in] reference  r×3 points in the scene's units
-  proto::Metrics referenceMetrics(const Eigen::MatrixX3d& reference, double tolerance) const;
+  /// @param[out] distances  when given, each point's distance (for colouring the points)
+  proto::Metrics referenceMetrics(const Eigen::MatrixX3d& reference, double tolerance,
+                                  Eigen::VectorXd* distances = nullptr) const;
   /// The surface as the obj export samples it: strips 200×8, composites 50×8 per face, conical
   /// patches 25×5, quad meshes M (a triangle repeats its last vertex).
   io::QuadMesh sampledSurface() const;

@@ -16,6 +16,7 @@ struct SurfaceDistance {
   double rmsRelative = 0.0;      ///< rmsDistance / diagonal
   double tolerance = 0.0;        ///< the tolerance coverage was counted with
   double coverage = 0.0;         ///< fraction of points within `tolerance` of the surface
+  Eigen::VectorXd distances;     ///< per point, its distance to the surface (for colouring)
 };
 
 /// Distances from reference points to a triangle surface through CGAL's AABB tree
