@@ -103,17 +103,9 @@ ApproximationRequest approximationRequestFromQuery(const std::multimap<std::stri
     else if (key == "fairness")
       r.options.weights.fairnessMesh = r.options.weights.fairnessUnfolding = numberParameter(key, value, 0.0, 1e6, false);
     else if (key == "iterations") r.iterations = static_cast<int>(integerParameter(key, value, 0, 10000));
-    else if (key == "name") {
-      if (value.size() > 200) throw ApproximationInputError(key, "name: at most 200 characters");
-      r.name = value;
-    } else if (key == "units") {
-      try {
-        proto::millimetresPerUnit(value);
-      } catch (const std::invalid_argument&) {
-        throw ApproximationInputError(key, "units: expected mm, cm, m or in, got \"" + value + "\"");
-      }
-      r.units = value;
-    } else {
+    else if (key == "name") r.name = nameParameter(key, value);
+    else if (key == "units") r.units = unitsParameter(key, value);
+    else {
       throw ApproximationInputError(key, key + ": unknown parameter (segments, seed, faces, spacing, isometry, proximity, "
                                            "fairness, iterations, name, units, format)");
     }

@@ -92,17 +92,9 @@ RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std:
       if (value == "none") r.crease = models::composite::CreaseKind::None;
       else if (value == "fold") r.crease = models::composite::CreaseKind::Fold;
       else throw ApproximationInputError(key, "crease: expected none or fold, got \"" + value + "\"");
-    } else if (key == "name") {
-      if (value.size() > 200) throw ApproximationInputError(key, "name: at most 200 characters");
-      r.name = value;
-    } else if (key == "units") {
-      try {
-        proto::millimetresPerUnit(value);
-      } catch (const std::invalid_argument&) {
-        throw ApproximationInputError(key, "units: expected mm, cm, m or in, got \"" + value + "\"");
-      }
-      r.units = value;
-    } else {
+    } else if (key == "name") r.name = nameParameter(key, value);
+    else if (key == "units") r.units = unitsParameter(key, value);
+    else {
       throw ApproximationInputError(key, key + ": unknown parameter (centre, radius, thin, seed, control_points, " +
                                              (cover ? std::string("strips, rounds, crease") : std::string("iterations, rulings, flat")) +
                                              ", name, units, format)");

@@ -12,6 +12,8 @@
 
 #include <unistd.h>
 
+#include "devsurf/proto/Scene.h"
+
 namespace devsurf::server {
 
 long integerParameter(const std::string& field, const std::string& value, long lo, long hi) {
@@ -42,6 +44,20 @@ double numberParameter(const std::string& field, const std::string& value, doubl
     throw ApproximationInputError(field, field + ": expected " + range.str() + ", got \"" + value + "\"");
   }
   return v;
+}
+
+std::string nameParameter(const std::string& field, const std::string& value) {
+  if (value.size() > 200) throw ApproximationInputError(field, field + ": at most 200 characters");
+  return value;
+}
+
+std::string unitsParameter(const std::string& field, const std::string& value) {
+  try {
+    proto::millimetresPerUnit(value);
+  } catch (const std::invalid_argument&) {
+    throw ApproximationInputError(field, field + ": expected mm, cm, m or in, got \"" + value + "\"");
+  }
+  return value;
 }
 
 reference::ReferenceShape readUploadedShape(const std::string& body, const std::string& format,

@@ -109,6 +109,24 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     const s = h.pixelStats(shot.image);
     assert.ok(s.distinct >= 32 && s.dominantShare < 0.97, `the composite is drawn (${s.distinct} colours)`);
 
+    // A region that wraps around the shape (the ear): the warning is shown and the composite
+    // opens only on a second click.
+    const ear = await ctx.page();
+    await loadShape(ear, daemon, bunny);
+    await ear.getByTestId('region-centre').fill('-0.005, 0.494, -0.12');
+    await ear.getByTestId('region-centre').dispatchEvent('change');
+    await ear.getByTestId('region-radius').fill('10');
+    await ear.getByTestId('region-mode').selectOption('cover');
+    await ear.getByTestId('region-strips').fill('6');
+    await ear.getByTestId('fit-region').click();
+    const warning = ear.locator('.start-status .field-error');
+    await warning.waitFor({ state: 'visible', timeout: 60000 });
+    assert.match(await warning.textContent(), /cover a region of bunny00\.off: \d+ % of the region's normals are more than 75°/);
+    assert.equal(await ear.getByTestId('fit-region').textContent(), 'Open anyway');
+    assert.equal(await ear.getByTestId('start-page').isVisible(), true, 'still on the start page');
+    await ear.getByTestId('fit-region').click();
+    await ear.getByTestId('editor').waitFor({ timeout: 60000 });
+
     // A region with no points: refused on the start page, naming the field; the page stays usable.
     const start = await ctx.page();
     await loadShape(start, daemon, bunny);

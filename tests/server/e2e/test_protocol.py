@@ -223,6 +223,18 @@ class ProtocolTest(DaemonTestCase):
         self.assertEqual(state, "cancelled")
         self.assertEqual(self.daemon.json("GET", "/api/jobs/nope")[0], 404)
 
+    def finished_job(self, scene):
+        """Submits the scene as a job and waits (30 s at most) until it has succeeded: its last state."""
+        status, _, job = self.daemon.json("POST", "/api/jobs", scene)
+        self.assertEqual(status, 202, job)
+        for _ in range(600):
+            status, _, state = self.daemon.json("GET", "/api/jobs/" + job["id"])
+            if state["state"] in ("succeeded", "failed"):
+                break
+            time.sleep(0.05)
+        self.assertEqual(state["state"], "succeeded", state)
+        return state
+
     def test_an_uploaded_mesh_becomes_glued_patches_that_solve_as_a_job_and_open_as_a_session(self):
         # A gently curved 12 × 12 sheet as OFF text, approximated in 3 patches (issue 15).
         import math
@@ -244,14 +256,7 @@ class ProtocolTest(DaemonTestCase):
         self.assertGreaterEqual(summary["patches"], 2)
         self.assertEqual(len(scene["model"]["reference"]["triangles"]), 2 * n * n)
         # As a batch job, with progress, to a developable result near the mesh.
-        status, _, job = self.daemon.json("POST", "/api/jobs", scene)
-        self.assertEqual(status, 202, job)
-        for _ in range(600):
-            status, _, state = self.daemon.json("GET", "/api/jobs/" + job["id"])
-            if state["state"] in ("succeeded", "failed"):
-                break
-            time.sleep(0.05)
-        self.assertEqual(state["state"], "succeeded", state)
+        state = self.finished_job(scene)
         self.assertEqual(state["progress"]["iteration"], state["progress"]["of"])
         metrics = state["report"]["metrics"]
         self.assertLess(metrics["length_error"], 1e-3)
@@ -302,14 +307,7 @@ class ProtocolTest(DaemonTestCase):
         self.assertEqual(cover["summary"]["warnings"], [])
         self.assertLess(cover["summary"]["rounds"][-1]["gap_max"], 1e-3)
         for scene, metric in ((fit["scene"], "approximation_distance_rms_relative"), (cover["scene"], "warp_angle_max_deg")):
-            status, _, job = self.daemon.json("POST", "/api/jobs", scene)
-            self.assertEqual(status, 202, job)
-            for _ in range(600):
-                status, _, state = self.daemon.json("GET", "/api/jobs/" + job["id"])
-                if state["state"] in ("succeeded", "failed"):
-                    break
-                time.sleep(0.05)
-            self.assertEqual(state["state"], "succeeded", state)
+            state = self.finished_job(scene)
             self.assertLess(state["report"]["metrics"]["warp_angle_max_deg"], 0.05)
             self.assertLess(state["report"]["metrics"].get(metric, 0.0), 0.01)
         status, _, session = self.daemon.json("POST", "/api/sessions", fit["scene"])

@@ -74,7 +74,8 @@ export class StartPage {
       h('option', { value: 'strip' }, 'one strip, fitted live'),
       h('option', { value: 'cover' }, 'strips side by side (a composite)'));
     this.regionStrips = h('input', { type: 'number', class: 'input narrow', min: '1', max: '64', value: '6', testid: 'region-strips', 'aria-label': 'Strips' });
-    this.regionMode.addEventListener('change', () => { this.regionStrips.disabled = this.regionMode.value !== 'cover'; });
+    this.regionMode.addEventListener('change', () => { this.regionStrips.disabled = this.regionMode.value !== 'cover'; this._updateRegion(); });
+    this.regionStrips.addEventListener('change', () => this._updateRegion());
     this.regionStrips.disabled = true;
     this.regionButton = h('button', { class: 'btn', testid: 'fit-region', disabled: true, onclick: () => this._fitRegion() }, 'Fit');
     this.regionPicker = null;
@@ -257,6 +258,11 @@ export class StartPage {
   }
 
   _updateRegion() {
+    if (this.pendingRegion) {
+      this.pendingRegion = null;
+      this.regionButton.textContent = 'Fit';
+      this.createError.hidden = true;
+    }
     const { centre, radius } = this._region();
     this.regionRadiusLabel.textContent = this.preview ? `${+radius.toPrecision(3)} (${this.regionRadius.value} %)` : `${this.regionRadius.value} %`;
     if (this.regionPicker) this.regionPicker.setRegion(centre, radius);
@@ -265,6 +271,14 @@ export class StartPage {
   }
 
   async _fitRegion() {
+    // A result with warnings waits for a second click ("Open anyway").
+    if (this.pendingRegion) {
+      const { scene, what } = this.pendingRegion;
+      this.pendingRegion = null;
+      this.regionButton.textContent = 'Fit';
+      await this._create(scene, what);
+      return;
+    }
     const shape = this._shapeFile();
     const { centre, radius } = this._region();
     if (!shape || !centre) return;
@@ -288,9 +302,16 @@ export class StartPage {
     } finally {
       this.busy.textContent = 'Creating the session…';
     }
-    const warnings = (result.summary && result.summary.warnings) || [];
-    if (warnings.length) this.toasts.showError({ code: 'warning', message: warnings.join(' ') }, what);
+    this.busy.hidden = true;
     this.regionButton.disabled = false;
+    const warnings = (result.summary && result.summary.warnings) || [];
+    if (warnings.length) {
+      this.createError.textContent = `${what}: ${warnings.join(' ')}`;
+      this.createError.hidden = false;
+      this.pendingRegion = { scene: result.scene, what };
+      this.regionButton.textContent = 'Open anyway';
+      return;
+    }
     await this._create(result.scene, what);
   }
 

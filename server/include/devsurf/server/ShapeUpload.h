@@ -27,6 +27,11 @@ long integerParameter(const std::string& field, const std::string& value, long l
 /// A finite number in [lo, hi] (> 0 when `positive`). @throws ApproximationInputError naming it
 double numberParameter(const std::string& field, const std::string& value, double lo, double hi, bool positive);
 
+/// A scene name (at most 200 characters). @throws ApproximationInputError naming it
+std::string nameParameter(const std::string& field, const std::string& value);
+/// Scene units: mm, cm, m or in. @throws ApproximationInputError naming it
+std::string unitsParameter(const std::string& field, const std::string& value);
+
 /// A shape sent as a request body: `format` is the file's extension (one of `formats`: "off",
 /// "obj", "ply", "stl", "xyz", "pwn"), read through reference::readReferenceShape from a private
 /// temporary file (removed on return) within `limits`; messages name "body" instead of the file.

@@ -103,6 +103,35 @@ void adoptSharedCurve(StripDesign& s, Curve c, const Eigen::MatrixXd& shared) {
   own.points = shared;
 }
 
+/// Walks the pairings breadth first from every strip not reached yet, in order:
+/// visit(from, to, k, reached) for each pairing k of a strip `from` taken from the queue, `to` its
+/// partner and `reached` whether `to` was reached before; a strip first reached is queued.
+template <class Visit>
+void breadthFirst(int count, const std::vector<BoundaryPairing>& pairings, Visit visit) {
+  std::vector<char> reached(static_cast<std::size_t>(count), 0);
+  for (int start = 0; start < count; ++start) {
+    if (reached[static_cast<std::size_t>(start)]) continue;
+    reached[static_cast<std::size_t>(start)] = 1;
+    std::queue<int> open;
+    open.push(start);
+    while (!open.empty()) {
+      const int from = open.front();
+      open.pop();
+      for (std::size_t k = 0; k < pairings.size(); ++k) {
+        const BoundaryPairing& p = pairings[k];
+        if (p.first != from && p.second != from) continue;
+        const int to = p.first == from ? p.second : p.first;
+        const bool before = reached[static_cast<std::size_t>(to)];
+        visit(from, to, k, before);
+        if (!before) {
+          reached[static_cast<std::size_t>(to)] = 1;
+          open.push(to);
+        }
+      }
+    }
+  }
+}
+
 /// Union–find over the strips' corners (strip, curve, end) = 4·strip + 2·curve + end.
 struct Corners {
   std::vector<int> parent;
@@ -141,33 +170,18 @@ CompositeDesign compositeFromStrips(std::vector<StripDesign> strips, const std::
 
   // Orientation: a face runs a forwards and b backwards, so a shared edge runs opposite ways in its
   // two faces iff (the curves differ) ≠ (they are reversed). Exchanging a strip's a and b turns it.
-  std::vector<int> flip(static_cast<std::size_t>(count), -1);
-  for (int start = 0; start < count; ++start) {
-    if (flip[static_cast<std::size_t>(start)] >= 0) continue;
-    flip[static_cast<std::size_t>(start)] = 0;
-    std::queue<int> open;
-    open.push(start);
-    while (!open.empty()) {
-      const int i = open.front();
-      open.pop();
-      for (const BoundaryPairing& p : pairings) {
-        if (p.first != i && p.second != i) continue;
-        const int j = p.first == i ? p.second : p.first;
-        // Consistent when (c_i ⊕ f_i) ⊕ (c_j ⊕ f_j) ⊕ reversed = 1, c the paired curve, f the flip.
-        const bool iFirst = p.first == i;
-        const int ci = static_cast<int>(iFirst ? p.firstCurve : p.secondCurve);
-        const int cj = static_cast<int>(iFirst ? p.secondCurve : p.firstCurve);
-        const int fj = cj ^ ci ^ flip[static_cast<std::size_t>(i)] ^ 1 ^ (p.reversed ? 1 : 0);
-        int& slot = flip[static_cast<std::size_t>(j)];
-        if (slot < 0) {
-          slot = fj;
-          open.push(j);
-        } else if (slot != fj) {
-          throw std::invalid_argument("pairings: the strips cannot all be oriented alike (a Möbius band)");
-        }
-      }
-    }
-  }
+  std::vector<int> flip(static_cast<std::size_t>(count), 0);
+  breadthFirst(count, pairings, [&pairings, &flip](int i, int j, std::size_t k, bool reached) {
+    // Consistent when (c_i ⊕ f_i) ⊕ (c_j ⊕ f_j) ⊕ reversed = 1, c the paired curve, f the flip.
+    const BoundaryPairing& p = pairings[k];
+    const bool iFirst = p.first == i;
+    const int ci = static_cast<int>(iFirst ? p.firstCurve : p.secondCurve);
+    const int cj = static_cast<int>(iFirst ? p.secondCurve : p.firstCurve);
+    const int fj = cj ^ ci ^ flip[static_cast<std::size_t>(i)] ^ 1 ^ (p.reversed ? 1 : 0);
+    if (!reached) flip[static_cast<std::size_t>(j)] = fj;
+    else if (flip[static_cast<std::size_t>(j)] != fj)
+      throw std::invalid_argument("pairings: the strips cannot all be oriented alike (a Möbius band)");
+  });
   for (int i = 0; i < count; ++i)
     if (flip[static_cast<std::size_t>(i)] == 1) std::swap(strips[static_cast<std::size_t>(i)].a, strips[static_cast<std::size_t>(i)].b);
   for (BoundaryPairing& p : pairings) {
@@ -183,33 +197,18 @@ CompositeDesign compositeFromStrips(std::vector<StripDesign> strips, const std::
   // Rulings kept: in breadth-first order from each strip not yet reached, a strip reached through
   // a pairing takes its partner's curve exactly and refits its other curve (adoptSharedCurve).
   // A pairing that closes a ring finds both curves placed: there the control points are averaged.
-  std::vector<char> placed(static_cast<std::size_t>(count), 0);
-  for (int start = 0; start < count; ++start) {
-    if (placed[static_cast<std::size_t>(start)]) continue;
-    placed[static_cast<std::size_t>(start)] = 1;
-    std::queue<int> open;
-    open.push(start);
-    while (!open.empty()) {
-      const int i = open.front();
-      open.pop();
-      for (std::size_t k = 0; k < pairings.size(); ++k) {
-        const BoundaryPairing& p = pairings[k];
-        if (p.first != i && p.second != i) continue;
-        const int j = p.first == i ? p.second : p.first;
-        if (placed[static_cast<std::size_t>(j)]) continue;
-        const Curve ci = p.first == i ? p.firstCurve : p.secondCurve, cj = p.first == i ? p.secondCurve : p.firstCurve;
-        const spline::BSplineCurve& from = curveOf(strips[static_cast<std::size_t>(i)], ci);
-        spline::BSplineCurve& to = curveOf(strips[static_cast<std::size_t>(j)], cj);
-        const std::vector<double> fromKnots = p.reversed ? reversedKnots(from.knots) : from.knots.knots();
-        if (!sameKnots(to.knots.knots(), fromKnots) || to.points.rows() != from.points.rows())
-          throw std::invalid_argument("pairings[" + std::to_string(k) + "]: the paired curves differ in knots");
-        adoptSharedCurve(strips[static_cast<std::size_t>(j)], cj,
-                         p.reversed ? Eigen::MatrixXd(from.points.colwise().reverse()) : from.points);
-        placed[static_cast<std::size_t>(j)] = 1;
-        open.push(j);
-      }
-    }
-  }
+  breadthFirst(count, pairings, [&pairings, &strips](int i, int j, std::size_t k, bool reached) {
+    if (reached) return;
+    const BoundaryPairing& p = pairings[k];
+    const Curve ci = p.first == i ? p.firstCurve : p.secondCurve, cj = p.first == i ? p.secondCurve : p.firstCurve;
+    const spline::BSplineCurve& from = curveOf(strips[static_cast<std::size_t>(i)], ci);
+    const spline::BSplineCurve& to = curveOf(strips[static_cast<std::size_t>(j)], cj);
+    const std::vector<double> fromKnots = p.reversed ? reversedKnots(from.knots) : from.knots.knots();
+    if (!sameKnots(to.knots.knots(), fromKnots) || to.points.rows() != from.points.rows())
+      throw std::invalid_argument("pairings[" + std::to_string(k) + "]: the paired curves differ in knots");
+    adoptSharedCurve(strips[static_cast<std::size_t>(j)], cj,
+                     p.reversed ? Eigen::MatrixXd(from.points.colwise().reverse()) : from.points);
+  });
 
   // Vertices: corners joined along the pairings, at their mean.
   Corners corners(static_cast<std::size_t>(count));

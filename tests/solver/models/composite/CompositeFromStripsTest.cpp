@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/StripCovers.h"
+
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -19,22 +21,11 @@
 namespace devsurf::models::composite {
 namespace {
 
+using devsurf::testing::flatStrip;
+
 using strip::BoundaryPairing;
 using strip::Curve;
 using strip::StripDesign;
-
-/// A flat strip with a along y = y0 and b along y = y1 in the plane z = 0, from x = 0 to 1.
-StripDesign flatStrip(double y0, double y1, int n = 6) {
-  StripDesign s;
-  s.a.knots = s.b.knots = spline::KnotVector::clampedUniform(3, n);
-  s.a.points.resize(n, 3);
-  s.b.points.resize(n, 3);
-  for (int i = 0; i < n; ++i) {
-    s.a.points.row(i) << double(i) / (n - 1), y0, 0.0;
-    s.b.points.row(i) << double(i) / (n - 1), y1, 0.0;
-  }
-  return s;
-}
 
 reference::SurfaceDistance distanceToComposite(const Eigen::MatrixX3d& points, const CompositeModel& model,
                                                double tolerance) {
@@ -111,12 +102,7 @@ TEST(CompositeFromStrips, ASphereCapCoveredByFourPairedStripsSolvesAsOneComposit
   strip::RegionCoverOptions options;
   options.strips = 4;
   const strip::RegionCover cover = strip::coverRegion(points, Eigen::MatrixX3d(0, 3), options);
-  Eigen::MatrixX3d region(0, 3);
-  for (const auto& band : cover.layout.bands)
-    for (const int j : band) {
-      region.conservativeResize(region.rows() + 1, 3);
-      region.row(region.rows() - 1) = points.row(j);
-    }
+  const Eigen::MatrixX3d region = devsurf::testing::coveredPoints(points, cover.layout);
   const double diagonal = (region.colwise().maxCoeff() - region.colwise().minCoeff()).norm();
   {
     // Seams (no crease condition): each face developable. Curved folds (CreaseKind::Fold) make
@@ -162,12 +148,7 @@ TEST(CompositeFromStrips, RandomShapesInRandomPosesAreCoveredBySolvableComposite
     strip::RegionCoverOptions options;
     options.strips = 2 + static_cast<int>(rng() % 5);
     const strip::RegionCover cover = strip::coverRegion(points, Eigen::MatrixX3d(0, 3), options);
-    Eigen::MatrixX3d region(0, 3);
-    for (const auto& band : cover.layout.bands)
-      for (const int j : band) {
-        region.conservativeResize(region.rows() + 1, 3);
-        region.row(region.rows() - 1) = points.row(j);
-      }
+    const Eigen::MatrixX3d region = devsurf::testing::coveredPoints(points, cover.layout);
     const double diagonal = (region.colwise().maxCoeff() - region.colwise().minCoeff()).norm();
     EXPECT_LT(strip::pairingGap(cover.paired.strips, cover.pairings).first, 1e-3 * diagonal) << "trial " << trial;
     CompositeModel model(compositeFromStrips(cover.paired.strips, cover.pairings, CreaseKind::None));

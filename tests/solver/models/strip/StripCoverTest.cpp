@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/StripCovers.h"
+
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -16,18 +18,7 @@
 namespace devsurf::models::strip {
 namespace {
 
-/// A flat strip with a along y = y0 and b along y = y1 in the plane z = 0, from x = 0 to 1.
-StripDesign flatStrip(double y0, double y1, int n = 6) {
-  StripDesign s;
-  s.a.knots = s.b.knots = spline::KnotVector::clampedUniform(3, n);
-  s.a.points.resize(n, 3);
-  s.b.points.resize(n, 3);
-  for (int i = 0; i < n; ++i) {
-    s.a.points.row(i) << double(i) / (n - 1), y0, 0.0;
-    s.b.points.row(i) << double(i) / (n - 1), y1, 0.0;
-  }
-  return s;
-}
+using devsurf::testing::flatStrip;
 
 void reverseCurves(StripDesign& s) {
   s.a.points = s.a.points.colwise().reverse().eval();
@@ -140,12 +131,7 @@ TEST(StripCover, ACylinderRegionCoveredByThreeStripsKeepsTheFitOfEachAndClosesTh
   const double before = cover.paired.rounds.front().gapMax;
   const auto [after, mean] = pairingGap(cover.paired.strips, cover.pairings);
   // Only the region's rectangle is covered: measure over its points.
-  Eigen::MatrixX3d region(0, 3);
-  for (const auto& band : cover.layout.bands)
-    for (const int j : band) {
-      region.conservativeResize(region.rows() + 1, 3);
-      region.row(region.rows() - 1) = points.row(j);
-    }
+  const Eigen::MatrixX3d region = devsurf::testing::coveredPoints(points, cover.layout);
   const reference::SurfaceDistance d = distanceToStrips(region, cover.paired.strips, 3.0 * sigma);
   std::printf("cylinder, 3 strips: gap %.3g → %.3g (mean %.3g), RMS %.3g σ, max %.3g σ, coverage %.4f, warp %.3g°\n",
               before, after, mean, d.rmsDistance / sigma, d.maxDistance / sigma, d.coverage,
@@ -169,12 +155,7 @@ TEST(StripCover, ADoublyCurvedRegionIsCoveredCloserByFourStripsThanByOne) {
   const RegionCover single = coverRegion(points, Eigen::MatrixX3d(0, 3), one);
   const RegionCover cover = coverRegion(points, Eigen::MatrixX3d(0, 3), four);
   ASSERT_EQ(cover.pairings.size(), 3u);
-  Eigen::MatrixX3d region(0, 3);
-  for (const auto& band : cover.layout.bands)
-    for (const int j : band) {
-      region.conservativeResize(region.rows() + 1, 3);
-      region.row(region.rows() - 1) = points.row(j);
-    }
+  const Eigen::MatrixX3d region = devsurf::testing::coveredPoints(points, cover.layout);
   const double diagonal = (region.colwise().maxCoeff() - region.colwise().minCoeff()).norm();
   const reference::SurfaceDistance d1 = distanceToStrips(region, single.paired.strips, 1e-3 * diagonal);
   const reference::SurfaceDistance d4 = distanceToStrips(region, cover.paired.strips, 1e-3 * diagonal);
