@@ -12,11 +12,31 @@ scripts/setup.sh
 echo "test.sh: setup and Release build ${SECONDS} s"
 BUILD_DIR="${DEVSURF_BUILD_DIR:-build}"
 JOBS="${DEVSURF_JOBS:-$(nproc)}"
-ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS"
-echo "test.sh: Release tests done at ${SECONDS} s"
-if [ "${DEVSURF_FUZZ_PASS:-1}" != 0 ]; then
+FUZZ="${DEVSURF_FUZZ_PASS:-1}"
+# The sanitizer tree builds at the lowest priority while the Release tests run: they leave about a
+# quarter of the machine idle (browser and restart tests wait on the daemon), which the build takes
+# up without taking CPU from the tests. Its output goes to build-fuzz/build.log.
+fuzz_build=""
+if [ "$FUZZ" != 0 ]; then
   [ -f build-fuzz/build.ninja ] || cmake --preset fuzz >/dev/null
-  cmake --build build-fuzz -j "$JOBS"
+  nice -n 19 cmake --build build-fuzz -j "$JOBS" > build-fuzz/build.log 2>&1 &
+  fuzz_build=$!
+fi
+release=0
+ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" || release=$?
+echo "test.sh: Release tests done at ${SECONDS} s"
+if [ "$release" != 0 ]; then
+  [ -z "$fuzz_build" ] || kill -- "$fuzz_build" 2>/dev/null || true
+  exit "$release"
+fi
+if [ -n "$fuzz_build" ]; then
+  fuzz_status=0
+  wait "$fuzz_build" || fuzz_status=$?
+  if [ "$fuzz_status" != 0 ]; then
+    tail -n 60 build-fuzz/build.log >&2
+    echo "test.sh: the sanitizer build failed (build-fuzz/build.log)" >&2
+    exit "$fuzz_status"
+  fi
   echo "test.sh: sanitizer build done at ${SECONDS} s"
   ctest --test-dir build-fuzz --output-on-failure -j "$JOBS"
   echo "test.sh: sanitizer pass done at ${SECONDS} s"

@@ -19,6 +19,45 @@ function cgalFile(member) {
   return path.join(dir, member);
 }
 
+/** An OFF triangle mesh: {vertices: [[x, y, z]…], triangles: [[i, j, k]…]}. */
+function readOff(file) {
+  const words = fs.readFileSync(file, 'utf8').split(/\s+/).filter(Boolean);
+  assert.equal(words[0], 'OFF');
+  const [nv, nf] = [Number(words[1]), Number(words[2])];
+  let at = 4;
+  const vertices = [], triangles = [];
+  for (let i = 0; i < nv; ++i, at += 3) vertices.push([Number(words[at]), Number(words[at + 1]), Number(words[at + 2])]);
+  for (let f = 0; f < nf; ++f) {
+    const n = Number(words[at]);
+    const ids = words.slice(at + 1, at + 1 + n).map(Number);
+    for (let k = 1; k + 1 < n; ++k) triangles.push([ids[0], ids[k], ids[k + 1]]);
+    at += 1 + n;
+  }
+  return { vertices, triangles };
+}
+
+/** Whether a triangle of the mesh crosses the segment from `eye` to `p` short of p by more than `margin` (Möller–Trumbore). */
+function occluded(mesh, eye, p, margin) {
+  const d = [p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]];
+  const length = Math.hypot(...d);
+  const u = d.map((c) => c / length);
+  const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  for (const [i, j, k] of mesh.triangles) {
+    const a = mesh.vertices[i], e1 = sub(mesh.vertices[j], a), e2 = sub(mesh.vertices[k], a);
+    const q = cross(u, e2), det = dot(e1, q);
+    if (Math.abs(det) < 1e-14) continue;
+    const s = sub(eye, a), bu = dot(s, q) / det;
+    if (bu < 0 || bu > 1) continue;
+    const r = cross(s, e1), bv = dot(u, r) / det;
+    if (bv < 0 || bu + bv > 1) continue;
+    const t = dot(e2, r) / det;
+    if (t > 0 && t < length - margin) return true;
+  }
+  return false;
+}
+
 async function loadShape(page, daemon, file) {
   await page.goto(daemon.url);
   await page.getByTestId('start-page').waitFor();
@@ -137,5 +176,98 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     await error.waitFor({ state: 'visible' });
     assert.match(await error.textContent(), /fit a strip to bunny00\.off: radius: the region holds 0 points/);
     assert.equal(await start.getByTestId('fit-region').isDisabled(), false);
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
+
+test('a lasso drawn over the bunny takes only the side facing the viewer, a brush paints and Shift erases, and the marked points fit one strip',
+  { timeout: 180000 }, () => ctx.guard('fit-region-lasso', async () => {
+    const { daemon } = ctx;
+    const bunny = cgalFile('data/meshes/bunny00.off');
+    const page = await ctx.page();
+    await loadShape(page, daemon, bunny);
+    await page.getByTestId('region-view').scrollIntoViewIfNeeded();
+    const box = await page.getByTestId('region-view').boundingBox();
+    const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
+    const marked = async () => Number((await page.getByTestId('region-count').textContent()).replace(/[^\d]/g, ''));
+
+    // Brush: a stroke across the middle paints; the same stroke with Shift erases it all.
+    await page.getByTestId('region-tool').selectOption('brush');
+    assert.equal(await page.getByTestId('region-view').getAttribute('data-tool'), 'brush');
+    assert.equal(await page.getByTestId('fit-region').isDisabled(), true, 'nothing painted yet');
+    await page.getByTestId('region-radius').fill('4');
+    const stroke = async (shift) => {
+      if (shift) await page.keyboard.down('Shift');
+      await page.mouse.move(cx - 40, cy);
+      await page.mouse.down();
+      for (let k = 1; k <= 16; ++k) await page.mouse.move(cx - 40 + 5 * k, cy + (k % 2), { steps: 1 });
+      await page.mouse.up();
+      if (shift) await page.keyboard.up('Shift');
+    };
+    await stroke(false);
+    const painted = await marked();
+    assert.ok(painted > 50, `the stroke painted points (${painted})`);
+    assert.equal(await page.getByTestId('fit-region').isDisabled(), false);
+    await stroke(true);
+    assert.equal(await marked(), 0, 'Shift and the same stroke erase what it painted');
+
+    // Lasso: a loop round the middle of the view. The bunny is seen from the front-right; a loop
+    // over its body encloses points of its far side too, which must not be taken.
+    await page.getByTestId('region-tool').selectOption('lasso');
+    assert.equal(await page.getByTestId('region-radius').isVisible(), false, 'the lasso has no radius');
+    await page.mouse.move(cx + 45, cy);
+    await page.mouse.down();
+    for (let k = 1; k <= 36; ++k) {
+      const a = (2 * Math.PI * k) / 36;
+      await page.mouse.move(cx + 45 * Math.cos(a), cy + 35 * Math.sin(a));
+    }
+    await page.mouse.up();
+    const lassoed = await marked();
+    assert.ok(lassoed > 100, `the loop took points (${lassoed})`);
+    // Independent check of "only the near side": rays from the camera to the points, cast
+    // against the bunny's own triangles (read from the file here, not from the app). A point
+    // some triangle hides is on the far side.
+    const view = await page.evaluate(([w, hgt]) => {
+      const picker = window.__devsurf.startPage.regionPicker;
+      const p = picker.points.geometry.getAttribute('position');
+      const v = picker.camera.position.clone();
+      const enclosed = [];
+      for (let i = 0; i < p.count; ++i) {
+        v.set(p.getX(i), p.getY(i), p.getZ(i)).project(picker.camera);
+        const x = ((v.x + 1) / 2) * w, y = ((1 - v.y) / 2) * hgt;
+        if (((x - w / 2) / 45) ** 2 + ((y - hgt / 2) / 35) ** 2 < 0.8) enclosed.push(p.getX(i), p.getY(i), p.getZ(i));
+      }
+      const c = picker.camera.position;
+      return { camera: [c.x, c.y, c.z], taken: picker.selectedPositions(), enclosed, diagonal: picker.diagonal };
+    }, [box.width, box.height]);
+    const mesh = readOff(bunny);
+    const hiddenOf = (flat) => {
+      let hidden = 0;
+      for (let i = 0; i < flat.length; i += 3) if (occluded(mesh, view.camera, flat.slice(i, i + 3), 1e-3 * view.diagonal)) ++hidden;
+      return hidden;
+    };
+    const takenHidden = hiddenOf(view.taken), enclosedHidden = hiddenOf(view.enclosed);
+    console.log(`lasso: ${lassoed} points taken, ${takenHidden} of them hidden by the mesh; `
+      + `${view.enclosed.length / 3} drawn inside the loop, ${enclosedHidden} of those hidden`);
+    assert.ok(enclosedHidden > 0.3 * (view.enclosed.length / 3), 'the loop encloses much of the far side as well');
+    assert.ok(takenHidden <= 0.02 * lassoed, `only the near side is taken (${takenHidden} hidden points of ${lassoed})`);
+    await h.settleFrames(page);
+    await h.screenshotPage(page, '11-start-page-lasso');
+
+    // The marked points become the strip's region.
+    const positions = await page.evaluate(() => window.__devsurf.startPage.regionPicker.selectedPositions());
+    await page.getByTestId('fit-region').click();
+    await page.getByTestId('editor').waitFor({ timeout: 60000 });
+    await h.waitForConnected(page);
+    const opened = await h.state(page);
+    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    assert.equal(server.scene.model.kind, 'strip');
+    const target = server.scene.model.approximation.points;
+    assert.ok(target.length > 20, `the region thinned as the target (${target.length} points)`);
+    const marks = [];
+    for (let i = 0; i < positions.length; i += 3) marks.push(positions.slice(i, i + 3));
+    for (const q of target) {
+      const nearest = Math.min(...marks.map((m) => Math.hypot(m[0] - q[0], m[1] - q[1], m[2] - q[2])));
+      assert.ok(nearest < 1e-6, `target point ${q} is one of the lassoed points (${nearest})`);
+    }
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));

@@ -9,6 +9,7 @@ import { accessibility } from './ui/preferences.js';
 
 const state = new EditorState();
 let editor = null;
+let startPage = null;
 
 window.__devsurf = {
   state,
@@ -33,6 +34,10 @@ window.__devsurf = {
   get editor() {
     return editor;
   },
+  /** The start page (its region picker: tests read the marked region back). */
+  get startPage() {
+    return startPage;
+  },
 };
 
 const root = document.getElementById('app');
@@ -45,5 +50,5 @@ if (session && token) {
   editor = new Editor(root, { state, session, token });
 } else {
   document.body.classList.add('start');
-  new StartPage(root, { state });
+  startPage = new StartPage(root, { state });
 }

@@ -28,6 +28,7 @@ const char* terminationReasonName(TerminationReason reason) {
     case TerminationReason::Diverged: return "diverged";
     case TerminationReason::Stalled: return "stalled";
     case TerminationReason::HardTolerance: return "hard_tolerance";
+    case TerminationReason::HardPlateau: return "hard_plateau";
   }
   return "unknown";
 }
@@ -352,6 +353,17 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       summary.reason = TerminationReason::HardTolerance;
       break;
     }
+    if (options.projectionOnly && options.hardTolerance > 0.0 && options.hardPlateau.steps > 0 &&
+        last.hardResidualMax <= options.hardPlateau.range * options.hardTolerance &&
+        summary.iterations.size() > static_cast<std::size_t>(options.hardPlateau.steps)) {
+      const double before =
+          summary.iterations[summary.iterations.size() - 1 - static_cast<std::size_t>(options.hardPlateau.steps)]
+              .hardResidualMax;
+      if (last.hardResidualMax > (1.0 - options.hardPlateau.decrease) * before) {
+        summary.reason = TerminationReason::HardPlateau;
+        break;
+      }
+    }
     if (k >= 1 && last.stepScale == 1.0 && !last.projected && previousObjective > 0.0 &&
         std::abs(previousObjective - last.objective) <= options.relativeChangeTolerance * previousObjective) {
       summary.reason = TerminationReason::RelativeChange;
@@ -364,7 +376,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   }
   summary.converged = summary.reason == TerminationReason::ResidualTolerance ||
                       summary.reason == TerminationReason::RelativeChange ||
-                      summary.reason == TerminationReason::HardTolerance;
+                      summary.reason == TerminationReason::HardTolerance ||
+                      summary.reason == TerminationReason::HardPlateau;
   summary.totalMs = millisecondsSince(start);
   return summary;
 }

@@ -136,6 +136,64 @@ TEST(GuidedProjectionSolver, StopsOnResidualTolerance) {
   EXPECT_LE(summary.stepsTaken(), 3);
 }
 
+/// Projection steps with a soft term that stays (as fairness does in a session's polish): the
+/// hard row x = 0 against a constant pull toward x = 1 of weight √pull settles at x* = pull/(1 +
+/// pull), so the largest hard row stops falling at x*.
+Problem heldAboveTheTolerance(double pull) {
+  Problem problem;
+  problem.addBlock("x", 1);
+  problem.x() << 0.5;
+  problem.addTerm(std::make_unique<LinearRowsTerm>("hard", Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Zero(1)),
+                  1.0, Strength::Hard);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("pull", Eigen::MatrixXd::Ones(1, 1), Eigen::VectorXd::Ones(1)),
+                  std::sqrt(pull), Strength::Soft);
+  return problem;
+}
+
+SolverOptions polishOptions() {
+  SolverOptions options;
+  options.maxIterations = 200;
+  options.projectionOnly = true;
+  options.hardTolerance = 1e-7;
+  options.regularization = 1.0;  // each step halves the distance to x*
+  options.residualTolerance = -1.0;
+  options.relativeChangeTolerance = -1.0;
+  return options;
+}
+
+TEST(GuidedProjectionSolver, APolishHeldJustAboveTheHardToleranceStopsOnItsPlateau) {
+  Problem problem = heldAboveTheTolerance(2e-7);
+  GuidedProjectionSolver solver(problem);
+  const SolveSummary summary = solver.solve(polishOptions());
+  EXPECT_EQ(terminationReasonName(summary.reason), std::string("hard_plateau"));
+  EXPECT_TRUE(summary.converged);
+  EXPECT_LT(summary.stepsTaken(), 60);
+  EXPECT_NEAR(problem.x()[0], 2e-7 / (1 + 2e-7), 1e-9);
+  EXPECT_GT(summary.iterations.back().hardResidualMax, 1e-7);
+}
+
+TEST(GuidedProjectionSolver, APolishFarAboveTheToleranceOrWithThePlateauOffRunsOn) {
+  {  // x* = 1e-5: a hundred tolerances, beyond the plateau's range of ten
+    Problem problem = heldAboveTheTolerance(1e-5);
+    GuidedProjectionSolver solver(problem);
+    EXPECT_EQ(terminationReasonName(solver.solve(polishOptions()).reason), std::string("max_iterations"));
+  }
+  {
+    Problem problem = heldAboveTheTolerance(2e-7);
+    GuidedProjectionSolver solver(problem);
+    SolverOptions options = polishOptions();
+    options.hardPlateau.steps = 0;
+    EXPECT_EQ(terminationReasonName(solver.solve(options).reason), std::string("max_iterations"));
+  }
+  {  // not a projection-only solve: the rule does not apply
+    Problem problem = heldAboveTheTolerance(2e-7);
+    GuidedProjectionSolver solver(problem);
+    SolverOptions options = polishOptions();
+    options.projectionOnly = false;
+    EXPECT_EQ(terminationReasonName(solver.solve(options).reason), std::string("max_iterations"));
+  }
+}
+
 TEST(GuidedProjectionSolver, CallbackCanAbortTheSolve) {
   Problem problem = productProblem();
   GuidedProjectionSolver solver(problem);

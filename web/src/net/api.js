@@ -81,10 +81,12 @@ export function previewShape(file, { format, points = 20000 }, apiKey) {
 
 /**
  * POST /api/fits (one strip) or /api/covers (strips side by side, a composite) for the region of a
- * shape within `radius` of `centre` ([x, y, z]) → {scene, summary} (issue 15).
+ * shape within `radius` of `centre` ([x, y, z]), or for the whole file when `centre` is null
+ * → {scene, summary} (issue 15).
  */
 export function fitRegion(file, { format, centre, radius, cover, strips, name }, apiKey) {
-  const query = new URLSearchParams({ format, centre: centre.join(','), radius: String(radius) });
+  // Without a centre the region is the whole file (a painted or lassoed region sent as its points).
+  const query = new URLSearchParams(centre ? { format, centre: centre.join(','), radius: String(radius) } : { format });
   if (cover) query.set('strips', String(strips));
   if (name) query.set('name', name);
   return postShape(cover ? 'covers' : 'fits', file, query, apiKey);

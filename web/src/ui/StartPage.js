@@ -34,6 +34,13 @@ export function parseJoinInput(text) {
   return null;
 }
 
+/** Points (n × 3 flattened) as an XYZ file: one "x y z" line per point. */
+function xyzBlob(positions) {
+  const lines = [];
+  for (let i = 0; i < positions.length; i += 3) lines.push(`${positions[i]} ${positions[i + 1]} ${positions[i + 2]}`);
+  return new Blob([lines.join('\n') + '\n'], { type: 'text/plain' });
+}
+
 export class StartPage {
   constructor(root, { state }) {
     this.state = state;
@@ -70,7 +77,18 @@ export class StartPage {
     this.regionRadius = h('input', { type: 'range', min: '1', max: '60', step: '1', value: '15', testid: 'region-radius', 'aria-label': 'Region radius (% of the shape)' });
     this.regionRadius.addEventListener('input', () => this._updateRegion());
     this.regionRadiusLabel = h('span', { class: 'small mono', testid: 'region-radius-label' });
-    this.regionMode = h('select', { class: 'input', testid: 'region-mode', 'aria-label': 'What to fit' },
+    // How the region is marked: a ball (click a centre), a brush (paint) or a lasso (draw around).
+    this.regionTool = h('select', { class: 'input fit', testid: 'region-tool', 'aria-label': 'Region tool' },
+      h('option', { value: 'ball' }, 'Ball: click its centre'),
+      h('option', { value: 'brush' }, 'Brush: paint the region'),
+      h('option', { value: 'lasso' }, 'Lasso: draw around it'));
+    this.regionTool.addEventListener('change', () => this._setRegionTool());
+    this.regionClear = h('button', { class: 'btn small', testid: 'region-clear', hidden: true, onclick: () => this.regionPicker && this.regionPicker.clearSelection() }, 'Clear');
+    this.regionCount = h('span', { class: 'small mono', testid: 'region-count' });
+    this.regionHint = h('p', { class: 'muted small', testid: 'region-hint' });
+    this.centreField = h('label', { class: 'small' }, 'Centre ', this.regionCentre);
+    this.radiusName = h('span', {}, 'Radius ');
+    this.regionMode = h('select', { class: 'input fit', testid: 'region-mode', 'aria-label': 'What to fit' },
       h('option', { value: 'strip' }, 'one strip, fitted live'),
       h('option', { value: 'cover' }, 'strips side by side (a composite)'));
     this.regionStrips = h('input', { type: 'number', class: 'input narrow', min: '1', max: '64', value: '6', testid: 'region-strips', 'aria-label': 'Strips' });
@@ -117,8 +135,10 @@ export class StartPage {
         h('section', { class: 'card wide', testid: 'shape-card' }, h('h2', {}, 'Fit strips to your own shape'),
           h('p', { class: 'muted small' }, 'Choose a region of a scan or mesh: one developable strip grows onto it while you watch (Tang et al. 2016 §4.2), or strips side by side become one composite covering it (Fig. 10).'),
           this.shapeInput, this.shapeInfo, this.regionView,
-          h('div', { class: 'row' }, h('label', { class: 'small' }, 'Centre ', this.regionCentre),
-            h('label', { class: 'small' }, 'Radius ', this.regionRadius, ' ', this.regionRadiusLabel)),
+          h('div', { class: 'row' }, this.regionTool, this.centreField,
+            h('label', { class: 'small' }, this.radiusName, this.regionRadius, ' ', this.regionRadiusLabel),
+            this.regionCount, this.regionClear),
+          this.regionHint,
           h('div', { class: 'row' }, this.regionMode, h('label', { class: 'small' }, 'Strips ', this.regionStrips), this.regionButton)),
         h('section', { class: 'card' }, h('h2', {}, 'Join by link'),
           h('div', { class: 'row' }, this.joinInput, h('button', { class: 'btn', onclick: join }, 'Join')), this.joinError)),
@@ -239,13 +259,32 @@ export class StartPage {
     const p = this.preview;
     this.shapeInfo.textContent = `${shape.file.name}: ${p.points.toLocaleString('en')} points`
       + (p.triangles ? `, ${p.triangles.toLocaleString('en')} triangles` : '')
-      + (p.shown < p.points ? ` (${p.shown.toLocaleString('en')} drawn)` : '') + '. Click the shape to centre the region; drag to turn it.';
+      + (p.shown < p.points ? ` (${p.shown.toLocaleString('en')} drawn)` : '') + '.';
     if (!this.regionPicker) {
-      this.regionPicker = new RegionPicker({ onPick: (c) => { this.regionCentre.value = c.map((v) => +v.toPrecision(6)).join(', '); this._updateRegion(); } });
+      this.regionPicker = new RegionPicker({
+        onPick: (c) => { this.regionCentre.value = c.map((v) => +v.toPrecision(6)).join(', '); this._updateRegion(); },
+        onSelection: () => this._updateRegion(),
+      });
       this.regionView.appendChild(this.regionPicker.element);
     }
     this.regionView.hidden = false;
     this.regionPicker.show(p);
+    this._setRegionTool();
+  }
+
+  /** The region tool chosen: the ball takes a centre and a radius, the brush a radius, the lasso neither. */
+  _setRegionTool() {
+    const tool = this.regionTool.value;
+    this.centreField.hidden = tool !== 'ball';
+    this.radiusName.textContent = tool === 'brush' ? 'Brush radius ' : 'Radius ';
+    this.regionRadius.closest('label').hidden = tool === 'lasso';
+    this.regionClear.hidden = tool === 'ball';
+    this.regionHint.textContent = {
+      ball: 'Click the shape to centre the region; drag to turn the view, wheel to zoom.',
+      brush: 'Paint the region with the left button (Shift erases); the right button turns the view.',
+      lasso: 'Draw a loop around the region with the left button (Shift removes what it encloses); only the side facing you is taken. The right button turns the view.',
+    }[tool];
+    if (this.regionPicker) this.regionPicker.setTool(tool);
     this._updateRegion();
   }
 
@@ -266,7 +305,9 @@ export class StartPage {
     const { centre, radius } = this._region();
     this.regionRadiusLabel.textContent = this.preview ? `${+radius.toPrecision(3)} (${this.regionRadius.value} %)` : `${this.regionRadius.value} %`;
     if (this.regionPicker) this.regionPicker.setRegion(centre, radius);
-    this.regionButton.disabled = !this.preview || !centre;
+    const marked = this.regionPicker ? this.regionPicker.insideCount() : 0;
+    this.regionCount.textContent = this.preview ? `${marked.toLocaleString('en')} points in the region` : '';
+    this.regionButton.disabled = !this.preview || (this.regionTool.value === 'ball' ? !centre : marked === 0);
     this.regionCentre.classList.toggle('invalid', this.regionCentre.value.trim() !== '' && !centre);
   }
 
@@ -281,7 +322,8 @@ export class StartPage {
     }
     const shape = this._shapeFile();
     const { centre, radius } = this._region();
-    if (!shape || !centre) return;
+    const ball = this.regionTool.value === 'ball';
+    if (!shape || (ball && !centre)) return;
     const cover = this.regionMode.value === 'cover';
     const strips = Math.max(1, Math.min(64, Math.round(Number(this.regionStrips.value) || 4)));
     const stem = shape.file.name.replace(/\.[^.]*$/, '');
@@ -292,8 +334,13 @@ export class StartPage {
     this.regionButton.disabled = true;
     let result;
     try {
-      result = await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips,
-        name: cover ? `${stem}: ${strips} strips` : `${stem}: fitted strip` }, this.apiKeyInput.value.trim() || apiKey());
+      const name = cover ? `${stem}: ${strips} strips` : `${stem}: fitted strip`;
+      const key = this.apiKeyInput.value.trim() || apiKey();
+      // A painted or lassoed region goes as its own points (an XYZ cloud: the region is the whole
+      // of it); the ball as the shape file with its centre and radius.
+      result = ball
+        ? await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips, name }, key)
+        : await fitRegion(xyzBlob(this.regionPicker.selectedPositions()), { format: 'xyz', cover, strips, name }, key);
     } catch (e) {
       this._showCreateError(e, what);
       this.busy.hidden = true;

@@ -989,6 +989,18 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
     used[edge.first] = used[edge.second] = true;
     if (count == 1) boundary[edge.first] = boundary[edge.second] = true;
   }
+  // Without a development nothing claims one flat sheet: an interior S edge with no crease
+  // condition is a seam, a line the pieces are cut apart along (strips side by side covering a
+  // shape, CompositeFromStrips), and its points are boundary points of each piece. With a
+  // development the sheet is one, and every shared point counts.
+  if (d.developmentSamples == 0)
+    for (int e = 0; e < topo.numEdges(); ++e) {
+      if (topo.edgeType(e) != EdgeType::Spline || d.edges[e].crease != CreaseKind::None) continue;
+      const auto ends = topo.edgeVertices(e);
+      if (!topo.edge(e).interior()) continue;
+      boundary[ends[0]] = boundary[ends[1]] = true;
+      for (int i = 1; i + 1 < edgeCount[e]; ++i) boundary[edgeBase[e] + i - 1] = true;
+    }
   q.vertexCurvature.assign(topo.numVertices(), 0.0);
   for (std::size_t v = 0; v < points.size(); ++v) {
     if (!used[v] || boundary[v]) continue;
