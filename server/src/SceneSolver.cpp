@@ -6,8 +6,10 @@
 #include <stdexcept>
 
 #include "devsurf/cad/StepWriter.h"
+#include "devsurf/io/CuttingPatternSvg.h"
 #include "devsurf/io/FoldWriter.h"
 #include "devsurf/io/SvgFoldPattern.h"
+#include "devsurf/models/composite/CompositePieces.h"
 #include "devsurf/models/conical_strip/ArcLengthCurve.h"
 #include "devsurf/models/quad_mesh/SplineSurface.h"
 
@@ -515,7 +517,8 @@ void SceneSolver::exportTo(const std::string& spec) const {
     }
     return;
   }
-  if (quadMesh_ || format == "step") {  // the bytes of exportAs, written as they are
+  const bool pieces = format == "svg" && cutAlongSeams();
+  if (quadMesh_ || format == "step" || pieces) {  // the bytes of exportAs, written as they are
     ExportedFile file;
     try {
       file = exportAs(format);
@@ -585,12 +588,34 @@ std::string objText(const io::QuadMesh& mesh, const std::string& title) {
 
 }  // namespace
 
+bool SceneSolver::cutAlongSeams() const {
+  return composite_ && !composite_->hasDevelopment() &&
+         models::composite::hasSeams(composite_->design(), composite_->topology());
+}
+
+std::string SceneSolver::piecesSvg() const {
+  try {
+    const models::composite::FlatPieces pieces =
+        models::composite::unfoldPieces(composite_->design(), composite_->topology());
+    io::CuttingPatternOptions options;
+    options.title = (scene_.name.empty() ? std::string("devsurf") : scene_.name) + ": " +
+                    std::to_string(pieces.pieces) + (pieces.pieces == 1 ? " piece" : " pieces") + ", cut along the seams";
+    return io::cuttingPatternSvg(pieces.vertices, pieces.faces, pieces.gluePairs, proto::millimetresPerUnit(scene_.units),
+                                 options);
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ExportFailed("format: svg: the pieces in their current state cannot be unfolded (" + std::string(e.what()) + ")");
+  }
+}
+
 io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
   if (!composite_)
     throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a strip");
   if (!composite_->hasDevelopment())
     throw ExportUnavailable("format: " + format +
-                            " needs a development; add \"development\": {\"samples\": n} to the composite model");
+                            " needs a development; add \"development\": {\"samples\": n} to the composite model" +
+                            (cutAlongSeams() ? " (its pieces cut along the seams export as svg)" : ""));
   try {
     io::CreasePattern cp = composite_->creasePattern(scene_.name);
     cp.unitToMm = proto::millimetresPerUnit(scene_.units);
@@ -631,6 +656,7 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
                          (format == "step" ? "STEP" : "IGES") + " (" + std::string(e.what()) + ")");
     }
   }
+  if (format == "svg" && cutAlongSeams()) return {piecesSvg(), "image/svg+xml", "svg"};
   if (format == "fold" || format == "svg") {
     const io::CreasePattern cp = creasePattern(format);
     if (format == "fold") return {io::foldString(cp), "application/json", "fold"};

@@ -3,14 +3,22 @@
 // independently, from the region's points to the exported STL read back through OpenMesh.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
+#include <iterator>
+#include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "devsurf/reference/ReferenceShape.h"
 #include "devsurf/reference/SurfaceDistance.h"
+#include "devsurf/spline/BSplineCurve.h"
 #include "server/CliTesting.h"
 #include "support/TempDir.h"
 
@@ -63,6 +71,85 @@ TEST(CoverCommand, CoversTheBunnysBackWithEightStripsThatSolveAsOneComposite) {
       reference::surfaceDistance(points.points, surface.points, surface.triangles, 0.01 * diagonal);
   EXPECT_NEAR(d.rmsDistance, metrics["reference_distance_rms"].get<double>(), 0.1 * d.rmsDistance);
   EXPECT_LE(d.rmsDistance, 0.01 * diagonal);
+}
+
+/// The shipped cover of the bunny's back exports its flat pieces: read back from the SVG (lines
+/// parsed here), each seam's two glue chains have the length of the 3D curve they were cut from
+/// (evaluated here from the scene's B-spline), and FOLD, a crease pattern, is refused.
+TEST(CoverCommand, TheCoversPiecesExportAsACuttingPatternWhoseSeamsMatchTheirCurves) {
+  devsurf::testing::TempDir dir;
+  const std::string preset = std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-cover-bunny.json";
+  const std::string svg = (dir.path() / "pieces.svg").string(), report = (dir.path() / "r.json").string();
+  nlohmann::json scene = nlohmann::json::parse(std::ifstream(preset));
+  scene["solver"]["iterations"] = 0;  // the shipped state, as drawn
+  const std::string sceneFile = (dir.path() / "cover.json").string();
+  std::ofstream(sceneFile) << scene.dump();
+  const CliRun run = runCommand({"solve", sceneFile, "--out", report, "--export", "svg:" + svg});
+  ASSERT_EQ(run.code, 0) << run.err;
+  std::ifstream in(svg);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // <line class="glue" data-v0="a" data-v1="b" data-seam="k" x1 y1 x2 y2/> → per seam, its edges.
+  std::map<int, std::vector<std::pair<std::array<int, 2>, double>>> seams;
+  std::size_t at = 0;
+  while ((at = text.find("<line class=\"glue\"", at)) != std::string::npos) {
+    const std::size_t end = text.find("/>", at);
+    const std::string line = text.substr(at, end - at);
+    auto attr = [&line](const std::string& name) {
+      const std::size_t p = line.find(" " + name + "=\"") + name.size() + 3;
+      return std::stod(line.substr(p, line.find('"', p) - p));
+    };
+    const double length = std::hypot(attr("x2") - attr("x1"), attr("y2") - attr("y1"));
+    seams[static_cast<int>(attr("data-seam"))].push_back({{{static_cast<int>(attr("data-v0")), static_cast<int>(attr("data-v1"))}}, length});
+    at = end;
+  }
+  ASSERT_EQ(seams.size(), 7u) << "eight strips side by side: seven seams";
+  // The 3D lengths of the shared curves (scene units m → mm), densely evaluated here.
+  const nlohmann::json& model = scene["model"];
+  std::vector<double> curveLengths;
+  std::vector<int> uses(model["edges"].size(), 0);
+  for (const auto& face : model["faces"])
+    for (const auto& e : face) ++uses[e.get<std::size_t>()];
+  for (std::size_t e = 0; e < model["edges"].size(); ++e) {
+    const nlohmann::json& edge = model["edges"][e];
+    if (uses[e] != 2 || edge.value("type", "") != "S") continue;
+    // The scene lists an S edge's interior control points; its ends are the edge's vertices.
+    std::vector<nlohmann::json> points{model["vertices"][edge["v"][0].get<std::size_t>()]};
+    for (const auto& p : edge["points"]) points.push_back(p);
+    points.push_back(model["vertices"][edge["v"][1].get<std::size_t>()]);
+    spline::BSplineCurve curve;
+    curve.points.resize(static_cast<Eigen::Index>(points.size()), 3);
+    for (std::size_t k = 0; k < points.size(); ++k)
+      for (int c = 0; c < 3; ++c) curve.points(static_cast<Eigen::Index>(k), c) = points[k][c].get<double>();
+    const int degree = edge["degree"].get<int>(), n = static_cast<int>(points.size());
+    curve.knots = edge.contains("knots") ? spline::KnotVector::clamped(degree, edge["knots"].get<std::vector<double>>(), n)
+                                         : spline::KnotVector::clampedUniform(degree, n);
+    const Eigen::MatrixXd dense = curve.evaluate(curve.knots.uniformSamples(4001), 0);
+    double length = 0.0;
+    for (Eigen::Index k = 1; k < dense.rows(); ++k) length += (dense.row(k) - dense.row(k - 1)).norm();
+    curveLengths.push_back(1000.0 * length);
+  }
+  ASSERT_EQ(curveLengths.size(), 7u);
+  for (const auto& [seam, edges] : seams) {
+    // The seam's edges form two chains, one on each piece: split them by connectivity.
+    std::map<int, int> component;
+    std::function<int(int)> root = [&component, &root](int v) {
+      if (!component.count(v)) component[v] = v;
+      return component[v] == v ? v : component[v] = root(component[v]);
+    };
+    for (const auto& [ends, length] : edges) component[root(ends[0])] = root(ends[1]);
+    std::map<int, double> chainLength;
+    for (const auto& [ends, length] : edges) chainLength[root(ends[0])] += length;
+    ASSERT_EQ(chainLength.size(), 2u) << "seam " << seam << " runs along two pieces";
+    const double a = chainLength.begin()->second, b = chainLength.rbegin()->second;
+    EXPECT_NEAR(a, b, 1e-6 * a) << "seam " << seam << ": the two sides to glue have one length";
+    // The polyline of 10 samples a span is a little shorter than the curve.
+    const double nearest = *std::min_element(curveLengths.begin(), curveLengths.end(),
+                                             [a](double x, double y) { return std::abs(x - a) < std::abs(y - a); });
+    EXPECT_NEAR(a, nearest, 2e-3 * nearest) << "seam " << seam << " has the length of a shared curve";
+  }
+  const CliRun fold = runCommand({"solve", sceneFile, "--out", report, "--export", "fold:" + (dir.path() / "f.fold").string()});
+  EXPECT_NE(fold.code, 0);
+  EXPECT_NE(fold.err.find("development"), std::string::npos) << fold.err;
 }
 
 TEST(CoverCommand, BadArgumentsAreRefusedNamingTheOption) {

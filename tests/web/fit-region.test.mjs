@@ -66,12 +66,28 @@ async function loadShape(page, daemon, file) {
   await h.poll(async () => /37,706 points, 75,408 triangles/.test(await page.getByTestId('shape-info').textContent()));
 }
 
+/** Clicks Fit and waits for the editor: the state it opened and the server's session. */
+async function fitAndOpen(page, daemon) {
+  await page.getByTestId('fit-region').click();
+  await page.getByTestId('editor').waitFor({ timeout: 60000 });
+  await h.waitForConnected(page);
+  const opened = await h.state(page);
+  const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+  return { opened, server };
+}
+
+/** The daemon, CGAL's bunny extracted, and a start page that has read it. */
+async function bunnyOnTheStartPage() {
+  const { daemon } = ctx;
+  const bunny = cgalFile('data/meshes/bunny00.off');
+  const page = await ctx.page();
+  await loadShape(page, daemon, bunny);
+  return { daemon, bunny, page };
+}
+
 test('a click on an uploaded shape centres the region, and one strip fitted there grows onto it while Solve streams',
   { timeout: 180000 }, () => ctx.guard('fit-region-strip', async () => {
-    const { daemon } = ctx;
-    const bunny = cgalFile('data/meshes/bunny00.off');
-    const page = await ctx.page();
-    await loadShape(page, daemon, bunny);
+    const { daemon, bunny, page } = await bunnyOnTheStartPage();
     assert.equal(await page.getByTestId('fit-region').isDisabled(), true, 'no region yet');
     // A click in the middle of the view lands on the bunny and fills the centre.
     await page.getByTestId('region-view').scrollIntoViewIfNeeded();
@@ -89,11 +105,7 @@ test('a click on an uploaded shape centres the region, and one strip fitted ther
     await page.getByTestId('region-centre').dispatchEvent('change');
     await page.getByTestId('region-radius').fill('8');
     assert.equal(await page.getByTestId('region-radius-label').textContent(), '0.128 (8 %)');
-    await page.getByTestId('fit-region').click();
-    await page.getByTestId('editor').waitFor({ timeout: 60000 });
-    await h.waitForConnected(page);
-    const opened = await h.state(page);
-    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    const { opened, server } = await fitAndOpen(page, daemon);
     assert.equal(server.scene.model.kind, 'strip');
     assert.equal(server.scene.name, 'bunny00: fitted strip');
     assert.ok(server.scene.model.approximation.points.length > 20, 'the region thinned as the target');
@@ -124,20 +136,13 @@ test('a click on an uploaded shape centres the region, and one strip fitted ther
 
 test('strips side by side over the bunny\'s back open as one composite that solves developable',
   { timeout: 180000 }, () => ctx.guard('fit-region-cover', async () => {
-    const { daemon } = ctx;
-    const bunny = cgalFile('data/meshes/bunny00.off');
-    const page = await ctx.page();
-    await loadShape(page, daemon, bunny);
+    const { daemon, bunny, page } = await bunnyOnTheStartPage();
     await page.getByTestId('region-centre').fill('0.187,0.119,0.014');
     await page.getByTestId('region-centre').dispatchEvent('change');
     await page.getByTestId('region-radius').fill('22');
     await page.getByTestId('region-mode').selectOption('cover');
     await page.getByTestId('region-strips').fill('8');
-    await page.getByTestId('fit-region').click();
-    await page.getByTestId('editor').waitFor({ timeout: 60000 });
-    await h.waitForConnected(page);
-    const opened = await h.state(page);
-    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    const { opened, server } = await fitAndOpen(page, daemon);
     assert.equal(server.scene.model.kind, 'composite');
     assert.equal(server.scene.model.faces.length, 8);
     await page.getByTestId('solve').click();
@@ -147,6 +152,16 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     const shot = await h.screenshotViewport(page, '11-fit-region-cover');
     const s = h.pixelStats(shot.image);
     assert.ok(s.distinct >= 32 && s.dominantShare < 0.97, `the composite is drawn (${s.distinct} colours)`);
+    // Pieces cut along seams: the export menu offers their flat patterns, not a crease pattern.
+    assert.equal(await page.getByTestId('export-fold').isVisible(), false, 'no FOLD: no development');
+    assert.equal(await page.getByTestId('export-svg').isVisible(), true);
+    assert.match(await page.getByTestId('export-svg').getAttribute('title'), /flat pieces/);
+    const token = new URL(page.url()).searchParams.get('token');
+    const res = await fetch(`${daemon.url}api/sessions/${opened.session}/export?format=svg`, { headers: { Authorization: `Bearer ${token}` } });
+    assert.equal(res.status, 200);
+    const svg = await res.text();
+    assert.match(svg, /<title>bunny00: 8 strips: 8 pieces, cut along the seams<\/title>/);
+    assert.equal(new Set([...svg.matchAll(/data-seam="(\d+)"/g)].map((m) => m[1])).size, 7, 'seven seams numbered');
 
     // A region that wraps around the shape (the ear): the warning is shown and the composite
     // opens only on a second click.
@@ -181,10 +196,7 @@ test('strips side by side over the bunny\'s back open as one composite that solv
 
 test('a lasso drawn over the bunny takes only the side facing the viewer, a brush paints and Shift erases, and the marked points fit one strip',
   { timeout: 180000 }, () => ctx.guard('fit-region-lasso', async () => {
-    const { daemon } = ctx;
-    const bunny = cgalFile('data/meshes/bunny00.off');
-    const page = await ctx.page();
-    await loadShape(page, daemon, bunny);
+    const { daemon, bunny, page } = await bunnyOnTheStartPage();
     await page.getByTestId('region-view').scrollIntoViewIfNeeded();
     const box = await page.getByTestId('region-view').boundingBox();
     const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
@@ -255,11 +267,7 @@ test('a lasso drawn over the bunny takes only the side facing the viewer, a brus
 
     // The marked points become the strip's region.
     const positions = await page.evaluate(() => window.__devsurf.startPage.regionPicker.selectedPositions());
-    await page.getByTestId('fit-region').click();
-    await page.getByTestId('editor').waitFor({ timeout: 60000 });
-    await h.waitForConnected(page);
-    const opened = await h.state(page);
-    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    const { opened, server } = await fitAndOpen(page, daemon);
     assert.equal(server.scene.model.kind, 'strip');
     const target = server.scene.model.approximation.points;
     assert.ok(target.length > 20, `the region thinned as the target (${target.length} points)`);

@@ -222,6 +222,17 @@ export class SharePanel {
   }
 }
 
+/**
+ * Whether a composite model is pieces cut apart along seams: no development, and some S edge
+ * shared by two faces without a crease condition (the server then exports its flat pieces).
+ */
+export function cutAlongSeams(model) {
+  if (!model || model.development || !Array.isArray(model.edges) || !Array.isArray(model.faces)) return false;
+  const uses = new Map();
+  for (const face of model.faces) for (const e of face) uses.set(e, (uses.get(e) || 0) + 1);
+  return model.edges.some((edge, e) => edge && edge.type === 'S' && (edge.crease || 'none') === 'none' && uses.get(e) === 2);
+}
+
 /** Export (server route, Bearer token) and save-scene buttons. */
 export class ExportPanel {
   constructor(parent, { state, toasts, errorSlots, token, currentScene }) {
@@ -253,7 +264,10 @@ export class ExportPanel {
     const update = () => {
       const composite = state.kind === 'composite';
       const quad = state.kind === 'quad_mesh';
-      this.foldButton.hidden = !composite && !quad;
+      // A composite without a development is pieces cut along seams (a shape's cover): no crease
+      // pattern, but each piece's flat pattern.
+      const pieces = composite && cutAlongSeams(state.scene && state.scene.model);
+      this.foldButton.hidden = (!composite && !quad) || pieces;
       this.svgButton.hidden = !composite && !quad;
       this.unfoldingObjButton.hidden = !quad;
       // Spline surfaces (a quad mesh with a control net) export their B-spline patches for CAD.
@@ -264,7 +278,8 @@ export class ExportPanel {
       this.objButton.title = quad ? 'The mesh M as an OBJ mesh (from the server)' : 'The sampled surface as OBJ quads (from the server)';
       this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames' : 'The crease pattern as FOLD 1.2 (composites with a development)';
       this.svgButton.title = quad ? 'The cutting pattern of M′ at true size: cuts, glue edges numbered in pairs'
-        : 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed';
+        : pieces ? 'The flat pieces at true size, cut along the seams: each seam numbered on both of its pieces'
+          : 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed';
     };
     state.on('scene', update);
     update();

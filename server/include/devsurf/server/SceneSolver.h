@@ -201,6 +201,13 @@ class SceneSolver {
   /// @throws ExportUnavailable (not a composite, no development), ExportFailed (rejected state)
   io::CreasePattern creasePattern(const std::string& format) const;
 
+  /// A composite without a development cut apart along its seams: every piece unfolded, at true
+  /// size in mm with the seams numbered on both pieces (io::cuttingPatternSvg).
+  /// @throws ExportFailed when a piece cannot be unfolded
+  std::string piecesSvg() const;
+  /// A composite without a development whose shared S edges include seams (see piecesSvg).
+  bool cutAlongSeams() const;
+
   /// The export's B-spline entities (exportAs "iges").
   void igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const;
   /// quad_mesh: metrics() and exportAs() (SceneSolverQuadMesh.cpp).

@@ -12,6 +12,7 @@
 
 #include "devsurf/metrics/QuadFlatness.h"
 #include "devsurf/metrics/StripQuality.h"
+#include "devsurf/models/composite/CompositePieces.h"
 #include "devsurf/terms/PolygonBacktrackTerm.h"
 #include "devsurf/terms/PolygonFairnessTerm.h"
 #include "devsurf/terms/RulingLengthTerm.h"
@@ -912,62 +913,29 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
   CompositeQuality q;
 
   // The welded auxiliary mesh: vertices, S-edge samples, one quad per pair of rulings.
-  std::vector<Eigen::Vector3d> points;
-  for (int v = 0; v < topo.numVertices(); ++v) points.push_back(d.vertices.row(v).transpose());
-  std::vector<int> edgeBase(topo.numEdges(), -1), edgeCount(topo.numEdges(), 0);
-  for (int e = 0; e < topo.numEdges(); ++e) {
-    if (topo.edgeType(e) != EdgeType::Spline) continue;
-    const spline::BSplineCurve& c = d.edges[e].curve;
-    const int U = c.knots.numSpans() * samplesPerSpan + 1;
-    edgeCount[e] = U;
-    edgeBase[e] = static_cast<int>(points.size());
-    const Eigen::MatrixXd s = c.evaluate(c.knots.uniformSamples(U), 0);
-    for (int i = 1; i + 1 < U; ++i) points.push_back(s.row(i).transpose());
-  }
-  auto sampleId = [&](const OrientedEdge& oe, int i) {
-    const int U = edgeCount[oe.edge];
-    const int stored = oe.reversed ? U - 1 - i : i;
-    const auto ends = topo.edgeVertices(oe.edge);
-    if (stored == 0) return ends[0];
-    if (stored == U - 1) return ends[1];
-    return edgeBase[oe.edge] + stored - 1;
-  };
+  const SampledComposite sampled = sampleComposite(d, topo, samplesPerSpan);
+  const std::vector<Eigen::Vector3d>& points = sampled.points;
+  const std::vector<int>& edgeCount = sampled.edgeCount;
   std::vector<std::vector<int>> polygons;
   double flatSum = 0.0;
   int flatCount = 0;
   q.faceFlatness.assign(topo.numFaces(), 0.0);
   for (int f = 0; f < topo.numFaces(); ++f) {
     const FaceInfo& info = topo.face(f);
-    if (info.type == FaceType::Planar) {
-      polygons.push_back(info.corners);
-      const int N = static_cast<int>(info.corners.size());
+    for (const std::vector<int>& poly : sampled.facePolygons[static_cast<std::size_t>(f)]) {
+      const int N = static_cast<int>(poly.size());
       double delta = 0.0;
-      if (N >= 4)
+      if (info.type == FaceType::Planar && N >= 4)  // every quadruple of consecutive corners
         for (int i = 0; i < N; ++i)
-          delta = std::max(delta, quadFlatness(points[info.corners[i]], points[info.corners[(i + 1) % N]],
-                                               points[info.corners[(i + 2) % N]], points[info.corners[(i + 3) % N]],
-                                               tiny));
-      q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);
-      q.faceFlatness[f] = delta;
-      flatSum += delta;
-      ++flatCount;
-      continue;
-    }
-    const int U = edgeCount[info.a.edge];
-    for (int i = 0; i + 1 < U; ++i) {
-      const int a0 = sampleId(info.a, i), a1 = sampleId(info.a, i + 1);
-      const int b0 = info.type == FaceType::Cone ? info.apex : sampleId(info.b, i);
-      const int b1 = info.type == FaceType::Cone ? info.apex : sampleId(info.b, i + 1);
-      std::vector<int> poly;
-      for (int id : {a0, a1, b1, b0})
-        if (poly.empty() || poly.back() != id) poly.push_back(id);
-      while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
-      const double delta = poly.size() == 4 ? quadFlatness(points[a0], points[a1], points[b1], points[b0], tiny) : 0.0;
+          delta = std::max(delta, quadFlatness(points[poly[i]], points[poly[(i + 1) % N]], points[poly[(i + 2) % N]],
+                                               points[poly[(i + 3) % N]], tiny));
+      else if (N == 4)  // a(u_i), a(u_i+1), b(u_i+1), b(u_i)
+        delta = quadFlatness(points[poly[0]], points[poly[1]], points[poly[2]], points[poly[3]], tiny);
       q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);
       q.faceFlatness[f] = std::max(q.faceFlatness[f], delta);
       flatSum += delta;
       ++flatCount;
-      if (poly.size() >= 3) polygons.push_back(poly);
+      if (N >= 3) polygons.push_back(poly);
     }
   }
   q.faceFlatnessMean = flatCount > 0 ? flatSum / flatCount : 0.0;
@@ -993,14 +961,9 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
   // condition is a seam, a line the pieces are cut apart along (strips side by side covering a
   // shape, CompositeFromStrips), and its points are boundary points of each piece. With a
   // development the sheet is one, and every shared point counts.
-  if (d.developmentSamples == 0)
-    for (int e = 0; e < topo.numEdges(); ++e) {
-      if (topo.edgeType(e) != EdgeType::Spline || d.edges[e].crease != CreaseKind::None) continue;
-      const auto ends = topo.edgeVertices(e);
-      if (!topo.edge(e).interior()) continue;
-      boundary[ends[0]] = boundary[ends[1]] = true;
-      for (int i = 1; i + 1 < edgeCount[e]; ++i) boundary[edgeBase[e] + i - 1] = true;
-    }
+  for (int e = 0; e < topo.numEdges(); ++e)
+    if (isSeam(d, topo, e))
+      for (int i = 0; i < edgeCount[e]; ++i) boundary[sampled.sampleId(topo, e, i)] = true;
   q.vertexCurvature.assign(topo.numVertices(), 0.0);
   for (std::size_t v = 0; v < points.size(); ++v) {
     if (!used[v] || boundary[v]) continue;
