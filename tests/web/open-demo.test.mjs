@@ -19,6 +19,9 @@ test('a demo opened from the start page shows the editor, connected, with a rend
     assert.equal(await demos.count(), listed.length, 'the start page lists every demo session');
     const ids = await demos.evaluateAll((els) => els.map((e) => e.getAttribute('data-session-id')));
     assert.deepEqual([...ids].sort(), listed.map((s) => s.id).sort());
+    // The tagline speaks of every kind the demos show, not of strips alone.
+    const tagline = await page.getByTestId('tagline').textContent();
+    for (const kind of [/strips/, /curved-crease/, /quad-mesh/, /spline surfaces/]) assert.match(tagline, kind);
     await h.screenshotPage(page, '01-start-page');
 
     const demo = listed.find((s) => /lifted/.test(s.id)) || listed[0];

@@ -121,7 +121,7 @@ export class StartPage {
     this.root = h('div', { class: 'start-page', testid: 'start-page' },
       h('header', { class: 'start-header' },
         h('h1', {}, 'devsurf'),
-        h('p', { class: 'tagline' }, 'Design developable strips together — surfaces bent from sheet material without stretching. Drag the control points; the solver keeps the strip developable, live for everyone in the session.')),
+        h('p', { class: 'tagline', testid: 'tagline' }, 'Design developable surfaces together — strips, curved-crease folds, quad-mesh sheets and spline surfaces, bent from paper, sheet metal or plywood without stretching, or fitted to a shape you bring. Drag a point; the solver keeps the design developable, live for everyone in the session.')),
       h('div', { class: 'start-grid' },
         h('section', { class: 'card wide' }, h('h2', {}, 'Demo sessions'), h('p', { class: 'muted small' }, 'Public sessions anyone can join and edit.'), this.demoList),
         h('section', { class: 'card' }, h('h2', {}, 'New session from an example'),
