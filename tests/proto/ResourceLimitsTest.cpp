@@ -16,7 +16,7 @@ namespace {
 
 using nlohmann::json;
 
-json example(const std::string& name) {
+json limitsExample(const std::string& name) {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
   return json::parse(file);
 }
@@ -36,7 +36,7 @@ Refusal refusal(const json& doc, const ResourceLimits& limits = {}) {
 
 TEST(ResourceLimits, EveryExampleIsWellWithinTheDefaultBudget) {
   for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/examples")) {
-    const Scene scene = sceneFromJson(example(entry.path().filename().string()));
+    const Scene scene = sceneFromJson(limitsExample(entry.path().filename().string()));
     const ResourceEstimate e = estimateResources(scene);
     EXPECT_LT(e.bytes, ResourceLimits{}.memoryBudgetBytes / 4) << entry.path().filename() << ": " << formatBytes(e.bytes);
     EXPECT_FALSE(e.parts.empty());
@@ -45,7 +45,7 @@ TEST(ResourceLimits, EveryExampleIsWellWithinTheDefaultBudget) {
 
 TEST(ResourceLimits, TheRunawayQuasiStripMappingIsRefusedByItsEstimateNamingTheCoefficients) {
   // The outside tester's edit: degree 9, 10 000 coefficients grew the daemon to 17.6 GB.
-  json doc = example("quasi-strip-twisted.json");
+  json doc = limitsExample("quasi-strip-twisted.json");
   doc["model"]["mapping"] = {{"degree", 9}, {"coefficients", 10000}};
   const Refusal r = refusal(doc);
   EXPECT_EQ(r.path, "model.mapping.coefficients");
@@ -60,7 +60,7 @@ TEST(ResourceLimits, TheRunawayQuasiStripMappingIsRefusedByItsEstimateNamingTheC
 }
 
 TEST(ResourceLimits, QuasiStripSamplesAreRefusedByTheirEstimateNamingSamples) {
-  json doc = example("quasi-strip-twisted.json");
+  json doc = limitsExample("quasi-strip-twisted.json");
   doc["model"]["samples"] = 100000;
   Refusal r = refusal(doc);
   EXPECT_EQ(r.path, "model.samples");
@@ -76,7 +76,7 @@ TEST(ResourceLimits, QuasiStripSamplesAreRefusedByTheirEstimateNamingSamples) {
 }
 
 TEST(ResourceLimits, TheQuasiStripEstimateGrowsWithTheSquareOfTheCoefficients) {
-  json doc = example("quasi-strip-twisted.json");
+  json doc = limitsExample("quasi-strip-twisted.json");
   ResourceLimits unlimited;
   unlimited.memoryBudgetBytes = 1e15;
   unlimited.maxWorkPerIteration = 1e30;
@@ -91,7 +91,7 @@ TEST(ResourceLimits, TheQuasiStripEstimateGrowsWithTheSquareOfTheCoefficients) {
 
 TEST(ResourceLimits, AHigherDegreeStripIsRefusedNamingItsCurveAndARaisedBudgetAcceptsIt) {
   // 2 × 1000 control points of degree 9: the guards' rows of 63 entries need about 2.4 GB.
-  json doc = example("strip-twisted.json");
+  json doc = limitsExample("strip-twisted.json");
   json a = json::array(), b = json::array();
   for (int i = 0; i < 1000; ++i) {
     a.push_back({0.01 * i, 0.0, 0.0});
@@ -110,7 +110,7 @@ TEST(ResourceLimits, AHigherDegreeStripIsRefusedNamingItsCurveAndARaisedBudgetAc
 }
 
 TEST(ResourceLimits, ACompositeDevelopmentIsRefusedNamingItsSamples) {
-  json doc = example("composite-cylinder-crease.json");
+  json doc = limitsExample("composite-cylinder-crease.json");
   // 64 samples per span over long S edges: the development mesh dominates.
   for (json& e : doc["model"]["edges"])
     if (e["type"] == "S") {
@@ -128,7 +128,7 @@ TEST(ResourceLimits, ACompositeDevelopmentIsRefusedNamingItsSamples) {
 TEST(ResourceLimits, ControlPointsPerSceneAndIterationsAreLimitedByField) {
   ResourceLimits limits;
   limits.maxControlPoints = 10;
-  json doc = example("strip-twisted.json");  // 7 + 7 control points
+  json doc = limitsExample("strip-twisted.json");  // 7 + 7 control points
   Refusal r = refusal(doc, limits);
   EXPECT_EQ(r.path, "model.a.points");
   EXPECT_EQ(r.rule, "limit");
@@ -140,7 +140,7 @@ TEST(ResourceLimits, ControlPointsPerSceneAndIterationsAreLimitedByField) {
   r = refusal(doc, limits);
   EXPECT_EQ(r.path, "solver.iterations");
   EXPECT_EQ(r.rule, "limit");
-  json quasi = example("quasi-strip-twisted.json");
+  json quasi = limitsExample("quasi-strip-twisted.json");
   quasi["model"]["max_iterations"] = 600;
   r = refusal(quasi, limits);
   EXPECT_EQ(r.path, "model.max_iterations");
@@ -148,16 +148,16 @@ TEST(ResourceLimits, ControlPointsPerSceneAndIterationsAreLimitedByField) {
 }
 
 TEST(ResourceLimits, FixedMaximaAreTheSchemasNamingTheField) {
-  json conical = example("conical-strip-hull.json");
+  json conical = limitsExample("conical-strip-hull.json");
   conical["model"]["np"] = 100000;  // took over 30 s before
   EXPECT_EQ(refusal(conical).path, "model.np");
   conical["model"]["np"] = 55;
   conical["model"]["nq"] = 10001;
   EXPECT_EQ(refusal(conical).path, "model.nq");
-  json strip = example("strip-twisted.json");
+  json strip = limitsExample("strip-twisted.json");
   strip["model"]["normals"] = {{"type", "spline"}, {"points", 2147483647}};
   EXPECT_EQ(refusal(strip).path, "model.normals.points");
-  json quasi = example("quasi-strip-twisted.json");
+  json quasi = limitsExample("quasi-strip-twisted.json");
   quasi["model"]["mapping"] = {{"degree", 2}, {"coefficients", 10001}};
   EXPECT_EQ(refusal(quasi).path, "model.mapping.coefficients");
 }
@@ -165,7 +165,7 @@ TEST(ResourceLimits, FixedMaximaAreTheSchemasNamingTheField) {
 TEST(ResourceLimits, ADevelopmentDomainWhoseProjectionsWouldStallAnIterationIsRefusedNamingTheBoundary) {
   // Each iteration projects every boundary sample onto its domain curve: samples × domain points,
   // in one step no deadline can interrupt.
-  json doc = example("composite-folded-annulus.json");
+  json doc = limitsExample("composite-folded-annulus.json");
   // 40 S edges of 29 spans at 8 samples per span: ~9 300 samples, within the memory budget.
   for (json& e : doc["model"]["edges"])
     if (e["type"] == "S") {

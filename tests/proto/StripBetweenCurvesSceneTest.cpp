@@ -30,7 +30,7 @@ json conicalScene() {
             {"q", curve(1.0, 0.3)}}}};
 }
 
-SceneError errorOf(const json& doc) {
+SceneError curveStripErrorOf(const json& doc) {
   try {
     sceneFromJson(doc);
   } catch (const SceneError& e) {
@@ -155,7 +155,7 @@ TEST(StripBetweenCurvesScene, ErrorsNameTheJsonPathOfTheField) {
   shortCurve["model"]["q"]["points"] = {{0, 0, 0}, {1, 0, 0}};
   cases.push_back({shortCurve, "model.q.points"});
   for (const Case& c : cases) {
-    const SceneError e = errorOf(c.doc);
+    const SceneError e = curveStripErrorOf(c.doc);
     EXPECT_EQ(e.path(), c.path) << e.what();
   }
 }

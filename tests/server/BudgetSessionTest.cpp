@@ -21,7 +21,7 @@ using testing::Inbox;
 using testing::ManualExecutor;
 using testing::MemoryJournal;
 
-using Editor = testing::ExampleEditor;
+using BudgetEditor = testing::ExampleEditor;
 using testing::exampleJson;
 
 /// Resident memory of this process, bytes.
@@ -33,7 +33,7 @@ double residentBytes() {
 }
 
 TEST(BudgetSession, TheRunawayQuasiStripEditIsRefusedByItsEstimateWithoutGrowingAndNothingIsJournalled) {
-  Editor e("quasi-strip-twisted");
+  BudgetEditor e("quasi-strip-twisted");
   const json before = e.session->sceneJson();
   const std::size_t journalled = e.journal.edits.size();
   const std::int64_t seq = e.session->seq();
@@ -61,7 +61,7 @@ TEST(BudgetSession, TheRunawayQuasiStripEditIsRefusedByItsEstimateWithoutGrowing
 TEST(BudgetSession, AConicalRebuildOverTheSessionsTimeBudgetIsRefusedAndNothingIsApplied) {
   SessionSettings settings;
   settings.rebuildTimeBudgetMs = 3000.0;  // the hull builds and solves in ~0.3 s, 10 000 samples in ~45 s
-  Editor e("conical-strip-hull", settings);
+  BudgetEditor e("conical-strip-hull", settings);
   const json before = e.session->sceneJson();
   const std::size_t journalled = e.journal.edits.size();
   // 10 000 samples a side (the schema's maximum) take tens of seconds to build.
@@ -86,7 +86,7 @@ TEST(BudgetSession, AConicalRebuildOverTheSessionsTimeBudgetIsRefusedAndNothingI
 TEST(BudgetSession, SetSolverOverTheIterationLimitIsRefusedNamingSolverIterations) {
   SessionSettings settings;
   settings.resources.maxIterations = 500;
-  Editor e("strip-lifted-corner", settings);
+  BudgetEditor e("strip-lifted-corner", settings);
   e.send({{"type", "set_solver"}, {"op", 1}, {"solver", {{"iterations", 501}}}});
   const json err = e.inbox.last("error");
   ASSERT_FALSE(err.is_null());
@@ -102,7 +102,7 @@ TEST(BudgetSession, AStructuralEditOverTheMemoryBudgetIsRefusedNamingTheFieldAnd
   // Room for the strip as it is, not for 20 000 normal-spline control points.
   settings.resources.memoryBudgetBytes =
       proto::estimateResources(testing::exampleScene("strip-lifted-corner")).bytes + 1024.0 * 1024;
-  Editor e("strip-lifted-corner", settings);
+  BudgetEditor e("strip-lifted-corner", settings);
   e.send({{"type", "set_solver"}, {"op", 1}, {"solver", json::object()}, {"normals", {{"type", "spline"}, {"points", 20000}}}});
   const json err = e.inbox.last("error");
   ASSERT_FALSE(err.is_null());
@@ -121,7 +121,7 @@ namespace {
 TEST(BudgetSession, ADragWhoseFirstContactRebuildRunsOutOfTimeIsAnsweredByItsOwnCodeNotInternal) {
   // The first drag of a point adds a temporary handle: a rebuild under the session's time budget.
   // Out of time there, the sender hears `time_budget` (the long hostile-client run saw `internal`).
-  Editor e("composite-curved-fold");
+  BudgetEditor e("composite-curved-fold");
   e.session->setRebuildTimeBudget(1e-6);
   const json before = e.session->sceneJson();
   e.send({{"type", "drag"}, {"op", 1}, {"target", {{"vertex", 0}}}, {"position", {0.1, 0.2, 0.3}}});

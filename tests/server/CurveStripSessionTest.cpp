@@ -24,12 +24,12 @@ using testing::MemoryJournal;
 
 using testing::exampleScene;
 
-std::shared_ptr<Session> makeSession(ManualExecutor& ex, const std::string& example, SessionJournal* journal) {
+std::shared_ptr<Session> makeCurveStripSession(ManualExecutor& ex, const std::string& example, SessionJournal* journal) {
   return std::make_shared<Session>("q1", exampleScene(example), Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                    SessionSettings{}, ex.scheduler(), journal, nullptr);
 }
 
-using Editor = testing::ExampleEditor;
+using CurveStripEditor = testing::ExampleEditor;
 
 json point(const json& scene, const std::string& curve, int index) { return scene["model"][curve]["points"][index]; }
 
@@ -40,7 +40,7 @@ json dragTo(int op, const std::string& curve, int index, const json& position) {
 // ---- quasi_strip ----
 
 TEST(QuasiStripSession, JoinSendsTheSolvedStripItsCurvesAndTheMappingBeforeAndAfter) {
-  Editor e("quasi-strip-twisted");
+  CurveStripEditor e("quasi-strip-twisted");
   const json state = e.inbox.messages.at(0);
   ASSERT_EQ(state["type"], "state");
   EXPECT_EQ(state["scene"]["model"]["kind"], "quasi_strip");
@@ -66,7 +66,7 @@ TEST(QuasiStripSession, JoinSendsTheSolvedStripItsCurvesAndTheMappingBeforeAndAf
 }
 
 TEST(QuasiStripSession, DraggingAControlPointOfC1MovesItAndResolvesTheWholeStrip) {
-  Editor e("quasi-strip-twisted");
+  CurveStripEditor e("quasi-strip-twisted");
   const json before = e.session->sceneJson();
   json moved = point(before, "c1", 5);
   moved[1] = moved[1].get<double>() + 0.02;
@@ -104,7 +104,7 @@ TEST(QuasiStripSession, LargeDragsNeverGiveAStripWorseThanTheIdentityMapping) {
   for (const std::string example : {"quasi-strip-hull", "quasi-strip-brim", "quasi-strip-twisted"}) {
     for (const std::string curve : {"c1", "c2"}) {
       for (const double fraction : {0.1, 0.25, 0.4}) {
-        Editor e(example);
+        CurveStripEditor e(example);
         const json scene = e.session->sceneJson();
         const json& points = scene["model"][curve]["points"];
         Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
@@ -143,7 +143,7 @@ TEST(QuasiStripSession, LargeDragsNeverGiveAStripWorseThanTheIdentityMapping) {
 }
 
 TEST(QuasiStripSession, SetParamsRebuildsWithTheNewMappingAndIsUndoable) {
-  Editor e("quasi-strip-hull");
+  CurveStripEditor e("quasi-strip-hull");
   const json before = e.session->sceneJson()["model"]["mapping"];
   e.send({{"type", "set_params"}, {"op", "p"}, {"params", {{"mapping", {{"coefficients", 12}}}, {"samples", 60}}}});
   ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
@@ -162,7 +162,7 @@ TEST(QuasiStripSession, SetParamsRebuildsWithTheNewMappingAndIsUndoable) {
 }
 
 TEST(QuasiStripSession, ParamsOfTheOtherKindOrOutOfRangeGetErrorsNamingTheField) {
-  Editor e("quasi-strip-hull");
+  CurveStripEditor e("quasi-strip-hull");
   const std::int64_t seq = e.session->seq();
   e.send({{"type", "set_params"}, {"op", 1}, {"params", {{"np", 10}}}});
   json err = e.inbox.last("error");
@@ -177,7 +177,7 @@ TEST(QuasiStripSession, ParamsOfTheOtherKindOrOutOfRangeGetErrorsNamingTheField)
 }
 
 TEST(QuasiStripSession, OpsThatDoNotApplyAndWrongTargetsGetErrorsNamingTheOpAndField) {
-  Editor e("quasi-strip-hull");
+  CurveStripEditor e("quasi-strip-hull");
   const json target = {{"curve", "c1"}, {"index", 1}};
   const std::vector<json> ops = {
       {{"type", "add_handle"}, {"op", "h"}, {"target", target}, {"position", {0, 0, 0}}},
@@ -203,7 +203,7 @@ TEST(QuasiStripSession, OpsThatDoNotApplyAndWrongTargetsGetErrorsNamingTheOpAndF
 }
 
 TEST(QuasiStripSession, APointThrownOutOfReachIsRefusedAndTheLastGoodStateKept) {
-  Editor e("quasi-strip-hull");
+  CurveStripEditor e("quasi-strip-hull");
   const json before = e.session->sceneJson();
   const json metricsBefore = e.session->metricsJson();
   // A control point thrown out to 1e300 (the curve would have no finite length): refused by the
@@ -225,13 +225,13 @@ TEST(QuasiStripSession, APointThrownOutOfReachIsRefusedAndTheLastGoodStateKept) 
 }
 
 TEST(QuasiStripSession, ReplayingTheJournalRestoresDragsAndParams) {
-  Editor e("quasi-strip-hull");
+  CurveStripEditor e("quasi-strip-hull");
   e.send(dragTo(1, "c2", 3, {4.0, 1.4, 1.9}));
   e.send({{"type", "drag_end"}, {"op", 2}, {"target", {{"curve", "c2"}, {"index", 3}}}});
   e.send({{"type", "set_params"}, {"op", 3}, {"params", {{"samples", 40}}}});
   ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
   ManualExecutor ex2;
-  auto restored = makeSession(ex2, "quasi-strip-hull", nullptr);
+  auto restored = makeCurveStripSession(ex2, "quasi-strip-hull", nullptr);
   restored->restore(nullptr, 0, e.journal.edits, e.journal.edits.back().first);
   EXPECT_EQ(restored->seq(), e.session->seq());
   EXPECT_EQ(restored->sceneJson(), e.session->sceneJson());
@@ -242,7 +242,7 @@ TEST(QuasiStripSession, ReplayingTheJournalRestoresDragsAndParams) {
 // ---- conical_strip ----
 
 TEST(ConicalStripSession, JoinSendsPatchesWithTypesProjectionPointsAndTheDevelopment) {
-  Editor e("conical-strip-hull");
+  CurveStripEditor e("conical-strip-hull");
   const json state = e.inbox.messages.at(0);
   ASSERT_EQ(state["type"], "state");
   const json& g = state["geometry"];
@@ -266,7 +266,7 @@ TEST(ConicalStripSession, JoinSendsPatchesWithTypesProjectionPointsAndTheDevelop
 }
 
 TEST(ConicalStripSession, DraggingAPointOfPAndSettingParamsRebuildTheStrip) {
-  Editor e("conical-strip-hull");
+  CurveStripEditor e("conical-strip-hull");
   const json before = e.session->sceneJson();
   json p3 = point(before, "p", 3);
   p3[2] = p3[2].get<double>() + 0.1;

@@ -24,7 +24,7 @@ using testing::runCommand;
 
 using nlohmann::json;
 
-std::string tempPath(const std::string& name) {
+std::string importTempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("devsurf_import_" + std::to_string(::getpid()) + "_" + name)).string();
 }
 
@@ -47,7 +47,7 @@ std::string writeSaddle(const std::string& name, int n, bool planar = false) {
         faces.push_back({a, a + 1, a + n + 2, a + n + 1});
       }
     }
-  const std::string path = tempPath(name);
+  const std::string path = importTempPath(name);
   io::writeObj(v, faces, path);
   return path;
 }
@@ -66,7 +66,7 @@ TEST(ImportCommand, MakesAQuadMeshSceneThatSolvesFromAnObjFile) {
   EXPECT_EQ(m["reference"]["triangles"].size(), 2u + 2u * 63u);
   EXPECT_EQ(scene["units"], "cm");
   // It is a scene like any other: the solver makes the saddle developable near itself.
-  const std::string scenePath = tempPath("saddle.json");
+  const std::string scenePath = importTempPath("saddle.json");
   std::ofstream(scenePath) << r.out;
   const CliRun solved = runCommand({"solve", scenePath});
   ASSERT_EQ(solved.code, 0) << solved.err;
@@ -93,10 +93,10 @@ TEST(ImportCommand, TakesAnUnfoldingWithTheSameFacesAndRefusesOneWithout) {
 TEST(ImportCommand, BadFilesAndOptionsAreNamed) {
   EXPECT_EQ(runCommand({"import"}).code, 2);
   EXPECT_EQ(runCommand({"import", "x.obj", "--variables", "all"}).code, 2);
-  const CliRun missing = runCommand({"import", tempPath("missing.obj")});
+  const CliRun missing = runCommand({"import", importTempPath("missing.obj")});
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.err.find("cannot read mesh file"), std::string::npos);
-  const std::string pentagon = tempPath("pentagon.obj");
+  const std::string pentagon = importTempPath("pentagon.obj");
   std::ofstream(pentagon) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\nf 1 2 3 4 5\n";
   const CliRun r = runCommand({"import", pentagon});
   EXPECT_EQ(r.code, 1);

@@ -17,7 +17,7 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-using Editor = testing::ExampleEditor;
+using QuadMeshEditor = testing::ExampleEditor;
 namespace checks = devsurf::testing;
 
 Eigen::Vector3d meshPoint(const json& scene, int v) {
@@ -25,12 +25,12 @@ Eigen::Vector3d meshPoint(const json& scene, int v) {
   return {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()};
 }
 
-json drag(int op, const json& target, const Eigen::Vector3d& p) {
+json dragVertexOf(int op, const json& target, const Eigen::Vector3d& p) {
   return {{"type", "drag"}, {"op", op}, {"target", target}, {"position", {p.x(), p.y(), p.z()}}};
 }
 
 /// The errors the editor got since `from` (index into its inbox).
-std::vector<json> errorsSince(const Editor& e, std::size_t from) {
+std::vector<json> errorsSince(const QuadMeshEditor& e, std::size_t from) {
   std::vector<json> out;
   for (std::size_t i = from; i < e.inbox.messages.size(); ++i)
     if (e.inbox.messages[i]["type"] == "error") out.push_back(e.inbox.messages[i]);
@@ -38,7 +38,7 @@ std::vector<json> errorsSince(const Editor& e, std::size_t from) {
 }
 
 TEST(QuadMeshSession, JoinSendsBothMeshesTheirFacesAndTheEdgeLengthErrors) {
-  Editor e("quad-bend-sheet");
+  QuadMeshEditor e("quad-bend-sheet");
   const json state = e.inbox.messages.at(0);
   ASSERT_EQ(state["type"], "state");
   const json& g = state["geometry"];
@@ -59,11 +59,11 @@ TEST(QuadMeshSession, JoinSendsBothMeshesTheirFacesAndTheEdgeLengthErrors) {
 }
 
 TEST(QuadMeshSession, ALongDragOfAVertexBendsTheSheetAndTheReleaseKeepsItIsometric) {
-  Editor e("quad-bend-sheet");
+  QuadMeshEditor e("quad-bend-sheet");
   const json before = e.session->sceneJson();
   const int v = 212;  // the sheet's centre
   const Eigen::Vector3d start = meshPoint(before, v), end = start + Eigen::Vector3d(0.0, 0.0, 3.0);
-  for (int k = 1; k <= 30; ++k) e.send(drag(k, {{"vertex", v}}, start + (end - start) * (k / 30.0)));
+  for (int k = 1; k <= 30; ++k) e.send(dragVertexOf(k, {{"vertex", v}}, start + (end - start) * (k / 30.0)));
   EXPECT_FALSE(e.inbox.ofType("iterate").empty());
   e.send({{"type", "drag_end"}, {"op", 31}, {"target", {{"vertex", v}}}});
   ASSERT_FALSE(e.inbox.last("solved").is_null());
@@ -80,7 +80,7 @@ TEST(QuadMeshSession, ALongDragOfAVertexBendsTheSheetAndTheReleaseKeepsItIsometr
 }
 
 TEST(QuadMeshSession, FixedVerticesStayAndHandlesAreAddedAndRemovedByVertex) {
-  Editor e("quad-bend-sheet");
+  QuadMeshEditor e("quad-bend-sheet");
   e.send({{"type", "set_fixed"}, {"op", 1}, {"target", {{"vertex", 0}}}, {"fixed", true}});
   const Eigen::Vector3d fixedAt = meshPoint(e.session->sceneJson(), 0);
   e.send({{"type", "add_handle"}, {"op", 2}, {"target", {{"vertex", 30}}}, {"position", {12.0, 8.0, 9.0}}});
@@ -97,7 +97,7 @@ TEST(QuadMeshSession, FixedVerticesStayAndHandlesAreAddedAndRemovedByVertex) {
 }
 
 TEST(QuadMeshSession, GluePairsSetWithSetParamsCloseTheGapAndAreUndoable) {
-  Editor e("quad-bend-sheet");
+  QuadMeshEditor e("quad-bend-sheet");
   // Glue the two ends of the sheet's bottom edge (vertices 0 and 24): the sheet rolls up.
   const std::size_t from = e.inbox.messages.size();
   e.send({{"type", "set_params"}, {"op", 1}, {"params", {{"glue", {{{"on", "mesh"}, {"pairs", {{0, 24}}}}}}}}});
@@ -124,7 +124,7 @@ TEST(QuadMeshSession, GluingAgainstTheHandlesLetsTheHandlesGiveWayNotTheSheetStr
                                       checks::parseObj(exporter.exportAs("unfolding_obj").content));
   };
   const json glue = {{{"on", "mesh"}, {"pairs", {{200, 224}}}}};
-  Editor e("quad-bend-sheet");
+  QuadMeshEditor e("quad-bend-sheet");
   const std::size_t from = e.inbox.messages.size();
   e.send({{"type", "set_params"}, {"op", 1}, {"params", {{"glue", glue}}}});
   e.send({{"type", "solve"}, {"op", 2}, {"iterations", 200}});
@@ -143,7 +143,7 @@ TEST(QuadMeshSession, GluingAgainstTheHandlesLetsTheHandlesGiveWayNotTheSheetStr
 }
 
 TEST(QuadMeshSession, TheGaussImageTurnsOnCurvatureAndRulingsInTheGeometry) {
-  Editor e("quad-cone-deficit");
+  QuadMeshEditor e("quad-cone-deficit");
   e.send({{"type", "set_params"}, {"op", 1}, {"params", {{"gauss_image", true}}}});
   ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.ofType("error").front().dump();
   e.send({{"type", "solve"}, {"op", 2}});
@@ -167,12 +167,12 @@ TEST(QuadMeshSession, TheGaussImageTurnsOnCurvatureAndRulingsInTheGeometry) {
 }
 
 TEST(QuadMeshSession, VerticesOfAMovingUnfoldingAreDraggedOnTheUnfolding) {
-  Editor e("quad-conformal-flatten");  // M fixed, M′ variable
+  QuadMeshEditor e("quad-conformal-flatten");  // M fixed, M′ variable
   const json before = e.session->sceneJson();
   const json& u = before["model"]["unfolding"][0];
   const Eigen::Vector3d start(u[0].get<double>(), u[1].get<double>(), 0.0);
   const json target = {{"vertex", 0}, {"on", "unfolding"}};
-  for (int k = 1; k <= 10; ++k) e.send(drag(k, target, start + Eigen::Vector3d(-0.02 * k, 0.0, 0.0)));
+  for (int k = 1; k <= 10; ++k) e.send(dragVertexOf(k, target, start + Eigen::Vector3d(-0.02 * k, 0.0, 0.0)));
   e.send({{"type", "drag_end"}, {"op", 11}, {"target", target}});
   EXPECT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.ofType("error").front().dump();
   const json moved = e.session->sceneJson()["model"]["unfolding"][0];
@@ -181,11 +181,11 @@ TEST(QuadMeshSession, VerticesOfAMovingUnfoldingAreDraggedOnTheUnfolding) {
 }
 
 TEST(QuadMeshSession, WrongTargetsAndParamsGetErrorsNamingTheField) {
-  Editor e("quad-bend-sheet");
+  QuadMeshEditor e("quad-bend-sheet");
   auto lastError = [&e]() { return e.inbox.last("error"); };
-  e.send(drag(1, {{"vertex", 9999}}, Eigen::Vector3d::Zero()));
+  e.send(dragVertexOf(1, {{"vertex", 9999}}, Eigen::Vector3d::Zero()));
   EXPECT_EQ(lastError()["path"], "target.vertex");
-  e.send(drag(2, {{"curve", "a"}, {"index", 0}}, Eigen::Vector3d::Zero()));
+  e.send(dragVertexOf(2, {{"curve", "a"}, {"index", 0}}, Eigen::Vector3d::Zero()));
   EXPECT_EQ(lastError()["path"], "target");
   e.send({{"type", "set_params"}, {"op", 3}, {"params", {{"np", 12}}}});
   EXPECT_EQ(lastError()["path"], "params.np");
@@ -200,7 +200,7 @@ TEST(QuadMeshSession, WrongTargetsAndParamsGetErrorsNamingTheField) {
 }
 
 TEST(QuadMeshSession, ExportsWriteMTheUnfoldingTheCuttingPatternAndBothFoldFrames) {
-  Editor e("quad-cone-deficit");
+  QuadMeshEditor e("quad-cone-deficit");
   const checks::ObjMesh m = checks::parseObj(e.session->exportAs("obj").content);
   const checks::ObjMesh u = checks::parseObj(e.session->exportAs("unfolding_obj").content);
   EXPECT_EQ(m.vertices.size(), 153u);
@@ -215,10 +215,10 @@ TEST(QuadMeshSession, ExportsWriteMTheUnfoldingTheCuttingPatternAndBothFoldFrame
 }
 
 TEST(QuadMeshSession, ReplayingTheJournalRestoresTheSameDesign) {
-  Editor e("quad-cone-excess");
+  QuadMeshEditor e("quad-cone-excess");
   const int v = 5;
   const Eigen::Vector3d start = meshPoint(e.session->sceneJson(), v);
-  for (int k = 1; k <= 8; ++k) e.send(drag(k, {{"vertex", v}}, start + Eigen::Vector3d(0.0, 0.0, 0.1 * k)));
+  for (int k = 1; k <= 8; ++k) e.send(dragVertexOf(k, {{"vertex", v}}, start + Eigen::Vector3d(0.0, 0.0, 0.1 * k)));
   e.send({{"type", "drag_end"}, {"op", 9}, {"target", {{"vertex", v}}}});
   e.send({{"type", "set_fixed"}, {"op", 10}, {"target", {{"vertex", 7}}}, {"fixed", true}});
   ASSERT_FALSE(e.journal.checkpoints.empty());

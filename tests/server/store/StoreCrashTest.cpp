@@ -28,9 +28,9 @@ using namespace devsurf::server::store;
 namespace {
 
 /// A fresh directory per test.
-class TempDir : public devsurf::testing::TempDir {
+class CrashTempDir : public devsurf::testing::TempDir {
  public:
-  TempDir() : devsurf::testing::TempDir("devsurf-crash") {}
+  CrashTempDir() : devsurf::testing::TempDir("devsurf-crash") {}
 };
 
 const char* const kSession = "crash";
@@ -143,7 +143,7 @@ Trial runAndKill(const std::string& dir, Durability durability, bool snapshots,
 }
 
 void runCrashTrials(Durability durabilityA, Durability durabilityB, bool snapshots) {
-  TempDir tmp;
+  CrashTempDir tmp;
   constexpr int kTrials = 24;
   std::mt19937 rng(12345);
   std::int64_t totalAcked = 0, previousLast = 0;

@@ -29,12 +29,12 @@ PlanarCurve ellipseArc() {
 }
 
 const Vec3 kDirection(0.3, -0.2, 1.0);
-constexpr double kL = 0.7;
+constexpr double kFoldL = 0.7;
 
 Vec3 mirror(const Vec3& x) { return {x.x(), x.y(), -x.z()}; }
 
 TEST(PlanarFoldByReflection, TheSecondSheetIsTheMirrorImageOfTheCylindersOtherHalf) {
-  const PlanarFold fold = planarFoldByReflection(ellipseArc(), kDirection, kL, 301);
+  const PlanarFold fold = planarFoldByReflection(ellipseArc(), kDirection, kFoldL, 301);
   const Vec3 d = kDirection.normalized();
   EXPECT_NEAR((fold.rulingFirst - d).norm(), 0.0, 1e-15);
   EXPECT_NEAR((fold.rulingSecond - Vec3(-d.x(), -d.y(), d.z())).norm(), 0.0, 1e-15);
@@ -43,8 +43,8 @@ TEST(PlanarFoldByReflection, TheSecondSheetIsTheMirrorImageOfTheCylindersOtherHa
     const Vec3 c = f.crease.row(i);
     EXPECT_EQ(c.z(), 0.0);
     // The mirror image (in z = 0, the osculating plane) of the cylinder's point c − L d.
-    EXPECT_NEAR((Vec3(f.sheet[1].rulingEnd.row(i)) - mirror(c - kL * d)).norm(), 0.0, 1e-15);
-    EXPECT_NEAR((Vec3(f.sheet[0].rulingEnd.row(i)) - (c + kL * d)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((Vec3(f.sheet[1].rulingEnd.row(i)) - mirror(c - kFoldL * d)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((Vec3(f.sheet[0].rulingEnd.row(i)) - (c + kFoldL * d)).norm(), 0.0, 1e-15);
     // Both patches lie on the same side of the crease plane.
     EXPECT_GT(f.sheet[0].rulingEnd(i, 2), 0.0);
     EXPECT_GT(f.sheet[1].rulingEnd(i, 2), 0.0);
@@ -53,7 +53,7 @@ TEST(PlanarFoldByReflection, TheSecondSheetIsTheMirrorImageOfTheCylindersOtherHa
 
 TEST(PlanarFoldByReflection, TheDevelopedRulingsContinueStraightAcrossTheCrease) {
   // Planar crease ⇔ ψ₁ = ψ₂ (thesis 1.7): the developed rulings are collinear.
-  const PlanarFold fold = planarFoldByReflection(ellipseArc(), kDirection, kL, 301);
+  const PlanarFold fold = planarFoldByReflection(ellipseArc(), kDirection, kFoldL, 301);
   const FoldSamples& f = fold.samples;
   for (int i = 0; i < f.size(); ++i) {
     const Vec2 r1 = Vec2(f.sheet[0].devRulingEnd.row(i)) - Vec2(f.sheet[0].devCrease.row(i));
@@ -82,7 +82,7 @@ TEST(PlanarFoldByReflection, TheDevelopmentOfAVerticalCylinderIsTheUnrolledArcLe
 }
 
 TEST(PlanarFoldByReflection, TheParametricFoldPassesEveryCreaseCheck) {
-  const PlanarFold fold = planarFoldByReflection(ellipseArc(), kDirection, kL, 8001);
+  const PlanarFold fold = planarFoldByReflection(ellipseArc(), kDirection, kFoldL, 8001);
   const CreaseCheckReport r = checkCrease(fold.samples);
   EXPECT_EQ(r.osculatingPlaneUndefined, 0);
   // Bisector property, exact and from the polylines (the crease polyline is planar too).
@@ -116,7 +116,7 @@ TEST(PlanarFoldByReflection, APolylineFoldIsExactlyIsometricAndPlanar) {
     const double u = 0.2 + 2.3 * i / (n - 1.0);
     polyline.row(i) << 2 * std::cos(u), std::sin(u);
   }
-  const PlanarFold fold = planarFoldByReflection(polyline, kDirection, kL);
+  const PlanarFold fold = planarFoldByReflection(polyline, kDirection, kFoldL);
   EXPECT_FALSE(fold.samples.hasDerivatives());
   const CreaseCheckReport r = checkCrease(fold.samples);
   EXPECT_TRUE(std::isnan(r.bisectorErrorMax));  // no derivative data: the exact checks are off

@@ -10,7 +10,7 @@
 namespace devsurf::io {
 namespace {
 
-std::string tempPath(const std::string& name) {
+std::string quadMeshTempPath(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("devsurf_io_" + std::to_string(::getpid()) + "_" + name)).string();
 }
 
@@ -24,7 +24,7 @@ QuadMesh grid() {
 }
 
 TEST(QuadMesh, ObjRoundTripKeepsQuadsAndCoordinates) {
-  const std::string path = tempPath("grid.obj");
+  const std::string path = quadMeshTempPath("grid.obj");
   writeMesh(grid(), path);
   std::ifstream file(path);
   std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
@@ -48,7 +48,7 @@ TEST(QuadMesh, QuadsSplitIntoTwoTrianglesAndZeroAreaOnesAreLeftOut) {
 }
 
 TEST(QuadMesh, StlFilesHoldTheTrianglesWithTheirVertices) {
-  const std::string path = tempPath("grid.stl");
+  const std::string path = quadMeshTempPath("grid.stl");
   writeMesh(grid(), path);
   std::ifstream file(path);
   std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
@@ -63,7 +63,7 @@ TEST(QuadMesh, StlFilesHoldTheTrianglesWithTheirVertices) {
 TEST(QuadMesh, BadIndicesAndUnwritablePathsThrow) {
   QuadMesh m = grid();
   m.quads(1, 2) = 17;
-  EXPECT_THROW(writeMesh(m, tempPath("bad.obj")), std::runtime_error);
+  EXPECT_THROW(writeMesh(m, quadMeshTempPath("bad.obj")), std::runtime_error);
   EXPECT_THROW(writeMesh(grid(), "/nonexistent-dir/x.obj"), std::runtime_error);
   EXPECT_THROW(readQuadMesh("/nonexistent-dir/x.obj"), std::runtime_error);
 }

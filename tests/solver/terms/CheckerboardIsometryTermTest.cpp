@@ -20,7 +20,7 @@ using devsurf::testing::randomVector;
 using devsurf::testing::residuals;
 
 /// Two quads and a triangle on 6 vertices: [0,1,2,3], [1,4,2], [2,4,5,3].
-const std::vector<std::array<int, 4>> kFaces = {{0, 1, 2, 3}, {1, 4, 2, -1}, {2, 4, 5, 3}};
+const std::vector<std::array<int, 4>> kIsometryFaces = {{0, 1, 2, 3}, {1, 4, 2, -1}, {2, 4, 5, 3}};
 
 TEST(CheckerboardIsometryTerm, JacobianMatchesFiniteDifferencesOnQuadsAndATriangle) {
   // M and M′ interleaved: vertex i of M at 6i, its image at 6i + 3.
@@ -29,7 +29,7 @@ TEST(CheckerboardIsometryTerm, JacobianMatchesFiniteDifferencesOnQuadsAndATriang
     mesh.push_back(6 * i);
     unfolding.push_back(6 * i + 3);
   }
-  CheckerboardIsometryTerm term("isometry", kFaces, mesh, unfolding);
+  CheckerboardIsometryTerm term("isometry", kIsometryFaces, mesh, unfolding);
   EXPECT_EQ(term.numResiduals(), 9);
   expectNoDuplicateEntries(term);
   expectJacobianMatches(term, randomVector(36, 1301));
@@ -39,7 +39,7 @@ TEST(CheckerboardIsometryTerm, JacobianMatchesFiniteDifferencesOnQuadsAndATriang
     mesh2.push_back(3 * i);
     unfolding2.push_back(18 + 3 * i);
   }
-  CheckerboardIsometryTerm blocks("isometry", kFaces, mesh2, unfolding2);
+  CheckerboardIsometryTerm blocks("isometry", kIsometryFaces, mesh2, unfolding2);
   expectJacobianMatches(blocks, randomVector(36, 1302));
 }
 
@@ -68,7 +68,7 @@ TEST(CheckerboardIsometryTerm, VanishesForARigidMotionOfANonPlanarMesh) {
     mesh.push_back(3 * i);
     unfolding.push_back(18 + 3 * i);
   }
-  CheckerboardIsometryTerm term("isometry", kFaces, mesh, unfolding);
+  CheckerboardIsometryTerm term("isometry", kIsometryFaces, mesh, unfolding);
   EXPECT_LT(residuals(term, x).cwiseAbs().maxCoeff(), 1e-14);
   x[18] += 0.1;  // moving one image vertex breaks it
   EXPECT_GT(residuals(term, x).cwiseAbs().maxCoeff(), 1e-3);

@@ -19,7 +19,7 @@ using devsurf::testing::expectNoDuplicateEntries;
 using devsurf::testing::randomVector;
 using devsurf::testing::residuals;
 
-std::shared_ptr<const ExtendedCurve> arc() {
+std::shared_ptr<const ExtendedCurve> endPointArc() {
   spline::BSplineCurve c;
   c.knots = spline::KnotVector::clampedUniform(2, 4);
   c.points.resize(4, 3);
@@ -28,7 +28,7 @@ std::shared_ptr<const ExtendedCurve> arc() {
 }
 
 TEST(MappingEndPointTerm, JacobianMatchesFiniteDifferences) {
-  MappingEndPointTerm term("end point", 1, {{0, 1.0}, {1, 1.0}, {2, 1.0}, {3, 1.0}}, arc(),
+  MappingEndPointTerm term("end point", 1, {{0, 1.0}, {1, 1.0}, {2, 1.0}, {3, 1.0}}, endPointArc(),
                            Eigen::Vector3d(3, 0, 1));
   expectNoDuplicateEntries(term);
   expectJacobianMatches(term, randomVector(5, 3));
@@ -36,7 +36,7 @@ TEST(MappingEndPointTerm, JacobianMatchesFiniteDifferences) {
 
 TEST(MappingEndPointTerm, MeasuresTheDistanceOfTheMappedEndFromItsTarget) {
   // σ(1) = Σ ε² = 1 puts the end on C2(1) = (3, 0, 1).
-  MappingEndPointTerm term("end point", 0, {{0, 1.0}, {1, 1.0}}, arc(), Eigen::Vector3d(3, 0, 1));
+  MappingEndPointTerm term("end point", 0, {{0, 1.0}, {1, 1.0}}, endPointArc(), Eigen::Vector3d(3, 0, 1));
   Eigen::VectorXd x(2);
   x << std::sqrt(0.5), std::sqrt(0.5);
   EXPECT_LT(residuals(term, x).norm(), 1e-14);

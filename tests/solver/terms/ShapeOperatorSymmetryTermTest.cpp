@@ -20,7 +20,7 @@ using devsurf::testing::expectNoDuplicateEntries;
 using devsurf::testing::randomVector;
 using devsurf::testing::residuals;
 
-std::vector<int> packedOffsets(int count, int first) {
+std::vector<int> shapeOperatorOffsets(int count, int first) {
   std::vector<int> offsets(count);
   for (int i = 0; i < count; ++i) offsets[i] = first + 3 * i;
   return offsets;
@@ -28,7 +28,7 @@ std::vector<int> packedOffsets(int count, int first) {
 
 TEST(ShapeOperatorSymmetryTerm, JacobianMatchesFiniteDifferencesAndTrianglesHaveNoRow) {
   const std::vector<std::array<int, 4>> faces = {{0, 1, 2, 3}, {3, 2, 4, -1}, {1, 4, 2, 0}};
-  ShapeOperatorSymmetryTerm term("symmetry", faces, packedOffsets(5, 0), packedOffsets(5, 15));
+  ShapeOperatorSymmetryTerm term("symmetry", faces, shapeOperatorOffsets(5, 0), shapeOperatorOffsets(5, 15));
   EXPECT_EQ(term.numResiduals(), 2);
   expectNoDuplicateEntries(term);
   for (unsigned seed : {21u, 22u, 23u}) expectJacobianMatches(term, randomVector(30, seed));
@@ -40,8 +40,8 @@ TEST(ShapeOperatorSymmetryTerm, VanishesForASymmetricNormalMapAndMeasuresTheSkew
   Eigen::VectorXd x(24);
   x << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,  //
       0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 2, 0;
-  ShapeOperatorSymmetryTerm term("symmetry", {{0, 1, 2, 3}}, packedOffsets(4, 0),
-                                 packedOffsets(4, 12));
+  ShapeOperatorSymmetryTerm term("symmetry", {{0, 1, 2, 3}}, shapeOperatorOffsets(4, 0),
+                                 shapeOperatorOffsets(4, 12));
   EXPECT_DOUBLE_EQ(residuals(term, x)[0], 3.0);
 
   // n_i = A v_i + b: the row is ⟨A d1, d0⟩ − ⟨d1, A d0⟩ = d1ᵀ (Aᵀ − A) d0, zero for symmetric A.
@@ -62,13 +62,13 @@ TEST(ShapeOperatorSymmetryTerm, VanishesForASymmetricNormalMapAndMeasuresTheSkew
 
 TEST(ShapeOperatorSymmetryTerm, RefusesBadIndicesAndOverlappingVariables) {
   EXPECT_THROW(
-      ShapeOperatorSymmetryTerm("s", {{0, 1, 2, 7}}, packedOffsets(4, 0), packedOffsets(4, 12)),
+      ShapeOperatorSymmetryTerm("s", {{0, 1, 2, 7}}, shapeOperatorOffsets(4, 0), shapeOperatorOffsets(4, 12)),
       std::invalid_argument);
   EXPECT_THROW(
-      ShapeOperatorSymmetryTerm("s", {{0, 2, 2, 3}}, packedOffsets(4, 0), packedOffsets(4, 12)),
+      ShapeOperatorSymmetryTerm("s", {{0, 2, 2, 3}}, shapeOperatorOffsets(4, 0), shapeOperatorOffsets(4, 12)),
       std::invalid_argument);
   EXPECT_THROW(
-      ShapeOperatorSymmetryTerm("s", {{0, 1, 2, 3}}, packedOffsets(4, 0), packedOffsets(4, 3)),
+      ShapeOperatorSymmetryTerm("s", {{0, 1, 2, 3}}, shapeOperatorOffsets(4, 0), shapeOperatorOffsets(4, 3)),
       std::invalid_argument);
 }
 

@@ -18,7 +18,7 @@ namespace {
 
 using nlohmann::json;
 
-json readExample(const std::string& name) {
+json readExampleJson(const std::string& name) {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
   std::stringstream text;
   text << file.rdbuf();

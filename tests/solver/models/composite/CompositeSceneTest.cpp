@@ -21,7 +21,7 @@ namespace {
 
 using nlohmann::json;
 
-std::string readExample(const std::string& name) {
+std::string readSceneExample(const std::string& name) {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
   std::stringstream text;
   text << file.rdbuf();
@@ -139,7 +139,7 @@ TEST(CompositeScene, ErrorsNameTheJsonPath) {
 
 /// Solves a preset exactly as `devsurf solve` does and checks the quality the issue asks for.
 CompositeQuality solvePreset(const std::string& name, CompositeDesign& before, CompositeDesign& after) {
-  const proto::Scene scene = proto::sceneFromText(readExample(name));
+  const proto::Scene scene = proto::sceneFromText(readSceneExample(name));
   before = std::get<CompositeDesign>(scene.model);
   CompositeModel model(before, scene.solver.compositeOptions());
   const engine::SolveSummary summary = model.solve(scene.solver.solverOptions());
@@ -179,7 +179,7 @@ TEST(CompositePresets, TwoCreasesMeetingAtAVertex) {
 /// development): the pieces are cut apart there, and the seams' points are boundary points of each
 /// piece. The same strips declared folded along those edges are one sheet, and the points count.
 TEST(CompositeQualityOfSeams, AShapesCoverIsCutAlongItsSeamsButNotAlongFolds) {
-  const proto::Scene scene = proto::sceneFromText(readExample("composite-cover-bunny.json"));
+  const proto::Scene scene = proto::sceneFromText(readSceneExample("composite-cover-bunny.json"));
   CompositeDesign design = std::get<CompositeDesign>(scene.model);
   ASSERT_EQ(design.developmentSamples, 0);
   const CompositeQuality seams = CompositeModel(design, scene.solver.compositeOptions()).quality();
@@ -209,7 +209,7 @@ TEST(CompositeQualityOfSeams, AShapesCoverIsCutAlongItsSeamsButNotAlongFolds) {
 class CompositePresetQuality : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(CompositePresetQuality, MeetsThePapersThresholdsTenIterationsAfterRelease) {
-  const proto::Scene scene = proto::sceneFromText(readExample(GetParam()));
+  const proto::Scene scene = proto::sceneFromText(readSceneExample(GetParam()));
   CompositeDesign design = std::get<CompositeDesign>(scene.model);
   const bool pieces = design.developmentSamples == 0;
   if (pieces)
