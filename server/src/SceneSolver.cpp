@@ -517,8 +517,8 @@ void SceneSolver::exportTo(const std::string& spec) const {
     }
     return;
   }
-  const bool pieces = format == "svg" && cutAlongSeams();
-  if (quadMesh_ || format == "step" || pieces) {  // the bytes of exportAs, written as they are
+  const bool flatPattern = format == "svg" && !(composite_ && composite_->hasDevelopment());
+  if (quadMesh_ || format == "step" || format == "dxf" || flatPattern) {  // the bytes of exportAs, written as they are
     ExportedFile file;
     try {
       file = exportAs(format);
@@ -560,7 +560,7 @@ void SceneSolver::exportTo(const std::string& spec) const {
   }
   if (format != "obj" && format != "off" && format != "ply" && format != "stl")
     throw std::invalid_argument("--export: unknown format \"" + format +
-                                "\" (expected obj, off, ply, stl, iges, step, or fold, svg for composites with a development)");
+                                "\" (expected obj, off, ply, stl, iges, step, svg, dxf, or fold for composites with a development)");
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
@@ -593,29 +593,13 @@ bool SceneSolver::cutAlongSeams() const {
          models::composite::hasSeams(composite_->design(), composite_->topology());
 }
 
-std::string SceneSolver::piecesSvg() const {
-  try {
-    const models::composite::FlatPieces pieces =
-        models::composite::unfoldPieces(composite_->design(), composite_->topology());
-    io::CuttingPatternOptions options;
-    options.title = (scene_.name.empty() ? std::string("devsurf") : scene_.name) + ": " +
-                    std::to_string(pieces.pieces) + (pieces.pieces == 1 ? " piece" : " pieces") + ", cut along the seams";
-    return io::cuttingPatternSvg(pieces.vertices, pieces.faces, pieces.gluePairs, proto::millimetresPerUnit(scene_.units),
-                                 options);
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw ExportFailed("format: svg: the pieces in their current state cannot be unfolded (" + std::string(e.what()) + ")");
-  }
-}
-
 io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
   if (!composite_)
     throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a strip");
   if (!composite_->hasDevelopment())
     throw ExportUnavailable("format: " + format +
                             " needs a development; add \"development\": {\"samples\": n} to the composite model" +
-                            (cutAlongSeams() ? " (its pieces cut along the seams export as svg)" : ""));
+                            (cutAlongSeams() ? " (its pieces cut along the seams export as svg and dxf)" : ""));
   try {
     io::CreasePattern cp = composite_->creasePattern(scene_.name);
     cp.unitToMm = proto::millimetresPerUnit(scene_.units);
@@ -631,8 +615,10 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
   if (quadMesh_) return quadMeshExport(format);
-  if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step")
-    throw ExportUnavailable("format: expected json, obj, iges, step, fold or svg, got \"" + format + "\"");
+  if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step" &&
+      format != "stl" && format != "dxf")
+    throw ExportUnavailable("format: expected json, obj, stl, iges, step, svg, dxf or fold, got \"" + format + "\"");
+  if (format == "stl" || format == "dxf") return fabricationExport(format);
   if (format == "iges" || format == "step") {
     io::IgesHeader header;
     header.fileName = (scene_.name.empty() ? std::string("devsurf") : scene_.name) + ".igs";
@@ -656,7 +642,8 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
                          (format == "step" ? "STEP" : "IGES") + " (" + std::string(e.what()) + ")");
     }
   }
-  if (format == "svg" && cutAlongSeams()) return {piecesSvg(), "image/svg+xml", "svg"};
+  if (format == "svg" && !(composite_ && composite_->hasDevelopment()) && (cutAlongSeams() || hasFlatStripPattern()))
+    return fabricationExport(format);
   if (format == "fold" || format == "svg") {
     const io::CreasePattern cp = creasePattern(format);
     if (format == "fold") return {io::foldString(cp), "application/json", "fold"};

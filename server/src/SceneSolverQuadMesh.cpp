@@ -4,6 +4,7 @@
 
 #include "devsurf/cad/StepWriter.h"
 #include "devsurf/io/CuttingPatternSvg.h"
+#include "devsurf/io/DxfDrawing.h"
 #include "devsurf/io/IgesWriter.h"
 #include "devsurf/io/PolygonMesh.h"
 #include "devsurf/io/QuadMeshFold.h"
@@ -107,13 +108,19 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
       throw ExportFailed("format: " + format + ": the surface in its current state cannot be written (" + e.what() + ")");
     }
   }
-  if (format == "svg" || format == "fold") {
+  if (format == "stl") return fabricationExport(format);
+  if (format == "svg" || format == "fold" || format == "dxf") {
     const qm::QuadMeshDesign d = model.design();
     if (!d.unfoldingPlanar)
       throw ExportUnavailable("format: " + format + " draws a planar unfolding; this scene's M′ is a second surface "
                               "(unfolding_planar false)");
     const double mm = proto::millimetresPerUnit(scene_.units);
     try {
+      if (format == "dxf") {
+        io::DxfDrawing drawing = io::cuttingPatternDrawing(d.unfolding, faces, meshGluePairs(d), mm);
+        drawing.title = title + ": cutting pattern of the unfolding";
+        return {io::dxfDocument(drawing), "image/vnd.dxf", "dxf"};
+      }
       if (format == "svg") {
         io::CuttingPatternOptions options;
         options.title = title;
@@ -131,9 +138,9 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
       throw ExportFailed("format: " + format + ": the mesh in its current state cannot be written (" + e.what() + ")");
     }
   }
-  throw ExportUnavailable("format: expected json, obj, unfolding_obj, svg, fold, or iges, step with a control net, for a "
-                          "quad_mesh scene, got \"" +
-                          format + "\" (devsurf solve also writes stl)");
+  throw ExportUnavailable("format: expected json, obj, unfolding_obj, stl, svg, dxf, fold, or iges, step with a control "
+                          "net, for a quad_mesh scene, got \"" +
+                          format + "\"");
 }
 
 void SceneSolver::quadMeshIgesEntities(std::vector<io::IgesSurface>& surfaces) const {

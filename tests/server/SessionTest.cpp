@@ -670,9 +670,11 @@ TEST(CompositeSession, ExportsObjFoldAndSvgAndRefusesFormatsThatDoNotApply) {
   EXPECT_EQ(svg.mediaType, "image/svg+xml");
   EXPECT_NE(svg.content.find("<svg"), std::string::npos);
   EXPECT_EQ(e.session->exportAs("step").mediaType, "model/step");
-  EXPECT_THROW(e.session->exportAs("dxf"), ExportUnavailable);
+  EXPECT_EQ(e.session->exportAs("dxf").mediaType, "image/vnd.dxf");
+  EXPECT_THROW(e.session->exportAs("dwg"), ExportUnavailable);
   JoinedEditor strip;
-  EXPECT_THROW(strip.session->exportAs("svg"), ExportUnavailable);
+  EXPECT_THROW(strip.session->exportAs("fold"), ExportUnavailable);
+  EXPECT_NE(strip.session->exportAs("svg").content.find("flat pattern"), std::string::npos);
   EXPECT_NE(strip.session->exportAs("obj").content.find("\nf "), std::string::npos);
 }
 

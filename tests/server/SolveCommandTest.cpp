@@ -183,7 +183,7 @@ TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
   EXPECT_EQ(runCommand({"solve"}).code, 2);
   EXPECT_EQ(runCommand({"solve", "/nonexistent.json"}).code, 2);
   EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--iterations", "many"}).code, 2);
-  EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--export", "dxf:x.dxf"}).code, 2);
+  EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--export", "dwg:x.dwg"}).code, 2);
   EXPECT_EQ(runCommand({"frobnicate"}).code, 2);
   EXPECT_EQ(runCommand({"help"}).code, 0);
 }

@@ -146,7 +146,7 @@ TEST(StripBetweenCurves, AJobsSceneExportsTheSolvedStripAgain) {
   EXPECT_NE(iges.content.find("128,"), std::string::npos);
   const ExportedFile obj = SceneSolver::exportScene(scene, "obj");
   EXPECT_EQ(obj.content, solver.exportAs("obj").content);
-  EXPECT_THROW(SceneSolver::exportScene(scene, "svg"), ExportUnavailable);
+  EXPECT_THROW(SceneSolver::exportScene(scene, "fold"), ExportUnavailable);
 }
 
 TEST(StripBetweenCurves, IterationsOnTheCommandLineLimitTheQuasiStripOptimizer) {

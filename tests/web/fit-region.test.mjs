@@ -162,6 +162,20 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     const svg = await res.text();
     assert.match(svg, /<title>bunny00: 8 strips: 8 pieces, cut along the seams<\/title>/);
     assert.equal(new Set([...svg.matchAll(/data-seam="(\d+)"/g)].map((m) => m[1])).size, 7, 'seven seams numbered');
+    // The fabrication files from the menu's buttons, as a user downloads them: the pieces as DXF
+    // (cut and glue layers, each seam numbered on both pieces) and the surface as STL.
+    const exported = async (testid) => {
+      const [download] = await Promise.all([page.waitForEvent('download'), page.getByTestId(testid).click()]);
+      return { name: download.suggestedFilename(), text: fs.readFileSync(await download.path(), 'latin1') };
+    };
+    const dxf = await exported('export-dxf');
+    assert.match(dxf.name, /\.dxf$/);
+    assert.match(dxf.text, /\$INSUNITS\r?\n 70\r?\n4\r?\n/, 'millimetres');
+    const labels = [...dxf.text.matchAll(/\nTEXT\r?\n[\s\S]*?\n  1\r?\n(\d+)\r?\n/g)].map((m) => m[1]);
+    assert.equal(labels.length, 14, 'seven seams, each numbered on both of its pieces');
+    const stl = await exported('export-stl');
+    assert.match(stl.name, /\.stl$/);
+    assert.ok((stl.text.match(/\n\s*facet normal /g) || []).length > 1000, 'the cover as triangles');
 
     // A region that wraps around the shape (the ear): the warning is shown and the composite
     // opens only on a second click.

@@ -14,7 +14,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-[[noreturn]] void fail(const std::string& what) {
+[[noreturn]] void failPattern(const std::string& what) {
   throw std::invalid_argument("CreasePattern: " + what);
 }
 
@@ -44,33 +44,33 @@ double signedArea2d(const Eigen::MatrixX2d& v, const std::vector<int>& loop) {
 
 void CreasePattern::validate() const {
   const Eigen::Index n = vertices2d.rows();
-  if (!vertices2d.allFinite()) fail("vertices2d has a non-finite coordinate");
+  if (!vertices2d.allFinite()) failPattern("vertices2d has a non-finite coordinate");
   if (vertices3d.rows() != 0 && vertices3d.rows() != n)
-    fail("vertices3d has " + std::to_string(vertices3d.rows()) + " rows, expected 0 or " +
+    failPattern("vertices3d has " + std::to_string(vertices3d.rows()) + " rows, expected 0 or " +
          std::to_string(n));
-  if (!vertices3d.allFinite()) fail("vertices3d has a non-finite coordinate");
-  if (!(unitToMm > 0.0) || !std::isfinite(unitToMm)) fail("unitToMm must be finite and > 0");
+  if (!vertices3d.allFinite()) failPattern("vertices3d has a non-finite coordinate");
+  if (!(unitToMm > 0.0) || !std::isfinite(unitToMm)) failPattern("unitToMm must be finite and > 0");
 
   for (std::size_t e = 0; e < edges.size(); ++e) {
     const CreaseEdge& ed = edges[e];
     if (ed.v0 < 0 || ed.v0 >= n || ed.v1 < 0 || ed.v1 >= n)
-      fail(edgeName(e) + " has a vertex index out of range");
-    if (ed.v0 == ed.v1) fail(edgeName(e) + " joins a vertex to itself");
-    if (ed.curve < -1) fail(edgeName(e) + " has a curve id below -1");
+      failPattern(edgeName(e) + " has a vertex index out of range");
+    if (ed.v0 == ed.v1) failPattern(edgeName(e) + " joins a vertex to itself");
+    if (ed.curve < -1) failPattern(edgeName(e) + " has a curve id below -1");
     if (ed.foldAngle) {
       const double a = *ed.foldAngle;
       if (!std::isfinite(a) || a < -180.0 || a > 180.0)
-        fail(edgeName(e) + " has a fold angle outside [-180, 180]");
+        failPattern(edgeName(e) + " has a fold angle outside [-180, 180]");
       switch (ed.assignment) {
         case EdgeAssignment::Mountain:
-          if (a > 0.0) fail(edgeName(e) + " is a mountain fold with a positive (valley) angle");
+          if (a > 0.0) failPattern(edgeName(e) + " is a mountain fold with a positive (valley) angle");
           break;
         case EdgeAssignment::Valley:
-          if (a < 0.0) fail(edgeName(e) + " is a valley fold with a negative (mountain) angle");
+          if (a < 0.0) failPattern(edgeName(e) + " is a valley fold with a negative (mountain) angle");
           break;
         default:
           if (a != 0.0)
-            fail(edgeName(e) + " is a " + assignmentName(ed.assignment) +
+            failPattern(edgeName(e) + " is a " + assignmentName(ed.assignment) +
                  " edge with a non-zero fold angle");
       }
     }
@@ -78,34 +78,34 @@ void CreasePattern::validate() const {
 
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& loop = faces[f];
-    if (loop.size() < 3) fail("face " + std::to_string(f) + " has fewer than 3 vertices");
+    if (loop.size() < 3) failPattern("face " + std::to_string(f) + " has fewer than 3 vertices");
     for (int v : loop)
-      if (v < 0 || v >= n) fail("face " + std::to_string(f) + " has a vertex index out of range");
+      if (v < 0 || v >= n) failPattern("face " + std::to_string(f) + " has a vertex index out of range");
     if (!(signedArea2d(vertices2d, loop) > 0.0))
-      fail("face " + std::to_string(f) + " is not counter-clockwise in the development");
+      failPattern("face " + std::to_string(f) + " is not counter-clockwise in the development");
   }
 
-  if (!rulings.allFinite()) fail("rulings has a non-finite coordinate");
+  if (!rulings.allFinite()) failPattern("rulings has a non-finite coordinate");
 
   std::set<int> ids;
   for (const CreaseCurve& c : curves) {
     const std::string name = "curve " + std::to_string(c.id);
-    if (c.id < 0) fail("a curve has a negative id");
-    if (!ids.insert(c.id).second) fail(name + " is listed twice");
-    if (c.degree < 1) fail(name + " has degree < 1");
+    if (c.id < 0) failPattern("a curve has a negative id");
+    if (!ids.insert(c.id).second) failPattern(name + " is listed twice");
+    if (c.degree < 1) failPattern(name + " has degree < 1");
     const auto m = static_cast<std::size_t>(c.controlPoints.rows());
-    if (m < static_cast<std::size_t>(c.degree) + 1) fail(name + " has too few control points");
+    if (m < static_cast<std::size_t>(c.degree) + 1) failPattern(name + " has too few control points");
     if (c.knots.size() != m + static_cast<std::size_t>(c.degree) + 1)
-      fail(name + " needs controlPoints + degree + 1 knots");
+      failPattern(name + " needs controlPoints + degree + 1 knots");
     for (std::size_t k = 0; k < c.knots.size(); ++k) {
-      if (!std::isfinite(c.knots[k])) fail(name + " has a non-finite knot");
-      if (k > 0 && c.knots[k] < c.knots[k - 1]) fail(name + " has decreasing knots");
+      if (!std::isfinite(c.knots[k])) failPattern(name + " has a non-finite knot");
+      if (k > 0 && c.knots[k] < c.knots[k - 1]) failPattern(name + " has decreasing knots");
     }
-    if (!c.controlPoints.allFinite()) fail(name + " has a non-finite control point");
+    if (!c.controlPoints.allFinite()) failPattern(name + " has a non-finite control point");
     if (!c.weights.empty()) {
-      if (c.weights.size() != m) fail(name + " needs one weight per control point");
+      if (c.weights.size() != m) failPattern(name + " needs one weight per control point");
       for (double w : c.weights)
-        if (!(w > 0.0) || !std::isfinite(w)) fail(name + " has a weight that is not positive");
+        if (!(w > 0.0) || !std::isfinite(w)) failPattern(name + " has a weight that is not positive");
     }
   }
 }

@@ -60,53 +60,17 @@ std::string cuttingPatternSvg(const Eigen::MatrixXd& V, const std::vector<Polygo
     }
   }
 
-  // Seam numbers: beside the edge of each side nearest the mean of that side's edge midpoints,
-  // moved towards the edge's face so the number stays on the piece when it is cut out.
+  // Seam numbers inside the piece, so they stay on it when it is cut out.
   std::string labels;
-  for (int seam = 0; seam < seams.seamCount; ++seam) {
-    for (int side = 0; side < 2; ++side) {
-      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-      int count = 0;
-      for (const PolygonEdge& e : seams.edges)
-        if (e.seam == seam && e.side == side) {
-          mean += 0.5 * (V.row(e.v0).head<2>() + V.row(e.v1).head<2>()).transpose();
-          ++count;
-        }
-      if (count == 0) continue;
-      mean /= count;
-      const PolygonEdge* best = nullptr;
-      double bestDistance = std::numeric_limits<double>::infinity();
-      for (const PolygonEdge& e : seams.edges) {
-        if (e.seam != seam || e.side != side) continue;
-        const Eigen::Vector2d mid = 0.5 * (V.row(e.v0).head<2>() + V.row(e.v1).head<2>()).transpose();
-        const double d = (mid - mean).squaredNorm();
-        if (d < bestDistance) {
-          bestDistance = d;
-          best = &e;
-        }
-      }
-      const Eigen::Vector2d a = V.row(best->v0).head<2>().transpose();
-      const Eigen::Vector2d b = V.row(best->v1).head<2>().transpose();
-      const PolygonFace& face = faces[static_cast<std::size_t>(best->face)];
-      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-      for (int c = 0; c < cornerCount(face); ++c) centre += V.row(face[static_cast<std::size_t>(c)]).head<2>().transpose();
-      centre /= cornerCount(face);
-      const Eigen::Vector2d mid = 0.5 * (a + b);
-      Eigen::Vector2d edge = b - a;
-      Eigen::Vector2d inward(-edge.y(), edge.x());
-      if (inward.dot(centre - mid) < 0.0) inward = -inward;
-      const double length = inward.norm();
-      const Eigen::Vector2d at = length > 0.0 ? Eigen::Vector2d(mid + inward / length * (0.7 * o.labelSizeMm / s))
-                                              : mid;
-      labels += "    <text class=\"glue-label\" data-seam=\"" + std::to_string(seam + 1) +
-                "\" data-side=\"" + std::to_string(side) + "\" x=\"" + X(at.x()) + "\" y=\"" +
-                Y(at.y()) + "\">" + std::to_string(seam + 1) + "</text>\n";
-    }
-  }
+  for (const SeamLabel& label : seamLabelPositions(seams, faces, V, 0.7 * o.labelSizeMm / s))
+    labels += "    <text class=\"glue-label\" data-seam=\"" + std::to_string(label.seam + 1) + "\" data-side=\"" +
+              std::to_string(label.side) + "\" x=\"" + X(label.position.x()) + "\" y=\"" + Y(label.position.y()) + "\">" +
+              std::to_string(label.seam + 1) + "</text>\n";
 
   const std::string title = o.title.empty() ? std::string("devsurf cutting pattern") : o.title;
   const std::string description =
-      "Cutting pattern of a quad mesh's unfolding, exported by devsurf. Units: millimetres, one "
+      (o.what.empty() ? std::string("Cutting pattern of a quad mesh's unfolding, exported by devsurf.") : o.what) +
+      " Units: millimetres, one "
       "user unit = 1 mm; scale: 1 design unit = " + num(s) + " mm; margin " + num(m) +
       " mm. Cut along the solid black lines. Blue dashed edges are glued: edges with the same "
       "number are glued to each other, running in the same direction along the seam. Faint grey "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -168,6 +169,51 @@ GlueSeams findGlueSeams(int vertexCount, const std::vector<PolygonFace>& faces,
     }
   }
   return out;
+}
+
+std::vector<SeamLabel> seamLabelPositions(const GlueSeams& seams, const std::vector<PolygonFace>& faces,
+                                          const Eigen::MatrixXd& unfolding, double inset) {
+  const Eigen::MatrixXd& V = unfolding;
+  auto midpoint = [&V](const PolygonEdge& e) -> Eigen::Vector2d {
+    return 0.5 * (V.row(e.v0).head<2>() + V.row(e.v1).head<2>()).transpose();
+  };
+  std::vector<SeamLabel> labels;
+  for (int seam = 0; seam < seams.seamCount; ++seam) {
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      int count = 0;
+      for (const PolygonEdge& e : seams.edges)
+        if (e.seam == seam && e.side == side) {
+          mean += midpoint(e);
+          ++count;
+        }
+      if (count == 0) continue;
+      mean /= count;
+      const PolygonEdge* best = nullptr;
+      double bestDistance = std::numeric_limits<double>::infinity();
+      for (const PolygonEdge& e : seams.edges) {
+        if (e.seam != seam || e.side != side) continue;
+        const double d = (midpoint(e) - mean).squaredNorm();
+        if (d < bestDistance) {
+          bestDistance = d;
+          best = &e;
+        }
+      }
+      const Eigen::Vector2d a = V.row(best->v0).head<2>().transpose();
+      const Eigen::Vector2d b = V.row(best->v1).head<2>().transpose();
+      const PolygonFace& face = faces[static_cast<std::size_t>(best->face)];
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      for (int c = 0; c < cornerCount(face); ++c) centre += V.row(face[static_cast<std::size_t>(c)]).head<2>().transpose();
+      centre /= cornerCount(face);
+      const Eigen::Vector2d mid = 0.5 * (a + b);
+      const Eigen::Vector2d edge = b - a;
+      Eigen::Vector2d inward(-edge.y(), edge.x());
+      if (inward.dot(centre - mid) < 0.0) inward = -inward;
+      const double length = inward.norm();
+      labels.push_back({seam, side, length > 0.0 ? Eigen::Vector2d(mid + inward / length * inset) : mid});
+    }
+  }
+  return labels;
 }
 
 }  // namespace devsurf::io

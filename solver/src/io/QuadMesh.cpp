@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -58,40 +59,60 @@ Eigen::MatrixX3i triangulateQuads(const QuadMesh& mesh) {
   return triangles;
 }
 
-void writeMesh(const QuadMesh& mesh, const std::string& path) {
-  silenceOpenMeshLogs();
+namespace {
+
+/// The mesh as an OpenMesh polygon mesh: its quads, or triangulateQuads' triangles when
+/// `triangles` (OpenMesh's STL writer writes triangles only; other faces become facets without
+/// vertices). `what` names the destination in messages.
+PolyMesh polyMeshOf(const QuadMesh& mesh, bool triangles, const std::string& what) {
   PolyMesh out;
   std::vector<PolyMesh::VertexHandle> handles;
   handles.reserve(static_cast<std::size_t>(mesh.vertices.rows()));
   for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
-    handles.push_back(out.add_vertex(
-        PolyMesh::Point(mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2))));
-  auto addFace = [&out, &handles, &path](const std::vector<int>& indices, const std::string& what) {
-    std::vector<PolyMesh::VertexHandle> face;
+    handles.push_back(out.add_vertex(PolyMesh::Point(mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2))));
+  auto addFace = [&out, &handles, &what](const std::vector<int>& indices, const std::string& face) {
+    std::vector<PolyMesh::VertexHandle> corners;
     for (const int v : indices) {
       if (v < 0 || v >= static_cast<int>(handles.size()))
-        throw std::runtime_error(path + ": " + what + " has a bad vertex index");
-      face.push_back(handles[static_cast<std::size_t>(v)]);
+        throw std::runtime_error(what + ": " + face + " has a bad vertex index");
+      corners.push_back(handles[static_cast<std::size_t>(v)]);
     }
-    if (!out.add_face(face).is_valid()) throw std::runtime_error(path + ": " + what + " is not manifold");
+    if (!out.add_face(corners).is_valid()) throw std::runtime_error(what + ": " + face + " is not manifold");
   };
-  // OpenMesh's STL writer writes triangles only (other faces become facets without vertices).
-  if (hasExtension(path, ".stl")) {
-    Eigen::MatrixX3i triangles;
+  if (triangles) {
+    Eigen::MatrixX3i t;
     try {
-      triangles = triangulateQuads(mesh);
+      t = triangulateQuads(mesh);
     } catch (const std::runtime_error& e) {
-      throw std::runtime_error(path + ": " + e.what());
+      throw std::runtime_error(what + ": " + e.what());
     }
-    for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-      addFace({triangles(t, 0), triangles(t, 1), triangles(t, 2)}, "triangle " + std::to_string(t));
+    for (Eigen::Index k = 0; k < t.rows(); ++k) addFace({t(k, 0), t(k, 1), t(k, 2)}, "triangle " + std::to_string(k));
   } else {
     for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f)
       addFace({mesh.quads(f, 0), mesh.quads(f, 1), mesh.quads(f, 2), mesh.quads(f, 3)}, "quad " + std::to_string(f));
   }
+  return out;
+}
+
+}  // namespace
+
+void writeMesh(const QuadMesh& mesh, const std::string& path) {
+  silenceOpenMeshLogs();
+  const PolyMesh out = polyMeshOf(mesh, hasExtension(path, ".stl"), path);
   OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::write_mesh(out, path, options, 17))
-    throw std::runtime_error("cannot write mesh file " + path);
+  if (!OpenMesh::IO::write_mesh(out, path, options, 17)) throw std::runtime_error("cannot write mesh file " + path);
+}
+
+std::string meshString(const QuadMesh& mesh, const std::string& format) {
+  if (format != "obj" && format != "off" && format != "ply" && format != "stl")
+    throw std::invalid_argument("meshString: format must be obj, off, ply or stl, got \"" + format + "\"");
+  silenceOpenMeshLogs();
+  const PolyMesh out = polyMeshOf(mesh, format == "stl", format);
+  std::ostringstream text;
+  OpenMesh::IO::Options options;
+  if (!OpenMesh::IO::write_mesh(out, text, "." + format, options, 17))
+    throw std::runtime_error("cannot write the mesh as " + format);
+  return text.str();
 }
 
 QuadMesh readQuadMesh(const std::string& path) {

@@ -161,7 +161,7 @@ class ProtocolTest(DaemonTestCase):
         status, _, raw = self.daemon.request("GET", f"/api/sessions/{s['id']}/export?format=step", headers=auth(s["view_token"]))
         self.assertEqual(status, 200)
         self.assertTrue(raw.startswith(b"ISO-10303-21;"))
-        self.assertEqual(self.daemon.json("GET", f"/api/sessions/{s['id']}/export?format=dxf", headers=auth(s["view_token"]))[0], 400)
+        self.assertEqual(self.daemon.json("GET", f"/api/sessions/{s['id']}/export?format=dwg", headers=auth(s["view_token"]))[0], 400)
         self.assertEqual(self.daemon.json("DELETE", f"/api/sessions/{s['id']}", headers=auth(s["view_token"]))[0], 403)
         self.assertEqual(self.daemon.request("DELETE", f"/api/sessions/{s['id']}", headers=auth(s["edit_token"]))[0], 204)
         self.assertEqual(self.daemon.json("GET", f"/api/sessions/{s['id']}", headers=auth(s["edit_token"]))[0], 404)

@@ -4,8 +4,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace devsurf::io {
 namespace {
@@ -58,6 +61,34 @@ TEST(QuadMesh, StlFilesHoldTheTrianglesWithTheirVertices) {
   EXPECT_EQ(facets, 4u);
   EXPECT_EQ(vertices, 12u);
   std::remove(path.c_str());
+}
+
+/// The whitespace-separated words of a text, numbers read as numbers (OpenMesh writes files it
+/// opens in fixed notation for some formats, streams in the shortest exact one).
+std::vector<std::string> words(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) {
+    char* end = nullptr;
+    const double x = std::strtod(w.c_str(), &end);
+    out.push_back(end && *end == '\0' && !w.empty() ? std::to_string(x) : w);
+  }
+  return out;
+}
+
+TEST(QuadMesh, MeshStringsHoldWhatWriteMeshWritesToAFile) {
+  for (const std::string format : {"obj", "off", "ply", "stl"}) {
+    const std::string path = quadMeshTempPath("same." + format);
+    writeMesh(grid(), path);
+    std::ifstream file(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(words(meshString(grid(), format)), words(text)) << format;
+    std::remove(path.c_str());
+  }
+  EXPECT_THROW(meshString(grid(), "dxf"), std::invalid_argument);
+  QuadMesh bad = grid();
+  bad.quads(1, 2) = 17;
+  EXPECT_THROW(meshString(bad, "stl"), std::runtime_error);
 }
 
 TEST(QuadMesh, BadIndicesAndUnwritablePathsThrow) {

@@ -5,6 +5,7 @@ import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { exportSession } from '../net/api.js';
+import { cutAlongSeams, exportFormats } from './exportFormats.js';
 import { cssDivergingGradient, cssGradient } from '../geometry/colormap.js';
 import { displayName, setDisplayName } from './preferences.js';
 
@@ -222,16 +223,7 @@ export class SharePanel {
   }
 }
 
-/**
- * Whether a composite model is pieces cut apart along seams: no development, and some S edge
- * shared by two faces without a crease condition (the server then exports its flat pieces).
- */
-export function cutAlongSeams(model) {
-  if (!model || model.development || !Array.isArray(model.edges) || !Array.isArray(model.faces)) return false;
-  const uses = new Map();
-  for (const face of model.faces) for (const e of face) uses.set(e, (uses.get(e) || 0) + 1);
-  return model.edges.some((edge, e) => edge && edge.type === 'S' && (edge.crease || 'none') === 'none' && uses.get(e) === 2);
-}
+export { cutAlongSeams } from './exportFormats.js';
 
 /** Export (server route, Bearer token) and save-scene buttons. */
 export class ExportPanel {
@@ -256,6 +248,8 @@ export class ExportPanel {
         this.foldButton = h('button', { class: 'btn', testid: 'export-fold', title: 'The crease pattern as FOLD 1.2 (composites with a development)', onclick: run('fold') }, 'Export FOLD'),
         this.svgButton = h('button', { class: 'btn', testid: 'export-svg', title: 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed', onclick: run('svg') }, 'Export SVG'),
         this.unfoldingObjButton = h('button', { class: 'btn', testid: 'export-unfolding-obj', title: 'The unfolding M′ as an OBJ mesh (from the server)', onclick: run('unfolding_obj') }, 'Export OBJ of M′'),
+        this.stlButton = h('button', { class: 'btn', testid: 'export-stl', title: 'The surface as STL triangles in the scene\'s units, for 3D printing and CAD (from the server)', onclick: run('stl') }, 'Export STL'),
+        this.dxfButton = h('button', { class: 'btn', testid: 'export-dxf', title: 'The flat pattern as DXF in millimetres, one layer per tool (from the server)', onclick: run('dxf') }, 'Export DXF'),
         this.igesButton = h('button', { class: 'btn', testid: 'export-iges', title: 'The spline surface as IGES B-spline surfaces, one per patch, in the scene\'s units (from the server)', onclick: run('iges') }, 'Export IGES'),
         this.stepButton = h('button', { class: 'btn', testid: 'export-step', title: 'The spline surface as STEP, its patches sewn into one shell (from the server)', onclick: run('step') }, 'Export STEP'),
         h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
@@ -264,22 +258,33 @@ export class ExportPanel {
     const update = () => {
       const composite = state.kind === 'composite';
       const quad = state.kind === 'quad_mesh';
+      const model = state.scene && state.scene.model;
       // A composite without a development is pieces cut along seams (a shape's cover): no crease
       // pattern, but each piece's flat pattern.
-      const pieces = composite && cutAlongSeams(state.scene && state.scene.model);
-      this.foldButton.hidden = (!composite && !quad) || pieces;
-      this.svgButton.hidden = !composite && !quad;
-      this.unfoldingObjButton.hidden = !quad;
-      // Spline surfaces (a quad mesh with a control net) export their B-spline patches for CAD.
-      const spline = quad && !!(state.scene && state.scene.model && state.scene.model.control);
-      this.igesButton.hidden = !spline;
-      this.stepButton.hidden = !spline;
+      const pieces = composite && cutAlongSeams(model);
+      const development = composite && !!(model && model.development);
+      const offered = new Set(exportFormats(state.kind, model));
+      const buttons = { obj: this.objButton, stl: this.stlButton, fold: this.foldButton, svg: this.svgButton,
+        dxf: this.dxfButton, unfolding_obj: this.unfoldingObjButton, iges: this.igesButton, step: this.stepButton };
+      for (const [format, button] of Object.entries(buttons)) button.hidden = !offered.has(format);
+      const spline = quad && !!(model && model.control);
+      this.igesButton.title = spline ? 'The spline surface as IGES B-spline surfaces, one per patch, in the scene\'s units (from the server)'
+        : 'The surface as IGES B-spline surfaces and its curves, in the scene\'s units (from the server)';
+      this.stepButton.title = spline ? 'The spline surface as STEP, its patches sewn into one shell (from the server)'
+        : 'The surface as STEP B-spline faces, for CAD (from the server)';
       this.objButton.textContent = quad ? 'Export OBJ of M' : 'Export OBJ';
       this.objButton.title = quad ? 'The mesh M as an OBJ mesh (from the server)' : 'The sampled surface as OBJ quads (from the server)';
+      this.stlButton.title = quad ? 'The mesh M as STL triangles (from the server)'
+        : 'The surface as STL triangles in the scene\'s units, for 3D printing and CAD (from the server)';
       this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames' : 'The crease pattern as FOLD 1.2 (composites with a development)';
       this.svgButton.title = quad ? 'The cutting pattern of M′ at true size: cuts, glue edges numbered in pairs'
         : pieces ? 'The flat pieces at true size, cut along the seams: each seam numbered on both of its pieces'
-          : 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed';
+          : development ? 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed'
+            : 'The flat pattern at true size: the strip unrolled, its rulings as faint lines';
+      this.dxfButton.title = development
+        ? 'The crease pattern as DXF in millimetres: layers CUT (outline), MOUNTAIN and VALLEY (score), RULINGS (off)'
+        : quad || pieces ? 'The cutting pattern as DXF in millimetres: layers CUT, GLUE (cut, then glue) and LABEL (seam numbers)'
+          : 'The flat pattern as DXF in millimetres: the strip unrolled, its outline on layer CUT';
     };
     state.on('scene', update);
     update();

@@ -1,15 +1,18 @@
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/io/IgesWriter.h"
+#include "devsurf/io/PolygonMesh.h"
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/conical_strip/ConicalStripModel.h"
@@ -201,11 +204,29 @@ class SceneSolver {
   /// @throws ExportUnavailable (not a composite, no development), ExportFailed (rejected state)
   io::CreasePattern creasePattern(const std::string& format) const;
 
-  /// A composite without a development cut apart along its seams: every piece unfolded, at true
-  /// size in mm with the seams numbered on both pieces (io::cuttingPatternSvg).
-  /// @throws ExportFailed when a piece cannot be unfolded
-  std::string piecesSvg() const;
-  /// A composite without a development whose shared S edges include seams (see piecesSvg).
+  /// A flat pattern to cut out: the unfolding in design units, its faces counter-clockwise, the
+  /// vertex pairs glued together in 3D and a title.
+  struct CuttingParts {
+    Eigen::MatrixX2d vertices;
+    std::vector<io::PolygonFace> faces;
+    std::vector<std::array<int, 2>> gluePairs;
+    std::string title;
+  };
+  /// The flat pattern of a scene without a crease pattern: a composite cut along its seams (its
+  /// pieces, models::composite::unfoldPieces) or a strip, quasi strip or conical strip (the obj
+  /// export's sampled surface, points within 1e-9 of its diagonal welded, each connected sheet
+  /// unfolded from its edge lengths by spatial::unfoldPieces; no glue pairs).
+  /// @throws ExportUnavailable for other scenes, ExportFailed when the state cannot be unfolded
+  CuttingParts cuttingParts(const std::string& format) const;
+  /// The parts as io::cuttingPatternSvg at true size in mm (strips with their mesh lines, which
+  /// are rulings; pieces without).
+  std::string cuttingPatternSvg(const CuttingParts& parts) const;
+  /// Whether the scene is a strip, quasi strip or conical strip (a flat pattern by unfolding).
+  bool hasFlatStripPattern() const;
+  /// exportAs for "stl" (every kind but quad_mesh), "svg" of strips and pieces, and "dxf" of
+  /// composites, strips and pieces (SceneSolverFabrication.cpp).
+  ExportedFile fabricationExport(const std::string& format) const;
+  /// A composite without a development whose shared S edges include seams (see cuttingParts).
   bool cutAlongSeams() const;
 
   /// The export's B-spline entities (exportAs "iges").

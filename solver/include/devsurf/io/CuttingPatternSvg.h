@@ -19,6 +19,9 @@ struct CuttingPatternOptions {
   bool drawMesh = true;        ///< draw the interior edges as faint lines
   double labelSizeMm = 3.0;    ///< font size of the seam numbers (> 0)
   std::string title;           ///< <title>; "devsurf cutting pattern" when empty
+  /// What the drawing is, the first sentence of <desc> (units and line styles follow); "Cutting
+  /// pattern of a quad mesh's unfolding, exported by devsurf." when empty.
+  std::string what;
   int decimals = 4;            ///< decimals of the coordinates, in [0, 12]
 };
 

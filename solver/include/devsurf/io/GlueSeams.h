@@ -3,6 +3,8 @@
 #include <array>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "devsurf/io/PolygonMesh.h"
 
 namespace devsurf::io {
@@ -51,5 +53,19 @@ struct GlueSeams {
 GlueSeams findGlueSeams(int vertexCount, const std::vector<PolygonFace>& faces,
                         const std::vector<std::array<int, 2>>& gluePairs,
                         const Eigen::MatrixXd& unfolding = Eigen::MatrixXd());
+
+/// Where one side of a seam is numbered on a cutting pattern.
+struct SeamLabel {
+  int seam = -1;                               ///< 0-based seam
+  int side = -1;                               ///< 0 or 1
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  ///< in the unfolding's units
+};
+
+/// Label positions of every side of every seam, seam by seam, side 0 first: beside the side's
+/// edge nearest the mean of that side's edge midpoints, moved `inset` (unfolding units) from the
+/// edge's middle towards the centre of the edge's face.
+/// @param unfolding V×2 or V×3 vertices of M′ (the ones findGlueSeams was given)
+std::vector<SeamLabel> seamLabelPositions(const GlueSeams& seams, const std::vector<PolygonFace>& faces,
+                                          const Eigen::MatrixXd& unfolding, double inset);
 
 }  // namespace devsurf::io

@@ -28,6 +28,10 @@ Eigen::MatrixX3i triangulateQuads(const QuadMesh& mesh);
 /// @throws std::runtime_error naming the file when writing fails.
 void writeMesh(const QuadMesh& mesh, const std::string& path);
 
+/// The text writeMesh writes for a file of extension `format` (obj, off, ply or stl), in memory.
+/// @throws std::invalid_argument for another format, std::runtime_error when OpenMesh fails.
+std::string meshString(const QuadMesh& mesh, const std::string& format);
+
 /// Reads a polygon mesh through OpenMesh (faces that are not quads are rejected).
 /// @throws std::runtime_error naming the file when reading fails.
 QuadMesh readQuadMesh(const std::string& path);
