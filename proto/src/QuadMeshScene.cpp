@@ -39,7 +39,7 @@ std::size_t pointCount(qm::MeshSide side, std::size_t V, const qm::QuadMeshDesig
   return static_cast<std::size_t>(d.control->points.rows());
 }
 
-Eigen::Vector3d point3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+Eigen::Vector3d quadPoint3(const json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
 
 }  // namespace
 
@@ -183,7 +183,7 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
   const json& mesh = m.at("mesh");
   const std::size_t V = mesh.size();
   d.mesh.resize(static_cast<Eigen::Index>(V), 3);
-  for (std::size_t i = 0; i < V; ++i) d.mesh.row(static_cast<Eigen::Index>(i)) = point3(mesh[i]).transpose();
+  for (std::size_t i = 0; i < V; ++i) d.mesh.row(static_cast<Eigen::Index>(i)) = quadPoint3(mesh[i]).transpose();
 
   const json& faces = m.at("faces");
   d.faces.reserve(faces.size());
@@ -237,7 +237,7 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
     const qm::MeshSide side = sideFromJson(h);
     handle.vertex = {side, vertexIndex(h.at("vertex"), at("model.handles", i) + ".vertex",
                                        pointCount(side, V, d, at("model.handles", i)))};
-    handle.target = point3(h.at("position"));
+    handle.target = quadPoint3(h.at("position"));
     handle.weight = h.value("weight", 1.0);
     d.handles.push_back(handle);
   }
@@ -264,7 +264,7 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
     const json& rv = r.at("vertices");
     const json& rt = r.at("triangles");
     ref.vertices.resize(static_cast<Eigen::Index>(rv.size()), 3);
-    for (std::size_t i = 0; i < rv.size(); ++i) ref.vertices.row(static_cast<Eigen::Index>(i)) = point3(rv[i]).transpose();
+    for (std::size_t i = 0; i < rv.size(); ++i) ref.vertices.row(static_cast<Eigen::Index>(i)) = quadPoint3(rv[i]).transpose();
     ref.triangles.resize(static_cast<Eigen::Index>(rt.size()), 3);
     for (std::size_t t = 0; t < rt.size(); ++t)
       for (int k = 0; k < 3; ++k)

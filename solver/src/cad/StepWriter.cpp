@@ -36,7 +36,7 @@ namespace devsurf::cad {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failStep(const std::string& message) { throw std::invalid_argument(message); }
 
 /// Distinct knot values and their multiplicities.
 void splitKnots(const std::vector<double>& knots, const std::string& path, TColStd_Array1OfReal*& values,
@@ -44,8 +44,8 @@ void splitKnots(const std::vector<double>& knots, const std::string& path, TColS
   std::vector<double> distinct;
   std::vector<int> counts;
   for (std::size_t i = 0; i < knots.size(); ++i) {
-    if (!std::isfinite(knots[i])) fail(path + "[" + std::to_string(i) + "]: must be finite");
-    if (i > 0 && knots[i] < knots[i - 1]) fail(path + ": must be non-decreasing");
+    if (!std::isfinite(knots[i])) failStep(path + "[" + std::to_string(i) + "]: must be finite");
+    if (i > 0 && knots[i] < knots[i - 1]) failStep(path + ": must be non-decreasing");
     if (!distinct.empty() && knots[i] == distinct.back())
       ++counts.back();
     else {
@@ -53,7 +53,7 @@ void splitKnots(const std::vector<double>& knots, const std::string& path, TColS
       counts.push_back(1);
     }
   }
-  if (distinct.size() < 2) fail(path + ": the domain is empty");
+  if (distinct.size() < 2) failStep(path + ": the domain is empty");
   values = new TColStd_Array1OfReal(1, static_cast<int>(distinct.size()));
   multiplicities = new TColStd_Array1OfInteger(1, static_cast<int>(distinct.size()));
   for (std::size_t i = 0; i < distinct.size(); ++i) {
@@ -63,15 +63,15 @@ void splitKnots(const std::vector<double>& knots, const std::string& path, TColS
 }
 
 Handle(Geom_BSplineSurface) surfaceOf(const io::IgesSurface& s, const std::string& path) {
-  if (s.degreeU < 1 || s.degreeV < 1 || s.degreeU > 25 || s.degreeV > 25) fail(path + ": degrees must be 1 … 25");
-  if (s.nu <= s.degreeU || s.nv <= s.degreeV) fail(path + ": needs more than degree control points in each direction");
+  if (s.degreeU < 1 || s.degreeV < 1 || s.degreeU > 25 || s.degreeV > 25) failStep(path + ": degrees must be 1 … 25");
+  if (s.nu <= s.degreeU || s.nv <= s.degreeV) failStep(path + ": needs more than degree control points in each direction");
   if (s.points.rows() != static_cast<Eigen::Index>(s.nu) * s.nv)
-    fail(path + ".points: nu × nv = " + std::to_string(s.nu * s.nv) + " expected");
-  if (!s.points.allFinite()) fail(path + ".points: every coordinate must be finite");
-  if (static_cast<int>(s.knotsU.size()) != s.nu + s.degreeU + 1) fail(path + ".knotsU: nu + degreeU + 1 values expected");
-  if (static_cast<int>(s.knotsV.size()) != s.nv + s.degreeV + 1) fail(path + ".knotsV: nv + degreeV + 1 values expected");
+    failStep(path + ".points: nu × nv = " + std::to_string(s.nu * s.nv) + " expected");
+  if (!s.points.allFinite()) failStep(path + ".points: every coordinate must be finite");
+  if (static_cast<int>(s.knotsU.size()) != s.nu + s.degreeU + 1) failStep(path + ".knotsU: nu + degreeU + 1 values expected");
+  if (static_cast<int>(s.knotsV.size()) != s.nv + s.degreeV + 1) failStep(path + ".knotsV: nv + degreeV + 1 values expected");
   if (s.weights.size() != 0 && (s.weights.size() != s.points.rows() || !(s.weights.array() > 0).all()))
-    fail(path + ".weights: one positive weight per control point expected");
+    failStep(path + ".weights: one positive weight per control point expected");
   TColgp_Array2OfPnt poles(1, s.nu, 1, s.nv);
   for (int j = 0; j < s.nv; ++j)
     for (int i = 0; i < s.nu; ++i) {
@@ -98,7 +98,7 @@ const char* stepUnit(const std::string& units) {
   if (units == "cm") return "CM";
   if (units == "m") return "M";
   if (units == "in") return "INCH";
-  fail("units: expected mm, cm, m or in, got \"" + units + "\"");
+  failStep("units: expected mm, cm, m or in, got \"" + units + "\"");
 }
 
 /// STEPControl_Writer's parameters are process-wide (Interface_Static): one write at a time.
@@ -120,10 +120,10 @@ void quietMessenger() {
 }  // namespace
 
 std::string stepDocument(const std::vector<io::IgesSurface>& surfaces, const StepOptions& options) {
-  if (surfaces.empty()) fail("surfaces: at least one surface is needed");
+  if (surfaces.empty()) failStep("surfaces: at least one surface is needed");
   const char* unit = stepUnit(options.units);
   if (!std::isfinite(options.sewingTolerance) || options.sewingTolerance <= 0)
-    fail("sewingTolerance: a finite value > 0 is needed");
+    failStep("sewingTolerance: a finite value > 0 is needed");
   std::vector<TopoDS_Face> faces;
   try {
     for (std::size_t k = 0; k < surfaces.size(); ++k) {

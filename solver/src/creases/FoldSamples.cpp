@@ -6,13 +6,13 @@ namespace devsurf::creases {
 
 namespace {
 
-void checkSheet(const SheetSamples& s, const char* who) {
+void checkSampledSheet(const SheetSamples& s, const char* who) {
   const auto n = s.crease.rows();
   if (s.rulingEnd.rows() != n || s.devCrease.rows() != n || s.devRulingEnd.rows() != n)
     throw std::invalid_argument(std::string(who) + ": sheet blocks have different row counts");
 }
 
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+double foldCross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
@@ -23,7 +23,7 @@ Eigen::MatrixX4i stripQuads(const SheetSamples& s) {
     const Eigen::Vector2d p0 = s.devCrease.row(i), p1 = s.devCrease.row(i + 1);
     const Eigen::Vector2d q0 = s.devRulingEnd.row(i), q1 = s.devRulingEnd.row(i + 1);
     // Shoelace area of (p0, p1, q1, q0).
-    const double area = cross2(p0, p1) + cross2(p1, q1) + cross2(q1, q0) + cross2(q0, p0);
+    const double area = foldCross2(p0, p1) + foldCross2(p1, q1) + foldCross2(q1, q0) + foldCross2(q0, p0);
     if (area >= 0)
       quads.row(i) << 2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1;
     else
@@ -35,7 +35,7 @@ Eigen::MatrixX4i stripQuads(const SheetSamples& s) {
 }  // namespace
 
 QuadMesh3 surfaceMesh(const SheetSamples& sheet) {
-  checkSheet(sheet, "surfaceMesh");
+  checkSampledSheet(sheet, "surfaceMesh");
   const int n = sheet.size();
   QuadMesh3 mesh;
   mesh.vertices.resize(2 * n, 3);
@@ -48,7 +48,7 @@ QuadMesh3 surfaceMesh(const SheetSamples& sheet) {
 }
 
 QuadMesh2 developmentMesh(const SheetSamples& sheet) {
-  checkSheet(sheet, "developmentMesh");
+  checkSampledSheet(sheet, "developmentMesh");
   const int n = sheet.size();
   QuadMesh2 mesh;
   mesh.vertices.resize(2 * n, 2);

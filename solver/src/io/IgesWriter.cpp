@@ -13,7 +13,7 @@ namespace {
 
 std::string hollerith(const std::string& s) { return std::to_string(s.size()) + "H" + s; }
 
-std::string number(double v) {
+std::string igesNumber(double v) {
   if (v == 0.0) return "0.0";
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.17G", v);
@@ -114,15 +114,15 @@ Entity surfaceEntity(const IgesSurface& s, std::size_t index) {
   for (long v : {128L, long(s.nu - 1), long(s.nv - 1), long(s.degreeU), long(s.degreeV), 0L, 0L,
                  rational ? 0L : 1L, 0L, 0L})
     p.push_back(std::to_string(v));
-  for (double k : s.knotsU) p.push_back(number(k));
-  for (double k : s.knotsV) p.push_back(number(k));
-  for (Eigen::Index i = 0; i < s.points.rows(); ++i) p.push_back(number(s.weights.size() ? s.weights[i] : 1.0));
+  for (double k : s.knotsU) p.push_back(igesNumber(k));
+  for (double k : s.knotsV) p.push_back(igesNumber(k));
+  for (Eigen::Index i = 0; i < s.points.rows(); ++i) p.push_back(igesNumber(s.weights.size() ? s.weights[i] : 1.0));
   for (Eigen::Index i = 0; i < s.points.rows(); ++i)
-    for (int c = 0; c < 3; ++c) p.push_back(number(s.points(i, c)));
-  p.push_back(number(s.knotsU[static_cast<std::size_t>(s.degreeU)]));
-  p.push_back(number(s.knotsU[static_cast<std::size_t>(s.nu)]));
-  p.push_back(number(s.knotsV[static_cast<std::size_t>(s.degreeV)]));
-  p.push_back(number(s.knotsV[static_cast<std::size_t>(s.nv)]));
+    for (int c = 0; c < 3; ++c) p.push_back(igesNumber(s.points(i, c)));
+  p.push_back(igesNumber(s.knotsU[static_cast<std::size_t>(s.degreeU)]));
+  p.push_back(igesNumber(s.knotsU[static_cast<std::size_t>(s.nu)]));
+  p.push_back(igesNumber(s.knotsV[static_cast<std::size_t>(s.degreeV)]));
+  p.push_back(igesNumber(s.knotsV[static_cast<std::size_t>(s.nv)]));
   return e;
 }
 
@@ -158,13 +158,13 @@ Entity curveEntity(const IgesCurve& c, std::size_t index) {
   }
   for (long v : {126L, long(n - 1), long(c.degree), planar ? 1L : 0L, 0L, rational ? 0L : 1L, 0L})
     p.push_back(std::to_string(v));
-  for (double k : c.knots) p.push_back(number(k));
-  for (Eigen::Index i = 0; i < n; ++i) p.push_back(number(c.weights.size() ? c.weights[i] : 1.0));
+  for (double k : c.knots) p.push_back(igesNumber(k));
+  for (Eigen::Index i = 0; i < n; ++i) p.push_back(igesNumber(c.weights.size() ? c.weights[i] : 1.0));
   for (Eigen::Index i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) p.push_back(number(c.points(i, k)));
-  p.push_back(number(c.knots[static_cast<std::size_t>(c.degree)]));
-  p.push_back(number(c.knots[static_cast<std::size_t>(n)]));
-  for (int k = 0; k < 3; ++k) p.push_back(number(normal[k]));
+    for (int k = 0; k < 3; ++k) p.push_back(igesNumber(c.points(i, k)));
+  p.push_back(igesNumber(c.knots[static_cast<std::size_t>(c.degree)]));
+  p.push_back(igesNumber(c.knots[static_cast<std::size_t>(n)]));
+  for (int k = 0; k < 3; ++k) p.push_back(igesNumber(normal[k]));
   return e;
 }
 
@@ -196,8 +196,8 @@ std::string igesDocument(const std::vector<IgesSurface>& surfaces, const std::ve
   const std::vector<std::string> global = {
       "1H,", "1H;", hollerith("devsurf"), hollerith(header.fileName), hollerith("devsurf"), hollerith("devsurf 1"),
       "32", "38", "6", "308", "15", hollerith("devsurf"), "1.0", std::to_string(unitsFlag(header.units)),
-      hollerith(unitsName(header.units)), "1", "1.0", hollerith(stamp), number(1e-9 * std::max(1.0, maxCoordinate)),
-      number(std::max(1.0, maxCoordinate)), hollerith(header.author), hollerith(header.organization), "11", "0",
+      hollerith(unitsName(header.units)), "1", "1.0", hollerith(stamp), igesNumber(1e-9 * std::max(1.0, maxCoordinate)),
+      igesNumber(std::max(1.0, maxCoordinate)), hollerith(header.author), hollerith(header.organization), "11", "0",
       hollerith(stamp)};
   int g = 0;
   for (const std::string& line : wrap(global, ',', ';', 72)) out += sequenced(line, 'G', ++g);

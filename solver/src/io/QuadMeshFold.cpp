@@ -12,7 +12,7 @@ namespace {
 using ordered = nlohmann::ordered_json;  // keeps the spec's reading order in the written file
 
 /// The FOLD frame_unit that is exactly `unitToMm` millimetres long, or empty.
-std::string exactFrameUnit(double unitToMm) {
+std::string quadExactFrameUnit(double unitToMm) {
   const std::pair<const char*, double> units[] = {{"mm", 1.0},   {"cm", 10.0},        {"m", 1000.0},
                                                   {"in", 25.4},  {"pt", 25.4 / 72.0}, {"um", 1e-3},
                                                   {"nm", 1e-6}};
@@ -34,7 +34,7 @@ ordered buildDocument(const Eigen::MatrixXd& unfolding, const Eigen::MatrixXd& m
     throw std::invalid_argument("FOLD: unitToMm must be finite and > 0");
   const GlueSeams seams = findGlueSeams(static_cast<int>(unfolding.rows()), faces, gluePairs, unfolding);
 
-  const std::string named = exactFrameUnit(o.unitToMm);
+  const std::string named = quadExactFrameUnit(o.unitToMm);
   const std::string unit = named.empty() ? std::string("mm") : named;
   const double s = named.empty() ? o.unitToMm : 1.0;
   const std::string title = o.title.empty() ? std::string("devsurf quad mesh") : o.title;

@@ -11,7 +11,7 @@
 namespace devsurf::io {
 namespace {
 
-void checkLength(double v, const char* name, bool allowZero) {
+void checkFoldLength(double v, const char* name, bool allowZero) {
   checkSvgLength(v, "SvgFoldOptions", name, allowZero);
 }
 
@@ -47,12 +47,12 @@ SvgLineStyle svgRulingStyle() { return {"ruling", "#999999", "none"}; }
 
 std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
   p.validate();
-  checkLength(o.marginMm, "marginMm", true);
-  checkLength(o.boundaryWidthMm, "boundaryWidthMm", false);
-  checkLength(o.foldWidthMm, "foldWidthMm", false);
-  checkLength(o.flatWidthMm, "flatWidthMm", false);
-  checkLength(o.rulingWidthMm, "rulingWidthMm", false);
-  checkLength(o.styleReferenceMm, "styleReferenceMm", true);
+  checkFoldLength(o.marginMm, "marginMm", true);
+  checkFoldLength(o.boundaryWidthMm, "boundaryWidthMm", false);
+  checkFoldLength(o.foldWidthMm, "foldWidthMm", false);
+  checkFoldLength(o.flatWidthMm, "flatWidthMm", false);
+  checkFoldLength(o.rulingWidthMm, "rulingWidthMm", false);
+  checkFoldLength(o.styleReferenceMm, "styleReferenceMm", true);
   if (o.decimals < 0 || o.decimals > 12)
     throw std::invalid_argument("SvgFoldOptions: decimals must lie in [0, 12]");
 

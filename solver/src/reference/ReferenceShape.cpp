@@ -39,7 +39,7 @@ void silenceOpenMesh() {
   (void)silenced;
 }
 
-[[noreturn]] void fail(const std::string& path, const std::string& message) {
+[[noreturn]] void failShape(const std::string& path, const std::string& message) {
   throw std::invalid_argument(path + ": " + message);
 }
 
@@ -51,12 +51,12 @@ std::string lowerExtension(const std::string& path) {
 
 void checkPointCount(const std::string& path, std::int64_t n, const ReferenceLimits& limits) {
   if (n > limits.maxPoints)
-    fail(path, "more than " + std::to_string(limits.maxPoints) + " points (the limit; thin the cloud first)");
+    failShape(path, "more than " + std::to_string(limits.maxPoints) + " points (the limit; thin the cloud first)");
 }
 
 ReferenceShape readXyz(const std::string& path, const ReferenceLimits& limits) {
   std::ifstream in(path);
-  if (!in) fail(path, "cannot open");
+  if (!in) failShape(path, "cannot open");
   std::vector<double> xyz, normals;
   std::string line;
   long lineNumber = 0;
@@ -70,21 +70,21 @@ ReferenceShape readXyz(const std::string& path, const ReferenceLimits& limits) {
     int n = 0;
     std::string token;
     while (fields >> token) {
-      if (n == 6) fail(path, "line " + std::to_string(lineNumber) + ": more than 6 numbers (x y z [nx ny nz])");
+      if (n == 6) failShape(path, "line " + std::to_string(lineNumber) + ": more than 6 numbers (x y z [nx ny nz])");
       char* end = nullptr;
       v[n] = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0')
-        fail(path, "line " + std::to_string(lineNumber) + ": \"" + token + "\" is not a number");
-      if (!std::isfinite(v[n])) fail(path, "line " + std::to_string(lineNumber) + ": a coordinate is not finite");
+        failShape(path, "line " + std::to_string(lineNumber) + ": \"" + token + "\" is not a number");
+      if (!std::isfinite(v[n])) failShape(path, "line " + std::to_string(lineNumber) + ": a coordinate is not finite");
       ++n;
     }
     if (n == 0) continue;
     if (n != 3 && n != 6)
-      fail(path, "line " + std::to_string(lineNumber) + ": " + std::to_string(n) +
+      failShape(path, "line " + std::to_string(lineNumber) + ": " + std::to_string(n) +
                      " numbers; a point is x y z or x y z nx ny nz");
     if (columns < 0) columns = n;
     if (n != columns)
-      fail(path, "line " + std::to_string(lineNumber) + ": " + std::to_string(n) + " numbers after lines of " +
+      failShape(path, "line " + std::to_string(lineNumber) + ": " + std::to_string(n) + " numbers after lines of " +
                      std::to_string(columns));
     xyz.insert(xyz.end(), v, v + 3);
     if (n == 6) normals.insert(normals.end(), v + 3, v + 6);
@@ -126,7 +126,7 @@ DeclaredCounts declaredCounts(const std::string& path, const std::string& extens
       if (!(fields >> first)) continue;
       if (!header && first.find("OFF") != std::string::npos) {
         header = true;
-        if (line.find("BINARY") != std::string::npos) fail(path, "binary OFF is not read; write it as ASCII OFF");
+        if (line.find("BINARY") != std::string::npos) failShape(path, "binary OFF is not read; write it as ASCII OFF");
         long long v = 0, f = 0;
         if (fields >> v >> f) return {v, f};  // "OFF v f e" on one line
         continue;
@@ -134,9 +134,9 @@ DeclaredCounts declaredCounts(const std::string& path, const std::string& extens
       std::istringstream numbers(line);
       long long v = 0, f = 0;
       if (numbers >> v >> f) return {v, f};
-      fail(path, "an OFF file needs its vertex and face counts after the OFF line");
+      failShape(path, "an OFF file needs its vertex and face counts after the OFF line");
     }
-    fail(path, "no OFF header");
+    failShape(path, "no OFF header");
   }
   if (extension == ".ply") {
     counts.faces = 0;
@@ -157,11 +157,11 @@ DeclaredCounts declaredCounts(const std::string& path, const std::string& extens
     in.read(head, 84);
     const bool ascii = std::string(head, std::min<std::size_t>(5, static_cast<std::size_t>(in.gcount()))) == "solid";
     if (!ascii || in.gcount() < 84) {
-      if (in.gcount() < 84) fail(path, "too short for a binary STL (84-byte header)");
+      if (in.gcount() < 84) failShape(path, "too short for a binary STL (84-byte header)");
       std::uint32_t n = 0;
       for (int k = 3; k >= 0; --k) n = (n << 8) | static_cast<unsigned char>(head[80 + k]);
       if (84ull + 50ull * n != bytes)
-        fail(path, "binary STL declares " + std::to_string(n) + " triangles but has " + std::to_string(bytes) +
+        failShape(path, "binary STL declares " + std::to_string(n) + " triangles but has " + std::to_string(bytes) +
                        " bytes (84 + 50 per triangle expected)");
       return {3ll * n, static_cast<long long>(n)};
     }
@@ -194,11 +194,11 @@ DeclaredCounts declaredCounts(const std::string& path, const std::string& extens
 ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& extension, std::uint64_t bytes,
                                    const ReferenceLimits& limits) {
   const DeclaredCounts declared = declaredCounts(path, extension, bytes);
-  if (declared.vertices < -1 || declared.faces < -1) fail(path, "a negative count in its header");
+  if (declared.vertices < -1 || declared.faces < -1) failShape(path, "a negative count in its header");
   checkPointCount(path, declared.vertices, limits);
   // A face has at least one triangle: a face count over the triangle limit is over it too.
   if (declared.faces > limits.maxTriangles)
-    fail(path, "declares " + std::to_string(declared.faces) + " faces, more than the limit of " +
+    failShape(path, "declares " + std::to_string(declared.faces) + " faces, more than the limit of " +
                    std::to_string(limits.maxTriangles) + " triangles");
   silenceOpenMesh();
   PolyMesh mesh;
@@ -207,11 +207,11 @@ ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& e
   options += OpenMesh::IO::Options::VertexNormal;
   try {
     if (!OpenMesh::IO::read_mesh(mesh, path, options))
-      fail(path, "OpenMesh could not read it as " + extension.substr(1));
+      failShape(path, "OpenMesh could not read it as " + extension.substr(1));
   } catch (const std::invalid_argument&) {
     throw;
   } catch (const std::exception& e) {
-    fail(path, "OpenMesh could not read it as " + extension.substr(1) + " (" + e.what() + ")");
+    failShape(path, "OpenMesh could not read it as " + extension.substr(1) + " (" + e.what() + ")");
   }
   checkPointCount(path, static_cast<std::int64_t>(mesh.n_vertices()), limits);
   ReferenceShape shape;
@@ -221,7 +221,7 @@ ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& e
     const auto& p = mesh.point(v);
     shape.points.row(v.idx()) << p[0], p[1], p[2];
   }
-  if (!shape.points.allFinite()) fail(path, "a coordinate is not finite");
+  if (!shape.points.allFinite()) failShape(path, "a coordinate is not finite");
   if (options.check(OpenMesh::IO::Options::VertexNormal)) {
     shape.normals.resize(shape.points.rows(), 3);
     for (const auto v : mesh.vertices()) {
@@ -235,7 +235,7 @@ ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& e
   std::int64_t triangles = 0;
   for (const auto f : mesh.faces()) triangles += static_cast<std::int64_t>(mesh.valence(f)) - 2;
   if (triangles > limits.maxTriangles)
-    fail(path, "more than " + std::to_string(limits.maxTriangles) + " triangles (the limit)");
+    failShape(path, "more than " + std::to_string(limits.maxTriangles) + " triangles (the limit)");
   shape.triangles.resize(static_cast<Eigen::Index>(triangles), 3);
   Eigen::Index row = 0;
   for (const auto f : mesh.faces()) {
@@ -258,9 +258,9 @@ double ReferenceShape::diagonal() const {
 ReferenceShape readReferenceShape(const std::string& path, const ReferenceLimits& limits) {
   std::error_code error;
   const auto bytes = std::filesystem::file_size(path, error);
-  if (error) fail(path, "cannot open (" + error.message() + ")");
+  if (error) failShape(path, "cannot open (" + error.message() + ")");
   if (bytes > limits.maxFileBytes)
-    fail(path, std::to_string(bytes) + " bytes, over the limit of " + std::to_string(limits.maxFileBytes));
+    failShape(path, std::to_string(bytes) + " bytes, over the limit of " + std::to_string(limits.maxFileBytes));
   const std::string extension = lowerExtension(path);
   ReferenceShape shape;
   if (extension == ".xyz" || extension == ".pwn" || extension == ".txt") {
@@ -268,9 +268,9 @@ ReferenceShape readReferenceShape(const std::string& path, const ReferenceLimits
   } else if (extension == ".ply" || extension == ".obj" || extension == ".off" || extension == ".stl") {
     shape = readThroughOpenMesh(path, extension, bytes, limits);
   } else {
-    fail(path, "unknown extension \"" + extension + "\" (point clouds: .xyz, .pwn, .ply; meshes: .obj, .off, .ply, .stl)");
+    failShape(path, "unknown extension \"" + extension + "\" (point clouds: .xyz, .pwn, .ply; meshes: .obj, .off, .ply, .stl)");
   }
-  if (shape.points.rows() == 0) fail(path, "no points");
+  if (shape.points.rows() == 0) failShape(path, "no points");
   return shape;
 }
 

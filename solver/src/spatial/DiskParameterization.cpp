@@ -21,7 +21,7 @@ using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
 using VertexIndex = Mesh::Vertex_index;
 namespace SMP = CGAL::Surface_mesh_parameterization;
 
-[[noreturn]] void fail(const std::string& why) {
+[[noreturn]] void failDisk(const std::string& why) {
   throw std::invalid_argument("parameterizeDisk: " + why);
 }
 
@@ -38,15 +38,15 @@ double signedArea2d(const Eigen::MatrixX2d& uv, const Eigen::MatrixX3i& T) {
 
 Eigen::MatrixX2d parameterizeDisk(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& T,
                                   ParameterizationMethod method) {
-  if (T.rows() == 0) fail("no triangles");
-  if (!V.allFinite()) fail("a vertex coordinate is not finite");
+  if (T.rows() == 0) failDisk("no triangles");
+  if (!V.allFinite()) failDisk("a vertex coordinate is not finite");
   Mesh mesh;
   std::vector<VertexIndex> vertexOf(V.rows());
   std::vector<int> used(V.rows(), 0);
   for (Eigen::Index t = 0; t < T.rows(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int v = T(t, k);
-      if (v < 0 || v >= V.rows()) fail("triangle " + std::to_string(t) + " has a vertex index out of range");
+      if (v < 0 || v >= V.rows()) failDisk("triangle " + std::to_string(t) + " has a vertex index out of range");
       used[v] = 1;
     }
   for (Eigen::Index v = 0; v < V.rows(); ++v)
@@ -56,25 +56,25 @@ Eigen::MatrixX2d parameterizeDisk(const Eigen::MatrixX3d& V, const Eigen::Matrix
     const Eigen::Vector3d a = V.row(T(t, 0)), b = V.row(T(t, 1)), c = V.row(T(t, 2));
     const double twiceArea = (b - a).cross(c - a).norm();
     const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    if (!(twiceArea > 1e-12 * longest)) fail("triangle " + std::to_string(t) + " is degenerate");
+    if (!(twiceArea > 1e-12 * longest)) failDisk("triangle " + std::to_string(t) + " is degenerate");
     area3d += 0.5 * twiceArea;
     if (mesh.add_face(vertexOf[T(t, 0)], vertexOf[T(t, 1)], vertexOf[T(t, 2)]) == Mesh::null_face())
-      fail("triangle " + std::to_string(t) + " makes the mesh non-manifold or is oriented against its neighbours");
+      failDisk("triangle " + std::to_string(t) + " makes the mesh non-manifold or is oriented against its neighbours");
   }
   for (VertexIndex v : mesh.vertices())
-    if (mesh.is_border(v, false) && mesh.halfedge(v) == Mesh::null_halfedge()) fail("an isolated vertex");
+    if (mesh.is_border(v, false) && mesh.halfedge(v) == Mesh::null_halfedge()) failDisk("an isolated vertex");
 
   // A disk: one component, one boundary loop, χ = V − E + F = 1.
   auto componentMap = mesh.add_property_map<Mesh::Face_index, std::size_t>("f:component").first;
   const std::size_t components = CGAL::Polygon_mesh_processing::connected_components(mesh, componentMap);
-  if (components != 1) fail("the mesh has " + std::to_string(components) + " components; a disk has one");
+  if (components != 1) failDisk("the mesh has " + std::to_string(components) + " components; a disk has one");
   std::vector<Mesh::Halfedge_index> borderCycles;
   CGAL::Polygon_mesh_processing::extract_boundary_cycles(mesh, std::back_inserter(borderCycles));
-  if (borderCycles.empty()) fail("the mesh is closed; cut it open to a disk first");
+  if (borderCycles.empty()) failDisk("the mesh is closed; cut it open to a disk first");
   const long euler = static_cast<long>(mesh.number_of_vertices()) - static_cast<long>(mesh.number_of_edges()) +
                      static_cast<long>(mesh.number_of_faces());
   if (borderCycles.size() != 1 || euler != 1)
-    fail("the mesh has " + std::to_string(borderCycles.size()) + " boundary loops and Euler characteristic " +
+    failDisk("the mesh has " + std::to_string(borderCycles.size()) + " boundary loops and Euler characteristic " +
          std::to_string(euler) + "; a disk has one loop and 1 (fill its holes first)");
 
   // The longest boundary loop is the one CGAL's border parameterizers walk.
@@ -86,7 +86,7 @@ Eigen::MatrixX2d parameterizeDisk(const Eigen::MatrixX3d& V, const Eigen::Matrix
   } else {
     status = SMP::parameterize(mesh, SMP::ARAP_parameterizer_3<Mesh>(), border, uvMap);
   }
-  if (status != SMP::OK) fail(std::string("CGAL: ") + SMP::get_error_message(status));
+  if (status != SMP::OK) failDisk(std::string("CGAL: ") + SMP::get_error_message(status));
 
   Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(V.rows(), 2);
   for (Eigen::Index v = 0; v < V.rows(); ++v)
@@ -95,13 +95,13 @@ Eigen::MatrixX2d parameterizeDisk(const Eigen::MatrixX3d& V, const Eigen::Matrix
       uv(v, 0) = p.x();
       uv(v, 1) = p.y();
     }
-  if (!uv.allFinite()) fail("the map has a non-finite coordinate");
+  if (!uv.allFinite()) failDisk("the map has a non-finite coordinate");
   double area2d = signedArea2d(uv, T);
   if (area2d < 0.0) {  // mirrored: flip v
     uv.col(1) = -uv.col(1);
     area2d = -area2d;
   }
-  if (!(area2d > 0.0)) fail("the map has no area");
+  if (!(area2d > 0.0)) failDisk("the map has no area");
   Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
   int count = 0;
   for (Eigen::Index v = 0; v < V.rows(); ++v)

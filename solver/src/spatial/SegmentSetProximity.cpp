@@ -16,14 +16,14 @@ using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using Segment = Kernel::Segment_3;
 using SegmentIterator = std::vector<Segment>::const_iterator;
-using Primitive = CGAL::AABB_segment_primitive<Kernel, SegmentIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using SegmentPrimitive = CGAL::AABB_segment_primitive<Kernel, SegmentIterator>;
+using SegmentTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, SegmentPrimitive>>;
 
 }  // namespace
 
 struct SegmentSetProximity::Impl {
   std::vector<Segment> segments;  // the tree's primitives point into this (never resized)
-  Tree tree;
+  SegmentTree tree;
 };
 
 SegmentSetProximity::SegmentSetProximity(const Eigen::MatrixX3d& from, const Eigen::MatrixX3d& to)

@@ -20,15 +20,15 @@ using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using Triangle = Kernel::Triangle_3;
 using TriangleIterator = std::vector<Triangle>::const_iterator;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using TrianglePrimitive = CGAL::AABB_triangle_primitive<Kernel, TriangleIterator>;
+using TriangleTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, TrianglePrimitive>>;
 
 }  // namespace
 
 struct TriangleMeshProximity::Impl {
   std::vector<Triangle> triangles;  // the tree's primitives point into this (never resized)
   std::vector<Eigen::Vector3d> normals;
-  Tree tree;
+  TriangleTree tree;
 };
 
 TriangleMeshProximity::TriangleMeshProximity(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& T)

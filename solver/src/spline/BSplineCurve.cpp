@@ -11,19 +11,19 @@ namespace devsurf::spline {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failCurve(const std::string& message) { throw std::invalid_argument(message); }
 
 /// O(1) shape checks done on every evaluation (the O(n) ones live in validate()).
 void requireShapes(const BSplineCurve& c) {
-  if (c.knots.knots().empty()) fail("curve: knot vector is empty (default-constructed)");
+  if (c.knots.knots().empty()) failCurve("curve: knot vector is empty (default-constructed)");
   const int n = c.knots.numControlPoints();
   if (c.points.rows() != n) {
-    fail("curve: expected " + std::to_string(n) + " control points (rows of points), got " +
+    failCurve("curve: expected " + std::to_string(n) + " control points (rows of points), got " +
          std::to_string(c.points.rows()));
   }
-  if (c.points.cols() < 1) fail("curve: control points need at least one coordinate column");
+  if (c.points.cols() < 1) failCurve("curve: control points need at least one coordinate column");
   if (c.weights.size() != 0 && c.weights.size() != n) {
-    fail("curve: weights must be empty or hold one value per control point (" + std::to_string(n) +
+    failCurve("curve: weights must be empty or hold one value per control point (" + std::to_string(n) +
          "), got " + std::to_string(c.weights.size()));
   }
 }
@@ -32,10 +32,10 @@ void requireShapes(const BSplineCurve& c) {
 
 void BSplineCurve::validate() const {
   requireShapes(*this);
-  if (!points.allFinite()) fail("curve: control points must be finite");
+  if (!points.allFinite()) failCurve("curve: control points must be finite");
   for (Eigen::Index i = 0; i < weights.size(); ++i) {
     if (!(std::isfinite(weights(i)) && weights(i) > 0.0)) {
-      fail("curve: weights must be finite and positive (weights[" + std::to_string(i) + "] = " +
+      failCurve("curve: weights must be finite and positive (weights[" + std::to_string(i) + "] = " +
            std::to_string(weights(i)) + ")");
     }
   }
@@ -43,7 +43,7 @@ void BSplineCurve::validate() const {
 
 Eigen::VectorXd BSplineCurve::evaluate(double u, int derivative) const {
   requireShapes(*this);
-  if (derivative < 0) fail("evaluate: derivative must be >= 0, got " + std::to_string(derivative));
+  if (derivative < 0) failCurve("evaluate: derivative must be >= 0, got " + std::to_string(derivative));
   const int p = degree();
   const BasisValues b = basisFunctions(knots, u, derivative);
   const int dim = dimension();
@@ -65,7 +65,7 @@ Eigen::VectorXd BSplineCurve::evaluate(double u, int derivative) const {
     const int ci = b.controlIndex[j];
     const double w = weights(ci);
     if (!(w > 0.0)) {
-      fail("curve: weights must be positive (weights[" + std::to_string(ci) + "] = " +
+      failCurve("curve: weights must be positive (weights[" + std::to_string(ci) + "] = " +
            std::to_string(w) + ")");
     }
     for (int k = 0; k <= derivative; ++k) {

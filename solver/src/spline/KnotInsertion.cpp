@@ -12,9 +12,9 @@ namespace devsurf::spline {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failInsertion(const std::string& message) { throw std::invalid_argument(message); }
 
-std::string formatValue(double v) {
+std::string formatKnot(double v) {
   std::ostringstream os;
   os.precision(17);
   os << v;
@@ -44,7 +44,7 @@ void fromHomogeneous(const Eigen::MatrixXd& pw, bool rational, BSplineCurve& out
 
 void requireClamped(const BSplineCurve& c, const char* where) {
   if (c.knots.kind() != KnotKind::Clamped) {
-    fail(std::string(where) + ": only clamped curves are supported (periodic curve given)");
+    failInsertion(std::string(where) + ": only clamped curves are supported (periodic curve given)");
   }
 }
 
@@ -53,14 +53,14 @@ void requireClamped(const BSplineCurve& c, const char* where) {
 BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times) {
   curve.validate();
   requireClamped(curve, "insertKnot");
-  if (times < 0) fail("insertKnot: times must be >= 0, got " + std::to_string(times));
-  if (!std::isfinite(u)) fail("insertKnot: u must be finite");
+  if (times < 0) failInsertion("insertKnot: times must be >= 0, got " + std::to_string(times));
+  if (!std::isfinite(u)) failInsertion("insertKnot: u must be finite");
   const KnotVector& kv = curve.knots;
   const double a = kv.domainBegin();
   const double b = kv.domainEnd();
   if (u < a || u > b) {
-    fail("insertKnot: u = " + formatValue(u) + " lies outside the domain [" + formatValue(a) +
-         ", " + formatValue(b) + "]");
+    failInsertion("insertKnot: u = " + formatKnot(u) + " lies outside the domain [" + formatKnot(a) +
+         ", " + formatKnot(b) + "]");
   }
   if (times == 0) return curve;
 
@@ -77,7 +77,7 @@ BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times) {
   int s = 0;
   for (double k : U) s += (k == u) ? 1 : 0;
   if (s + times > p) {
-    fail("insertKnot: multiplicity of u = " + formatValue(u) + " would become " +
+    failInsertion("insertKnot: multiplicity of u = " + formatKnot(u) + " would become " +
          std::to_string(s + times) + ", more than the degree " + std::to_string(p));
   }
 
@@ -130,7 +130,7 @@ BSplineCurve refineKnots(const BSplineCurve& curve, const std::vector<double>& n
 std::vector<BezierPiece> bezierPieces(const BSplineCurve& curve) {
   curve.validate();
   requireClamped(curve, "bezierPieces");
-  if (curve.isRational()) fail("bezierPieces: only non-rational curves are supported");
+  if (curve.isRational()) failInsertion("bezierPieces: only non-rational curves are supported");
   const KnotVector& kv = curve.knots;
   const std::vector<double>& U = kv.knots();
   const int p = kv.degree();

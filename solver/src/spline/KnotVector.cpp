@@ -11,14 +11,14 @@ namespace devsurf::spline {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failKnots(const std::string& message) { throw std::invalid_argument(message); }
 
 void requireDegreeAndCount(int degree, int numControlPoints) {
   if (degree < 1) {
-    fail("degree: must be at least 1, got " + std::to_string(degree));
+    failKnots("degree: must be at least 1, got " + std::to_string(degree));
   }
   if (numControlPoints < degree + 1) {
-    fail("control points: need at least degree+1 = " + std::to_string(degree + 1) + ", got " +
+    failKnots("control points: need at least degree+1 = " + std::to_string(degree + 1) + ", got " +
          std::to_string(numControlPoints));
   }
 }
@@ -55,23 +55,23 @@ KnotVector KnotVector::clamped(int degree, std::vector<double> knots, int numCon
   const int expected = n + p + 1;
   const int count = static_cast<int>(knots.size());
   if (count != expected) {
-    fail("knots: expected " + std::to_string(expected) +
+    failKnots("knots: expected " + std::to_string(expected) +
          " values (control points + degree + 1), got " + std::to_string(count));
   }
   for (int i = 0; i < count; ++i) {
     if (!std::isfinite(knots[i])) {
-      fail("knots: must be finite (knots[" + std::to_string(i) + "] = " + formatValue(knots[i]) +
+      failKnots("knots: must be finite (knots[" + std::to_string(i) + "] = " + formatValue(knots[i]) +
            ")");
     }
   }
   for (int i = 1; i < count; ++i) {
     if (knots[i] < knots[i - 1]) {
-      fail("knots: must be non-decreasing (knots[" + std::to_string(i) + "] < knots[" +
+      failKnots("knots: must be non-decreasing (knots[" + std::to_string(i) + "] < knots[" +
            std::to_string(i - 1) + "])");
     }
   }
   if (!(knots.front() < knots.back())) {
-    fail("knots: domain must be non-empty (first knot equals last knot, " +
+    failKnots("knots: domain must be non-empty (first knot equals last knot, " +
          formatValue(knots.front()) + ")");
   }
   // Multiplicities of the end values: both must be exactly p+1 (a larger one would create a
@@ -81,7 +81,7 @@ KnotVector KnotVector::clamped(int degree, std::vector<double> knots, int numCon
   int last = 1;
   while (last < count && knots[count - 1 - last] == knots[count - 1]) ++last;
   if (first != p + 1 || last != p + 1) {
-    fail("knots: clamped ends need multiplicity degree+1 = " + std::to_string(p + 1) +
+    failKnots("knots: clamped ends need multiplicity degree+1 = " + std::to_string(p + 1) +
          " (first knot repeated " + std::to_string(first) + " times, last knot repeated " +
          std::to_string(last) + " times)");
   }
@@ -89,7 +89,7 @@ KnotVector KnotVector::clamped(int degree, std::vector<double> knots, int numCon
     int j = i + 1;
     while (j < n && knots[j] == knots[i]) ++j;
     if (j - i > p) {
-      fail("knots: interior multiplicity must not exceed degree " + std::to_string(p) + " (knot " +
+      failKnots("knots: interior multiplicity must not exceed degree " + std::to_string(p) + " (knot " +
            formatValue(knots[i]) + " repeated " + std::to_string(j - i) + " times)");
     }
     i = j;
@@ -113,7 +113,7 @@ KnotVector KnotVector::periodicUniform(int degree, int numControlPoints) {
 
 namespace {
 void requireInitialised(const std::vector<double>& knots) {
-  if (knots.empty()) fail("knot vector: empty (default-constructed; use a factory function)");
+  if (knots.empty()) failKnots("knot vector: empty (default-constructed; use a factory function)");
 }
 }  // namespace
 
@@ -131,7 +131,7 @@ int KnotVector::numSpans() const { return static_cast<int>(breakpoints().size())
 
 int KnotVector::spanIndex(double u) const {
   requireInitialised(knots_);
-  if (std::isnan(u)) fail("spanIndex: parameter u must not be NaN");
+  if (std::isnan(u)) failKnots("spanIndex: parameter u must not be NaN");
   const int end = numSlots();
   if (u >= knots_[end]) {
     int s = end - 1;
@@ -163,7 +163,7 @@ int KnotVector::multiplicity(double u) const {
 }
 
 std::vector<double> KnotVector::spanSamples(int perSpan) const {
-  if (perSpan < 1) fail("spanSamples: perSpan must be at least 1, got " + std::to_string(perSpan));
+  if (perSpan < 1) failKnots("spanSamples: perSpan must be at least 1, got " + std::to_string(perSpan));
   const std::vector<double> bp = breakpoints();
   std::vector<double> result;
   result.reserve((bp.size() - 1) * static_cast<size_t>(perSpan));
@@ -179,7 +179,7 @@ std::vector<double> KnotVector::spanSamples(int perSpan) const {
 
 std::vector<double> KnotVector::uniformSamples(int count) const {
   requireInitialised(knots_);
-  if (count < 2) fail("uniformSamples: count must be at least 2, got " + std::to_string(count));
+  if (count < 2) failKnots("uniformSamples: count must be at least 2, got " + std::to_string(count));
   const double a = domainBegin();
   const double b = domainEnd();
   std::vector<double> result(static_cast<size_t>(count));

@@ -38,7 +38,7 @@ CompositeEdge rulingEdge(int v0, int v1) {
 /// Least-squares fit of f over t ∈ [0, 1] in the span of the clamped B-splines of `knots`, with
 /// both end points interpolated: control points n×3.
 template <class Function>
-Eigen::MatrixX3d fitWithEnds(const spline::KnotVector& knots, int samplesPerSpan, const Function& f) {
+Eigen::MatrixX3d designFitWithEnds(const spline::KnotVector& knots, int samplesPerSpan, const Function& f) {
   const int n = knots.numControlPoints();
   std::vector<double> params = knots.spanSamples(samplesPerSpan);
   const spline::EvaluationMatrix basis = spline::evaluationMatrix(knots, params, 0);
@@ -140,8 +140,8 @@ CompositeDesign cylinderCatenaryCreaseDesign(const creases::CylinderCatenaryCrea
     const double u = u0 + du * t;
     return crease.crease(u) + length * crease.ruling(1, u);
   };
-  const Eigen::MatrixX3d c = fitWithEnds(knots, fit.samplesPerSpan, creaseAt);
-  const Eigen::MatrixX3d b2 = fitWithEnds(knots, fit.samplesPerSpan, secondAt);
+  const Eigen::MatrixX3d c = designFitWithEnds(knots, fit.samplesPerSpan, creaseAt);
+  const Eigen::MatrixX3d b2 = designFitWithEnds(knots, fit.samplesPerSpan, secondAt);
   const Eigen::MatrixX3d b1 = c.rowwise() + Eigen::RowVector3d(0.0, 0.0, length * crease.side());
   return twoSheetFoldDesign(knots, c, b1, b2);
 }

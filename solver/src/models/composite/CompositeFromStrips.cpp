@@ -26,7 +26,7 @@ spline::BSplineCurve& curveOf(StripDesign& s, Curve c) { return c == Curve::A ? 
 Curve other(Curve c) { return c == Curve::A ? Curve::B : Curve::A; }
 
 /// The knots of a clamped curve read from its end: t ↦ begin + end − t.
-std::vector<double> reversedKnots(const spline::KnotVector& k) {
+std::vector<double> stripReversedKnots(const spline::KnotVector& k) {
   const std::vector<double>& t = k.knots();
   std::vector<double> r(t.size());
   for (std::size_t i = 0; i < t.size(); ++i) r[i] = k.domainBegin() + k.domainEnd() - t[t.size() - 1 - i];
@@ -203,7 +203,7 @@ CompositeDesign compositeFromStrips(std::vector<StripDesign> strips, const std::
     const Curve ci = p.first == i ? p.firstCurve : p.secondCurve, cj = p.first == i ? p.secondCurve : p.firstCurve;
     const spline::BSplineCurve& from = curveOf(strips[static_cast<std::size_t>(i)], ci);
     const spline::BSplineCurve& to = curveOf(strips[static_cast<std::size_t>(j)], cj);
-    const std::vector<double> fromKnots = p.reversed ? reversedKnots(from.knots) : from.knots.knots();
+    const std::vector<double> fromKnots = p.reversed ? stripReversedKnots(from.knots) : from.knots.knots();
     if (!sameKnots(to.knots.knots(), fromKnots) || to.points.rows() != from.points.rows())
       throw std::invalid_argument("pairings[" + std::to_string(k) + "]: the paired curves differ in knots");
     adoptSharedCurve(strips[static_cast<std::size_t>(j)], cj,
@@ -257,7 +257,7 @@ CompositeDesign compositeFromStrips(std::vector<StripDesign> strips, const std::
       if (k >= 0) {
         const BoundaryPairing& p = pairings[static_cast<std::size_t>(k)];
         spline::BSplineCurve partner = curveOf(strips[static_cast<std::size_t>(p.second)], p.secondCurve);
-        const std::vector<double> partnerKnots = p.reversed ? reversedKnots(partner.knots) : partner.knots.knots();
+        const std::vector<double> partnerKnots = p.reversed ? stripReversedKnots(partner.knots) : partner.knots.knots();
         if (!sameKnots(curve.knots.knots(), partnerKnots) || partner.points.rows() != curve.points.rows())
           throw std::invalid_argument("pairings[" + std::to_string(k) + "]: the paired curves differ in knots");
         const Eigen::MatrixXd q = p.reversed ? Eigen::MatrixXd(partner.points.colwise().reverse()) : partner.points;

@@ -27,7 +27,7 @@ struct CompositeTopology::Mesh {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failTopology(const std::string& message) { throw std::invalid_argument(message); }
 
 /// OpenMesh writes a face it cannot add to its global error stream; the topology reports that
 /// face itself, by path. The stream is switched off once per process (a thread-safe static):
@@ -50,7 +50,7 @@ std::string pointText(const Eigen::Vector3d& p) {
   return s.str();
 }
 
-std::vector<double> reversedKnots(const spline::KnotVector& k) {
+std::vector<double> reversedEdgeKnots(const spline::KnotVector& k) {
   const std::vector<double>& t = k.knots();
   const double sum = k.domainBegin() + k.domainEnd();
   std::vector<double> r(t.size());
@@ -58,7 +58,7 @@ std::vector<double> reversedKnots(const spline::KnotVector& k) {
   return r;
 }
 
-bool sameKnots(const spline::KnotVector& x, const spline::KnotVector& y) {
+bool topologySameKnots(const spline::KnotVector& x, const spline::KnotVector& y) {
   if (x.degree() != y.degree() || x.knots().size() != y.knots().size()) return false;
   const double tol = 1e-12 * std::max(1.0, x.domainEnd() - x.domainBegin());
   for (std::size_t i = 0; i < x.knots().size(); ++i)
@@ -103,10 +103,10 @@ CompositeTopology& CompositeTopology::operator=(CompositeTopology&&) noexcept = 
 
 CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std::make_unique<Mesh>()) {
   numVertices_ = static_cast<int>(design.vertices.rows());
-  if (numVertices_ < 3) fail("vertices: a composite needs at least 3 vertices, got " + std::to_string(numVertices_));
+  if (numVertices_ < 3) failTopology("vertices: a composite needs at least 3 vertices, got " + std::to_string(numVertices_));
   const int numEdges = static_cast<int>(design.edges.size());
   const int numFaces = static_cast<int>(design.faces.size());
-  if (numFaces < 1) fail("faces: a composite needs at least one face");
+  if (numFaces < 1) failTopology("faces: a composite needs at least one face");
   double scale = 1.0;
   {
     const Eigen::RowVector3d lo = design.vertices.colwise().minCoeff();
@@ -126,45 +126,45 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     const std::string path = edgePath(e);
     for (int v : {edge.v0, edge.v1})
       if (v < 0 || v >= numVertices_)
-        fail(path + ".v: vertex " + std::to_string(v) + " does not exist (" + std::to_string(numVertices_) +
+        failTopology(path + ".v: vertex " + std::to_string(v) + " does not exist (" + std::to_string(numVertices_) +
              " vertices)");
-    if (edge.v0 == edge.v1) fail(path + ".v: an edge joins two different vertices, got " + std::to_string(edge.v0) + " twice");
+    if (edge.v0 == edge.v1) failTopology(path + ".v: an edge joins two different vertices, got " + std::to_string(edge.v0) + " twice");
     const auto key = std::minmax(edge.v0, edge.v1);
     const auto [it, inserted] = byVertices.emplace(std::make_pair(key.first, key.second), e);
     if (!inserted)
-      fail(path + ".v: joins the same vertices as edges[" + std::to_string(it->second) +
+      failTopology(path + ".v: joins the same vertices as edges[" + std::to_string(it->second) +
            "] (parallel edges are not supported)");
     types_[e] = edge.type;
     ends_[e] = {edge.v0, edge.v1};
     if (edge.type == EdgeType::Ruling) {
       if (edge.curve.points.rows() > 0)
-        fail(path + ".points: an R edge (ruling) is straight and has no control points");
+        failTopology(path + ".points: an R edge (ruling) is straight and has no control points");
       if (edge.crease == CreaseKind::Fold || edge.crease == CreaseKind::Geodesic || edge.crease == CreaseKind::Straight)
-        fail(path + ".crease: \"" + creaseKindName(edge.crease) +
+        failTopology(path + ".crease: \"" + creaseKindName(edge.crease) +
              "\" applies to S edges; an R edge is a straight crease and folds freely");
       continue;
     }
     const spline::BSplineCurve& c = edge.curve;
-    if (c.knots.knots().empty()) fail(path + ".degree: an S edge needs a spline (degree and knots)");
+    if (c.knots.knots().empty()) failTopology(path + ".degree: an S edge needs a spline (degree and knots)");
     if (c.knots.kind() != spline::KnotKind::Clamped)
-      fail(path + ".knots: an S edge is an open curve between its vertices (clamped knots)");
-    if (c.isRational()) fail(path + ".weights: S edges of a composite are polynomial (no weights)");
-    if (c.points.cols() != 3) fail(path + ".points: expected 3 coordinates per control point");
+      failTopology(path + ".knots: an S edge is an open curve between its vertices (clamped knots)");
+    if (c.isRational()) failTopology(path + ".weights: S edges of a composite are polynomial (no weights)");
+    if (c.points.cols() != 3) failTopology(path + ".points: expected 3 coordinates per control point");
     const int n = static_cast<int>(c.points.rows());
     if (n != c.knots.numControlPoints())
-      fail(path + ".points: a degree-" + std::to_string(c.degree()) + " edge with these knots has " +
+      failTopology(path + ".points: a degree-" + std::to_string(c.degree()) + " edge with these knots has " +
            std::to_string(c.knots.numControlPoints() - 2) + " interior control points, got " +
            std::to_string(std::max(0, n - 2)));
-    if (!c.points.allFinite()) fail(path + ".points: coordinates must be finite");
+    if (!c.points.allFinite()) failTopology(path + ".points: coordinates must be finite");
     const Eigen::Vector3d first = c.points.row(0).transpose(), last = c.points.row(n - 1).transpose();
     const Eigen::Vector3d p0 = design.vertices.row(edge.v0).transpose();
     const Eigen::Vector3d p1 = design.vertices.row(edge.v1).transpose();
     const double tol = 1e-9 * scale;
     if ((first - p0).norm() > tol)
-      fail(path + ".points: the first control point " + pointText(first) + " is not vertex " +
+      failTopology(path + ".points: the first control point " + pointText(first) + " is not vertex " +
            std::to_string(edge.v0) + " " + pointText(p0) + " (vertex–edge consistency)");
     if ((last - p1).norm() > tol)
-      fail(path + ".points: the last control point " + pointText(last) + " is not vertex " +
+      failTopology(path + ".points: the last control point " + pointText(last) + " is not vertex " +
            std::to_string(edge.v1) + " " + pointText(p1) + " (vertex–edge consistency)");
     interior_[e] = n - 2;
     edgeKnots_[e] = c.knots;
@@ -178,13 +178,13 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     const std::vector<int>& ids = design.faces[f];
     const std::string path = facePath(f);
     const int N = static_cast<int>(ids.size());
-    if (N < 3) fail(path + ": a face needs at least 3 edges, got " + std::to_string(N));
+    if (N < 3) failTopology(path + ": a face needs at least 3 edges, got " + std::to_string(N));
     for (int i = 0; i < N; ++i) {
       if (ids[i] < 0 || ids[i] >= numEdges)
-        fail(path + "[" + std::to_string(i) + "]: edge " + std::to_string(ids[i]) + " does not exist (" +
+        failTopology(path + "[" + std::to_string(i) + "]: edge " + std::to_string(ids[i]) + " does not exist (" +
              std::to_string(numEdges) + " edges)");
       for (int j = 0; j < i; ++j)
-        if (ids[j] == ids[i]) fail(path + ": uses edge " + std::to_string(ids[i]) + " twice");
+        if (ids[j] == ids[i]) failTopology(path + ": uses edge " + std::to_string(ids[i]) + " twice");
     }
     // Orientation of the first edge: its end is the vertex it shares with the second edge.
     std::vector<OrientedEdge> loop(N);
@@ -194,7 +194,7 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
       const bool forward = e0[1] == e1[0] || e0[1] == e1[1];
       const bool backward = e0[0] == e1[0] || e0[0] == e1[1];
       if (!forward && !backward)
-        fail(path + "[1]: edge " + std::to_string(ids[1]) + " shares no vertex with edge " + std::to_string(ids[0]) +
+        failTopology(path + "[1]: edge " + std::to_string(ids[1]) + " shares no vertex with edge " + std::to_string(ids[0]) +
              " before it (list a face's edges in boundary order)");
       loop[0] = {ids[0], !forward};
     }
@@ -210,17 +210,17 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
         loop[i] = {ids[i], true};
         cur = en[0];
       } else {
-        fail(path + "[" + std::to_string(i) + "]: edge " + std::to_string(ids[i]) + " (vertices " +
+        failTopology(path + "[" + std::to_string(i) + "]: edge " + std::to_string(ids[i]) + " (vertices " +
              std::to_string(en[0]) + "–" + std::to_string(en[1]) + ") does not continue the boundary at vertex " +
              std::to_string(cur) + " (list a face's edges in boundary order)");
       }
     }
     if (cur != corners[0])
-      fail(path + ": the boundary does not close (it ends at vertex " + std::to_string(cur) + " but starts at vertex " +
+      failTopology(path + ": the boundary does not close (it ends at vertex " + std::to_string(cur) + " but starts at vertex " +
            std::to_string(corners[0]) + ")");
     for (int i = 0; i < N; ++i)
       for (int j = 0; j < i; ++j)
-        if (corners[i] == corners[j]) fail(path + ": passes vertex " + std::to_string(corners[i]) + " twice");
+        if (corners[i] == corners[j]) failTopology(path + ": passes vertex " + std::to_string(corners[i]) + " twice");
 
     std::vector<EdgeType> labels(N);
     int sCount = 0;
@@ -233,10 +233,10 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     if (sCount == 0) {
       info.type = FaceType::Planar;
     } else if (sCount > 2) {
-      fail(path + ": has " + std::to_string(sCount) + " S edges (" + labelsText(labels) + "); a face has at most 2" + kinds);
+      failTopology(path + ": has " + std::to_string(sCount) + " S edges (" + labelsText(labels) + "); a face has at most 2" + kinds);
     } else if (sCount == 1) {
       if (N != 3)
-        fail(path + ": labels " + labelsText(labels) + " are not a face type; a face with one S edge is a cone, S R R" +
+        failTopology(path + ": labels " + labelsText(labels) + " are not a face type; a face with one S edge is a cone, S R R" +
              kinds);
       info.type = FaceType::Cone;
     } else if (N == 4) {
@@ -244,10 +244,10 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     } else if (N == 3) {
       info.type = FaceType::DegenerateStrip;
     } else {
-      fail(path + ": labels " + labelsText(labels) + " are not a face type; two S edges need R edges between them" + kinds);
+      failTopology(path + ": labels " + labelsText(labels) + " are not a face type; two S edges need R edges between them" + kinds);
     }
     if (info.type == FaceType::Strip && (labels[0] == labels[1] || labels[1] == labels[2]))
-      fail(path + ": labels " + labelsText(labels) + " are not a face type; the S edges of a strip are opposite" + kinds);
+      failTopology(path + ": labels " + labelsText(labels) + " are not a face type; the S edges of a strip are opposite" + kinds);
     if (info.type != FaceType::Planar) {
       // Rotate so that loop[0] is an S edge followed by an R edge.
       int start = 0;
@@ -272,13 +272,13 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
         const spline::BSplineCurve& cb = design.edges[info.b.edge].curve;
         const std::string both = "S edges " + std::to_string(info.a.edge) + " and " + std::to_string(info.b.edge);
         if (ca.degree() != cb.degree())
-          fail(path + ": " + both + " differ in degree (" + std::to_string(ca.degree()) + " and " +
+          failTopology(path + ": " + both + " differ in degree (" + std::to_string(ca.degree()) + " and " +
                std::to_string(cb.degree()) + "); a strip's curves share one spline space (edge–face consistency)");
         if (ca.points.rows() != cb.points.rows())
-          fail(path + ": " + both + " differ in control points (" + std::to_string(ca.points.rows()) + " and " +
+          failTopology(path + ": " + both + " differ in control points (" + std::to_string(ca.points.rows()) + " and " +
                std::to_string(cb.points.rows()) + "); a strip's curves share one spline space (edge–face consistency)");
-        if (!sameKnots(info.knots, knots(info.b.edge, info.b.reversed)))
-          fail(path + ": " + both + " differ in knots (compared in the direction of the strip's rulings); a strip's "
+        if (!topologySameKnots(info.knots, knots(info.b.edge, info.b.reversed)))
+          failTopology(path + ": " + both + " differ in knots (compared in the direction of the strip's rulings); a strip's "
                "curves share one spline space (edge–face consistency)");
       }
     }
@@ -292,18 +292,18 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
   for (int e = 0; e < numEdges; ++e) {
     const std::string path = edgePath(e);
     const std::size_t total = forwardFaces[e].size() + backwardFaces[e].size();
-    if (total == 0) fail(path + ": belongs to no face");
+    if (total == 0) failTopology(path + ": belongs to no face");
     if (total > 2) {
       std::string list;
       for (int f : forwardFaces[e]) list += (list.empty() ? "" : ", ") + std::to_string(f);
       for (int f : backwardFaces[e]) list += (list.empty() ? "" : ", ") + std::to_string(f);
-      fail(path + ": is shared by " + std::to_string(total) + " faces (" + list +
+      failTopology(path + ": is shared by " + std::to_string(total) + " faces (" + list +
            "); the composite must be a manifold (at most 2 faces per edge)");
     }
     for (const auto* side : {&forwardFaces[e], &backwardFaces[e]})
       if (side->size() == 2) {
         const bool fw = side == &forwardFaces[e];
-        fail(path + ": faces " + std::to_string((*side)[0]) + " and " + std::to_string((*side)[1]) +
+        failTopology(path + ": faces " + std::to_string((*side)[0]) + " and " + std::to_string((*side)[1]) +
              " both traverse it from vertex " + std::to_string(ends_[e][fw ? 0 : 1]) + " to vertex " +
              std::to_string(ends_[e][fw ? 1 : 0]) +
              "; orient all faces consistently (a shared edge runs in opposite directions)");
@@ -312,13 +312,13 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     if (!backwardFaces[e].empty()) edges_[e].faces[1] = backwardFaces[e][0];
     const CreaseKind ck = design.edges[e].crease;
     if (ck != CreaseKind::None && ck != CreaseKind::Straight && !edges_[e].interior())
-      fail(path + ".crease: \"" + std::string(creaseKindName(ck)) + "\" needs faces on both sides; edge " +
+      failTopology(path + ".crease: \"" + std::string(creaseKindName(ck)) + "\" needs faces on both sides; edge " +
            std::to_string(e) + " is on the boundary");
   }
   std::vector<bool> used(numVertices_, false);
   for (const auto& en : ends_) used[en[0]] = used[en[1]] = true;
   for (int v = 0; v < numVertices_; ++v)
-    if (!used[v]) fail("vertices[" + std::to_string(v) + "]: belongs to no edge");
+    if (!used[v]) failTopology("vertices[" + std::to_string(v) + "]: belongs to no edge");
 
   // ---- the OpenMesh mesh ----
   auto& m = mesh_->mesh;
@@ -333,7 +333,7 @@ CompositeTopology::CompositeTopology(const CompositeDesign& design) : mesh_(std:
     for (int c : faces_[f].corners) loop.push_back(vh[c]);
     const auto fh = m.add_face(loop);
     if (!fh.is_valid())
-      fail(facePath(f) + ": makes the mesh non-manifold at one of its vertices (the faces around a vertex must "
+      failTopology(facePath(f) + ": makes the mesh non-manifold at one of its vertices (the faces around a vertex must "
            "form one fan)");
     m.property(mesh_->sceneFace, fh) = f;
   }
@@ -359,7 +359,7 @@ std::vector<PointSlot> CompositeTopology::controlSlots(int e, bool reversed) con
 spline::KnotVector CompositeTopology::knots(int e, bool reversed) const {
   const spline::KnotVector& k = edgeKnots_.at(e);
   if (!reversed) return k;
-  return spline::KnotVector::clamped(k.degree(), reversedKnots(k), k.numControlPoints());
+  return spline::KnotVector::clamped(k.degree(), reversedEdgeKnots(k), k.numControlPoints());
 }
 
 bool CompositeTopology::edgeRunsWithU(int f, int e) const {

@@ -22,7 +22,7 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failConical(const std::string& message) { throw std::invalid_argument(message); }
 
 /// Angle between two unit vectors, accurate for tiny angles.
 double angleBetween(const Eigen::Vector3d& n0, const Eigen::Vector3d& n1) {
@@ -39,16 +39,16 @@ ArcLengthCurve makeCurve(const spline::BSplineCurve& curve, const char* field,
 }
 
 const ConicalStripDesign& validated(const ConicalStripDesign& d, const ConicalStripOptions& o) {
-  if (d.np < 2) fail("np: need at least 2 samples on P, got " + std::to_string(d.np));
-  if (d.nq < 2) fail("nq: need at least 2 samples on Q, got " + std::to_string(d.nq));
-  if (!(std::isfinite(d.h3) && d.h3 > 0.0)) fail("h3: must be finite and positive");
-  if (!(std::isfinite(d.h4) && d.h4 > 0.0)) fail("h4: must be finite and positive");
-  if (!(std::isfinite(d.ra) && d.ra >= 1.0)) fail("ra: must be finite and >= 1");
-  if (o.arcLengthIntervalsPerSpan < 1) fail("options.arcLengthIntervalsPerSpan: must be >= 1");
-  if (o.intersectionScanSteps < 1) fail("options.intersectionScanSteps: must be >= 1");
-  if (o.outlineSamples < 1) fail("options.outlineSamples: must be >= 1");
+  if (d.np < 2) failConical("np: need at least 2 samples on P, got " + std::to_string(d.np));
+  if (d.nq < 2) failConical("nq: need at least 2 samples on Q, got " + std::to_string(d.nq));
+  if (!(std::isfinite(d.h3) && d.h3 > 0.0)) failConical("h3: must be finite and positive");
+  if (!(std::isfinite(d.h4) && d.h4 > 0.0)) failConical("h4: must be finite and positive");
+  if (!(std::isfinite(d.ra) && d.ra >= 1.0)) failConical("ra: must be finite and >= 1");
+  if (o.arcLengthIntervalsPerSpan < 1) failConical("options.arcLengthIntervalsPerSpan: must be >= 1");
+  if (o.intersectionScanSteps < 1) failConical("options.intersectionScanSteps: must be >= 1");
+  if (o.outlineSamples < 1) failConical("options.outlineSamples: must be >= 1");
   if (!(o.tangentLengthMin > 0.0 && o.tangentLengthMax >= o.tangentLengthMin)) {
-    fail("options.tangentLengthMin/tangentLengthMax: need 0 < min <= max");
+    failConical("options.tangentLengthMin/tangentLengthMax: need 0 < min <= max");
   }
   return d;
 }
@@ -258,14 +258,14 @@ const char* objectiveName(Objective objective) {
 
 spline::BSplineCurve ConicalStripDesign::polyline(const Eigen::MatrixX3d& points) {
   const Eigen::Index n = points.rows();
-  if (n < 2) fail("polyline: need at least 2 points, got " + std::to_string(n));
-  if (!points.allFinite()) fail("polyline: points must be finite");
+  if (n < 2) failConical("polyline: need at least 2 points, got " + std::to_string(n));
+  if (!points.allFinite()) failConical("polyline: points must be finite");
   std::vector<double> knots{0.0, 0.0};
   double total = 0.0;
   std::vector<double> cumulative{0.0};
   for (Eigen::Index k = 1; k < n; ++k) {
     const double len = (points.row(k) - points.row(k - 1)).norm();
-    if (!(len > 0.0)) fail("polyline: points[" + std::to_string(k) + "] repeats the previous point");
+    if (!(len > 0.0)) failConical("polyline: points[" + std::to_string(k) + "] repeats the previous point");
     total += len;
     cumulative.push_back(total);
   }

@@ -30,7 +30,7 @@ namespace devsurf::models::quad_mesh {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failQuadMesh(const std::string& message) { throw std::invalid_argument(message); }
 
 std::string indexed(const char* name, std::size_t i) { return std::string(name) + "[" + std::to_string(i) + "]"; }
 
@@ -38,19 +38,19 @@ bool finiteRows(const Eigen::MatrixX3d& m) { return m.allFinite(); }
 
 void checkVertex(const VertexRef& v, int vertexCount, const std::string& path, int controlCount = -1) {
   if (v.on == MeshSide::Control) {
-    if (controlCount < 0) fail(path + ".on: \"control\" addresses control points; this design has no control net");
+    if (controlCount < 0) failQuadMesh(path + ".on: \"control\" addresses control points; this design has no control net");
     if (v.vertex < 0 || v.vertex >= controlCount)
-      fail(path + ".vertex: " + std::to_string(v.vertex) + " is not a control point (the net has " +
+      failQuadMesh(path + ".vertex: " + std::to_string(v.vertex) + " is not a control point (the net has " +
            std::to_string(controlCount) + ")");
     return;
   }
   if (v.vertex < 0 || v.vertex >= vertexCount)
-    fail(path + ".vertex: " + std::to_string(v.vertex) + " is not a vertex (the mesh has " +
+    failQuadMesh(path + ".vertex: " + std::to_string(v.vertex) + " is not a vertex (the mesh has " +
          std::to_string(vertexCount) + ")");
 }
 
 void checkWeight(double w, const std::string& path) {
-  if (!std::isfinite(w) || w < 0) fail(path + ": must be a finite number ≥ 0");
+  if (!std::isfinite(w) || w < 0) failQuadMesh(path + ": must be a finite number ≥ 0");
 }
 
 /// M projected onto its least-squares plane, oriented so that the faces keep their turning sense
@@ -95,42 +95,42 @@ const char* variableMeshesName(VariableMeshes v) {
 
 void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
   const int V = static_cast<int>(d.mesh.rows());
-  if (V < 3) fail("mesh: at least 3 vertices are needed");
-  if (!finiteRows(d.mesh)) fail("mesh: every coordinate must be a finite number");
+  if (V < 3) failQuadMesh("mesh: at least 3 vertices are needed");
+  if (!finiteRows(d.mesh)) failQuadMesh("mesh: every coordinate must be a finite number");
   if (d.unfolding.rows() == 0) {
     if (d.variable == VariableMeshes::Mesh)
-      fail("unfolding: required when only the mesh is variable (the unfolding is what it is bent from)");
+      failQuadMesh("unfolding: required when only the mesh is variable (the unfolding is what it is bent from)");
   } else {
     if (d.unfolding.rows() != V)
-      fail("unfolding: " + std::to_string(d.unfolding.rows()) + " vertices, the mesh has " + std::to_string(V));
-    if (!finiteRows(d.unfolding)) fail("unfolding: every coordinate must be a finite number");
+      failQuadMesh("unfolding: " + std::to_string(d.unfolding.rows()) + " vertices, the mesh has " + std::to_string(V));
+    if (!finiteRows(d.unfolding)) failQuadMesh("unfolding: every coordinate must be a finite number");
   }
   if (d.control) {
     const long long refined = splineRefinement(*d.control).subdivision.rows();  // throws naming the field
-    if (refined != V) fail("mesh: the control net's refinement has " + std::to_string(refined) + " vertices, the mesh " + std::to_string(V));
+    if (refined != V) failQuadMesh("mesh: the control net's refinement has " + std::to_string(refined) + " vertices, the mesh " + std::to_string(V));
   }
   if (!d.conformalFactors.empty()) {
     if (d.conformalFactors.size() != d.faces.size())
-      fail("conformal_factors: one per face (" + std::to_string(d.faces.size()) + ") expected");
+      failQuadMesh("conformal_factors: one per face (" + std::to_string(d.faces.size()) + ") expected");
     for (std::size_t f = 0; f < d.conformalFactors.size(); ++f)
-      if (!std::isfinite(d.conformalFactors[f])) fail(indexed("conformal_factors", f) + ": must be finite");
+      if (!std::isfinite(d.conformalFactors[f])) failQuadMesh(indexed("conformal_factors", f) + ": must be finite");
   }
   const int controlCount = d.control ? static_cast<int>(d.control->points.rows()) : -1;
   for (std::size_t i = 0; i < d.fixed.size(); ++i) checkVertex(d.fixed[i], V, indexed("fixed", i), controlCount);
   for (std::size_t i = 0; i < d.handles.size(); ++i) {
     const std::string path = indexed("handles", i);
     checkVertex(d.handles[i].vertex, V, path, controlCount);
-    if (!d.handles[i].target.allFinite()) fail(path + ".target: every coordinate must be a finite number");
+    if (!d.handles[i].target.allFinite()) failQuadMesh(path + ".target: every coordinate must be a finite number");
     checkWeight(d.handles[i].weight, path + ".weight");
   }
   for (std::size_t i = 0; i < d.glue.size(); ++i) {
     const std::string path = indexed("glue", i);
     const GluePair& g = d.glue[i];
     if (g.a < 0 || g.a >= V || g.b < 0 || g.b >= V)
-      fail(path + ": vertex pair (" + std::to_string(g.a) + ", " + std::to_string(g.b) + ") is not in [0, " +
+      failQuadMesh(path + ": vertex pair (" + std::to_string(g.a) + ", " + std::to_string(g.b) + ") is not in [0, " +
            std::to_string(V) + ")");
-    if (g.a == g.b) fail(path + ": a vertex cannot be glued to itself (" + std::to_string(g.a) + ")");
-    if (g.on == MeshSide::Control) fail(path + ".on: glue joins vertices of M or M′, not control points");
+    if (g.a == g.b) failQuadMesh(path + ": a vertex cannot be glued to itself (" + std::to_string(g.a) + ")");
+    if (g.on == MeshSide::Control) failQuadMesh(path + ".on: glue joins vertices of M or M′, not control points");
   }
   const QuadMeshWeights& w = d.weights;
   checkWeight(w.isometry, "weights.isometry");
@@ -145,37 +145,37 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
   checkWeight(w.normals, "weights.normals");
   checkWeight(w.symmetry, "weights.symmetry");
   if ((w.proximityPoint > 0 || w.proximityPlane > 0) && !d.reference)
-    fail("reference: the proximity weights need a reference surface");
+    failQuadMesh("reference: the proximity weights need a reference surface");
   if (d.reference) {
     const ReferenceSurface& r = *d.reference;
     if (r.vertices.rows() < 3 || r.triangles.rows() < 1)
-      fail("reference: at least 3 vertices and one triangle are needed");
-    if (!r.vertices.allFinite()) fail("reference.vertices: every coordinate must be a finite number");
+      failQuadMesh("reference: at least 3 vertices and one triangle are needed");
+    if (!r.vertices.allFinite()) failQuadMesh("reference.vertices: every coordinate must be a finite number");
     for (Eigen::Index t = 0; t < r.triangles.rows(); ++t)
       for (int k = 0; k < 3; ++k)
         if (r.triangles(t, k) < 0 || r.triangles(t, k) >= r.vertices.rows())
-          fail("reference.triangles[" + std::to_string(t) + "]: vertex " + std::to_string(r.triangles(t, k)) +
+          failQuadMesh("reference.triangles[" + std::to_string(t) + "]: vertex " + std::to_string(r.triangles(t, k)) +
                " is not in [0, " + std::to_string(r.vertices.rows()) + ")");
   }
   const IsometrySchedule& s = d.schedule;
-  if (!(s.energyMin >= 0) || !std::isfinite(s.energyMin)) fail("schedule.energy_min: must be a finite number ≥ 0");
+  if (!(s.energyMin >= 0) || !std::isfinite(s.energyMin)) failQuadMesh("schedule.energy_min: must be a finite number ≥ 0");
   if (!(s.isometryMin >= 0) || !std::isfinite(s.isometryMin))
-    fail("schedule.isometry_min: must be a finite number ≥ 0");
-  if (s.roundIterations < 1) fail("schedule.round_iterations: must be ≥ 1");
-  if (s.rounds < 1) fail("schedule.rounds: must be ≥ 1");
+    failQuadMesh("schedule.isometry_min: must be a finite number ≥ 0");
+  if (s.roundIterations < 1) failQuadMesh("schedule.round_iterations: must be ≥ 1");
+  if (s.rounds < 1) failQuadMesh("schedule.rounds: must be ≥ 1");
   if (!(s.fairnessDivisor >= 1) || !std::isfinite(s.fairnessDivisor))
-    fail("schedule.fairness_divisor: must be a finite number ≥ 1");
+    failQuadMesh("schedule.fairness_divisor: must be a finite number ≥ 1");
 }
 
 namespace {
-QuadMeshDesign validated(QuadMeshDesign design) {
+QuadMeshDesign validatedQuadMesh(QuadMeshDesign design) {
   QuadMeshModel::validateDesign(design);
   return design;
 }
 }  // namespace
 
 QuadMeshModel::QuadMeshModel(QuadMeshDesign design, QuadMeshOptions options)
-    : design_(validated(std::move(design))),
+    : design_(validatedQuadMesh(std::move(design))),
       options_(std::move(options)),
       topology_(static_cast<int>(design_.mesh.rows()), design_.faces) {
   if (design_.unfolding.rows() == 0) {

@@ -13,13 +13,13 @@ namespace devsurf::models::quad_mesh {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failQuadTopology(const std::string& message) { throw std::invalid_argument(message); }
 
-std::string facePath(std::size_t f) { return "faces[" + std::to_string(f) + "]"; }
+std::string quadFacePath(std::size_t f) { return "faces[" + std::to_string(f) + "]"; }
 
 /// OpenMesh reports a face it cannot add on its global error stream; we report the face by path.
 /// Switched off once per process (see CompositeTopology: toggling it raced between threads).
-void silenceOpenMeshErrors() {
+void silenceQuadMeshOpenMeshErrors() {
   static const bool silenced = [] {
     omerr().disable();
     return true;
@@ -41,22 +41,22 @@ int findRoot(std::vector<int>& parent, int i) {
 
 QuadMeshTopology::QuadMeshTopology(int vertexCount, const std::vector<Face>& faces)
     : vertexCount_(vertexCount), faces_(faces) {
-  if (vertexCount < 3) fail("mesh: at least 3 vertices are needed, got " + std::to_string(vertexCount));
-  if (faces.empty()) fail("faces: at least one face is needed");
+  if (vertexCount < 3) failQuadTopology("mesh: at least 3 vertices are needed, got " + std::to_string(vertexCount));
+  if (faces.empty()) failQuadTopology("faces: at least one face is needed");
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const Face& face = faces[f];
     const int n = faceSize(face);
     for (int k = 0; k < n; ++k) {
       if (face[k] < 0 || face[k] >= vertexCount)
-        fail(facePath(f) + ": vertex " + std::to_string(face[k]) + " is not in [0, " + std::to_string(vertexCount) +
+        failQuadTopology(quadFacePath(f) + ": vertex " + std::to_string(face[k]) + " is not in [0, " + std::to_string(vertexCount) +
              ")");
       for (int l = 0; l < k; ++l)
-        if (face[l] == face[k]) fail(facePath(f) + ": vertex " + std::to_string(face[k]) + " appears twice");
+        if (face[l] == face[k]) failQuadTopology(quadFacePath(f) + ": vertex " + std::to_string(face[k]) + " appears twice");
     }
   }
 
   // OpenMesh decides manifoldness and consistent orientation.
-  silenceOpenMeshErrors();
+  silenceQuadMeshOpenMeshErrors();
   OpenMesh::PolyMesh_ArrayKernelT<> mesh;
   std::vector<OpenMesh::VertexHandle> vh(vertexCount);
   for (int i = 0; i < vertexCount; ++i) vh[i] = mesh.add_vertex(OpenMesh::Vec3f(0, 0, 0));
@@ -64,7 +64,7 @@ QuadMeshTopology::QuadMeshTopology(int vertexCount, const std::vector<Face>& fac
     std::vector<OpenMesh::VertexHandle> loop;
     for (int k = 0; k < faceSize(faces[f]); ++k) loop.push_back(vh[faces[f][k]]);
     if (!mesh.add_face(loop).is_valid())
-      fail(facePath(f) + ": the face makes the mesh non-manifold or is oriented against its neighbours "
+      failQuadTopology(quadFacePath(f) + ": the face makes the mesh non-manifold or is oriented against its neighbours "
            "(faces must be counter-clockwise seen from the front and meet edge to edge)");
   }
 
@@ -89,7 +89,7 @@ QuadMeshTopology::QuadMeshTopology(int vertexCount, const std::vector<Face>& fac
     }
   }
   for (int v = 0; v < vertexCount; ++v)
-    if (vertexFaces_[v].empty()) fail("mesh[" + std::to_string(v) + "]: the vertex belongs to no face");
+    if (vertexFaces_[v].empty()) failQuadTopology("mesh[" + std::to_string(v) + "]: the vertex belongs to no face");
 
   edgeOnBoundary_.assign(edges_.size(), 0);
   vertexOnBoundary_.assign(vertexCount, 0);

@@ -19,7 +19,7 @@
 namespace devsurf::models::quad_mesh {
 namespace {
 
-[[noreturn]] void fail(const std::string& why) {
+[[noreturn]] void failSegmentation(const std::string& why) {
   throw std::invalid_argument("segmentedApproximation: " + why);
 }
 
@@ -75,12 +75,12 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
                                               const std::vector<int>& trianglePatch,
                                               const SegmentedApproximationOptions& options) {
   if (static_cast<Eigen::Index>(trianglePatch.size()) != T.rows())
-    fail("patch ids: " + std::to_string(trianglePatch.size()) + " values for " + std::to_string(T.rows()) +
+    failSegmentation("patch ids: " + std::to_string(trianglePatch.size()) + " values for " + std::to_string(T.rows()) +
          " triangles");
   for (std::size_t t = 0; t < trianglePatch.size(); ++t)
-    if (trianglePatch[t] < 0) fail("patch ids[" + std::to_string(t) + "] is negative");
-  if (options.targetFaces < 1 && !(options.spacing > 0.0)) fail("targetFaces must be ≥ 1");
-  if (!(options.spread >= 0.0) || !std::isfinite(options.spread)) fail("spread must be ≥ 0");
+    if (trianglePatch[t] < 0) failSegmentation("patch ids[" + std::to_string(t) + "] is negative");
+  if (options.targetFaces < 1 && !(options.spacing > 0.0)) failSegmentation("targetFaces must be ≥ 1");
+  if (!(options.spread >= 0.0) || !std::isfinite(options.spread)) failSegmentation("spread must be ≥ 0");
 
   Eigen::MatrixX2d uv = spatial::parameterizeDisk(V, T, options.method);
   {
@@ -115,7 +115,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
     area += 0.5 * (b - a).cross(c - a).norm();
   }
   const double h = options.spacing > 0.0 ? options.spacing : std::sqrt(area / options.targetFaces);
-  if (!(h > 0.0) || !std::isfinite(h)) fail("the quad spacing is not positive");
+  if (!(h > 0.0) || !std::isfinite(h)) failSegmentation("the quad spacing is not positive");
 
   // Point location in the map: the AABB tree over the map's triangles (lifted to z = 0).
   Eigen::MatrixX3d planar = Eigen::MatrixX3d::Zero(V.rows(), 3);
@@ -124,7 +124,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   try {
     locator.emplace(planar, T);
   } catch (const std::invalid_argument& e) {
-    fail(std::string("the map to the plane has a degenerate triangle (") + e.what() + ")");
+    failSegmentation(std::string("the map to the plane has a degenerate triangle (") + e.what() + ")");
   }
 
   std::vector<char> used(V.rows(), 0);
@@ -136,8 +136,8 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
   const Eigen::Vector2d extent = hi - lo;
   // One cell beyond the map on every side: nodes there snap onto its boundary.
   const long nx = static_cast<long>(std::ceil(extent.x() / h)) + 2, ny = static_cast<long>(std::ceil(extent.y() / h)) + 2;
-  if (extent.x() < h || extent.y() < h) fail("the quad spacing is larger than the reference's map");
-  if ((nx + 1) * (ny + 1) > 2'000'000) fail("the quad spacing makes more than 2 000 000 grid nodes");
+  if (extent.x() < h || extent.y() < h) failSegmentation("the quad spacing is larger than the reference's map");
+  if ((nx + 1) * (ny + 1) > 2'000'000) failSegmentation("the quad spacing makes more than 2 000 000 grid nodes");
   const Eigen::Vector2d origin = lo - 0.5 * (h * Eigen::Vector2d(nx, ny) - extent);
   const double insideTolerance = 1e-9 * h;
 
@@ -290,7 +290,7 @@ SegmentedApproximation segmentedApproximation(const Eigen::MatrixX3d& V, const E
     if (!changed) break;
   }
   labelPieces();
-  if (pieceCount == 0) fail("no grid cell lies inside the reference; lower the spacing");
+  if (pieceCount == 0) failSegmentation("no grid cell lies inside the reference; lower the spacing");
 
   // Borders between patches follow the segmentation: a node whose cells belong to several
   // patches moves onto the nearest border between two of them in the map (edges of the reference

@@ -20,7 +20,7 @@ namespace devsurf::models::quad_mesh {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message) { throw std::invalid_argument(message); }
+[[noreturn]] void failSplineSurface(const std::string& message) { throw std::invalid_argument(message); }
 
 std::string patchPath(const ControlNet& net, std::size_t p) {
   return net.patches.empty() ? std::string("control") : "control.patches[" + std::to_string(p) + "]";
@@ -51,18 +51,18 @@ std::vector<int> sideIndices(const ControlPatch& p, int side, int inward) {
 }
 
 void validateNet(const ControlNet& net) {
-  if (net.rounds < 0 || net.rounds > 4) fail("control.rounds: 0 … 4, got " + std::to_string(net.rounds));
-  if (net.points.rows() == 0) fail("control.points: at least 16 points are needed");
-  if (!net.points.allFinite()) fail("control.points: every coordinate must be a finite number");
+  if (net.rounds < 0 || net.rounds > 4) failSplineSurface("control.rounds: 0 … 4, got " + std::to_string(net.rounds));
+  if (net.points.rows() == 0) failSplineSurface("control.points: at least 16 points are needed");
+  if (!net.points.allFinite()) failSplineSurface("control.points: every coordinate must be a finite number");
   if (!std::isfinite(net.smoothness) || net.smoothness < 0)
-    fail("control.smoothness: a finite weight ≥ 0 is needed");
+    failSplineSurface("control.smoothness: a finite weight ≥ 0 is needed");
   const int P = static_cast<int>(net.points.rows());
   if (net.patches.empty()) {
     if (net.rows < 4 || net.columns < 4)
-      fail("control: a bicubic net needs at least 4 rows and 4 columns, got " + std::to_string(net.rows) + " × " +
+      failSplineSurface("control: a bicubic net needs at least 4 rows and 4 columns, got " + std::to_string(net.rows) + " × " +
            std::to_string(net.columns));
     if (static_cast<long long>(net.rows) * net.columns != P)
-      fail("control.points: " + std::to_string(static_cast<long long>(net.rows) * net.columns) + " expected, got " +
+      failSplineSurface("control.points: " + std::to_string(static_cast<long long>(net.rows) * net.columns) + " expected, got " +
            std::to_string(P));
     return;
   }
@@ -71,27 +71,27 @@ void validateNet(const ControlNet& net) {
     const ControlPatch& patch = net.patches[p];
     const std::string path = patchPath(net, p);
     if (patch.rows < 4 || patch.columns < 4)
-      fail(path + ": a bicubic patch needs at least 4 rows and 4 columns, got " + std::to_string(patch.rows) + " × " +
+      failSplineSurface(path + ": a bicubic patch needs at least 4 rows and 4 columns, got " + std::to_string(patch.rows) + " × " +
            std::to_string(patch.columns));
     if (static_cast<long long>(patch.rows) * patch.columns != static_cast<long long>(patch.indices.size()))
-      fail(path + ".indices: rows × columns = " + std::to_string(static_cast<long long>(patch.rows) * patch.columns) +
+      failSplineSurface(path + ".indices: rows × columns = " + std::to_string(static_cast<long long>(patch.rows) * patch.columns) +
            " expected, got " + std::to_string(patch.indices.size()));
     std::vector<int> sorted = patch.indices;
     for (std::size_t i = 0; i < patch.indices.size(); ++i) {
       const int j = patch.indices[i];
       if (j < 0 || j >= P)
-        fail(path + ".indices[" + std::to_string(i) + "]: " + std::to_string(j) + " is not a control point (0 … " +
+        failSplineSurface(path + ".indices[" + std::to_string(i) + "]: " + std::to_string(j) + " is not a control point (0 … " +
              std::to_string(P - 1) + ")");
       used[static_cast<std::size_t>(j)] = 1;
     }
     std::sort(sorted.begin(), sorted.end());
     const auto repeated = std::adjacent_find(sorted.begin(), sorted.end());
     if (repeated != sorted.end())
-      fail(path + ".indices: control point " + std::to_string(*repeated) + " appears twice in one patch");
+      failSplineSurface(path + ".indices: control point " + std::to_string(*repeated) + " appears twice in one patch");
   }
   for (int j = 0; j < P; ++j)
     if (!used[static_cast<std::size_t>(j)])
-      fail("control.points[" + std::to_string(j) + "]: no patch uses it (every control point must belong to a patch)");
+      failSplineSurface("control.points[" + std::to_string(j) + "]: no patch uses it (every control point must belong to a patch)");
 }
 
 /// A control point in two patches must lie on a whole side the two share, or be a corner of
@@ -129,7 +129,7 @@ void refuseJunctionsOffSharedSides(const ControlNet& net, const std::vector<Cont
         if (found != sharedPoints.end() &&
             std::find(found->second.begin(), found->second.end(), point) != found->second.end())
           continue;
-        fail(patchPath(net, static_cast<std::size_t>(b.patch)) + ".indices[" + std::to_string(b.position) +
+        failSplineSurface(patchPath(net, static_cast<std::size_t>(b.patch)) + ".indices[" + std::to_string(b.position) +
              "]: control point " + std::to_string(point) + " is also in patch " + std::to_string(a.patch) +
              ", but the two patches do not share a whole side through it (a T-junction or a partly shared "
              "side leaves a gap); split the longer patch so that the sides match point for point");
@@ -167,11 +167,11 @@ std::vector<SharedSide> splineSharedSides(const ControlNet& net) {
     if (occurrences.size() < 2) continue;
     const Occurrence &a = occurrences[0], &b = occurrences[1];
     if (occurrences.size() > 2)
-      fail(patchPath(net, static_cast<std::size_t>(occurrences[2].patch)) + ": its side " +
+      failSplineSurface(patchPath(net, static_cast<std::size_t>(occurrences[2].patch)) + ": its side " +
            std::to_string(occurrences[2].side) + " is already shared by patches " + std::to_string(a.patch) + " and " +
            std::to_string(b.patch) + " (a side joins at most two patches)");
     if (a.sequence == b.sequence)
-      fail(patchPath(net, static_cast<std::size_t>(b.patch)) + ": its side " + std::to_string(b.side) +
+      failSplineSurface(patchPath(net, static_cast<std::size_t>(b.patch)) + ": its side " + std::to_string(b.side) +
            " runs the same way as side " + std::to_string(a.side) + " of patch " + std::to_string(a.patch) +
            ", so the two patches face opposite ways; reverse the rows of one of them");
     shared.push_back({a.patch, a.side, b.patch, b.side});
@@ -241,7 +241,7 @@ SplineRefinement splineRefinement(const ControlNet& net) {
 
 std::vector<SplinePatchSurface> splinePatchSurfaces(const ControlNet& net, const Eigen::MatrixX3d& points) {
   validateNet(net);
-  if (points.rows() != net.points.rows()) fail("control.points: the net has " + std::to_string(net.points.rows()) + " points");
+  if (points.rows() != net.points.rows()) failSplineSurface("control.points: the net has " + std::to_string(net.points.rows()) + " points");
   auto knots = [](int n) {
     std::vector<double> k(4, 0.0);
     for (int i = 1; i <= n - 4; ++i) k.push_back(i);

@@ -20,7 +20,7 @@ namespace devsurf::models::strip {
 
 namespace {
 
-const spline::BSplineCurve& curveOf(const StripDesign& s, Curve c) { return c == Curve::A ? s.a : s.b; }
+const spline::BSplineCurve& coverCurveOf(const StripDesign& s, Curve c) { return c == Curve::A ? s.a : s.b; }
 
 /// The curve at `count` parameters equally spaced over its domain (rows), reversed when asked.
 Eigen::MatrixX3d sampleCurve(const spline::BSplineCurve& c, int count, bool reversed = false) {
@@ -117,8 +117,8 @@ std::pair<double, double> pairingGap(const std::vector<StripDesign>& strips, con
   double worst = 0.0, sum = 0.0;
   int count = 0;
   for (const BoundaryPairing& p : pairings) {
-    const spline::BSplineCurve& x = curveOf(strips.at(static_cast<std::size_t>(p.first)), p.firstCurve);
-    const spline::BSplineCurve& y = curveOf(strips.at(static_cast<std::size_t>(p.second)), p.secondCurve);
+    const spline::BSplineCurve& x = coverCurveOf(strips.at(static_cast<std::size_t>(p.first)), p.firstCurve);
+    const spline::BSplineCurve& y = coverCurveOf(strips.at(static_cast<std::size_t>(p.second)), p.secondCurve);
     for (const auto& [from, to] : {std::pair{&x, &y}, std::pair{&y, &x}}) {
       const auto [mean, max] = sampleDistances(sampleCurve(*from, 64), sampleCurve(*to, 256));
       worst = std::max(worst, max);
@@ -173,7 +173,7 @@ StripPairingResult pairStripBoundaries(std::vector<StripDesign> strips, const st
         const StripDesign& partner = strips[static_cast<std::size_t>(isFirst ? p.second : p.first)];
         BoundaryTarget target;
         target.curve = isFirst ? p.firstCurve : p.secondCurve;
-        target.polyline = sampleCurve(curveOf(partner, isFirst ? p.secondCurve : p.firstCurve), 256, p.reversed);
+        target.polyline = sampleCurve(coverCurveOf(partner, isFirst ? p.secondCurve : p.firstCurve), 256, p.reversed);
         target.weight = weight;
         design.boundaryTargets.push_back(std::move(target));
       }

@@ -37,7 +37,7 @@ bool degenerate(const Eigen::MatrixXd& points) {
   return (points.rowwise() - points.row(0)).rowwise().norm().maxCoeff() == 0.0;
 }
 
-void validateCurve(const spline::BSplineCurve& c, const char* name) {
+void validateStripCurve(const spline::BSplineCurve& c, const char* name) {
   const std::string n(name);
   if (c.points.cols() != 3) throw std::invalid_argument(n + ".points: expected 3 coordinates per point");
   if (c.points.rows() != c.knots.numControlPoints())
@@ -60,8 +60,8 @@ const char* curveName(Curve c) { return c == Curve::A ? "a" : "b"; }
 void StripModel::validateDesign(StripDesign& design) {
   const spline::BSplineCurve& a = design.a;
   const spline::BSplineCurve& b = design.b;
-  validateCurve(a, "a");
-  validateCurve(b, "b");
+  validateStripCurve(a, "a");
+  validateStripCurve(b, "b");
   if (a.degree() != b.degree())
     throw std::invalid_argument("b.degree: must equal a.degree (" + std::to_string(a.degree()) +
                                 "), got " + std::to_string(b.degree()));
