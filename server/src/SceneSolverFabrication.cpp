@@ -33,32 +33,44 @@ std::vector<io::PolygonFace> polygonFaces(const std::vector<std::vector<int>>& p
 
 std::string sceneTitle(const proto::Scene& scene) { return scene.name.empty() ? std::string("devsurf") : scene.name; }
 
+/// `make()`, with any failure but the export errors' own (and running out of memory) turned into
+/// ExportFailed "format: F: <what> (<reason>)".
+template <class Make>
+auto orExportFailed(const std::string& format, const std::string& what, const Make& make) -> decltype(make()) {
+  try {
+    return make();
+  } catch (const ExportUnavailable&) {
+    throw;
+  } catch (const ExportFailed&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ExportFailed("format: " + format + ": " + what + " (" + std::string(e.what()) + ")");
+  }
+}
+
 }  // namespace
 
 bool SceneSolver::hasFlatStripPattern() const { return strip_ || quasi_ || conical_; }
 
 SceneSolver::CuttingParts SceneSolver::cuttingParts(const std::string& format) const {
-  CuttingParts parts;
   if (cutAlongSeams()) {
-    try {
+    return orExportFailed(format, "the pieces in their current state cannot be unfolded", [this]() {
       const models::composite::FlatPieces pieces =
           models::composite::unfoldPieces(composite_->design(), composite_->topology());
+      CuttingParts parts;
       parts.vertices = pieces.vertices;
       parts.faces = pieces.faces;
       parts.gluePairs = pieces.gluePairs;
       parts.title = sceneTitle(scene_) + ": " + std::to_string(pieces.pieces) +
                     (pieces.pieces == 1 ? " piece" : " pieces") + ", cut along the seams";
       return parts;
-    } catch (const std::bad_alloc&) {
-      throw;
-    } catch (const std::exception& e) {
-      throw ExportFailed("format: " + format + ": the pieces in their current state cannot be unfolded (" +
-                         std::string(e.what()) + ")");
-    }
+    });
   }
   if (!hasFlatStripPattern())
     throw ExportUnavailable("format: " + format + " draws a flat pattern, which this scene does not have");
-  try {
+  return orExportFailed(format, "the surface in its current state cannot be unfolded", [this]() {
     // The sampled surface of the obj export, points shared by neighbouring patches welded, each
     // connected sheet unfolded from its own edge lengths.
     const io::QuadMesh surface = sampledSurface();
@@ -78,22 +90,14 @@ SceneSolver::CuttingParts SceneSolver::cuttingParts(const std::string& format) c
       if (poly.size() >= 3) polygons.push_back(std::move(poly));
     }
     const spatial::FlatLayout layout = spatial::unfoldPieces(points, polygons, spatial::edgeConnectedPieces(polygons));
+    CuttingParts parts;
     parts.vertices = layout.vertices;
     parts.faces = polygonFaces(layout.polygons);
     parts.title = sceneTitle(scene_) + ": flat pattern" +
                   (layout.pieces == 1 ? std::string() : ", " + std::to_string(layout.pieces) + " pieces");
     if (parts.faces.empty()) throw std::invalid_argument("the surface has no face of positive size");
     return parts;
-  } catch (const ExportUnavailable&) {
-    throw;
-  } catch (const ExportFailed&) {
-    throw;
-  } catch (const std::bad_alloc&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw ExportFailed("format: " + format + ": the surface in its current state cannot be unfolded (" +
-                       std::string(e.what()) + ")");
-  }
+  });
 }
 
 std::string SceneSolver::cuttingPatternSvg(const CuttingParts& parts) const {
@@ -109,18 +113,9 @@ std::string SceneSolver::cuttingPatternSvg(const CuttingParts& parts) const {
 
 ExportedFile SceneSolver::fabricationExport(const std::string& format) const {
   if (format == "stl") {
-    try {
-      return {io::meshString(sampledSurface(), "stl"), "model/stl", "stl"};
-    } catch (const ExportUnavailable&) {
-      throw;
-    } catch (const ExportFailed&) {
-      throw;
-    } catch (const std::bad_alloc&) {
-      throw;
-    } catch (const std::exception& e) {
-      throw ExportFailed("format: stl: the surface in its current state cannot be written (" + std::string(e.what()) +
-                         ")");
-    }
+    return orExportFailed(format, "the surface in its current state cannot be written", [this]() {
+      return ExportedFile{io::meshString(sampledSurface(), "stl"), "model/stl", "stl"};
+    });
   }
   if (format == "svg") {
     const CuttingParts parts = cuttingParts(format);

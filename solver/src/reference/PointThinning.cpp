@@ -11,26 +11,14 @@
 #include <utility>
 
 #include <Eigen/Eigenvalues>
-#include <nanoflann.hpp>
+
+#include "devsurf/spatial/MatrixRowsKdTree.h"
 
 namespace devsurf::reference {
 namespace {
 
-/// nanoflann's dataset interface over the rows of an n×3 matrix.
-struct CloudRows {
-  const Eigen::MatrixX3d& points;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(points.rows()); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return points(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(dim));
-  }
-  template <class BoundingBox>
-  bool kdtree_get_bbox(BoundingBox& /*bb*/) const {
-    return false;
-  }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, CloudRows>, CloudRows, 3,
-                                                   std::size_t>;
+using CloudRows = spatial::MatrixRows;
+using KdTree = spatial::MatrixRowsKdTree;
 
 }  // namespace
 

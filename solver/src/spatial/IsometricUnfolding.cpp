@@ -13,7 +13,8 @@
 #include <utility>
 
 #include <Eigen/Eigenvalues>
-#include <nanoflann.hpp>
+
+#include "devsurf/spatial/MatrixRowsKdTree.h"
 
 namespace devsurf::spatial {
 namespace {
@@ -31,22 +32,6 @@ Eigen::Vector2d unfoldCorner(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
 }
 
 double planarCross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-/// nanoflann's dataset interface over the rows of an n×3 matrix.
-struct PointRows {
-  const Eigen::MatrixX3d& points;
-  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(points.rows()); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
-    return points(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(dim));
-  }
-  template <class BoundingBox>
-  bool kdtree_get_bbox(BoundingBox& /*bb*/) const {
-    return false;
-  }
-};
-
-using PointTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointRows>, PointRows, 3,
-                                                      std::size_t>;
 
 /// Disjoint sets with path halving.
 struct DisjointSets {
@@ -215,8 +200,8 @@ std::vector<int> weldedPointIds(const Eigen::MatrixX3d& points, double tolerance
   const std::size_t n = static_cast<std::size_t>(points.rows());
   DisjointSets sets(n);
   if (n > 0) {
-    const PointRows rows{points};
-    const PointTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    const MatrixRows rows{points};
+    const MatrixRowsKdTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     std::vector<std::pair<std::size_t, double>> ball;
     const nanoflann::SearchParams search(32, 0.0f, false);
     for (std::size_t i = 0; i < n; ++i) {
