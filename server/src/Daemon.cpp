@@ -464,6 +464,15 @@ void Daemon::routes() {
     replyExport(res, session->id(), [&session, &format]() { return session->exportAs(format); });
   });
 
+  // A picture of the session's current surface (start page thumbnails), kept per revision.
+  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+)/thumbnail)", [this, sessionFor](const httplib::Request& req, httplib::Response& res) {
+    auto session = sessionFor(req, res, Role::View);
+    if (!session) return;
+    res.set_header("Cache-Control", "private, no-cache");
+    res.set_header("ETag", "\"" + session->id() + "-" + std::to_string(session->revision()) + "\"");
+    replyExport(res, session->id(), [&session]() { return session->thumbnail(); });
+  });
+
   // --- a user's mesh → glued developable patches (issue 15): the scene to open or submit ---
   s.Post("/api/approximations", [needApiKey](const httplib::Request& req, httplib::Response& res) {
     if (!needApiKey(req, res)) return;

@@ -518,7 +518,7 @@ void SceneSolver::exportTo(const std::string& spec) const {
     return;
   }
   const bool flatPattern = format == "svg" && !(composite_ && composite_->hasDevelopment());
-  if (quadMesh_ || format == "step" || format == "dxf" || flatPattern) {  // the bytes of exportAs, written as they are
+  if (quadMesh_ || format == "step" || format == "dxf" || format == "png" || flatPattern) {  // the bytes of exportAs, written as they are
     ExportedFile file;
     try {
       file = exportAs(format);
@@ -560,7 +560,7 @@ void SceneSolver::exportTo(const std::string& spec) const {
   }
   if (format != "obj" && format != "off" && format != "ply" && format != "stl")
     throw std::invalid_argument("--export: unknown format \"" + format +
-                                "\" (expected obj, off, ply, stl, iges, step, svg, dxf, or fold for composites with a development)");
+                                "\" (expected obj, off, ply, stl, iges, step, svg, dxf, png, or fold for composites with a development)");
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
@@ -614,6 +614,7 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 }
 
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
+  if (format == "png") return fabricationExport(format);
   if (quadMesh_) return quadMeshExport(format);
   if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step" &&
       format != "stl" && format != "dxf")

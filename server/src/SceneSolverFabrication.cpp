@@ -10,6 +10,7 @@
 #include "devsurf/models/composite/CompositePieces.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/SceneSolver.h"
+#include "devsurf/server/SurfaceThumbnail.h"
 #include "devsurf/spatial/IsometricUnfolding.h"
 
 namespace devsurf::server {
@@ -112,6 +113,11 @@ std::string SceneSolver::cuttingPatternSvg(const CuttingParts& parts) const {
 }
 
 ExportedFile SceneSolver::fabricationExport(const std::string& format) const {
+  if (format == "png") {
+    return orExportFailed(format, "the surface in its current state cannot be drawn", [this]() {
+      return ExportedFile{surfaceThumbnailPng(sampledSurface()), "image/png", "png"};
+    });
+  }
   if (format == "stl") {
     return orExportFailed(format, "the surface in its current state cannot be written", [this]() {
       return ExportedFile{io::meshString(sampledSurface(), "stl"), "model/stl", "stl"};

@@ -529,6 +529,16 @@ ExportedFile Session::exportAs(const std::string& format) const {
                                   engine::Deadline::after(settings_.rebuildTimeBudgetMs, "this session's time budget"));
 }
 
+ExportedFile Session::thumbnail() const {
+  std::lock_guard<std::mutex> lock(thumbnailMutex_);
+  const std::int64_t current = revision();  // read before the scene: a newer scene only renders again
+  if (thumbnailRevision_ != current || thumbnail_.content.empty()) {
+    thumbnail_ = exportAs("png");
+    thumbnailRevision_ = current;
+  }
+  return thumbnail_;
+}
+
 int Session::participantCount() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return static_cast<int>(participants_.size());

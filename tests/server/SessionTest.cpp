@@ -577,6 +577,18 @@ TEST(CompositeSession, DraggingAVertexStreamsIteratesAndReleaseSolvesToSmallResi
   EXPECT_FALSE(scene["model"].contains("handles"));
 }
 
+TEST(CompositeSession, ItsThumbnailIsAPngThatFollowsTheDesign) {
+  JoinedCompositeEditor e;
+  const ExportedFile before = e.session->thumbnail();
+  EXPECT_EQ(before.mediaType, "image/png");
+  EXPECT_EQ(before.content.substr(1, 3), "PNG");
+  EXPECT_EQ(e.session->thumbnail().content, before.content) << "the same revision draws the same picture";
+  for (int k = 1; k <= 4; ++k) e.send(dragVertex3(k, 0.2 * k));
+  e.send({{"type", "drag_end"}, {"op", 99}, {"target", {{"vertex", 3}}}, {"iterations", 30}});
+  ASSERT_EQ(e.inbox.ofType("solved").size(), 1u);
+  EXPECT_NE(e.session->thumbnail().content, before.content) << "a new revision draws the new surface";
+}
+
 TEST(CompositeSession, ControlPointsOfSplineEdgesCanBeDraggedAndTheirEndsAreTheVertices) {
   JoinedCompositeEditor e;
   e.send({{"type", "drag"}, {"op", 1}, {"target", {{"edge", 3}, {"index", 2}}}, {"position", {2.1, 0.8, 0.3}}});

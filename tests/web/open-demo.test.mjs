@@ -22,6 +22,12 @@ test('a demo opened from the start page shows the editor, connected, with a rend
     // The tagline speaks of every kind the demos show, not of strips alone.
     const tagline = await page.getByTestId('tagline').textContent();
     for (const kind of [/strips/, /curved-crease/, /quad-mesh/, /spline surfaces/]) assert.match(tagline, kind);
+    // Every demo card shows a picture of its surface, drawn by the server and decoded by the page.
+    assert.equal(await page.getByTestId('my-sessions').isVisible(), false, 'a new browser has no sessions of its own');
+    await page.waitForFunction((n) => {
+      const imgs = [...document.querySelectorAll('[data-testid="demo-session"] img[data-testid="session-thumbnail"]')];
+      return imgs.length === n && imgs.every((img) => img.dataset.state === 'loaded' && img.complete && img.naturalWidth === 320);
+    }, listed.length, { timeout: 90000 });
     await h.screenshotPage(page, '01-start-page');
 
     const demo = listed.find((s) => /lifted/.test(s.id)) || listed[0];
@@ -54,5 +60,22 @@ test('a demo opened from the start page shows the editor, connected, with a rend
 
     await page.getByTestId('development-view').waitFor();
     await h.screenshotPage(page, '01-editor');
+
+    // Back on the start page, the demo just opened is listed under "Your sessions", with its
+    // picture and its links; Forget removes it from the list.
+    await page.goto(daemon.url);
+    const mine = page.getByTestId('my-session');
+    await mine.first().waitFor();
+    assert.equal(await mine.count(), 1);
+    assert.equal(await mine.first().getAttribute('data-session-id'), demo.id);
+    const editLink = await mine.first().getByTestId('my-session-edit').getAttribute('href');
+    assert.equal(new URL(editLink).searchParams.get('token'), demo.edit_token);
+    await page.waitForFunction(() => {
+      const img = document.querySelector('[data-testid="my-session"] img[data-testid="session-thumbnail"]');
+      return img && img.dataset.state === 'loaded' && img.naturalWidth === 320;
+    }, undefined, { timeout: 30000 });
+    await h.screenshotPage(page, '01-start-page-your-sessions');
+    await mine.first().getByTestId('forget-session').click();
+    assert.equal(await page.getByTestId('my-sessions').isVisible(), false, 'forgotten');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));

@@ -134,10 +134,11 @@ class CompositeProtocolTest(DaemonTestCase):
         status, _, raw = self.daemon.request("GET", f"/api/sessions/{s['id']}/export?format=obj", headers=auth)
         self.assertEqual(status, 200)
         self.assertGreater(raw.decode().count("\nf "), 100)
-        # A strip has no crease pattern; a composite without a development neither.
+        # A strip has no crease pattern (its svg is the strip unrolled); a composite without a
+        # development neither.
         with open(DEMO) as f:
             strip = self.daemon.json("POST", "/api/sessions", json.load(f))[2]
-        status, _, body = self.daemon.json("GET", f"/api/sessions/{strip['id']}/export?format=svg",
+        status, _, body = self.daemon.json("GET", f"/api/sessions/{strip['id']}/export?format=fold",
                                            headers={"Authorization": "Bearer " + strip["view_token"]})
         self.assertEqual((status, body["error"]["path"]), (400, "format"))
         self.assertIn("strip", body["error"]["message"])
@@ -162,7 +163,7 @@ class CompositeProtocolTest(DaemonTestCase):
         status, _, s = self.daemon.json("POST", "/api/sessions", scene)
         self.assertEqual(status, 201, s)
         auth = {"Authorization": "Bearer " + s["view_token"]}
-        for fmt in ("fold", "svg"):
+        for fmt in ("fold", "svg", "dxf"):
             status, headers, body = self.daemon.json("GET", f"/api/sessions/{s['id']}/export?format={fmt}", headers=auth)
             self.assertEqual(status, 422, body)
             self.assertEqual((body["error"]["code"], body["error"]["path"]), ("unprocessable", "format"))

@@ -1,11 +1,13 @@
-"""Fabrication exports of every shipped preset (issue 16 item 5), read back by independent readers.
+"""Fabrication exports and thumbnails of every shipped preset (issue 16 items 5 and 6), read back by
+independent readers.
 
 Every preset in examples/ (discovered) is opened as a demo session of one daemon, exported through
 the session route as the web app's export menu asks for it, and checked with code that shares
 nothing with the writers: ezdxf (Debian's python3-ezdxf) reads the DXF, the STL, OBJ and SVG are
 parsed here. The check that matters is geometric: a flat pattern is the surface unrolled, so the
 area its cut outline encloses must equal the area of the 3D surface (the OBJ export) — for a quad
-mesh, the area of its unfolding M′ (the unfolding_obj export).
+mesh, the area of its unfolding M′ (the unfolding_obj export). Thumbnails are PNGs decoded here
+with zlib (no image library).
 """
 import json
 import math
@@ -14,7 +16,9 @@ import shutil
 import subprocess
 import tempfile
 import unittest
+import struct
 import xml.etree.ElementTree as ET
+import zlib
 
 import ezdxf
 
@@ -97,6 +101,43 @@ def loops_from_segments(segments, tol):
             s = nxt[0]
         loops.append(loop)
     return loops
+
+
+def decode_png(data):
+    """(width, height, rows of RGBA bytes) of an 8-bit RGBA, non-interlaced PNG."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "PNG signature"
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        crc = struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])[0]
+        assert zlib.crc32(kind + body) & 0xFFFFFFFF == crc, f"CRC of {kind}"
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    width, height, depth, colour, _, _, interlace = header
+    assert (depth, colour, interlace) == (8, 6, 0), "8-bit RGBA, not interlaced"
+    raw, stride, rows, prev = zlib.decompress(idat), width * 4, [], bytearray(width * 4)
+    for y in range(height):
+        kind, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - 4] if i >= 4 else 0
+            b, c = prev[i], (prev[i - 4] if i >= 4 else 0)
+            if kind == 1:
+                line[i] = (line[i] + a) & 255
+            elif kind == 2:
+                line[i] = (line[i] + b) & 255
+            elif kind == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif kind == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        rows.append(line)
+        prev = line
+    return width, height, rows
 
 
 def shoelace(loop):
@@ -286,6 +327,34 @@ class FabricationExportsOfEveryPreset(unittest.TestCase):
                     else:
                         self.assertEqual(status, 400, f"the menu hides {fmt}, so the server refuses it")
                         self.assertIn("format", raw.decode())
+
+    def test_every_demo_has_a_thumbnail_of_its_surface(self):
+        for name, demo, scene in self.each_preset():
+            with self.subTest(preset=name):
+                status, headers, raw = self.daemon.request("GET", f"/api/sessions/{demo['id']}/thumbnail",
+                                                           headers=auth(demo["view_token"]))
+                self.assertEqual(status, 200, raw[:200])
+                self.assertEqual(headers.get("Content-Type"), "image/png")
+                width, height, rows = decode_png(raw)
+                self.assertEqual((width, height), (320, 240))
+                alpha = [row[x * 4 + 3] for row in rows for x in range(width)]
+                opaque = sum(1 for a in alpha if a == 255) / len(alpha)
+                self.assertGreater(opaque, 0.03, "the surface is drawn")
+                self.assertLess(opaque, 0.95, "on a transparent background")
+                self.assertEqual(rows[0][3], 0, "a corner is background")
+                # Every fully covered pixel is a shade of the front blue (0.31, 0.66, 1) or the back
+                # orange (1, 0.62, 0.26), but for pixels on a fold that mix both.
+                def shade_of(rgb, base):
+                    k = max(rgb) / 255 / max(base)
+                    return all(abs(c - 255 * k * b) <= 2.5 for c, b in zip(rgb, base))
+                pixels = [row[x * 4:x * 4 + 3] for row in rows for x in range(width) if row[x * 4 + 3] == 255]
+                shaded = sum(1 for p in pixels if shade_of(p, (0.31, 0.66, 1.0)) or shade_of(p, (1.0, 0.62, 0.26)))
+                self.assertGreater(shaded / len(pixels), 0.95, "drawn in the app's two surface colours")
+                again = self.daemon.request("GET", f"/api/sessions/{demo['id']}/thumbnail", headers=auth(demo["view_token"]))
+                self.assertEqual(again[2], raw, "kept for the revision")
+                self.assertEqual(again[1].get("ETag"), headers.get("ETag"))
+        status, _, _ = self.daemon.request("GET", f"/api/sessions/{demo['id']}/thumbnail", headers=auth("nope"))
+        self.assertIn(status, (401, 403, 404))
 
     def test_unknown_formats_are_refused_naming_the_field(self):
         demo = next(iter(self.demos.values()))

@@ -92,6 +92,15 @@ export function fitRegion(file, { format, centre, radius, cover, strips, name },
   return postShape(cover ? 'covers' : 'fits', file, query, apiKey);
 }
 
+/** GET /api/sessions/{id}/thumbnail (a PNG of the current surface) with the token as Bearer → Blob */
+export async function sessionThumbnail(id, token) {
+  const res = await fetch(apiUrl(`sessions/${encodeURIComponent(id)}/thumbnail`), {
+    headers: { Authorization: `Bearer ${token}` },
+  });
+  if (!res.ok) throw new ApiError(res.status, await readJson(res));
+  return res.blob();
+}
+
 /** GET /api/sessions/{id}/export?format=json|obj|fold|svg with the token as Bearer → Blob */
 export async function exportSession(id, token, format) {
   const res = await fetch(apiUrl(`sessions/${encodeURIComponent(id)}/export?format=${format}`), {

@@ -205,6 +205,8 @@ export class Editor {
       this.roleBadge.hidden = false;
       this.roleBadge.classList.toggle('badge-view', msg.role === 'view');
       const tokens = msg.role === 'edit' ? { edit: this.token } : { view: this.token };
+      tokens.opened = Date.now();  // listed under "Your sessions" on the start page
+      if (msg.scene && msg.scene.name) tokens.name = msg.scene.name;
       st.setTokens(rememberSessionTokens(msg.session, tokens));
       this._updateToolbar();
       // A resync keeps the selection if the point still exists; tell the others again.

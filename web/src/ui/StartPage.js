@@ -3,10 +3,10 @@
 
 import { h, clear } from './dom.js';
 import { PRESETS } from '../presets.js';
-import { approximateMesh, createSession, fitRegion, listSessions, previewShape } from '../net/api.js';
+import { approximateMesh, createSession, fitRegion, listSessions, previewShape, sessionThumbnail } from '../net/api.js';
 import { RegionPicker } from './RegionPicker.js';
 import { Toasts } from './Toast.js';
-import { apiKey, rememberSessionTokens, setApiKey } from './preferences.js';
+import { apiKey, forgetSession, openedSessions, rememberSessionTokens, setApiKey } from './preferences.js';
 
 export function editorUrl(session, token) {
   const url = new URL(window.location.href);
@@ -41,11 +41,59 @@ function xyzBlob(positions) {
   return new Blob([lines.join('\n') + '\n'], { type: 'text/plain' });
 }
 
+/**
+ * Loads session thumbnails (GET /api/sessions/{id}/thumbnail, PNGs the server renders once per
+ * revision) a few at a time, so a page of demos does not queue dozens of requests at once.
+ */
+export class ThumbnailLoader {
+  constructor({ concurrency = 4, fetchThumbnail = sessionThumbnail } = {}) {
+    this.concurrency = concurrency;
+    this.fetchThumbnail = fetchThumbnail;
+    this.queue = [];
+    this.running = 0;
+  }
+
+  /** An <img> that shows the session's picture when it arrives; `onMissing(error)` if it cannot. */
+  image(id, token, { alt = '', onMissing = null } = {}) {
+    const img = h('img', { class: 'thumb', testid: 'session-thumbnail', alt, width: 320, height: 240, dataset: { sessionId: id, state: 'loading' } });
+    this.queue.push({ id, token, img, onMissing });
+    this._next();
+    return img;
+  }
+
+  _next() {
+    while (this.running < this.concurrency && this.queue.length) {
+      const job = this.queue.shift();
+      this.running++;
+      this.fetchThumbnail(job.id, job.token)
+        .then((blob) => {
+          job.img.src = URL.createObjectURL(blob);
+          job.img.dataset.state = 'loaded';
+        })
+        .catch((e) => {
+          job.img.dataset.state = 'missing';
+          job.img.hidden = true;
+          if (job.onMissing) job.onMissing(e);
+        })
+        .finally(() => {
+          this.running--;
+          this._next();
+        });
+    }
+  }
+}
+
 export class StartPage {
   constructor(root, { state }) {
     this.state = state;
     this.toasts = new Toasts(document.body);
     this.demoList = h('div', { class: 'demo-list', 'aria-busy': 'true' }, h('p', { class: 'muted' }, 'Loading demo sessions…'));
+    this.thumbnails = new ThumbnailLoader();
+    this.mySessionList = h('div', { class: 'demo-list' });
+    this.mySessions = h('section', { class: 'card wide', testid: 'my-sessions', hidden: true },
+      h('h2', {}, 'Your sessions'),
+      h('p', { class: 'muted small' }, 'Sessions this browser created or joined, most recent first, with their links.'),
+      this.mySessionList);
 
     this.presetSelect = h('select', { class: 'input', testid: 'preset-select', 'aria-label': 'Example scene' },
       PRESETS.map((p) => h('option', { value: p.id }, p.name)));
@@ -123,6 +171,7 @@ export class StartPage {
         h('h1', {}, 'devsurf'),
         h('p', { class: 'tagline', testid: 'tagline' }, 'Design developable surfaces together — strips, curved-crease folds, quad-mesh sheets and spline surfaces, bent from paper, sheet metal or plywood without stretching, or fitted to a shape you bring. Drag a point; the solver keeps the design developable, live for everyone in the session.')),
       h('div', { class: 'start-grid' },
+        this.mySessions,
         h('section', { class: 'card wide' }, h('h2', {}, 'Demo sessions'), h('p', { class: 'muted small' }, 'Public sessions anyone can join and edit.'), this.demoList),
         h('section', { class: 'card' }, h('h2', {}, 'New session from an example'),
           h('div', { class: 'row' }, this.presetSelect, this.newButton), this.presetDescription),
@@ -147,7 +196,35 @@ export class StartPage {
     root.appendChild(this.root);
     this._describePreset();
     this._bindDrop();
+    this._showMySessions();
     this._loadDemos();
+  }
+
+  /** "Your sessions": every session this browser opened, its picture, edit and view links. */
+  _showMySessions() {
+    clear(this.mySessionList);
+    const sessions = openedSessions();
+    this.mySessions.hidden = sessions.length === 0;
+    for (const s of sessions) {
+      const token = s.edit || s.view;
+      const when = new Date(s.opened);
+      const gone = h('span', { class: 'field-error small', hidden: true }, 'no longer on this server');
+      const links = [];
+      if (s.edit) links.push(h('a', { class: 'small', testid: 'my-session-edit', href: editorUrl(s.id, s.edit) }, 'edit link'));
+      if (s.view) links.push(h('a', { class: 'small', testid: 'my-session-view', href: editorUrl(s.id, s.view) }, 'view link'));
+      const card = h('div', { class: 'demo-card', testid: 'my-session', dataset: { sessionId: s.id } },
+        this.thumbnails.image(s.id, token, {
+          alt: `${s.name || s.id}: the current surface`,
+          onMissing: (e) => { if (e.status === 404) gone.hidden = false; },
+        }),
+        h('a', { class: 'demo-name', href: editorUrl(s.id, token), title: `Open “${s.name || s.id}”` }, s.name || s.id),
+        h('span', { class: 'muted small' }, `${s.edit ? 'editing' : 'view only'} · opened ${when.toLocaleString()}`),
+        gone,
+        h('span', { class: 'demo-meta' }, ...links,
+          h('button', { class: 'btn small', testid: 'forget-session', title: 'Remove from this list (the session itself stays)',
+            onclick: () => { forgetSession(s.id); this._showMySessions(); } }, 'Forget')));
+      this.mySessionList.appendChild(card);
+    }
   }
 
   _describePreset() {
@@ -168,6 +245,7 @@ export class StartPage {
         rememberSessionTokens(s.id, { edit: s.edit_token, view: s.view_token, name: s.name });
         const preset = PRESETS.find((p) => p.name === s.name);
         this.demoList.appendChild(h('a', { class: 'demo-card', testid: 'demo-session', dataset: { sessionId: s.id }, href: editorUrl(s.id, s.edit_token), title: `Open “${s.name}” for editing` },
+          this.thumbnails.image(s.id, s.view_token, { alt: `${s.name || s.id}: the current surface` }),
           h('span', { class: 'demo-name' }, s.name || s.id),
           h('span', { class: 'muted small demo-desc' }, preset ? preset.description : s.id),
           h('span', { class: 'demo-meta' },

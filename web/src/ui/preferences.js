@@ -49,8 +49,37 @@ export function rememberSessionTokens(id, tokens) {
   if (tokens.edit) merged.edit = tokens.edit;
   if (tokens.view) merged.view = tokens.view;
   if (tokens.name) merged.name = tokens.name;
+  if (tokens.opened) merged.opened = tokens.opened;
   set(`devsurf.tokens.${id}`, merged);
   return merged;
+}
+
+/**
+ * The sessions this browser created or joined (opened in the editor), most recent first:
+ * [{ id, name, edit, view, opened }] — demo sessions only listed on the start page are not among them.
+ */
+export function openedSessions() {
+  const out = [];
+  try {
+    for (let i = 0; i < localStorage.length; i++) {
+      const key = localStorage.key(i);
+      if (!key || !key.startsWith('devsurf.tokens.')) continue;
+      const entry = get(key, null);
+      if (entry && entry.opened && (entry.edit || entry.view)) out.push({ id: key.slice('devsurf.tokens.'.length), ...entry });
+    }
+  } catch {
+    /* no storage */
+  }
+  return out.sort((a, b) => b.opened - a.opened);
+}
+
+/** Forgets what this browser knows of a session (its tokens, name and when it was opened). */
+export function forgetSession(id) {
+  try {
+    localStorage.removeItem(`devsurf.tokens.${id}`);
+  } catch {
+    /* ignore */
+  }
 }
 
 export function apiKey() {

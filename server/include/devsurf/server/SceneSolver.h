@@ -223,8 +223,9 @@ class SceneSolver {
   std::string cuttingPatternSvg(const CuttingParts& parts) const;
   /// Whether the scene is a strip, quasi strip or conical strip (a flat pattern by unfolding).
   bool hasFlatStripPattern() const;
-  /// exportAs for "stl" (every kind but quad_mesh), "svg" of strips and pieces, and "dxf" of
-  /// composites, strips and pieces (SceneSolverFabrication.cpp).
+  /// exportAs for "stl" (every kind), "png" (a 320 × 240 picture of the sampled surface,
+  /// surfaceThumbnailPng), "svg" of strips and pieces, and "dxf" of composites, strips and pieces
+  /// (SceneSolverFabrication.cpp).
   ExportedFile fabricationExport(const std::string& format) const;
   /// A composite without a development whose shared S edges include seams (see cuttingParts).
   bool cutAlongSeams() const;

@@ -233,6 +233,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// development), built from the current scene so it never waits for the session's worker.
   /// @throws ExportUnavailable when the format does not apply
   ExportedFile exportAs(const std::string& format) const;
+  /// A picture of the current surface (exportAs "png", 320 × 240), rendered once per revision
+  /// and kept: the start page asks for every demo's on each load.
+  ExportedFile thumbnail() const;
   std::int64_t seq() const { return seq_.load(); }
   /// The revision of the state REST readers get (sceneJson, metricsJson): the last one shown.
   std::int64_t revision() const;
@@ -364,6 +367,9 @@ class Session : public std::enable_shared_from_this<Session> {
   /// would apply on top of it (recover() does the same).
   std::vector<std::pair<std::int64_t, nlohmann::json>> unshownEdits_;
 
+  mutable std::mutex thumbnailMutex_;  // guards the two below; held while one is rendered
+  mutable std::int64_t thumbnailRevision_ = -1;
+  mutable ExportedFile thumbnail_;
   mutable std::mutex mutex_;  // guards participants_, queue_, scheduled_, cached json
   std::map<int, Participant> participants_;
   int nextParticipant_ = 1;
