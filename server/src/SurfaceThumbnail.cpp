@@ -87,22 +87,46 @@ ThumbnailImage renderSurfaceThumbnail(const io::QuadMesh& surface, const Thumbna
   right = right.norm() > 1e-12 ? right.normalized() : axis[1];
   const Eigen::Vector3d up = view.cross(right);  // right, up, view: right-handed
 
-  // Screen coordinates (pixels of the supersampled picture, y down) and depth (towards the viewer).
-  const int ss = options.supersampling, W = options.width * ss, H = options.height * ss;
+  // Screen coordinates (pixels of the picture, y down) and depth (towards the viewer).
   Eigen::MatrixX3d screen(V.rows(), 3);
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     const Eigen::Vector3d p = centred.row(i).transpose();
     screen.row(i) << p.dot(right), p.dot(up), p.dot(view);
   }
-  const Eigen::Vector3d lo = screen.colwise().minCoeff(), hi = screen.colwise().maxCoeff();
-  const double margin = options.margin * std::min(W, H);
-  const double extent = std::max({(hi.x() - lo.x()) / (W - 2.0 * margin), (hi.y() - lo.y()) / (H - 2.0 * margin), 1e-300});
-  const double scale = 1.0 / extent;
-  const Eigen::Vector2d centre = 0.5 * (lo.head<2>() + hi.head<2>());
-  for (Eigen::Index i = 0; i < screen.rows(); ++i) {
-    screen(i, 0) = 0.5 * W + (screen(i, 0) - centre.x()) * scale;
-    screen(i, 1) = 0.5 * H - (screen(i, 1) - centre.y()) * scale;
+  {
+    const double w = options.width, h = options.height;
+    const Eigen::Vector3d lo = screen.colwise().minCoeff(), hi = screen.colwise().maxCoeff();
+    const double margin = options.margin * std::min(w, h);
+    const double extent = std::max({(hi.x() - lo.x()) / (w - 2.0 * margin), (hi.y() - lo.y()) / (h - 2.0 * margin), 1e-300});
+    const Eigen::Vector2d centre = 0.5 * (lo.head<2>() + hi.head<2>());
+    for (Eigen::Index i = 0; i < screen.rows(); ++i) {
+      screen(i, 0) = 0.5 * w + (screen(i, 0) - centre.x()) / extent;
+      screen(i, 1) = 0.5 * h - (screen(i, 1) - centre.y()) / extent;
+    }
   }
+  // The work is the triangles' bounding boxes in samples: many large triangles over each other (a
+  // hostile scene) draw with fewer samples per pixel, and past a bound not at all.
+  double boxPixels = 0.0;
+  for (Eigen::Index t = 0; t < T.rows(); ++t) {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (int c = 0; c < 3; ++c) {
+      x0 = std::min(x0, screen(T(t, c), 0));
+      x1 = std::max(x1, screen(T(t, c), 0));
+      y0 = std::min(y0, screen(T(t, c), 1));
+      y1 = std::max(y1, screen(T(t, c), 1));
+    }
+    boxPixels += std::max(0.0, std::min(x1, double(options.width)) - std::max(x0, 0.0) + 1.0) *
+                 std::max(0.0, std::min(y1, double(options.height)) - std::max(y0, 0.0) + 1.0);
+  }
+  constexpr double kSampleBudget = 6.4e7;
+  int ss = options.supersampling;
+  while (ss > 1 && boxPixels * ss * ss > kSampleBudget) --ss;
+  if (boxPixels > kSampleBudget)
+    throw std::invalid_argument("thumbnail: the surface's triangles cover the picture " +
+                                std::to_string(static_cast<long long>(boxPixels / (options.width * options.height))) +
+                                " times over; too many to draw");
+  const int W = options.width * ss, H = options.height * ss;
+  screen.leftCols<2>() *= ss;
 
   // Fill: z-buffer, one colour per triangle.
   std::vector<double> depth(static_cast<std::size_t>(W) * static_cast<std::size_t>(H),

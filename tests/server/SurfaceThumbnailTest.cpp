@@ -86,6 +86,22 @@ TEST(SurfaceThumbnail, AFoldedSheetShowsItsTwoFacesInTwoShades) {
   EXPECT_GT(counts[0] + counts[1], 0.97 * opaque) << "in two shades (the rest: pixels on the fold, mixed)";
 }
 
+TEST(SurfaceThumbnail, ManyLargeTrianglesOverEachOtherDrawWithFewerSamplesOrAreRefused) {
+  auto stacked = [](int copies) {
+    io::QuadMesh m;
+    m.vertices.resize(4 * copies, 3);
+    m.quads.resize(copies, 4);
+    for (int k = 0; k < copies; ++k) {
+      m.vertices.block(4 * k, 0, 4, 3) << 0, 0, 1e-6 * k, 1, 0, 1e-6 * k, 1, 1, 1e-6 * k, 0, 1, 1e-6 * k;
+      m.quads.row(k) << 4 * k, 4 * k + 1, 4 * k + 2, 4 * k + 3;
+    }
+    return m;
+  };
+  const ThumbnailImage some = renderSurfaceThumbnail(stacked(200));
+  EXPECT_GT(opaqueFraction(some), 0.2) << "drawn, one sample per pixel";
+  EXPECT_THROW(renderSurfaceThumbnail(stacked(3000)), std::invalid_argument);
+}
+
 TEST(SurfaceThumbnail, IsAPngOfTheAskedSize) {
   ThumbnailOptions options;
   options.width = 64;

@@ -31,7 +31,10 @@ struct ThumbnailImage {
 /// a right-handed frame with d. The drawing is centred and scaled to fill the picture up to the
 /// margin, aspect kept. Triangles (io::triangulateQuads) are filled with a z-buffer and flat
 /// Lambert shading lit from the viewer's upper left, both sides alike; front and back faces get
-/// two tints of the app's surface colours (front blue, back orange).
+/// two tints of the app's surface colours (front blue, back orange). The work is bounded: when the
+/// triangles' bounding boxes add up to more than 6.4e7 samples, fewer samples per pixel are taken,
+/// and a surface whose boxes cover more than that at one sample per pixel (833 pictures' worth of
+/// overlapping triangles) is refused.
 /// @throws std::invalid_argument for bad options or a surface without vertices or triangles,
 ///         std::runtime_error if libpng fails.
 ThumbnailImage renderSurfaceThumbnail(const io::QuadMesh& surface, const ThumbnailOptions& options = {});
