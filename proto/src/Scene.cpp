@@ -210,6 +210,13 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
     d.tangentContinuity.push_back({indexFromJson(continuity[i].at(0), path + "[0]", ne, "edge"),
                                    indexFromJson(continuity[i].at(1), path + "[1]", ne, "edge")});
   }
+  const json foldAngles = m.value("fold_angles", json::array());
+  for (std::size_t i = 0; i < foldAngles.size(); ++i) {
+    const std::string path = indexPath("model.fold_angles", i);
+    d.foldAngles.push_back({indexFromJson(foldAngles[i].at("edge"), path + ".edge", ne, "edge"), foldAngles[i].value("end", 0),
+                            foldAngles[i].at("angle").get<double>()});
+  }
+  d.foldAmount = m.value("fold_amount", 1.0);
   if (m.contains("development")) {
     const json& dev = m["development"];
     d.developmentSamples = dev.at("samples").get<int>();
@@ -283,6 +290,16 @@ json compositeToJson(const composite::CompositeDesign& d) {
     for (const auto& p : d.tangentContinuity) pairs.push_back({p[0], p[1]});
     m["tangent_continuity"] = std::move(pairs);
   }
+  if (!d.foldAngles.empty()) {
+    json targets = json::array();
+    for (const composite::FoldAngleTarget& t : d.foldAngles) {
+      json jt = {{"edge", t.edge}, {"angle", t.angleDeg}};
+      if (t.end != 0) jt["end"] = t.end;
+      targets.push_back(std::move(jt));
+    }
+    m["fold_angles"] = std::move(targets);
+  }
+  if (d.foldAmount != 1.0) m["fold_amount"] = d.foldAmount;
   if (d.developmentSamples > 0) {
     json dev = {{"samples", d.developmentSamples}};
     if (!d.developmentDomain.empty()) {

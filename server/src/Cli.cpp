@@ -14,7 +14,10 @@
 #include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/reference/ReferenceShape.h"
+#include "devsurf/server/CreasePatternImport.h"
 #include "devsurf/server/Daemon.h"
+#include "devsurf/server/ShapeUpload.h"
+#include "devsurf/server/StaticAssets.h"
 #include "devsurf/server/SceneSolver.h"
 
 #include <csignal>
@@ -69,6 +72,11 @@ constexpr const char* kUsage =
     "        [--http-workers N]\n"
     "        [--memory-budget-mb MB] [--session-time-budget-ms MS]\n"
     "        Run the daemon: REST under /api, the web app at /, the WebSocket at /ws.\n"
+    "        The web app is the built one (npm --prefix web run build) in --web DIR, by\n"
+    "        default web/dist under the current directory, else ../../web/dist from the\n"
+    "        executable (a build tree) or ../share/devsurf/web/dist (an installation);\n"
+    "        --web \"\" serves none. Its files are read and compressed once, at start-up.\n"
+    "        serve --help prints this text.\n"
     "  reference SHAPE [--thin RADIUS] [--seed N] [--out CLOUD.xyz]\n"
     "        Read a point cloud (.xyz, .pwn, .ply) or mesh (.obj, .off, .ply, .stl) and print\n"
     "        what it holds as JSON; --thin keeps points at least RADIUS apart, each with a\n"
@@ -108,6 +116,11 @@ constexpr const char* kUsage =
     "        with solve: length_error, area_error and approximation_* measure the result.\n"
     "        Weights (Fig. 21's trade-off): isometry and gluing (default 10), proximity to\n"
     "        MESH (0.01), fairness at the first round (0.01); default 40 iterations.\n"
+    "  import PATTERN.fold [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
+    "        Make a composite scene from a FOLD crease pattern (or folded form): planar faces\n"
+    "        between straight creases that fold freely, the largest face fixed, faces found\n"
+    "        from the edges when the file has none. What could not be carried over is noted\n"
+    "        on stderr, by element (\"edges_vertices[4]: …\").\n"
     "  import MESH [--unfolding MESH] [--variables mesh|unfolding|both] [--proximity]\n"
     "        [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a quad_mesh scene from an OBJ, OFF or PLY mesh of triangles and quads (M),\n"
@@ -250,9 +263,38 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   }
 }
 
+/// `devsurf import PATTERN.fold`: a composite scene from a crease pattern; notes on stderr.
+int importCreasePatternFile(const std::string& path, const std::string& name, const std::string& units,
+                            const std::string& outPath, std::ostream& out, std::ostream& err) {
+  try {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read " + path);
+    CreasePatternImportRequest request;
+    request.format = "fold";
+    request.name = name;
+    request.units = units;
+    const CreasePatternImportResult result = importCreasePattern(readAll(in), request);
+    for (const io::ImportNote& note : result.notes) err << "devsurf import: note: " << note.element << ": " << note.message << "\n";
+    const std::string text = proto::sceneToJson(result.scene).dump(1) + "\n";
+    if (outPath.empty()) {
+      out << text;
+    } else {
+      std::ofstream file(outPath, std::ios::binary);
+      if (!(file << text)) throw std::runtime_error("cannot write " + outPath);
+    }
+    return 0;
+  } catch (const ApproximationInputError& e) {
+    err << "devsurf import: " << path << ": " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    err << "devsurf import: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 int importCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   std::string meshPath, unfoldingPath, outPath, variables, name, units = "mm";
-  bool proximity = false;
+  bool proximity = false, unitsGiven = false;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
@@ -261,13 +303,18 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
       else if (a == "--variables") variables = value();
       else if (a == "--proximity") proximity = true;
       else if (a == "--name") name = value();
-      else if (a == "--units") units = value();
+      else if (a == "--units") {
+        units = value();
+        unitsGiven = true;
+      }
       else if (a == "--out") outPath = value();
       else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
       else if (meshPath.empty()) meshPath = a;
       else throw std::invalid_argument("unexpected argument " + a);
     }
-    if (meshPath.empty()) throw std::invalid_argument("missing MESH (an .obj, .off or .ply file)");
+    if (meshPath.empty()) throw std::invalid_argument("missing FILE (a .fold crease pattern, or an .obj, .off or .ply mesh)");
+    if (isCreasePatternFile(meshPath) && (!unfoldingPath.empty() || !variables.empty() || proximity))
+      throw std::invalid_argument("--unfolding, --variables and --proximity apply to meshes, not to crease patterns");
     if (!variables.empty() && variables != "mesh" && variables != "unfolding" && variables != "both")
       throw std::invalid_argument("--variables: expected mesh, unfolding or both, got \"" + variables + "\"");
     proto::millimetresPerUnit(units);
@@ -275,6 +322,7 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
     err << "devsurf import: " << e.what() << "\n" << kUsage;
     return 2;
   }
+  if (isCreasePatternFile(meshPath)) return importCreasePatternFile(meshPath, name, unitsGiven ? units : "", outPath, out, err);
   try {
     int skipped = 0;
     const io::PolygonMeshFile mesh = io::readPolygonMesh(meshPath, &skipped);
@@ -339,15 +387,23 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   DaemonOptions o;
   spdlog::level::level_enum logLevel = spdlog::level::info;
+  bool webGiven = false;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
+      if (a == "--help" || a == "-h") {
+        out << kUsage;
+        return 0;
+      }
       if (a == "--port") o.port = static_cast<int>(parseNumber(a, value(), 0, 65535));
       else if (a == "--bind") o.bind = value();
       else if (a == "--data") o.dataDir = value();
       else if (a == "--api-key") o.apiKey = value();
-      else if (a == "--web") o.webRoot = value();
+      else if (a == "--web") {
+        o.webRoot = value();
+        webGiven = true;
+      }
       else if (a == "--demo") o.demoScenes.push_back(value());
       else if (a == "--workers") o.workerThreads = static_cast<int>(parseNumber(a, value(), 0, 256));
       else if (a == "--max-sessions") o.maxSessions = static_cast<int>(parseNumber(a, value(), 1, 100000));
@@ -391,6 +447,13 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
   // Logs go to stderr; stdout carries only the line with the URL (scripts read it).
   if (!spdlog::get("devsurf")) spdlog::set_default_logger(spdlog::stderr_color_mt("devsurf"));
   spdlog::set_level(logLevel);
+  if (!webGiven) {  // the built app of this source tree or installation (StaticAssets.h)
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::filesystem::path cwd = std::filesystem::current_path(ec);
+    o.webRoot = defaultWebRoot(cwd, exe.parent_path()).string();
+    if (o.webRoot.empty()) spdlog::warn("no built web app found (web/dist): serving none; build it or pass --web DIR");
+  }
   // SIGINT/SIGTERM are taken by a thread of their own (blocked everywhere else).
   sigset_t signals;
   sigemptyset(&signals);

@@ -1,6 +1,8 @@
 #include "devsurf/server/Daemon.h"
+#include "devsurf/server/CreasePatternImport.h"
 #include "devsurf/server/ShapeApproximation.h"
 #include "devsurf/server/ShapeFitting.h"
+#include "devsurf/server/StaticAssets.h"
 
 #include "devsurf/proto/BoundedJson.h"
 
@@ -148,6 +150,8 @@ std::size_t Daemon::sessionCount() const {
 }
 
 int Daemon::start() {
+  // The web app first: a web root that cannot be served stops the start before anything else.
+  if (!options_.webRoot.empty()) assets_ = std::make_unique<StaticAssets>(StaticAssets::load(options_.webRoot));
   store_ = std::make_unique<store::Store>(options_.dataDir);
   journal_ = std::make_unique<StoreJournal>(*store_);
   jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs);
@@ -489,6 +493,25 @@ void Daemon::routes() {
     }
   });
 
+  // --- a crease pattern (FOLD) → a composite scene to open or submit (issue 16) ---
+  s.Post("/api/imports", [needApiKey](const httplib::Request& req, httplib::Response& res) {
+    if (!needApiKey(req, res)) return;
+    try {
+      CreasePatternImportRequest request;
+      request.format = "fold";
+      for (const auto& [key, value] : req.params) {
+        if (key == "format") request.format = value;
+        else if (key == "name") request.name = value;
+        else if (key == "units") request.units = value;
+        else throw ApproximationInputError(key, key + ": unknown parameter (format, name, units)");
+      }
+      const CreasePatternImportResult result = importCreasePattern(req.body, request);
+      replyJson(res, 200, {{"scene", proto::sceneToJson(result.scene)}, {"summary", result.summaryJson()}});
+    } catch (const ApproximationInputError& e) {
+      replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());
+    }
+  });
+
   // --- a user's shape → a preview, a fitted strip, strips covering a region (issue 15) ---
   // The body is the shape's file (a cloud or a mesh); query parameters as `devsurf fit`/`cover`.
   auto uploadedShape = [](const httplib::Request& req) {
@@ -590,7 +613,8 @@ void Daemon::routes() {
     });
   });
 
-  if (!options_.webRoot.empty() && std::filesystem::is_directory(options_.webRoot)) s.set_mount_point("/", options_.webRoot);
+  // The web app from memory, precompressed, with ETags and cache headers (StaticAssets.h).
+  if (assets_) assets_->install(s);
 }
 
 void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::string text) {

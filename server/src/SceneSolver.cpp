@@ -413,6 +413,10 @@ proto::Metrics SceneSolver::metrics() const {
     m["ruling_length_min_ratio"] = composite_->rulingLengthMinRatio();
     m["strip_width_min_ratio"] = composite_->stripWidthMinRatio();
     m["crease_backtrack_max"] = composite_->creaseBacktrackMax();
+    if (!d.foldAngles.empty()) {
+      m["fold_amount"] = composite_->foldAmount();
+      m["fold_angle_error_max_deg"] = composite_->foldAngleErrorMaxDeg();
+    }
     m["unknowns"] = composite_->numUnknowns();
     return m;
   }

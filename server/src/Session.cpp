@@ -15,6 +15,10 @@
 namespace devsurf::server {
 namespace {
 
+/// Creases folded by less than this are left out when the fold slider takes a design's current
+/// fold angles as its 100 % (degrees).
+constexpr double kFoldCaptureMinDeg = 0.5;
+
 using nlohmann::json;
 using models::strip::ControlPointRef;
 using models::strip::Curve;
@@ -587,11 +591,13 @@ void Session::post(int participant, json message) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (counters_) ++counters_->messages;
     bool coalesced = false;
-    if (message.value("type", "") == "drag") {
-      // Latest wins per target: replace a queued, unprocessed drag of the same target.
+    const std::string type = message.value("type", "");
+    if (type == "drag" || type == "fold") {
+      // Latest wins per target (per participant for the fold slider): replace a queued,
+      // unprocessed message of the same gesture.
       for (auto& w : queue_) {
-        if (w->message.value("type", "") == "drag" && w->participant == participant &&
-            w->message["target"] == message["target"]) {
+        if (w->message.value("type", "") == type && w->participant == participant &&
+            (type == "fold" || w->message["target"] == message["target"])) {
           w->coalescedOps.push_back(w->message.value("op", json()));
           w->message = std::move(message);
           coalesced = true;
@@ -790,6 +796,14 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       return reject("invalid", why.str(), "position");
     }
   }
+  if (type == "fold" || type == "fold_end") {
+    if (!isComposite())
+      return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
+                                   proto::modelKind(current.model),
+                    "type");
+    if (type == "fold_end") return true;  // the release iterations follow (handle())
+    return applyFold(participant, edit, replaying);
+  }
   if (keepsInput()) return applyCurveEdit(participant, edit, replaying, target);
   if (type == "drag") {
     const Eigen::Vector3d pos(edit["position"][0].get<double>(), edit["position"][1].get<double>(),
@@ -945,6 +959,56 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
     if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
   }
+  return true;
+}
+
+bool Session::applyFold(int participant, const json& edit, bool replaying) {
+  const json op = edit.value("op", json());
+  const double amount = edit.at("amount").get<double>();
+  const proto::Scene current = solver_->currentScene();
+  const auto& design = std::get<composite::CompositeDesign>(current.model);
+  if (design.foldAngles.empty()) {
+    // The first fold of a design without targets: its current fold angles become 100 % (one
+    // rebuild, one undo step).
+    proto::Scene next = persistentScene();
+    auto& d = std::get<composite::CompositeDesign>(next.model);
+    for (const auto& h : solver_->compositeModel().hingeAngles())
+      if (std::abs(h.angleDeg) >= kFoldCaptureMinDeg) d.foldAngles.push_back({h.edge, h.end, h.angleDeg});
+    if (d.foldAngles.empty()) {
+      if (!replaying)
+        error(participant, op, "invalid",
+              "fold: nothing to fold — every crease of the design is flat and it has no fold-angle targets (fold_angles); "
+              "fold it by dragging first, or import a crease pattern with fold angles",
+              "amount");
+      return false;
+    }
+    // The targets take over from the handles that pulled the design into shape (they would pull
+    // it back up against the slider); undo brings them back.
+    d.handles.clear();
+    d.foldAmount = amount;
+    const proto::Scene before = persistentScene();
+    try {
+      rebuild(proto::sceneFromJson(proto::sceneToJson(next), settings_.resources));
+    } catch (const proto::SceneError& e) {
+      if (!replaying) error(participant, op, codeOf(e), std::string("fold: ") + e.what(), e.path());
+      return false;
+    }
+    pushUndo(before);
+    dragHandles_.clear();
+    releasedHandles_.clear();
+    scheduleIteration_ = 0;
+    return true;
+  }
+  bool started = true;  // the first fold message of a gesture is one undo step
+  if (!replaying) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto p = participants_.find(participant);
+    started = p == participants_.end() || !p->second.folding;
+  }
+  if (started && !replaying) pushUndo();
+  solver_->compositeModel().setFoldAmount(amount);
+  solver_->resetStepControl();
+  scheduleIteration_ = 0;
   return true;
 }
 
@@ -1163,6 +1227,27 @@ void Session::release(const json& target, int iterations) {
     settlePending_ = true;
     return;
   }
+  polishRelease(start, iterations);
+}
+
+void Session::releaseFold(int iterations) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  // Phase 1: the creases catch up with the slider's amount as far as the hard rows allow (the
+  // fold-angle rows are relaxable, like a handle).
+  SolveLimits withTargets;
+  withTargets.iterations = iterations;
+  withTargets.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
+  const bool finished = iterations == 0 || runSolver(withTargets, false);
+  if (!finished) {
+    settlePending_ = true;
+    return;
+  }
+  polishRelease(start, iterations);
+}
+
+void Session::polishRelease(std::chrono::steady_clock::time_point start, int iterations) {
+  using Clock = std::chrono::steady_clock;
   // Phase 2: projection steps (no handles, no fairness) until every hard row is within the
   // tolerance: feasibility restored with the least motion.
   SolveLimits polish;
@@ -1271,6 +1356,23 @@ void Session::handle(const Work& work) {
     frame.iterations = settings_.dragIterations;
     frame.timeBudgetMs = settings_.dragTimeBudgetMs;
     runSolver(frame, false);
+  } else if (type == "fold") {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = participants_.find(pid);
+      if (it != participants_.end()) it->second.folding = true;
+    }
+    SolveLimits frame;
+    frame.iterations = settings_.dragIterations;
+    frame.timeBudgetMs = settings_.dragTimeBudgetMs;
+    runSolver(frame, false);
+  } else if (type == "fold_end") {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = participants_.find(pid);
+      if (it != participants_.end()) it->second.folding = false;
+    }
+    releaseFold(std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest));
   } else if (type == "drag_end") {
     const int iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
     {

@@ -3,9 +3,8 @@
 
 import './styles.css';
 import { EditorState } from './state/EditorState.js';
-import { StartPage } from './ui/StartPage.js';
-import { Editor } from './ui/Editor.js';
 import { accessibility } from './ui/preferences.js';
+import { defaultSocketUrl } from './net/ProtocolClient.js';
 
 const state = new EditorState();
 let editor = null;
@@ -45,10 +44,19 @@ document.documentElement.classList.toggle('a11y', accessibility());
 const params = new URLSearchParams(window.location.search);
 const session = params.get('session');
 const token = params.get('token');
+// Each page loads only its own code (separate chunks): the editor does not wait for the start
+// page's bundled example scenes (~1 MB), the start page not for the editor's views and panels.
 if (session && token) {
   document.body.classList.add('editor-page');
-  editor = new Editor(root, { state, session, token });
+  // The WebSocket handshake runs while the editor's code loads; the editor joins on it.
+  let socket = null;
+  try {
+    socket = new WebSocket(defaultSocketUrl());
+  } catch { /* the editor opens its own */ }
+  const { Editor } = await import('./ui/Editor.js');
+  editor = new Editor(root, { state, session, token, socket });
 } else {
   document.body.classList.add('start');
+  const { StartPage } = await import('./ui/StartPage.js');
   startPage = new StartPage(root, { state });
 }

@@ -104,6 +104,35 @@ describe('ProtocolClient', () => {
     expect(connections).toEqual(['connecting', 'connected']);
   });
 
+  it('joins on a socket the page opened early: at once when open, on open when still connecting', () => {
+    const early = new FakeSocket('ws://test/ws');
+    early.readyState = 1;
+    client.connect('s1', 'tok', 'ada', early);
+    expect(FakeSocket.instances).toHaveLength(1);
+    expect(early.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    early.receive(stateMessage(3));
+    expect(state.connection).toBe('connected');
+
+    FakeSocket.instances = [];
+    const connecting = new FakeSocket('ws://test/ws');
+    const other = new ProtocolClient({ url: 'ws://test/ws', state: new EditorState(), WebSocketImpl: FakeSocket, timers });
+    other.connect('s1', 'tok', 'ada', connecting);
+    expect(connecting.sent).toEqual([]);
+    connecting.open();
+    expect(connecting.sent).toHaveLength(1);
+    expect(FakeSocket.instances).toHaveLength(1);
+  });
+
+  it('opens a socket of its own when the early one has closed already', () => {
+    const closed = new FakeSocket('ws://test/ws');
+    closed.readyState = 3;
+    client.connect('s1', 'tok', 'ada', closed);
+    expect(FakeSocket.instances).toHaveLength(2);
+    socket().open();
+    expect(socket().sent).toHaveLength(1);
+    expect(closed.sent).toEqual([]);
+  });
+
   it('gives every command an increasing op id and matches acks by op', () => {
     const ws = joinedClient();
     const acks = [];

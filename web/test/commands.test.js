@@ -3,7 +3,7 @@ import { fileURLToPath } from 'node:url';
 import { describe, expect, it } from 'vitest';
 import {
   AddHandleCommand, DragCommand, DragEndCommand, JoinCommand, PingCommand, PresenceCommand, RedoCommand,
-  RemoveHandleCommand, ResetCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SolveCommand, UndoCommand,
+  RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SolveCommand, UndoCommand,
   SOLVER_KEYS, PARAM_KEYS,
 } from '../src/commands/index.js';
 import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
@@ -48,6 +48,9 @@ const cases = [
   ['AddHandleCommand of an S-edge control point', new AddHandleCommand({ edge: 3, index: 1 }, [0, 0, 1])],
   ['PresenceCommand selecting a vertex', new PresenceCommand({ vertex: 2 })],
   ['SetCreaseCommand fold', new SetCreaseCommand(0, 'fold')],
+  ['FoldCommand 0', new FoldCommand(0)],
+  ['FoldCommand 0.42', new FoldCommand(0.42)],
+  ['FoldEndCommand', new FoldEndCommand()],
   ['SetCreaseCommand none', new SetCreaseCommand(4, 'none')],
   // Strips between two given curves: their curves' control points, and their parameters.
   ['DragCommand of a quasi_strip control point', new DragCommand({ curve: 'c1', index: 5 }, [1, 2, 3])],
@@ -94,6 +97,9 @@ describe('commands match ws-client.schema.json', () => {
     expect(() => new DragCommand({ vertex: 1, edge: 2 }, [0, 0, 0])).toThrow(TypeError);
     expect(() => new DragCommand({ edge: 1 }, [0, 0, 0])).toThrow(TypeError);
     expect(() => new SetCreaseCommand(0, 'crumple')).toThrow(TypeError);
+    expect(() => new FoldCommand(1.2)).toThrow(TypeError);
+    expect(() => new FoldCommand(Number.NaN)).toThrow(TypeError);
+    expect(new FoldCommand(0.5).toMessage(7)).toEqual({ type: 'fold', op: 7, amount: 0.5 });
     expect(() => new SetCreaseCommand(-1, 'fold')).toThrow(TypeError);
     expect(validClient({ type: 'set_crease', op: 1, edge: 0, crease: 'crumple' }).length).toBeGreaterThan(0);
     expect(validClient({ type: 'drag', op: 1, target: { vertex: 1, curve: 'a' }, position: [0, 0, 0] }).length).toBeGreaterThan(0);

@@ -130,3 +130,12 @@ describe('CompositeBuffers', () => {
     expect(() => new CompositeBuffers().apply({ kind: 'strip' })).toThrow(/unsupported/);
   });
 });
+
+describe('fold slider position', () => {
+  it('follows the metrics while folding, then the scene, else the design (100 %)', async () => {
+    const { sessionFoldAmount } = await import('../src/ui/FoldPanel.js');
+    expect(sessionFoldAmount({ fold_amount: 0.4 }, { model: { fold_amount: 0.2 } })).toBe(0.4);
+    expect(sessionFoldAmount({}, { model: { fold_amount: 0.2 } })).toBe(0.2);
+    expect(sessionFoldAmount(null, { model: {} })).toBe(1);
+  });
+});

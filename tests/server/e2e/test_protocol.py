@@ -331,7 +331,7 @@ class ProtocolTest(DaemonTestCase):
         self.assertEqual(status, 200)
         self.assertEqual(doc["openapi"], "3.1.0")
         routes = {"/api/health", "/api/metrics", "/api/openapi.json", "/api/sessions", "/api/sessions/{id}", "/api/approximations",
-                  "/api/references", "/api/fits", "/api/covers",
+                  "/api/references", "/api/fits", "/api/covers", "/api/imports",
                   "/api/sessions/{id}/export", "/api/sessions/{id}/thumbnail", "/api/jobs", "/api/jobs/{id}", "/api/jobs/{id}/cancel",
                   "/api/jobs/{id}/result", "/ws"}
         self.assertEqual(set(doc["paths"]), routes)

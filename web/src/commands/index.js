@@ -13,3 +13,4 @@ export { PresenceCommand } from './PresenceCommand.js';
 export { JoinCommand, PingCommand } from './JoinCommand.js';
 export { SetCreaseCommand, CREASE_KINDS } from './SetCreaseCommand.js';
 export { SetParamsCommand, PARAM_KEYS } from './SetParamsCommand.js';
+export { FoldCommand, FoldEndCommand } from './FoldCommand.js';

@@ -56,14 +56,18 @@ export class ProtocolClient {
     this.fatal = null;
   }
 
-  /** Opens the connection and joins `session` with `token` (role follows from the token). */
-  connect(session, token, name) {
+  /**
+   * Opens the connection and joins `session` with `token` (role follows from the token).
+   * `socket`: a WebSocket to this.url the page opened earlier (connecting or open, so the
+   * handshake ran while the editor's code loaded); used for the first attempt only.
+   */
+  connect(session, token, name, socket = null) {
     this.joinInfo = { session, token, name };
     this.stopped = false;
     this.fatal = null;
     this.attempt = 0;
     this.state.setConnection('connecting');
-    this._open();
+    this._open(socket);
   }
 
   /** Closes for good (no reconnect). */
@@ -108,13 +112,14 @@ export class ProtocolClient {
     return op;
   }
 
-  _open() {
+  _open(socket = null) {
     this.retryTimer = null;
     this.nextRetryAt = null;
     this.joined = false;
     let ws;
     try {
-      ws = new this.WebSocketImpl(this.url);
+      // An early socket that already closed (its close event went unheard) is not used.
+      ws = socket && socket.readyState <= OPEN ? socket : new this.WebSocketImpl(this.url);
     } catch (e) {
       this.ws = null;
       this._scheduleReconnect();
@@ -141,6 +146,7 @@ export class ProtocolClient {
       if (this.ws !== ws) return;
       this._onClose(event || {});
     };
+    if (ws.readyState === OPEN) ws.onopen();  // an early socket that is open already
   }
 
   _onMessage(msg) {

@@ -61,6 +61,22 @@ export async function approximateMesh(file, { format, segments, faces, name }, a
   return body;
 }
 
+/**
+ * POST /api/imports?format=fold&name=… with a crease pattern (FOLD text) as the body → {scene,
+ * summary: {faces, edges: {mountain, valley, flat, boundary, cut}, folded_state, notes}} (issue 16).
+ */
+export async function importCreasePattern(text, { format = 'fold', name, units } = {}, apiKey) {
+  const query = new URLSearchParams({ format });
+  if (name) query.set('name', name.slice(0, 200));
+  if (units) query.set('units', units);
+  const headers = { 'Content-Type': 'application/json' };
+  if (apiKey) headers.Authorization = `Bearer ${apiKey}`;
+  const res = await fetch(apiUrl(`imports?${query}`), { method: 'POST', headers, body: text });
+  const body = await readJson(res);
+  if (!res.ok) throw new ApiError(res.status, body);
+  return body;
+}
+
 /** POST a shape file to `route` with query parameters → the JSON answer (throws ApiError). */
 async function postShape(route, file, query, apiKey) {
   const headers = { 'Content-Type': 'application/octet-stream' };

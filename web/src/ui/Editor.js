@@ -13,6 +13,7 @@ import { listSessions } from '../net/api.js';
 import { Viewport } from '../view/Viewport.js';
 import { DevelopmentView } from '../view/DevelopmentView.js';
 import { SolverPanel } from './SolverPanel.js';
+import { FoldPanel } from './FoldPanel.js';
 import { ResidualPlot } from './ResidualPlot.js';
 import { HelpOverlay } from './HelpOverlay.js';
 import { ErrorSlots, Toasts, describeError } from './Toast.js';
@@ -30,9 +31,9 @@ const cssRgb = (c) => `rgb(${Math.round(c[0] * 255)}, ${Math.round(c[1] * 255)},
 export class Editor {
   /**
    * @param {HTMLElement} root
-   * @param {object} options {state, session, token}
+   * @param {object} options {state, session, token, socket?} (socket: see ProtocolClient.connect)
    */
-  constructor(root, { state, session, token }) {
+  constructor(root, { state, session, token, socket = null }) {
     this.state = state;
     this.session = session;
     this.token = token;
@@ -56,7 +57,7 @@ export class Editor {
     this._bindKeyboard();
     this._applyAccessibility(accessibility());
 
-    this.client.connect(session, token, state.name);
+    this.client.connect(session, token, state.name, socket);
     this._lookUpDemoTokens();
     window.addEventListener('online', () => this.client.reconnectNow());
   }
@@ -174,6 +175,7 @@ export class Editor {
     });
     this.sidebar.appendChild(this.quadControls.gluePanel);
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
+    this.foldPanel = new FoldPanel(this.sidebar, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.paramsSection = h('section', { class: 'panel panel-gui', hidden: true });
     this.sidebar.appendChild(this.paramsSection);
     this.paramsPanel = new ParamsPanel(this.paramsSection, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
@@ -261,6 +263,11 @@ export class Editor {
     if (!this.viewport.hasFit) this.viewport.fit();
     this._updateLegend();
     this.viewport.renderNow();
+    // Page-load measurements (bench/page_load.mjs, CONTRACT.md): the first surface drawn.
+    if (!this.firstSurfaceMarked && this.viewport.renderer && typeof performance !== 'undefined' && performance.mark) {
+      this.firstSurfaceMarked = true;
+      performance.mark('devsurf:first-surface');
+    }
     if (this.kind === 'quad_mesh') this.unfolding.render();
     else this.development.render();
     if (timed) {

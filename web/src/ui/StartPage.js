@@ -1,9 +1,9 @@
-// Start page: demo sessions, new session from a bundled preset, open a scene file (input or
-// drag-and-drop anywhere on the page), join by link.
+// Start page: demo sessions, new session from a bundled preset, open a scene file or import a
+// FOLD crease pattern (input or drag-and-drop anywhere on the page), join by link.
 
 import { h, clear } from './dom.js';
 import { PRESETS } from '../presets.js';
-import { approximateMesh, createSession, fitRegion, listSessions, previewShape, sessionThumbnail } from '../net/api.js';
+import { approximateMesh, createSession, fitRegion, importCreasePattern, listSessions, previewShape, sessionThumbnail } from '../net/api.js';
 import { RegionPicker } from './RegionPicker.js';
 import { Toasts } from './Toast.js';
 import { apiKey, forgetSession, openedSessions, rememberSessionTokens, setApiKey } from './preferences.js';
@@ -101,13 +101,15 @@ export class StartPage {
     this.presetSelect.addEventListener('change', () => this._describePreset());
     this.newButton = h('button', { class: 'btn primary', testid: 'new-session', onclick: () => this._newFromPreset() }, 'New session');
 
-    this.fileInput = h('input', { type: 'file', accept: '.json,application/json', testid: 'scene-file', class: 'file-input', id: 'scene-file' });
+    this.fileInput = h('input', { type: 'file', accept: '.json,.fold,application/json', testid: 'scene-file', class: 'file-input', id: 'scene-file' });
     this.fileInput.addEventListener('change', () => {
       const f = this.fileInput.files && this.fileInput.files[0];
       if (f) this._openFile(f);
     });
     this.dropZone = h('label', { class: 'drop-zone', for: 'scene-file' },
-      h('strong', {}, 'Choose a scene file'), h('span', { class: 'muted' }, ' or drop a .json file anywhere on this page'));
+      h('strong', {}, 'Choose a file'), h('span', { class: 'muted' }, ' or drop a .json or .fold file anywhere on this page'));
+    // What an import changed or left out, by element of the file, before its session is opened.
+    this.importNotes = h('div', { class: 'import-notes', testid: 'import-notes', hidden: true });
 
     // A user's own mesh → glued developable patches (POST /api/approximations), opened as a session.
     this.meshInput = h('input', { type: 'file', accept: '.off,.obj,.ply,.stl', testid: 'mesh-file', class: 'input', 'aria-label': 'Mesh file' });
@@ -175,8 +177,9 @@ export class StartPage {
         h('section', { class: 'card wide' }, h('h2', {}, 'Demo sessions'), h('p', { class: 'muted small' }, 'Public sessions anyone can join and edit.'), this.demoList),
         h('section', { class: 'card' }, h('h2', {}, 'New session from an example'),
           h('div', { class: 'row' }, this.presetSelect, this.newButton), this.presetDescription),
-        h('section', { class: 'card' }, h('h2', {}, 'Open a scene file'), this.fileInput, this.dropZone,
-          h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1). It becomes a new private session.')),
+        h('section', { class: 'card' }, h('h2', {}, 'Open a scene or a crease pattern'), this.fileInput, this.dropZone,
+          h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1), or a crease pattern or folded form in FOLD format (.fold, as Origami Simulator and the FOLD tools write it): its faces become planar pieces joined by creases that fold. It becomes a new private session.'),
+          this.importNotes),
         h('section', { class: 'card' }, h('h2', {}, 'Start from your own mesh'),
           h('p', { class: 'muted small' }, 'A triangle mesh with one boundary (.off, .obj, .ply, .stl) becomes developable patches glued along their borders, each with its flat cutting pattern (Jiang et al. 2020, §5). Solve it in the editor.'),
           this.meshInput,
@@ -461,8 +464,46 @@ export class StartPage {
       this._showCreateError({ message: `not valid JSON (${e.message})`, code: 'invalid_json' }, what);
       return;
     }
+    if (/\.fold$/i.test(file.name) || (scene && typeof scene === 'object' && !scene.format && Array.isArray(scene.vertices_coords))) {
+      await this._importCreasePattern(file, text);
+      return;
+    }
     // The server validates against the scene schema and names the offending field.
     this._create(scene, what);
+  }
+
+  /**
+   * A FOLD file → a composite scene (POST /api/imports). Without notes its session opens at once;
+   * with notes they are listed first, with a button to open the session.
+   */
+  async _importCreasePattern(file, text) {
+    const what = `import ${file.name}`;
+    this.createError.hidden = true;
+    this.importNotes.hidden = true;
+    clear(this.importNotes);
+    this.busy.textContent = `Importing ${file.name}…`;
+    this.busy.hidden = false;
+    let result;
+    try {
+      result = await importCreasePattern(text, { format: 'fold', name: file.name.replace(/\.[^.]*$/, '') }, this.apiKeyInput.value.trim() || apiKey());
+    } catch (e) {
+      this._showCreateError(e, what);
+      return;
+    } finally {
+      this.busy.hidden = true;
+      this.busy.textContent = 'Creating the session…';
+    }
+    const notes = (result.summary && result.summary.notes) || [];
+    if (notes.length === 0) {
+      await this._create(result.scene, what);
+      return;
+    }
+    const s = result.summary;
+    this.importNotes.append(
+      h('p', { class: 'small' }, `${file.name}: ${s.faces} faces, ${s.edges.mountain} mountain and ${s.edges.valley} valley creases${s.folded_state ? ', in its folded form' : ', flat'}. The import noted:`),
+      h('ul', { class: 'small' }, ...notes.map((n) => h('li', { testid: 'import-note' }, h('span', { class: 'mono' }, n.element), `: ${n.message}`))),
+      h('button', { class: 'btn primary', testid: 'open-imported', onclick: () => this._create(result.scene, what) }, 'Open it'));
+    this.importNotes.hidden = false;
   }
 
   _bindDrop() {

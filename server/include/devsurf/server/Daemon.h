@@ -14,6 +14,7 @@
 
 #include "devsurf/server/JobQueue.h"
 #include "devsurf/server/Session.h"
+#include "devsurf/server/StaticAssets.h"
 #include "devsurf/server/store/Store.h"
 #include "devsurf/server/transport/Server.h"
 
@@ -25,7 +26,9 @@ struct DaemonOptions {
   int port = 8080;                          ///< 0 = ephemeral (tests)
   std::string dataDir = "./var";            ///< SQLite database and nothing else
   std::string apiKey;                       ///< when set, creating sessions and jobs needs it
-  std::string webRoot;                      ///< built web app served at / (empty = none)
+  /// Built web app served at / (empty = none); read into memory by start() (StaticAssets),
+  /// which throws when it is not a folder it can serve.
+  std::string webRoot;
   std::vector<std::string> demoScenes;      ///< scene files opened as public demo sessions
   std::size_t maxMessageBytes = 1u << 20;   ///< one WebSocket message
   double messageRate = 200.0;               ///< WebSocket messages per second per connection (burst 2×)
@@ -94,6 +97,7 @@ class Daemon {
   boost::asio::thread_pool pool_;
   SessionCounters counters_;
   std::unique_ptr<transport::Server> http_;
+  std::unique_ptr<StaticAssets> assets_;  ///< the web app, when webRoot is set
 
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Session>> sessions_;

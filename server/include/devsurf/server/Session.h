@@ -248,6 +248,7 @@ class Session : public std::enable_shared_from_this<Session> {
     MessageSink sink;
     nlohmann::json selection;  // null or a target
     nlohmann::json dragging;   // null or a target
+    bool folding = false;      // moving the fold slider (between its first fold and fold_end)
     bool ready = false;        // got its state: from then on it receives broadcasts
   };
   struct Work {
@@ -295,6 +296,11 @@ class Session : public std::enable_shared_from_this<Session> {
   /// checkpoint and the edits acknowledged since, applied), shown as such.
   void recover();
   bool runSolver(SolveLimits limits, bool final);
+  /// fold_end: iterations with the fold-angle targets, then the release's polish.
+  void releaseFold(int iterations);
+  /// The second phase of a release (drag_end, fold_end): projection steps until every hard row is
+  /// within the tolerance, within what is left of the release time budget since `start`.
+  void polishRelease(std::chrono::steady_clock::time_point start, int iterations);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
   /// Finishes a release or solve that newer work interrupted (settlePending_): the projection
@@ -311,6 +317,9 @@ class Session : public std::enable_shared_from_this<Session> {
   void publishSolve(bool final);
   /// Applies an edit to a quasi_strip/conical_strip session (drag moves a control point).
   bool applyCurveEdit(int participant, const nlohmann::json& edit, bool replaying, const nlohmann::json& target);
+  /// The fold slider's "fold" (composite sessions): the first one of a design without fold-angle
+  /// targets takes its current fold angles as 100 % (a rebuild); after that only the amount moves.
+  bool applyFold(int participant, const nlohmann::json& edit, bool replaying);
   bool keepsInput() const { return solver_->keepsInputGeometry(); }
   proto::Scene persistentScene() const;
   void pushUndo();

@@ -105,6 +105,24 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
                                   " control points; 0 and " + std::to_string(n - 1) + " are its vertices)");
   };
   validateUserConstraints(design.fixed, design.handles, checkRef);
+  if (!(design.foldAmount >= 0.0 && design.foldAmount <= 1.0))
+    throw std::invalid_argument("fold_amount: must lie in [0, 1]");
+  for (std::size_t i = 0; i < design.foldAngles.size(); ++i) {
+    const FoldAngleTarget& t = design.foldAngles[i];
+    const std::string path = refPath("fold_angles", i);
+    if (t.edge < 0 || t.edge >= topology.numEdges())
+      throw std::invalid_argument(path + ".edge: edge " + std::to_string(t.edge) + " does not exist");
+    if (!topology.edge(t.edge).interior())
+      throw std::invalid_argument(path + ".edge: edge " + std::to_string(t.edge) + " is on the boundary; a fold joins two faces");
+    if (!(std::abs(t.angleDeg) <= 180.0)) throw std::invalid_argument(path + ".angle: must lie in [-180, 180] degrees");
+    if (!hasFoldHinge(topology, t.edge, t.end))
+      throw std::invalid_argument(path + ".end: edge " + std::to_string(t.edge) + " has no hinge at end " + std::to_string(t.end) +
+                                  (topology.edgeType(t.edge) == EdgeType::Ruling ? " (an R edge is one hinge, end 0)"
+                                                                                 : " (a face has no ruling there)"));
+    for (std::size_t j = 0; j < i; ++j)
+      if (design.foldAngles[j].edge == t.edge && design.foldAngles[j].end == t.end)
+        throw std::invalid_argument(path + ": repeats fold_angles[" + std::to_string(j) + "]");
+  }
 
   const DevelopmentDomain& domain = design.developmentDomain;
   if (design.developmentSamples == 0 && (!domain.empty() || !design.developmentSeam.empty()))
@@ -453,6 +471,7 @@ void CompositeModel::buildProblem() {
 
   addVertexDevelopabilityTerms();
   addTangentContinuityTerms();
+  addFoldAngleTerm();
   if (developmentBlock_ >= 0) addDevelopmentTerms();
 
   for (const Handle& h : design_.handles)

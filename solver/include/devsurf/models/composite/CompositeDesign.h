@@ -83,6 +83,16 @@ struct DevelopmentDomain {
   bool empty() const { return boundary.empty() && corners.empty(); }
 };
 
+/// A fold-angle target of a crease (scene "fold_angles": [{"edge", "end", "angle"}]; FOLD's
+/// edges_foldAngle): an interior R edge folds about itself (one hinge, end 0); an interior S edge
+/// is a hinge at each end (end 0 at v0, 1 at v1) where both faces have a ruling. Pulled softly
+/// towards foldAmount × angleDeg (the fold slider).
+struct FoldAngleTarget {
+  int edge = -1;
+  int end = 0;            ///< 0 or 1; 0 for R edges
+  double angleDeg = 0.0;  ///< degrees in [−180, 180], + valley, − mountain
+};
+
 /// A composite developable (000_… §3.1): a labelled polygon mesh whose faces are spline
 /// developables (S R S R), the same with one ruling degenerated to a point (S R S), cones (S R R)
 /// and planar polygons (R … R).
@@ -115,6 +125,11 @@ struct CompositeDesign {
   /// development starts from unfolding the surface. CompositeModel::design() returns the current
   /// development here.
   Eigen::MatrixX2d developmentVertices;
+  /// Fold-angle targets (scene "fold_angles"); empty = none (every crease folds freely).
+  std::vector<FoldAngleTarget> foldAngles;
+  /// How far along its fold-angle targets the design is pulled (scene "fold_amount", [0, 1]): 0 =
+  /// flat, 1 = the targets themselves (the fold slider's position).
+  double foldAmount = 1.0;
 };
 
 }  // namespace devsurf::models::composite

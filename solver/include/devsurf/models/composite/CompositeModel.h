@@ -15,6 +15,7 @@
 #include "devsurf/io/IgesWriter.h"
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/models/composite/CompositeDesign.h"
+#include "devsurf/models/composite/CompositeHinges.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/spline/BSplineCurve.h"
 #include "devsurf/terms/LinearPoints.h"
@@ -37,6 +38,9 @@ struct CompositeOptions {
   /// edge's domain — 0 near both ends, rising to 1 between ξ2 and ξ3. (0, 0, 1, 1) = off.
   terms::SofteningBreakpoints softening = {0.0, 0.0, 1.0, 1.0};
   engine::LinearSolverKind linearSolver = engine::LinearSolverKind::Auto;
+  /// Weight of the soft "fold_angle" rows (design.foldAngles; radians against the handles' unit
+  /// size): strong enough that the slider folds the sheet, soft so that a drag still wins.
+  double foldWeight = 1.0;
   /// Degeneracy guards (ARCHITECTURE §8), hard terms whose rows vanish until a shape degenerates:
   /// "ruling_length" (terms::RulingLengthTerm: no ruling of a strip-like face shrinks below this
   /// fraction of its length when the model was built; 0 = off), ...
@@ -254,6 +258,24 @@ class CompositeModel {
   /// Every interior edge with its fold angles.
   std::vector<CreaseGeometry> creases(int samplesPerSpan = 16) const;
 
+  /// A hinge of the creases (see FoldHinge) and its current fold angle.
+  struct HingeAngle {
+    int edge = -1;
+    int end = 0;
+    double angleDeg = 0.0;  ///< + valley, − mountain
+  };
+  /// Every hinge with its current fold angle (what the fold slider takes as 100 % when a design
+  /// has no fold-angle targets yet).
+  std::vector<HingeAngle> hingeAngles() const;
+  /// Moves the "fold_angle" targets to amount × design.foldAngles (0 = flat, 1 = the targets);
+  /// no re-analysis (CompositeCreaseFolding.cpp).
+  /// @throws std::invalid_argument unless 0 ≤ amount ≤ 1
+  void setFoldAmount(double amount);
+  double foldAmount() const { return design_.foldAmount; }
+  /// [fold_angle_error_max_deg] the largest |θ − amount·θ*| over the fold-angle targets, degrees
+  /// (0 without targets).
+  double foldAngleErrorMaxDeg() const;
+
   /// Curves a and b of a strip-like face in the direction of u (design coordinates; a cone's b is
   /// the constant apex).
   std::pair<spline::BSplineCurve, spline::BSplineCurve> faceCurves(int f) const;
@@ -281,6 +303,11 @@ class CompositeModel {
   /// edges and S edges without interior points: the other vertex).
   int neighbourPoint(int e, int v) const;
   void addTangentContinuityTerms();
+  /// The soft "fold_angle" rows of design.foldAngles (CompositeCreaseFolding.cpp).
+  void addFoldAngleTerm();
+  std::vector<FoldHinge> hinges_;       ///< every hinge (built with the problem)
+  std::vector<int> foldTargetHinge_;    ///< per design.foldAngles entry: its hinge
+  int foldTerm_ = -1;                   ///< the "fold_angle" term, or −1
   std::vector<int> vertexTerms_;
   void initializeNormals();
   /// Osculating-plane normals of "straight" S edges: a′ × n of the face beside the edge.

@@ -1,0 +1,132 @@
+#include "devsurf/server/CreasePatternImport.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <sstream>
+
+#include "devsurf/models/composite/CompositeFromCreasePattern.h"
+#include "devsurf/models/composite/CompositeTopology.h"
+#include "devsurf/server/ShapeUpload.h"
+
+namespace devsurf::server {
+
+namespace {
+constexpr double kUnitlessSheetMm = 200.0;  ///< longest side of a unitless sheet drawn on a unit square
+}  // namespace
+
+nlohmann::json CreasePatternImportResult::summaryJson() const {
+  nlohmann::json notesJson = nlohmann::json::array();
+  for (const io::ImportNote& n : notes) notesJson.push_back({{"element", n.element}, {"message", n.message}});
+  return {{"format", "fold"},
+          {"faces", faces},
+          {"edges", {{"mountain", mountain}, {"valley", valley}, {"flat", flat}, {"boundary", boundary}, {"cut", cut}}},
+          {"folded_state", foldedState},
+          {"notes", notesJson}};
+}
+
+bool isCreasePatternFile(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return extension == ".fold";
+}
+
+CreasePatternImportResult importCreasePattern(const std::string& body, const CreasePatternImportRequest& request) {
+  if (request.format != "fold")
+    throw ApproximationInputError("format", "format: expected fold, got \"" + request.format + "\"");
+  const std::string name = request.name.empty() ? "" : nameParameter("name", request.name);
+  const std::string units = request.units.empty() ? "" : unitsParameter("units", request.units);
+  CreasePatternImportResult result;
+  io::FoldImport imported;
+  try {
+    const nlohmann::json document = nlohmann::json::parse(body);
+    if (const auto ev = document.find("edges_vertices");
+        ev != document.end() && ev->is_array() && static_cast<long>(ev->size()) > request.maxEdges)
+      throw ApproximationInputError("body", "body: " + std::to_string(ev->size()) + " edges; at most " +
+                                                std::to_string(request.maxEdges) + " are imported", true);
+    imported = io::importFoldDocument(document);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ApproximationInputError("body", std::string("body: not JSON (a FOLD file is JSON): ") + e.what());
+  } catch (const ApproximationInputError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    throw ApproximationInputError("body", std::string("body: ") + e.what());
+  }
+  io::CreasePattern& pattern = imported.pattern;
+  result.notes = imported.notes;
+
+  // Units: a FOLD unit the scene knows is kept; others become millimetres.
+  std::string sceneUnits = units;
+  if (sceneUnits.empty()) {
+    if (imported.unit == "mm" || imported.unit == "cm" || imported.unit == "m" || imported.unit == "in") {
+      sceneUnits = imported.unit;
+    } else if (!imported.unit.empty()) {
+      pattern.vertices2d *= pattern.unitToMm;
+      if (pattern.hasFoldedState()) pattern.vertices3d *= pattern.unitToMm;
+      sceneUnits = "mm";
+      result.notes.push_back({"frame_unit", "\"" + imported.unit + "\" converted to millimetres"});
+    } else {
+      sceneUnits = "mm";
+      // Unitless files are mostly drawn on a unit square (the FOLD examples, Origami Simulator's
+      // exports): a sheet smaller than 10 units is scaled to a 200 mm sheet, larger ones are read
+      // as millimetres.
+      const Eigen::Vector2d extent = pattern.vertices2d.colwise().maxCoeff() - pattern.vertices2d.colwise().minCoeff();
+      const double side = extent.maxCoeff();
+      if (side > 0.0 && side < 10.0) {
+        const double scale = kUnitlessSheetMm / side;
+        pattern.vertices2d *= scale;
+        if (pattern.hasFoldedState()) pattern.vertices3d *= scale;
+        std::ostringstream note;
+        note << "none given: the sheet, " << side << " units across, is scaled to " << kUnitlessSheetMm
+             << " mm (pass units to keep the file's numbers in cm, m or in)";
+        result.notes.push_back({"frame_unit", note.str()});
+      } else {
+        result.notes.push_back({"frame_unit", "none given: one unit of the file is read as 1 mm (pass units to choose another)"});
+      }
+    }
+  }
+
+  models::composite::CreasePatternComposite composite;
+  try {
+    composite = models::composite::compositeFromCreasePattern(pattern);
+    const models::composite::CompositeTopology topology(composite.design);  // the model's own checks, early
+    (void)topology;
+  } catch (const std::invalid_argument& e) {
+    throw ApproximationInputError("body", std::string("body: the crease pattern does not make a composite: ") + e.what());
+  }
+  result.notes.insert(result.notes.end(), composite.notes.begin(), composite.notes.end());
+  for (const io::CreaseEdge& e : pattern.edges) {
+    switch (e.assignment) {
+      case io::EdgeAssignment::Mountain: ++result.mountain; break;
+      case io::EdgeAssignment::Valley: ++result.valley; break;
+      case io::EdgeAssignment::Flat: ++result.flat; break;
+      case io::EdgeAssignment::Boundary: ++result.boundary; break;
+      case io::EdgeAssignment::Cut: ++result.cut; break;
+    }
+  }
+  result.faces = static_cast<int>(composite.design.faces.size());
+  result.foldedState = pattern.hasFoldedState();
+
+  proto::Scene& scene = result.scene;
+  scene.name = !name.empty() ? name : !pattern.title.empty() ? pattern.title.substr(0, 200) : "imported crease pattern";
+  std::ostringstream description;
+  description << "Imported from a FOLD file: " << result.faces << " planar faces between straight creases ("
+              << result.mountain << " mountain, " << result.valley << " valley";
+  if (result.flat > 0) description << ", " << result.flat << " flat";
+  description << "). "
+              << (result.foldedState ? "It starts in the file's folded form"
+                                     : "It starts flat")
+              << "; the largest face is fixed, and every crease folds freely: drag a corner to fold it.";
+  scene.description = description.str();
+  scene.units = sceneUnits;
+  scene.model = std::move(composite.design);
+  // Read back as any scene is: the schema, indices, the model's checks and the limits.
+  try {
+    result.scene = proto::sceneFromJson(proto::sceneToJson(scene));
+  } catch (const proto::SceneError& e) {
+    throw ApproximationInputError("body", std::string("body: the imported scene does not validate: ") + e.what());
+  }
+  return result;
+}
+
+}  // namespace devsurf::server

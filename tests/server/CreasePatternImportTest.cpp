@@ -1,0 +1,121 @@
+// `devsurf import PATTERN.fold` and the service behind POST /api/imports (issue 16, item 1): a
+// composite scene from a FOLD crease pattern, read back by the scene parser and solved.
+
+#include "devsurf/server/CreasePatternImport.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "devsurf/server/ShapeUpload.h"
+#include "server/CliTesting.h"
+
+namespace devsurf::server {
+namespace {
+
+std::string foldExamplePath(const std::string& file) { return std::string(DEVSURF_SOURCE_DIR) + "/tests/data/fold/" + file; }
+
+std::string foldExampleText(const std::string& file) {
+  std::ifstream in(foldExamplePath(file));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+CreasePatternImportRequest foldRequest() {
+  CreasePatternImportRequest r;
+  r.format = "fold";
+  return r;
+}
+
+TEST(CreasePatternImport, EveryShippedFoldExampleBecomesACompositeSceneThatSolves) {
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/fold")) {
+    if (entry.path().extension() != ".fold") continue;
+    SCOPED_TRACE(entry.path().filename().string());
+    const testing::CliRun imported = testing::runCommand({"import", entry.path().string()});
+    ASSERT_EQ(imported.code, 0) << imported.err;
+    const nlohmann::json scene = nlohmann::json::parse(imported.out);
+    EXPECT_EQ(scene["model"]["kind"], "composite");
+    EXPECT_EQ(scene["model"]["development"]["samples"], 2);
+    const testing::CliRun solved = testing::runCommand({"solve", "-"}, imported.out);
+    ASSERT_EQ(solved.code, 0) << solved.err;
+    const nlohmann::json report = nlohmann::json::parse(solved.out);
+    EXPECT_LT(report["metrics"]["development_length_error"].get<double>(), 1e-6);
+  }
+}
+
+TEST(CreasePatternImport, TheSummaryCountsAssignmentsAndTheSceneKeepsTheFoldedForm) {
+  const CreasePatternImportResult r = importCreasePattern(foldExampleText("squaretwist.fold"), foldRequest());
+  EXPECT_TRUE(r.foldedState);
+  EXPECT_EQ(r.faces, 9);
+  const nlohmann::json summary = r.summaryJson();
+  EXPECT_EQ(summary["edges"]["mountain"].get<int>() + summary["edges"]["valley"].get<int>() +
+                summary["edges"]["boundary"].get<int>() + summary["edges"]["flat"].get<int>(),
+            24);
+  EXPECT_EQ(r.scene.name, "Rigidly folded square twist");
+  EXPECT_EQ(r.scene.units, "mm");  // no frame_unit: a unit-square sheet scaled to 200 mm, noted
+  bool unitNote = false;
+  for (const auto& n : r.notes) unitNote = unitNote || n.element == "frame_unit";
+  EXPECT_TRUE(unitNote);
+  const auto& design = std::get<models::composite::CompositeDesign>(r.scene.model);
+  const nlohmann::json file = nlohmann::json::parse(foldExampleText("squaretwist.fold"));
+  double fileSpan = 0.0;  // the file's largest coordinate extent (its folded form)
+  for (int c = 0; c < 3; ++c) {
+    double lo = 1e300, hi = -1e300;
+    for (const auto& v : file["vertices_coords"]) lo = std::min(lo, v[c].get<double>()), hi = std::max(hi, v[c].get<double>());
+    fileSpan = std::max(fileSpan, hi - lo);
+  }
+  const Eigen::Vector3d span = design.vertices.colwise().maxCoeff() - design.vertices.colwise().minCoeff();
+  EXPECT_GT(span.maxCoeff() / fileSpan, 10.0);  // scaled up from the unit square
+}
+
+TEST(CreasePatternImport, NamesUnitsAndTheFilesUnitCarryOver) {
+  CreasePatternImportRequest request = foldRequest();
+  request.name = "my twist";
+  request.units = "cm";
+  const CreasePatternImportResult r = importCreasePattern(foldExampleText("squaretwist.fold"), request);
+  EXPECT_EQ(r.scene.name, "my twist");
+  EXPECT_EQ(r.scene.units, "cm");
+  const std::string inPoints = R"({"frame_unit": "pt", "vertices_coords": [[0,0],[72,0],[0,72]], "faces_vertices": [[0,1,2]]})";
+  const CreasePatternImportResult p = importCreasePattern(inPoints, foldRequest());
+  EXPECT_EQ(p.scene.units, "mm");
+  const auto& design = std::get<models::composite::CompositeDesign>(p.scene.model);
+  EXPECT_NEAR(design.vertices.col(0).maxCoeff(), 25.4, 1e-12);  // 72 pt = 1 in
+}
+
+TEST(CreasePatternImport, BadRequestsNameTheFieldAndTooManyEdgesIsALimit) {
+  auto fieldOf = [](const std::string& body, CreasePatternImportRequest request) {
+    try {
+      importCreasePattern(body, request);
+    } catch (const ApproximationInputError& e) {
+      return e.field() + (e.tooLarge() ? " (too large)" : "");
+    }
+    return std::string("(accepted)");
+  };
+  CreasePatternImportRequest svg = foldRequest();
+  svg.format = "svg";
+  EXPECT_EQ(fieldOf(foldExampleText("simple.fold"), svg), "format");
+  CreasePatternImportRequest units = foldRequest();
+  units.units = "furlong";
+  EXPECT_EQ(fieldOf(foldExampleText("simple.fold"), units), "units");
+  EXPECT_EQ(fieldOf("{not json", foldRequest()), "body");
+  EXPECT_EQ(fieldOf(R"({"vertices_coords": [[0,0],[1,0],[0,1]], "faces_vertices": [[0,1,7]]})", foldRequest()), "body");
+  CreasePatternImportRequest small = foldRequest();
+  small.maxEdges = 10;
+  EXPECT_EQ(fieldOf(foldExampleText("box.fold"), small), "body (too large)");
+}
+
+TEST(CreasePatternImport, TheCommandRefusesMeshOptionsOnACreasePatternAndReportsNotesOnStderr) {
+  const testing::CliRun withMeshOption = testing::runCommand({"import", foldExamplePath("simple.fold"), "--proximity"});
+  EXPECT_EQ(withMeshOption.code, 2);
+  const testing::CliRun folded = testing::runCommand({"import", foldExamplePath("diagonal-folded.fold")});
+  ASSERT_EQ(folded.code, 0) << folded.err;
+  EXPECT_NE(folded.err.find("note: the key frame: a flat-folded form"), std::string::npos) << folded.err;
+}
+
+}  // namespace
+}  // namespace devsurf::server

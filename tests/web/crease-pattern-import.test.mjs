@@ -1,0 +1,127 @@
+// 11. Crease patterns in, folded by the slider (issue 16, items 1 and 2): every FOLD file in
+//     tests/data/fold is imported through POST /api/imports and opens as a session; the FOLD
+//     project's crease-pattern example is chosen on the start page as a user would, opened, folded
+//     with the slider to 0 %, 50 % and 100 % and by Play, and exported as FOLD, which FOLD's
+//     reference library (npm fold) reads back: its development and folded form are the same sheet
+//     (edge lengths) and the valley is folded by the slider's amount of its 180°.
+//     Screenshots: test-artifacts/web/11-fold-slider-{0,50,100}.png (look at them).
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+import { after, before, test } from 'node:test';
+import fold from 'fold';
+import * as h from './lib/harness.mjs';
+
+const FOLD_DIR = path.join(h.ROOT, 'tests', 'data', 'fold');
+const FOLD_FILES = fs.readdirSync(FOLD_DIR).filter((f) => f.endsWith('.fold')).sort();
+
+let daemon = null;
+let browser = null;
+before(async () => {
+  daemon = await new h.Daemon({ name: 'crease-import', demos: [] }).start();
+  browser = await h.launchBrowser();
+});
+after(async () => {
+  if (browser) await browser.close();
+  if (daemon) await daemon.stop();
+});
+
+async function importFold(text, query = 'format=fold') {
+  const r = await fetch(`http://127.0.0.1:${daemon.port}/api/imports?${query}`, { method: 'POST', body: text });
+  return { status: r.status, body: await r.json() };
+}
+
+test('every FOLD example imports through the REST route and opens as a composite session', async () => {
+  assert.ok(FOLD_FILES.length >= 5, `FOLD examples in ${FOLD_DIR}`);
+  for (const file of FOLD_FILES) {
+    const r = await importFold(fs.readFileSync(path.join(FOLD_DIR, file), 'utf8'));
+    assert.equal(r.status, 200, `${file}: ${JSON.stringify(r.body)}`);
+    assert.equal(r.body.scene.model.kind, 'composite', file);
+    assert.ok(r.body.summary.faces > 0, file);
+    const s = await daemon.createSession(r.body.scene);
+    const state = await daemon.session(s.id, s.edit_token);
+    // squaretwist.fold's coordinates are rounded in the file: 1.3e-6.
+    assert.ok(state.metrics.development_length_error < 1e-5, `${file}: ${state.metrics.development_length_error}`);
+  }
+  // Bad input names its field.
+  const malformed = await importFold('{"vertices_coords": [[0, 0], [1');
+  assert.equal(malformed.status, 400);
+  assert.equal(malformed.body.error.path, 'body');
+  const svg = await importFold('{}', 'format=svg');
+  assert.equal(svg.status, 400);
+  assert.equal(svg.body.error.path, 'format');
+});
+
+/** Lengths of every edge in a frame's vertices_coords. */
+function edgeLengths(frame) {
+  return frame.edges_vertices.map(([a, b]) => {
+    const p = frame.vertices_coords[a]; const q = frame.vertices_coords[b];
+    return Math.hypot(p[0] - q[0], p[1] - q[1], (p[2] || 0) - (q[2] || 0));
+  });
+}
+
+test('a crease pattern chosen on the start page folds with the slider and exports a FOLD file read back by npm fold', async () => {
+  const page = await h.newPage(browser);
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('scene-file').setInputFiles(path.join(FOLD_DIR, 'diagonal-cp.fold'));
+  // The import notes what it changed (the unitless sheet scaled to 200 mm), then opens on request.
+  await page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 });
+  assert.ok(await page.getByTestId('import-note').count() >= 1);
+  await page.getByTestId('open-imported').click();
+  await page.getByTestId('editor').waitFor({ timeout: 30000 });
+  await h.waitForConnected(page);
+  await h.waitState(page, (s) => s.kind === 'composite', undefined, { what: 'a composite session' });
+  const panel = page.getByTestId('fold-panel');
+  await panel.waitFor({ state: 'visible' });
+  assert.equal((await page.getByTestId('fold-amount').textContent()).trim(), '0 %');
+  await h.settleFrames(page);
+  await h.screenshotViewport(page, '11-fold-slider-0');
+
+  const id = new URL(page.url()).searchParams.get('session');
+  const token = new URL(page.url()).searchParams.get('token');
+  for (const [percent, name] of [[50, '11-fold-slider-50'], [100, '11-fold-slider-100']]) {
+    await page.getByTestId('fold-slider').fill(String(percent));
+    await h.waitState(page, (s, p) => s.metrics && Math.abs(s.metrics.fold_amount - p / 100) < 1e-9, percent, { what: `fold amount ${percent} %` });
+    await h.waitQuiet(page, { quietMs: 800 });
+    const m = (await h.state(page)).metrics;
+    assert.ok(m.fold_angle_error_max_deg < 1, `${percent} %: fold angle off by ${m.fold_angle_error_max_deg}°`);
+    assert.ok(m.development_length_error < 1e-6, `${percent} %: ${m.development_length_error}`);
+    await h.settleFrames(page);
+    const shot = await h.screenshotViewport(page, name);
+    assert.ok(shot.image.width > 0);
+
+    // Exported as the menu does, read by FOLD's own library.
+    const r = await fetch(`http://127.0.0.1:${daemon.port}/api/sessions/${encodeURIComponent(id)}/export?format=fold`,
+      { headers: { Authorization: `Bearer ${token}` } });
+    assert.equal(r.status, 200);
+    const doc = JSON.parse(await r.text());
+    const key = {};
+    for (const [k, v] of Object.entries(doc)) if (!k.startsWith('file_')) key[k] = v;
+    assert.equal(fold.filter.numType(key, 'faces'), 2);
+    const foldedFrame = { ...key, ...doc.file_frames[0] };
+    const flatLengths = edgeLengths(key);
+    const foldedLengths = edgeLengths(foldedFrame);
+    for (let e = 0; e < flatLengths.length; e++)
+      assert.ok(Math.abs(flatLengths[e] - foldedLengths[e]) < 1e-6 * flatLengths[e], `edge ${e}: ${flatLengths[e]} flat, ${foldedLengths[e]} folded`);
+    const crease = key.edges_assignment.map((a, e) => [a, e]).filter(([a]) => a === 'V' || a === 'M');
+    assert.equal(crease.length, 1, `one crease: ${key.edges_assignment}`);
+    const [assignment, e] = crease[0];
+    assert.equal(assignment, 'V');
+    assert.ok(Math.abs(key.edges_foldAngle[e] - 1.8 * percent) < 1, `${percent} %: the valley folds ${key.edges_foldAngle[e]}°`);
+  }
+
+  // Play from 100 % starts over at 0 % and runs up to 100 %.
+  await page.getByTestId('fold-play').click();
+  await page.waitForFunction(() => document.querySelector('[data-testid="fold-play"]').textContent === 'Pause');
+  await page.waitForFunction(() => document.querySelector('[data-testid="fold-play"]').textContent === 'Play', null, { timeout: 60000 })
+    .catch(async (e) => {
+      throw new Error(`${e.message}; slider at ${await page.getByTestId('fold-amount').textContent()}; logs ${JSON.stringify(page.logs.slice(-5))}`);
+    });
+  await h.waitQuiet(page, { quietMs: 800 });
+  const m = (await h.state(page)).metrics;
+  assert.equal(m.fold_amount, 1);
+  assert.ok(m.fold_angle_error_max_deg < 1, `after Play: ${m.fold_angle_error_max_deg}°`);
+  assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  await page.close();
+});

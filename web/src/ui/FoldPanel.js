@@ -1,0 +1,135 @@
+// The fold slider (composite sessions, issue 16 item 2): from the flat sheet (0 %) to the design's
+// fold angles (100 %), driven by the solver. Moving the slider sends FoldCommands at most once per
+// animation frame (latest wins on the server too) and a FoldEndCommand when it is let go; Play
+// animates the amount up to 100 % (from 0 when it is there already), Pause stops wherever it is.
+// The position follows the session (fold_amount in the metrics) unless this editor is moving it.
+
+import { FoldCommand, FoldEndCommand } from '../commands/FoldCommand.js';
+import { h } from './dom.js';
+
+/** Seconds Play takes from 0 % to 100 %. */
+export const FOLD_PLAY_SECONDS = 6;
+/** Fold messages a second while playing. */
+export const FOLD_PLAY_RATE = 15;
+
+/** The fold amount a session is at: its metrics while it folds, its scene, else 1 (the design). */
+export function sessionFoldAmount(metrics, scene) {
+  if (metrics && typeof metrics.fold_amount === 'number') return metrics.fold_amount;
+  const model = scene && scene.model;
+  if (model && typeof model.fold_amount === 'number') return model.fold_amount;
+  return 1;
+}
+
+export class FoldPanel {
+  constructor(parent, { state, send, errorSlots }) {
+    this.state = state;
+    this.send = send;
+    this.moving = false;   // this editor is moving the slider (by hand or playing)
+    this.playing = false;
+    this.pending = null;   // amount to send at the next frame
+    this.raf = 0;
+    this.slider = h('input', { type: 'range', min: '0', max: '100', step: '1', value: '100', class: 'fold-slider',
+      testid: 'fold-slider', 'aria-label': 'Fold amount (%)' });
+    this.label = h('span', { class: 'num fold-amount', testid: 'fold-amount' }, '100 %');
+    this.playButton = h('button', { class: 'btn small', testid: 'fold-play', onclick: () => this.togglePlay() }, 'Play');
+    this.slider.addEventListener('input', () => {
+      if (this.playing) this.pause(false);
+      this.moving = true;
+      this._queue(Number(this.slider.value) / 100);
+    });
+    this.slider.addEventListener('change', () => this._end());
+    this.root = h('section', { class: 'panel', testid: 'fold-panel', hidden: true },
+      h('h3', {}, 'Fold'),
+      h('div', { class: 'row' }, this.slider, this.label, this.playButton),
+      errorSlots.slot('fold:amount'),
+      h('p', { class: 'muted small' }, '0 %: the flat sheet · 100 %: the design\'s fold angles. The solver keeps every state developable; the first move takes the current folds as 100 %.'));
+    parent.appendChild(this.root);
+    for (const ev of ['scene', 'session', 'metrics']) state.on(ev, () => this.render());
+    this.render();
+  }
+
+  render() {
+    const st = this.state;
+    this.root.hidden = st.kind !== 'composite';
+    const editable = st.role === 'edit';
+    this.slider.disabled = !editable;
+    this.playButton.disabled = !editable;
+    this.playButton.textContent = this.playing ? 'Pause' : 'Play';
+    if (this.moving) return;
+    const amount = sessionFoldAmount(st.metrics, st.scene);
+    this.slider.value = String(Math.round(amount * 100));
+    this._showAmount(amount);
+  }
+
+  _showAmount(amount) {
+    this.label.textContent = `${Math.round(amount * 100)} %`;
+  }
+
+  _queue(amount) {
+    this.pending = Math.min(1, Math.max(0, amount));
+    this._showAmount(this.pending);
+    if (!this.raf) this.raf = requestAnimationFrame(() => this._flush());
+  }
+
+  _flush() {
+    this.raf = 0;
+    if (this.pending === null) return;
+    const amount = this.pending;
+    this.pending = null;
+    this.send(new FoldCommand(amount, { source: 'fold:amount' }));
+  }
+
+  /** The gesture ends: what is still pending, then fold_end. */
+  _end() {
+    if (!this.moving) return;
+    if (this.raf) cancelAnimationFrame(this.raf);
+    this.raf = 0;
+    this._flush();
+    this.send(new FoldEndCommand({ source: 'fold:amount' }));
+    this.moving = false;
+  }
+
+  togglePlay() {
+    if (this.playing) this.pause(true);
+    else this.play();
+  }
+
+  play() {
+    let amount = Number(this.slider.value) / 100;
+    if (amount >= 1) amount = 0;
+    this.playing = true;
+    this.moving = true;
+    this.render();
+    let last = performance.now();
+    let lastSent = last;
+    const step = (now) => {
+      if (!this.playing) return;
+      amount = Math.min(1, amount + (now - last) / 1000 / FOLD_PLAY_SECONDS);
+      last = now;
+      this.slider.value = String(Math.round(amount * 100));
+      this._showAmount(amount);
+      // At most FOLD_PLAY_RATE messages a second (the server coalesces, but every message it
+      // takes streams geometry back), and always the last one.
+      if (amount >= 1 || now - lastSent >= 1000 / FOLD_PLAY_RATE) {
+        this.send(new FoldCommand(amount, { source: 'fold:amount' }));
+        lastSent = now;
+      }
+      if (amount >= 1) {
+        this.pause(true);
+        return;
+      }
+      this.playRaf = requestAnimationFrame(step);
+    };
+    this.send(new FoldCommand(amount, { source: 'fold:amount' }));
+    this.playRaf = requestAnimationFrame(step);
+  }
+
+  /** Stops playing; `settle` ends the gesture (fold_end). */
+  pause(settle) {
+    this.playing = false;
+    if (this.playRaf) cancelAnimationFrame(this.playRaf);
+    this.playRaf = 0;
+    if (settle) this._end();
+    this.render();
+  }
+}
