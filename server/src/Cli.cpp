@@ -134,6 +134,16 @@ constexpr const char* kUsage =
 
 constexpr std::size_t kMaxSceneBytes = 64u << 20;  // 64 MiB
 
+/// Writes a command's document to --out, or to standard output without one.
+void writeOutput(const std::string& text, const std::string& outPath, std::ostream& out) {
+  if (outPath.empty()) {
+    out << text;
+    return;
+  }
+  std::ofstream file(outPath, std::ios::binary);
+  if (!(file << text)) throw std::runtime_error("cannot write " + outPath);
+}
+
 std::string readAll(std::istream& in) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
@@ -275,13 +285,7 @@ int importCreasePatternFile(const std::string& path, const std::string& name, co
     request.units = units;
     const CreasePatternImportResult result = importCreasePattern(readAll(in), request);
     for (const io::ImportNote& note : result.notes) err << "devsurf import: note: " << note.element << ": " << note.message << "\n";
-    const std::string text = proto::sceneToJson(result.scene).dump(1) + "\n";
-    if (outPath.empty()) {
-      out << text;
-    } else {
-      std::ofstream file(outPath, std::ios::binary);
-      if (!(file << text)) throw std::runtime_error("cannot write " + outPath);
-    }
+    writeOutput(proto::sceneToJson(result.scene).dump(1) + "\n", outPath, out);
     return 0;
   } catch (const ApproximationInputError& e) {
     err << "devsurf import: " << path << ": " << e.what() << "\n";
@@ -368,13 +372,7 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
     if (units != "mm") document["units"] = units;
     // Read back as any scene is: the schema, indices, the model's checks and the limits.
     const nlohmann::json scene = proto::sceneToJson(proto::sceneFromJson(document));
-    const std::string text = scene.dump(1) + "\n";
-    if (outPath.empty()) {
-      out << text;
-    } else {
-      std::ofstream file(outPath, std::ios::binary);
-      if (!(file << text)) throw std::runtime_error("cannot write " + outPath);
-    }
+    writeOutput(scene.dump(1) + "\n", outPath, out);
     return 0;
   } catch (const proto::SceneError& e) {
     err << "devsurf import: " << meshPath << ": " << e.what() << "\n";

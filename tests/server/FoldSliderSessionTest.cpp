@@ -17,7 +17,6 @@ using nlohmann::json;
 using testing::ExampleEditor;
 using testing::Inbox;
 using testing::ManualExecutor;
-using testing::MemoryJournal;
 
 json foldMessage(int op, double amount) { return {{"type", "fold"}, {"op", op}, {"amount", amount}}; }
 
@@ -26,27 +25,12 @@ std::string firstErrorOf(const Inbox& inbox) {
   return errors.empty() ? std::string() : errors[0].dump();
 }
 
-/// A session on a FOLD file imported as `devsurf import` does, with one editor joined.
-struct ImportedFoldEditor {
-  explicit ImportedFoldEditor(const std::string& foldText) {
-    CreasePatternImportRequest request;
-    request.format = "fold";
-    session = std::make_shared<Session>("f1", importCreasePattern(foldText, request).scene,
-                                        Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")}, SessionSettings{},
-                                        ex.scheduler(), &journal, nullptr);
-    pid = session->join(Role::Edit, "", inbox.sink());
-    ex.runAll();
-  }
-  void send(const json& message) {
-    session->post(pid, message);
-    ex.runAll();
-  }
-  ManualExecutor ex;
-  MemoryJournal journal;
-  std::shared_ptr<Session> session;
-  Inbox inbox;
-  int pid = -1;
-};
+/// A FOLD file imported as `devsurf import` does.
+proto::Scene importedFoldScene(const std::string& foldText) {
+  CreasePatternImportRequest request;
+  request.format = "fold";
+  return importCreasePattern(foldText, request).scene;
+}
 
 std::string foldExampleFile(const std::string& file) {
   std::ifstream in(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/fold/" + file);
@@ -84,7 +68,7 @@ TEST(FoldSliderSession, ACurvedCreasePresetUnfoldsAlongTheSliderAndUndoGoesBackT
 }
 
 TEST(FoldSliderSession, AnImportedCreasePatternFoldsToItsFileAnglesAndTheJournalReplaysIt) {
-  ImportedFoldEditor e(foldExampleFile("diagonal-cp.fold"));
+  ExampleEditor e(importedFoldScene(foldExampleFile("diagonal-cp.fold")));
   ASSERT_EQ(e.session->sceneJson()["model"]["fold_amount"], 0.0);  // flat, with the file's 180° valley
   e.send(foldMessage(1, 0.25));
   e.send(foldMessage(2, 0.5));
@@ -98,9 +82,7 @@ TEST(FoldSliderSession, AnImportedCreasePatternFoldsToItsFileAnglesAndTheJournal
   EXPECT_LT(metrics["fold_angle_error_max_deg"].get<double>(), 0.5);
   // A restart replays the journalled fold messages (no checkpoint): the same amount.
   ManualExecutor ex2;
-  CreasePatternImportRequest request;
-  request.format = "fold";
-  auto restored = std::make_shared<Session>("f1", importCreasePattern(foldExampleFile("diagonal-cp.fold"), request).scene,
+  auto restored = std::make_shared<Session>("f1", importedFoldScene(foldExampleFile("diagonal-cp.fold")),
                                             Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")}, SessionSettings{},
                                             ex2.scheduler(), nullptr, nullptr);
   restored->restore(nullptr, 0, e.journal.edits, e.journal.edits.back().first);
@@ -108,8 +90,8 @@ TEST(FoldSliderSession, AnImportedCreasePatternFoldsToItsFileAnglesAndTheJournal
 }
 
 TEST(FoldSliderSession, ADesignWithNothingToFoldAStripAndAViewerGetErrorsNamingTheField) {
-  ImportedFoldEditor flat(R"({"vertices_coords": [[0,0],[1,0],[1,1],[0,1]], "faces_vertices": [[0,1,2],[0,2,3]],
-                              "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[0,2]], "edges_assignment": ["B","B","B","B","U"]})");
+  ExampleEditor flat(importedFoldScene(R"({"vertices_coords": [[0,0],[1,0],[1,1],[0,1]], "faces_vertices": [[0,1,2],[0,2,3]],
+                              "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[0,2]], "edges_assignment": ["B","B","B","B","U"]})"));
   flat.send(foldMessage(1, 0.5));
   const json error = flat.inbox.last("error");
   ASSERT_TRUE(error.is_object());

@@ -83,7 +83,10 @@ inline proto::Scene exampleScene(const std::string& name) { return proto::sceneF
 /// A session on an example with one joined editor whose state has arrived; its edits run at once.
 struct ExampleEditor {
   explicit ExampleEditor(const std::string& example, SessionSettings settings = {})
-      : session(std::make_shared<Session>("e1", exampleScene(example),
+      : ExampleEditor(exampleScene(example), settings) {}
+  /// A session on any scene (an import, a scene built by the test).
+  explicit ExampleEditor(proto::Scene scene, SessionSettings settings = {})
+      : session(std::make_shared<Session>("e1", std::move(scene),
                                           Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
                                           settings, ex.scheduler(), &journal, nullptr)) {
     pid = session->join(Role::Edit, "", inbox.sink());
