@@ -140,8 +140,10 @@ def write(path, scene):
 for key, pair in PAIRS.items():
     write(f"quasi-strip-{key}.json", {
         "format": "devsurf-scene", "version": 1, "name": f"{pair['name']} (Bo et al.)",
-        "description": f"quasi_strip: {pair['what']}. A B-spline mapping of degree 2 with 50 coefficients, "
-                       "100 sample rulings, L-BFGS (issue 6). Compare with conical-strip-" + key + ".json.",
+        "description": f"A developable strip between two given curves by Bo et al.'s method: {pair['what']}. "
+                       "The rulings come from a smooth mapping between the curves, optimized until the strip "
+                       "is as developable as the curves allow. Compare with conical-strip-" + key
+                       + ".json, Chu et al.'s method on the same curves.",
         "units": pair["units"],
         "model": {"kind": "quasi_strip", "c1": pair["c1"], "c2": pair["c2"],
                   "mapping": {"degree": 2, "coefficients": 50}, "samples": 100,
@@ -149,9 +151,9 @@ for key, pair in PAIRS.items():
     c = pair["conical"]
     write(f"conical-strip-{key}.json", {
         "format": "devsurf-scene", "version": 1, "name": f"{pair['name']} (Chu et al.)",
-        "description": f"conical_strip: {pair['what']}. Greedy conical Bézier patches with Np/Nq = "
-                       f"{c['np']}/{c['nq']}, H3 = {c['h3']}, H4 = {c['h4']} {pair['units']}, ra = {c['ra']}, "
-                       "normal variation, G1 adjustment (issue 6). Compare with quasi-strip-" + key + ".json.",
+        "description": f"A developable strip between two given curves by Chu et al.'s method: {pair['what']}. "
+                       "Cone patches are laid one after another along the curves and joined smoothly. "
+                       "Compare with quasi-strip-" + key + ".json, Bo et al.'s method on the same curves.",
         "units": pair["units"],
         "model": {"kind": "conical_strip", "p": pair["c1"], "q": pair["c2"], **c,
                   "objective": "normal_variation", "g1": True}})

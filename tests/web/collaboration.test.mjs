@@ -72,7 +72,7 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     await a.getByTestId('start-page').waitFor();
     const select = a.getByTestId('preset-select');
     const options = await select.locator('option').evaluateAll((els) => els.map((o) => ({ value: o.value, label: o.textContent })));
-    const preset = options.find((o) => /lifted/i.test(`${o.value} ${o.label}`)) || options[0];
+    const preset = options.find((o) => /^strip-lifted/.test(o.value)) || options.find((o) => /lifted/i.test(`${o.value} ${o.label}`)) || options[0];
     await select.selectOption(preset.value);
     await a.getByTestId('new-session').click();
     await a.getByTestId('editor').waitFor({ timeout: 30000 });

@@ -2,11 +2,11 @@
 
 const modules = import.meta.glob('../../examples/*.json', { eager: true, import: 'default' });
 
-// Sessions of the start page's presets: strips, the strips between two given curves (quasi_strip,
-// conical_strip) and quad meshes (quad_mesh, Jiang et al. 2020); the composite examples are demo
-// sessions, `devsurf solve` inputs and jobs.
+// Sessions of the start page's presets: every example of every kind (strips, composites with
+// curved creases, the strips between two given curves, quad meshes); the demo cards take their
+// descriptions from here too.
 export const PRESETS = Object.entries(modules)
-  .filter(([, scene]) => scene.model && ['strip', 'quasi_strip', 'conical_strip', 'quad_mesh'].includes(scene.model.kind))
+  .filter(([, scene]) => scene.model && typeof scene.model.kind === 'string')
   .map(([path, scene]) => {
     const file = path.split('/').pop();
     return { file, id: file.replace(/\.json$/, ''), name: scene.name || file.replace(/\.json$/, ''), description: scene.description || '', scene };

@@ -24,7 +24,7 @@ export class HelpOverlay {
       h('h2', {}, 'Keyboard and mouse'),
       h('table', { class: 'shortcuts' },
         SHORTCUTS.map(([k, d]) => h('tr', {}, h('th', {}, h('kbd', {}, k)), h('td', {}, d)))),
-      h('p', { class: 'muted' }, 'Colours: the surface is shaded by warp angle (0° = developable). Cubes are fixed points, magenta points have a handle (its target is the wire diamond).'),
+      h('p', { class: 'muted' }, 'Colours: the surface is shaded by the measure the legend names — warp angle on strips (0° = developable), face flatness on composites, the chosen measure on quad meshes. Cubes are fixed points, magenta points have a handle (its target is the wire diamond). Composites: the Fold panel folds the sheet from flat (0 %) to the design (100 %).'),
       h('button', { class: 'btn', onclick: () => this.hide() }, 'Close')));
     parent.appendChild(this.root);
   }

@@ -39,7 +39,7 @@ export class StatusBar {
     this.root = h('footer', { class: 'statusbar', role: 'status', 'aria-live': 'polite' },
       h('span', { class: 'status-item conn', title: 'Connection to the daemon' }, this.dot, this.connection, this.retry),
       h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
-      this.warpItem = h('span', { class: 'status-item', title: 'Largest warp angle over the strip (0° = developable)' }, 'max warp ', this.warp, '°'),
+      this.warpItem = h('span', { class: 'status-item', title: 'Largest warp angle over the strips and strip-like faces (0° = developable)' }, 'max warp ', this.warp, '°'),
       this.warpMeanItem = h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
       this.flatnessItem, this.patchesItem, this.normalJumpItem, this.lengthErrorItem, this.fitItem,
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
@@ -198,7 +198,7 @@ export class SharePanel {
     this.edit = row('Edit', 'share-edit');
     this.view = row('View', 'share-view');
     this.root = h('section', { class: 'panel' }, h('h3', {}, 'Share'), this.edit.el, this.view.el,
-      h('p', { class: 'muted small' }, 'Anyone with the edit link can change the strip; the view link is read-only.'));
+      h('p', { class: 'muted small' }, 'Anyone with the edit link can change the design; the view link is read-only.'));
     parent.appendChild(this.root);
     state.on('tokens', () => this.render());
     state.on('session', () => this.render());
@@ -307,7 +307,7 @@ export class SelectionPanel {
     this.coords = h('div', { class: 'sel-coords num' });
     this.fixButton = h('button', { class: 'btn', testid: 'toggle-fixed', title: 'Fix / unfix the selected point (F)', onclick: toggleFixed }, 'Fix');
     this.handleButton = h('button', { class: 'btn', testid: 'toggle-handle', title: 'Add / remove a handle at the selected point (H)', onclick: toggleHandle }, 'Add handle');
-    this.hint = h('p', { class: 'muted small' }, 'Click a control point to select it; drag it to reshape the strip. The solver keeps the strip developable.');
+    this.hint = h('p', { class: 'muted small' }, 'Click a point to select it; drag it to reshape the design. The solver keeps it developable.');
     this.buttons = h('div', { class: 'button-row' }, this.fixButton, this.handleButton);
     this.root = h('section', { class: 'panel' }, h('h3', {}, 'Selection'), this.title, this.coords, this.buttons,
       errorSlots.slot('selection:fix'), errorSlots.slot('selection:handle'), this.hint);
