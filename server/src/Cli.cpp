@@ -116,7 +116,7 @@ constexpr const char* kUsage =
     "        with solve: length_error, area_error and approximation_* measure the result.\n"
     "        Weights (Fig. 21's trade-off): isometry and gluing (default 10), proximity to\n"
     "        MESH (0.01), fairness at the first round (0.01); default 40 iterations.\n"
-    "  import PATTERN.fold [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
+    "  import PATTERN.fold|PATTERN.svg [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n"
     "        Make a composite scene from a FOLD crease pattern (or folded form): planar faces\n"
     "        between straight creases that fold freely, the largest face fixed, faces found\n"
     "        from the edges when the file has none. What could not be carried over is noted\n"
@@ -273,14 +273,14 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   }
 }
 
-/// `devsurf import PATTERN.fold`: a composite scene from a crease pattern; notes on stderr.
+/// `devsurf import PATTERN.fold|.svg`: a composite scene from a crease pattern; notes on stderr.
 int importCreasePatternFile(const std::string& path, const std::string& name, const std::string& units,
                             const std::string& outPath, std::ostream& out, std::ostream& err) {
   try {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error("cannot read " + path);
     CreasePatternImportRequest request;
-    request.format = "fold";
+    request.format = std::filesystem::path(path).extension() == ".svg" || std::filesystem::path(path).extension() == ".SVG" ? "svg" : "fold";
     request.name = name;
     request.units = units;
     const CreasePatternImportResult result = importCreasePattern(readAll(in), request);
@@ -316,7 +316,7 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
       else if (meshPath.empty()) meshPath = a;
       else throw std::invalid_argument("unexpected argument " + a);
     }
-    if (meshPath.empty()) throw std::invalid_argument("missing FILE (a .fold crease pattern, or an .obj, .off or .ply mesh)");
+    if (meshPath.empty()) throw std::invalid_argument("missing FILE (a .fold or .svg crease pattern, or an .obj, .off or .ply mesh)");
     if (isCreasePatternFile(meshPath) && (!unfoldingPath.empty() || !variables.empty() || proximity))
       throw std::invalid_argument("--unfolding, --variables and --proximity apply to meshes, not to crease patterns");
     if (!variables.empty() && variables != "mesh" && variables != "unfolding" && variables != "both")

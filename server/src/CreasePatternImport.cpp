@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "devsurf/io/SvgImport.h"
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/server/ShapeUpload.h"
@@ -18,7 +19,8 @@ constexpr double kUnitlessSheetMm = 200.0;  ///< longest side of a unitless shee
 nlohmann::json CreasePatternImportResult::summaryJson() const {
   nlohmann::json notesJson = nlohmann::json::array();
   for (const io::ImportNote& n : notes) notesJson.push_back({{"element", n.element}, {"message", n.message}});
-  return {{"format", "fold"},
+  return {{"format", format},
+          {"curved_creases", curvedCreases},
           {"faces", faces},
           {"edges", {{"mountain", mountain}, {"valley", valley}, {"flat", flat}, {"boundary", boundary}, {"cut", cut}}},
           {"folded_state", foldedState},
@@ -28,27 +30,40 @@ nlohmann::json CreasePatternImportResult::summaryJson() const {
 bool isCreasePatternFile(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  return extension == ".fold";
+  return extension == ".fold" || extension == ".svg";
 }
 
 CreasePatternImportResult importCreasePattern(const std::string& body, const CreasePatternImportRequest& request) {
-  if (request.format != "fold")
-    throw ApproximationInputError("format", "format: expected fold, got \"" + request.format + "\"");
+  if (request.format != "fold" && request.format != "svg")
+    throw ApproximationInputError("format", "format: expected fold or svg, got \"" + request.format + "\"");
   const std::string name = request.name.empty() ? "" : nameParameter("name", request.name);
   const std::string units = request.units.empty() ? "" : unitsParameter("units", request.units);
   CreasePatternImportResult result;
+  result.format = request.format;
   io::FoldImport imported;
   try {
-    const nlohmann::json document = nlohmann::json::parse(body);
-    if (const auto ev = document.find("edges_vertices");
-        ev != document.end() && ev->is_array() && static_cast<long>(ev->size()) > request.maxEdges)
-      throw ApproximationInputError("body", "body: " + std::to_string(ev->size()) + " edges; at most " +
-                                                std::to_string(request.maxEdges) + " are imported", true);
-    imported = io::importFoldDocument(document);
+    if (request.format == "svg") {
+      io::SvgImportOptions options;
+      options.maxSegments = request.maxEdges;
+      io::SvgImport svg = io::importSvgText(body, options);
+      imported.pattern = std::move(svg.pattern);
+      imported.notes = std::move(svg.notes);
+      imported.unit = "mm";  // the reader converts the drawing's units to millimetres
+      result.curvedCreases = svg.curvedStrokes;
+    } else {
+      const nlohmann::json document = nlohmann::json::parse(body);
+      if (const auto ev = document.find("edges_vertices");
+          ev != document.end() && ev->is_array() && static_cast<long>(ev->size()) > request.maxEdges)
+        throw ApproximationInputError("body", "body: " + std::to_string(ev->size()) + " edges; at most " +
+                                                  std::to_string(request.maxEdges) + " are imported", true);
+      imported = io::importFoldDocument(document);
+    }
   } catch (const nlohmann::json::parse_error& e) {
     throw ApproximationInputError("body", std::string("body: not JSON (a FOLD file is JSON): ") + e.what());
   } catch (const ApproximationInputError&) {
     throw;
+  } catch (const std::length_error& e) {
+    throw ApproximationInputError("body", std::string("body: ") + e.what(), true);
   } catch (const std::invalid_argument& e) {
     throw ApproximationInputError("body", std::string("body: ") + e.what());
   }
@@ -110,13 +125,16 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   proto::Scene& scene = result.scene;
   scene.name = !name.empty() ? name : !pattern.title.empty() ? pattern.title.substr(0, 200) : "imported crease pattern";
   std::ostringstream description;
-  description << "Imported from a FOLD file: " << result.faces << " planar faces between straight creases ("
+  const bool curved = composite.design.developmentDomain.boundary.size() > 0;
+  description << "Imported from " << (request.format == "svg" ? "an SVG drawing" : "a FOLD file") << ": " << result.faces
+              << (curved ? " faces between curved and straight creases (" : " planar faces between straight creases (")
               << result.mountain << " mountain, " << result.valley << " valley";
   if (result.flat > 0) description << ", " << result.flat << " flat";
   description << "). "
-              << (result.foldedState ? "It starts in the file's folded form"
-                                     : "It starts flat")
-              << "; the largest face is fixed, and every crease folds freely: drag a corner to fold it.";
+              << (result.foldedState ? "It starts in the file's folded form; the largest face is fixed, and every crease "
+                                       "folds freely: drag a corner to fold it."
+                                     : "It starts flat; the largest face is fixed. Fold it with the Fold slider, or drag a "
+                                       "corner.");
   scene.description = description.str();
   scene.units = sceneUnits;
   scene.model = std::move(composite.design);

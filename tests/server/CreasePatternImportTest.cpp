@@ -5,12 +5,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "devsurf/proto/Scene.h"
 #include "devsurf/server/ShapeUpload.h"
 #include "server/CliTesting.h"
 
@@ -96,9 +99,17 @@ TEST(CreasePatternImport, BadRequestsNameTheFieldAndTooManyEdgesIsALimit) {
     }
     return std::string("(accepted)");
   };
+  CreasePatternImportRequest dxf = foldRequest();
+  dxf.format = "dxf";
+  EXPECT_EQ(fieldOf(foldExampleText("simple.fold"), dxf), "format");
   CreasePatternImportRequest svg = foldRequest();
   svg.format = "svg";
-  EXPECT_EQ(fieldOf(foldExampleText("simple.fold"), svg), "format");
+  EXPECT_EQ(fieldOf(foldExampleText("simple.fold"), svg), "body");  // JSON is not an SVG drawing
+  svg.maxEdges = 20;
+  std::ifstream drawing(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg/two-curved-creases.svg");
+  std::ostringstream text;
+  text << drawing.rdbuf();
+  EXPECT_EQ(fieldOf(text.str(), svg), "body (too large)");
   CreasePatternImportRequest units = foldRequest();
   units.units = "furlong";
   EXPECT_EQ(fieldOf(foldExampleText("simple.fold"), units), "units");
@@ -107,6 +118,52 @@ TEST(CreasePatternImport, BadRequestsNameTheFieldAndTooManyEdgesIsALimit) {
   CreasePatternImportRequest small = foldRequest();
   small.maxEdges = 10;
   EXPECT_EQ(fieldOf(foldExampleText("box.fold"), small), "body (too large)");
+}
+
+// Every shipped SVG drawing (tests/data/svg, discovered) imports through the command, solves flat,
+// and folds with the slider: its fold-angle targets pull it to within 15 % of its drawn angles,
+// measured from the solved scene's own exported crease pattern.
+TEST(CreasePatternImport, EveryShippedSvgDrawingImportsSolvesAndFolds) {
+  int drawings = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg")) {
+    if (entry.path().extension() != ".svg") continue;
+    ++drawings;
+    SCOPED_TRACE(entry.path().filename().string());
+    const testing::CliRun imported = testing::runCommand({"import", entry.path().string()});
+    ASSERT_EQ(imported.code, 0) << imported.err;
+    nlohmann::json scene = nlohmann::json::parse(imported.out);
+    EXPECT_EQ(scene["model"]["kind"], "composite");
+    ASSERT_TRUE(scene["model"].contains("fold_angles"));
+    EXPECT_EQ(scene["model"]["fold_amount"], 0.0);
+    double largest = 0.0;
+    for (const auto& t : scene["model"]["fold_angles"]) largest = std::max(largest, std::abs(t["angle"].get<double>()));
+    scene["model"]["fold_amount"] = 1.0;
+    scene["solver"]["iterations"] = 80;
+    const testing::CliRun solved = testing::runCommand({"solve", "-"}, scene.dump());
+    ASSERT_EQ(solved.code, 0) << solved.err;
+    const nlohmann::json report = nlohmann::json::parse(solved.out);
+    EXPECT_LT(report["metrics"]["development_length_error"].get<double>(), 2e-3);
+    EXPECT_LT(report["metrics"]["fold_angle_error_max_deg"].get<double>(), 0.15 * largest);
+  }
+  EXPECT_GE(drawings, 3);
+}
+
+TEST(CreasePatternImport, ACurvedSvgDrawingMakesSEdgesAndSaysSoInItsSummary) {
+  std::ifstream drawing(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg/two-curved-creases.svg");
+  std::ostringstream text;
+  text << drawing.rdbuf();
+  CreasePatternImportRequest request;
+  request.format = "svg";
+  const CreasePatternImportResult result = importCreasePattern(text.str(), request);
+  const nlohmann::json summary = result.summaryJson();
+  EXPECT_EQ(summary["format"], "svg");
+  EXPECT_EQ(summary["curved_creases"], 2);
+  EXPECT_EQ(result.scene.name, "Two curved creases");
+  EXPECT_EQ(result.scene.units, "mm");
+  const nlohmann::json scene = proto::sceneToJson(result.scene);
+  int curvedFolds = 0;
+  for (const auto& e : scene["model"]["edges"]) curvedFolds += e["type"] == "S" && e.value("crease", "") == "fold" ? 1 : 0;
+  EXPECT_EQ(curvedFolds, 4);  // two creases, each cut in half by a proposed ruling
 }
 
 TEST(CreasePatternImport, TheCommandRefusesMeshOptionsOnACreasePatternAndReportsNotesOnStderr) {

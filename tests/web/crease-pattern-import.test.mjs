@@ -1,10 +1,15 @@
-// 11. Crease patterns in, folded by the slider (issue 16, items 1 and 2): every FOLD file in
+// 11. Crease patterns in, folded by the slider (issue 16, items 1 and 2): every FOLD file and every
+//     SVG drawing (tests/data/svg) is imported through POST /api/imports; every FOLD file in
 //     tests/data/fold is imported through POST /api/imports and opens as a session; the FOLD
 //     project's crease-pattern example is chosen on the start page as a user would, opened, folded
 //     with the slider to 0 %, 50 % and 100 % and by Play, and exported as FOLD, which FOLD's
 //     reference library (npm fold) reads back: its development and folded form are the same sheet
 //     (edge lengths) and the valley is folded by the slider's amount of its 180°.
-//     Screenshots: test-artifacts/web/11-fold-slider-{0,50,100}.png (look at them).
+//     An SVG drawing with two curved creases is dropped on the start page, folded by the slider
+//     and exported as FOLD, read back by npm fold: its development is the drawing (200 × 100 mm),
+//     both frames the same sheet within the model's strain, its creases folded ±90° at 100 %.
+//     Screenshots: test-artifacts/web/11-fold-slider-{0,50,100}.png and
+//     11-svg-curved-{0,50,100}.png (look at them).
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -14,6 +19,8 @@ import * as h from './lib/harness.mjs';
 
 const FOLD_DIR = path.join(h.ROOT, 'tests', 'data', 'fold');
 const FOLD_FILES = fs.readdirSync(FOLD_DIR).filter((f) => f.endsWith('.fold')).sort();
+const SVG_DIR = path.join(h.ROOT, 'tests', 'data', 'svg');
+const SVG_FILES = fs.readdirSync(SVG_DIR).filter((f) => f.endsWith('.svg')).sort();
 
 let daemon = null;
 let browser = null;
@@ -47,9 +54,13 @@ test('every FOLD example imports through the REST route and opens as a composite
   const malformed = await importFold('{"vertices_coords": [[0, 0], [1');
   assert.equal(malformed.status, 400);
   assert.equal(malformed.body.error.path, 'body');
-  const svg = await importFold('{}', 'format=svg');
-  assert.equal(svg.status, 400);
-  assert.equal(svg.body.error.path, 'format');
+  const dxf = await importFold('{}', 'format=dxf');
+  assert.equal(dxf.status, 400);
+  assert.equal(dxf.body.error.path, 'format');
+  const notSvg = await importFold('{}', 'format=svg');
+  assert.equal(notSvg.status, 400);
+  assert.equal(notSvg.body.error.path, 'body');
+  assert.match(notSvg.body.error.message, /not XML/);
 });
 
 /** Lengths of every edge in a frame's vertices_coords. */
@@ -122,6 +133,86 @@ test('a crease pattern chosen on the start page folds with the slider and export
   const m = (await h.state(page)).metrics;
   assert.equal(m.fold_amount, 1);
   assert.ok(m.fold_angle_error_max_deg < 1, `after Play: ${m.fold_angle_error_max_deg}°`);
+  assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  await page.close();
+});
+
+test('every SVG drawing imports through the REST route and opens as a flat composite session', async () => {
+  assert.ok(SVG_FILES.length >= 3, `SVG drawings in ${SVG_DIR}`);
+  for (const file of SVG_FILES) {
+    const r = await importFold(fs.readFileSync(path.join(SVG_DIR, file), 'utf8'), 'format=svg');
+    assert.equal(r.status, 200, `${file}: ${JSON.stringify(r.body)}`);
+    assert.equal(r.body.summary.format, 'svg');
+    assert.equal(r.body.scene.model.kind, 'composite', file);
+    assert.equal(r.body.scene.model.fold_amount, 0, file);
+    const s = await daemon.createSession(r.body.scene);
+    const state = await daemon.session(s.id, s.edit_token);
+    assert.ok(state.metrics.development_length_error < 1e-4, `${file}: ${state.metrics.development_length_error}`);
+  }
+});
+
+test('an SVG drawing with curved creases dropped on the start page folds with the slider and exports FOLD read back by npm fold', async () => {
+  const page = await h.newPage(browser);
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('scene-file').setInputFiles(path.join(SVG_DIR, 'two-curved-creases.svg'));
+  // The import says what it did (rulings proposed between the curved creases), then opens on request.
+  await page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 });
+  const notes = await page.getByTestId('import-notes').textContent();
+  assert.match(notes, /2 curved strokes/);
+  assert.match(notes, /ruling\(s\) proposed/);
+  await page.getByTestId('open-imported').click();
+  await page.getByTestId('editor').waitFor({ timeout: 30000 });
+  await h.waitForConnected(page);
+  await h.waitState(page, (s) => s.kind === 'composite', undefined, { what: 'a composite session' });
+  await page.getByTestId('fold-panel').waitFor({ state: 'visible' });
+  assert.equal((await page.getByTestId('fold-amount').textContent()).trim(), '0 %');
+  await h.settleFrames(page);
+  await h.screenshotViewport(page, '11-svg-curved-0');
+
+  const id = new URL(page.url()).searchParams.get('session');
+  const token = new URL(page.url()).searchParams.get('token');
+  for (const [percent, name] of [[50, '11-svg-curved-50'], [100, '11-svg-curved-100']]) {
+    await page.getByTestId('fold-slider').fill(String(percent));
+    await h.waitState(page, (s, p) => s.metrics && Math.abs(s.metrics.fold_amount - p / 100) < 1e-9, percent, { what: `fold amount ${percent} %` });
+    await h.waitQuiet(page, { quietMs: 1500 });
+    const m = (await h.state(page)).metrics;
+    assert.ok(m.development_length_error < 2e-3, `${percent} %: ${m.development_length_error}`);
+    await h.settleFrames(page);
+    await h.screenshotViewport(page, name);
+
+    const r = await fetch(`http://127.0.0.1:${daemon.port}/api/sessions/${encodeURIComponent(id)}/export?format=fold`,
+      { headers: { Authorization: `Bearer ${token}` } });
+    assert.equal(r.status, 200);
+    const doc = JSON.parse(await r.text());
+    const key = {};
+    for (const [k, v] of Object.entries(doc)) if (!k.startsWith('file_')) key[k] = v;
+    assert.ok(fold.filter.numType(key, 'faces') > 6, 'the strips, sampled into faces');
+    // The development is the drawing: 200 × 100 mm.
+    const xs = key.vertices_coords.map((p) => p[0]); const ys = key.vertices_coords.map((p) => p[1]);
+    assert.ok(Math.abs(Math.max(...xs) - Math.min(...xs) - 200) < 0.05, `width ${Math.max(...xs) - Math.min(...xs)}`);
+    assert.ok(Math.abs(Math.max(...ys) - Math.min(...ys) - 100) < 0.05, `height ${Math.max(...ys) - Math.min(...ys)}`);
+    // Both frames are the same sheet, within the model's strain.
+    const flat = edgeLengths(key);
+    const folded = edgeLengths({ ...key, ...doc.file_frames[0] });
+    let worst = 0; let worstEdge = -1; let sumSq = 0; let sumLen = 0;
+    for (let e = 0; e < flat.length; e++) {
+      const d = Math.abs(flat[e] - folded[e]);
+      if (d > worst) { worst = d; worstEdge = e; }
+      sumSq += (flat[e] - folded[e]) ** 2; sumLen += flat[e] ** 2;
+    }
+    const rms = Math.sqrt(sumSq / sumLen);
+    assert.ok(rms < 2e-3, `${percent} %: edge lengths differ by ${rms} (RMS, relative)`);
+    assert.ok(worst < 0.5, `${percent} %: edge ${worstEdge} (${key.edges_assignment[worstEdge]}) changes length by ${worst} mm of ${flat[worstEdge]}`);
+    // The valley and the mountain crease, folded by the slider's amount of their ±90°.
+    const angles = { V: [], M: [] };
+    key.edges_assignment.forEach((a, e) => { if (a === 'V' || a === 'M') angles[a].push(key.edges_foldAngle[e]); });
+    assert.ok(angles.V.length > 4 && angles.M.length > 4, `curved creases sampled: ${angles.V.length} V, ${angles.M.length} M`);
+    const meanV = angles.V.reduce((a, b) => a + b, 0) / angles.V.length;
+    const meanM = angles.M.reduce((a, b) => a + b, 0) / angles.M.length;
+    assert.ok(Math.abs(meanV - 0.9 * percent) < 0.2 * 0.9 * percent, `${percent} %: valley ${meanV}°`);
+    assert.ok(Math.abs(meanM + 0.9 * percent) < 0.2 * 0.9 * percent, `${percent} %: mountain ${meanM}°`);
+  }
   assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   await page.close();
 });

@@ -158,7 +158,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   // without fairness rejected on the two-creases preset).
   std::vector<double> projectionWeights(numTerms);
   auto fillProjectionWeights = [this, &weights, &projectionWeights, numTerms]() {
-    for (int t = 0; t < numTerms; ++t) projectionWeights[t] = problem_.term(t).relaxable ? 0.0 : weights[t];
+    for (int t = 0; t < numTerms; ++t)
+      projectionWeights[t] = problem_.term(t).relaxable && !problem_.term(t).heldInProjection ? 0.0 : weights[t];
   };
 
   // Iteration 0: the initial state, weighed with the first iteration's weights.

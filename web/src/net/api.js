@@ -62,14 +62,15 @@ export async function approximateMesh(file, { format, segments, faces, name }, a
 }
 
 /**
- * POST /api/imports?format=fold&name=… with a crease pattern (FOLD text) as the body → {scene,
- * summary: {faces, edges: {mountain, valley, flat, boundary, cut}, folded_state, notes}} (issue 16).
+ * POST /api/imports?format=fold|svg&name=… with a crease pattern (FOLD or SVG text) as the body →
+ * {scene, summary: {format, curved_creases, faces, edges: {mountain, valley, flat, boundary, cut},
+ * folded_state, notes}} (issue 16).
  */
 export async function importCreasePattern(text, { format = 'fold', name, units } = {}, apiKey) {
   const query = new URLSearchParams({ format });
   if (name) query.set('name', name.slice(0, 200));
   if (units) query.set('units', units);
-  const headers = { 'Content-Type': 'application/json' };
+  const headers = { 'Content-Type': format === 'svg' ? 'image/svg+xml' : 'application/json' };
   if (apiKey) headers.Authorization = `Bearer ${apiKey}`;
   const res = await fetch(apiUrl(`imports?${query}`), { method: 'POST', headers, body: text });
   const body = await readJson(res);

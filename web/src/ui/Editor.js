@@ -261,6 +261,9 @@ export class Editor {
       return;
     }
     if (!this.viewport.hasFit) this.viewport.fit();
+    // The fold slider moves the whole sheet: while this editor folds it (and shortly after), the
+    // view follows when the sheet leaves it.
+    else if (this.foldPanel && this.foldPanel.recentlyFolding() && this.viewport.surfaceOutsideView()) this.viewport.fit();
     this._updateLegend();
     this.viewport.renderNow();
     // Page-load measurements (bench/page_load.mjs, CONTRACT.md): the first surface drawn.

@@ -87,6 +87,12 @@ export class FoldPanel {
     this._flush();
     this.send(new FoldEndCommand({ source: 'fold:amount' }));
     this.moving = false;
+    this.endedAt = Date.now();
+  }
+
+  /** This editor is folding, or stopped less than 5 s ago (the release is still settling). */
+  recentlyFolding() {
+    return this.moving || this.playing || (this.endedAt !== undefined && Date.now() - this.endedAt < 5000);
   }
 
   togglePlay() {

@@ -101,13 +101,13 @@ export class StartPage {
     this.presetSelect.addEventListener('change', () => this._describePreset());
     this.newButton = h('button', { class: 'btn primary', testid: 'new-session', onclick: () => this._newFromPreset() }, 'New session');
 
-    this.fileInput = h('input', { type: 'file', accept: '.json,.fold,application/json', testid: 'scene-file', class: 'file-input', id: 'scene-file' });
+    this.fileInput = h('input', { type: 'file', accept: '.json,.fold,.svg,application/json,image/svg+xml', testid: 'scene-file', class: 'file-input', id: 'scene-file' });
     this.fileInput.addEventListener('change', () => {
       const f = this.fileInput.files && this.fileInput.files[0];
       if (f) this._openFile(f);
     });
     this.dropZone = h('label', { class: 'drop-zone', for: 'scene-file' },
-      h('strong', {}, 'Choose a file'), h('span', { class: 'muted' }, ' or drop a .json or .fold file anywhere on this page'));
+      h('strong', {}, 'Choose a file'), h('span', { class: 'muted' }, ' or drop a .json, .fold or .svg file anywhere on this page'));
     // What an import changed or left out, by element of the file, before its session is opened.
     this.importNotes = h('div', { class: 'import-notes', testid: 'import-notes', hidden: true });
 
@@ -178,7 +178,7 @@ export class StartPage {
         h('section', { class: 'card' }, h('h2', {}, 'New session from an example'),
           h('div', { class: 'row' }, this.presetSelect, this.newButton), this.presetDescription),
         h('section', { class: 'card' }, h('h2', {}, 'Open a scene or a crease pattern'), this.fileInput, this.dropZone,
-          h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1), or a crease pattern or folded form in FOLD format (.fold, as Origami Simulator and the FOLD tools write it): its faces become planar pieces joined by creases that fold. It becomes a new private session.'),
+          h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1), or a crease pattern or folded form in FOLD format (.fold, as Origami Simulator and the FOLD tools write it), or a crease pattern drawn as SVG in Origami Simulator\'s colours (black outline, red mountain, blue valley; curves become curved creases). It becomes a new private session that the Fold slider folds.'),
           this.importNotes),
         h('section', { class: 'card' }, h('h2', {}, 'Start from your own mesh'),
           h('p', { class: 'muted small' }, 'A triangle mesh with one boundary (.off, .obj, .ply, .stl) becomes developable patches glued along their borders, each with its flat cutting pattern (Jiang et al. 2020, §5). Solve it in the editor.'),
@@ -457,6 +457,10 @@ export class StartPage {
       this._showCreateError({ message: `cannot read the file (${e.message})`, code: 'read' }, what);
       return;
     }
+    if (/\.svg$/i.test(file.name) || /^\s*(<\?xml[^>]*>\s*)?(<!--[\s\S]*?-->\s*)*(<!DOCTYPE[^>]*>\s*)?<svg[\s>]/i.test(text)) {
+      await this._importCreasePattern(file, text, 'svg');
+      return;
+    }
     let scene;
     try {
       scene = JSON.parse(text);
@@ -476,7 +480,7 @@ export class StartPage {
    * A FOLD file → a composite scene (POST /api/imports). Without notes its session opens at once;
    * with notes they are listed first, with a button to open the session.
    */
-  async _importCreasePattern(file, text) {
+  async _importCreasePattern(file, text, format = 'fold') {
     const what = `import ${file.name}`;
     this.createError.hidden = true;
     this.importNotes.hidden = true;
@@ -485,7 +489,7 @@ export class StartPage {
     this.busy.hidden = false;
     let result;
     try {
-      result = await importCreasePattern(text, { format: 'fold', name: file.name.replace(/\.[^.]*$/, '') }, this.apiKeyInput.value.trim() || apiKey());
+      result = await importCreasePattern(text, { format, name: file.name.replace(/\.[^.]*$/, '') }, this.apiKeyInput.value.trim() || apiKey());
     } catch (e) {
       this._showCreateError(e, what);
       return;
@@ -500,7 +504,7 @@ export class StartPage {
     }
     const s = result.summary;
     this.importNotes.append(
-      h('p', { class: 'small' }, `${file.name}: ${s.faces} faces, ${s.edges.mountain} mountain and ${s.edges.valley} valley creases${s.folded_state ? ', in its folded form' : ', flat'}. The import noted:`),
+      h('p', { class: 'small' }, `${file.name}: ${s.faces} faces, ${s.edges.mountain} mountain and ${s.edges.valley} valley creases${s.curved_creases ? ` (${s.curved_creases} curved strokes)` : ''}${s.folded_state ? ', in its folded form' : ', flat'}. The import noted:`),
       h('ul', { class: 'small' }, ...notes.map((n) => h('li', { testid: 'import-note' }, h('span', { class: 'mono' }, n.element), `: ${n.message}`))),
       h('button', { class: 'btn primary', testid: 'open-imported', onclick: () => this._create(result.scene, what) }, 'Open it'));
     this.importNotes.hidden = false;

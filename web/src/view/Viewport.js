@@ -588,6 +588,24 @@ export class Viewport {
 
   // ---- camera ---------------------------------------------------------------------------------
 
+  /** Whether part of the surface lies outside the view (the camera's frustum; ≤ 400 vertices tested). */
+  surfaceOutsideView() {
+    const b = this.activeBuffers();
+    if (!b.hasData) return false;
+    const pos = b.surface.getAttribute('position');
+    if (!pos || !pos.count) return false;
+    this.camera.updateMatrixWorld();
+    const frustum = new THREE.Frustum().setFromProjectionMatrix(
+      new THREE.Matrix4().multiplyMatrices(this.camera.projectionMatrix, this.camera.matrixWorldInverse));
+    const p = new THREE.Vector3();
+    const stride = Math.max(1, Math.floor(pos.count / 400));
+    for (let i = 0; i < pos.count; i += stride) {
+      p.fromBufferAttribute(pos, i);
+      if (!frustum.containsPoint(p)) return true;
+    }
+    return false;
+  }
+
   /** Fits the whole strip (surface, control points, handle targets) into the view. */
   fit() {
     const b = this.activeBuffers();

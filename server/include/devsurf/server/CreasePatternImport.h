@@ -13,7 +13,7 @@ namespace devsurf::server {
 /// What to make of a crease-pattern file (CLI flags of `devsurf import`, query parameters of
 /// POST /api/imports).
 struct CreasePatternImportRequest {
-  std::string format;  ///< "fold"
+  std::string format;  ///< "fold" or "svg" (Origami Simulator's colours, io::importSvgText)
   std::string name;    ///< scene name; empty = the file's title, else "imported crease pattern"
   /// Scene units (mm, cm, m, in), the file's numbers kept. Empty = the file's frame_unit; a file
   /// without one is read as millimetres, except that a sheet under 10 units across (drawn on a
@@ -30,18 +30,22 @@ struct CreasePatternImportResult {
   int faces = 0;                ///< faces of the composite (planar pieces between creases)
   int mountain = 0, valley = 0, flat = 0, boundary = 0, cut = 0;  ///< edges of the pattern by assignment
   bool foldedState = false;     ///< the scene starts in the file's folded form (else flat)
-  /// {"format", "faces", "edges": {"mountain", …}, "folded_state", "notes": [{"element", "message"}]}
+  std::string format = "fold";  ///< what was read
+  int curvedCreases = 0;        ///< curved strokes of an SVG drawing (S edges of the composite)
+  /// {"format", "curved_creases", "faces", "edges": {"mountain", …}, "folded_state",
+  ///  "notes": [{"element", "message"}]}
   nlohmann::json summaryJson() const;
 };
 
 /// Reads a crease pattern (`body`, the file's text) and builds a composite scene from it
-/// (io::importFoldDocument, models::composite::compositeFromCreasePattern). The scene is read back
+/// (io::importFoldDocument or io::importSvgText, models::composite::compositeFromCreasePattern;
+/// an SVG with curved strokes gets curved creases and proposed rulings). The scene is read back
 /// through proto::sceneFromJson, so it opens and solves like any other.
 /// @throws ApproximationInputError naming "format", "name", "units" or "body" (tooLarge past
 ///         maxEdges)
 CreasePatternImportResult importCreasePattern(const std::string& body, const CreasePatternImportRequest& request);
 
-/// Whether a file name is a crease pattern `devsurf import` reads (".fold").
+/// Whether a file name is a crease pattern `devsurf import` reads (".fold", ".svg").
 bool isCreasePatternFile(const std::string& path);
 
 }  // namespace devsurf::server

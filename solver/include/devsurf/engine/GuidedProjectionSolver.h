@@ -140,7 +140,7 @@ struct SolverOptions {
   /// ε_fair·decay^(firstIteration + k), so a session's many short solves of one drag continue one
   /// schedule instead of restarting it.
   int firstIteration = 0;
-  /// Every step a projection step: without the handles (relaxable terms) — restores feasibility
+  /// Every step a projection step: without the handles (relaxable terms not heldInProjection) — restores feasibility
   /// without pulling anything (a session's polish after a drag).
   bool projectionOnly = false;
   /// Called after every iteration (and for iteration 0); return false to abort the solve.

@@ -39,6 +39,7 @@ void CompositeModel::addFoldAngleTerm() {
   // Like a handle: step control may shorten the pull, so a slider moved far in one message folds
   // the sheet over several steps instead of tearing it (GuidedProjectionSolver, StepControlOptions).
   problem_.term(foldTerm_).relaxable = true;
+  problem_.term(foldTerm_).heldInProjection = true;  // the slider's position holds through a release
 }
 
 std::vector<CompositeModel::HingeAngle> CompositeModel::hingeAngles() const {

@@ -508,7 +508,8 @@ void CompositeModel::addDevelopmentTerms() {
                      1.0, engine::Strength::Hard);
   }
 
-  // Domain boundary: the samples of every boundary edge stay on the domain curve nearest to it.
+  // Domain curves: the samples of every boundary edge stay on the domain curve nearest to it, and
+  // those of an interior S edge on a curve it already lies on (a drawn crease).
   if (!domain.boundary.empty()) {
     std::vector<std::unique_ptr<terms::TangentDistanceTerm>> curves;
     for (std::size_t c = 0; c < domain.boundary.size(); ++c) {
@@ -520,11 +521,12 @@ void CompositeModel::addDevelopmentTerms() {
     }
     std::vector<bool> corner(static_cast<std::size_t>(n), false);
     for (const DomainCorner& c : domain.corners) corner[static_cast<std::size_t>(c.vertex)] = true;
-    std::vector<std::vector<int>> onCurve(domain.boundary.size());
+    std::vector<std::vector<int>> onCurve(domain.boundary.size()), creaseOnCurve(domain.boundary.size());
     std::vector<bool> taken(static_cast<std::size_t>(n), false);
     for (int e = 0; e < topo.numEdges(); ++e) {
       const EdgeInfo& info = topo.edge(e);
-      if (info.interior()) continue;
+      const bool inside = info.interior();
+      if (inside && topo.edgeType(e) != EdgeType::Spline) continue;
       const std::vector<int>& samples = devEdgeSamples_[static_cast<std::size_t>(e)][info.faces[0] >= 0 ? 0 : 1];
       std::size_t best = 0;
       double bestDistance = std::numeric_limits<double>::infinity();
@@ -541,10 +543,14 @@ void CompositeModel::addDevelopmentTerms() {
           best = c;
         }
       }
+      if (inside) {
+        const double chord = samples.size() < 2 ? 0.0 : (start.row(samples.front()) - start.row(samples.back())).norm();
+        if (samples.empty() || bestDistance / static_cast<double>(samples.size()) > 0.02 * chord) continue;
+      }
       for (int v : samples)
         if (!corner[static_cast<std::size_t>(v)] && !taken[static_cast<std::size_t>(v)]) {
           taken[static_cast<std::size_t>(v)] = true;
-          onCurve[best].push_back(offset + 2 * v);
+          (inside ? creaseOnCurve : onCurve)[best].push_back(offset + 2 * v);
         }
     }
     for (std::size_t c = 0; c < curves.size(); ++c) {
@@ -555,6 +561,18 @@ void CompositeModel::addDevelopmentTerms() {
       problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_domain", onCurve[c], pts,
                                                                     domain.boundary[c].closed),
                        1.0, engine::Strength::Hard);
+    }
+    // A drawn crease holds its samples softly: its spline cannot follow the drawing exactly while
+    // the sheet folds (hard, the rows fight the isometry at ~1e-4 strain and a polish unfolds
+    // the sheet to meet them); the projections of a polish leave it out.
+    for (std::size_t c = 0; c < curves.size(); ++c) {
+      if (creaseOnCurve[c].empty()) continue;
+      std::vector<Eigen::Vector2d> pts;
+      for (Eigen::Index i = 0; i < domain.boundary[c].points.rows(); ++i)
+        pts.push_back(domain.boundary[c].points.row(i).transpose() / unit);
+      problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_crease", creaseOnCurve[c], pts,
+                                                                    domain.boundary[c].closed),
+                       options_.developmentCreaseWeight, engine::Strength::Soft);
     }
   }
   std::vector<int> offsets;

@@ -51,6 +51,7 @@ CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& patte
   pattern.validate();
   if (pattern.faces.empty()) throw std::invalid_argument("crease pattern: no faces");
   if (developmentSamples < 1) throw std::invalid_argument("crease pattern: developmentSamples must be ≥ 1");
+  if (hasCurvedCreases(pattern)) return compositeFromCurvedCreasePattern(pattern, developmentSamples);
   CreasePatternComposite result;
   const int faceCount = static_cast<int>(pattern.faces.size());
 

@@ -74,7 +74,9 @@ struct DomainCorner {
 
 /// Isometric mapping onto a prescribed domain D̄ (000_… §5 "Isometric mapping"): corners are
 /// pinned; every other sample of a boundary edge stays on the domain curve nearest to that edge
-/// (linearized to the curve's tangent at the foot point, renewed every iteration).
+/// (linearized to the curve's tangent at the foot point, renewed every iteration), and so do the
+/// samples of an interior S edge that starts on a domain curve (mean distance under 2 % of its
+/// chord: a crease drawn in the development).
 /// \note The domain is given in the development's orientation: faces run counterclockwise in the
 ///       development as they do seen from their normals' side.
 struct DevelopmentDomain {

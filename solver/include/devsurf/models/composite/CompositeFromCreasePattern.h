@@ -36,7 +36,37 @@ struct CreasePatternComposite {
 ///  * fold-angle targets (design.foldAngles) from the edges' fold angles; on a flat sheet, mountain
 ///    and valley edges without one aim at ∓180° (noted) and foldAmount starts at 0 (flat), with a
 ///    folded state at 1.
+/// A pattern with curved creases (hasCurvedCreases) goes to compositeFromCurvedCreasePattern.
 /// @throws std::invalid_argument when the pattern has no faces or does not validate
 CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& pattern, int developmentSamples = 2);
+
+/// Whether some chain of edges sharing a CreaseEdge::curve id ≥ 0 is not straight (principal
+/// deviation above 1e-6 × the pattern's diagonal).
+bool hasCurvedCreases(const io::CreasePattern& pattern);
+
+/// Turns a flat crease pattern whose creases may be curved (chains of edges sharing a curve id, as
+/// io::importSvgText makes them) into a composite whose faces are valid (000_… §3.1):
+///  * sides: a face's boundary is cut at its corners (vertices where strokes meet, turn or end)
+///    into curved sides (S edges, a cubic B-spline fitted by least squares to the polyline), straight
+///    interior creases (R edges) and straight pieces of the outline (R or S, as the face needs);
+///  * rulings proposed: a face with curved sides needs two straight ends (S R S R; one may shrink
+///    to a point, S R S; or meet the other at an apex, S R R). Of all choices the one with the fewest
+///    joints inside its two chains is taken; every joint gets a straight ruling to the other chain
+///    (near its point at the same fraction of arc length, to a joint of the other chain when one is
+///    near), inside the face, one at a time until no face has a joint left. A proposed ruling is an
+///    R edge with crease "smooth" (the paper does not fold there); a crease cut by one keeps
+///    tangent continuity;
+///  * creases: curved mountain and valley creases are curved folds (crease "fold", 000_… eq. 7),
+///    curved flat lines "smooth", straight creases R edges that fold freely;
+///  * fixed: the corners of the face of largest area;
+///  * S edges share one spline space: cubic, clamped uniform, at least 6 control points;
+///  * development management on (at least 4 samples per span), every corner pinned where the drawing has it and every curved
+///    side's samples kept on its drawn curve (domain curves), so the sheet is the drawing;
+///  * fold-angle targets at every hinge of a crease with an angle (CompositeHinges), flat mountain
+///    and valley creases without one aiming at ∓180°; foldAmount 0 (flat).
+/// @throws std::invalid_argument naming the face ("faces[3]: …") when no layout exists: a face
+///         bounded by one closed curve, two curves meeting at both ends, a crease inside a chain,
+///         or no ruling fitting inside the face
+CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern& pattern, int developmentSamples = 2);
 
 }  // namespace devsurf::models::composite

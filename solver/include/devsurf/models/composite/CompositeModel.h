@@ -41,6 +41,9 @@ struct CompositeOptions {
   /// Weight of the soft "fold_angle" rows (design.foldAngles; radians against the handles' unit
   /// size): strong enough that the slider folds the sheet, soft so that a drag still wins.
   double foldWeight = 1.0;
+  /// Weight of the soft "development_crease" rows: the development samples of an interior S edge
+  /// drawn in the development domain (a crease of an imported drawing) stay near its curve.
+  double developmentCreaseWeight = 1.0;
   /// Degeneracy guards (ARCHITECTURE §8), hard terms whose rows vanish until a shape degenerates:
   /// "ruling_length" (terms::RulingLengthTerm: no ruling of a strip-like face shrinks below this
   /// fraction of its length when the model was built; 0 = off), ...

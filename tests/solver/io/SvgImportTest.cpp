@@ -1,0 +1,206 @@
+// SVG crease patterns (issue 16 item 1), Origami Simulator's conventions: geometry of every shape
+// and path command checked against hand-computed points, units, transforms, styles and colours.
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "devsurf/io/SvgImport.h"
+
+namespace devsurf::io {
+namespace {
+
+std::string svgDocument(const std::string& body, const std::string& root = R"(width="100mm" height="100mm" viewBox="0 0 100 100")") {
+  return R"(<?xml version="1.0"?><svg xmlns="http://www.w3.org/2000/svg" )" + root + ">" + body + "</svg>";
+}
+
+const std::string kSquare = R"(<rect x="0" y="0" width="100" height="100" fill="none" stroke="#000"/>)";
+
+/// The edges of one assignment.
+int countAssigned(const CreasePattern& p, EdgeAssignment a) {
+  int n = 0;
+  for (const CreaseEdge& e : p.edges) n += e.assignment == a ? 1 : 0;
+  return n;
+}
+
+bool hasVertexNear(const CreasePattern& p, double x, double y, double tol = 1e-6) {
+  for (int v = 0; v < p.numVertices(); ++v)
+    if (std::hypot(p.vertices2d(v, 0) - x, p.vertices2d(v, 1) - y) < tol) return true;
+  return false;
+}
+
+TEST(SvgImport, ASquareWithAValleyDiagonalIsTwoTrianglesInMillimetresWithYUp) {
+  const SvgImport r = importSvgText(svgDocument(kSquare + R"(<line x1="0" y1="0" x2="100" y2="100" stroke="blue"/>)"));
+  EXPECT_EQ(r.curvedStrokes, 0);
+  EXPECT_EQ(r.pattern.faces.size(), 2u);
+  EXPECT_EQ(countAssigned(r.pattern, EdgeAssignment::Valley), 1);
+  EXPECT_EQ(countAssigned(r.pattern, EdgeAssignment::Boundary), 4);
+  // SVG (0, 0) is the top-left corner: y is mirrored, so it is (0, 100) in the pattern.
+  EXPECT_TRUE(hasVertexNear(r.pattern, 0, 100));
+  EXPECT_TRUE(hasVertexNear(r.pattern, 100, 0));
+  for (const CreaseEdge& e : r.pattern.edges)
+    if (e.assignment == EdgeAssignment::Valley) {
+      ASSERT_TRUE(e.foldAngle.has_value());
+      EXPECT_DOUBLE_EQ(*e.foldAngle, 180.0);  // opacity 1: a full fold
+      EXPECT_EQ(e.curve, -1);                 // straight creases only: no chains
+    }
+}
+
+TEST(SvgImport, StrokeOpacityIsTheFoldAngleAndRedIsMountain) {
+  const SvgImport r = importSvgText(svgDocument(
+      kSquare + R"(<g opacity="0.5"><line x1="0" y1="0" x2="100" y2="100" style="stroke: #ff0000; stroke-opacity: 0.5"/></g>)"));
+  for (const CreaseEdge& e : r.pattern.edges)
+    if (e.assignment == EdgeAssignment::Mountain) {
+      ASSERT_TRUE(e.foldAngle.has_value());
+      EXPECT_NEAR(*e.foldAngle, -45.0, 1e-12);  // 0.5 × 0.5 × 180°, negative: mountain
+    }
+  EXPECT_EQ(countAssigned(r.pattern, EdgeAssignment::Mountain), 1);
+}
+
+TEST(SvgImport, UnitsComeFromWidthAndViewBoxAndPxAreNinetySixPerInch) {
+  // 2 in wide drawn on a 0..10 viewBox: one user unit is 5.08 mm.
+  const SvgImport inches = importSvgText(svgDocument(R"(<rect width="10" height="10" fill="none" stroke="black"/>)",
+                                                     R"(width="2in" height="2in" viewBox="0 0 10 10")"));
+  EXPECT_TRUE(hasVertexNear(inches.pattern, 50.8, 50.8));
+  // No viewBox: user units are px.
+  const SvgImport px = importSvgText(svgDocument(R"(<rect width="96" height="48" fill="none" stroke="black"/>)", ""));
+  EXPECT_TRUE(hasVertexNear(px.pattern, 25.4, 0.0) || hasVertexNear(px.pattern, 25.4, -12.7));
+  const Eigen::Vector2d extent = px.pattern.vertices2d.colwise().maxCoeff() - px.pattern.vertices2d.colwise().minCoeff();
+  EXPECT_NEAR(extent.x(), 25.4, 1e-9);
+  EXPECT_NEAR(extent.y(), 12.7, 1e-9);
+}
+
+TEST(SvgImport, TransformsOfGroupsAndElementsCompose) {
+  // A 10 × 10 square scaled by 2 then moved by (30, 40): corners (30, 40) … (50, 60) in SVG.
+  const SvgImport r = importSvgText(svgDocument(
+      R"svg(<g transform="translate(30 40)"><rect transform="scale(2)" width="10" height="10" fill="none" stroke="black"/></g>)svg"));
+  EXPECT_TRUE(hasVertexNear(r.pattern, 30, 100 - 40));
+  EXPECT_TRUE(hasVertexNear(r.pattern, 50, 100 - 60));
+  // rotate(90 50 50) turns the point (60, 50) to (50, 60).
+  const SvgImport rotated = importSvgText(svgDocument(
+      R"svg(<polygon transform="rotate(90 50 50)" points="60,50 70,50 70,60" fill="none" stroke="black"/>)svg"));
+  EXPECT_TRUE(hasVertexNear(rotated.pattern, 50, 100 - 60, 1e-9));
+}
+
+TEST(SvgImport, PathCommandsAbsoluteAndRelativeGiveTheSameShape) {
+  const std::string absolute = R"(<path d="M 10 10 L 90 10 L 90 90 H 10 V 10 Z" fill="none" stroke="black"/>)";
+  const std::string relative = R"(<path d="m10,10 l80,0 0,80 h-80 v-80 z" fill="none" stroke="black"/>)";
+  const SvgImport a = importSvgText(svgDocument(absolute));
+  const SvgImport b = importSvgText(svgDocument(relative));
+  ASSERT_EQ(a.pattern.faces.size(), 1u);
+  ASSERT_EQ(b.pattern.faces.size(), 1u);
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{{10, 90}, {90, 90}, {90, 10}, {10, 10}}) {
+    EXPECT_TRUE(hasVertexNear(a.pattern, x, y));
+    EXPECT_TRUE(hasVertexNear(b.pattern, x, y));
+  }
+}
+
+TEST(SvgImport, ABezierCreaseIsSampledOnTheCurveAndSharesOneChain) {
+  // Cubic from (50, 100) to (50, 0) with controls (20, 66) and (80, 33): its midpoint is
+  // (50, 49.625) in SVG, (50, 50.375) with y up.
+  const SvgImport r = importSvgText(
+      svgDocument(kSquare + R"(<path d="M 50 100 C 20 66, 80 33, 50 0" fill="none" stroke="#0000ff"/>)"));
+  EXPECT_EQ(r.curvedStrokes, 1);
+  EXPECT_TRUE(hasVertexNear(r.pattern, 50, 100 - 49.625, 1e-9));  // t = 1/2 is a sample
+  std::set<int> valleyChains;
+  for (const CreaseEdge& e : r.pattern.edges)
+    if (e.assignment == EdgeAssignment::Valley) valleyChains.insert(e.curve);
+  EXPECT_EQ(valleyChains.size(), 1u);
+  EXPECT_GE(*valleyChains.begin(), 0);
+  EXPECT_EQ(countAssigned(r.pattern, EdgeAssignment::Valley), 16);  // samplesPerCurve pieces
+  EXPECT_EQ(r.pattern.faces.size(), 2u);
+}
+
+TEST(SvgImport, QuadraticAndSmoothCommandsReflectTheirControlPoints) {
+  // Q from (0,50) via (25,0) to (50,50), then T to (100,50): the reflected control is (75,100);
+  // the T piece's midpoint is (75, 75) in SVG.
+  const SvgImport r = importSvgText(svgDocument(
+      R"(<rect width="100" height="100" fill="none" stroke="black"/><path d="M0 50 Q25 0 50 50 T100 50" fill="none" stroke="red"/>)"));
+  EXPECT_TRUE(hasVertexNear(r.pattern, 75, 100 - 75, 1e-9));
+  EXPECT_TRUE(hasVertexNear(r.pattern, 25, 100 - 25, 1e-9));
+}
+
+TEST(SvgImport, ArcsFollowTheirEllipse) {
+  // A half circle of radius 40 about (50, 100) from (10, 100) to (90, 100), sweeping through
+  // (50, 60) in SVG: every sample is 40 from the centre.
+  const SvgImport r = importSvgText(svgDocument(
+      R"(<path d="M10 100 A40 40 0 0 1 90 100 Z" fill="none" stroke="black"/>)"));
+  ASSERT_EQ(r.pattern.faces.size(), 1u);
+  EXPECT_TRUE(hasVertexNear(r.pattern, 50, 100 - 60, 1e-9));
+  for (int v = 0; v < r.pattern.numVertices(); ++v) {
+    const double d = std::hypot(r.pattern.vertices2d(v, 0) - 50, r.pattern.vertices2d(v, 1) - 0);
+    if (r.pattern.vertices2d(v, 1) > 1e-9) EXPECT_NEAR(d, 40.0, 1e-9);
+  }
+  // Radii too small are scaled up (SVG 1.1 F.6.6): the same half circle.
+  const SvgImport small = importSvgText(svgDocument(
+      R"(<path d="M10 100 A1 1 0 0 1 90 100 Z" fill="none" stroke="black"/>)"));
+  EXPECT_TRUE(hasVertexNear(small.pattern, 50, 100 - 60, 1e-9));
+}
+
+TEST(SvgImport, StyleSheetClassesColourStrokesAsIllustratorWritesThem) {
+  const SvgImport r = importSvgText(svgDocument(
+      R"(<defs><style>.st0{fill:none;stroke:#000000;} .st1{fill:none;stroke:#0000FF;stroke-opacity:0.25}</style></defs>)"
+      R"(<rect class="st0" width="100" height="100"/><line class="st1" x1="0" y1="50" x2="100" y2="50"/>)"));
+  EXPECT_EQ(countAssigned(r.pattern, EdgeAssignment::Valley), 1);
+  for (const CreaseEdge& e : r.pattern.edges)
+    if (e.assignment == EdgeAssignment::Valley) EXPECT_NEAR(*e.foldAngle, 45.0, 1e-12);
+}
+
+TEST(SvgImport, WhatCannotBeReadIsNotedByElement) {
+  const SvgImport r = importSvgText(svgDocument(
+      kSquare + R"(<line id="guide" x1="0" y1="20" x2="100" y2="20" stroke="#808080"/>)"
+                R"(<line x1="0" y1="0" x2="100" y2="100" stroke="blue" display="none"/>)"
+                R"(<text x="5" y="5">title</text><line x1="20" y1="40" x2="30" y2="40" stroke="red"/>)"));
+  const auto noted = [&r](const std::string& element, const std::string& words) {
+    for (const ImportNote& n : r.notes)
+      if (n.element == element && n.message.find(words) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(noted("line#guide", "none of the crease colours"));
+  EXPECT_TRUE(noted("line[1]", "hidden"));
+  EXPECT_TRUE(noted("text[0]", "not read"));
+  EXPECT_TRUE(noted("line[2]", "free end"));  // a crease floating inside the sheet
+  EXPECT_EQ(r.pattern.faces.size(), 1u);
+}
+
+TEST(SvgImport, ACreaseColourOnTheOutlineIsReadAsBoundary) {
+  const SvgImport r = importSvgText(svgDocument(R"(<rect width="100" height="100" fill="none" stroke="red"/>)"));
+  EXPECT_EQ(countAssigned(r.pattern, EdgeAssignment::Boundary), 4);
+  EXPECT_FALSE(r.notes.empty());
+}
+
+TEST(SvgImport, MalformedInputIsRefusedWithTheElementNamed) {
+  const auto message = [](const std::string& text) {
+    try {
+      importSvgText(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("<svg><rect").find("not XML"), std::string::npos);
+  EXPECT_NE(message("<html/>").find("<html>"), std::string::npos);
+  EXPECT_NE(message(svgDocument(kSquare + R"(<path id="bad" d="M 0 0 L 10" stroke="red"/>)")).find("path#bad"),
+            std::string::npos);
+  EXPECT_NE(message(svgDocument(kSquare + R"(<path d="M 0 0 X 10 10" stroke="red"/>)")).find("unknown command"),
+            std::string::npos);
+  EXPECT_NE(message(svgDocument(R"(<line x1="0" y1="0" x2="10" y2="10" stroke="red"/>)")).find("no face"),
+            std::string::npos);
+  EXPECT_NE(message(svgDocument(R"(<rect width="10" height="10" fill="red"/>)")).find("no strokes"), std::string::npos);
+  EXPECT_NE(message(svgDocument(kSquare, R"(width="1e999mm" viewBox="0 0 nan 1")")).find("SVG"), std::string::npos);
+}
+
+TEST(SvgImport, TooManySegmentsAreRefusedAsTooLarge) {
+  std::string lines;
+  for (int k = 1; k < 60; ++k)
+    lines += "<line x1=\"0\" y1=\"" + std::to_string(k) + "\" x2=\"100\" y2=\"" + std::to_string(k) + "\" stroke=\"red\"/>";
+  SvgImportOptions options;
+  options.maxSegments = 50;
+  EXPECT_THROW(importSvgText(svgDocument(kSquare + lines), options), std::length_error);
+}
+
+}  // namespace
+}  // namespace devsurf::io
