@@ -381,7 +381,7 @@ void Daemon::routes() {
       return replyError(res, 503, "limit", "this server holds its maximum of " + std::to_string(options_.maxSessions) + " sessions");
     try {
       const proto::Scene scene = proto::sceneFromJson(*body, options_.session.resources);
-      const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = randomToken();
+      const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = viewTokenFor(edit);
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);
       replyJson(res, 201, {{"id", id}, {"edit_token", edit}, {"view_token", view},
@@ -688,6 +688,12 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     }
     client->session = session;
     client->participant = pid;
+    // Every editor knows the view link (of sessions whose view token derives from the edit token).
+    if (role == Role::Edit) {
+      const std::string view = viewTokenFor(message["token"].get<std::string>());
+      if (session->authenticate(view) == Role::View)
+        c->send(proto::wireText(json{{"type", "links"}, {"view_token", view}}), transport::Delivery::Reliable, "");
+    }
     return;
   }
   auto session = client->session.lock();

@@ -256,6 +256,7 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
   options.firstIteration = std::max(0, limits.firstIteration);
   if (limits.regularization >= 0.0) options.regularization = limits.regularization;
   options.projectionOnly = limits.projectionOnly;
+  options.holdTargetsInProjection = limits.holdTargetsInProjection;
   options.callback = std::move(onIteration);
   options.deadline = deadline_;
   if (quasi_) {

@@ -796,6 +796,21 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       return reject("invalid", why.str(), "position");
     }
   }
+  if (type == "set_units") {
+    // What one coordinate is; the numbers stay. Every kind has units, so this comes before the
+    // kind-specific edits.
+    proto::Scene next = persistentScene();
+    next.units = edit.at("units").get<std::string>();
+    const proto::Scene before = persistentScene();
+    if (next.units == before.units) return true;
+    try {
+      rebuild(proto::sceneFromJson(proto::sceneToJson(next), settings_.resources));
+    } catch (const proto::SceneError& e) {
+      return reject(codeOf(e), e.what(), e.path());
+    }
+    pushUndo(before);
+    return true;
+  }
   if (type == "fold" || type == "fold_end") {
     if (!isComposite())
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
@@ -1243,10 +1258,10 @@ void Session::releaseFold(int iterations) {
     settlePending_ = true;
     return;
   }
-  polishRelease(start, iterations);
+  polishRelease(start, iterations, true);  // the slider's position holds through the projections
 }
 
-void Session::polishRelease(std::chrono::steady_clock::time_point start, int iterations) {
+void Session::polishRelease(std::chrono::steady_clock::time_point start, int iterations, bool holdFoldTargets) {
   using Clock = std::chrono::steady_clock;
   // Phase 2: projection steps (no handles, no fairness) until every hard row is within the
   // tolerance: feasibility restored with the least motion.
@@ -1256,6 +1271,7 @@ void Session::polishRelease(std::chrono::steady_clock::time_point start, int ite
   polish.iterations = std::max(iterations, settings_.maxIterationsPerRequest);
   polish.hardTolerance = settings_.releaseHardTolerance;
   polish.projectionOnly = true;
+  polish.holdTargetsInProjection = holdFoldTargets;
   polish.regularization = settings_.polishRegularization;
   polish.timeBudgetMs = std::max(
       1.0, settings_.releaseTimeBudgetMs - std::chrono::duration<double, std::milli>(Clock::now() - start).count());

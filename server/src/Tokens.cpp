@@ -42,6 +42,8 @@ std::string sha256Hex(const std::string& text) { return digestHex(EVP_sha256(), 
 
 std::string tokenHash(const std::string& token) { return sha256Hex(token); }
 
+std::string viewTokenFor(const std::string& editToken) { return sha256Hex("devsurf-view-token:" + editToken).substr(0, 32); }
+
 bool hashMatches(const std::string& token, const std::string& storedHash) {
   // Legacy rows hold SHA-1 (40 hex digits); everything written now is SHA-256 (64).
   const std::string hash = storedHash.size() == 40 ? digestHex(EVP_sha1(), token) : sha256Hex(token);

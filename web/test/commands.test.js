@@ -3,8 +3,8 @@ import { fileURLToPath } from 'node:url';
 import { describe, expect, it } from 'vitest';
 import {
   AddHandleCommand, DragCommand, DragEndCommand, JoinCommand, PingCommand, PresenceCommand, RedoCommand,
-  RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SolveCommand, UndoCommand,
-  SOLVER_KEYS, PARAM_KEYS,
+  RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SetUnitsCommand, SolveCommand, UndoCommand,
+  SOLVER_KEYS, PARAM_KEYS, UNITS,
 } from '../src/commands/index.js';
 import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
 import { makeValidator } from './helpers/jsonschema.js';
@@ -51,6 +51,7 @@ const cases = [
   ['FoldCommand 0', new FoldCommand(0)],
   ['FoldCommand 0.42', new FoldCommand(0.42)],
   ['FoldEndCommand', new FoldEndCommand()],
+  ...UNITS.map((u) => [`SetUnitsCommand ${u}`, new SetUnitsCommand(u)]),
   ['SetCreaseCommand none', new SetCreaseCommand(4, 'none')],
   // Strips between two given curves: their curves' control points, and their parameters.
   ['DragCommand of a quasi_strip control point', new DragCommand({ curve: 'c1', index: 5 }, [1, 2, 3])],
@@ -98,6 +99,8 @@ describe('commands match ws-client.schema.json', () => {
     expect(() => new DragCommand({ edge: 1 }, [0, 0, 0])).toThrow(TypeError);
     expect(() => new SetCreaseCommand(0, 'crumple')).toThrow(TypeError);
     expect(() => new FoldCommand(1.2)).toThrow(TypeError);
+    expect(() => new SetUnitsCommand('furlong')).toThrow(TypeError);
+    expect(validClient({ type: 'set_units', op: 1, units: 'furlong' }).length).toBeGreaterThan(0);
     expect(() => new FoldCommand(Number.NaN)).toThrow(TypeError);
     expect(new FoldCommand(0.5).toMessage(7)).toEqual({ type: 'fold', op: 7, amount: 0.5 });
     expect(() => new SetCreaseCommand(-1, 'fold')).toThrow(TypeError);

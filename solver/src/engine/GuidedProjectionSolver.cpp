@@ -157,9 +157,12 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   // them (held only by ε_reg) breaks the rows it was to restore (measured: every projection step
   // without fairness rejected on the two-creases preset).
   std::vector<double> projectionWeights(numTerms);
-  auto fillProjectionWeights = [this, &weights, &projectionWeights, numTerms]() {
-    for (int t = 0; t < numTerms; ++t)
-      projectionWeights[t] = problem_.term(t).relaxable && !problem_.term(t).heldInProjection ? 0.0 : weights[t];
+  auto fillProjectionWeights = [this, &weights, &projectionWeights, numTerms, &options]() {
+    for (int t = 0; t < numTerms; ++t) {
+      const TermSlot& slot = problem_.term(t);
+      const bool held = options.holdTargetsInProjection && slot.heldInProjection;
+      projectionWeights[t] = slot.relaxable && !held ? 0.0 : weights[t];
+    }
   };
 
   // Iteration 0: the initial state, weighed with the first iteration's weights.

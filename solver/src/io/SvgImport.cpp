@@ -22,6 +22,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMmPerPx = 25.4 / 96.0;
 constexpr double kCornerTurnDeg = 10.0;  ///< a path turning more than this starts a new stroke
+constexpr int kMaxNesting = 64;          ///< groups deeper than this are refused (the reader recurses)
 
 [[noreturn]] void refuseSvg(const std::string& message) { throw std::invalid_argument("SVG: " + message); }
 
@@ -554,7 +555,8 @@ struct Reader {
     bool hidden = false;
   };
 
-  void visit(const pugi::xml_node& node, Inherited inherited) {
+  void visit(const pugi::xml_node& node, Inherited inherited, int depth = 0) {
+    if (depth > kMaxNesting) refuseSvg("groups nested more than " + std::to_string(kMaxNesting) + " deep");
     for (const pugi::xml_node& child : node.children()) {
       if (child.type() != pugi::node_element) continue;
       const std::string tag = child.name();
@@ -592,7 +594,7 @@ struct Reader {
         continue;
       }
       if (tag == "g" || tag == "svg" || tag == "a") {
-        visit(child, here);
+        visit(child, here, depth + 1);
         continue;
       }
       std::vector<Subpath> geometry = shapeOf(child, tag, element);

@@ -2,6 +2,7 @@
 // and path command checked against hand-computed points, units, transforms, styles and colours.
 
 #include <cmath>
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -200,6 +201,54 @@ TEST(SvgImport, TooManySegmentsAreRefusedAsTooLarge) {
   SvgImportOptions options;
   options.maxSegments = 50;
   EXPECT_THROW(importSvgText(svgDocument(kSquare + lines), options), std::length_error);
+}
+
+TEST(SvgImport, DeeplyNestedGroupsAreRefusedNotRecursedInto) {
+  std::string nested;
+  for (int k = 0; k < 5000; ++k) nested += "<g>";
+  nested += kSquare;
+  for (int k = 0; k < 5000; ++k) nested += "</g>";
+  EXPECT_THROW(importSvgText(svgDocument(nested)), std::invalid_argument);
+}
+
+// Property: hundreds of damaged drawings (characters dropped, repeated, swapped, numbers
+// replaced by extreme or non-numbers) are read or refused with std::invalid_argument or
+// std::length_error — never anything else, never a crash, and a drawing read has finite points.
+TEST(SvgImport, DamagedDrawingsAreReadOrRefusedCleanly) {
+  const std::string base = svgDocument(
+      kSquare + R"svg(<path d="M 30 100 C 20 66, 60 33, 40 0" stroke="#00f" stroke-opacity="0.5" fill="none"/>)svg"
+                R"svg(<g transform="rotate(10 50 50) scale(1.1)"><line x1="60" y1="0" x2="70" y2="100" stroke="red"/></g>)svg"
+                R"svg(<path d="M70 100 A 30 30 0 0 1 100 70" stroke="blue" fill="none"/>)svg");
+  const std::vector<std::string> numbers{"1e308", "-1e308", "nan", "inf", "0", "-0", "1e-320", "99999999", ".", "-", "e5"};
+  std::mt19937 rng(16);
+  int read = 0, refused = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::string text = base;
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int k = 0; k < edits; ++k) {
+      const std::size_t at = rng() % text.size();
+      switch (rng() % 4) {
+        case 0: text.erase(at, 1 + rng() % 3); break;
+        case 1: text.insert(at, text.substr(at, 1 + rng() % 8)); break;
+        case 2: std::swap(text[at], text[rng() % text.size()]); break;
+        default: {
+          const std::size_t digit = text.find_first_of("0123456789", at);
+          if (digit != std::string::npos) text.replace(digit, 1, numbers[rng() % numbers.size()]);
+        }
+      }
+    }
+    try {
+      const SvgImport r = importSvgText(text);
+      EXPECT_TRUE(r.pattern.vertices2d.allFinite()) << text;
+      ++read;
+    } catch (const std::invalid_argument&) {
+      ++refused;
+    } catch (const std::length_error&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(read, 50);
+  EXPECT_GT(refused, 20);
 }
 
 }  // namespace

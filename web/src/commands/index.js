@@ -14,3 +14,4 @@ export { JoinCommand, PingCommand } from './JoinCommand.js';
 export { SetCreaseCommand, CREASE_KINDS } from './SetCreaseCommand.js';
 export { SetParamsCommand, PARAM_KEYS } from './SetParamsCommand.js';
 export { FoldCommand, FoldEndCommand } from './FoldCommand.js';
+export { SetUnitsCommand, UNITS } from './SetUnitsCommand.js';

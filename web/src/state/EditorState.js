@@ -109,6 +109,7 @@ export class EditorState {
       case 'update': return this.applyUpdate(msg);
       case 'edit': return this.applyEdit(msg);
       case 'presence': return this.applyPresence(msg);
+      case 'links': return msg.view_token ? this.setTokens({ view: msg.view_token }) : undefined;
       case 'pong': return this._seenSeq(msg.seq);
       default: return undefined;
     }

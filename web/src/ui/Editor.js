@@ -20,7 +20,7 @@ import { ErrorSlots, Toasts, describeError } from './Toast.js';
 import { CreasePanel, ExportPanel, Legend, ParticipantsPanel, SelectionPanel, SharePanel, StatusBar } from './panels.js';
 import { accessibility, displayName, rememberSessionTokens, sessionTokens, setAccessibility } from './preferences.js';
 import {
-  AddHandleCommand, PresenceCommand, RedoCommand, RemoveHandleCommand, ResetCommand, SetFixedCommand,
+  AddHandleCommand, DragCommand, DragEndCommand, PresenceCommand, RedoCommand, RemoveHandleCommand, ResetCommand, SetFixedCommand,
   SolveCommand, UndoCommand, sameTarget, targetOf,
 } from '../commands/index.js';
 
@@ -172,6 +172,12 @@ export class Editor {
     this.selectionPanel = new SelectionPanel(this.sidebar, {
       state: st, pointOf: (t) => this.pointOf(t), errorSlots: this.errorSlots,
       toggleFixed: () => this.toggleFixed(), toggleHandle: () => this.toggleHandle(),
+      moveTo: (t, position) => {
+        // Typed coordinates: a drag to them and its release, one undo step like a mouse drag.
+        this.send(new DragCommand(t, position, { source: 'selection:move' }));
+        this.send(new DragEndCommand(t, undefined, { source: 'selection:move' }));
+      },
+      designSize: () => this.viewport.designSize(),
     });
     this.sidebar.appendChild(this.quadControls.gluePanel);
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
@@ -187,6 +193,7 @@ export class Editor {
     this.share = new SharePanel(this.sidebar, { state: st });
     this.exportPanel = new ExportPanel(this.sidebar, {
       state: st, toasts: null, errorSlots: this.errorSlots, token: this.token, currentScene: () => this.currentScene(),
+      send: (c) => this.send(c),
     });
 
     this.status = new StatusBar(this.root, { state: st, client: this.client, applyTimes: () => this.applyTimes });
@@ -215,6 +222,8 @@ export class Editor {
       if (st.selection && !this.pointOf(st.selection)) st.setSelection(null);
       if (st.selection) this.send(new PresenceCommand(st.selection));
     });
+    // The server tells editors the view link: remembered for "Your sessions" too.
+    st.on('tokens', (t) => { if (t.view && st.session && sessionTokens(st.session).view !== t.view) rememberSessionTokens(st.session, { view: t.view }); });
     st.on('undo', () => this._updateToolbar());
     st.on('connection', ({ connection, detail }) => this._updateBanner(connection, detail));
     st.on('error', ({ message, command }) => this._showError(message, command));

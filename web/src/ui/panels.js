@@ -4,6 +4,8 @@ import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
 import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
+import { SetUnitsCommand, UNITS } from '../commands/SetUnitsCommand.js';
+import { DRAG_CONSTRAINTS, defaultGridStep } from '../view/dragConstraint.js';
 import { exportSession } from '../net/api.js';
 import { cutAlongSeams, exportFormats } from './exportFormats.js';
 import { cssDivergingGradient, cssGradient } from '../geometry/colormap.js';
@@ -227,8 +229,13 @@ export { cutAlongSeams } from './exportFormats.js';
 
 /** Export (server route, Bearer token) and save-scene buttons. */
 export class ExportPanel {
-  constructor(parent, { state, toasts, errorSlots, token, currentScene }) {
+  constructor(parent, { state, toasts, errorSlots, token, currentScene, send }) {
     this.state = state;
+    // What one coordinate is: STL, STEP and IGES are written in it, FOLD names it, SVG and DXF are
+    // drawn at true size from it (set_units; undoable, shared with collaborators).
+    this.units = h('select', { testid: 'units-select', title: 'What one coordinate of the design is; the exports follow (the numbers stay)',
+      onchange: () => send && send(new SetUnitsCommand(this.units.value, { source: 'export:units' })) },
+    ...UNITS.map((u) => h('option', { value: u }, u)));
     const run = (format) => async () => {
       try {
         const blob = await exportSession(state.session, token, format);
@@ -253,9 +260,12 @@ export class ExportPanel {
         this.igesButton = h('button', { class: 'btn', testid: 'export-iges', title: 'The spline surface as IGES B-spline surfaces, one per patch, in the scene\'s units (from the server)', onclick: run('iges') }, 'Export IGES'),
         this.stepButton = h('button', { class: 'btn', testid: 'export-step', title: 'The spline surface as STEP, its patches sewn into one shell (from the server)', onclick: run('step') }, 'Export STEP'),
         h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
-      errorSlots.slot('export'));
+      h('label', { class: 'small units-row' }, 'Units ', this.units),
+      errorSlots.slot('export'), errorSlots.slot('export:units'));
     parent.appendChild(this.root);
     const update = () => {
+      this.units.value = (state.scene && state.scene.units) || 'mm';
+      this.units.disabled = state.role !== 'edit';
       const composite = state.kind === 'composite';
       const quad = state.kind === 'quad_mesh';
       const model = state.scene && state.scene.model;
@@ -299,21 +309,83 @@ export class ExportPanel {
 
 /** The selected control point: position, fixed/handle state, buttons (F / H). */
 export class SelectionPanel {
-  /** @param {object} deps  {state, pointOf(target) → [x,y,z]|null, errorSlots, toggleFixed, toggleHandle} */
-  constructor(parent, { state, pointOf, errorSlots, toggleFixed, toggleHandle }) {
+  /**
+   * @param {object} deps  {state, pointOf(target) → [x,y,z]|null, errorSlots, toggleFixed, toggleHandle,
+   *   moveTo(target, [x,y,z]) — a drag to typed coordinates and its release, designSize() → number}
+   */
+  constructor(parent, { state, pointOf, errorSlots, toggleFixed, toggleHandle, moveTo, designSize }) {
     this.state = state;
     this.pointOf = pointOf;
+    this.moveTo = moveTo;
+    this.designSize = designSize || (() => 1);
     this.title = h('div', { class: 'sel-title' });
     this.coords = h('div', { class: 'sel-coords num' });
     this.fixButton = h('button', { class: 'btn', testid: 'toggle-fixed', title: 'Fix / unfix the selected point (F)', onclick: toggleFixed }, 'Fix');
     this.handleButton = h('button', { class: 'btn', testid: 'toggle-handle', title: 'Add / remove a handle at the selected point (H)', onclick: toggleHandle }, 'Add handle');
     this.hint = h('p', { class: 'muted small' }, 'Click a point to select it; drag it to reshape the design. The solver keeps it developable.');
     this.buttons = h('div', { class: 'button-row' }, this.fixButton, this.handleButton);
-    this.root = h('section', { class: 'panel' }, h('h3', {}, 'Selection'), this.title, this.coords, this.buttons,
-      errorSlots.slot('selection:fix'), errorSlots.slot('selection:handle'), this.hint);
+    // Exact input: coordinates typed for the selected point (a drag there and its release).
+    this.inputs = ['x', 'y', 'z'].map((axis) => h('input', {
+      type: 'number', step: 'any', class: 'coord-input', testid: `coord-${axis}`, 'aria-label': `${axis} of the selected point`,
+      onkeydown: (e) => { if (e.key === 'Enter') this.submitCoordinates(); },
+    }));
+    this.moveButton = h('button', { class: 'btn small', testid: 'move-to', title: 'Pull the selected point to these coordinates (Enter); the solver keeps the design developable', onclick: () => this.submitCoordinates() }, 'Move');
+    this.coordRow = h('div', { class: 'row coord-row' }, ...this.inputs.flatMap((input, k) => [h('span', { class: 'muted small' }, 'xyz'[k]), input]), this.moveButton);
+    // How a drag moves: held to an axis or a plane through the point, snapped to a grid.
+    this.constraint = h('select', { testid: 'drag-constraint', title: 'Hold a drag to an axis or a coordinate plane through the point (X, Y, Z while dragging; Shift for the plane across)', onchange: () => this.storeDragOptions() },
+      ...DRAG_CONSTRAINTS.map((c) => h('option', { value: c }, c === 'free' ? 'free (view plane)' : c.length === 1 ? `${c} axis` : `${c} plane`)));
+    this.snap = h('input', { type: 'checkbox', testid: 'snap-grid', onchange: () => this.storeDragOptions() });
+    this.step = h('input', { type: 'number', step: 'any', min: '0', class: 'coord-input', testid: 'snap-step', 'aria-label': 'grid step', onchange: () => this.storeDragOptions() });
+    this.dragRow = h('div', { class: 'row drag-options' },
+      h('label', { class: 'small' }, 'Drag ', this.constraint),
+      h('label', { class: 'small', title: 'Snap dragged coordinates to multiples of the step (design units)' }, this.snap, ' snap ', this.step));
+    this.root = h('section', { class: 'panel' }, h('h3', {}, 'Selection'), this.title, this.coords, this.coordRow, this.dragRow, this.buttons,
+      errorSlots.slot('selection:fix'), errorSlots.slot('selection:handle'), errorSlots.slot('selection:move'), this.hint);
+    this.errorSlots = errorSlots;
     parent.appendChild(this.root);
     for (const ev of ['selection', 'scene', 'session', 'iterate']) state.on(ev, () => this.render());
+    // The grid step follows the design's size until the user types one.
+    const autoStep = () => {
+      if (this.stepTyped) return;
+      const step = String(defaultGridStep(this.designSize()));
+      if (this.step.value !== step) {
+        this.step.value = step;
+        this.storeDragOptions();
+      }
+    };
+    state.on('scene', autoStep);
+    state.on('iterate', autoStep);
+    this.step.addEventListener('input', () => { this.stepTyped = true; });
+    this.storeDragOptions();
+    state.on('drag-options', (o) => { if (o && o.constraint) this.constraint.value = o.constraint; });
     this.render();
+  }
+
+  /** The drag options, read by the 3D view's pointer handling. */
+  storeDragOptions() {
+    const step = Number(this.step.value);
+    this.state.dragOptions = { constraint: this.constraint.value, snap: this.snap.checked, step: Number.isFinite(step) && step > 0 ? step : 0 };
+  }
+
+  /** Sets the constraint (keys X, Y, Z while dragging). */
+  setConstraint(c) {
+    if (!DRAG_CONSTRAINTS.includes(c)) return;
+    this.constraint.value = c;
+    this.storeDragOptions();
+  }
+
+  submitCoordinates() {
+    const sel = this.state.selection;
+    const current = sel && this.pointOf(sel);
+    if (!current) return;
+    const position = this.inputs.map((input, k) => (input.value.trim() === '' ? current[k] : Number(input.value)));
+    const bad = position.findIndex((x) => !Number.isFinite(x));
+    if (bad >= 0) {
+      this.errorSlots.show('selection:move', `${'xyz'[bad]}: enter a number`);
+      return;
+    }
+    this.errorSlots.clear('selection:move');
+    this.moveTo(sel, position);
   }
 
   render() {
@@ -322,9 +394,13 @@ export class SelectionPanel {
     const p = sel && this.pointOf(sel);
     this.buttons.hidden = !p || this.editsConstraints === false;  // strips between curves: no fix/handle
     this.coords.hidden = !p;
+    this.coordRow.hidden = !p;
     this.hint.hidden = !!p;
+    const editable = st.role === 'edit';
+    this.dragRow.hidden = !editable;
     if (!p) {
       this.title.textContent = 'Nothing selected';
+      this.shownFor = null;
       return;
     }
     const fixed = st.constraints.fixed.some((f) => sameTarget(f, sel));
@@ -332,9 +408,16 @@ export class SelectionPanel {
     const label = targetLabel(sel);
     this.title.textContent = `${sel.curve !== undefined ? `Control point ${label}` : label[0].toUpperCase() + label.slice(1)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;
     this.coords.textContent = `x ${p[0].toFixed(3)}   y ${p[1].toFixed(3)}   z ${p[2].toFixed(3)}`;
+    // The inputs follow the point unless being typed in (a new selection always refills them).
+    const fresh = !sameTarget(this.shownFor, sel);
+    this.shownFor = sel;
+    this.inputs.forEach((input, k) => {
+      if (fresh || document.activeElement !== input) input.value = String(Number(p[k].toFixed(6)));
+      input.disabled = !editable;
+    });
+    this.moveButton.disabled = !editable;
     this.fixButton.textContent = fixed ? 'Unfix (F)' : 'Fix (F)';
     this.handleButton.textContent = handle ? 'Remove handle (H)' : 'Add handle (H)';
-    const editable = st.role === 'edit';
     this.fixButton.disabled = !editable;
     this.handleButton.disabled = !editable;
   }

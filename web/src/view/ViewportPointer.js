@@ -12,6 +12,10 @@
 import * as THREE from 'three';
 import { sameTarget as sameEntry } from '../commands/Command.js';
 import { DragCommandStream } from './DragCommandStream.js';
+import { constrainedDragPosition } from './dragConstraint.js';
+
+/** Keys while dragging: an axis, or with Shift the coordinate plane across it. */
+const CONSTRAINT_KEYS = { x: 'x', y: 'y', z: 'z', X: 'yz', Y: 'zx', Z: 'xy' };
 
 /** Same point target, or the same edge marker ({edgeMarker: e}). */
 export function sameTarget(a, b) {
@@ -70,6 +74,17 @@ export class ViewportPointer {
       }
     });
     canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+    // X, Y, Z while dragging hold the drag to that axis (Shift: the plane across it); again: free.
+    window.addEventListener('keydown', (e) => {
+      const c = CONSTRAINT_KEYS[e.key];
+      const st = view.state;
+      if (!c || !view.drag || !st || e.ctrlKey || e.metaKey || e.altKey) return;
+      const current = (st.dragOptions && st.dragOptions.constraint) || 'free';
+      st.dragOptions = { ...(st.dragOptions || {}), constraint: current === c ? 'free' : c };
+      st.emit('drag-options', st.dragOptions);
+      e.preventDefault();
+      e.stopPropagation();
+    }, { capture: true });
   }
 
   _onPointerDown(e) {
@@ -105,6 +120,7 @@ export class ViewportPointer {
     const onPlane = this._rayOnPlane(e, plane) || point.clone();
     view.drag = {
       target: hit,
+      start: [p[0], p[1], p[2]],
       plane,
       offset: point.clone().sub(onPlane),
       pointerId: e.pointerId,
@@ -131,6 +147,14 @@ export class ViewportPointer {
       const hit = this._rayOnPlane(e, d.plane);
       if (!hit) return;
       d.position = hit.add(d.offset);
+      // Exact input: held to an axis or plane through the start, snapped to the grid.
+      const options = view.state && view.state.dragOptions;
+      if (options && (options.constraint !== 'free' || options.snap)) {
+        const raycaster = new THREE.Raycaster();
+        raycaster.setFromCamera(this._ndc(e), view.camera);
+        const ray = { origin: raycaster.ray.origin.toArray(), direction: raycaster.ray.direction.toArray() };
+        d.position.fromArray(constrainedDragPosition(d.start, d.position.toArray(), ray, options));
+      }
       // At most one drag message per animation frame; the latest position wins.
       d.commands.move([d.position.x, d.position.y, d.position.z]);
       view.requestRender();

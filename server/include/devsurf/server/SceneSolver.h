@@ -56,6 +56,7 @@ struct SolveLimits {
   int firstIteration = 0;      ///< engine::SolverOptions::firstIteration (where the schedule resumes)
   double regularization = -1.0; ///< ε_reg of every step
   bool projectionOnly = false;  ///< engine::SolverOptions::projectionOnly
+  bool holdTargetsInProjection = false;  ///< engine::SolverOptions::holdTargetsInProjection
 };
 
 /// One quality threshold of issue 5 (000_… Fig. 17 and the drag-stress suite) against a metric.

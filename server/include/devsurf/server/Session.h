@@ -300,7 +300,9 @@ class Session : public std::enable_shared_from_this<Session> {
   void releaseFold(int iterations);
   /// The second phase of a release (drag_end, fold_end): projection steps until every hard row is
   /// within the tolerance, within what is left of the release time budget since `start`.
-  void polishRelease(std::chrono::steady_clock::time_point start, int iterations);
+  /// Projection steps to the hard tolerance; `holdFoldTargets` keeps the fold slider's targets (a
+  /// fold gesture's release), otherwise every relaxable term drops out (a drag's release).
+  void polishRelease(std::chrono::steady_clock::time_point start, int iterations, bool holdFoldTargets = false);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
   /// Finishes a release or solve that newer work interrupted (settlePending_): the projection

@@ -16,6 +16,11 @@ std::string sha256Hex(const std::string& text);
 /// The hash stored for a capability token: sha256Hex(token).
 std::string tokenHash(const std::string& token);
 
+/// The view token of a session whose edit token is `editToken` (sessions made by POST
+/// /api/sessions): derived one-way (SHA-256), so that every editor can be told the view link while
+/// the view token does not open the edit token.
+std::string viewTokenFor(const std::string& editToken);
+
 /// Whether `token` (a capability token, or a request body for idempotency fingerprints) hashes to `storedHash`, compared in constant time (CRYPTO_memcmp; only the
 /// length can leak). Hashes stored before SHA-256 (40 hex digits: SHA-1, also through OpenSSL)
 /// still match their tokens, so sessions created by earlier versions stay reachable.

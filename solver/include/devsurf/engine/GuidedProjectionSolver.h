@@ -140,9 +140,13 @@ struct SolverOptions {
   /// ε_fair·decay^(firstIteration + k), so a session's many short solves of one drag continue one
   /// schedule instead of restarting it.
   int firstIteration = 0;
-  /// Every step a projection step: without the handles (relaxable terms not heldInProjection) — restores feasibility
+  /// Every step a projection step: without the handles (relaxable terms) — restores feasibility
   /// without pulling anything (a session's polish after a drag).
   bool projectionOnly = false;
+  /// With projectionOnly: keep the relaxable terms marked TermSlot::heldInProjection (the fold
+  /// slider's targets at the release of a fold gesture; a drag's release lets them go like
+  /// handles, so a dragged corner stays where it was put).
+  bool holdTargetsInProjection = false;
   /// Called after every iteration (and for iteration 0); return false to abort the solve.
   std::function<bool(const IterationRecord&)> callback;
 };

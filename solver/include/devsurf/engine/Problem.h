@@ -29,9 +29,9 @@ struct TermSlot {
   /// A user target (a handle) that step control may weaken when pulling toward it would tear the
   /// hard rows (StepControlOptions). Its weight in the summary stays the nominal one.
   bool relaxable = false;
-  /// A relaxable term that projection steps keep (SolverOptions::projectionOnly drops the other
-  /// relaxable terms): a design intent rather than a pointer, such as the fold slider's fold-angle
-  /// targets — without them a release's projections unfold a curved fold whose hard rows the
+  /// A relaxable term that projection steps keep when asked (SolverOptions::
+  /// holdTargetsInProjection): a design intent rather than a pointer, such as the fold slider's
+  /// fold-angle targets — without them a fold's release unfolds a curved fold whose hard rows the
   /// discretization meets only approximately (90° → 45° on two cubic creases).
   bool heldInProjection = false;
 };

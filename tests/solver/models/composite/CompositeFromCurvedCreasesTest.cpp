@@ -103,10 +103,11 @@ TEST(CompositeFromCurvedCreasesSlider, FoldsTwoCurvedCreasesToTheirDrawnAnglesAn
     EXPECT_LT(model.foldAngleErrorMaxDeg(), 2.0);
     EXPECT_LT(model.developmentLengthError(), 2e-3);
   }
-  // fold_end in a session: projections to the tolerance, without the targets.
+  // fold_end in a session: projections to the tolerance, the slider's targets held.
   engine::SolverOptions polish;
   polish.maxIterations = 300;
   polish.projectionOnly = true;
+  polish.holdTargetsInProjection = true;
   polish.hardTolerance = 1e-7;
   model.solve(polish);
   const auto [valley, mountain] = measuredValleyAndMountain(model);

@@ -1,0 +1,7 @@
+#pragma once
+// Included first in every test translation unit (CMake: -include): test files are compiled in
+// unity batches, and <resolv.h> (pulled in by cpp-httplib) defines the macro `_res`, which breaks
+// Eigen headers parsed later in the same batch (Eigen names a parameter `_res`). Including it here
+// and undefining the macro makes the batch order irrelevant; nothing in devsurf uses `_res`.
+#include <resolv.h>
+#undef _res

@@ -1,0 +1,95 @@
+// 12. Exact input (issue 16, item 4): coordinates typed for the selected point move it there
+//     (a drag and its release, one undo step); a drag held to the z axis moves along z only and
+//     snaps to the grid; the units setting relabels the design and the exports follow (FOLD's
+//     frame_unit, read back with npm fold). An editor opened by the edit link knows the view link
+//     (item 6). Screenshot: test-artifacts/web/12-exact-input.png.
+import assert from 'node:assert/strict';
+import path from 'node:path';
+import { test } from 'node:test';
+import fold from 'fold';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('exact-input', { demos: [path.join(h.EXAMPLES, 'composite-two-creases.json')] });
+
+async function vertexOnServer(daemon, s, v) {
+  return (await daemon.session(s.id, s.edit_token)).scene.model.vertices[v];
+}
+
+test('typed coordinates, an axis-held snapped drag and the units setting', { timeout: 180000 }, () =>
+  ctx.guard('exact-input', async () => {
+    const { daemon } = ctx;
+    const s = await daemon.createSession(h.readScene('composite-two-creases.json'));
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(s.id, s.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+
+    // Opened by its edit link, the editor is told the view link too (the Share panel shows it).
+    await page.waitForFunction((t) => {
+      const el = document.querySelector('[data-testid="share-view"]');
+      return el && el.value.includes(`token=${t}`);
+    }, s.view_token, { timeout: 10000 });
+
+    // Select vertex 6 (a free top corner) by clicking it.
+    const at = await h.pointPagePosition(page, { vertex: 6 });
+    await page.mouse.click(at.x, at.y);
+    await page.getByTestId('coord-z').waitFor({ state: 'visible' });
+    const start = await vertexOnServer(daemon, s, 6);
+    for (const [k, axis] of ['x', 'y', 'z'].entries()) {
+      const shown = Number(await page.getByTestId(`coord-${axis}`).inputValue());
+      assert.ok(Math.abs(shown - start[k]) < 1e-3, `${axis}: the input shows ${shown}, the vertex is at ${start[k]}`);
+    }
+
+    // Typed: z up by 0.25, Enter.
+    const seq0 = (await h.state(page)).seq;
+    const target = start[2] + 0.25;
+    await page.getByTestId('coord-z').fill(String(target));
+    await page.getByTestId('coord-z').press('Enter');
+    await h.waitState(page, (st, n) => st.seq > n, seq0, { what: 'the typed move applied' });
+    await h.waitQuiet(page, { quietMs: 1000 });
+    const moved = await vertexOnServer(daemon, s, 6);
+    assert.ok(Math.abs(moved[2] - target) < 0.03, `z after the typed move: ${moved[2]}, typed ${target}`);
+    assert.equal((await h.state(page)).lastError, null);
+
+    // A drag held to the z axis with the grid on: every position sent keeps x and y, z on the grid.
+    await page.getByTestId('drag-constraint').selectOption('z');
+    await page.getByTestId('snap-grid').check();
+    await page.getByTestId('snap-step').fill('0.05');
+    await page.getByTestId('snap-step').dispatchEvent('change');
+    const from = await h.pointPagePosition(page, { vertex: 6 });
+    const before = await vertexOnServer(daemon, s, 6);
+    await page.mouse.move(from.x, from.y);
+    await page.mouse.down();
+    const positions = [];
+    for (let k = 1; k <= 10; k++) {
+      await page.mouse.move(from.x + 4 * k, from.y - 6 * k);
+      await new Promise((r) => setTimeout(r, 40));
+      const p = await page.evaluate(() => {
+        const d = window.__devsurf.editor.viewport.drag;
+        return d && d.position ? d.position.toArray() : null;
+      });
+      if (p) positions.push(p);
+    }
+    await page.mouse.up();
+    assert.ok(positions.length >= 5, `drag positions seen: ${positions.length}`);
+    for (const p of positions) {
+      // x and y exactly those where the drag began (the drawn point: float32 of the server's).
+      assert.ok(p[0] === positions[0][0] && p[1] === positions[0][1], `held to z: ${p} after ${positions[0]}`);
+      assert.ok(Math.abs(p[0] - before[0]) < 1e-5 && Math.abs(p[1] - before[1]) < 1e-5, `held to z: ${p} from ${before}`);
+      assert.ok(Math.abs(p[2] / 0.05 - Math.round(p[2] / 0.05)) < 1e-6, `z on the 0.05 grid: ${p[2]}`);
+    }
+    assert.ok(positions[positions.length - 1][2] > before[2] + 0.04, `the drag went up: ${positions.map((p) => p[2])}`);
+    await h.waitQuiet(page, { quietMs: 1000 });
+
+    // Units: centimetres; the scene says so and the FOLD export names them.
+    await page.getByTestId('units-select').selectOption('cm');
+    await h.waitState(page, (st) => st.scene && st.scene.units === 'cm', undefined, { what: 'units cm' });
+    const r = await fetch(`http://127.0.0.1:${daemon.port}/api/sessions/${encodeURIComponent(s.id)}/export?format=fold`,
+      { headers: { Authorization: `Bearer ${s.edit_token}` } });
+    assert.equal(r.status, 200);
+    const doc = JSON.parse(await r.text());
+    assert.equal(doc.frame_unit, 'cm');
+    assert.ok(fold.filter.numType(doc, 'faces') > 0);
+    await h.settleFrames(page);
+    await page.screenshot({ path: path.join(h.ARTIFACTS, '12-exact-input.png') });
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  }));
