@@ -511,14 +511,17 @@ void CompositeModel::addDevelopmentTerms() {
   // Domain curves: the samples of every boundary edge stay on the domain curve nearest to it, and
   // those of an interior S edge on a curve it already lies on (a drawn crease).
   if (!domain.boundary.empty()) {
-    std::vector<std::unique_ptr<terms::TangentDistanceTerm>> curves;
-    for (std::size_t c = 0; c < domain.boundary.size(); ++c) {
+    // Domain curve c in normalized units.
+    auto curvePoints = [&domain, unit](std::size_t c) {
       std::vector<Eigen::Vector2d> pts;
       for (Eigen::Index i = 0; i < domain.boundary[c].points.rows(); ++i)
         pts.push_back(domain.boundary[c].points.row(i).transpose() / unit);
-      curves.push_back(std::make_unique<terms::TangentDistanceTerm>("development_domain", std::vector<int>{}, pts,
-                                                                    domain.boundary[c].closed));
-    }
+      return pts;
+    };
+    std::vector<std::unique_ptr<terms::TangentDistanceTerm>> curves;
+    for (std::size_t c = 0; c < domain.boundary.size(); ++c)
+      curves.push_back(std::make_unique<terms::TangentDistanceTerm>("development_domain", std::vector<int>{},
+                                                                    curvePoints(c), domain.boundary[c].closed));
     std::vector<bool> corner(static_cast<std::size_t>(n), false);
     for (const DomainCorner& c : domain.corners) corner[static_cast<std::size_t>(c.vertex)] = true;
     std::vector<std::vector<int>> onCurve(domain.boundary.size()), creaseOnCurve(domain.boundary.size());
@@ -553,26 +556,18 @@ void CompositeModel::addDevelopmentTerms() {
           (inside ? creaseOnCurve : onCurve)[best].push_back(offset + 2 * v);
         }
     }
-    for (std::size_t c = 0; c < curves.size(); ++c) {
-      if (onCurve[c].empty()) continue;
-      std::vector<Eigen::Vector2d> pts;
-      for (Eigen::Index i = 0; i < domain.boundary[c].points.rows(); ++i)
-        pts.push_back(domain.boundary[c].points.row(i).transpose() / unit);
-      problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_domain", onCurve[c], pts,
-                                                                    domain.boundary[c].closed),
-                       1.0, engine::Strength::Hard);
-    }
     // A drawn crease holds its samples softly: its spline cannot follow the drawing exactly while
     // the sheet folds (hard, the rows fight the isometry at ~1e-4 strain and a polish unfolds
     // the sheet to meet them); the projections of a polish leave it out.
     for (std::size_t c = 0; c < curves.size(); ++c) {
-      if (creaseOnCurve[c].empty()) continue;
-      std::vector<Eigen::Vector2d> pts;
-      for (Eigen::Index i = 0; i < domain.boundary[c].points.rows(); ++i)
-        pts.push_back(domain.boundary[c].points.row(i).transpose() / unit);
-      problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_crease", creaseOnCurve[c], pts,
-                                                                    domain.boundary[c].closed),
-                       options_.developmentCreaseWeight, engine::Strength::Soft);
+      if (!onCurve[c].empty())
+        problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_domain", onCurve[c], curvePoints(c),
+                                                                      domain.boundary[c].closed),
+                         1.0, engine::Strength::Hard);
+      if (!creaseOnCurve[c].empty())
+        problem_.addTerm(std::make_unique<terms::TangentDistanceTerm>("development_crease", creaseOnCurve[c],
+                                                                      curvePoints(c), domain.boundary[c].closed),
+                         options_.developmentCreaseWeight, engine::Strength::Soft);
     }
   }
   std::vector<int> offsets;

@@ -711,9 +711,28 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
       guessed = true;
     }
     if (!angle || *angle == 0.0) continue;
+    // A curved crease folds in a one-parameter family: its fold angle varies along it as its
+    // curvature does, so it gets one target, at a hinge inside it (a proposed ruling's end) when
+    // it has one — targets at its ends too ask for one angle at three places, which the sheet meets
+    // only by stretching (15 % locally, measured) — else at its ends.
+    const int chainId = g.chain[static_cast<std::size_t>(graphEdgesOfDesignEdge[e].front())];
+    const auto insideStroke = [&g, chainId](int v) {
+      int along = 0;
+      for (int ge : g.incident[static_cast<std::size_t>(v)]) along += g.chain[static_cast<std::size_t>(ge)] == chainId ? 1 : 0;
+      return along == 2;
+    };
+    const bool curved = d.edges[e].type == EdgeType::Spline;
+    bool strokeHasInnerHinge = false;
+    if (curved && chainId >= 0)
+      for (std::size_t o = 0; o < d.edges.size() && !strokeHasInnerHinge; ++o)
+        if (g.chain[static_cast<std::size_t>(graphEdgesOfDesignEdge[o].front())] == chainId && d.edges[o].type == EdgeType::Spline)
+          for (int v : {polylineOfDesignEdge[o].front(), polylineOfDesignEdge[o].back()})
+            strokeHasInnerHinge = strokeHasInnerHinge || insideStroke(v);
     for (int end : {0, 1}) {
-      if (d.edges[e].type == EdgeType::Ruling && end == 1) break;
+      if (!curved && end == 1) break;
       if (!hasFoldHinge(topology, static_cast<int>(e), end)) continue;
+      const int v = end == 0 ? polylineOfDesignEdge[e].front() : polylineOfDesignEdge[e].back();
+      if (curved && strokeHasInnerHinge && !insideStroke(v)) continue;
       d.foldAngles.push_back({static_cast<int>(e), end, *angle});
     }
   }
