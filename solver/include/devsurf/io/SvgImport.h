@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "devsurf/io/CreasePattern.h"
+#include "devsurf/io/CreaseStrokes.h"
 #include "devsurf/io/FoldImport.h"
 
 namespace devsurf::io {

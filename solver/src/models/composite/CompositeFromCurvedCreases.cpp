@@ -16,6 +16,7 @@
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
 #include "devsurf/models/composite/CompositeHinges.h"
 #include "devsurf/models/composite/CompositeTopology.h"
+#include "devsurf/models/composite/CurvedCreaseLayout.h"
 #include "devsurf/spatial/PlanarArrangement.h"
 #include "devsurf/spline/Basis.h"
 
@@ -23,7 +24,6 @@ namespace devsurf::models::composite {
 
 namespace {
 
-constexpr int kChordChain = -2;  ///< chain id of a proposed ruling
 /// Control points of every S edge at least, and development samples per span at least: a coarser
 /// curved fold cannot meet its fold condition and the sheet's isometry together (4 and 2 leave a
 /// 0.1 % strain that a release's projections resolve by unfolding a 90° fold to 45°; 6 and 4 keep
@@ -31,329 +31,22 @@ constexpr int kChordChain = -2;  ///< chain id of a proposed ruling
 constexpr int kMinControlPoints = 6;
 constexpr int kMinDevelopmentSamples = 4;
 
-/// How a side of a face may be labelled.
-enum class SideKind {
-  Curve,     ///< part of a curved stroke: an S edge
-  Crease,    ///< a straight interior edge (crease or proposed ruling): an R edge
-  Outline,   ///< a straight piece of the sheet's outline: an R or an S edge, as the face needs
-};
-
-struct Side {
-  std::vector<int> vertices;  ///< pattern vertices in the face's order, ≥ 2
-  std::vector<int> edges;     ///< graph edge ids, vertices.size() − 1 of them
-  SideKind kind = SideKind::Outline;
-};
-
-/// A ruling layout of a face: two ruling positions (a side, or a vertex where the ruling shrinks to a
-/// point), the sides between them forming the two S chains.
-struct Layout {
-  int first = -1, second = -1;  ///< half-indices: vertex j = 2j, side i = 2i + 1; first < second
-  std::vector<int> arcA, arcB;  ///< side indices from first to second, and from second round to first
-  double cost = 0.0;
-  int corners = 0;              ///< joints inside the two chains (each needs a proposed ruling)
-};
-
-struct CurvedGraph {
-  const io::CreasePattern& pattern;
-  std::vector<std::array<int, 2>> ends;   ///< per graph edge
-  std::vector<int> chain;                 ///< curve id ≥ 0, −1 single straight edge, kChordChain
-  std::vector<bool> interior;             ///< not on the outline
-  std::vector<int> patternEdge;           ///< the pattern's edge, −1 for a proposed ruling
-  std::map<std::pair<int, int>, int> idOfPair;
-  std::vector<std::vector<int>> incident;  ///< per vertex: graph edges
-  std::set<int> curvedChains;
-
-  explicit CurvedGraph(const io::CreasePattern& p) : pattern(p), incident(static_cast<std::size_t>(p.numVertices())) {}
-
-  int addEdge(int a, int b, int chainId, bool inside, int source) {
-    const int id = static_cast<int>(ends.size());
-    ends.push_back({a, b});
-    chain.push_back(chainId);
-    interior.push_back(inside);
-    patternEdge.push_back(source);
-    idOfPair[std::minmax(a, b)] = id;
-    incident[static_cast<std::size_t>(a)].push_back(id);
-    incident[static_cast<std::size_t>(b)].push_back(id);
-    return id;
-  }
-  int edgeBetween(int a, int b) const {
-    const auto it = idOfPair.find(std::minmax(a, b));
-    return it == idOfPair.end() ? -1 : it->second;
-  }
-  /// A vertex where a design edge ends: not the inside of one stroke.
-  bool isCorner(int v) const {
-    const auto& inc = incident[static_cast<std::size_t>(v)];
-    if (inc.size() != 2) return true;
-    const int c0 = chain[static_cast<std::size_t>(inc[0])], c1 = chain[static_cast<std::size_t>(inc[1])];
-    return c0 < 0 || c1 < 0 || c0 != c1;
-  }
-  Eigen::Vector2d at(int v) const { return pattern.vertices2d.row(v).transpose(); }
-};
-
-/// The sides of a face loop, starting at a corner; empty when the loop has none (one closed curve).
-std::vector<Side> sidesOf(const CurvedGraph& g, const std::vector<int>& loop) {
-  const std::size_t n = loop.size();
-  std::size_t start = n;
-  for (std::size_t k = 0; k < n; ++k)
-    if (g.isCorner(loop[k])) {
-      start = k;
-      break;
-    }
-  if (start == n) return {};
-  std::vector<Side> sides;
-  Side current;
-  current.vertices.push_back(loop[start]);
-  for (std::size_t step = 1; step <= n; ++step) {
-    const int v = loop[(start + step) % n];
-    current.edges.push_back(g.edgeBetween(current.vertices.back(), v));
-    current.vertices.push_back(v);
-    if (g.isCorner(v)) {
-      sides.push_back(std::move(current));
-      current = Side{};
-      current.vertices.push_back(v);
-    }
-  }
-  for (Side& s : sides) {
-    const int e = s.edges.front();
-    const int c = g.chain[static_cast<std::size_t>(e)];
-    if (c >= 0 && g.curvedChains.count(c)) s.kind = SideKind::Curve;
-    else if (g.interior[static_cast<std::size_t>(e)]) s.kind = SideKind::Crease;
-    else s.kind = SideKind::Outline;
-  }
-  return sides;
-}
-
-/// The cheapest ruling layout of a face with at least one curved side, or nullopt.
-std::optional<Layout> bestLayout(const std::vector<Side>& sides) {
-  const int k = static_cast<int>(sides.size());
-  std::optional<Layout> best;
-  const auto isSide = [](int h) { return h % 2 == 1; };
-  for (int p = 0; p < 2 * k; ++p)
-    for (int q = p + 1; q < 2 * k; ++q) {
-      if (!isSide(p) && !isSide(q)) continue;  // two points: a lens, no ruling at all
-      if (isSide(p) && sides[static_cast<std::size_t>(p / 2)].kind == SideKind::Curve) continue;
-      if (isSide(q) && sides[static_cast<std::size_t>(q / 2)].kind == SideKind::Curve) continue;
-      Layout layout;
-      layout.first = p;
-      layout.second = q;
-      bool valid = true;
-      for (int i = 0; i < k && valid; ++i) {
-        const int h = 2 * i + 1;
-        if (h == p || h == q) continue;
-        if (sides[static_cast<std::size_t>(i)].kind == SideKind::Crease) valid = false;  // a crease inside a chain
-        (h > p && h < q ? layout.arcA : layout.arcB).push_back(i);
-      }
-      if (!valid) continue;
-      // arcB runs from q round to p: reorder the sides after q first.
-      std::stable_partition(layout.arcB.begin(), layout.arcB.end(), [q](int i) { return 2 * i + 1 > q; });
-      const bool coneA = layout.arcA.empty(), coneB = layout.arcB.empty();
-      if (coneA && coneB) continue;
-      if (coneA && !(isSide(p) && isSide(q) && q == p + 2)) continue;
-      if (coneB && !(isSide(p) && isSide(q) && p == 1 && q == 2 * k - 1)) continue;
-      layout.corners = std::max(0, static_cast<int>(layout.arcA.size()) - 1) + std::max(0, static_cast<int>(layout.arcB.size()) - 1);
-      layout.cost = layout.corners + (isSide(p) && isSide(q) ? 0.0 : 0.5) + (coneA || coneB ? 0.25 : 0.0);
-      // Between equal layouts, keep a curved side whole between the two rulings (a joint next to it
-      // ties its proposed ruling to the crease's end, where the fold gives it no room).
-      for (const auto* arc : {&layout.arcA, &layout.arcB})
-        for (std::size_t j = 1; j < arc->size(); ++j)
-          if (sides[static_cast<std::size_t>((*arc)[j - 1])].kind == SideKind::Curve ||
-              sides[static_cast<std::size_t>((*arc)[j])].kind == SideKind::Curve)
-            layout.cost += 0.1;
-      if (!best || layout.cost < best->cost) best = layout;
-    }
-  return best;
-}
-
-/// Vertices of a chain of sides (joined), and the positions of its joints in it.
-struct ChainPolyline {
-  std::vector<int> vertices;
-  std::vector<std::size_t> joints;  ///< indices into vertices of the corners inside the chain
-  std::vector<double> t;            ///< normalized arc length per vertex
-};
-
-ChainPolyline chainPolyline(const CurvedGraph& g, const std::vector<Side>& sides, const std::vector<int>& arc,
-                            int apexVertex) {
-  ChainPolyline c;
-  if (arc.empty()) {
-    c.vertices = {apexVertex};
-  } else {
-    for (std::size_t a = 0; a < arc.size(); ++a) {
-      const Side& s = sides[static_cast<std::size_t>(arc[a])];
-      if (a > 0) c.joints.push_back(c.vertices.size() - 1);
-      c.vertices.insert(c.vertices.end(), s.vertices.begin() + (a == 0 ? 0 : 1), s.vertices.end());
-    }
-  }
-  c.t.assign(c.vertices.size(), 0.0);
-  double length = 0.0;
-  for (std::size_t i = 1; i < c.vertices.size(); ++i) {
-    length += (g.at(c.vertices[i]) - g.at(c.vertices[i - 1])).norm();
-    c.t[i] = length;
-  }
-  if (length > 0.0)
-    for (double& x : c.t) x /= length;
-  return c;
-}
-
-double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-bool segmentsTouch(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r, const Eigen::Vector2d& s,
-                   double eps) {
-  const auto orient = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
-    return cross2(b - a, c - a);
-  };
-  const auto distToSegment = [](const Eigen::Vector2d& x, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    const Eigen::Vector2d ab = b - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0 ? std::clamp((x - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    return (a + t * ab - x).norm();
-  };
-  const double d1 = orient(p, q, r), d2 = orient(p, q, s), d3 = orient(r, s, p), d4 = orient(r, s, q);
-  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
-  return distToSegment(r, p, q) < eps || distToSegment(s, p, q) < eps || distToSegment(p, r, s) < eps ||
-         distToSegment(q, r, s) < eps;
-}
-
-bool insideLoop(const CurvedGraph& g, const std::vector<int>& loop, const Eigen::Vector2d& x) {
-  bool inside = false;
-  for (std::size_t k = 0, j = loop.size() - 1; k < loop.size(); j = k++) {
-    const Eigen::Vector2d a = g.at(loop[k]), b = g.at(loop[j]);
-    if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < (b.x() - a.x()) * (x.y() - a.y()) / (b.y() - a.y()) + a.x())
-      inside = !inside;
-  }
-  return inside;
-}
-
-/// Whether the segment a–b runs inside the face without touching its boundary elsewhere.
-bool chordFits(const CurvedGraph& g, const std::vector<int>& loop, int a, int b, double eps) {
-  if (a == b || g.edgeBetween(a, b) >= 0) return false;
-  const Eigen::Vector2d pa = g.at(a), pb = g.at(b);
-  if ((pa - pb).norm() < 10 * eps) return false;
-  for (std::size_t k = 0; k < loop.size(); ++k) {
-    const int u = loop[k], w = loop[(k + 1) % loop.size()];
-    if (u == a || u == b || w == a || w == b) continue;
-    if (segmentsTouch(pa, pb, g.at(u), g.at(w), eps)) return false;
-  }
-  return insideLoop(g, loop, 0.5 * (pa + pb));
-}
-
-/// A proposed ruling from a joint of one chain to the other chain, or nullopt.
-std::optional<std::pair<int, int>> proposeRuling(const CurvedGraph& g, const std::vector<int>& loop, const ChainPolyline& from,
-                                                 const ChainPolyline& to, double eps) {
-  for (std::size_t joint : from.joints) {
-    const double t = from.t[joint];
-    std::vector<std::pair<double, int>> candidates;  // (score, vertex)
-    if (to.vertices.size() == 1) {
-      candidates.emplace_back(0.0, to.vertices[0]);
-    } else {
-      for (std::size_t i = 1; i + 1 < to.vertices.size(); ++i) {
-        const bool isJoint = std::find(to.joints.begin(), to.joints.end(), i) != to.joints.end();
-        const double dt = std::abs(to.t[i] - t);
-        candidates.emplace_back(isJoint && dt <= 0.25 ? dt - 1.0 : dt, to.vertices[i]);  // joints first when near
-      }
-    }
-    std::sort(candidates.begin(), candidates.end());
-    for (const auto& [score, v] : candidates)
-      if (chordFits(g, loop, from.vertices[joint], v, eps)) return std::make_pair(from.vertices[joint], v);
-  }
-  return std::nullopt;
-}
-
-/// The vertices of a stroke in order along it (its pattern edges only, not proposed rulings).
-std::vector<int> chainPath(const CurvedGraph& g, int chainId) {
-  std::map<int, std::vector<int>> next;
-  for (std::size_t e = 0; e < g.ends.size(); ++e)
-    if (g.chain[e] == chainId) {
-      next[g.ends[e][0]].push_back(g.ends[e][1]);
-      next[g.ends[e][1]].push_back(g.ends[e][0]);
-    }
-  if (next.empty()) return {};
-  int start = next.begin()->first;
-  for (const auto& [v, ns] : next)
-    if (ns.size() == 1) {
-      start = v;
-      break;
-    }
-  std::vector<int> path{start};
-  std::set<int> seen{start};
-  while (true) {
-    int step = -1;
-    for (int w : next[path.back()])
-      if (!seen.count(w)) {
-        step = w;
-        break;
-      }
-    if (step < 0) break;
-    path.push_back(step);
-    seen.insert(step);
-  }
-  return path;
-}
-
-int startVertexOfPosition(const std::vector<Side>& sides, int half, bool endOfIt) {
-  const int k = static_cast<int>(sides.size());
-  if (half % 2 == 0) return sides[static_cast<std::size_t>((half / 2) % k)].vertices.front();
-  const Side& s = sides[static_cast<std::size_t>(half / 2)];
-  return endOfIt ? s.vertices.back() : s.vertices.front();
-}
-
-/// Least-squares cubic with m ≥ 5 control points through a polyline (chord-length parameters),
-/// interpolating its end points with the given unit tangent directions there (so two pieces of one
-/// crease meet with one tangent).
-spline::BSplineCurve fitCrease(const std::vector<Eigen::Vector2d>& pts, int m, const Eigen::Vector2d& startTangent,
-                               const Eigen::Vector2d& endTangent) {
-  const int n = static_cast<int>(pts.size());
-  std::vector<double> t(static_cast<std::size_t>(n), 0.0);
-  for (int i = 1; i < n; ++i) t[i] = t[i - 1] + (pts[i] - pts[i - 1]).norm();
-  const double length = t.back();
-  for (double& x : t) x = length > 0 ? x / length : 0.0;
-  spline::BSplineCurve curve;
-  curve.knots = spline::KnotVector::clampedUniform(3, m);
-  curve.points = Eigen::MatrixXd::Zero(m, 3);
-  const auto alongPolyline = [&pts, &t, n](double s) {
-    for (int i = 1; i < n; ++i)
-      if (t[i] >= s) {
-        const double span = t[i] - t[i - 1];
-        const double w = span > 0 ? (s - t[i - 1]) / span : 0.0;
-        return Eigen::Vector2d((1 - w) * pts[i - 1] + w * pts[i]);
-      }
-    return pts.back();
-  };
-  const Eigen::Vector2d p0 = pts.front(), p1 = pts.back();
-  if (n < m + 2) {
-    // Few points (a straight piece): control points at the Greville abscissae along the polyline.
-    for (int j = 0; j < m; ++j) {
-      double g = 0.0;  // (u_{j+1} + u_{j+2} + u_{j+3}) / 3, u_i = clamp((i − 3) / (m − 3), 0, 1)
-      for (int i = j + 1; i <= j + 3; ++i) g += std::clamp((i - 3.0) / (m - 3), 0.0, 1.0) / 3.0;
-      curve.points.row(j).head<2>() = alongPolyline(g).transpose();
-    }
-    return curve;
-  }
-  // Unknowns: a, b (second and second-to-last control points p0 + a t0, p1 − b t1) and the 2D
-  // control points 2 … m − 3.
-  const Eigen::MatrixXd N(spline::evaluationMatrix(curve.knots, t, 0));
-  const int inner = m - 4;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 + 2 * inner);
-  Eigen::VectorXd rhs(2 * n);
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector2d fixedPart = (N(i, 0) + N(i, 1)) * p0 + (N(i, m - 1) + N(i, m - 2)) * p1;
-    for (int c = 0; c < 2; ++c) {
-      A(2 * i + c, 0) = N(i, 1) * startTangent(c);
-      A(2 * i + c, 1) = -N(i, m - 2) * endTangent(c);
-      for (int j = 0; j < inner; ++j) A(2 * i + c, 2 + 2 * j + c) = N(i, 2 + j);
-      rhs(2 * i + c) = pts[i](c) - fixedPart(c);
-    }
-  }
-  const Eigen::VectorXd x = A.colPivHouseholderQr().solve(rhs);
-  const double a = std::max(x(0), 1e-3 * length), b = std::max(x(1), 1e-3 * length);
-  curve.points.row(0).head<2>() = p0.transpose();
-  curve.points.row(1).head<2>() = (p0 + a * startTangent).transpose();
-  for (int j = 0; j < inner; ++j) curve.points.row(2 + j).head<2>() = x.segment<2>(2 + 2 * j).transpose();
-  curve.points.row(m - 2).head<2>() = (p1 - b * endTangent).transpose();
-  curve.points.row(m - 1).head<2>() = p1.transpose();
-  return curve;
-}
-
 }  // namespace
+
+using curved::ChainPolyline;
+using curved::CurvedGraph;
+using curved::kChordChain;
+using curved::Layout;
+using curved::Side;
+using curved::SideKind;
+using curved::bestLayout;
+using curved::chainPath;
+using curved::chainPolyline;
+using curved::chordFits;
+using curved::fitCrease;
+using curved::proposeRuling;
+using curved::sidesOf;
+using curved::startVertexOfPosition;
 
 bool hasCurvedCreases(const io::CreasePattern& pattern) {
   std::map<int, std::vector<int>> verticesOfChain;

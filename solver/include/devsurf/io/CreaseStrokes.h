@@ -1,0 +1,54 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/io/CreasePattern.h"
+#include "devsurf/io/FoldImport.h"
+
+namespace devsurf::io {
+
+/// One stroke of a drawn crease pattern: a polyline without corners (a straight line, a sampled
+/// curve, or a closed curve), in millimetres with y up (the front of the sheet faces the viewer).
+struct CreaseStroke {
+  std::vector<Eigen::Vector2d> points;  ///< ≥ 2 points; a closed stroke does not repeat its first
+  bool closed = false;
+  /// Not straight (set by creasePatternFromStrokes: deviation from the chord above 1e-6 × the
+  /// drawing's diagonal, or closed).
+  bool curved = false;
+  EdgeAssignment assignment = EdgeAssignment::Flat;
+  std::optional<double> foldAngle;  ///< degrees, FOLD convention (+ valley, − mountain)
+  std::string element;              ///< where it came from, for notes ("path#crease-a")
+};
+
+/// Sampling and limits of creasePatternFromStrokes.
+struct CreaseStrokesOptions {
+  /// Pieces each straight stroke is cut into when the drawing has curved strokes, so rulings can be
+  /// proposed to points along it (a drawing of straight creases keeps one edge per stroke).
+  int straightPieces = 6;
+  int maxSegments = 20000;      ///< std::length_error beyond
+  double mergeFraction = 5e-4;  ///< merge tolerance as a fraction of the drawing's diagonal
+};
+
+/// A crease pattern made from strokes, with what the making changed or left out.
+struct StrokePattern {
+  CreasePattern pattern;
+  std::vector<ImportNote> notes;
+  int strokes = 0;
+  int curvedStrokes = 0;
+};
+
+/// The crease pattern a set of strokes draws: every stroke cut into segments (its pieces keep the
+/// stroke's index as CreaseEdge::curve when any stroke is curved, else −1), faces from
+/// spatial::planarArrangement (crossings split, dangling strokes and islands left out, noted by
+/// element). Edges on the outline become boundary edges whatever their stroke (noted when a crease
+/// colour), boundary strokes inside the sheet cuts (noted); fold angles from the strokes.
+/// Development in millimetres (unitToMm = 1), no folded state.
+/// @throws std::invalid_argument "SVG: …" for no strokes, no extent or no face
+/// @throws std::length_error past options.maxSegments
+StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const CreaseStrokesOptions& options = {});
+
+}  // namespace devsurf::io

@@ -1,0 +1,128 @@
+#include "devsurf/io/CreaseStrokes.h"
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "devsurf/spatial/PlanarArrangement.h"
+
+namespace devsurf::io {
+
+StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const CreaseStrokesOptions& options) {
+  if (strokes.empty()) throw std::invalid_argument("SVG: no strokes in a crease colour (black, red, blue, green, yellow, magenta)");
+  StrokePattern result;
+  Eigen::Vector2d lo = strokes[0].points[0], hi = lo;
+  for (const CreaseStroke& s : strokes)
+    for (const Eigen::Vector2d& p : s.points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  const double diagonal = (hi - lo).norm();
+  if (!(diagonal > 0.0)) throw std::invalid_argument("SVG: the drawing has no extent");
+  for (CreaseStroke& s : strokes) {
+    if (s.closed) {
+      s.curved = true;
+      continue;
+    }
+    const Eigen::Vector2d a = s.points.front(), b = s.points.back();
+    const Eigen::Vector2d axis = (b - a).norm() > 0 ? Eigen::Vector2d((b - a).normalized()) : Eigen::Vector2d::UnitX();
+    double deviation = 0.0;
+    for (const Eigen::Vector2d& p : s.points) deviation = std::max(deviation, std::abs(axis.x() * (p - a).y() - axis.y() * (p - a).x()));
+    s.curved = deviation > 1e-6 * diagonal || (b - a).norm() == 0.0;
+  }
+  const bool anyCurved = std::any_of(strokes.begin(), strokes.end(), [](const CreaseStroke& s) { return s.curved; });
+  result.strokes = static_cast<int>(strokes.size());
+  result.curvedStrokes = static_cast<int>(std::count_if(strokes.begin(), strokes.end(), [](const CreaseStroke& s) { return s.curved; }));
+
+  // Segments of every stroke; straight strokes cut into pieces where rulings may need points.
+  std::vector<Eigen::Vector2d> points;
+  std::vector<std::array<int, 2>> segments;
+  std::vector<int> strokeOfSegment;
+  for (std::size_t s = 0; s < strokes.size(); ++s) {
+    const CreaseStroke& stroke = strokes[s];
+    std::vector<Eigen::Vector2d> pts = stroke.points;
+    if (!stroke.curved && anyCurved && options.straightPieces > 1) {
+      pts.clear();
+      for (int k = 0; k <= options.straightPieces; ++k)
+        pts.push_back(stroke.points.front() + (stroke.points.back() - stroke.points.front()) * k / options.straightPieces);
+    } else if (!stroke.curved) {
+      pts = {stroke.points.front(), stroke.points.back()};
+    }
+    const int first = static_cast<int>(points.size());
+    points.insert(points.end(), pts.begin(), pts.end());
+    const int count = static_cast<int>(pts.size());
+    for (int k = 0; k + 1 < count; ++k) {
+      segments.push_back({first + k, first + k + 1});
+      strokeOfSegment.push_back(static_cast<int>(s));
+    }
+    if (stroke.closed && count >= 3) {
+      segments.push_back({first + count - 1, first});
+      strokeOfSegment.push_back(static_cast<int>(s));
+    }
+    if (static_cast<int>(segments.size()) > options.maxSegments)
+      throw std::length_error("SVG: more than " + std::to_string(options.maxSegments) + " segments after sampling the curves");
+  }
+  Eigen::MatrixX2d pointMatrix(static_cast<Eigen::Index>(points.size()), 2);
+  for (std::size_t k = 0; k < points.size(); ++k) pointMatrix.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
+  const spatial::PlanarArrangement arrangement =
+      spatial::planarArrangement(pointMatrix, segments, options.mergeFraction * diagonal);
+
+  std::set<int> leftOut;
+  for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);
+  std::set<int> usedStrokes;
+  for (int source : arrangement.sourceOfSegment) usedStrokes.insert(strokeOfSegment[static_cast<std::size_t>(source)]);
+  for (int s : leftOut)
+    if (!usedStrokes.count(s))
+      result.notes.push_back({strokes[static_cast<std::size_t>(s)].element,
+                              "a stroke with a free end, or apart from the sheet; left out"});
+  if (arrangement.islands > 0)
+    result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet (a face with a hole); left out"});
+  if (arrangement.faces.empty()) throw std::invalid_argument("SVG: the strokes enclose no face (draw the sheet's outline in black)");
+
+  CreasePattern& p = result.pattern;
+  p.unitToMm = 1.0;
+  p.vertices2d = arrangement.points;
+  p.faces = arrangement.faces;
+  std::map<std::pair<int, int>, int> facesOfPair;
+  for (const auto& f : p.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) ++facesOfPair[std::minmax(f[k], f[(k + 1) % f.size()])];
+  std::set<int> outlineCreases, innerBoundaries;
+  for (std::size_t s = 0; s < arrangement.segments.size(); ++s) {
+    const auto key = std::minmax(arrangement.segments[s][0], arrangement.segments[s][1]);
+    const auto count = facesOfPair.find(key);
+    if (count == facesOfPair.end()) continue;
+    const int strokeId = strokeOfSegment[static_cast<std::size_t>(arrangement.sourceOfSegment[s])];
+    const CreaseStroke& stroke = strokes[static_cast<std::size_t>(strokeId)];
+    CreaseEdge edge;
+    edge.v0 = key.first;
+    edge.v1 = key.second;
+    edge.curve = anyCurved ? strokeId : -1;
+    if (count->second == 1) {
+      edge.assignment = EdgeAssignment::Boundary;
+      if (stroke.assignment != EdgeAssignment::Boundary && stroke.assignment != EdgeAssignment::Cut) outlineCreases.insert(strokeId);
+    } else if (stroke.assignment == EdgeAssignment::Boundary) {
+      edge.assignment = EdgeAssignment::Cut;
+      innerBoundaries.insert(strokeId);
+    } else {
+      edge.assignment = stroke.assignment;
+      if (stroke.foldAngle && *stroke.foldAngle != 0.0) edge.foldAngle = stroke.foldAngle;
+    }
+    p.edges.push_back(edge);
+  }
+  for (int s : outlineCreases)
+    result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a crease colour on the sheet's outline; read as boundary"});
+  for (int s : innerBoundaries)
+    result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a boundary (black) line inside the sheet; read as a cut"});
+  try {
+    p.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("SVG: ") + e.what());
+  }
+  return result;
+}
+
+}  // namespace devsurf::io
