@@ -692,7 +692,7 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     if (role == Role::Edit) {
       const std::string view = viewTokenFor(message["token"].get<std::string>());
       if (session->authenticate(view) == Role::View)
-        c->send(proto::wireText(json{{"type", "links"}, {"view_token", view}}), transport::Delivery::Reliable, "");
+        session->post(pid, json{{"type", "_links"}, {"view_token", view}});  // after its state
     }
     return;
   }

@@ -618,7 +618,7 @@ bool Session::hasQueuedWork() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return std::any_of(queue_.begin(), queue_.end(), [](const std::shared_ptr<Work>& w) {
     const std::string type = w->message.value("type", "");
-    return type != "ping" && type != "presence" && type != "_state" && type != "_presence";
+    return type != "ping" && type != "presence" && type != "_state" && type != "_presence" && type != "_links";
   });
 }
 
@@ -1295,6 +1295,10 @@ void Session::handle(const Work& work) {
   const json op = m.value("op", json());
   const int pid = work.participant;
 
+  if (type == "_links") {  // the daemon's note for an editor, after its state (Daemon: join)
+    send(pid, json{{"type", "links"}, {"view_token", m.at("view_token")}});
+    return;
+  }
   if (type == "_state") {
     // What the newcomer is shown is durable like everything else shown. When the store cannot
     // take the current state, the session goes back to what a restart would restore (the last
