@@ -25,6 +25,8 @@ int findRoot(std::vector<int>& parent, int i) {
   return i;
 }
 
+}  // namespace
+
 bool pointInLoop(const Eigen::MatrixX2d& points, const std::vector<int>& loop, const Eigen::Vector2d& p) {
   bool inside = false;
   for (std::size_t k = 0, j = loop.size() - 1; k < loop.size(); j = k++) {
@@ -34,8 +36,6 @@ bool pointInLoop(const Eigen::MatrixX2d& points, const std::vector<int>& loop, c
   }
   return inside;
 }
-
-}  // namespace
 
 double loopSignedArea2(const Eigen::MatrixX2d& points, const std::vector<int>& loop) {
   double area2 = 0.0;

@@ -46,6 +46,9 @@ struct PlanarArrangement {
 PlanarArrangement planarArrangement(const Eigen::MatrixX2d& points, const std::vector<std::array<int, 2>>& segments,
                                     double tolerance = 0.0);
 
+/// Whether p lies inside a point loop (even–odd rule; points on the loop either way).
+bool pointInLoop(const Eigen::MatrixX2d& points, const std::vector<int>& loop, const Eigen::Vector2d& p);
+
 /// Twice the signed area of a point loop (positive = counter-clockwise).
 double loopSignedArea2(const Eigen::MatrixX2d& points, const std::vector<int>& loop);
 

@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "devsurf/spatial/PlanarArrangement.h"
 #include "devsurf/spline/Basis.h"
 
 namespace devsurf::models::composite::curved {
@@ -130,16 +131,6 @@ bool segmentsTouch(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eig
          distToSegment(q, r, s) < eps;
 }
 
-bool insideLoop(const CurvedGraph& g, const std::vector<int>& loop, const Eigen::Vector2d& x) {
-  bool inside = false;
-  for (std::size_t k = 0, j = loop.size() - 1; k < loop.size(); j = k++) {
-    const Eigen::Vector2d a = g.at(loop[k]), b = g.at(loop[j]);
-    if ((a.y() > x.y()) != (b.y() > x.y()) && x.x() < (b.x() - a.x()) * (x.y() - a.y()) / (b.y() - a.y()) + a.x())
-      inside = !inside;
-  }
-  return inside;
-}
-
 }  // namespace
 
 /// Whether the segment a–b runs inside the face without touching its boundary elsewhere.
@@ -152,7 +143,7 @@ bool chordFits(const CurvedGraph& g, const std::vector<int>& loop, int a, int b,
     if (u == a || u == b || w == a || w == b) continue;
     if (segmentsTouch(pa, pb, g.at(u), g.at(w), eps)) return false;
   }
-  return insideLoop(g, loop, 0.5 * (pa + pb));
+  return spatial::pointInLoop(g.pattern.vertices2d, loop, 0.5 * (pa + pb));
 }
 
 /// A proposed ruling from a joint of one chain to the other chain, or nullopt.
