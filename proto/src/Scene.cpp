@@ -130,6 +130,40 @@ composite::CreaseKind creaseFromName(const std::string& name) {
   return composite::CreaseKind::None;
 }
 
+std::vector<io::CreaseStroke> drawingFromJson(const json& j) {
+  std::vector<io::CreaseStroke> strokes;
+  const json& list = j.at("strokes");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const json& js = list[i];
+    const std::string path = indexPath("model.drawing.strokes", i);
+    io::CreaseStroke s;
+    for (const json& p : js.at("points")) s.points.emplace_back(p[0].get<double>(), p[1].get<double>());
+    s.closed = js.value("closed", false);
+    s.curved = js.value("curved", false);
+    if (s.points.size() < (s.closed ? 3u : 2u))
+      throw SceneError(path + ".points", "count", std::string("a ") + (s.closed ? "closed " : "") + "stroke needs at least " +
+                                                      (s.closed ? "3" : "2") + " points, got " + std::to_string(s.points.size()));
+    s.assignment = io::parseFoldAssignment(js.at("assignment").get<std::string>());
+    if (js.contains("fold_angle")) s.foldAngle = js["fold_angle"].get<double>();
+    strokes.push_back(std::move(s));
+  }
+  return strokes;
+}
+
+json drawingToJson(const std::vector<io::CreaseStroke>& strokes) {
+  json list = json::array();
+  for (const io::CreaseStroke& s : strokes) {
+    json points = json::array();
+    for (const Eigen::Vector2d& p : s.points) points.push_back({p.x(), p.y()});
+    json js = {{"points", std::move(points)}, {"assignment", std::string(1, io::foldAssignmentLetter(s.assignment))}};
+    if (s.closed) js["closed"] = true;
+    if (s.curved) js["curved"] = true;
+    if (s.foldAngle) js["fold_angle"] = *s.foldAngle;
+    list.push_back(std::move(js));
+  }
+  return {{"strokes", std::move(list)}};
+}
+
 composite::CompositeDesign compositeFromJson(const json& m, double handleWeight) {
   composite::CompositeDesign d;
   const json& vertices = m.at("vertices");
@@ -217,6 +251,7 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
                             foldAngles[i].at("angle").get<double>()});
   }
   d.foldAmount = m.value("fold_amount", 1.0);
+  if (m.contains("drawing")) d.drawing = drawingFromJson(m["drawing"]);
   if (m.contains("development")) {
     const json& dev = m["development"];
     d.developmentSamples = dev.at("samples").get<int>();
@@ -300,6 +335,7 @@ json compositeToJson(const composite::CompositeDesign& d) {
     m["fold_angles"] = std::move(targets);
   }
   if (d.foldAmount != 1.0) m["fold_amount"] = d.foldAmount;
+  if (!d.drawing.empty()) m["drawing"] = drawingToJson(d.drawing);
   if (d.developmentSamples > 0) {
     json dev = {{"samples", d.developmentSamples}};
     if (!d.developmentDomain.empty()) {

@@ -7,6 +7,7 @@
 
 #include "devsurf/io/SvgImport.h"
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
+#include "devsurf/models/composite/CompositeFromDrawing.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/server/ShapeUpload.h"
 
@@ -41,6 +42,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   CreasePatternImportResult result;
   result.format = request.format;
   io::FoldImport imported;
+  std::vector<io::CreaseStroke> drawing;  // the SVG's strokes (a FOLD file's edges below)
   try {
     if (request.format == "svg") {
       io::SvgImportOptions options;
@@ -50,6 +52,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       imported.notes = std::move(svg.notes);
       imported.unit = "mm";  // the reader converts the drawing's units to millimetres
       result.curvedCreases = svg.curvedStrokes;
+      drawing = std::move(svg.drawing);
     } else {
       const nlohmann::json document = nlohmann::json::parse(body);
       if (const auto ev = document.find("edges_vertices");
@@ -110,6 +113,11 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
     throw ApproximationInputError("body", std::string("body: the crease pattern does not make a composite: ") + e.what());
   }
   result.notes.insert(result.notes.end(), composite.notes.begin(), composite.notes.end());
+  // The drawing travels with the design, so the browser can draw on it (layout edits rebuild from
+  // it): an SVG's strokes as read, a FOLD file's edges as straight strokes in the scene's numbers.
+  composite.design.drawing = drawing.empty() ? models::composite::drawingOfCreasePattern(pattern) : std::move(drawing);
+  for (io::CreaseStroke& s : composite.design.drawing) s.element.clear();
+  if (!pattern.hasFoldedState()) composite.design.foldAmount = 0.0;  // flat: the fold slider at 0 %
   for (const io::CreaseEdge& e : pattern.edges) {
     switch (e.assignment) {
       case io::EdgeAssignment::Mountain: ++result.mountain; break;

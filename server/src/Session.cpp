@@ -811,6 +811,9 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     pushUndo(before);
     return true;
   }
+  if (isDrawingEdit(type)) return applyDrawingEdit(participant, edit, replaying);
+  if (type == "rotate_points") return applyGroupRotation(participant, edit, replaying);
+  if (type == "add_control_point" || type == "remove_control_point") return applyControlPointEdit(participant, edit, replaying);
   if (type == "fold" || type == "fold_end") {
     if (!isComposite())
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
@@ -1403,7 +1406,7 @@ void Session::handle(const Work& work) {
     }
     release(m["target"], iterations);
     broadcast(presenceMessage());
-  } else if (type == "solve") {
+  } else if (type == "solve" || type == "rotate_points" || type == "remove_control_point") {
     SolveLimits limits;
     limits.iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
     limits.timeBudgetMs = settings_.releaseTimeBudgetMs;

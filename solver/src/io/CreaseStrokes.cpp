@@ -36,6 +36,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   }
   const bool anyCurved = std::any_of(strokes.begin(), strokes.end(), [](const CreaseStroke& s) { return s.curved; });
   result.strokes = static_cast<int>(strokes.size());
+  for (const CreaseStroke& s : strokes) result.strokeCurved.push_back(s.curved);
   result.curvedStrokes = static_cast<int>(std::count_if(strokes.begin(), strokes.end(), [](const CreaseStroke& s) { return s.curved; }));
 
   // Segments of every stroke; straight strokes cut into pieces where rulings may need points.
@@ -73,6 +74,8 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
 
   std::set<int> leftOut;
   for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);
+  result.strokeLeftOut.assign(strokes.size(), false);
+  for (int s : leftOut) result.strokeLeftOut[static_cast<std::size_t>(s)] = true;
   std::set<int> usedStrokes;
   for (int source : arrangement.sourceOfSegment) usedStrokes.insert(strokeOfSegment[static_cast<std::size_t>(source)]);
   for (int s : leftOut)
@@ -91,11 +94,17 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   for (const auto& f : p.faces)
     for (std::size_t k = 0; k < f.size(); ++k) ++facesOfPair[std::minmax(f[k], f[(k + 1) % f.size()])];
   std::set<int> outlineCreases, innerBoundaries;
+  std::vector<double> boundingLength(strokes.size(), 0.0), strokeLength(strokes.size(), 0.0);
+  for (std::size_t k = 0; k < segments.size(); ++k)
+    strokeLength[static_cast<std::size_t>(strokeOfSegment[k])] += (points[static_cast<std::size_t>(segments[k][0])] -
+                                                                    points[static_cast<std::size_t>(segments[k][1])]).norm();
   for (std::size_t s = 0; s < arrangement.segments.size(); ++s) {
     const auto key = std::minmax(arrangement.segments[s][0], arrangement.segments[s][1]);
     const auto count = facesOfPair.find(key);
-    if (count == facesOfPair.end()) continue;
     const int strokeId = strokeOfSegment[static_cast<std::size_t>(arrangement.sourceOfSegment[s])];
+    if (count == facesOfPair.end()) continue;
+    boundingLength[static_cast<std::size_t>(strokeId)] +=
+        (arrangement.points.row(arrangement.segments[s][0]) - arrangement.points.row(arrangement.segments[s][1])).norm();
     const CreaseStroke& stroke = strokes[static_cast<std::size_t>(strokeId)];
     CreaseEdge edge;
     edge.v0 = key.first;
@@ -113,10 +122,31 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
     }
     p.edges.push_back(edge);
   }
+  // A stroke whose face-bounding pieces do not add up to its length lost a piece (a dangling
+  // tail is pruned from the arrangement without a trace).
+  for (std::size_t s = 0; s < strokes.size(); ++s)
+    if (boundingLength[s] < strokeLength[s] * (1.0 - 1e-6) - 1e-9 * diagonal) result.strokeLeftOut[s] = true;
   for (int s : outlineCreases)
     result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a crease colour on the sheet's outline; read as boundary"});
   for (int s : innerBoundaries)
     result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a boundary (black) line inside the sheet; read as a cut"});
+  // Only the points the faces use (merged duplicates and pruned ends would be noted as lone
+  // vertices by every later step).
+  std::vector<int> newIndex(static_cast<std::size_t>(p.vertices2d.rows()), -1);
+  int used = 0;
+  for (const auto& f : p.faces)
+    for (int v : f)
+      if (newIndex[static_cast<std::size_t>(v)] < 0) newIndex[static_cast<std::size_t>(v)] = used++;
+  Eigen::MatrixX2d kept(used, 2);
+  for (std::size_t v = 0; v < newIndex.size(); ++v)
+    if (newIndex[v] >= 0) kept.row(newIndex[v]) = p.vertices2d.row(static_cast<Eigen::Index>(v));
+  p.vertices2d = std::move(kept);
+  for (auto& f : p.faces)
+    for (int& v : f) v = newIndex[static_cast<std::size_t>(v)];
+  for (CreaseEdge& e : p.edges) {
+    e.v0 = newIndex[static_cast<std::size_t>(e.v0)];
+    e.v1 = newIndex[static_cast<std::size_t>(e.v1)];
+  }
   try {
     p.validate();
   } catch (const std::invalid_argument& e) {

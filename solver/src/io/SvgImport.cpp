@@ -449,7 +449,9 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
   strokeOptions.straightPieces = options.straightPieces;
   strokeOptions.maxSegments = options.maxSegments;
   strokeOptions.mergeFraction = options.mergeFraction;
-  StrokePattern made = creasePatternFromStrokes(std::move(strokes), strokeOptions);
+  StrokePattern made = creasePatternFromStrokes(strokes, strokeOptions);
+  for (std::size_t i = 0; i < strokes.size(); ++i) strokes[i].curved = made.strokeCurved[i];
+  result.drawing = std::move(strokes);
   result.pattern = std::move(made.pattern);
   if (const pugi::xml_node title = root.child("title")) result.pattern.title = trimmed(title.child_value());
   result.notes.insert(result.notes.end(), made.notes.begin(), made.notes.end());

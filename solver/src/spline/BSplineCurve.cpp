@@ -1,9 +1,12 @@
 #include "devsurf/spline/BSplineCurve.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <Eigen/QR>
 
 #include "devsurf/spline/Basis.h"
 
@@ -95,6 +98,53 @@ Eigen::MatrixXd BSplineCurve::evaluate(const std::vector<double>& params, int de
     result.row(static_cast<Eigen::Index>(k)) = evaluate(params[k], derivative).transpose();
   }
   return result;
+}
+
+BSplineCurve approximateInSpace(const BSplineCurve& curve, const KnotVector& knots, int samplesPerSpan) {
+  if (curve.isRational() || curve.knots.kind() != KnotKind::Clamped || knots.kind() != KnotKind::Clamped)
+    throw std::invalid_argument("approximateInSpace: clamped, non-rational curves only");
+  if (knots.degree() != curve.degree())
+    throw std::invalid_argument("approximateInSpace: the space has degree " + std::to_string(knots.degree()) +
+                                ", the curve " + std::to_string(curve.degree()));
+  const double scale = std::max(std::abs(curve.knots.domainEnd() - curve.knots.domainBegin()), 1e-300);
+  if (std::abs(knots.domainBegin() - curve.knots.domainBegin()) > 1e-12 * scale ||
+      std::abs(knots.domainEnd() - curve.knots.domainEnd()) > 1e-12 * scale)
+    throw std::invalid_argument("approximateInSpace: the space's domain differs from the curve's");
+  const int n = knots.numControlPoints();
+  if (n < knots.degree() + 1) throw std::invalid_argument("approximateInSpace: too few control points");
+  std::vector<double> breaks = curve.knots.breakpoints();
+  const std::vector<double> other = knots.breakpoints();
+  breaks.insert(breaks.end(), other.begin(), other.end());
+  std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end(), [scale](double a, double b) { return std::abs(a - b) <= 1e-12 * scale; }),
+               breaks.end());
+  std::vector<double> params;
+  for (std::size_t k = 0; k + 1 < breaks.size(); ++k)
+    for (int j = 0; j < samplesPerSpan; ++j) params.push_back(breaks[k] + (breaks[k + 1] - breaks[k]) * (j + 0.5) / samplesPerSpan);
+  const Eigen::MatrixXd target = curve.evaluate(params);
+  const Eigen::MatrixXd basis = Eigen::MatrixXd(evaluationMatrix(knots, params, 0));
+  BSplineCurve result;
+  result.knots = knots;
+  result.points.resize(n, curve.dimension());
+  result.points.row(0) = curve.points.row(0);
+  result.points.row(n - 1) = curve.points.row(curve.points.rows() - 1);
+  if (n > 2) {
+    const Eigen::MatrixXd rhs = target - basis.col(0) * result.points.row(0) - basis.col(n - 1) * result.points.row(n - 1);
+    result.points.middleRows(1, n - 2) = basis.middleCols(1, n - 2).colPivHouseholderQr().solve(rhs);
+  }
+  return result;
+}
+
+std::vector<double> grevilleAbscissae(const KnotVector& knots) {
+  const std::vector<double>& t = knots.knots();
+  const int p = knots.degree();
+  std::vector<double> g(static_cast<std::size_t>(knots.numControlPoints()), 0.0);
+  for (int i = 0; i < knots.numControlPoints(); ++i) {
+    double sum = 0.0;
+    for (int j = 1; j <= p; ++j) sum += t[static_cast<std::size_t>(i + j)];
+    g[static_cast<std::size_t>(i)] = p > 0 ? sum / p : t[static_cast<std::size_t>(i)];
+  }
+  return g;
 }
 
 }  // namespace devsurf::spline

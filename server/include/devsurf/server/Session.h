@@ -322,6 +322,18 @@ class Session : public std::enable_shared_from_this<Session> {
   /// The fold slider's "fold" (composite sessions): the first one of a design without fold-angle
   /// targets takes its current fold angles as 100 % (a rebuild); after that only the amount moves.
   bool applyFold(int participant, const nlohmann::json& edit, bool replaying);
+  /// Layout edits of a composite drawn on a sheet (draw_crease, erase_crease, relabel_crease,
+  /// reshape_crease; SessionDrawing.cpp): the drawing changes and the composite is rebuilt from it,
+  /// flat. Refused edits change nothing.
+  bool applyDrawingEdit(int participant, const nlohmann::json& edit, bool replaying);
+  static bool isDrawingEdit(const std::string& type);
+  /// "rotate_points" (SessionGroupRotation.cpp): turns the targets of a composite rigidly about an
+  /// axis (one rebuild, one undo step); handle() then solves as for "solve".
+  bool applyGroupRotation(int participant, const nlohmann::json& edit, bool replaying);
+  /// "add_control_point" / "remove_control_point" (SessionControlPoints.cpp): a knot inserted into
+  /// (exact) or removed from (least squares) every S edge sharing the edge's spline space; one
+  /// rebuild, one undo step; removal then solves as for "solve".
+  bool applyControlPointEdit(int participant, const nlohmann::json& edit, bool replaying);
   bool keepsInput() const { return solver_->keepsInputGeometry(); }
   proto::Scene persistentScene() const;
   void pushUndo();

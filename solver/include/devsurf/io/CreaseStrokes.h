@@ -39,6 +39,10 @@ struct StrokePattern {
   std::vector<ImportNote> notes;
   int strokes = 0;
   int curvedStrokes = 0;
+  /// Per stroke: some piece of it bounds no face (a free end, a tail beyond the outline, a stroke
+  /// apart from the sheet), so the pattern does not follow all of it.
+  std::vector<bool> strokeLeftOut;
+  std::vector<bool> strokeCurved;  ///< per stroke: CreaseStroke::curved as decided here
 };
 
 /// The crease pattern a set of strokes draws: every stroke cut into segments (its pieces keep the

@@ -33,6 +33,9 @@ struct SvgImport {
   std::vector<ImportNote> notes;  ///< by element: "path[2]", "path#crease-a", "svg"
   int curvedStrokes = 0;          ///< strokes that are not straight (curved creases or outline)
   int strokes = 0;                ///< strokes read (after splitting paths at corners)
+  /// The strokes themselves (millimetres, y up; `curved` set), the drawing a composite made from
+  /// this pattern keeps (CompositeDesign::drawing).
+  std::vector<CreaseStroke> drawing;
 };
 
 /// Reads a crease pattern drawn as SVG, with Origami Simulator's conventions

@@ -52,6 +52,18 @@ BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times = 1);
 /// Same requirements and exceptions as insertKnot.
 BSplineCurve refineKnots(const BSplineCurve& curve, const std::vector<double>& newKnots);
 
+/// The curve approximated in another clamped spline space of the same degree and domain (e.g. one
+/// interior knot fewer: a knot removal that cannot keep the shape exactly): the end points are kept
+/// and the interior control points minimize Σ‖c′(u_k) − c(u_k)‖² over `samplesPerSpan` parameters
+/// in every span of either knot vector. A space that contains the curve reproduces it.
+/// @throws std::invalid_argument for rational or periodic curves, another degree or domain, or a
+///         space with fewer than degree + 1 control points
+BSplineCurve approximateInSpace(const BSplineCurve& curve, const KnotVector& knots, int samplesPerSpan = 12);
+
+/// Greville abscissae of a knot vector: (t_{i+1} + … + t_{i+p}) / p per control point i, the
+/// parameter each control point "sits at".
+std::vector<double> grevilleAbscissae(const KnotVector& knots);
+
 /// Split a clamped, non-rational curve into its Bézier pieces, one per non-empty span.
 std::vector<BezierPiece> bezierPieces(const BSplineCurve& curve);
 

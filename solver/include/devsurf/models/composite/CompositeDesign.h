@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "devsurf/io/CreaseStrokes.h"
 #include "devsurf/spline/BSplineCurve.h"
 
 namespace devsurf::models::composite {
@@ -132,6 +133,12 @@ struct CompositeDesign {
   /// How far along its fold-angle targets the design is pulled (scene "fold_amount", [0, 1]): 0 =
   /// flat, 1 = the targets themselves (the fold slider's position).
   double foldAmount = 1.0;
+  /// The flat drawing the design was made from (scene "drawing": {"strokes": […]}), in design
+  /// units on the sheet (x right, y up; the development's frame): the sheet's outline (B strokes)
+  /// and its creases and cuts, a curved stroke being the interpolating spline through its points.
+  /// Empty for designs not made from a crease pattern. Layout edits change the strokes and rebuild
+  /// the design from them (compositeFromDrawing); the solver does not read them.
+  std::vector<io::CreaseStroke> drawing;
 };
 
 }  // namespace devsurf::models::composite
