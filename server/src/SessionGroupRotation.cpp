@@ -73,7 +73,14 @@ bool Session::applyGroupRotation(int participant, const json& edit, bool replayi
     const Eigen::Vector3d turned = centre + rotation * (positions[k] - centre);
     *compositeScenePoint(model, canonical[k]) = json::array({turned.x(), turned.y(), turned.z()});
   }
-  // Handles on turned points keep their targets: a handle is where the user wants the point.
+  // A handle on a turned point turns with it (it says where the user wants the point: now there).
+  json none = json::array();
+  for (json& h : model.contains("handles") ? model["handles"] : none) {
+    if (std::find(canonical.begin(), canonical.end(), pointKey(before, h)) == canonical.end()) continue;
+    const Eigen::Vector3d p(h["position"][0].get<double>(), h["position"][1].get<double>(), h["position"][2].get<double>());
+    const Eigen::Vector3d turned = centre + rotation * (p - centre);
+    h["position"] = json::array({turned.x(), turned.y(), turned.z()});
+  }
   try {
     const proto::Scene next = proto::sceneFromJson(doc, settings_.resources);
     rebuild(next);

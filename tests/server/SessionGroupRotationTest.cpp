@@ -63,6 +63,24 @@ TEST(SessionGroupRotation, TurningTheFlapAboutItsCreaseFoldsItAndTheSolveKeepsIt
   EXPECT_EQ(e.session->sceneJson()["model"]["vertices"], flat["model"]["vertices"]);
 }
 
+TEST(SessionGroupRotation, AHandleOnATurnedPointTurnsWithIt) {
+  ExampleEditor e("composite-two-creases");
+  const json before = e.session->sceneJson();
+  ASSERT_FALSE(before["model"]["handles"].empty());
+  const json handle = before["model"]["handles"][0];
+  json target = handle;
+  target.erase("position");
+  target.erase("weight");
+  e.send({{"type", "rotate_points"}, {"op", 1}, {"targets", {target}}, {"axis", {0, 0, 1}}, {"centre", {0, 0, 0}},
+          {"angle", 90}, {"iterations", 0}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  const json turned = e.session->sceneJson()["model"]["handles"][0]["position"];
+  // (x, y, z) turned by 90° about z through the origin: (−y, x, z).
+  EXPECT_NEAR(turned[0].get<double>(), -handle["position"][1].get<double>(), 1e-12);
+  EXPECT_NEAR(turned[1].get<double>(), handle["position"][0].get<double>(), 1e-12);
+  EXPECT_NEAR(turned[2].get<double>(), handle["position"][2].get<double>(), 1e-12);
+}
+
 TEST(SessionGroupRotation, BadAxesTargetsAndKindsAreRefusedNamingTheField) {
   ExampleEditor e(sheetWithOneCrease());
   const json before = e.session->sceneJson();

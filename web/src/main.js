@@ -27,6 +27,10 @@ window.__devsurf = {
   unfoldingScreenPosition(vertex) {
     return editor ? editor.unfolding.vertexScreenPosition(vertex) : null;
   },
+  /** Composites with a drawing: client (page) px of sheet point [x, y] on the open crease board. */
+  creaseBoardPoint(p) {
+    return editor ? editor.creaseBoard.clientPoint(p) : null;
+  },
   iterateApplyTimes() {
     return editor ? editor.applyTimes.slice() : [];
   },

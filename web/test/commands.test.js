@@ -4,7 +4,8 @@ import { describe, expect, it } from 'vitest';
 import {
   AddHandleCommand, DragCommand, DragEndCommand, JoinCommand, PingCommand, PresenceCommand, RedoCommand,
   RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SetUnitsCommand, SolveCommand, UndoCommand,
-  SOLVER_KEYS, PARAM_KEYS, UNITS,
+  SOLVER_KEYS, PARAM_KEYS, UNITS, DrawCreaseCommand, EraseCreaseCommand, RelabelCreaseCommand, ReshapeCreaseCommand,
+  RotatePointsCommand, AddControlPointCommand, RemoveControlPointCommand,
 } from '../src/commands/index.js';
 import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
 import { makeValidator } from './helpers/jsonschema.js';
@@ -53,12 +54,25 @@ const cases = [
   ['FoldEndCommand', new FoldEndCommand()],
   ...UNITS.map((u) => [`SetUnitsCommand ${u}`, new SetUnitsCommand(u)]),
   ['SetCreaseCommand none', new SetCreaseCommand(4, 'none')],
+  // Composites: turning a group of points (000_… §4.1, Fig. 8).
+  ['AddControlPointCommand', new AddControlPointCommand(3, 0)],
+  ['RemoveControlPointCommand', new RemoveControlPointCommand(3, 2)],
+  ['RotatePointsCommand', new RotatePointsCommand([{ vertex: 2 }, { vertex: 3 }, { edge: 4, index: 1 }], [0, 0, 1], 20)],
+  ['RotatePointsCommand with centre and iterations', new RotatePointsCommand([{ vertex: 0 }], [1, 0, 0], -360, { centre: [0, 100, 0], iterations: 0 })],
   // Strips between two given curves: their curves' control points, and their parameters.
   ['DragCommand of a quasi_strip control point', new DragCommand({ curve: 'c1', index: 5 }, [1, 2, 3])],
   ['DragEndCommand of a conical_strip control point', new DragEndCommand({ curve: 'q', index: 0 })],
   ['SetParamsCommand quasi_strip mapping', new SetParamsCommand('quasi_strip', { mapping: { degree: 3, coefficients: 20 }, samples: 60 })],
   ['SetParamsCommand quasi_strip optimizer', new SetParamsCommand('quasi_strip', { optimizer: 'guided_projection', method: 'discrete', lambda1: 50, lambda2: 2, max_iterations: 300 })],
   ['SetParamsCommand conical_strip', new SetParamsCommand('conical_strip', { np: 30, nq: 34, h3: 1.5, h4: 0.4, ra: 1.3, objective: 'bending_energy', g1: false })],
+  // Drawing the crease pattern (composites made from a drawing): listed once the schema has them.
+  ...[
+    ['DrawCreaseCommand straight', new DrawCreaseCommand([[0, 0], [200, 150]], { assignment: 'M', foldAngle: 60 })],
+    ['DrawCreaseCommand curved', new DrawCreaseCommand([[0, 75], [100, 95], [200, 75]], { curved: true, assignment: 'V' })],
+    ['EraseCreaseCommand', new EraseCreaseCommand(3)],
+    ['RelabelCreaseCommand', new RelabelCreaseCommand(3, 'F')],
+    ['ReshapeCreaseCommand', new ReshapeCreaseCommand(3, [[0, 75], [100, 95], [200, 75]], true)],
+  ].filter(([, c]) => schemas['ws-client.schema.json'].oneOf.some((r) => r.$ref.endsWith(`/${c.type}`))),
 ];
 
 describe('commands match ws-client.schema.json', () => {
@@ -94,6 +108,10 @@ describe('commands match ws-client.schema.json', () => {
   });
 
   it('composite targets and crease types are checked before sending', () => {
+    expect(() => new AddControlPointCommand(-1, 0)).toThrow(/edge/);
+    expect(() => new RemoveControlPointCommand(2, 0)).toThrow(/index/);
+    expect(new RemoveControlPointCommand(2, 3).toMessage(4)).toEqual({ type: 'remove_control_point', op: 4, edge: 2, index: 3 });
+    expect(validClient({ type: 'remove_control_point', op: 1, edge: 0, index: 0 }).length).toBeGreaterThan(0);
     expect(() => new DragCommand({ vertex: -1 }, [0, 0, 0])).toThrow(TypeError);
     expect(() => new DragCommand({ vertex: 1, edge: 2 }, [0, 0, 0])).toThrow(TypeError);
     expect(() => new DragCommand({ edge: 1 }, [0, 0, 0])).toThrow(TypeError);

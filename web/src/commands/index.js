@@ -15,3 +15,11 @@ export { SetCreaseCommand, CREASE_KINDS } from './SetCreaseCommand.js';
 export { SetParamsCommand, PARAM_KEYS } from './SetParamsCommand.js';
 export { FoldCommand, FoldEndCommand } from './FoldCommand.js';
 export { SetUnitsCommand, UNITS } from './SetUnitsCommand.js';
+export {
+  DrawCreaseCommand, DRAW_ASSIGNMENTS, ASSIGNMENT_NAMES, STROKE_POINTS_MIN, STROKE_POINTS_MAX,
+} from './DrawCreaseCommand.js';
+export { EraseCreaseCommand } from './EraseCreaseCommand.js';
+export { RelabelCreaseCommand } from './RelabelCreaseCommand.js';
+export { ReshapeCreaseCommand } from './ReshapeCreaseCommand.js';
+export { RotatePointsCommand, ROTATE_ANGLE_MAX, ROTATE_ITERATIONS_MAX, ROTATE_TARGETS_MAX } from './RotatePointsCommand.js';
+export { AddControlPointCommand, RemoveControlPointCommand } from './ControlPointCommands.js';

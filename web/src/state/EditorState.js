@@ -3,10 +3,12 @@
 //
 // Signals: connection, session (a fresh `state` after join or resync), scene (scene, constraints
 // or settings changed), geometry ({geometry, source}), iterate (the iterate message), solved,
-// metrics, presence, selection, undo, ack ({message, command}), error ({message, command}),
-// settings, accessibility, change (after any of the above).
+// metrics, presence, selection, group (the group selection of a composite), rotate-axis,
+// rotate-centre, undo,
+// ack ({message, command}), error ({message, command}), settings, accessibility, change (after
+// any of the above).
 
-import { sameTarget, targetOf } from '../commands/Command.js';
+import { sameTarget, targetKey, targetOf } from '../commands/Command.js';
 
 export const RESIDUAL_HISTORY_LIMIT = 400;
 
@@ -33,6 +35,15 @@ export class EditorState {
     this.settings = { drag_iterations: 20, release_iterations: 200 };
     this.undo = { available: 0, redo_available: 0 };
     this.selection = null;
+    /**
+     * Composites: the group selection (Shift/Ctrl-click), the points a rotate_points turns, in
+     * the order picked. Empty: none (a single selected point then counts as a group of one).
+     */
+    this.group = [];
+    /** The axis the Selection panel turns the group about: 'x' | 'y' | 'z' | 'view'. */
+    this.rotateAxis = 'z';
+    /** A typed centre of the turn [x, y, z], or null: the group's centroid. */
+    this.rotateCentre = null;
     /** Composites: the interior edge selected for the crease panel (edge index) or null. */
     this.selectedEdge = null;
     /** 'strip' | 'composite' (the session's model kind, from its scene). */
@@ -81,6 +92,69 @@ export class EditorState {
     if (this.selection === target || sameTarget(this.selection, target) || (!this.selection && !target)) return false;
     this.selection = target ? targetOf(target) : null;
     this.emit('selection', this.selection);
+    return true;
+  }
+
+  /** Sets the group selection (targets; duplicates dropped). Signal: 'group'. */
+  setGroup(targets) {
+    const seen = new Set();
+    const group = [];
+    for (const t of targets || []) {
+      const x = targetOf(t);
+      const key = targetKey(x);
+      if (!key || seen.has(key)) continue;
+      seen.add(key);
+      group.push(x);
+    }
+    if (group.length === this.group.length && group.every((t, k) => sameTarget(t, this.group[k]))) return false;
+    this.group = group;
+    this.emit('group', this.group);
+    return true;
+  }
+
+  /**
+   * Adds a point to the group selection, or removes it when it is in it (Shift/Ctrl-click). A
+   * single selected point joins the group first; the selection follows the point just added (or
+   * the last one left). Returns whether the point is in the group now.
+   */
+  toggleGroupMember(target) {
+    const t = targetOf(target);
+    if (!t) return false;
+    const group = this.group.length || !this.selection ? this.group.slice() : [this.selection];
+    const k = group.findIndex((x) => sameTarget(x, t));
+    if (k >= 0) group.splice(k, 1);
+    else group.push(t);
+    this.setGroup(group);
+    this.setSelection(k >= 0 ? (this.group.length ? this.group[this.group.length - 1] : null) : t);
+    return k < 0;
+  }
+
+  /** Whether a point is in the group selection. */
+  inGroup(target) {
+    return this.group.some((t) => sameTarget(t, target));
+  }
+
+  /** The points a rotation turns: the group, or the single selected point, or none. */
+  rotationTargets() {
+    if (this.group.length) return this.group.map((t) => ({ ...t }));
+    return this.selection ? [{ ...this.selection }] : [];
+  }
+
+  /** Signal: 'rotate-axis'. */
+  setRotateAxis(axis) {
+    if (axis === this.rotateAxis) return false;
+    this.rotateAxis = axis;
+    this.emit('rotate-axis', axis);
+    return true;
+  }
+
+  /** A typed centre of the turn, or null for the centroid. Signal: 'rotate-centre'. */
+  setRotateCentre(centre) {
+    const c = Array.isArray(centre) && centre.length === 3 && centre.every(Number.isFinite) ? centre.slice() : null;
+    const same = c === this.rotateCentre || (c && this.rotateCentre && c.every((x, k) => x === this.rotateCentre[k]));
+    if (same) return false;
+    this.rotateCentre = c;
+    this.emit('rotate-centre', c);
     return true;
   }
 
@@ -199,11 +273,12 @@ export class EditorState {
   }
 
   /**
-   * A drag starts an undo step on the server without an `update` (structural edits, undo, redo
-   * and reset send one with the exact counts): note that there is something to undo.
+   * A drag, a solve and a group rotation (rotate_points) start an undo step on the server without
+   * an `update` (structural edits, undo, redo and reset send one with the exact counts): note
+   * that there is something to undo.
    */
   _noteDragHistory(type) {
-    if (type !== 'drag') return;
+    if (type !== 'drag' && type !== 'solve' && type !== 'rotate_points') return;
     if (this.undo.available > 0 && this.undo.redo_available === 0) return;
     this.undo = { available: Math.max(1, this.undo.available), redo_available: 0 };
     this.emit('undo', this.undo);

@@ -14,8 +14,11 @@ import { Viewport } from '../view/Viewport.js';
 import { DevelopmentView } from '../view/DevelopmentView.js';
 import { SolverPanel } from './SolverPanel.js';
 import { FoldPanel } from './FoldPanel.js';
+import { CreaseBoardPanel } from './CreaseBoardPanel.js';
 import { ResidualPlot } from './ResidualPlot.js';
 import { HelpOverlay } from './HelpOverlay.js';
+import { GroupRotateControls } from './GroupRotateControls.js';
+import { CurvePointControls } from './CurvePointControls.js';
 import { ErrorSlots, Toasts, describeError } from './Toast.js';
 import { CreasePanel, ExportPanel, Legend, ParticipantsPanel, SelectionPanel, SharePanel, StatusBar } from './panels.js';
 import { accessibility, displayName, rememberSessionTokens, sessionTokens, setAccessibility } from './preferences.js';
@@ -158,6 +161,7 @@ export class Editor {
       state: st, buffers: this.buffers, composite: this.composite, send: (c) => this.send(c), select: (t) => this.select(t),
       selectEdge: (e) => st.setSelectedEdge(e), quad: this.quad,
       pointDown: (t) => this.kind === 'quad_mesh' && this._quadPointDown(t),
+      toggleGroup: (t) => this.kind === 'composite' && (st.toggleGroupMember(t), true),
     });
     this.unfolding = new UnfoldingView(this.unfoldingEl, {
       state: st, quad: this.quad, send: (c) => this.send(c), select: (t) => this.select(t),
@@ -179,7 +183,18 @@ export class Editor {
       },
       designSize: () => this.viewport.designSize(),
     });
+    // Composites: insert or remove a control point of the selected S-edge point.
+    this.curvePoints = new CurvePointControls(this.selectionPanel.root, {
+      state: st, send: (c) => this.send(c), errorSlots: this.errorSlots,
+    });
+    // Composites: turn the group selection (Shift/Ctrl-click) about an axis (rotate_points).
+    this.groupRotate = new GroupRotateControls(this.selectionPanel.root, {
+      state: st, pointOf: (t) => this.pointOf(t), send: (c) => this.send(c), errorSlots: this.errorSlots,
+      viewDirection: () => this.viewport.groupOverlay.viewDirection(), clearGroup: () => st.setGroup([]), before: this.selectionPanel.hint,
+    });
     this.sidebar.appendChild(this.quadControls.gluePanel);
+    // Composites made from a drawing: the crease-pattern board over the 3D view and bottom panels.
+    this.creaseBoard = new CreaseBoardPanel({ host: main, sidebar: this.sidebar, state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.foldPanel = new FoldPanel(this.sidebar, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.paramsSection = h('section', { class: 'panel panel-gui', hidden: true });
@@ -220,6 +235,7 @@ export class Editor {
       this._updateToolbar();
       // A resync keeps the selection if the point still exists; tell the others again.
       if (st.selection && !this.pointOf(st.selection)) st.setSelection(null);
+      if (st.group.length) st.setGroup(st.group.filter((t) => this.pointOf(t)));
       if (st.selection) this.send(new PresenceCommand(st.selection));
     });
     // The server tells editors the view link: remembered for "Your sessions" too.
@@ -233,6 +249,7 @@ export class Editor {
       if (st.connection === 'connected') this.send(new PresenceCommand(sel));
     });
     st.on('presence', () => this.viewport.requestRender());
+    for (const ev of ['group', 'rotate-axis', 'rotate-centre']) st.on(ev, () => this.viewport.requestRender());
     st.on('edge-selection', () => this.viewport.updateComposite());
     st.on('solved', () => this.development.refit());
     st.on('scene', () => {
@@ -309,7 +326,8 @@ export class Editor {
     this.unfolding.setVisible(quad);
     this.developmentSection.hidden = quad;
     this.solverSection.hidden = quad;
-    this.hint.textContent = quad ? 'drag vertices · F fix · H handle · G glue · S solve · ? help' : 'drag points · F fix · H handle · S solve · ? help';
+    this.hint.textContent = quad ? 'drag vertices · F fix · H handle · G glue · S solve · ? help'
+      : kind === 'composite' ? 'drag points · Shift+click group · R rotate · F fix · H handle · S solve · ? help' : 'drag points · F fix · H handle · S solve · ? help';
     this.root.dataset.kind = kind;
     // The 3D view just changed size (M′ takes half of it): fit in the new size.
     this.viewport.resize();
@@ -461,7 +479,9 @@ export class Editor {
     return this.client.send(command);
   }
 
+  /** Selects one point (or none): a plain click, Esc; the group selection is cleared. */
   select(target) {
+    this.state.setGroup([]);
     this.state.setSelection(target);
   }
 
@@ -563,6 +583,7 @@ export class Editor {
 
   _bindKeyboard() {
     window.addEventListener('keydown', (e) => {
+      if (this.creaseBoard.handleKey(e)) return;
       const t = e.target;
       const typing = t && (t.tagName === 'INPUT' || t.tagName === 'TEXTAREA' || t.tagName === 'SELECT' || t.isContentEditable);
       if (e.key === 'Escape') {
@@ -603,6 +624,9 @@ export class Editor {
       } else if (key === 'g' && this.kind === 'quad_mesh') {
         e.preventDefault();
         this.quadControls.toggleGlueMode();
+      } else if (key === 'r' && this.groupRotate.visible) {
+        e.preventDefault();
+        this.groupRotate.rotate(e.shiftKey ? -1 : 1);
       } else if (key === 's') {
         e.preventDefault();
         this.solve();

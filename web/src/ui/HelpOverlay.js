@@ -6,13 +6,16 @@ const SHORTCUTS = [
   ['Click', 'select a control point (others see it in your colour)'],
   ['F', 'fix / unfix the selected point'],
   ['H', 'add / remove a handle at the selected point'],
+  ['Shift+click / Ctrl+click', 'composites: add a point to / remove it from the group selection (white rings; Esc clears it, a plain click selects one point again)'],
+  ['R / Shift+R', 'composites: turn the group about the axis of the Selection panel by its angle (Shift: the other way), then solve'],
   ['G', 'quad meshes: glue mode — click two boundary vertices (in M or M′) to glue them'],
   ['S', 'solve until every constraint is met (within 2 s)'],
   ['Ctrl+Z', 'undo (the session’s shared history)'],
   ['Ctrl+Shift+Z / Ctrl+Y', 'redo'],
   ['Space', 'fit the view'],
   ['Ctrl+S', 'save the scene file'],
-  ['Esc', 'clear the selection / close this help'],
+  ['Draw creases', 'composites made from a drawing (a blank sheet, an SVG or FOLD import): the crease-pattern board — Line (click two ends), Curve (click points; double-click or Enter finishes, Backspace undoes a point), Select (relabel M V F C, drag points, double-click adds one, Alt-click removes one, Delete erases); points snap to creases within 10 px'],
+  ['Esc', 'clear the selection / close this help (on the board: cancel, deselect, close)'],
   ['?', 'show / hide this help'],
 ];
 

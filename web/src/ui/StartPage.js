@@ -5,6 +5,7 @@ import { h, clear } from './dom.js';
 import { PRESETS } from '../presets.js';
 import { approximateMesh, createSession, fitRegion, importCreasePattern, listSessions, previewShape, sessionThumbnail } from '../net/api.js';
 import { RegionPicker } from './RegionPicker.js';
+import { blankSheetCard } from './blankSheet.js';
 import { Toasts } from './Toast.js';
 import { apiKey, forgetSession, openedSessions, rememberSessionTokens, setApiKey } from './preferences.js';
 
@@ -167,6 +168,8 @@ export class StartPage {
     this.apiKeyRow = h('form', { class: 'row', hidden: !apiKey(), onsubmit: (e) => e.preventDefault() }, h('span', { class: 'muted small' }, 'This server needs an API key to create sessions:'), this.apiKeyInput);
     this.createError = h('div', { class: 'field-error', hidden: true, role: 'alert' });
     this.busy = h('div', { class: 'muted small', hidden: true }, 'Creating the session…');
+    // A blank sheet: its outline imported as an SVG drawing, opened at once.
+    this.blankSheet = blankSheetCard(({ svg, name }) => this._importCreasePattern({ name: `${name}.svg` }, svg, 'svg', { openAtOnce: true }));
 
     this.root = h('div', { class: 'start-page', testid: 'start-page' },
       h('header', { class: 'start-header' },
@@ -177,6 +180,7 @@ export class StartPage {
         h('section', { class: 'card wide' }, h('h2', {}, 'Demo sessions'), h('p', { class: 'muted small' }, 'Public sessions anyone can join and edit.'), this.demoList),
         h('section', { class: 'card' }, h('h2', {}, 'New session from an example'),
           h('div', { class: 'row' }, this.presetSelect, this.newButton), this.presetDescription),
+        this.blankSheet.root,
         h('section', { class: 'card' }, h('h2', {}, 'Open a scene or a crease pattern'), this.fileInput, this.dropZone,
           h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1), or a crease pattern or folded form in FOLD format (.fold, as Origami Simulator and the FOLD tools write it), or a crease pattern drawn as SVG in Origami Simulator\'s colours (black outline, red mountain, blue valley; curves become curved creases). It becomes a new private session that the Fold slider folds.'),
           this.importNotes),
@@ -477,10 +481,11 @@ export class StartPage {
   }
 
   /**
-   * A FOLD file → a composite scene (POST /api/imports). Without notes its session opens at once;
-   * with notes they are listed first, with a button to open the session.
+   * A FOLD file or SVG drawing → a composite scene (POST /api/imports). Without notes (or with
+   * `openAtOnce`) its session opens at once; with notes they are listed first, with a button to
+   * open the session.
    */
-  async _importCreasePattern(file, text, format = 'fold') {
+  async _importCreasePattern(file, text, format = 'fold', { openAtOnce = false } = {}) {
     const what = `import ${file.name}`;
     this.createError.hidden = true;
     this.importNotes.hidden = true;
@@ -498,7 +503,7 @@ export class StartPage {
       this.busy.textContent = 'Creating the session…';
     }
     const notes = (result.summary && result.summary.notes) || [];
-    if (notes.length === 0) {
+    if (notes.length === 0 || openAtOnce) {
       await this._create(result.scene, what);
       return;
     }

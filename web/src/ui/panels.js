@@ -176,6 +176,7 @@ export class ParticipantsPanel {
       redo: () => 'redid an edit',
       reset: () => 'reset the scene',
       drag_end: () => `moved ${targetLabel(e.target)}`,
+      rotate_points: () => `turned ${(e.targets || []).length} point(s) by ${e.angle}°`,
     }[e.type];
     if (!what) return; // drags are shown live in the view
     this.activity.prepend(h('li', {}, h('span', { class: 'swatch', style: { background: (p && p.color) || '#888' } }), `${who} ${what()}`));

@@ -8,6 +8,8 @@ export const SHAPE_SPHERE = 0;
 export const SHAPE_CUBE = 1;
 /** A flat diamond (the pick markers of a composite's edges). */
 export const SHAPE_DIAMOND = 2;
+/** A sphere inside a ring (the points of a composite's group selection). */
+export const SHAPE_RING = 3;
 
 const vertexShader = /* glsl */ `
   attribute float size;
@@ -40,6 +42,16 @@ const fragmentShader = /* glsl */ `
       float spec = pow(max(dot(reflect(-light, n), vec3(0.0, 0.0, 1.0)), 0.0), 20.0);
       c = vColor * (0.3 + 0.8 * diff) + vec3(0.35 * spec);
       c = mix(c, vec3(0.04), smoothstep(0.72, 1.0, r2) * 0.75);
+    } else if (vShape > 2.5) {
+      float r = length(p);
+      if (r > 1.0 || (r > 0.6 && r < 0.74)) discard;
+      if (r >= 0.74) {
+        c = vColor * (r > 0.92 ? 0.3 : 1.0);
+      } else {
+        vec2 q = p / 0.6;
+        vec3 n = vec3(q, sqrt(max(1.0 - dot(q, q), 0.0)));
+        c = vColor * (0.35 + 0.75 * max(dot(n, light), 0.0));
+      }
     } else if (vShape > 1.5) {
       float m = abs(p.x) + abs(p.y);
       if (m > 0.95) discard;

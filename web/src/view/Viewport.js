@@ -9,7 +9,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { colorAt } from '../geometry/colormap.js';
 import { targetKey, targetLabel, targetOf } from '../commands/Command.js';
-import { PointSprites, SHAPE_CUBE, SHAPE_DIAMOND, SHAPE_SPHERE } from './PointSprites.js';
+import { PointSprites, SHAPE_CUBE, SHAPE_DIAMOND, SHAPE_RING, SHAPE_SPHERE } from './PointSprites.js';
+import { GroupOverlay } from './GroupOverlay.js';
 import { QuadMeshLayer } from './QuadMeshLayer.js';
 import { ViewportPointer, sameTarget } from './ViewportPointer.js';
 
@@ -22,6 +23,8 @@ export const COLORS = {
   fixed: 0x8d99ae,
   handle: 0xff4fd8,
   selected: 0xffd60a,
+  // a composite's group selection (rotate_points; white as in 000_… Fig. 8), drawn as rings
+  group: 0xffffff,
   hover: 0xffffff,
   rulings: 0x10131a,
   normals: 0x9be15d,
@@ -128,7 +131,8 @@ export class Viewport {
    * @param {HTMLElement} container  the element holding the canvas (data-testid="viewport")
    * @param {object} deps  {state, buffers (StripBuffers), composite (CompositeBuffers),
    *   quad (QuadMeshBuffers), send(command), select(target|null), selectEdge(edge|null),
-   *   pointDown(target) → true when it consumed the press (no drag; e.g. gluing picks)}
+   *   pointDown(target) → true when it consumed the press (no drag; e.g. gluing picks),
+   *   toggleGroup(target) → true when a Shift/Ctrl-click on the point toggled it in the group}
    */
   constructor(container, deps) {
     this.container = container;
@@ -138,6 +142,7 @@ export class Viewport {
     this.quad = deps.quad || null;
     this.pointDown = deps.pointDown || (() => false);
     this.selectEdge = deps.selectEdge || (() => {});
+    this.toggleGroup = deps.toggleGroup || (() => false);
     /** 'strip' | 'composite' | 'quad_mesh': which buffers are shown. */
     this.kind = 'strip';
     this.send = deps.send;
@@ -299,6 +304,7 @@ export class Viewport {
     this.ghost.visible = false;
     this.ghost.renderOrder = 6;
     scene.add(this.ghost);
+    this.groupOverlay = new GroupOverlay(this);
   }
 
   // ---- options -----------------------------------------------------------------------------
@@ -477,6 +483,7 @@ export class Viewport {
     this.handleTargets.begin(handleMap.size);
     const links = [];
     const dragging = this.drag && this.drag.target;
+    const groupKeys = new Set(composite ? st.group.map((t) => targetKey(t)) : []);
     for (const item of targets) {
       const p = b.pointOf(item);
       if (!p) continue;
@@ -487,16 +494,18 @@ export class Viewport {
       const vertex = item.vertex !== undefined;
       const handle = handleMap.get(key);
       const fixed = fixedSet.has(key);
+      const grouped = groupKeys.has(key);
       // Dense meshes (quad_mesh) draw their plain points smaller.
-      const plain = b.pointScale && !(selected || hovered || handle || fixed) ? b.pointScale(item) : 1;
-      const r = radiusPx * (selected ? 1.35 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1) * plain;
+      const plain = b.pointScale && !(selected || hovered || handle || fixed || grouped) ? b.pointScale(item) : 1;
+      const r = radiusPx * (selected ? 1.35 : grouped ? 1.3 : hovered ? 1.2 : 1) * (composite && !vertex ? 0.8 : 1) * plain;
       let color;
       if (b.pointColor) color = b.pointColor(item);
       else color = composite ? (vertex ? COLORS.vertex : COLORS.edgePoint) : b.slot(item.curve) === 'a' ? 0xffd9b0 : 0xc8f1fa;
       if (fixed) color = COLORS.fixed;
       if (handle) color = COLORS.handle;
+      if (grouped) color = COLORS.group;
       if (selected) color = COLORS.selected;
-      this.points.push(tmpV, r, color, fixed ? SHAPE_CUBE : SHAPE_SPHERE, item);
+      this.points.push(tmpV, r, color, grouped ? SHAPE_RING : fixed ? SHAPE_CUBE : SHAPE_SPHERE, item);
       if (handle) {
         const t = handle.position;
         tmpV2.set(t[0], t[1], t[2]);
@@ -516,6 +525,7 @@ export class Viewport {
     this.points.end();
     this.handleTargets.end();
     this._setLinks(links);
+    this.groupOverlay.layout();
 
     // Other participants' selection / drag, in their colour.
     const others = st.participants.filter((p) => p.id !== st.you && (p.dragging || p.selection));

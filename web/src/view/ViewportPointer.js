@@ -5,6 +5,8 @@
 // orbiting off and selects it (an edge marker selects its edge; `pointDown` may take the press
 // first, e.g. gluing picks), pointermove sends at most one DragCommand per animation frame
 // (latest wins, DragCommandStream), pointerup sends the last position and a DragEndCommand.
+// Shift/Ctrl/⌘-click on a point of a composite adds it to / removes it from the group selection
+// (`toggleGroup`; no drag, no pan); elsewhere those modifiers still pan.
 // Hovering sets the cursor; a click on empty space clears the selection. The view draws what this
 // sets on it: view.drag ({target, pointerId, plane, offset, position: the dragged point's latest
 // position, commands}) and view.hovered.
@@ -90,8 +92,13 @@ export class ViewportPointer {
   _onPointerDown(e) {
     const view = this.view;
     if (e.target !== view.canvas) return;
-    this._downAt = { x: e.clientX, y: e.clientY };
-    if (e.button !== 0 || e.ctrlKey || e.metaKey || e.shiftKey) return;
+    const modified = e.ctrlKey || e.metaKey || e.shiftKey;
+    this._downAt = { x: e.clientX, y: e.clientY, modified };
+    if (e.button === 0 && modified) {
+      this._groupPress(e);
+      return;
+    }
+    if (e.button !== 0) return;
     const hit = this.pick(e);
     if (!hit) {
       view.controls.enabled = true;
@@ -129,6 +136,17 @@ export class ViewportPointer {
     };
     try { view.canvas.setPointerCapture(e.pointerId); } catch { /* synthetic events */ }
     view.canvas.style.cursor = 'grabbing';
+    view.requestRender();
+  }
+
+  /** Shift/Ctrl/⌘ + press on a point: toggles it in the group selection (OrbitControls stay out). */
+  _groupPress(e) {
+    const view = this.view;
+    const hit = this.pick(e);
+    if (!hit || hit.edgeMarker !== undefined || !view.toggleGroup(hit)) return;
+    e.preventDefault();
+    view.controls.enabled = false;
+    this._downAt = null;
     view.requestRender();
   }
 
@@ -190,8 +208,8 @@ export class ViewportPointer {
       return;
     }
     view.controls.enabled = true;
-    // A click (no orbit) on empty space clears the selection.
-    if (this._downAt && e.button === 0 && Math.hypot(e.clientX - this._downAt.x, e.clientY - this._downAt.y) < 4) {
+    // A click (no orbit) on empty space clears the selection (with Shift/Ctrl/⌘: keeps it).
+    if (this._downAt && !this._downAt.modified && e.button === 0 && Math.hypot(e.clientX - this._downAt.x, e.clientY - this._downAt.y) < 4) {
       if (!this.pick(e)) view.select(null);
     }
     this._downAt = null;
