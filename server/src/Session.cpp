@@ -866,6 +866,9 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       }
       setHandleTarget(handle, pos);
     }
+    // A drag may change the fold of a design folded by its targets: they let go while the point
+    // is pulled and take the new fold when it is released (release()).
+    if (holdsFoldTargets()) solver_->compositeModel().holdFoldTargets(false);
     return true;
   }
   if (type == "drag_end") {
@@ -1024,6 +1027,7 @@ bool Session::applyFold(int participant, const json& edit, bool replaying) {
     started = p == participants_.end() || !p->second.folding;
   }
   if (started && !replaying) pushUndo();
+  solver_->compositeModel().holdFoldTargets(true);  // (a drag may have let go of them)
   solver_->compositeModel().setFoldAmount(amount);
   solver_->resetStepControl();
   scheduleIteration_ = 0;
@@ -1245,7 +1249,24 @@ void Session::release(const json& target, int iterations) {
     settlePending_ = true;
     return;
   }
-  polishRelease(start, iterations);
+  // A design folded by fold-angle targets keeps the fold the drag left: its angles become the
+  // targets at the slider's amount, held through the projections (holdsFoldTargets).
+  const bool hold = holdsFoldTargets();
+  if (hold && dragHandles_.empty()) {
+    solver_->compositeModel().captureFoldTargets();
+    solver_->compositeModel().holdFoldTargets(true);
+  }
+  polishRelease(start, iterations, hold);
+}
+
+bool Session::holdsFoldTargets() const {
+  // A design folded by its fold-angle targets keeps them through a release's projections: a curved
+  // fold's sheet, its short edges strained at the crease ends, would otherwise project back to the
+  // flat drawing — the one state every hard row meets exactly (one drag unfolded a drawn sheet).
+  if (!isComposite()) return false;
+  const proto::Scene current = solver_->currentScene();
+  const auto& design = std::get<models::composite::CompositeDesign>(current.model);
+  return !design.foldAngles.empty() && design.foldAmount > 0.0;
 }
 
 void Session::releaseFold(int iterations) {
@@ -1287,6 +1308,11 @@ void Session::settle() {
   polish.iterations = settings_.maxIterationsPerRequest;
   polish.hardTolerance = settings_.releaseHardTolerance;
   polish.projectionOnly = true;
+  polish.holdTargetsInProjection = holdsFoldTargets();
+  if (polish.holdTargetsInProjection && dragHandles_.empty()) {  // as release()
+    solver_->compositeModel().captureFoldTargets();
+    solver_->compositeModel().holdFoldTargets(true);
+  }
   polish.regularization = settings_.polishRegularization;
   polish.timeBudgetMs = settings_.releaseTimeBudgetMs;
   runSolver(polish, true);

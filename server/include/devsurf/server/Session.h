@@ -340,6 +340,8 @@ class Session : public std::enable_shared_from_this<Session> {
   void pushUndo(const proto::Scene& before);
   bool hasQueuedWork() const;
   bool isComposite() const { return solver_->isComposite(); }
+  /// A composite whose fold-angle targets fold it (foldAmount > 0): releases hold them.
+  bool holdsFoldTargets() const;
   /// The canonical form of a client's target in this session's model, or null with `path` and
   /// `message` saying what is wrong (wrong addressing for the model kind, index out of range).
   nlohmann::json canonicalTarget(const nlohmann::json& target, std::string& path, std::string& message) const;

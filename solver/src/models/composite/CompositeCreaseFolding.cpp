@@ -1,6 +1,7 @@
 // CompositeModel's fold-angle targets (the fold slider, issue 16 item 2): the soft "fold_angle"
 // rows and what the session asks of them.
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,20 @@ void CompositeModel::setFoldAmount(double amount) {
   std::vector<double> targets;
   for (const FoldAngleTarget& t : design_.foldAngles) targets.push_back(amount * t.angleDeg / kDegreesPerRadian);
   static_cast<terms::HingeFoldAngleTerm*>(problem_.term(foldTerm_).term.get())->setTargets(targets);
+}
+
+void CompositeModel::captureFoldTargets() {
+  if (foldTerm_ < 0 || !(design_.foldAmount > 0.0)) return;
+  for (std::size_t i = 0; i < design_.foldAngles.size() && i < foldTargetHinge_.size(); ++i) {
+    const FoldHinge& h = hinges_[static_cast<std::size_t>(foldTargetHinge_[i])];
+    const double angle = kDegreesPerRadian * terms::hingeFoldAngle(pointValue(h.a), pointValue(h.b), pointValue(h.c), pointValue(h.d));
+    design_.foldAngles[i].angleDeg = std::clamp(angle / design_.foldAmount, -180.0, 180.0);
+  }
+  setFoldAmount(design_.foldAmount);
+}
+
+void CompositeModel::holdFoldTargets(bool held) {
+  if (foldTerm_ >= 0) problem_.term(foldTerm_).weight = held ? options_.foldWeight : 0.0;
 }
 
 double CompositeModel::foldAngleErrorMaxDeg() const {

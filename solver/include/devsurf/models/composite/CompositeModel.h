@@ -275,6 +275,13 @@ class CompositeModel {
   /// @throws std::invalid_argument unless 0 ≤ amount ≤ 1
   void setFoldAmount(double amount);
   double foldAmount() const { return design_.foldAmount; }
+  /// Takes the current fold angles as the targets at the current amount (each target becomes
+  /// angle / amount, within ±180°), so what a drag made of the fold is what the slider now holds;
+  /// no re-analysis. Nothing happens at amount 0 (flat is all the targets can say there).
+  void captureFoldTargets();
+  /// Lets go of the fold-angle targets (weight 0: a drag may change the fold) or holds them again
+  /// (their weight, options.foldWeight); no re-analysis.
+  void holdFoldTargets(bool held);
   /// [fold_angle_error_max_deg] the largest |θ − amount·θ*| over the fold-angle targets, degrees
   /// (0 without targets).
   double foldAngleErrorMaxDeg() const;
