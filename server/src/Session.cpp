@@ -764,11 +764,9 @@ void Session::commit(int participant, const json& edit, const std::vector<json>&
 
 bool Session::apply(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
-  const json op = edit.value("op", json());
-  auto reject = [this, participant, &op, &type, replaying](const std::string& code, const std::string& message,
-                                                            const std::string& path) {
-    if (!replaying) error(participant, op, code, type + ": " + message, path);
-    return false;
+  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
+                                                       const std::string& path) {
+    return refuse(participant, edit, replaying, code, message, path);
   };
   const proto::Scene current = solver_->currentScene();
 
@@ -980,6 +978,28 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     if (edit.contains("drag_iterations")) settings_.dragIterations = edit["drag_iterations"];
     if (edit.contains("release_iterations")) settings_.releaseIterations = edit["release_iterations"];
   }
+  return true;
+}
+
+bool Session::refuse(int participant, const json& edit, bool replaying, const std::string& code, const std::string& message,
+                     const std::string& path) {
+  if (!replaying) error(participant, edit.value("op", json()), code, edit.at("type").get<std::string>() + ": " + message, path);
+  return false;
+}
+
+bool Session::rebuildForEdit(int participant, const json& edit, bool replaying, const proto::Scene& before,
+                             const proto::Scene& next, const std::string& solvePath) {
+  try {
+    rebuild(proto::sceneFromJson(proto::sceneToJson(next), settings_.resources));  // throws: nothing changed
+  } catch (const proto::SceneError& e) {
+    return refuse(participant, edit, replaying, codeOf(e), e.what(), e.path());
+  } catch (const SolveFailed& e) {
+    return refuse(participant, edit, replaying, e.code(), e.what(), solvePath);
+  }
+  pushUndo(before);
+  dragHandles_.clear();
+  releasedHandles_.clear();
+  scheduleIteration_ = 0;
   return true;
 }
 

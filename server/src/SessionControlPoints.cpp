@@ -56,11 +56,9 @@ int nearestControlPoint(const spline::KnotVector& from, const spline::KnotVector
 
 bool Session::applyControlPointEdit(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
-  const json op = edit.value("op", json());
-  auto reject = [this, participant, &op, &type, replaying](const std::string& code, const std::string& message,
-                                                            const std::string& path) {
-    if (!replaying) error(participant, op, code, type + ": " + message, path);
-    return false;
+  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
+                                                       const std::string& path) {
+    return refuse(participant, edit, replaying, code, message, path);
   };
   if (!isComposite())
     return reject("invalid", std::string("applies to composite sessions; this session edits a ") +
@@ -84,7 +82,6 @@ bool Session::applyControlPointEdit(int participant, const json& edit, bool repl
                   adding ? "a new control point goes between points index and index + 1, index in [0, " + std::to_string(n - 2) + "]"
                          : "interior control points are 1 … " + std::to_string(n - 2) + " (the ends are the edge's vertices)",
                   "index");
-  const double begin = curve.knots.domainBegin(), end = curve.knots.domainEnd();
   const std::vector<double> greville = spline::grevilleAbscissae(curve.knots);
   double knot = 0.0;  // in `edge`'s own direction
   if (adding) {
@@ -122,8 +119,6 @@ bool Session::applyControlPointEdit(int participant, const json& edit, bool repl
   } catch (const std::invalid_argument& e) {
     return reject("invalid", std::string("the spline space does not take this change: ") + e.what(), "index");
   }
-  (void)begin;
-  (void)end;
   // Points addressed by control-point index follow their curve: the nearest control point of the
   // new space (by Greville abscissa).
   auto remap = [&design, &oldKnots](composite::PointRef& r) {
@@ -137,18 +132,7 @@ bool Session::applyControlPointEdit(int participant, const json& edit, bool repl
   design.developmentVertices.resize(0, 2);  // its sampling changed: the development starts from the surface
   proto::Scene next = before;
   next.model = std::move(design);
-  try {
-    rebuild(proto::sceneFromJson(proto::sceneToJson(next), settings_.resources));
-  } catch (const proto::SceneError& e) {
-    return reject(e.rule() == "limit" || e.rule() == "time_budget" ? e.rule() : std::string("invalid"), e.what(), e.path());
-  } catch (const SolveFailed& e) {
-    return reject(e.code(), e.what(), "index");
-  }
-  pushUndo(before);
-  dragHandles_.clear();
-  releasedHandles_.clear();
-  scheduleIteration_ = 0;
-  return true;
+  return rebuildForEdit(participant, edit, replaying, before, next, "index");
 }
 
 }  // namespace devsurf::server

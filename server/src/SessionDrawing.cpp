@@ -94,11 +94,9 @@ bool Session::isDrawingEdit(const std::string& type) { return isDrawingEditType(
 
 bool Session::applyDrawingEdit(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
-  const json op = edit.value("op", json());
-  auto reject = [this, participant, &op, &type, replaying](const std::string& code, const std::string& message,
-                                                            const std::string& path) {
-    if (!replaying) error(participant, op, code, type + ": " + message, path);
-    return false;
+  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
+                                                       const std::string& path) {
+    return refuse(participant, edit, replaying, code, message, path);
   };
   const proto::Scene before = persistentScene();
   const auto* design = std::get_if<composite::CompositeDesign>(&before.model);
@@ -232,19 +230,7 @@ bool Session::applyDrawingEdit(int participant, const json& edit, bool replaying
   }
   proto::Scene next = before;
   next.model = std::move(built.design);
-  try {
-    const proto::Scene checked = proto::sceneFromJson(proto::sceneToJson(next), settings_.resources);
-    rebuild(checked);  // throws (the model's checks, the time budget): nothing changed
-  } catch (const proto::SceneError& e) {
-    const std::string code = e.rule() == "limit" || e.rule() == "time_budget" ? e.rule() : std::string("invalid");
-    return reject(code, e.what(), e.path());
-  } catch (const SolveFailed& e) {
-    return reject(e.code(), e.what(), edit.contains("points") ? "points" : "crease");
-  }
-  pushUndo(before);
-  dragHandles_.clear();
-  releasedHandles_.clear();
-  return true;
+  return rebuildForEdit(participant, edit, replaying, before, next, edit.contains("points") ? "points" : "crease");
 }
 
 }  // namespace devsurf::server

@@ -26,12 +26,9 @@ json* compositeScenePoint(json& model, const json& target) {
 }  // namespace
 
 bool Session::applyGroupRotation(int participant, const json& edit, bool replaying) {
-  const std::string type = edit.at("type").get<std::string>();
-  const json op = edit.value("op", json());
-  auto reject = [this, participant, &op, &type, replaying](const std::string& code, const std::string& message,
-                                                            const std::string& path) {
-    if (!replaying) error(participant, op, code, type + ": " + message, path);
-    return false;
+  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
+                                                       const std::string& path) {
+    return refuse(participant, edit, replaying, code, message, path);
   };
   if (!isComposite())
     return reject("invalid", std::string("applies to composite sessions; this session edits a ") +
@@ -81,19 +78,13 @@ bool Session::applyGroupRotation(int participant, const json& edit, bool replayi
     const Eigen::Vector3d turned = centre + rotation * (p - centre);
     h["position"] = json::array({turned.x(), turned.y(), turned.z()});
   }
+  proto::Scene next;
   try {
-    const proto::Scene next = proto::sceneFromJson(doc, settings_.resources);
-    rebuild(next);
+    next = proto::sceneFromJson(doc, settings_.resources);
   } catch (const proto::SceneError& e) {
-    return reject(e.rule() == "limit" || e.rule() == "time_budget" ? e.rule() : std::string("invalid"), e.what(), e.path());
-  } catch (const SolveFailed& e) {
-    return reject(e.code(), e.what(), "targets");
+    return reject(e.rule() == "limit" ? e.rule() : std::string("invalid"), e.what(), e.path());
   }
-  pushUndo(before);
-  dragHandles_.clear();
-  releasedHandles_.clear();
-  scheduleIteration_ = 0;
-  return true;
+  return rebuildForEdit(participant, edit, replaying, before, next, "targets");
 }
 
 }  // namespace devsurf::server

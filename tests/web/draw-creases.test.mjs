@@ -45,26 +45,11 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
   ctx.guard('draw-creases', async () => {
     const { daemon } = ctx;
     const page = await ctx.page();
-    await page.goto(daemon.url);
-    await page.getByTestId('start-page').waitFor();
-
-    // A blank sheet, 200 × 150 mm.
-    await page.getByTestId('blank-width').fill('200');
-    await page.getByTestId('blank-height').fill('150');
-    await page.getByTestId('blank-units').selectOption('mm');
-    await page.getByTestId('blank-sheet').click();
-    await page.getByTestId('editor').waitFor({ timeout: 30000 });
-    await h.waitForConnected(page);
-    await h.waitState(page, (s) => s.kind === 'composite' && !!(s.scene && s.scene.model.drawing), undefined, { what: 'a composite with a drawing' });
+    // A blank sheet, 200 × 150 mm, from the start page.
+    const { x0, x1, y0, y1, outline } = await openBlankSheet(page, daemon);
     const start = await h.state(page);
-    assert.equal(start.scene.units ?? 'mm', 'mm');
     assert.equal(start.scene.model.fold_amount ?? 0, 0);
-    const outline = strokesOf(start);
     assert.ok(outline.length >= 1 && outline.every((s) => s.assignment === 'B'), `a blank sheet's drawing is its outline: ${JSON.stringify(outline)}`);
-    const xs = outline.flatMap((s) => s.points.map((p) => p[0]));
-    const ys = outline.flatMap((s) => s.points.map((p) => p[1]));
-    const [x0, x1, y0, y1] = [Math.min(...xs), Math.max(...xs), Math.min(...ys), Math.max(...ys)];
-    assert.ok(Math.abs(x1 - x0 - 200) < 1e-6 && Math.abs(y1 - y0 - 150) < 1e-6, `the sheet is 200 × 150 mm: ${x1 - x0} × ${y1 - y0}`);
     assert.equal(start.scene.model.faces.length, 1);
 
     // The board, over the 3D view.

@@ -326,6 +326,16 @@ class Session : public std::enable_shared_from_this<Session> {
   /// reshape_crease; SessionDrawing.cpp): the drawing changes and the composite is rebuilt from it,
   /// flat. Refused edits change nothing.
   bool applyDrawingEdit(int participant, const nlohmann::json& edit, bool replaying);
+  /// Refuses an edit: an `error` to its sender ("TYPE: message", code, path; nothing while
+  /// replaying the journal). Returns false, what apply() returns for a refused edit.
+  bool refuse(int participant, const nlohmann::json& edit, bool replaying, const std::string& code,
+              const std::string& message, const std::string& path);
+  /// The end of a structural edit built outside the scene document: `next` read back (the schema,
+  /// the model's checks, the limits) and rebuilt, `before` one undo step, temporary handles
+  /// dropped. A refused rebuild changes nothing and is refused naming the scene's path (a failed
+  /// solve: `solvePath`).
+  bool rebuildForEdit(int participant, const nlohmann::json& edit, bool replaying, const proto::Scene& before,
+                      const proto::Scene& next, const std::string& solvePath);
   static bool isDrawingEdit(const std::string& type);
   /// "rotate_points" (SessionGroupRotation.cpp): turns the targets of a composite rigidly about an
   /// axis (one rebuild, one undo step); handle() then solves as for "solve".
