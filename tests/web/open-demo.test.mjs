@@ -43,6 +43,10 @@ test('a demo opened from the start page shows the editor, connected, with a rend
     const server = await daemon.session(demo.id, demo.view_token);
     assert.equal(s.seq, server.seq, 'the page has seen the server seq');
     assert.ok(Number.isFinite(s.metrics?.warp_angle_max_deg), 'metrics arrived with the state');
+    // A strip's view options are its own: the quad-mesh colouring and Gauss image stay hidden.
+    assert.equal(await page.getByTestId('quad-color-mode').isVisible(), false, 'no quad-mesh colouring on a strip');
+    assert.equal(await page.getByText('Gauss image', { exact: true }).isVisible(), false, 'no Gauss image toggle on a strip');
+    assert.equal(await page.getByText('Rulings', { exact: true }).isVisible(), true, 'a strip shows its rulings toggle');
 
     // The 3D view: many colours, no single colour covering (nearly) all of it.
     const shot = await h.poll(async () => {

@@ -3,8 +3,8 @@
 
 import './styles.css';
 import { EditorState } from './state/EditorState.js';
-import { accessibility } from './ui/preferences.js';
-import { defaultSocketUrl } from './net/ProtocolClient.js';
+import { accessibility, displayName } from './ui/preferences.js';
+import { defaultSocketUrl, openEarlyJoin } from './net/ProtocolClient.js';
 
 const state = new EditorState();
 let editor = null;
@@ -52,10 +52,11 @@ const token = params.get('token');
 // page's bundled example scenes (~1 MB), the start page not for the editor's views and panels.
 if (session && token) {
   document.body.classList.add('editor-page');
-  // The WebSocket handshake runs while the editor's code loads; the editor joins on it.
+  // The WebSocket handshake and the join run while the editor's code loads; the editor takes the
+  // connection over with the answers that came meanwhile (the session's state).
   let socket = null;
   try {
-    socket = new WebSocket(defaultSocketUrl());
+    socket = openEarlyJoin(defaultSocketUrl(), session, token, displayName());
   } catch { /* the editor opens its own */ }
   const { Editor } = await import('./ui/Editor.js');
   editor = new Editor(root, { state, session, token, socket });

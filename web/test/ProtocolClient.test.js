@@ -1,5 +1,5 @@
 import { beforeEach, describe, expect, it } from 'vitest';
-import { ProtocolClient, backoffDelay } from '../src/net/ProtocolClient.js';
+import { ProtocolClient, backoffDelay, openEarlyJoin } from '../src/net/ProtocolClient.js';
 import { EditorState } from '../src/state/EditorState.js';
 import { DragCommand, SetSolverCommand, SolveCommand, UndoCommand } from '../src/commands/index.js';
 
@@ -121,6 +121,34 @@ describe('ProtocolClient', () => {
     connecting.open();
     expect(connecting.sent).toHaveLength(1);
     expect(FakeSocket.instances).toHaveLength(1);
+  });
+
+  it('takes over an early join: one join, and the answers that came before it applied in order', () => {
+    const early = openEarlyJoin('ws://test/ws', 's1', 'tok', 'ada', FakeSocket);
+    const ws = early.socket;
+    ws.open();
+    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    ws.receive(stateMessage(3));
+    ws.receive({ type: 'error', code: 'invalid', message: 'drag: no such point', path: 'target' });
+    expect(state.connection).toBe('offline');  // nothing applied before the client takes over
+    client.connect('s1', 'tok', 'ada', early);
+    expect(FakeSocket.instances).toHaveLength(1);
+    expect(ws.sent).toHaveLength(1);
+    expect(state.connection).toBe('connected');
+    expect(state.seq).toBe(3);
+    expect(state.lastError && state.lastError.message).toMatch(/no such point/);
+    ws.receive({ ...stateMessage(4), type: 'state' });
+    expect(state.seq).toBe(4);
+  });
+
+  it('joins itself on an early join whose socket was still connecting', () => {
+    const early = openEarlyJoin('ws://test/ws', 's1', 'tok', 'ada', FakeSocket);
+    client.connect('s1', 'tok', 'ada', early);
+    expect(FakeSocket.instances).toHaveLength(1);
+    early.socket.open();
+    expect(early.socket.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    early.socket.receive(stateMessage(2));
+    expect(state.connection).toBe('connected');
   });
 
   it('opens a socket of its own when the early one has closed already', () => {

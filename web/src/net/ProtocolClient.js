@@ -19,6 +19,24 @@ export function backoffDelay(attempt, initial = BACKOFF_INITIAL_MS, max = BACKOF
   return Math.min(max, initial * Math.pow(2, attempt));
 }
 
+/**
+ * A connection opened and joined before the editor's code has loaded (main.js): the join goes out
+ * as soon as the socket opens and what the server answers is kept until ProtocolClient.connect
+ * takes the connection over, so the session's state is on its way while the editor is built.
+ * Returns {socket, queued: MessageEvent[], joinSent()}; throws when no WebSocket can be made.
+ */
+export function openEarlyJoin(url, session, token, name, WebSocketImpl = globalThis.WebSocket) {
+  const socket = new WebSocketImpl(url);
+  const queued = [];
+  let sent = false;
+  socket.onopen = () => {
+    socket.send(JSON.stringify(new JoinCommand(session, token, name).toMessage()));
+    sent = true;
+  };
+  socket.onmessage = (event) => queued.push(event);
+  return { socket, queued, joinSent: () => sent };
+}
+
 /** ws:// or wss:// URL of the daemon's /ws on the page's host. */
 export function defaultSocketUrl(loc = globalThis.location) {
   const proto = loc.protocol === 'https:' ? 'wss:' : 'ws:';
@@ -59,7 +77,8 @@ export class ProtocolClient {
   /**
    * Opens the connection and joins `session` with `token` (role follows from the token).
    * `socket`: a WebSocket to this.url the page opened earlier (connecting or open, so the
-   * handshake ran while the editor's code loaded); used for the first attempt only.
+   * handshake ran while the editor's code loaded), or an early join (openEarlyJoin: joined
+   * already, its answers kept); used for the first attempt only.
    */
   connect(session, token, name, socket = null) {
     this.joinInfo = { session, token, name };
@@ -116,6 +135,9 @@ export class ProtocolClient {
     this.retryTimer = null;
     this.nextRetryAt = null;
     this.joined = false;
+    // An early join (openEarlyJoin): its socket, the answers that came before this took over.
+    const early = socket && socket.socket ? socket : null;
+    if (early) socket = early.socket;
     let ws;
     try {
       // An early socket that already closed (its close event went unheard) is not used.
@@ -146,6 +168,17 @@ export class ProtocolClient {
       if (this.ws !== ws) return;
       this._onClose(event || {});
     };
+    if (early && ws === early.socket) {
+      if (early.joinSent()) {
+        // Joined already: hand on what the server has answered so far, in order.
+        for (const event of early.queued.splice(0)) {
+          if (this.ws !== ws) return;
+          ws.onmessage(event);
+        }
+        return;
+      }
+      early.queued.length = 0;
+    }
     if (ws.readyState === OPEN) ws.onopen();  // an early socket that is open already
   }
 

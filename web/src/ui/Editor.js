@@ -56,6 +56,8 @@ export class Editor {
     this.client = new ProtocolClient({ url: defaultSocketUrl(), state });
     this._buildLayout(root);
     this._wire();
+    // The editor starts as a strip's (this.kind); _setKind runs only when a geometry of another kind arrives.
+    this.quadControls.setVisible(false);
     this._updateToolbar();
     this._bindKeyboard();
     this._applyAccessibility(accessibility());

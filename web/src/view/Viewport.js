@@ -55,20 +55,30 @@ const tmpC = new THREE.Color();
 const tmpW = new THREE.Vector3();
 const tmpDir = new THREE.Vector3();
 
-/** True when WebGL is rendered in software (probed on a throw-away context). */
-function isSoftwareGL() {
-  try {
-    const canvas = document.createElement('canvas');
-    const gl = canvas.getContext('webgl2') || canvas.getContext('webgl');
-    if (!gl) return false;
+const SOFTWARE_GL = /swiftshader|llvmpipe|softpipe|software/i;
+
+/**
+ * The 3D view's renderer. Multisampling is cheap on a GPU but expensive with software GL
+ * (SwiftShader, llvmpipe), and it is fixed when the context is made: the context is made without
+ * it and asked for its renderer; in software it is kept (one context: a second one for the probe
+ * cost ~30 ms of a page load), on a GPU it is given up for one with antialiasing.
+ * Returns {renderer, softwareGL}; throws without WebGL 2.
+ */
+function createRenderer() {
+  const canvas = document.createElement('canvas');
+  const gl = canvas.getContext('webgl2', {
+    alpha: false, depth: true, stencil: false, antialias: false, premultipliedAlpha: true,
+    preserveDrawingBuffer: false, powerPreference: 'high-performance',
+  });
+  let softwareGL = false;
+  if (gl) {
     const ext = gl.getExtension('WEBGL_debug_renderer_info');
-    const name = String(ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+    softwareGL = SOFTWARE_GL.test(String(ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER)));
+    if (softwareGL) return { renderer: new THREE.WebGLRenderer({ canvas, context: gl }), softwareGL };
     const lose = gl.getExtension('WEBGL_lose_context');
     if (lose) lose.loseContext();
-    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
-  } catch {
-    return false;
   }
+  return { renderer: new THREE.WebGLRenderer({ antialias: true, powerPreference: 'high-performance' }), softwareGL };
 }
 
 /** An InstancedMesh that grows (is recreated) when more instances are needed. */
@@ -159,9 +169,7 @@ export class Viewport {
     this.webgl = true;
 
     try {
-      // Multisampling is cheap on a GPU but expensive with software GL (SwiftShader, llvmpipe).
-      this.softwareGL = isSoftwareGL();
-      this.renderer = new THREE.WebGLRenderer({ antialias: !this.softwareGL, powerPreference: 'high-performance' });
+      ({ renderer: this.renderer, softwareGL: this.softwareGL } = createRenderer());
     } catch (e) {
       this.webgl = false;
       this.renderer = null;
