@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "devsurf/io/CreasePattern.h"
+#include "devsurf/models/composite/CompositeFoldConflicts.h"
 #include "devsurf/metrics/StripQuality.h"
 
 namespace devsurf::proto {
@@ -317,7 +318,29 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
     pointRefs.row(static_cast<Eigen::Index>(i)) << refs[i][0], refs[i][1], refs[i][2];
   }
 
+  // Points whose creases cannot all fold (a crossing of two straight folds, …): where they are in
+  // 3D and, with a development, on the flat sheet.
+  nlohmann::json foldConflicts = nlohmann::json::array();
+  const std::vector<composite::FoldConflict> conflicts = composite::foldConflicts(d, model.topology());
   nlohmann::json development = nullptr;
+  if (!conflicts.empty()) {
+    std::vector<int> flatOf(static_cast<std::size_t>(numVertices), -1);
+    Eigen::MatrixX2d flat;
+    if (model.hasDevelopment()) {
+      const composite::CompositeDevelopment dev = model.development();
+      flat = dev.vertices2d;
+      for (std::size_t i = 0; i < dev.vertexSource.size(); ++i)
+        if (const int v = dev.vertexSource[i]; v >= 0 && v < numVertices && flatOf[static_cast<std::size_t>(v)] < 0)
+          flatOf[static_cast<std::size_t>(v)] = static_cast<int>(i);
+    }
+    for (const composite::FoldConflict& c : conflicts) {
+      nlohmann::json jc{{"vertex", c.vertex},
+                        {"reason", c.reason},
+                        {"position", {d.vertices(c.vertex, 0), d.vertices(c.vertex, 1), d.vertices(c.vertex, 2)}}};
+      if (const int i = flatOf[static_cast<std::size_t>(c.vertex)]; i >= 0) jc["flat"] = {flat(i, 0), flat(i, 1)};
+      foldConflicts.push_back(std::move(jc));
+    }
+  }
   if (model.hasDevelopment()) {
     const composite::CompositeDevelopment dev = model.development();
     // The crease pattern validates the development (e.g. every face counterclockwise); while a
@@ -388,6 +411,7 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
           {"face_flatness", float32Array(faceFlatness)},
           {"edges", std::move(edges)},
           {"points", {{"positions", float32Array(pointPositions)}, {"refs", int32Array(pointRefs)}}},
+          {"fold_conflicts", std::move(foldConflicts)},
           {"development", std::move(development)}};
 }
 

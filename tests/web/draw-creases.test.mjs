@@ -170,8 +170,7 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
 // 15. Issue 16's design from a blank sheet, end to end: a blank 200 × 150 mm sheet from the start
 //     page; on the board two curved creases, a valley and a mountain, each from the left edge to
 //     the right edge (5 clicks, ends snapped onto the outline), roughly parallel arcs bulging up
-//     (crossing creases are accepted by the server but cannot fold: a valley crossed by a
-//     mountain at a degree-4 vertex with opposite creases alike has no rigid folded state);
+//     (crossing straight creases cannot fold both at once: the editor says so, test 15c);
 //     folded by the slider to 100 %, then by dragging a free corner of the sheet in the 3D view;
 //     exported from the export menu as SVG, STL, STEP and DXF (downloads), each read back by an
 //     independent reader (lib/readback.mjs): the STL parsed here, its triangles summing to the
@@ -525,4 +524,61 @@ test('two curved creases on a blank sheet: a drag of the corner up and out leave
     await h.settleFrames(page);
     await h.screenshotPage(page, '15-blank-sheet-drag-out');
     assertDraggedAndFolded(dragged);
+  }));
+
+// 15c. Two straight creases drawn across each other (a mountain and a valley through the middle
+//      of the sheet): the server accepts the drawing, but a flat sheet folds along one straight
+//      line at a time, so the Fold panel says the crossing cannot fold (and why) and the board
+//      marks it where the creases cross; erasing one of them clears both. The reason itself is
+//      checked against the solver in CompositeFoldConflicts (C++): the crossing stays flat.
+//      Screenshot: test-artifacts/web/15c-crossing-creases.png.
+test('two straight creases drawn across each other: the editor says the crossing cannot fold, and erasing one clears it', { timeout: 180000 }, () =>
+  ctx.guard('crossing-creases', async () => {
+    const { daemon } = ctx;
+    const page = await ctx.page();
+    const { x0, x1, y0, y1, outline } = await openBlankSheet(page, daemon);
+    const [xm, ym] = [(x0 + x1) / 2, (y0 + y1) / 2];
+    await page.getByTestId('draw-creases').click();
+    await page.getByTestId('crease-board').waitFor({ state: 'visible' });
+    const line = async (assignment, a, b, count) => {
+      await page.getByTestId('crease-tool-line').click();
+      await page.getByTestId(`crease-assignment-${assignment}`).click();
+      for (const p of [a, b]) {
+        const q = await boardPoint(page, p);
+        await page.mouse.move(q.x, q.y, { steps: 3 });
+        await page.mouse.click(q.x, q.y);
+      }
+      await h.waitState(page, (s, n) => s.scene.model.drawing.strokes.length === n, count, { what: `${assignment} line drawn` });
+    };
+    await line('M', [x0 + 1, ym], [x1 - 1, ym], outline.length + 1);
+    await h.waitQuiet(page, { quietMs: 500 });
+    assert.equal(await page.getByTestId('fold-conflicts').isVisible(), false, 'one straight crease folds');
+    await line('V', [xm, y0 + 1], [xm, y1 - 1], outline.length + 2);
+    assert.equal((await h.state(page)).lastError, null, 'the drawing is accepted');
+    const panel = page.getByTestId('fold-conflicts');
+    await panel.waitFor({ state: 'visible', timeout: 15000 });
+    const text = await panel.textContent();
+    assert.match(text, /One point cannot fold as drawn/, text);
+    assert.match(text, /two straight creases cross here/, text);
+    assert.match(text, /\(100, 75\)/, `where, on the sheet: ${text}`);
+    const marks = page.locator('[data-testid="crease-board"] .crease-conflict');
+    await marks.first().waitFor({ state: 'attached' });
+    assert.equal(await marks.count(), 1);
+    const box = await marks.first().boundingBox();
+    const centre = await boardPoint(page, [xm, ym]);
+    assert.ok(Math.abs(box.x + box.width / 2 - centre.x) < 2 && Math.abs(box.y + box.height / 2 - centre.y) < 2,
+      `the mark sits on the crossing: ${JSON.stringify(box)} vs ${JSON.stringify(centre)}`);
+    await h.settleFrames(page);
+    await page.screenshot({ path: path.join(h.ARTIFACTS, '15c-crossing-creases.png') });
+
+    // Erase the valley: the warning and the mark go.
+    await page.getByTestId('crease-tool-select').click();
+    const onValley = await boardPoint(page, [xm, y0 + 30]);
+    await page.mouse.click(onValley.x, onValley.y);
+    await page.waitForFunction(() => document.querySelector('[data-testid="crease-board"]').dataset.selected !== '');
+    await page.getByTestId('crease-delete').click();
+    await h.waitState(page, (s, n) => s.scene.model.drawing.strokes.length === n, outline.length + 1, { what: 'the valley erased' });
+    await panel.waitFor({ state: 'hidden', timeout: 15000 });
+    assert.equal(await marks.count(), 0, 'no mark left');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   }));

@@ -59,7 +59,9 @@ if (session && token) {
     socket = openEarlyJoin(defaultSocketUrl(), session, token, displayName());
   } catch { /* the editor opens its own */ }
   const { Editor } = await import('./ui/Editor.js');
+  performance.mark('devsurf:editor-code');
   editor = new Editor(root, { state, session, token, socket });
+  performance.mark('devsurf:editor-built');
 } else {
   document.body.classList.add('start');
   const { StartPage } = await import('./ui/StartPage.js');

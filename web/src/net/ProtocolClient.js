@@ -29,11 +29,16 @@ export function openEarlyJoin(url, session, token, name, WebSocketImpl = globalT
   const socket = new WebSocketImpl(url);
   const queued = [];
   let sent = false;
+  const mark = (name) => globalThis.performance && performance.mark && performance.mark(name);
   socket.onopen = () => {
     socket.send(JSON.stringify(new JoinCommand(session, token, name).toMessage()));
     sent = true;
+    mark('devsurf:join-sent');
   };
-  socket.onmessage = (event) => queued.push(event);
+  socket.onmessage = (event) => {
+    if (!queued.length) mark('devsurf:first-answer');
+    queued.push(event);
+  };
   return { socket, queued, joinSent: () => sent };
 }
 

@@ -104,6 +104,15 @@ export class CreaseBoardPanel {
     svg.addEventListener('dblclick', (e) => this._doubleClick(e));
 
     for (const ev of ['scene', 'session']) state.on(ev, () => this._sceneChanged());
+    // Points whose creases cannot all fold (geometry.fold_conflicts), marked on the sheet.
+    this.conflicts = [];
+    state.on('geometry', ({ geometry }) => {
+      const list = geometry && geometry.kind === 'composite' && Array.isArray(geometry.fold_conflicts) ? geometry.fold_conflicts : [];
+      const marked = list.filter((c) => Array.isArray(c.flat)).map((c) => ({ point: c.flat, reason: c.reason }));
+      if (JSON.stringify(marked) === JSON.stringify(this.conflicts)) return;
+      this.conflicts = marked;
+      this._renderOverlay();
+    });
     state.on('error', ({ command }) => this._commandFailed(command));
     this._sceneChanged();
     this.setTool('select');
@@ -533,6 +542,7 @@ export class CreaseBoardPanel {
     v.pending = this.pending;
     v.draft = this.tool === 'select' ? null : { points: this.draft, pointer: this.draft.length ? this.pointer : null, assignment: this.defaults.assignment, curved: this.tool === 'curve' };
     v.snap = this.snap;
+    v.conflicts = this.conflicts;
   }
 
   _render() {

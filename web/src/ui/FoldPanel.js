@@ -38,14 +38,37 @@ export class FoldPanel {
       this._queue(Number(this.slider.value) / 100);
     });
     this.slider.addEventListener('change', () => this._end());
+    // Points whose creases cannot all fold (geometry.fold_conflicts): the slider cannot reach them.
+    this.conflicts = h('div', { class: 'fold-conflicts', testid: 'fold-conflicts', role: 'status', hidden: true });
+    this.conflictsKey = '';
     this.root = h('section', { class: 'panel', testid: 'fold-panel', hidden: true },
       h('h3', {}, 'Fold'),
       h('div', { class: 'row' }, this.slider, this.label, this.playButton),
       errorSlots.slot('fold:amount'),
+      this.conflicts,
       h('p', { class: 'muted small' }, '0 %: the flat sheet · 100 %: the design\'s fold angles. The solver keeps every state developable; the first move takes the current folds as 100 %.'));
     parent.appendChild(this.root);
     for (const ev of ['scene', 'session', 'metrics']) state.on(ev, () => this.render());
+    state.on('geometry', ({ geometry }) => this.showConflicts(geometry && geometry.kind === 'composite' ? geometry.fold_conflicts : null));
     this.render();
+  }
+
+  /** Lists the points that cannot fold ([{vertex, reason, position, flat?}]; none: hidden). */
+  showConflicts(conflicts) {
+    const list = Array.isArray(conflicts) ? conflicts : [];
+    const key = list.map((c) => `${c.vertex}:${c.reason}`).join('|');
+    if (key === this.conflictsKey) return;
+    this.conflictsKey = key;
+    this.conflicts.hidden = !list.length;
+    if (!list.length) {
+      this.conflicts.replaceChildren();
+      return;
+    }
+    const at = (c) => (Array.isArray(c.flat) ? `At (${c.flat.map((x) => +x.toPrecision(4)).join(', ')}) on the sheet: ` : '');
+    this.conflicts.replaceChildren(
+      h('strong', {}, `⚠ ${list.length === 1 ? 'One point' : `${list.length} points`} cannot fold as drawn`),
+      h('ul', {}, list.map((c) => h('li', {}, at(c) + c.reason))),
+      h('p', { class: 'muted small' }, 'The slider stops short there and the sheet would stretch. The crease board marks them.'));
   }
 
   render() {

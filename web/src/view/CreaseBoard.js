@@ -166,7 +166,7 @@ export class CreaseBoard {
    * What the controller shows over the strokes (`this.view`): selected (stroke index), edit
    * ({index, points}: a stroke being reshaped), selectedPoint (handle index), handles (bool),
    * draft ({points, assignment, curved, pointer}), pending ([{points, curved, assignment}]),
-   * snap ({point, kind}).
+   * snap ({point, kind}), conflicts ([{point, reason}]: points whose creases cannot all fold).
    */
   renderOverlay() {
     const t = this.fit();
@@ -203,6 +203,14 @@ export class CreaseBoard {
           ? el('rect', { ...attrs, x: f(q[0] - 5), y: f(q[1] - 5), width: 10, height: 10 })
           : el('circle', { ...attrs, cx: f(q[0]), cy: f(q[1]), r: 5.5 }));
       });
+    }
+    for (const c of v.conflicts || []) {
+      const q = toScreen(t, c.point);
+      const mark = el('circle', { cx: f(q[0]), cy: f(q[1]), r: 10, class: 'crease-conflict', 'data-reason': c.reason });
+      const title = el('title');
+      title.textContent = c.reason;
+      mark.appendChild(title);
+      this.overlayLayer.appendChild(mark);
     }
     if (v.snap && v.snap.kind) {
       const q = toScreen(t, v.snap.point);

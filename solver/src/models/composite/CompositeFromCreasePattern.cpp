@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -9,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "devsurf/models/composite/CompositeFoldConflicts.h"
 #include "devsurf/spatial/PlanarArrangement.h"
 
 namespace devsurf::models::composite {
@@ -45,13 +47,32 @@ std::vector<int> unionBoundary(const std::vector<const std::vector<int>*>& loops
   return boundary;
 }
 
+/// A note per vertex whose creases cannot all fold (foldConflicts), named by the pattern's vertex
+/// and placed by its development coordinates.
+void appendFoldConflictNotes(CreasePatternComposite& result, const io::CreasePattern& pattern) {
+  std::vector<int> patternVertexOf(static_cast<std::size_t>(result.design.vertices.rows()), -1);
+  for (std::size_t v = 0; v < result.designVertexOf.size(); ++v)
+    if (result.designVertexOf[v] >= 0) patternVertexOf[static_cast<std::size_t>(result.designVertexOf[v])] = static_cast<int>(v);
+  for (const FoldConflict& c : foldConflicts(result.design)) {
+    const int v = patternVertexOf[static_cast<std::size_t>(c.vertex)];
+    if (v < 0) continue;
+    char at[96];
+    std::snprintf(at, sizeof at, "at (%.4g, %.4g): ", pattern.vertices2d(v, 0), pattern.vertices2d(v, 1));
+    result.notes.push_back({"vertices[" + std::to_string(v) + "]", at + c.reason});
+  }
+}
+
 }  // namespace
 
 CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& pattern, int developmentSamples) {
   pattern.validate();
   if (pattern.faces.empty()) throw std::invalid_argument("crease pattern: no faces");
   if (developmentSamples < 1) throw std::invalid_argument("crease pattern: developmentSamples must be ≥ 1");
-  if (hasCurvedCreases(pattern)) return compositeFromCurvedCreasePattern(pattern, developmentSamples);
+  if (hasCurvedCreases(pattern)) {
+    CreasePatternComposite curved = compositeFromCurvedCreasePattern(pattern, developmentSamples);
+    appendFoldConflictNotes(curved, pattern);
+    return curved;
+  }
   CreasePatternComposite result;
   const int faceCount = static_cast<int>(pattern.faces.size());
 
@@ -198,6 +219,7 @@ CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& patte
   // bends the sheet and never stretches it (a free development would co-evolve with the surface).
   for (int v = 0; v < n; ++v)
     if (result.designVertexOf[v] >= 0) d.developmentDomain.corners.push_back({result.designVertexOf[v], pattern.vertices2d.row(v).transpose()});
+  appendFoldConflictNotes(result, pattern);
   return result;
 }
 
