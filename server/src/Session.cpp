@@ -812,6 +812,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   if (isDrawingEdit(type)) return applyDrawingEdit(participant, edit, replaying);
   if (type == "rotate_points") return applyGroupRotation(participant, edit, replaying);
   if (type == "add_control_point" || type == "remove_control_point") return applyControlPointEdit(participant, edit, replaying);
+  if (type == "relabel_edge" || type == "split_face" || type == "merge_faces") return applyLabelledMeshEdit(participant, edit, replaying);
   if (type == "fold" || type == "fold_end") {
     if (!isComposite())
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
@@ -1452,7 +1453,14 @@ void Session::handle(const Work& work) {
     }
     release(m["target"], iterations);
     broadcast(presenceMessage());
-  } else if (type == "solve" || type == "rotate_points" || type == "remove_control_point") {
+  } else if (type == "solve" || type == "rotate_points" || type == "remove_control_point" || type == "merge_faces" ||
+             (type == "relabel_edge" && m.value("label", "") == "R")) {
+    // A structural edit that then solves: its scene first (the solve's messages carry geometry
+    // and metrics only, and a client keeps editing by the scene's indices).
+    if (type != "solve" && showState())
+      broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
+                 {"metrics", metricsJson()}, {"geometry", geometryJson()},
+                 {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
     SolveLimits limits;
     limits.iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
     limits.timeBudgetMs = settings_.releaseTimeBudgetMs;

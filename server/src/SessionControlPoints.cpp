@@ -60,10 +60,7 @@ bool Session::applyControlPointEdit(int participant, const json& edit, bool repl
                                                        const std::string& path) {
     return refuse(participant, edit, replaying, code, message, path);
   };
-  if (!isComposite())
-    return reject("invalid", std::string("applies to composite sessions; this session edits a ") +
-                                 proto::modelKind(solver_->currentScene().model),
-                  "type");
+  if (refusedUnlessComposite(participant, edit, replaying)) return false;
   const proto::Scene before = persistentScene();
   composite::CompositeDesign design = std::get<composite::CompositeDesign>(before.model);
   const composite::CompositeTopology& topology = solver_->compositeModel().topology();

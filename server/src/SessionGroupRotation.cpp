@@ -30,10 +30,7 @@ bool Session::applyGroupRotation(int participant, const json& edit, bool replayi
                                                        const std::string& path) {
     return refuse(participant, edit, replaying, code, message, path);
   };
-  if (!isComposite())
-    return reject("invalid", std::string("applies to composite sessions; this session edits a ") +
-                                 proto::modelKind(solver_->currentScene().model),
-                  "type");
+  if (refusedUnlessComposite(participant, edit, replaying)) return false;
   const json& targets = edit.at("targets");
   if (!targets.is_array() || targets.empty()) return reject("invalid", "expected one point or more", "targets");
   const Eigen::Vector3d axisGiven(edit["axis"][0].get<double>(), edit["axis"][1].get<double>(), edit["axis"][2].get<double>());

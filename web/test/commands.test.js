@@ -6,6 +6,7 @@ import {
   RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SetUnitsCommand, SolveCommand, UndoCommand,
   SOLVER_KEYS, PARAM_KEYS, UNITS, DrawCreaseCommand, EraseCreaseCommand, RelabelCreaseCommand, ReshapeCreaseCommand,
   RotatePointsCommand, AddControlPointCommand, RemoveControlPointCommand,
+  RelabelEdgeCommand, SplitFaceCommand, MergeFacesCommand,
 } from '../src/commands/index.js';
 import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
 import { makeValidator } from './helpers/jsonschema.js';
@@ -57,6 +58,10 @@ const cases = [
   // Composites: turning a group of points (000_… §4.1, Fig. 8).
   ['AddControlPointCommand', new AddControlPointCommand(3, 0)],
   ['RemoveControlPointCommand', new RemoveControlPointCommand(3, 2)],
+  ['RelabelEdgeCommand', new RelabelEdgeCommand([3, 7], 'S')],
+  ['RelabelEdgeCommand to rulings', new RelabelEdgeCommand([0], 'R')],
+  ['SplitFaceCommand', new SplitFaceCommand(2, [4, 9])],
+  ['MergeFacesCommand', new MergeFacesCommand(5)],
   ['RotatePointsCommand', new RotatePointsCommand([{ vertex: 2 }, { vertex: 3 }, { edge: 4, index: 1 }], [0, 0, 1], 20)],
   ['RotatePointsCommand with centre and iterations', new RotatePointsCommand([{ vertex: 0 }], [1, 0, 0], -360, { centre: [0, 100, 0], iterations: 0 })],
   // Strips between two given curves: their curves' control points, and their parameters.
@@ -109,6 +114,11 @@ describe('commands match ws-client.schema.json', () => {
 
   it('composite targets and crease types are checked before sending', () => {
     expect(() => new AddControlPointCommand(-1, 0)).toThrow(/edge/);
+    expect(() => new RelabelEdgeCommand([], 'S')).toThrow(/edges/);
+    expect(() => new RelabelEdgeCommand([1], 'X')).toThrow(/label/);
+    expect(() => new SplitFaceCommand(0, [1])).toThrow(/vertices/);
+    expect(() => new MergeFacesCommand(-2)).toThrow(/edge/);
+    expect(new RelabelEdgeCommand([2, 2, 5], 'R').toMessage().edges).toEqual([2, 5]);
     expect(() => new RemoveControlPointCommand(2, 0)).toThrow(/index/);
     expect(new RemoveControlPointCommand(2, 3).toMessage(4)).toEqual({ type: 'remove_control_point', op: 4, edge: 2, index: 3 });
     expect(validClient({ type: 'remove_control_point', op: 1, edge: 0, index: 0 }).length).toBeGreaterThan(0);

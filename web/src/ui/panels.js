@@ -3,6 +3,8 @@
 import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
 import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
+import { MergeFacesCommand, RelabelEdgeCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
+import { relabelGroup, splitCandidate } from '../geometry/labelledMesh.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { SetUnitsCommand, UNITS } from '../commands/SetUnitsCommand.js';
 import { DRAG_CONSTRAINTS, defaultGridStep } from '../view/dragConstraint.js';
@@ -177,6 +179,9 @@ export class ParticipantsPanel {
       reset: () => 'reset the scene',
       drag_end: () => `moved ${targetLabel(e.target)}`,
       rotate_points: () => `turned ${(e.targets || []).length} point(s) by ${e.angle}°`,
+      relabel_edge: () => `made edge${(e.edges || []).length > 1 ? 's' : ''} ${(e.edges || []).join(', ')} ${e.label}`,
+      split_face: () => `split face ${e.face}`,
+      merge_faces: () => `joined the faces of edge ${e.edge}`,
     }[e.type];
     if (!what) return; // drags are shown live in the view
     this.activity.prepend(h('li', {}, h('span', { class: 'swatch', style: { background: (p && p.color) || '#888' } }), `${who} ${what()}`));
@@ -499,16 +504,90 @@ export class CreasePanel {
       this.send(new SetCreaseCommand(e, this.typeSelect.value, { source: 'crease:type' }));
     });
     this.info = h('div', { class: 'crease-info num', testid: 'crease-info' });
+    // Editing the labelled mesh (000_… §4.1): R ↔ S, a face split between two corners, the two
+    // faces of an edge joined. Composites made from a drawing change through their drawing.
+    this.relabelButton = h('button', { class: 'btn small', testid: 'relabel-edge', onclick: () => this.relabel() }, 'Make S');
+    this.oppositeToggle = h('input', { type: 'checkbox', checked: true, testid: 'relabel-opposite' });
+    this.mergeButton = h('button', { class: 'btn small', testid: 'merge-faces', title: 'Remove this edge: its two faces become one', onclick: () => this.merge() }, 'Join its faces');
+    this.splitButton = h('button', { class: 'btn small', testid: 'split-face', onclick: () => this.split() }, 'Split the face');
+    this.splitHint = h('span', { class: 'muted small', testid: 'split-face-hint' });
+    this.meshEdits = h('div', { class: 'labelled-mesh', testid: 'labelled-mesh-edits' },
+      h('div', { class: 'row' }, this.relabelButton,
+        h('label', { class: 'small', title: 'The side across each four-sided face of the edge, if it has the same label: a strip needs both its curves, a planar quad made a strip both sides' },
+          this.oppositeToggle, ' and the opposite sides'),
+        this.mergeButton),
+      h('div', { class: 'row' }, this.splitButton, this.splitHint),
+      errorSlots.slot('crease:mesh'));
+    this.drawnNote = h('p', { class: 'muted small', hidden: true }, 'Made from a drawing: split and join faces, and bend creases, on the crease board.');
     this.root = h('section', { class: 'panel', testid: 'crease-panel', hidden: true },
       h('h3', {}, 'Crease'),
       h('label', { class: 'row' }, h('span', { class: 'muted' }, 'Edge'), this.edgeSelect),
       h('label', { class: 'row' }, h('span', { class: 'muted' }, 'Type'), this.typeSelect),
       this.info,
       errorSlots.slot('crease:type'),
-      h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge.'));
+      this.meshEdits, this.drawnNote,
+      h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge; Shift-click two corners of a face to split it.'));
     parent.appendChild(this.root);
-    for (const ev of ['scene', 'edge-selection', 'session']) state.on(ev, () => this.render());
+    for (const ev of ['scene', 'edge-selection', 'session', 'group']) state.on(ev, () => this.render());
     this.render();
+  }
+
+  /** The scene's model when its labelled mesh can be edited here (a composite without a drawing). */
+  _editableModel() {
+    const model = this.state.scene && this.state.scene.model;
+    if (!model || model.kind !== 'composite' || model.drawing) return null;
+    return model;
+  }
+
+  /** The two corners of the group selection that can split a face, or null. */
+  _splitTarget() {
+    const model = this._editableModel();
+    const g = this.state.group || [];
+    if (!model || g.length !== 2 || !g.every((t) => Number.isInteger(t.vertex))) return null;
+    return splitCandidate(model, g[0].vertex, g[1].vertex);
+  }
+
+  relabel() {
+    const model = this._editableModel();
+    const e = this.state.selectedEdge;
+    if (!model || e === null || !model.edges[e]) return;
+    const label = model.edges[e].type === 'S' ? 'R' : 'S';
+    this.send(new RelabelEdgeCommand(relabelGroup(model, e, this.oppositeToggle.checked), label, { source: 'crease:mesh' }));
+  }
+
+  merge() {
+    const e = this.state.selectedEdge;
+    if (!this._editableModel() || e === null) return;
+    this.state.setSelectedEdge(null);
+    this.send(new MergeFacesCommand(e, { source: 'crease:mesh' }));
+  }
+
+  split() {
+    const target = this._splitTarget();
+    if (!target) return;
+    this.state.setGroup([]);
+    this.send(new SplitFaceCommand(target.face, target.vertices, { source: 'crease:mesh' }));
+  }
+
+  _renderMeshEdits() {
+    const st = this.state;
+    const model = st.scene && st.scene.model;
+    const editable = this._editableModel();
+    this.drawnNote.hidden = !(model && model.drawing);
+    this.meshEdits.hidden = !editable;
+    if (!editable) return;
+    const canEdit = st.role === 'edit';
+    const e = st.selectedEdge;
+    const edge = e === null ? null : editable.edges[e];
+    this.relabelButton.textContent = edge && edge.type === 'S' ? 'Make R' : 'Make S';
+    this.relabelButton.title = edge ? `Relabel edge ${e} ${edge.type === 'S' ? 'a ruling (R): its curve becomes its chord' : 'a spline (S): a straight curve you can then bend'}` : 'Pick an edge first';
+    this.relabelButton.disabled = !edge || !canEdit;
+    this.mergeButton.disabled = !edge || !canEdit;
+    const split = this._splitTarget();
+    this.splitButton.disabled = !split || !canEdit;
+    const g = st.group || [];
+    this.splitHint.textContent = split ? `face ${split.face}: a ruling from vertex ${split.vertices[0]} to ${split.vertices[1]}`
+      : g.length === 2 ? 'these two points are not opposite corners of one face' : 'Shift-click two corners of a face';
   }
 
   /** Called by the editor after each composite geometry update (and on the signals above). */
@@ -516,18 +595,21 @@ export class CreasePanel {
     const st = this.state;
     this.root.hidden = st.kind !== 'composite';
     if (this.root.hidden) return;
-    const edges = this.composite.edges.filter((e) => e.interior);
-    const signature = edges.map((e) => `${e.edge}${e.crease}`).join();
+    this._renderMeshEdits();
+    // Interior edges (creases); with the labelled mesh editable, boundary edges too (a side of a
+    // face to relabel).
+    const edges = this.composite.edges.filter((e) => e.interior || !this.meshEdits.hidden);
+    const signature = edges.map((e) => `${e.edge}${e.type}${e.crease}${e.interior}`).join();
     if (signature !== this._signature) {
       const options = [h('option', { value: '' }, edges.length ? '— select an edge —' : 'no interior edges')];
-      for (const e of edges) options.push(h('option', { value: String(e.edge) }, `edge ${e.edge} · ${e.type} · ${e.crease}`));
+      for (const e of edges) options.push(h('option', { value: String(e.edge) }, `edge ${e.edge} · ${e.type} · ${e.interior ? e.crease : 'boundary'}`));
       this.edgeSelect.replaceChildren(...options);
       this._signature = signature;
     }
     this.edgeSelect.value = st.selectedEdge === null ? '' : String(st.selectedEdge);
     const edge = st.selectedEdge === null ? null : this.composite.edge(st.selectedEdge);
     this.typeSelect.value = edge ? this._sceneCrease(edge.edge) : 'none';
-    this.typeSelect.disabled = !edge || st.role !== 'edit';
+    this.typeSelect.disabled = !edge || !edge.interior || st.role !== 'edit';
     for (const o of this.typeSelect.options) o.disabled = !!edge && edge.type === 'R' && (o.value === 'fold' || o.value === 'geodesic');
     if (!edge) {
       this.info.textContent = '';

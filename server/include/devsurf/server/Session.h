@@ -344,6 +344,13 @@ class Session : public std::enable_shared_from_this<Session> {
   /// (exact) or removed from (least squares) every S edge sharing the edge's spline space; one
   /// rebuild, one undo step; removal then solves as for "solve".
   bool applyControlPointEdit(int participant, const nlohmann::json& edit, bool replaying);
+  /// "relabel_edge" / "split_face" / "merge_faces" (SessionLabelledMesh.cpp): the labelled mesh of
+  /// a composite without a drawing edited (edges R ↔ S, a new ruling between two corners of a
+  /// face, the two faces of an edge joined); one rebuild, one undo step; relabel and merge then
+  /// solve as for "solve". The composite's checks decide; a refusal quotes them.
+  bool applyLabelledMeshEdit(int participant, const nlohmann::json& edit, bool replaying);
+  /// Refuses an edit of another session kind than composite ("type"); true when refused.
+  bool refusedUnlessComposite(int participant, const nlohmann::json& edit, bool replaying);
   bool keepsInput() const { return solver_->keepsInputGeometry(); }
   proto::Scene persistentScene() const;
   void pushUndo();

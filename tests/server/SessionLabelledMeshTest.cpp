@@ -1,0 +1,285 @@
+// Editing a composite's labelled mesh (issue 16 item 3, 000_… §4.1): edges relabelled R ↔ S, a
+// face split by a new ruling between two corners, two faces merged across their edge. Checked on
+// shipped presets: what the composite's checks accept is solved, undone exactly, journalled and
+// replayed; what they refuse changes nothing and says why; random edits in any order never leave
+// a session the model rejects.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "devsurf/metrics/QuadFlatness.h"
+#include "devsurf/models/composite/CompositeDesign.h"
+#include "devsurf/models/composite/CompositeTopology.h"
+#include "server/SessionTesting.h"
+
+namespace devsurf::server {
+namespace {
+
+using nlohmann::json;
+using testing::ExampleEditor;
+namespace composite = models::composite;
+
+composite::CompositeDesign labelledDesignOf(const ExampleEditor& e) {
+  return std::get<composite::CompositeDesign>(proto::sceneFromJson(e.session->sceneJson()).model);
+}
+
+std::vector<int> edgesLabelled(const composite::CompositeDesign& d, composite::EdgeType t) {
+  std::vector<int> out;
+  for (std::size_t k = 0; k < d.edges.size(); ++k)
+    if (d.edges[k].type == t) out.push_back(static_cast<int>(k));
+  return out;
+}
+
+/// The first face whose edges are all rulings, or −1.
+int firstPlanarFace(const composite::CompositeDesign& d) {
+  for (std::size_t f = 0; f < d.faces.size(); ++f)
+    if (std::all_of(d.faces[f].begin(), d.faces[f].end(),
+                    [&d](int e) { return d.edges[static_cast<std::size_t>(e)].type == composite::EdgeType::Ruling; }))
+      return static_cast<int>(f);
+  return -1;
+}
+
+/// Corner k of a face: where its loop edges k − 1 and k meet.
+int cornerOf(const composite::CompositeDesign& d, int face, int k) {
+  const std::vector<int>& loop = d.faces[static_cast<std::size_t>(face)];
+  const int n = static_cast<int>(loop.size());
+  const composite::CompositeEdge& a = d.edges[static_cast<std::size_t>(loop[static_cast<std::size_t>((k + n - 1) % n)])];
+  const composite::CompositeEdge& b = d.edges[static_cast<std::size_t>(loop[static_cast<std::size_t>(k)])];
+  return a.v0 == b.v0 || a.v0 == b.v1 ? a.v0 : a.v1;
+}
+
+/// Two scenes' composites have the same labelled mesh (faces; edges' vertices, labels, creases)
+/// and vertices within 1e-9 (an undo brings back the scene, which may be written with the
+/// development it had and numbers rounded differently).
+::testing::AssertionResult sameLabelledMesh(const json& a, const json& b) {
+  const json& ma = a["model"];
+  const json& mb = b["model"];
+  if (ma["faces"] != mb["faces"]) return ::testing::AssertionFailure() << "faces differ";
+  if (ma["edges"].size() != mb["edges"].size()) return ::testing::AssertionFailure() << "edge counts differ";
+  for (std::size_t k = 0; k < ma["edges"].size(); ++k)
+    for (const char* key : {"v", "type", "crease"})
+      if (ma["edges"][k].value(key, json()) != mb["edges"][k].value(key, json()))
+        return ::testing::AssertionFailure() << "edge " << k << " differs in " << key;
+  if (ma["vertices"].size() != mb["vertices"].size()) return ::testing::AssertionFailure() << "vertex counts differ";
+  for (std::size_t v = 0; v < ma["vertices"].size(); ++v)
+    for (std::size_t c = 0; c < 3; ++c)
+      if (std::abs(ma["vertices"][v][c].get<double>() - mb["vertices"][v][c].get<double>()) > 1e-9)
+        return ::testing::AssertionFailure() << "vertex " << v << " moved";
+  return ::testing::AssertionSuccess();
+}
+
+TEST(SessionLabelledMesh, EverySplineEdgeMadeARulingGivesPlanarFacesFoldedAlongStraightCreases) {
+  ExampleEditor e("composite-curved-fold");
+  const json before = e.session->sceneJson();
+  const composite::CompositeDesign d0 = labelledDesignOf(e);
+  const std::vector<int> splines = edgesLabelled(d0, composite::EdgeType::Spline);
+  ASSERT_GE(splines.size(), 3u);
+  e.send({{"type", "relabel_edge"}, {"op", 1}, {"edges", splines}, {"label", "R"}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  ASSERT_FALSE(e.inbox.ofType("solved").empty());  // relabelling solves
+  const composite::CompositeDesign d1 = labelledDesignOf(e);
+  EXPECT_TRUE(edgesLabelled(d1, composite::EdgeType::Spline).empty());
+  // Every face planar now: the solve flattened them (δ of every face's corners, independent of the
+  // model's own metric).
+  for (std::size_t f = 0; f < d1.faces.size(); ++f) {
+    ASSERT_EQ(d1.faces[f].size(), 4u);
+    Eigen::Vector3d c[4];
+    for (int k = 0; k < 4; ++k) c[k] = d1.vertices.row(cornerOf(d1, static_cast<int>(f), k)).transpose();
+    EXPECT_LT(metrics::quadFlatness(c[0], c[1], c[2], c[3], 1e-12), 1e-3) << "face " << f;
+  }
+  // Undo: the curved fold as it was.
+  e.send({{"type", "undo"}, {"op", 2}});
+  EXPECT_TRUE(sameLabelledMesh(e.session->sceneJson(), before));
+}
+
+TEST(SessionLabelledMesh, TwoOppositeSidesOfAPlanarFaceMadeSplinesMakeAStripThatDoesNotMove) {
+  ExampleEditor e("composite-curved-box");
+  e.send({{"type", "solve"}, {"op", 0}});  // the box folded up by its handles first
+  const composite::CompositeDesign d0 = labelledDesignOf(e);
+  const int f = firstPlanarFace(d0);
+  ASSERT_GE(f, 0);
+  ASSERT_EQ(d0.faces[static_cast<std::size_t>(f)].size(), 4u);
+  const std::vector<int>& loop = d0.faces[static_cast<std::size_t>(f)];
+  // One side alone makes S R R R: refused, quoting the face, nothing changed.
+  const json before = e.session->sceneJson();
+  e.send({{"type", "relabel_edge"}, {"op", 1}, {"edges", {loop[0]}}, {"label", "S"}});
+  const json refusal = e.inbox.last("error");
+  ASSERT_TRUE(refusal.is_object());
+  EXPECT_EQ(refusal["path"], "edges");
+  EXPECT_NE(refusal["message"].get<std::string>().find("faces["), std::string::npos) << refusal.dump();
+  EXPECT_EQ(e.session->sceneJson(), before);
+  // Two opposite sides: S R S R, the curves straight along the old sides.
+  e.inbox.messages.clear();
+  e.send({{"type", "relabel_edge"}, {"op", 2}, {"edges", {loop[0], loop[2]}}, {"label", "S"}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  const composite::CompositeDesign d1 = labelledDesignOf(e);
+  for (int side : {loop[0], loop[2]}) {
+    const composite::CompositeEdge& s = d1.edges[static_cast<std::size_t>(side)];
+    ASSERT_EQ(s.type, composite::EdgeType::Spline);
+    const Eigen::Vector3d a = d1.vertices.row(s.v0).transpose(), b = d1.vertices.row(s.v1).transpose();
+    for (Eigen::Index k = 0; k < s.curve.points.rows(); ++k) {
+      const Eigen::Vector3d p = s.curve.points.row(k).transpose();
+      EXPECT_LT((p - a).cross(b - a).norm() / (b - a).norm(), 1e-6 * (b - a).norm()) << "edge " << side << " control point " << k;
+    }
+  }
+  const double size = (d0.vertices.colwise().maxCoeff() - d0.vertices.colwise().minCoeff()).norm();
+  EXPECT_LT((d1.vertices - d0.vertices).cwiseAbs().maxCoeff(), 1e-3 * size) << "the box stays where it was";
+}
+
+TEST(SessionLabelledMesh, ASplitFaceMergedAgainIsTheFaceItWasAndBothAreJournalled) {
+  ExampleEditor e("composite-curved-box");
+  e.send({{"type", "solve"}, {"op", 0}});  // the box folded up by its handles first
+  const std::size_t journalled = e.journal.edits.size();
+  const json before = e.session->sceneJson();
+  const composite::CompositeDesign d0 = labelledDesignOf(e);
+  const int f = firstPlanarFace(d0);
+  ASSERT_GE(f, 0);
+  const int a = cornerOf(d0, f, 0), b = cornerOf(d0, f, 2);
+  e.send({{"type", "split_face"}, {"op", 1}, {"face", f}, {"vertices", {a, b}}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  const composite::CompositeDesign d1 = labelledDesignOf(e);
+  ASSERT_EQ(d1.faces.size(), d0.faces.size() + 1);
+  ASSERT_EQ(d1.edges.size(), d0.edges.size() + 1);
+  const composite::CompositeEdge& added = d1.edges.back();
+  EXPECT_EQ(added.type, composite::EdgeType::Ruling);
+  EXPECT_TRUE((added.v0 == a && added.v1 == b) || (added.v0 == b && added.v1 == a));
+  EXPECT_EQ(d1.faces[static_cast<std::size_t>(f)].size(), 3u);
+  EXPECT_EQ(d1.faces.back().size(), 3u);
+  // Merged across the new edge: the same faces, edges and points as before.
+  e.send({{"type", "merge_faces"}, {"op", 2}, {"edge", static_cast<int>(d1.edges.size()) - 1}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  const composite::CompositeDesign d2 = labelledDesignOf(e);
+  ASSERT_EQ(d2.faces.size(), d0.faces.size());
+  EXPECT_EQ(d2.edges.size(), d0.edges.size());
+  std::vector<int> was = d0.faces[static_cast<std::size_t>(f)], is = d2.faces[static_cast<std::size_t>(f)];
+  std::sort(was.begin(), was.end());
+  std::sort(is.begin(), is.end());
+  EXPECT_EQ(is, was);
+  // The journal holds both; a restart replays them onto the preset.
+  EXPECT_EQ(e.journal.edits.size(), journalled + 2);
+  testing::ManualExecutor ex2;
+  auto restored = std::make_shared<Session>("e1", testing::exampleScene("composite-curved-box"),
+                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
+                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
+  restored->restore(nullptr, 0, e.journal.edits, e.journal.edits.back().first);
+  EXPECT_EQ(restored->sceneJson()["model"]["faces"], e.session->sceneJson()["model"]["faces"]);
+  // Two undos: the design before the split.
+  e.send({{"type", "undo"}, {"op", 3}});
+  e.send({{"type", "undo"}, {"op", 4}});
+  EXPECT_TRUE(sameLabelledMesh(e.session->sceneJson(), before));
+}
+
+TEST(SessionLabelledMesh, BadEditsNameTheirFieldAndChangeNothing) {
+  ExampleEditor e("composite-curved-box");
+  const json before = e.session->sceneJson();
+  const composite::CompositeDesign d = labelledDesignOf(e);
+  const int f = firstPlanarFace(d);
+  const int a = cornerOf(d, f, 0), next = cornerOf(d, f, 1);
+  int boundary = -1, strip = -1;
+  for (std::size_t k = 0; k < d.edges.size() && boundary < 0; ++k) {
+    int uses = 0;
+    for (const auto& face : d.faces) uses += static_cast<int>(std::count(face.begin(), face.end(), static_cast<int>(k)));
+    if (uses == 1) boundary = static_cast<int>(k);
+  }
+  for (std::size_t g = 0; g < d.faces.size() && strip < 0; ++g)
+    if (static_cast<int>(g) != f) strip = static_cast<int>(g);
+  const int notOnFace = cornerOf(d, strip, 0) != a && cornerOf(d, strip, 0) != next ? cornerOf(d, strip, 0) : cornerOf(d, strip, 1);
+  struct Case {
+    json message;
+    std::string path;
+  };
+  const std::vector<Case> cases = {
+      {{{"type", "relabel_edge"}, {"op", 1}, {"edges", {9999}}, {"label", "S"}}, "edges[0]"},
+      {{{"type", "relabel_edge"}, {"op", 2}, {"edges", {d.faces[static_cast<std::size_t>(f)][0]}}, {"label", "R"}}, "edges[0]"},
+      {{{"type", "split_face"}, {"op", 3}, {"face", 9999}, {"vertices", {a, next}}}, "face"},
+      {{{"type", "split_face"}, {"op", 4}, {"face", f}, {"vertices", {a, next}}}, "vertices"},
+      {{{"type", "split_face"}, {"op", 5}, {"face", f}, {"vertices", {a, a}}}, "vertices"},
+      {{{"type", "merge_faces"}, {"op", 6}, {"edge", boundary}}, "edge"},
+      {{{"type", "merge_faces"}, {"op", 7}, {"edge", 9999}}, "edge"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.message.dump());
+    e.inbox.messages.clear();
+    e.send(c.message);
+    ASSERT_TRUE(e.inbox.last("error").is_object());
+    EXPECT_EQ(e.inbox.last("error")["path"], c.path) << e.inbox.last("error").dump();
+    EXPECT_EQ(e.session->sceneJson(), before);
+  }
+  if (cornerOf(d, f, 0) != notOnFace) {
+    e.inbox.messages.clear();
+    e.send({{"type", "split_face"}, {"op", 8}, {"face", f}, {"vertices", {a, notOnFace}}});
+    const json err = e.inbox.last("error");
+    EXPECT_TRUE(err.is_object());
+    EXPECT_EQ(e.session->sceneJson(), before);
+  }
+  // Another kind of session, and a composite drawn on a sheet, refuse by type.
+  ExampleEditor strip_("strip-twisted");
+  strip_.send({{"type", "merge_faces"}, {"op", 1}, {"edge", 0}});
+  EXPECT_EQ(strip_.inbox.last("error").value("path", ""), "type");
+}
+
+/// Random edits in any order on three presets: each is accepted (the session's composite then
+/// passes the model's checks when read back, and undo restores the scene before it exactly) or
+/// refused with the scene unchanged. Seeded, 3 × 40 edits.
+TEST(SessionLabelledMesh, RandomEditsInAnyOrderLeaveAValidCompositeOrChangeNothing) {
+  std::mt19937 rng(16);
+  int accepted = 0, refused = 0;
+  for (const char* preset : {"composite-curved-box", "composite-two-creases", "composite-curved-fold"}) {
+    SCOPED_TRACE(preset);
+    ExampleEditor e(preset);
+    for (int step = 0; step < 40; ++step) {
+      const composite::CompositeDesign d = labelledDesignOf(e);
+      const int kind = static_cast<int>(rng() % 3);
+      json m{{"op", step}};
+      if (kind == 0) {
+        std::vector<int> edges;
+        const composite::EdgeType to = rng() % 2 ? composite::EdgeType::Spline : composite::EdgeType::Ruling;
+        const std::vector<int> candidates = edgesLabelled(d, to == composite::EdgeType::Spline ? composite::EdgeType::Ruling : composite::EdgeType::Spline);
+        if (candidates.empty()) continue;
+        const int count = 1 + static_cast<int>(rng() % std::min<std::size_t>(3, candidates.size()));
+        for (int k = 0; k < count; ++k) {
+          const int pick = candidates[rng() % candidates.size()];
+          if (std::find(edges.begin(), edges.end(), pick) == edges.end()) edges.push_back(pick);
+        }
+        m.update({{"type", "relabel_edge"}, {"edges", edges}, {"label", to == composite::EdgeType::Spline ? "S" : "R"}});
+      } else if (kind == 1) {
+        const int f = static_cast<int>(rng() % d.faces.size());
+        const int n = static_cast<int>(d.faces[static_cast<std::size_t>(f)].size());
+        m.update({{"type", "split_face"}, {"face", f},
+                  {"vertices", {cornerOf(d, f, static_cast<int>(rng() % n)), cornerOf(d, f, static_cast<int>(rng() % n))}}});
+      } else {
+        m.update({{"type", "merge_faces"}, {"edge", static_cast<int>(rng() % d.edges.size())}});
+      }
+      const json before = e.session->sceneJson();
+      e.inbox.messages.clear();
+      e.send(m);
+      if (e.inbox.last("error").is_object()) {
+        ++refused;
+        EXPECT_EQ(e.session->sceneJson(), before) << m.dump();
+        continue;
+      }
+      ++accepted;
+      const json after = e.session->sceneJson();
+      EXPECT_NO_THROW(composite::CompositeTopology topology(std::get<composite::CompositeDesign>(proto::sceneFromJson(after).model)))
+          << m.dump();
+      json metrics;
+      for (const json& msg : e.inbox.messages)
+        if (msg.contains("metrics")) metrics = msg["metrics"];
+      ASSERT_TRUE(metrics.is_object()) << "no metrics after " << m.dump();
+      for (const auto& [name, value] : metrics.items())
+        if (value.is_number()) EXPECT_TRUE(std::isfinite(value.get<double>())) << name << " after " << m.dump();
+      e.send({{"type", "undo"}, {"op", 1000 + step}});
+      EXPECT_TRUE(sameLabelledMesh(e.session->sceneJson(), before)) << "undo of " << m.dump();
+      e.send({{"type", "redo"}, {"op", 2000 + step}});
+    }
+  }
+  std::printf("labelled-mesh edits: %d accepted, %d refused\n", accepted, refused);
+  EXPECT_GT(accepted, 10);
+  EXPECT_GT(refused, 10);
+}
+
+}  // namespace
+}  // namespace devsurf::server

@@ -1,0 +1,112 @@
+// 16. Editing a composite's labelled mesh in the browser (issue 16 item 3, 000_… §4.1): on the
+//     curved box (three strips and two planar flaps), Shift-click two opposite corners of a flap
+//     and "Split the face" adds a ruling between them (two triangles); picking that edge and
+//     "Join its faces" takes it out again; "Make S" on a flap's side, with the opposite side,
+//     turns the planar flap into a strip (S R S R) that has not moved; "Make S" on the side the
+//     flap shares with a strip, alone, is refused (S R R R) and the error under the panel names
+//     the face, the scene unchanged; undo brings the rulings back. Each edit is checked on the server's scene.
+//     Screenshot: test-artifacts/web/16-labelled-mesh.png (the flap as a strip, its edge picked).
+import assert from 'node:assert/strict';
+import { test } from 'node:test';
+import * as h from './lib/harness.mjs';
+
+const ctx = h.useDaemonAndBrowser('labelled-mesh', { demos: [] });
+
+/** Corner k of face f of a scene model (where loop edges k − 1 and k meet). */
+function cornersOf(model, f) {
+  const loop = model.faces[f];
+  return loop.map((e, k) => {
+    const a = model.edges[loop[(k + loop.length - 1) % loop.length]].v;
+    const b = model.edges[e].v;
+    return a[0] === b[0] || a[0] === b[1] ? a[0] : a[1];
+  });
+}
+
+async function serverModel(daemon, s) {
+  return (await daemon.session(s.id, s.edit_token)).scene.model;
+}
+
+test('split a flap between two corners, join it again, make it a strip, a refusal names the face, undo', { timeout: 240000 }, () =>
+  ctx.guard('labelled-mesh', async () => {
+    const { daemon } = ctx;
+    const s = await daemon.createSession(h.readScene('composite-curved-box.json'));
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(s.id, s.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+    let st0 = await h.state(page);
+    await page.getByTestId('solve').click();
+    await h.waitState(page, (st, n) => st.lastSolved && st.lastSolved.seq > n, st0.seq, { what: 'the first solve' });
+    await h.waitQuiet(page, { quietMs: 800 });
+    await page.evaluate(() => window.__devsurf.editor.viewport.fit());
+    await h.settleFrames(page);
+    await page.getByTestId('labelled-mesh-edits').waitFor();
+
+    const model0 = await serverModel(daemon, s);
+    const flap = model0.faces.findIndex((l) => l.every((e) => model0.edges[e].type === 'R'));
+    assert.ok(flap >= 0, 'the box has a planar flap');
+    const corners = cornersOf(model0, flap);
+    const [a, b] = [corners[0], corners[2]];
+
+    // Split: click corner a, Shift-click corner b.
+    let p = await h.pointPagePosition(page, { vertex: a });
+    await page.mouse.click(p.x, p.y);
+    await h.waitState(page, (st, v) => st.selection && st.selection.vertex === v, a, { what: `vertex ${a} selected` });
+    p = await h.pointPagePosition(page, { vertex: b });
+    await page.keyboard.down('Shift');
+    await page.mouse.click(p.x, p.y);
+    await page.keyboard.up('Shift');
+    await h.waitState(page, (st) => st.group.length === 2, undefined, { what: 'two corners in the group' });
+    assert.match(await page.getByTestId('split-face-hint').textContent(), new RegExp(`face ${flap}: a ruling from vertex ${a} to ${b}`));
+    await page.getByTestId('split-face').click();
+    await h.waitState(page, (st, n) => st.scene.model.faces.length === n + 1, model0.faces.length, { what: 'the flap split' });
+    const split = await serverModel(daemon, s);
+    assert.equal(split.faces.length, model0.faces.length + 1);
+    const ruling = split.edges.length - 1;
+    assert.deepEqual([...split.edges[ruling].v].sort(), [a, b].sort(), 'the new edge joins the two corners');
+    assert.equal(split.edges[ruling].type, 'R');
+    assert.ok(split.faces[flap].length === 3 && split.faces.at(-1).length === 3, 'two triangles');
+
+    // Join: pick the new edge, "Join its faces".
+    await page.getByTestId('crease-edge').selectOption(String(ruling));
+    await page.getByTestId('merge-faces').click();
+    await h.waitState(page, (st, n) => st.scene.model.faces.length === n, model0.faces.length, { what: 'the faces joined' });
+    const joined = await serverModel(daemon, s);
+    assert.equal(joined.edges.length, model0.edges.length);
+    assert.deepEqual([...joined.faces[flap]].sort(), [...model0.faces[flap]].sort(), 'the flap as it was');
+
+    // Make S without the opposite side: refused (S R R R), the error names the face.
+    const side = model0.faces[flap].find((e) => model0.faces.filter((l) => l.includes(e)).length === 2);
+    assert.ok(side !== undefined, 'the flap has an interior side');
+    await page.getByTestId('crease-edge').selectOption(String(side));
+    await page.getByTestId('relabel-opposite').uncheck();
+    const seqBefore = (await h.state(page)).seq;
+    await page.getByTestId('relabel-edge').click();
+    const slot = page.locator('.field-error[data-source="crease:mesh"]');
+    await slot.waitFor({ state: 'visible', timeout: 15000 });
+    assert.match(await slot.textContent(), /faces\[\d+\]/, 'the refusal names the face');
+    await h.sleep(300);
+    assert.equal((await h.state(page)).seq, seqBefore, 'nothing applied');
+
+    // A strip, where the flap was: its two sides next to that edge (boundary edges) made S together.
+    const loop = model0.faces[flap];
+    const boundarySide = loop[(loop.indexOf(side) + 1) % 4];
+    await h.waitQuiet(page, { quietMs: 800 });
+    const flat = await serverModel(daemon, s);
+    await page.getByTestId('crease-edge').selectOption(String(boundarySide));
+    await page.getByTestId('relabel-opposite').check();
+    await page.getByTestId('relabel-edge').click();
+    await h.waitState(page, (st, e) => st.scene.model.edges[e].type === 'S', boundarySide, { what: 'the sides made S' });
+    const strip = await serverModel(daemon, s);
+    const opposite = loop[(loop.indexOf(boundarySide) + 2) % 4];
+    assert.equal(strip.edges[opposite].type, 'S', 'the opposite side too');
+    const moved = Math.max(...strip.vertices.map((v, i) => Math.hypot(...v.map((x, k) => x - flat.vertices[i][k]))));
+    assert.ok(moved < 1e-6, `nothing moved: ${moved}`);
+    assert.equal(await page.getByTestId('relabel-edge').textContent(), 'Make R');
+    await h.settleFrames(page);
+    await h.screenshotPage(page, '16-labelled-mesh');
+
+    // Undo: rulings again.
+    await page.getByTestId('undo').click();
+    await h.waitState(page, (st, e) => st.scene.model.edges[e].type === 'R', boundarySide, { what: 'undo: a ruling again' });
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  }));

@@ -1,0 +1,56 @@
+import { Command } from './Command.js';
+
+const isIndex = (x) => Number.isInteger(x) && x >= 0;
+
+/**
+ * Composite sessions without a drawing: the edges become rulings ('R') or spline edges ('S'), as
+ * a face type needs them together (a strip's two curves, a planar face's two opposite sides).
+ */
+export class RelabelEdgeCommand extends Command {
+  constructor(edges, label, options) {
+    super('relabel_edge', options);
+    if (!Array.isArray(edges) || !edges.length || edges.length > 64 || !edges.every(isIndex)) {
+      throw new TypeError('edges: expected 1 to 64 edge indices');
+    }
+    if (label !== 'R' && label !== 'S') throw new TypeError("label: expected 'R' or 'S'");
+    this.edges = [...new Set(edges)];
+    this.label = label;
+    this.name = `make edge${this.edges.length > 1 ? 's' : ''} ${this.edges.join(', ')} ${label === 'S' ? 'splines (S)' : 'rulings (R)'}`;
+  }
+
+  fields() {
+    return { edges: this.edges, label: this.label };
+  }
+}
+
+/** Composite sessions without a drawing: a new ruling between two corners of a face splits it. */
+export class SplitFaceCommand extends Command {
+  constructor(face, vertices, options) {
+    super('split_face', options);
+    if (!isIndex(face)) throw new TypeError('face: expected an integer ≥ 0');
+    if (!Array.isArray(vertices) || vertices.length !== 2 || !vertices.every(isIndex)) {
+      throw new TypeError('vertices: expected two vertex indices');
+    }
+    this.face = face;
+    this.vertices = vertices.slice();
+    this.name = `split face ${face} between vertices ${vertices[0]} and ${vertices[1]}`;
+  }
+
+  fields() {
+    return { face: this.face, vertices: this.vertices };
+  }
+}
+
+/** Composite sessions without a drawing: interior edge `edge` goes and its two faces become one. */
+export class MergeFacesCommand extends Command {
+  constructor(edge, options) {
+    super('merge_faces', options);
+    if (!isIndex(edge)) throw new TypeError('edge: expected an integer ≥ 0');
+    this.edge = edge;
+    this.name = `join the faces of edge ${edge}`;
+  }
+
+  fields() {
+    return { edge: this.edge };
+  }
+}
