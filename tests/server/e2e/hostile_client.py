@@ -654,6 +654,15 @@ class Worker:
                     m = {"type": "set_solver", "solver": {k: solver[k] for k in keys}}
                     if rng.random() < 0.3:
                         m["drag_iterations"] = rng.randint(1, 100)
+                elif r < 0.9 and kind == "composite":  # the labelled mesh edited: any indices
+                    edges, faces = len(scene["model"].get("edges", [])), len(scene["model"].get("faces", []))
+                    m = rng.choice([
+                        {"type": "relabel_edge", "edges": [rng.randrange(edges + 2) for _ in range(rng.randint(1, 4))],
+                         "label": rng.choice(["R", "S"])},
+                        {"type": "split_face", "face": rng.randrange(faces + 1),
+                         "vertices": [rng.randrange(len(scene["model"].get("vertices", [])) + 1) for _ in range(2)]},
+                        {"type": "merge_faces", "edge": rng.randrange(edges + 1)},
+                    ])
                 elif r < 0.95:
                     m = {"type": rng.choice(["undo", "redo", "reset", "undo"])}
                 else:
