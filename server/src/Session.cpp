@@ -764,10 +764,7 @@ void Session::commit(int participant, const json& edit, const std::vector<json>&
 
 bool Session::apply(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
-  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
-                                                       const std::string& path) {
-    return refuse(participant, edit, replaying, code, message, path);
-  };
+  auto reject = refuser(participant, edit, replaying);
   const proto::Scene current = solver_->currentScene();
 
   json target;

@@ -94,10 +94,7 @@ bool Session::isDrawingEdit(const std::string& type) { return isDrawingEditType(
 
 bool Session::applyDrawingEdit(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
-  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
-                                                       const std::string& path) {
-    return refuse(participant, edit, replaying, code, message, path);
-  };
+  auto reject = refuser(participant, edit, replaying);
   const proto::Scene before = persistentScene();
   const auto* design = std::get_if<composite::CompositeDesign>(&before.model);
   if (design == nullptr)

@@ -26,10 +26,7 @@ json* compositeScenePoint(json& model, const json& target) {
 }  // namespace
 
 bool Session::applyGroupRotation(int participant, const json& edit, bool replaying) {
-  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
-                                                       const std::string& path) {
-    return refuse(participant, edit, replaying, code, message, path);
-  };
+  auto reject = refuser(participant, edit, replaying);
   if (refusedUnlessComposite(participant, edit, replaying)) return false;
   const json& targets = edit.at("targets");
   if (!targets.is_array() || targets.empty()) return reject("invalid", "expected one point or more", "targets");

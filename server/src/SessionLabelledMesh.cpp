@@ -119,10 +119,7 @@ bool Session::refusedUnlessComposite(int participant, const json& edit, bool rep
 
 bool Session::applyLabelledMeshEdit(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();
-  auto reject = [this, participant, &edit, replaying](const std::string& code, const std::string& message,
-                                                       const std::string& path) {
-    return refuse(participant, edit, replaying, code, message, path);
-  };
+  auto reject = refuser(participant, edit, replaying);
   if (refusedUnlessComposite(participant, edit, replaying)) return false;
   const proto::Scene before = persistentScene();
   composite::CompositeDesign design = std::get<composite::CompositeDesign>(before.model);

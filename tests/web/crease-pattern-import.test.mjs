@@ -16,6 +16,7 @@ import path from 'node:path';
 import { after, before, test } from 'node:test';
 import fold from 'fold';
 import * as h from './lib/harness.mjs';
+import * as rb from './lib/readback.mjs';
 
 const FOLD_DIR = path.join(h.ROOT, 'tests', 'data', 'fold');
 const FOLD_FILES = fs.readdirSync(FOLD_DIR).filter((f) => f.endsWith('.fold')).sort();
@@ -88,17 +89,6 @@ async function foldTo(page, percent, quietMs) {
   return (await h.state(page)).metrics;
 }
 
-/** The FOLD export of a session as the export menu fetches it: {key frame, folded frame}. */
-async function exportedFold(id, token) {
-  const r = await fetch(`http://127.0.0.1:${daemon.port}/api/sessions/${encodeURIComponent(id)}/export?format=fold`,
-    { headers: { Authorization: `Bearer ${token}` } });
-  assert.equal(r.status, 200);
-  const doc = JSON.parse(await r.text());
-  const key = {};
-  for (const [k, v] of Object.entries(doc)) if (!k.startsWith('file_')) key[k] = v;
-  return { key, folded: { ...key, ...doc.file_frames[0] } };
-}
-
 /** Lengths of every edge in a frame's vertices_coords. */
 function edgeLengths(frame) {
   return frame.edges_vertices.map(([a, b]) => {
@@ -125,7 +115,7 @@ test('a crease pattern chosen on the start page folds with the slider and export
     assert.ok(shot.image.width > 0);
 
     // Exported as the menu does, read by FOLD's own library.
-    const { key, folded: foldedFrame } = await exportedFold(id, token);
+    const { key, folded: foldedFrame } = await rb.exportedFold(daemon, id, token);
     assert.equal(fold.filter.numType(key, 'faces'), 2);
     const flatLengths = edgeLengths(key);
     const foldedLengths = edgeLengths(foldedFrame);
@@ -185,7 +175,7 @@ test('an SVG drawing with curved creases dropped on the start page folds with th
     await h.settleFrames(page);
     await h.screenshotViewport(page, name);
 
-    const { key, folded: foldedFrame } = await exportedFold(id, token);
+    const { key, folded: foldedFrame } = await rb.exportedFold(daemon, id, token);
     assert.ok(fold.filter.numType(key, 'faces') > 6, 'the strips, sampled into faces');
     // The development is the drawing: 200 × 100 mm.
     const xs = key.vertices_coords.map((p) => p[0]); const ys = key.vertices_coords.map((p) => p[1]);

@@ -257,3 +257,17 @@ export function distanceToPolyline(q, pts) {
   }
   return best;
 }
+
+/**
+ * A session's FOLD export read back: {key (the file's key frame, file_* keys left out), folded
+ * (the key frame with the first of file_frames over it)}.
+ */
+export async function exportedFold(daemon, id, token) {
+  const r = await fetch(`http://127.0.0.1:${daemon.port}/api/sessions/${encodeURIComponent(id)}/export?format=fold`,
+    { headers: { Authorization: `Bearer ${token}` } });
+  if (r.status !== 200) throw new Error(`FOLD export of ${id}: HTTP ${r.status} ${await r.text()}`);
+  const doc = JSON.parse(await r.text());
+  const key = {};
+  for (const [k, v] of Object.entries(doc)) if (!k.startsWith('file_')) key[k] = v;
+  return { key, folded: { ...key, ...doc.file_frames[0] } };
+}

@@ -330,6 +330,12 @@ class Session : public std::enable_shared_from_this<Session> {
   /// replaying the journal). Returns false, what apply() returns for a refused edit.
   bool refuse(int participant, const nlohmann::json& edit, bool replaying, const std::string& code,
               const std::string& message, const std::string& path);
+  /// refuse() bound to one edit: `reject(code, message, path)`.
+  auto refuser(int participant, const nlohmann::json& edit, bool replaying) {
+    return [this, participant, &edit, replaying](const std::string& code, const std::string& message, const std::string& path) {
+      return refuse(participant, edit, replaying, code, message, path);
+    };
+  }
   /// The end of a structural edit built outside the scene document: `next` read back (the schema,
   /// the model's checks, the limits) and rebuilt, `before` one undo step, temporary handles
   /// dropped. A refused rebuild changes nothing and is refused naming the scene's path (a failed
