@@ -194,7 +194,9 @@ void Daemon::stop() {
 }
 
 void Daemon::restoreSessions() {
-  for (const store::RestoredSession& r : store_->loadSessions()) {
+  const std::vector<store::RestoredSession> stored = store_->loadSessions();
+  if (!stored.empty()) spdlog::info("restoring {} stored session(s)", stored.size());
+  for (const store::RestoredSession& r : stored) {
     if (startAbandoned_) return;  // a signal during start-up: what is restored so far is stored
     // A quarantined session is tried again at every start: what stopped it may have been
     // transient (an I/O error) or fixed since (an upgrade, an operator's repair).

@@ -408,10 +408,15 @@ test('two curved creases on a blank sheet: folded by the slider and by a drag, e
     console.log(`STL ${stl.name}: ${mesh.binary ? 'binary' : 'ASCII'}, ${mesh.triangles} triangles, area ${mesh.area.toFixed(2)} mm² `
       + `(${(100 * (mesh.area / SHEET_AREA - 1)).toFixed(3)} % off 30 000), extent ${stlExtent.map((x) => x.toFixed(2)).join(' × ')} mm`);
     assert.ok(mesh.triangles > 0, 'the STL has triangles');
-    // Within 3 %: after a drag the sheet rests stretched by up to 0.8 % (issue 16's open point: the
-    // release polish holds the fold the drag left, measured on the dragged sheet), and the STL
-    // samples the surface; a face missing or doubled is off by 10 % or more.
-    assert.ok(Math.abs(mesh.area / SHEET_AREA - 1) < 0.03, `the STL's area ${mesh.area} mm² is the sheet's ${SHEET_AREA} mm² within 3 %`);
+    // The sheet's area, within 2 % (the STL samples the surface) plus what the session itself
+    // reports of a stretch: after a drag a slide-folded drawn sheet rests stretched by up to ~1 %
+    // (issue 16's open point: the release holds the fold the drag left, measured on the dragged
+    // sheet), 4× that in area at the crease ends. A face missing or doubled is off by 10 % or more.
+    // The STEP's area below is the second, independent measure of the same surface.
+    const stretch = dragged.m.development_length_error;
+    const areaTolerance = 0.02 + 4 * stretch;
+    assert.ok(Math.abs(mesh.area / SHEET_AREA - 1) < areaTolerance,
+      `the STL's area ${mesh.area} mm² is the sheet's ${SHEET_AREA} mm² within ${(100 * areaTolerance).toFixed(2)} % (development error ${stretch})`);
     assert.ok(stlExtent[2] > 10, `the STL is folded: z extent ${stlExtent[2]} mm`);
 
     // STEP: read by OpenCascade (the probe converts to mm); the file's own length unit reported.
@@ -427,7 +432,10 @@ test('two curved creases on a blank sheet: folded by the slider and by a drag, e
     assert.ok(stepUnit && /\.MILLI\.\s*,\s*\.METRE\./.test(stepUnit[1]), `the STEP is in millimetres: ${stepUnit && stepUnit[1]}`);
     assert.ok(probe.roots >= 1, `OpenCascade transfers a root: ${probe.roots}`);
     assert.ok(probe.faces >= 2, `the STEP has the sheet's faces: ${probe.faces}`);
-    assert.ok(Math.abs(probe.area / SHEET_AREA - 1) < 0.03, `the STEP's area ${probe.area} mm² is the sheet's ${SHEET_AREA} mm² within 3 %`);
+    assert.ok(Math.abs(probe.area / SHEET_AREA - 1) < areaTolerance, `the STEP's area ${probe.area} mm² is the sheet's ${SHEET_AREA} mm² within ${(100 * areaTolerance).toFixed(2)} %`);
+    // Two readers, two exports, one surface: OpenCascade's area of the B-spline faces and the STL's
+    // triangles agree (the STL samples it).
+    assert.ok(Math.abs(probe.area / mesh.area - 1) < 0.01, `the STEP's area ${probe.area} mm² and the STL's ${mesh.area} mm² agree within 1 %`);
     assert.ok(stepExtent[2] > 10, `the STEP is folded: z extent ${stepExtent[2]} mm`);
     for (let k = 0; k < 3; k++) {
       for (const side of [0, 1])

@@ -563,7 +563,19 @@ class SignalDuringStartUpTest(unittest.TestCase):
             with open(log_path, "w") as log:
                 proc = subprocess.Popen([BIN, "serve", "--port", "0", "--data", tmp, "--log-level", "info"],
                                         stdout=subprocess.PIPE, stderr=log, text=True)
-                time.sleep(0.5)  # restoring: three whole conical solves
+                # Signalled once it is restoring (three whole conical solves): under load the
+                # process may take longer than any fixed sleep just to load its libraries.
+                deadline = time.monotonic() + 60
+                while time.monotonic() < deadline:
+                    with open(log_path) as f:
+                        if "stored session(s)" in f.read():
+                            break
+                    time.sleep(0.02)
+                else:
+                    proc.kill()
+                    with open(log_path) as f:
+                        self.fail("the daemon never said it was restoring: " + f.read()[-2000:])
+                time.sleep(0.2)
                 proc.send_signal(signal.SIGTERM)
                 out, _ = proc.communicate(timeout=120)
             self.assertEqual(proc.returncode, 0)
