@@ -69,7 +69,7 @@ let state, timers, client;
 const socket = () => FakeSocket.instances[FakeSocket.instances.length - 1];
 
 function joinedClient() {
-  client.connect('s1', 'tok', 'ada');
+  client.connect('s1', 'edit-token', 'ada');
   socket().open();
   socket().receive(stateMessage());
   return socket();
@@ -86,12 +86,12 @@ describe('ProtocolClient', () => {
   it('joins on open and becomes connected on the state message', () => {
     const connections = [];
     state.on('connection', ({ connection }) => connections.push(connection));
-    client.connect('s1', 'tok', 'ada');
+    client.connect('s1', 'edit-token', 'ada');
     expect(state.connection).toBe('connecting');
     const ws = socket();
     expect(ws.url).toBe('ws://test/ws');
     ws.open();
-    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'edit-token', name: 'ada' }]);
     expect(state.connection).toBe('connecting');
     ws.receive(stateMessage(3));
     expect(state.connection).toBe('connected');
@@ -107,16 +107,16 @@ describe('ProtocolClient', () => {
   it('joins on a socket the page opened early: at once when open, on open when still connecting', () => {
     const early = new FakeSocket('ws://test/ws');
     early.readyState = 1;
-    client.connect('s1', 'tok', 'ada', early);
+    client.connect('s1', 'edit-token', 'ada', early);
     expect(FakeSocket.instances).toHaveLength(1);
-    expect(early.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    expect(early.sent).toEqual([{ type: 'join', session: 's1', token: 'edit-token', name: 'ada' }]);
     early.receive(stateMessage(3));
     expect(state.connection).toBe('connected');
 
     FakeSocket.instances = [];
     const connecting = new FakeSocket('ws://test/ws');
     const other = new ProtocolClient({ url: 'ws://test/ws', state: new EditorState(), WebSocketImpl: FakeSocket, timers });
-    other.connect('s1', 'tok', 'ada', connecting);
+    other.connect('s1', 'edit-token', 'ada', connecting);
     expect(connecting.sent).toEqual([]);
     connecting.open();
     expect(connecting.sent).toHaveLength(1);
@@ -124,14 +124,14 @@ describe('ProtocolClient', () => {
   });
 
   it('takes over an early join: one join, and the answers that came before it applied in order', () => {
-    const early = openEarlyJoin('ws://test/ws', 's1', 'tok', 'ada', FakeSocket);
+    const early = openEarlyJoin('ws://test/ws', 's1', 'edit-token', 'ada', FakeSocket);
     const ws = early.socket;
     ws.open();
-    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'edit-token', name: 'ada' }]);
     ws.receive(stateMessage(3));
     ws.receive({ type: 'error', code: 'invalid', message: 'drag: no such point', path: 'target' });
     expect(state.connection).toBe('offline');  // nothing applied before the client takes over
-    client.connect('s1', 'tok', 'ada', early);
+    client.connect('s1', 'edit-token', 'ada', early);
     expect(FakeSocket.instances).toHaveLength(1);
     expect(ws.sent).toHaveLength(1);
     expect(state.connection).toBe('connected');
@@ -142,11 +142,11 @@ describe('ProtocolClient', () => {
   });
 
   it('joins itself on an early join whose socket was still connecting', () => {
-    const early = openEarlyJoin('ws://test/ws', 's1', 'tok', 'ada', FakeSocket);
-    client.connect('s1', 'tok', 'ada', early);
+    const early = openEarlyJoin('ws://test/ws', 's1', 'edit-token', 'ada', FakeSocket);
+    client.connect('s1', 'edit-token', 'ada', early);
     expect(FakeSocket.instances).toHaveLength(1);
     early.socket.open();
-    expect(early.socket.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    expect(early.socket.sent).toEqual([{ type: 'join', session: 's1', token: 'edit-token', name: 'ada' }]);
     early.socket.receive(stateMessage(2));
     expect(state.connection).toBe('connected');
   });
@@ -154,7 +154,7 @@ describe('ProtocolClient', () => {
   it('opens a socket of its own when the early one has closed already', () => {
     const closed = new FakeSocket('ws://test/ws');
     closed.readyState = 3;
-    client.connect('s1', 'tok', 'ada', closed);
+    client.connect('s1', 'edit-token', 'ada', closed);
     expect(FakeSocket.instances).toHaveLength(2);
     socket().open();
     expect(socket().sent).toHaveLength(1);
@@ -203,7 +203,7 @@ describe('ProtocolClient', () => {
   it('refuses to send while not connected and says so', () => {
     const errors = [];
     state.on('error', (e) => errors.push(e));
-    client.connect('s1', 'tok');
+    client.connect('s1', 'edit-token');
     expect(client.send(new SolveCommand())).toBeNull();
     expect(errors[0].message.code).toBe('offline');
   });
@@ -241,7 +241,7 @@ describe('ProtocolClient', () => {
     expect(timers.runNext()).toBe(250);
     ws = socket();
     ws.open();
-    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'tok', name: 'ada' }]);
+    expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'edit-token', name: 'ada' }]);
     expect(state.connection).toBe('reconnecting');
     const resynced = [];
     state.on('session', (m) => resynced.push(m.seq));

@@ -572,6 +572,10 @@ export class CreasePanel {
   _renderMeshEdits() {
     const st = this.state;
     const model = st.scene && st.scene.model;
+    // render() runs after every iterate's geometry: redo this only when what it reads changed.
+    const key = [st.scene, st.selectedEdge, st.role, JSON.stringify(st.group || [])];
+    if (this._meshKey && key.every((k, i) => k === this._meshKey[i])) return;
+    this._meshKey = key;
     const editable = this._editableModel();
     this.drawnNote.hidden = !(model && model.drawing);
     this.meshEdits.hidden = !editable;
