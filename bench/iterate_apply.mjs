@@ -1,10 +1,15 @@
-// 6. Measurement (no timing is asserted): main-thread time to apply and render one iterate of a
-//    strip of ~10 000 unknowns (370 spans: 373 + 373 control points), from performance.measure
-//    entries 'iterate-apply' exposed as window.__devsurf.iterateApplyTimes().
+// Iterate apply + render time in the page (moved from tests/web: timings belong in bench/):
+// main-thread time to apply and render one iterate of a strip of ~10 000 unknowns (370 spans:
+// 373 + 373 control points) while a pointer drags it for 8 s, from the performance.measure entries
+// 'iterate-apply' exposed as window.__devsurf.iterateApplyTimes(), and the frame intervals.
+//
+//   node --test bench/iterate_apply.mjs
+//
+// Environment as tests/web (DEVSURF_BIN, DEVSURF_WEB, DEVSURF_CHROMIUM; npm ci --prefix tests/web).
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { test } from 'node:test';
-import * as h from './lib/harness.mjs';
+import * as h from '../tests/web/lib/harness.mjs';
 
 // One demo: the test makes its own session (a daemon with all demos takes ~20 s to start).
 const ctx = h.useDaemonAndBrowser('measure', { demos: [path.join(h.EXAMPLES, 'strip-twisted.json')] });
