@@ -57,17 +57,6 @@ void blockProductUpper(const double* Jc, const double* Y, double* S, int c, int 
   }
 }
 
-/// Sorts and deduplicates every list; returns the total length.
-long sortUnique(std::vector<std::vector<int>>& lists) {
-  long total = 0;
-  for (std::vector<int>& list : lists) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    total += static_cast<long>(list.size());
-  }
-  return total;
-}
-
 }  // namespace
 
 NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadline) {
@@ -309,46 +298,49 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
     return groupKept[a] < groupKept[b];
   });
 
-  // 5. Pattern of the reduced matrix over kept columns (natural order): pairs of kept columns
-  //    that share a row (this is H's pattern there), then the cliques of declared groups' kept
-  //    columns (fill; automatic groups have none).
+  // 5. Pattern of the reduced matrix over kept columns (natural order), column by column: for
+  //    kept column j the kept columns i ≤ j that share a row with it (H's pattern there), or the
+  //    kept columns of an automatic group whose rows hold j (such rows are not visited: the
+  //    group's kept columns cover them), then the kept columns of declared groups holding j
+  //    (fill). A mark per column keeps every list free of duplicates as it grows, so the work is
+  //    Σ over rows of (kept entries × entries), without the duplicate lists and their sorting.
   std::vector<std::vector<int>> neighbours(numReduced_);
   deadline.check();
-  for (int c = 0; c < numReduced_; ++c) neighbours[c].push_back(c);
-  auto addClique = [&neighbours](const std::vector<int>& cols) {
-    for (std::size_t a = 0; a < cols.size(); ++a)
-      for (std::size_t b = a + 1; b < cols.size(); ++b) neighbours[cols[b]].push_back(cols[a]);
-  };
-  std::vector<int> rowKept;
-  for (int row = 0; row < numRows; ++row) {
-    if (row % 4096 == 0) deadline.check();
-    const int g = rowGroup[row];
-    if (g >= 0 && !groupDeclared[g]) continue;  // covered by the group's clique below
-    rowKept.clear();
-    for (int k = rowPtr[row]; k < rowPtr[row + 1]; ++k)
-      if (keptOf[rowCols[k]] >= 0) rowKept.push_back(keptOf[rowCols[k]]);
-    std::sort(rowKept.begin(), rowKept.end());
-    addClique(rowKept);
-  }
+  std::vector<std::vector<int>> autoGroupsOf(numReduced_), declaredGroupsOf(numReduced_);
   for (std::size_t i = 0; i < groupOrder.size(); ++i) {
     const int g = groupOrder[i];
-    if (groupDeclared[g]) continue;
-    if (i > 0 && !groupDeclared[groupOrder[i - 1]] && groupKept[groupOrder[i - 1]] == groupKept[g])
-      continue;  // same clique as the previous group
-    addClique(groupKept[g]);
+    if (!groupDeclared[g] && i > 0 && !groupDeclared[groupOrder[i - 1]] && groupKept[groupOrder[i - 1]] == groupKept[g])
+      continue;  // same kept columns as the previous group
+    for (int k : groupKept[g]) (groupDeclared[g] ? declaredGroupsOf : autoGroupsOf)[k].push_back(g);
   }
-  const long keptNonZerosOfH = sortUnique(neighbours);
-  bool anyDeclared = false;
-  for (int g = 0; g < numGroups; ++g) {
-    if (!groupDeclared[g]) continue;
-    addClique(groupKept[g]);
-    anyDeclared = true;
-  }
-  if (anyDeclared) sortUnique(neighbours);
-  long nnz = 0;
-  for (std::vector<int>& list : neighbours) {
-    list.shrink_to_fit();
-    nnz += static_cast<long>(list.size());
+  long keptNonZerosOfH = 0, nnz = 0;
+  {
+    std::vector<int> mark(numReduced_, -1);
+    for (int j = 0; j < numReduced_; ++j) {
+      if (j % 4096 == 0) deadline.check();
+      std::vector<int>& list = neighbours[j];
+      auto add = [&list, &mark, j](int i) {
+        if (i < 0 || i > j || mark[i] == j) return;
+        mark[i] = j;
+        list.push_back(i);
+      };
+      add(j);
+      const int c = keptNatural[j];
+      for (int q = colPtr[c]; q < colPtr[c + 1]; ++q) {
+        const int row = colRows[q];
+        const int g = rowGroup[row];
+        if (g >= 0 && !groupDeclared[g]) continue;  // within the group's kept columns
+        for (int k = rowPtr[row]; k < rowPtr[row + 1]; ++k) add(keptOf[rowCols[k]]);
+      }
+      for (int g : autoGroupsOf[j])
+        for (int k : groupKept[g]) add(k);
+      keptNonZerosOfH += static_cast<long>(list.size());
+      for (int g : declaredGroupsOf[j])
+        for (int k : groupKept[g]) add(k);
+      std::sort(list.begin(), list.end());
+      list.shrink_to_fit();
+      nnz += static_cast<long>(list.size());
+    }
   }
 
   // Structural nonzeros of the full H: kept part plus, per eliminated column u, u's diagonal,
