@@ -223,8 +223,9 @@ TEST(SessionDrawing, RandomCreasesDrawnEdgeToEdgeEitherBuildAValidSheetOrAreRefu
       if (e.inbox.ofType("error").empty()) {
         ++built;
         EXPECT_EQ(strokeCount(after), strokeCount(before) + 1);
-        if (kind != "F")  // a flat line between planar faces merges them again
+        if (kind != "F") {  // a flat line between planar faces merges them again
           EXPECT_GT(after["model"]["faces"].size(), 1u);
+        }
         EXPECT_EQ(after["model"]["drawing"]["strokes"].back()["points"].size(), points.size());
         EXPECT_NO_THROW(proto::sceneFromJson(after));
         EXPECT_TRUE(e.inbox.last("update").is_object() || !e.inbox.ofType("solved").empty() || !e.inbox.ofType("ack").empty());

@@ -14,6 +14,7 @@
 #include "devsurf/models/composite/CompositeDesign.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "server/SessionTesting.h"
+#include "support/Presets.h"
 
 namespace devsurf::server {
 namespace {
@@ -221,20 +222,61 @@ TEST(SessionLabelledMesh, BadEditsNameTheirFieldAndChangeNothing) {
   EXPECT_EQ(strip_.inbox.last("error").value("path", ""), "type");
 }
 
-/// Random edits in any order on three presets: each is accepted (the session's composite then
-/// passes the model's checks when read back, and undo restores the scene before it exactly) or
-/// refused with the scene unchanged. Seeded, 3 × 40 edits.
+/// The composite presets in examples/ that are not drawings (a drawing's faces follow its creases:
+/// it refuses labelled-mesh edits), discovered: "composite-curved-box", ….
+std::vector<std::string> labelledMeshPresets() {
+  std::vector<std::string> out;
+  for (const std::string& file : devsurf::testing::presetFiles()) {
+    const json model = devsurf::testing::readPreset(file)["model"];
+    if (model.value("kind", "") == "composite" && !model.contains("drawing")) out.push_back(file.substr(0, file.size() - 5));
+  }
+  return out;
+}
+
+/// Random edits in any order on every composite preset: each is accepted (the session's
+/// composite then passes the model's checks when read back, and undo restores the scene before it
+/// exactly) or refused with the scene unchanged. Seeded, 30 edits a preset (about a third accepted).
 TEST(SessionLabelledMesh, RandomEditsInAnyOrderLeaveAValidCompositeOrChangeNothing) {
   std::mt19937 rng(16);
   int accepted = 0, refused = 0;
-  for (const char* preset : {"composite-curved-box", "composite-two-creases", "composite-curved-fold"}) {
+  const std::vector<std::string> presets = labelledMeshPresets();
+  ASSERT_GE(presets.size(), 3u) << "the composite presets are discovered";
+  for (const std::string& preset : presets) {
     SCOPED_TRACE(preset);
+    const int acceptedBefore = accepted, refusedBefore = refused;
     ExampleEditor e(preset);
-    for (int step = 0; step < 40; ++step) {
+    for (int step = 0; step < 30; ++step) {
       const composite::CompositeDesign d = labelledDesignOf(e);
       const int kind = static_cast<int>(rng() % 3);
       json m{{"op", step}};
-      if (kind == 0) {
+      // Every other edit is one a designer would make (a strip's two curves made rulings or a
+      // planar face's opposite sides made curves, a face split between two corners that are not
+      // neighbours, two faces joined across an interior edge); the rest are picked blindly.
+      const bool plausible = step % 2 == 0;
+      if (plausible) {
+        const int f = static_cast<int>(rng() % d.faces.size());
+        const std::vector<int>& loop = d.faces[static_cast<std::size_t>(f)];
+        const int n = static_cast<int>(loop.size());
+        const int k = static_cast<int>(rng() % static_cast<unsigned>(n));
+        if (kind == 0 && n == 4) {
+          const composite::CompositeEdge& edge = d.edges[static_cast<std::size_t>(loop[static_cast<std::size_t>(k)])];
+          const bool toRuling = edge.type == composite::EdgeType::Spline;
+          m.update({{"type", "relabel_edge"},
+                    {"edges", {loop[static_cast<std::size_t>(k)], loop[static_cast<std::size_t>((k + 2) % 4)]}},
+                    {"label", toRuling ? "R" : "S"}});
+        } else if (kind == 1 && n >= 4) {
+          m.update({{"type", "split_face"}, {"face", f}, {"vertices", {cornerOf(d, f, k), cornerOf(d, f, (k + 2) % n)}}});
+        } else {
+          std::vector<int> interior;
+          std::vector<int> faceCount(d.edges.size(), 0);
+          for (const std::vector<int>& l : d.faces)
+            for (int e : l) ++faceCount[static_cast<std::size_t>(e)];
+          for (std::size_t e = 0; e < d.edges.size(); ++e)
+            if (faceCount[e] == 2) interior.push_back(static_cast<int>(e));
+          if (interior.empty()) continue;
+          m.update({{"type", "merge_faces"}, {"edge", interior[rng() % interior.size()]}});
+        }
+      } else if (kind == 0) {
         std::vector<int> edges;
         const composite::EdgeType to = rng() % 2 ? composite::EdgeType::Spline : composite::EdgeType::Ruling;
         const std::vector<int> candidates = edgesLabelled(d, to == composite::EdgeType::Spline ? composite::EdgeType::Ruling : composite::EdgeType::Spline);
@@ -263,18 +305,22 @@ TEST(SessionLabelledMesh, RandomEditsInAnyOrderLeaveAValidCompositeOrChangeNothi
       }
       ++accepted;
       const json after = e.session->sceneJson();
-      EXPECT_NO_THROW(composite::CompositeTopology topology(std::get<composite::CompositeDesign>(proto::sceneFromJson(after).model)))
-          << m.dump();
+      const composite::CompositeDesign readBack = std::get<composite::CompositeDesign>(proto::sceneFromJson(after).model);
+      EXPECT_NO_THROW({ composite::CompositeTopology topology(readBack); }) << m.dump();
       json metrics;
       for (const json& msg : e.inbox.messages)
         if (msg.contains("metrics")) metrics = msg["metrics"];
       ASSERT_TRUE(metrics.is_object()) << "no metrics after " << m.dump();
       for (const auto& [name, value] : metrics.items())
-        if (value.is_number()) EXPECT_TRUE(std::isfinite(value.get<double>())) << name << " after " << m.dump();
+        if (value.is_number()) {
+          EXPECT_TRUE(std::isfinite(value.get<double>())) << name << " after " << m.dump();
+        }
       e.send({{"type", "undo"}, {"op", 1000 + step}});
       EXPECT_TRUE(sameLabelledMesh(e.session->sceneJson(), before)) << "undo of " << m.dump();
       e.send({{"type", "redo"}, {"op", 2000 + step}});
     }
+    std::printf("%s: %d accepted, %d refused\n", preset.c_str(), accepted - acceptedBefore, refused - refusedBefore);
+    EXPECT_GT(accepted - acceptedBefore, 0) << preset << ": no edit was accepted";
   }
   std::printf("labelled-mesh edits: %d accepted, %d refused\n", accepted, refused);
   EXPECT_GT(accepted, 10);
