@@ -809,7 +809,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   if (isDrawingEdit(type)) return applyDrawingEdit(participant, edit, replaying);
   if (type == "rotate_points") return applyGroupRotation(participant, edit, replaying);
   if (type == "add_control_point" || type == "remove_control_point") return applyControlPointEdit(participant, edit, replaying);
-  if (type == "relabel_edge" || type == "split_face" || type == "merge_faces") return applyLabelledMeshEdit(participant, edit, replaying);
+  if (type == "relabel_edge" || type == "split_face" || type == "merge_faces" || type == "split_along_ruling") return applyLabelledMeshEdit(participant, edit, replaying);
   if (type == "fold" || type == "fold_end") {
     if (!isComposite())
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +

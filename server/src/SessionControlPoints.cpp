@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "devsurf/models/composite/CompositeRulingSplit.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/server/Session.h"
 #include "devsurf/spline/BSplineCurve.h"
@@ -18,29 +19,6 @@ namespace {
 
 using nlohmann::json;
 namespace composite = models::composite;
-
-/// The S edges sharing `edge`'s spline space through strip faces, each with whether its own
-/// direction runs against `edge`'s (so a knot u of `edge` is begin + end − u there).
-std::map<int, bool> splineSpaceClass(const composite::CompositeTopology& topology, int edge) {
-  std::map<int, bool> reversedOf{{edge, false}};
-  std::vector<int> queue{edge};
-  while (!queue.empty()) {
-    const int e = queue.back();
-    queue.pop_back();
-    for (int f = 0; f < topology.numFaces(); ++f) {
-      const composite::FaceInfo& face = topology.face(f);
-      if (face.a.edge < 0 || face.b.edge < 0) continue;
-      for (const auto& [mine, other] : {std::pair{face.a, face.b}, std::pair{face.b, face.a}}) {
-        if (mine.edge != e || reversedOf.count(other.edge)) continue;
-        // Both run with the strip's u: relative to `edge`, other is reversed when exactly one of
-        // (e against edge, e against u, other against u) flips.
-        reversedOf[other.edge] = reversedOf[e] != (mine.reversed != other.reversed);
-        queue.push_back(other.edge);
-      }
-    }
-  }
-  return reversedOf;
-}
 
 /// Index of the Greville abscissa in `to` nearest the one of control point `i` in `from`.
 int nearestControlPoint(const spline::KnotVector& from, const spline::KnotVector& to, int i) {
@@ -93,7 +71,7 @@ bool Session::applyControlPointEdit(int participant, const json& edit, bool repl
         knot = t[static_cast<std::size_t>(k)];
       }
   }
-  const std::map<int, bool> linked = splineSpaceClass(topology, edge);
+  const std::map<int, bool> linked = composite::linkedSplineEdges(topology, edge);
   std::map<int, spline::KnotVector> oldKnots;
   try {
     for (const auto& [e, reversed] : linked) {

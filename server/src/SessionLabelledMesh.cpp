@@ -1,6 +1,7 @@
 // Editing the labelled mesh of a composite (issue 16 item 3, 000_… §4.1 "editing the labelled
-// mesh"): relabelling edges R ↔ S, splitting a face along a new ruling between two of its corners
-// and merging the two faces of an edge. Each is one rebuild and one undo step, journalled; the
+// mesh"): relabelling edges R ↔ S, splitting a face along a new ruling between two of its corners,
+// cutting a chain of strips across along a new ruling through their curves, and merging the two
+// faces of an edge. Each is one rebuild and one undo step, journalled; the
 // composite's own checks (CompositeTopology: the face types S R S R, S R S, S R R, R … R and the
 // shared spline spaces) decide whether the result is a composite, and a refusal quotes them and
 // changes nothing. Composites made from a drawing change through their drawing instead.
@@ -8,6 +9,7 @@
 #include <set>
 
 #include "devsurf/models/composite/CompositeHinges.h"
+#include "devsurf/models/composite/CompositeRulingSplit.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/server/Session.h"
 #include "devsurf/spline/BSplineCurve.h"
@@ -247,6 +249,17 @@ bool Session::applyLabelledMeshEdit(int participant, const json& edit, bool repl
     design.faces.push_back(std::move(second));
     if (const std::string why = verdict(design); !why.empty())
       return reject("invalid", "the two halves are not valid faces: " + why, "vertices");
+  } else if (type == "split_along_ruling") {
+    // A new ruling across a strip at a fraction of its curve, carried through every strip whose
+    // curves share that spline space (a chain of strips is cut across as one).
+    try {
+      design = composite::splitAlongRuling(design, solver_->compositeModel().topology(), edit.at("edge").get<int>(),
+                                           edit.value("at", 0.5));
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      const std::size_t colon = what.find(": ");
+      return reject("invalid", what.substr(colon + 2), what.substr(0, colon));
+    }
   } else {  // merge_faces
     const int e = edit.at("edge").get<int>();
     if (e < 0 || e >= numEdges)
