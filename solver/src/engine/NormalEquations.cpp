@@ -424,6 +424,7 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
   };
 
   // 8. Direct rows (no eliminated variable): entries with reduced columns and the pair slots.
+  std::vector<int> sortedEntry, pairTable;
   for (int t = 0; t < numTerms; ++t) {
     deadline.check();
     TermPlan& plan = plans_[t];
@@ -442,15 +443,34 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
       const long e = start[r + 1] - start[r];
       pairs += e * (e + 1) / 2;
     }
-    plan.pairSlot.reserve(static_cast<std::size_t>(pairs));
+    plan.pairSlot.resize(static_cast<std::size_t>(pairs));
+    // Per row: its columns in ascending order; for each column j, the slots of the row's columns
+    // ≤ j are found in one forward pass through column j of S (they are ascending too), instead
+    // of a binary search per pair.
+    std::size_t written = 0;
     for (std::size_t i = 0; i + 1 < plan.directStart.size(); ++i) {
-      for (int ka = plan.directStart[i]; ka < plan.directStart[i + 1]; ++ka) {
-        const int ca = plan.directColumn[ka];
-        for (int kb = ka; kb < plan.directStart[i + 1]; ++kb) {
-          const int cb = plan.directColumn[kb];
-          plan.pairSlot.push_back(slotOf(std::min(ca, cb), std::max(ca, cb)));
+      const int base = plan.directStart[i], e = plan.directStart[i + 1] - base;
+      const int* column = plan.directColumn.data() + base;
+      sortedEntry.resize(static_cast<std::size_t>(e));
+      for (int k = 0; k < e; ++k) sortedEntry[static_cast<std::size_t>(k)] = k;
+      std::sort(sortedEntry.begin(), sortedEntry.end(), [column](int a, int b) { return column[a] < column[b]; });
+      pairTable.resize(static_cast<std::size_t>(e) * static_cast<std::size_t>(e));
+      const int* inner = S_.innerIndexPtr();
+      for (int bi = 0; bi < e; ++bi) {
+        const int kb = sortedEntry[static_cast<std::size_t>(bi)], j = column[kb];
+        const int* end = inner + S_.outerIndexPtr()[j + 1];
+        const int* it = std::lower_bound(inner + S_.outerIndexPtr()[j], end, column[sortedEntry[0]]);
+        for (int ai = 0; ai <= bi; ++ai) {
+          const int ka = sortedEntry[static_cast<std::size_t>(ai)], ci = column[ka];
+          while (it != end && *it < ci) ++it;
+          assert(it != end && *it == ci && "pair missing from the symbolic pattern");
+          const int slot = static_cast<int>(it - inner);
+          pairTable[static_cast<std::size_t>(ka * e + kb)] = slot;
+          pairTable[static_cast<std::size_t>(kb * e + ka)] = slot;
         }
       }
+      for (int ka = 0; ka < e; ++ka)
+        for (int kb = ka; kb < e; ++kb) plan.pairSlot[written++] = pairTable[static_cast<std::size_t>(ka * e + kb)];
     }
   }
 
