@@ -6,6 +6,7 @@
 //     flap shares with a strip, alone, is refused (S R R R) and the error under the panel names
 //     the face, the scene unchanged; undo brings the rulings back. Each edit is checked on the server's scene.
 //     Screenshot: test-artifacts/web/16-labelled-mesh.png (the flap as a strip, its edge picked).
+//     16b below: a chain of strips cut across (16-cut-across.png).
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
@@ -108,5 +109,50 @@ test('split a flap between two corners, join it again, make it a strip, a refusa
     // Undo: rulings again.
     await page.getByTestId('undo').click();
     await h.waitState(page, (st, e) => st.scene.model.edges[e].type === 'R', boundarySide, { what: 'undo: a ruling again' });
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  }));
+
+// 16b. Cut across: on the two-crease sheet (three strips side by side between its curves), pick
+//      a curve, type 30 % and "Cut across": every curve of the chain is cut there and every strip
+//      becomes two, nothing moves (the server's vertices before and after), the new rulings are
+//      drawn (screenshot 16-cut-across.png), and undo takes the cut back.
+test('cut a chain of strips across along a new ruling at 30 % of a curve, nothing moves, undo', { timeout: 240000 }, () =>
+  ctx.guard('cut-across', async () => {
+    const { daemon } = ctx;
+    const s = await daemon.createSession(h.readScene('composite-two-creases.json'));
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(s.id, s.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+    await page.getByTestId('labelled-mesh-edits').waitFor();
+    const model0 = await serverModel(daemon, s);
+    const curve = model0.edges.findIndex((e) => e.type === 'S');
+    assert.ok(curve >= 0, 'the sheet has a curve');
+    const ruling = model0.edges.findIndex((e) => e.type === 'R');
+    await page.getByTestId('crease-edge').selectOption(String(ruling));
+    assert.equal(await page.getByTestId('split-along-ruling').isDisabled(), true, 'a ruling cannot be cut across');
+    await page.getByTestId('crease-edge').selectOption(String(curve));
+    assert.equal(await page.getByTestId('split-along-ruling').isDisabled(), false);
+    await page.getByTestId('split-along-ruling-at').fill('30');
+    await page.getByTestId('split-along-ruling').click();
+    await h.waitState(page, (st, n) => st.scene.model.faces.length > n, model0.faces.length, { what: 'the strips cut' });
+    const cut = await serverModel(daemon, s);
+    const curves = model0.edges.filter((e) => e.type === 'S').length;
+    assert.equal(cut.vertices.length, model0.vertices.length + curves, 'every curve of the chain cut once');
+    assert.equal(cut.faces.length, model0.faces.length + curves - 1, 'every strip between them cut in two');
+    const moved = Math.max(...model0.vertices.map((v, i) => Math.hypot(...v.map((x, k) => x - cut.vertices[i][k]))));
+    assert.ok(moved < 1e-9, `nothing moved: ${moved}`);
+    const added = cut.edges.slice(model0.edges.length + curves);
+    assert.ok(added.length === curves - 1 && added.every((e) => e.type === 'R'), 'one new ruling per strip');
+    // The cut point of the picked curve is 30 % along it (its parameter), near 30 % of its length.
+    const polyline = (pts) => pts.reduce((sum, p, k) => (k ? sum + Math.hypot(...p.map((x, i) => x - pts[k - 1][i])) : 0), 0);
+    const first = polyline(cut.edges[curve].points), whole = polyline(model0.edges[curve].points);
+    console.log(`cut across: ${curves} curves cut, ${cut.faces.length - model0.faces.length} faces added; control polygon of the first piece ${(100 * first / whole).toFixed(1)} % of the curve's`);
+    assert.ok(first / whole > 0.05 && first / whole < 0.5, 'the first piece is the shorter one');
+    await h.waitQuiet(page, { quietMs: 800 });
+    await page.evaluate(() => window.__devsurf.editor.viewport.fit());
+    await h.settleFrames(page);
+    await h.screenshotPage(page, '16-cut-across');
+    await page.getByTestId('undo').click();
+    await h.waitState(page, (st, n) => st.scene.model.faces.length === n, model0.faces.length, { what: 'undo: the strips whole again' });
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   }));

@@ -6,7 +6,7 @@ import {
   RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SetUnitsCommand, SolveCommand, UndoCommand,
   SOLVER_KEYS, PARAM_KEYS, UNITS, DrawCreaseCommand, EraseCreaseCommand, RelabelCreaseCommand, ReshapeCreaseCommand,
   RotatePointsCommand, AddControlPointCommand, RemoveControlPointCommand,
-  RelabelEdgeCommand, SplitFaceCommand, MergeFacesCommand,
+  RelabelEdgeCommand, SplitFaceCommand, MergeFacesCommand, SplitAlongRulingCommand,
 } from '../src/commands/index.js';
 import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
 import { makeValidator } from './helpers/jsonschema.js';
@@ -62,6 +62,8 @@ const cases = [
   ['RelabelEdgeCommand to rulings', new RelabelEdgeCommand([0], 'R')],
   ['SplitFaceCommand', new SplitFaceCommand(2, [4, 9])],
   ['MergeFacesCommand', new MergeFacesCommand(5)],
+  ['SplitAlongRulingCommand', new SplitAlongRulingCommand(2, 0.25)],
+  ['SplitAlongRulingCommand at the middle', new SplitAlongRulingCommand(0)],
   ['RotatePointsCommand', new RotatePointsCommand([{ vertex: 2 }, { vertex: 3 }, { edge: 4, index: 1 }], [0, 0, 1], 20)],
   ['RotatePointsCommand with centre and iterations', new RotatePointsCommand([{ vertex: 0 }], [1, 0, 0], -360, { centre: [0, 100, 0], iterations: 0 })],
   // Strips between two given curves: their curves' control points, and their parameters.
@@ -118,6 +120,10 @@ describe('commands match ws-client.schema.json', () => {
     expect(() => new RelabelEdgeCommand([1], 'X')).toThrow(/label/);
     expect(() => new SplitFaceCommand(0, [1])).toThrow(/vertices/);
     expect(() => new MergeFacesCommand(-2)).toThrow(/edge/);
+    expect(() => new SplitAlongRulingCommand(1, 1)).toThrow(/at/);
+    expect(() => new SplitAlongRulingCommand(1, 0)).toThrow(/at/);
+    expect(() => new SplitAlongRulingCommand(-1)).toThrow(/edge/);
+    expect(validClient({ type: 'split_along_ruling', op: 1, edge: 0, at: 1 }).length).toBeGreaterThan(0);
     expect(new RelabelEdgeCommand([2, 2, 5], 'R').toMessage().edges).toEqual([2, 5]);
     expect(() => new RemoveControlPointCommand(2, 0)).toThrow(/index/);
     expect(new RemoveControlPointCommand(2, 3).toMessage(4)).toEqual({ type: 'remove_control_point', op: 4, edge: 2, index: 3 });

@@ -54,3 +54,23 @@ export class MergeFacesCommand extends Command {
     return { edge: this.edge };
   }
 }
+
+/**
+ * Composite sessions without a drawing: a new ruling across the strip of S edge `edge`, at the
+ * fraction `at` (0 < at < 1) of its curve, carried through every strip whose curves share that
+ * spline space; each strip so cut becomes two. No curve moves.
+ */
+export class SplitAlongRulingCommand extends Command {
+  constructor(edge, at = 0.5, options) {
+    super('split_along_ruling', options);
+    if (!isIndex(edge)) throw new TypeError('edge: expected an integer ≥ 0');
+    if (!(Number.isFinite(at) && at > 0 && at < 1)) throw new TypeError('at: expected a fraction strictly between 0 and 1');
+    this.edge = edge;
+    this.at = at;
+    this.name = `cut across the strips of edge ${edge} at ${Math.round(at * 100)} %`;
+  }
+
+  fields() {
+    return { edge: this.edge, at: this.at };
+  }
+}

@@ -3,7 +3,7 @@
 import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
 import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
-import { MergeFacesCommand, RelabelEdgeCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
+import { MergeFacesCommand, RelabelEdgeCommand, SplitAlongRulingCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
 import { relabelGroup, splitCandidate } from '../geometry/labelledMesh.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { SetUnitsCommand, UNITS } from '../commands/SetUnitsCommand.js';
@@ -511,12 +511,17 @@ export class CreasePanel {
     this.mergeButton = h('button', { class: 'btn small', testid: 'merge-faces', title: 'Remove this edge: its two faces become one', onclick: () => this.merge() }, 'Join its faces');
     this.splitButton = h('button', { class: 'btn small', testid: 'split-face', onclick: () => this.split() }, 'Split the face');
     this.splitHint = h('span', { class: 'muted small', testid: 'split-face-hint' });
+    // A new ruling across the picked curve's strips, at a percentage of the curve.
+    this.cutButton = h('button', { class: 'btn small', testid: 'split-along-ruling', onclick: () => this.cutAcross() }, 'Cut across');
+    this.cutAt = h('input', { class: 'input small num', type: 'number', min: 1, max: 99, step: 1, value: 50, testid: 'split-along-ruling-at',
+      'aria-label': 'Where along the curve, in percent', style: { width: '4.5em' } });
     this.meshEdits = h('div', { class: 'labelled-mesh', testid: 'labelled-mesh-edits' },
       h('div', { class: 'row' }, this.relabelButton,
         h('label', { class: 'small', title: 'The side across each four-sided face of the edge, if it has the same label: a strip needs both its curves, a planar quad made a strip both sides' },
           this.oppositeToggle, ' and the opposite sides'),
         this.mergeButton),
       h('div', { class: 'row' }, this.splitButton, this.splitHint),
+      h('div', { class: 'row' }, this.cutButton, h('label', { class: 'small' }, 'at ', this.cutAt, ' % of the curve')),
       errorSlots.slot('crease:mesh'));
     this.drawnNote = h('p', { class: 'muted small', hidden: true }, 'Made from a drawing: split and join faces, and bend creases, on the crease board.');
     this.root = h('section', { class: 'panel', testid: 'crease-panel', hidden: true },
@@ -526,7 +531,7 @@ export class CreasePanel {
       this.info,
       errorSlots.slot('crease:type'),
       this.meshEdits, this.drawnNote,
-      h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge; Shift-click two corners of a face to split it.'));
+      h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge; Shift-click two corners of a face to split it; pick a curve and Cut across to add a ruling through its strips.'));
     parent.appendChild(this.root);
     for (const ev of ['scene', 'edge-selection', 'session', 'group']) state.on(ev, () => this.render());
     this.render();
@@ -562,6 +567,14 @@ export class CreasePanel {
     this.send(new MergeFacesCommand(e, { source: 'crease:mesh' }));
   }
 
+  cutAcross() {
+    const model = this._editableModel();
+    const e = this.state.selectedEdge;
+    if (!model || e === null || !model.edges[e] || model.edges[e].type !== 'S') return;
+    const percent = Math.min(99, Math.max(1, Number(this.cutAt.value) || 50));
+    this.send(new SplitAlongRulingCommand(e, percent / 100, { source: 'crease:mesh' }));
+  }
+
   split() {
     const target = this._splitTarget();
     if (!target) return;
@@ -589,6 +602,11 @@ export class CreasePanel {
     this.mergeButton.disabled = !edge || !canEdit;
     const split = this._splitTarget();
     this.splitButton.disabled = !split || !canEdit;
+    const curve = !!edge && edge.type === 'S';
+    this.cutButton.disabled = !curve || !canEdit;
+    this.cutAt.disabled = !curve || !canEdit;
+    this.cutButton.title = curve ? `A new ruling across the strips of edge ${e} (and of every curve sharing its spline space), at this percentage of the curve; each strip becomes two and nothing moves`
+      : 'Pick a spline edge (S) first';
     const g = st.group || [];
     this.splitHint.textContent = split ? `face ${split.face}: a ruling from vertex ${split.vertices[0]} to ${split.vertices[1]}`
       : g.length === 2 ? 'these two points are not opposite corners of one face' : 'Shift-click two corners of a face';
