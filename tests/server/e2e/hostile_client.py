@@ -662,6 +662,8 @@ class Worker:
                         {"type": "split_face", "face": rng.randrange(faces + 1),
                          "vertices": [rng.randrange(len(scene["model"].get("vertices", [])) + 1) for _ in range(2)]},
                         {"type": "merge_faces", "edge": rng.randrange(edges + 1)},
+                        {"type": "split_along_ruling", "edge": rng.randrange(edges + 1),
+                         "at": rng.choice([rng.random(), 0.0, 1.0, 1e-12, 0.999999999])},
                     ])
                 elif r < 0.95:
                     m = {"type": rng.choice(["undo", "redo", "reset", "undo"])}

@@ -108,6 +108,9 @@ CompositeDesign splitAlongRuling(const CompositeDesign& design, const CompositeT
   for (const auto& [e, reversed] : linked) {
     const CompositeEdge old = d.edges[static_cast<std::size_t>(e)];
     const double ue = reversed ? old.curve.knots.domainBegin() + old.curve.knots.domainEnd() - u : u;
+    const double begin = old.curve.knots.domainBegin(), end = old.curve.knots.domainEnd();
+    if (std::abs(ue - begin) <= 1e-9 * (end - begin) || std::abs(end - ue) <= 1e-9 * (end - begin))
+      throw std::invalid_argument("at: the cut falls on an end of edge " + std::to_string(e) + " (a vertex already)");
     auto [first, second] = cutCurveAt(old.curve, ue);
     const int p = old.curve.degree();
     if (first.points.rows() < p + 1 || second.points.rows() < p + 1)

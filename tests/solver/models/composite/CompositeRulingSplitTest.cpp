@@ -184,6 +184,8 @@ TEST(CompositeRulingSplit, ARulingEdgeAndAFractionOutsideTheEdgeAreRefusedNaming
   EXPECT_EQ(message(spline, 0.0).rfind("at: ", 0), 0u);
   EXPECT_EQ(message(spline, 1.0).rfind("at: ", 0), 0u);
   EXPECT_EQ(message(spline, std::nan("")).rfind("at: ", 0), 0u);
+  EXPECT_EQ(message(spline, 1e-12).rfind("at: ", 0), 0u) << message(spline, 1e-12);
+  EXPECT_EQ(message(spline, 1.0 - 1e-12).rfind("at: ", 0), 0u) << message(spline, 1.0 - 1e-12);
 }
 
 }  // namespace
