@@ -207,6 +207,23 @@ TEST(SessionLabelledMesh, AStripCutAcrossAlongANewRulingBecomesTwoStripsThatDoNo
     EXPECT_EQ(d1.edges[k].crease, composite::CreaseKind::None);
   }
   EXPECT_EQ(e.journal.edits.size(), journalled + 1);
+  // The cut design solves like any composite (the preset's handles fold the sheet up): as
+  // developable, and its old vertices end where the uncut sheet's do (the new rulings are
+  // rulings the strips had).
+  e.send({{"type", "solve"}, {"op", 10}});
+  const json solved = e.inbox.last("solved");
+  ASSERT_TRUE(solved.is_object());
+  EXPECT_LT(solved["metrics"]["face_flatness_max"].get<double>(), 1e-3);
+  const composite::CompositeDesign d2 = labelledDesignOf(e);
+  ExampleEditor whole("composite-two-creases");
+  whole.send({{"type", "solve"}, {"op", 1}});
+  const composite::CompositeDesign w = labelledDesignOf(whole);
+  double apart = 0.0;
+  for (Eigen::Index v = 0; v < w.vertices.rows(); ++v) apart = std::max(apart, (d2.vertices.row(v) - w.vertices.row(v)).norm());
+  std::printf("solved cut and uncut sheets: vertices %.3g apart (sheet 3 × 2), δ_max %.2g\n", apart,
+              solved["metrics"]["face_flatness_max"].get<double>());
+  EXPECT_LT(apart, 0.05 * 3.0);
+  e.send({{"type", "undo"}, {"op", 11}});
   // A ruling cannot be cut across, nor a fraction outside (0, 1): refused naming the field.
   const std::vector<int> rulings = edgesLabelled(d1, composite::EdgeType::Ruling);
   const json cut = e.session->sceneJson();
