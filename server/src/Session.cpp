@@ -809,7 +809,9 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
   if (isDrawingEdit(type)) return applyDrawingEdit(participant, edit, replaying);
   if (type == "rotate_points") return applyGroupRotation(participant, edit, replaying);
   if (type == "add_control_point" || type == "remove_control_point") return applyControlPointEdit(participant, edit, replaying);
-  if (type == "relabel_edge" || type == "split_face" || type == "merge_faces" || type == "split_along_ruling") return applyLabelledMeshEdit(participant, edit, replaying);
+  if (type == "relabel_edge" || type == "split_face" || type == "merge_faces" || type == "split_along_ruling" ||
+      type == "split_edge" || type == "remove_vertex")
+    return applyLabelledMeshEdit(participant, edit, replaying);
   if (type == "fold" || type == "fold_end") {
     if (!isComposite())
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
@@ -1451,6 +1453,7 @@ void Session::handle(const Work& work) {
     release(m["target"], iterations);
     broadcast(presenceMessage());
   } else if (type == "solve" || type == "rotate_points" || type == "remove_control_point" || type == "merge_faces" ||
+             type == "remove_vertex" ||
              (type == "relabel_edge" && m.value("label", "") == "R")) {
     // A structural edit that then solves: its scene first (the solve's messages carry geometry
     // and metrics only, and a client keeps editing by the scene's indices).

@@ -1,7 +1,7 @@
 // Editing the labelled mesh of a composite (issue 16 item 3, 000_… §4.1 "editing the labelled
 // mesh"): relabelling edges R ↔ S, splitting a face along a new ruling between two of its corners,
-// cutting a chain of strips across along a new ruling through their curves, and merging the two
-// faces of an edge. Each is one rebuild and one undo step, journalled; the
+// cutting a chain of strips across along a new ruling through their curves, merging the two
+// faces of an edge, and a vertex added on a ruling or removed between two. Each is one rebuild and one undo step, journalled; the
 // composite's own checks (CompositeTopology: the face types S R S R, S R S, S R R, R … R and the
 // shared spline spaces) decide whether the result is a composite, and a refusal quotes them and
 // changes nothing. Composites made from a drawing change through their drawing instead.
@@ -260,6 +260,93 @@ bool Session::applyLabelledMeshEdit(int participant, const json& edit, bool repl
       const std::size_t colon = what.find(": ");
       return reject("invalid", what.substr(colon + 2), what.substr(0, colon));
     }
+  } else if (type == "split_edge") {
+    // A vertex on a ruling: the edge becomes two (the faces on it get a corner there), so a face
+    // can then be split from that point.
+    const int e = edit.at("edge").get<int>();
+    if (e < 0 || e >= numEdges)
+      return reject("invalid", "no edge " + std::to_string(e) + " (the composite has " + std::to_string(numEdges) + ")", "edge");
+    const composite::CompositeEdge was = design.edges[static_cast<std::size_t>(e)];
+    if (was.type == composite::EdgeType::Spline)
+      return reject("invalid",
+                    "edge " + std::to_string(e) + " is a curve (S): a point on it is a cut across its strips (split_along_ruling, \"Cut across\")",
+                    "edge");
+    const double at = edit.value("at", 0.5);
+    const int w = static_cast<int>(design.vertices.rows());
+    design.vertices.conservativeResize(w + 1, 3);
+    design.vertices.row(w) = (1.0 - at) * design.vertices.row(was.v0) + at * design.vertices.row(was.v1);
+    composite::CompositeEdge first = was, second = was;
+    first.v1 = w;
+    second.v0 = w;
+    design.edges[static_cast<std::size_t>(e)] = first;
+    const int added = static_cast<int>(design.edges.size());
+    design.edges.push_back(second);
+    for (std::vector<int>& loop : design.faces) {
+      const auto pos = std::find(loop.begin(), loop.end(), e);
+      if (pos == loop.end()) continue;
+      const int k = static_cast<int>(pos - loop.begin()), n = static_cast<int>(loop.size());
+      const composite::CompositeEdge& prev = design.edges[static_cast<std::size_t>(loop[static_cast<std::size_t>((k + n - 1) % n)])];
+      const bool entersAtV0 = prev.v0 == was.v0 || prev.v1 == was.v0;  // (prev is not e: a face has ≥ 3 edges)
+      loop.insert(entersAtV0 ? pos + 1 : pos, added);
+    }
+    const std::vector<composite::FoldAngleTarget> targets = design.foldAngles;
+    for (const composite::FoldAngleTarget& t : targets)
+      if (t.edge == e) design.foldAngles.push_back({added, t.end, t.angleDeg});  // both halves fold as one
+    if (std::find(design.developmentSeam.begin(), design.developmentSeam.end(), e) != design.developmentSeam.end())
+      design.developmentSeam.push_back(added);
+    if (const std::string why = verdict(design); !why.empty())
+      return reject("invalid", "the faces on the edge do not take a corner there: " + why, "edge");
+  } else if (type == "remove_vertex") {
+    // The opposite: a vertex where exactly two rulings meet goes, and they become one.
+    const int v = edit.at("vertex").get<int>();
+    const int numVertices = static_cast<int>(design.vertices.rows());
+    if (v < 0 || v >= numVertices)
+      return reject("invalid", "no vertex " + std::to_string(v) + " (the composite has " + std::to_string(numVertices) + ")", "vertex");
+    std::vector<int> at;
+    for (int e = 0; e < numEdges; ++e)
+      if (design.edges[static_cast<std::size_t>(e)].v0 == v || design.edges[static_cast<std::size_t>(e)].v1 == v) at.push_back(e);
+    if (at.size() != 2)
+      return reject("invalid", "vertex " + std::to_string(v) + " is on " + std::to_string(at.size()) +
+                                   " edges; a vertex goes only where two edges meet (they become one)",
+                    "vertex");
+    const composite::CompositeEdge& x = design.edges[static_cast<std::size_t>(at[0])];
+    const composite::CompositeEdge& y = design.edges[static_cast<std::size_t>(at[1])];
+    if (x.type != composite::EdgeType::Ruling || y.type != composite::EdgeType::Ruling)
+      return reject("invalid", "vertex " + std::to_string(v) + " ends a curve (S edge): only a vertex between two rulings goes", "vertex");
+    const int a = x.v0 == v ? x.v1 : x.v0, b = y.v0 == v ? y.v1 : y.v0;
+    for (const composite::CompositeEdge& e : design.edges)
+      if ((e.v0 == a && e.v1 == b) || (e.v0 == b && e.v1 == a))
+        return reject("invalid", "vertices " + std::to_string(a) + " and " + std::to_string(b) + " are joined by an edge already", "vertex");
+    for (const composite::PointRef& r : design.fixed)
+      if (r.vertex == v) return reject("invalid", "vertex " + std::to_string(v) + " is fixed: unfix it first", "vertex");
+    // The first edge spans both, the second goes (later edges move down one), then the vertex.
+    composite::CompositeEdge& kept = design.edges[static_cast<std::size_t>(at[0])];
+    kept.v0 = a;
+    kept.v1 = b;
+    for (std::vector<int>& loop : design.faces) loop.erase(std::remove(loop.begin(), loop.end(), at[1]), loop.end());
+    design.handles.erase(std::remove_if(design.handles.begin(), design.handles.end(),
+                                        [v](const composite::Handle& h) { return h.point.vertex == v; }),
+                         design.handles.end());
+    eraseEdge(design, at[1]);
+    const auto shifted = [v](int u) { return u > v ? u - 1 : u; };
+    for (composite::CompositeEdge& e : design.edges) {
+      e.v0 = shifted(e.v0);
+      e.v1 = shifted(e.v1);
+    }
+    for (composite::PointRef& r : design.fixed)
+      if (r.vertex >= 0) r.vertex = shifted(r.vertex);
+    for (composite::Handle& h : design.handles)
+      if (h.point.vertex >= 0) h.point.vertex = shifted(h.point.vertex);
+    auto& corners = design.developmentDomain.corners;
+    corners.erase(std::remove_if(corners.begin(), corners.end(), [v](const composite::DomainCorner& c) { return c.vertex == v; }),
+                  corners.end());
+    for (composite::DomainCorner& c : corners) c.vertex = shifted(c.vertex);
+    Eigen::MatrixX3d vertices(numVertices - 1, 3);
+    for (int u = 0, row = 0; u < numVertices; ++u)
+      if (u != v) vertices.row(row++) = design.vertices.row(u);
+    design.vertices = std::move(vertices);
+    if (const std::string why = verdict(design); !why.empty())
+      return reject("invalid", "the faces around it do not take one edge there: " + why, "vertex");
   } else {  // merge_faces
     const int e = edit.at("edge").get<int>();
     if (e < 0 || e >= numEdges)
@@ -297,7 +384,8 @@ bool Session::applyLabelledMeshEdit(int participant, const json& edit, bool repl
   design.developmentVertices.resize(0, 2);  // its sampling changed: the development starts from the surface
   proto::Scene next = before;
   next.model = std::move(design);
-  return rebuildForEdit(participant, edit, replaying, before, next, type == "relabel_edge" ? "edges" : type == "split_face" ? "vertices" : "edge");
+  const char* field = type == "relabel_edge" ? "edges" : type == "split_face" ? "vertices" : type == "remove_vertex" ? "vertex" : "edge";
+  return rebuildForEdit(participant, edit, replaying, before, next, field);
 }
 
 }  // namespace devsurf::server

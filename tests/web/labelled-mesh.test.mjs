@@ -6,7 +6,7 @@
 //     flap shares with a strip, alone, is refused (S R R R) and the error under the panel names
 //     the face, the scene unchanged; undo brings the rulings back. Each edit is checked on the server's scene.
 //     Screenshot: test-artifacts/web/16-labelled-mesh.png (the flap as a strip, its edge picked).
-//     16b below: a chain of strips cut across (16-cut-across.png).
+//     16b below: a chain of strips cut across (16-cut-across.png); 16c: a vertex added and removed.
 import assert from 'node:assert/strict';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
@@ -154,5 +154,40 @@ test('cut a chain of strips across along a new ruling at 30 % of a curve, nothin
     await h.screenshotPage(page, '16-cut-across');
     await page.getByTestId('undo').click();
     await h.waitState(page, (st, n) => st.scene.model.faces.length === n, model0.faces.length, { what: 'undo: the strips whole again' });
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  }));
+
+// 16c. A vertex added at the middle of a flap's side ("Add a vertex" on the picked ruling), then
+//      clicked and removed ("Remove vertex"): the server's faces are the flap's again.
+test('a vertex added on a flap side and removed again', { timeout: 240000 }, () =>
+  ctx.guard('vertex-add-remove', async () => {
+    const { daemon } = ctx;
+    const s = await daemon.createSession(h.readScene('composite-curved-box.json'));
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(s.id, s.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+    await page.getByTestId('labelled-mesh-edits').waitFor();
+    const model0 = await serverModel(daemon, s);
+    const flap = model0.faces.findIndex((l) => l.every((e) => model0.edges[e].type === 'R'));
+    const side = model0.faces[flap].find((e) => model0.faces.filter((l) => l.includes(e)).length === 1);
+    assert.ok(side !== undefined, 'the flap has a boundary side');
+    await page.getByTestId('crease-edge').selectOption(String(side));
+    await page.getByTestId('split-edge').click();
+    await h.waitState(page, (st, n) => st.scene.model.vertices.length === n + 1, model0.vertices.length, { what: 'a vertex added' });
+    const added = await serverModel(daemon, s);
+    const w = model0.vertices.length;
+    const [p0, p1] = model0.edges[side].v.map((v) => model0.vertices[v]);
+    const mid = p0.map((x, i) => 0.5 * (x + p1[i]));
+    assert.ok(Math.hypot(...added.vertices[w].map((x, i) => x - mid[i])) < 1e-9, 'at the middle of the side');
+    assert.equal(added.faces[flap].length, model0.faces[flap].length + 1, 'the flap has a corner more');
+    await h.waitQuiet(page, { quietMs: 500 });
+    const p = await h.pointPagePosition(page, { vertex: w });
+    await page.mouse.click(p.x, p.y);
+    await h.waitState(page, (st, v) => st.selection && st.selection.vertex === v, w, { what: `vertex ${w} selected` });
+    await page.getByTestId('remove-vertex').click();
+    await h.waitState(page, (st, n) => st.scene.model.vertices.length === n, model0.vertices.length, { what: 'the vertex removed' });
+    const removed = await serverModel(daemon, s);
+    assert.deepEqual(removed.faces, model0.faces, 'the faces as they were');
+    assert.deepEqual(removed.edges.map((e) => e.v), model0.edges.map((e) => e.v), 'the edges as they were');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   }));

@@ -6,7 +6,7 @@ import {
   RemoveHandleCommand, ResetCommand, FoldCommand, FoldEndCommand, SetCreaseCommand, SetFixedCommand, SetParamsCommand, SetSolverCommand, SetUnitsCommand, SolveCommand, UndoCommand,
   SOLVER_KEYS, PARAM_KEYS, UNITS, DrawCreaseCommand, EraseCreaseCommand, RelabelCreaseCommand, ReshapeCreaseCommand,
   RotatePointsCommand, AddControlPointCommand, RemoveControlPointCommand,
-  RelabelEdgeCommand, SplitFaceCommand, MergeFacesCommand, SplitAlongRulingCommand,
+  RelabelEdgeCommand, SplitFaceCommand, MergeFacesCommand, SplitAlongRulingCommand, SplitEdgeCommand, RemoveVertexCommand,
 } from '../src/commands/index.js';
 import { PARAM_FIELDS, paramsFor } from '../src/ui/ParamsPanel.js';
 import { makeValidator } from './helpers/jsonschema.js';
@@ -64,6 +64,8 @@ const cases = [
   ['MergeFacesCommand', new MergeFacesCommand(5)],
   ['SplitAlongRulingCommand', new SplitAlongRulingCommand(2, 0.25)],
   ['SplitAlongRulingCommand at the middle', new SplitAlongRulingCommand(0)],
+  ['SplitEdgeCommand', new SplitEdgeCommand(4, 0.25)],
+  ['RemoveVertexCommand', new RemoveVertexCommand(9)],
   ['RotatePointsCommand', new RotatePointsCommand([{ vertex: 2 }, { vertex: 3 }, { edge: 4, index: 1 }], [0, 0, 1], 20)],
   ['RotatePointsCommand with centre and iterations', new RotatePointsCommand([{ vertex: 0 }], [1, 0, 0], -360, { centre: [0, 100, 0], iterations: 0 })],
   // Strips between two given curves: their curves' control points, and their parameters.
@@ -123,6 +125,8 @@ describe('commands match ws-client.schema.json', () => {
     expect(() => new SplitAlongRulingCommand(1, 1)).toThrow(/at/);
     expect(() => new SplitAlongRulingCommand(1, 0)).toThrow(/at/);
     expect(() => new SplitAlongRulingCommand(-1)).toThrow(/edge/);
+    expect(() => new SplitEdgeCommand(1, 1.5)).toThrow(/at/);
+    expect(() => new RemoveVertexCommand(-1)).toThrow(/vertex/);
     expect(validClient({ type: 'split_along_ruling', op: 1, edge: 0, at: 1 }).length).toBeGreaterThan(0);
     expect(new RelabelEdgeCommand([2, 2, 5], 'R').toMessage().edges).toEqual([2, 5]);
     expect(() => new RemoveControlPointCommand(2, 0)).toThrow(/index/);

@@ -74,3 +74,33 @@ export class SplitAlongRulingCommand extends Command {
     return { edge: this.edge, at: this.at };
   }
 }
+
+/** Composite sessions without a drawing: a new vertex on ruling `edge` at `at` from its v0. */
+export class SplitEdgeCommand extends Command {
+  constructor(edge, at = 0.5, options) {
+    super('split_edge', options);
+    if (!isIndex(edge)) throw new TypeError('edge: expected an integer ≥ 0');
+    if (!(Number.isFinite(at) && at > 0 && at < 1)) throw new TypeError('at: expected a fraction strictly between 0 and 1');
+    this.edge = edge;
+    this.at = at;
+    this.name = `add a vertex on edge ${edge}`;
+  }
+
+  fields() {
+    return { edge: this.edge, at: this.at };
+  }
+}
+
+/** Composite sessions without a drawing: vertex `vertex` between two rulings goes; they become one. */
+export class RemoveVertexCommand extends Command {
+  constructor(vertex, options) {
+    super('remove_vertex', options);
+    if (!isIndex(vertex)) throw new TypeError('vertex: expected an integer ≥ 0');
+    this.vertex = vertex;
+    this.name = `remove vertex ${vertex}`;
+  }
+
+  fields() {
+    return { vertex: this.vertex };
+  }
+}

@@ -23,4 +23,4 @@ export { RelabelCreaseCommand } from './RelabelCreaseCommand.js';
 export { ReshapeCreaseCommand } from './ReshapeCreaseCommand.js';
 export { RotatePointsCommand, ROTATE_ANGLE_MAX, ROTATE_ITERATIONS_MAX, ROTATE_TARGETS_MAX } from './RotatePointsCommand.js';
 export { AddControlPointCommand, RemoveControlPointCommand } from './ControlPointCommands.js';
-export { MergeFacesCommand, RelabelEdgeCommand, SplitAlongRulingCommand, SplitFaceCommand } from './LabelledMeshCommands.js';
+export { MergeFacesCommand, RelabelEdgeCommand, RemoveVertexCommand, SplitAlongRulingCommand, SplitEdgeCommand, SplitFaceCommand } from './LabelledMeshCommands.js';

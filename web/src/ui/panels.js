@@ -3,7 +3,7 @@
 import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
 import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
-import { MergeFacesCommand, RelabelEdgeCommand, SplitAlongRulingCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
+import { MergeFacesCommand, RelabelEdgeCommand, RemoveVertexCommand, SplitAlongRulingCommand, SplitEdgeCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
 import { relabelGroup, splitCandidate } from '../geometry/labelledMesh.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { SetUnitsCommand, UNITS } from '../commands/SetUnitsCommand.js';
@@ -511,6 +511,9 @@ export class CreasePanel {
     this.mergeButton = h('button', { class: 'btn small', testid: 'merge-faces', title: 'Remove this edge: its two faces become one', onclick: () => this.merge() }, 'Join its faces');
     this.splitButton = h('button', { class: 'btn small', testid: 'split-face', onclick: () => this.split() }, 'Split the face');
     this.splitHint = h('span', { class: 'muted small', testid: 'split-face-hint' });
+    // A vertex added at the middle of the picked ruling, or the selected vertex removed.
+    this.addVertexButton = h('button', { class: 'btn small', testid: 'split-edge', onclick: () => this.addVertex() }, 'Add a vertex');
+    this.removeVertexButton = h('button', { class: 'btn small', testid: 'remove-vertex', onclick: () => this.removeVertex() }, 'Remove vertex');
     // A new ruling across the picked curve's strips, at a percentage of the curve.
     this.cutButton = h('button', { class: 'btn small', testid: 'split-along-ruling', onclick: () => this.cutAcross() }, 'Cut across');
     this.cutAt = h('input', { class: 'input small num', type: 'number', min: 1, max: 99, step: 1, value: 50, testid: 'split-along-ruling-at',
@@ -522,6 +525,7 @@ export class CreasePanel {
         this.mergeButton),
       h('div', { class: 'row' }, this.splitButton, this.splitHint),
       h('div', { class: 'row' }, this.cutButton, h('label', { class: 'small' }, 'at ', this.cutAt, ' % of the curve')),
+      h('div', { class: 'row' }, this.addVertexButton, this.removeVertexButton),
       errorSlots.slot('crease:mesh'));
     this.drawnNote = h('p', { class: 'muted small', hidden: true }, 'Made from a drawing: split and join faces, and bend creases, on the crease board.');
     this.root = h('section', { class: 'panel', testid: 'crease-panel', hidden: true },
@@ -533,7 +537,7 @@ export class CreasePanel {
       this.meshEdits, this.drawnNote,
       h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge; Shift-click two corners of a face to split it; pick a curve and Cut across to add a ruling through its strips.'));
     parent.appendChild(this.root);
-    for (const ev of ['scene', 'edge-selection', 'session', 'group']) state.on(ev, () => this.render());
+    for (const ev of ['scene', 'edge-selection', 'session', 'group', 'selection']) state.on(ev, () => this.render());
     this.render();
   }
 
@@ -567,6 +571,20 @@ export class CreasePanel {
     this.send(new MergeFacesCommand(e, { source: 'crease:mesh' }));
   }
 
+  addVertex() {
+    const model = this._editableModel();
+    const e = this.state.selectedEdge;
+    if (!model || e === null || !model.edges[e] || model.edges[e].type !== 'R') return;
+    this.send(new SplitEdgeCommand(e, 0.5, { source: 'crease:mesh' }));
+  }
+
+  removeVertex() {
+    const sel = this.state.selection;
+    if (!this._editableModel() || !sel || !Number.isInteger(sel.vertex)) return;
+    this.state.setSelection(null);
+    this.send(new RemoveVertexCommand(sel.vertex, { source: 'crease:mesh' }));
+  }
+
   cutAcross() {
     const model = this._editableModel();
     const e = this.state.selectedEdge;
@@ -586,7 +604,7 @@ export class CreasePanel {
     const st = this.state;
     const model = st.scene && st.scene.model;
     // render() runs after every iterate's geometry: redo this only when what it reads changed.
-    const key = [st.scene, st.selectedEdge, st.role, JSON.stringify(st.group || [])];
+    const key = [st.scene, st.selectedEdge, st.role, JSON.stringify(st.group || []), JSON.stringify(st.selection || null)];
     if (this._meshKey && key.every((k, i) => k === this._meshKey[i])) return;
     this._meshKey = key;
     const editable = this._editableModel();
@@ -604,6 +622,11 @@ export class CreasePanel {
     this.splitButton.disabled = !split || !canEdit;
     const curve = !!edge && edge.type === 'S';
     this.cutButton.disabled = !curve || !canEdit;
+    this.addVertexButton.disabled = !edge || edge.type !== 'R' || !canEdit;
+    this.addVertexButton.title = edge && edge.type === 'R' ? `A vertex at the middle of edge ${e}: the faces on it get a corner there (then split a face from it)` : 'Pick a ruling (R edge) first';
+    const vertex = st.selection && Number.isInteger(st.selection.vertex) ? st.selection.vertex : null;
+    this.removeVertexButton.disabled = vertex === null || !canEdit;
+    this.removeVertexButton.title = vertex === null ? 'Select a vertex where two rulings meet' : `Remove vertex ${vertex}: its two rulings become one edge`;
     this.cutAt.disabled = !curve || !canEdit;
     this.cutButton.title = curve ? `A new ruling across the strips of edge ${e} (and of every curve sharing its spline space), at this percentage of the curve; each strip becomes two and nothing moves`
       : 'Pick a spline edge (S) first';
