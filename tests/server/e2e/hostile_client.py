@@ -664,6 +664,8 @@ class Worker:
                         {"type": "merge_faces", "edge": rng.randrange(edges + 1)},
                         {"type": "split_along_ruling", "edge": rng.randrange(edges + 1),
                          "at": rng.choice([rng.random(), 0.0, 1.0, 1e-12, 0.999999999])},
+                        {"type": "split_edge", "edge": rng.randrange(edges + 1), "at": rng.choice([rng.random(), 1e-12, 2.0])},
+                        {"type": "remove_vertex", "vertex": rng.randrange(len(scene["model"].get("vertices", [])) + 1)},
                     ])
                 elif r < 0.95:
                     m = {"type": rng.choice(["undo", "redo", "reset", "undo"])}
