@@ -176,3 +176,56 @@ TEST(CreasePatternImport, TheCommandRefusesMeshOptionsOnACreasePatternAndReports
 
 }  // namespace
 }  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+// A slit as FOLD writes it (C), and as an SVG draws it (green), imported: the sheet is cut along it
+// (issue 16 item 1), the notes say so, and the slider opens it — the folded scene's two copies of
+// the slit's mouth, read from the solved report, are apart.
+TEST(CreasePatternImport, ASlitInAFoldFileOrAGreenSvgLineIsCutAndOpensWhenTheSheetFolds) {
+  const std::string fold = R"({"file_spec": 1.2, "frame_classes": ["creasePattern"],
+    "vertices_coords": [[0,0],[100,0],[200,0],[0,100],[100,100],[200,100],[0,200],[100,200],[200,200]],
+    "edges_vertices": [[0,1],[1,2],[2,5],[5,8],[8,7],[7,6],[6,3],[3,0],[3,4],[4,5],[4,7],[1,4]],
+    "edges_assignment": ["B","B","B","B","B","B","B","B","V","M","F","C"],
+    "edges_foldAngle": [0,0,0,0,0,0,0,0,90,-90,0,0]})";
+  const CreasePatternImportResult r = importCreasePattern(fold, foldRequest());
+  EXPECT_EQ(r.cut, 1);
+  bool noted = false;
+  for (const io::ImportNote& n : r.notes) noted = noted || n.message.find("cut along") != std::string::npos;
+  EXPECT_TRUE(noted) << r.summaryJson().dump();
+  nlohmann::json scene = proto::sceneToJson(r.scene);
+  EXPECT_EQ(scene["model"]["vertices"].size(), 10u);
+  scene["model"]["fold_amount"] = 1.0;
+  const testing::CliRun solved = testing::runCommand({"solve", "-", "--iterations", "80"}, scene.dump());
+  ASSERT_EQ(solved.code, 0) << solved.err;
+  const nlohmann::json report = nlohmann::json::parse(solved.out);
+  const nlohmann::json& v = report["scene"]["model"]["vertices"];
+  // The mouth of the slit: the two vertices at (100, 0) of the drawing.
+  std::vector<std::size_t> mouth;
+  const nlohmann::json& flat = report["scene"]["model"]["development"]["vertices"];
+  for (std::size_t k = 0; k < flat.size() && k < v.size(); ++k)
+    if (std::abs(flat[k][0].get<double>() - 100.0) < 1e-6 && std::abs(flat[k][1].get<double>()) < 1e-6) mouth.push_back(k);
+  ASSERT_EQ(mouth.size(), 2u) << flat.dump();
+  double apart = 0.0;
+  for (int c = 0; c < 3; ++c) apart += std::pow(v[mouth[0]][c].get<double>() - v[mouth[1]][c].get<double>(), 2);
+  std::printf("imported slit folded: mouth %.1f mm open, fold-angle error %.3g°\n", std::sqrt(apart),
+              report["metrics"].value("fold_angle_error_max_deg", -1.0));
+  EXPECT_GT(std::sqrt(apart), 150.0);
+
+  // The same drawn as an SVG: black outline, red mountain, blue valley, green cut, yellow flat.
+  const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="200mm" viewBox="0 0 200 200">
+    <rect x="0" y="0" width="200" height="200" fill="none" stroke="#000000"/>
+    <line x1="0" y1="100" x2="100" y2="100" stroke="#0000ff"/>
+    <line x1="100" y1="100" x2="200" y2="100" stroke="#ff0000"/>
+    <line x1="100" y1="0" x2="100" y2="100" stroke="#ffff00"/>
+    <line x1="100" y1="100" x2="100" y2="200" stroke="#00ff00"/></svg>)";
+  CreasePatternImportRequest svgRequest;
+  svgRequest.format = "svg";
+  const CreasePatternImportResult s = importCreasePattern(svg, svgRequest);
+  EXPECT_EQ(s.cut, 1);
+  EXPECT_EQ(proto::sceneToJson(s.scene)["model"]["vertices"].size(), 10u) << s.summaryJson().dump();
+}
+
+}  // namespace
+}  // namespace devsurf::server

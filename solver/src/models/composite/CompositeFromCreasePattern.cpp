@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "devsurf/io/CreasePatternSlits.h"
 #include "devsurf/models/composite/CompositeFoldConflicts.h"
 #include "devsurf/spatial/PlanarArrangement.h"
 
@@ -64,7 +65,10 @@ void appendFoldConflictNotes(CreasePatternComposite& result, const io::CreasePat
 
 }  // namespace
 
-CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& pattern, int developmentSamples) {
+namespace {
+
+/// compositeFromCreasePattern once the sheet is cut along its slits.
+CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern, int developmentSamples) {
   pattern.validate();
   if (pattern.faces.empty()) throw std::invalid_argument("crease pattern: no faces");
   if (developmentSamples < 1) throw std::invalid_argument("crease pattern: developmentSamples must be ≥ 1");
@@ -116,10 +120,6 @@ CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& patte
     members[a].insert(members[a].end(), members[b].begin(), members[b].end());
     members[b].clear();
   }
-  for (std::size_t e = 0; e < pattern.edges.size(); ++e)
-    if (pattern.edges[e].assignment == io::EdgeAssignment::Cut)
-      result.notes.push_back({"edges[" + std::to_string(e) + "]",
-                              "a cut (C): the composite has no slits, so its faces stay joined there and fold freely"});
 
   // The faces of the design, as vertex loops of the pattern.
   std::vector<std::vector<int>> loops;
@@ -220,6 +220,20 @@ CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& patte
   for (int v = 0; v < n; ++v)
     if (result.designVertexOf[v] >= 0) d.developmentDomain.corners.push_back({result.designVertexOf[v], pattern.vertices2d.row(v).transpose()});
   appendFoldConflictNotes(result, pattern);
+  return result;
+}
+
+}  // namespace
+
+CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& pattern, int developmentSamples) {
+  pattern.validate();
+  const io::SlitCut slit = io::cutAlongSlits(pattern);
+  CreasePatternComposite result = compositeFromCutPattern(slit.pattern, developmentSamples);
+  result.notes.insert(result.notes.begin(), slit.notes.begin(), slit.notes.end());
+  // Per vertex and edge of the pattern as given: a doubled point is its first copy, a cut edge
+  // its first side.
+  result.designVertexOf.resize(static_cast<std::size_t>(pattern.numVertices()));
+  result.designEdgeOf.resize(pattern.edges.size());
   return result;
 }
 

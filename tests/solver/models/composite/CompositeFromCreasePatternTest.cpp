@@ -60,10 +60,12 @@ TEST(CompositeFromCreasePattern, AMountainEdgeKeepsTwoFacesJoinedByARulingThatFo
   EXPECT_EQ(topology.face(0).type, FaceType::Planar);
 }
 
-TEST(CompositeFromCreasePattern, ACutEdgeIsNoted) {
+TEST(CompositeFromCreasePattern, ACutFromCornerToCornerWouldPartTheSheetSoItStaysJoinedWithANote) {
   const CreasePatternComposite c = compositeFromCreasePattern(squareWithDiagonal(io::EdgeAssignment::Cut));
   ASSERT_EQ(c.notes.size(), 1u);
-  EXPECT_EQ(c.notes[0].element, "edges[4]");
+  EXPECT_EQ(c.notes[0].element, "edges_assignment");
+  EXPECT_NE(c.notes[0].message.find("2 pieces"), std::string::npos) << c.notes[0].message;
+  EXPECT_EQ(c.design.faces.size(), 2u);  // joined along the diagonal, which folds freely
 }
 
 // Every FOLD example shipped in tests/data/fold becomes a composite that builds, starts as the

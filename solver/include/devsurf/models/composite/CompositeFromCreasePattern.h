@@ -27,7 +27,9 @@ struct CreasePatternComposite {
 ///    face when the union is a simple polygon (and, with a folded state, the edge is flat there:
 ///    |measured fold angle| < 1°); where a union would have a hole or pinch, the faces stay apart
 ///    and the flat edge is noted;
-///  * cut (C) edges: noted — the composite has no slits, so they join their faces like a fold;
+///  * cut (C) edges: the sheet is cut along them first (io::cutAlongSlits: points along a slit
+///    doubled, one per side; each side a boundary edge), so a slit opens when the sheet folds;
+///    designVertexOf and designEdgeOf name a doubled point's and a cut edge's first copy;
 ///  * fixed: the vertices of the face of largest area in the development, so the sheet keeps its
 ///    place while the rest is moved;
 ///  * development management on (developmentSamples), so the crease pattern and its exports follow,
