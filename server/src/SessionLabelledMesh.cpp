@@ -233,20 +233,7 @@ bool Session::applyLabelledMeshEdit(int participant, const json& edit, bool repl
     for (const composite::CompositeEdge& e : design.edges)
       if ((e.v0 == va && e.v1 == vb) || (e.v0 == vb && e.v1 == va))
         return reject("invalid", "an edge joins vertices " + std::to_string(va) + " and " + std::to_string(vb) + " already", "vertices");
-    composite::CompositeEdge ruling;
-    ruling.v0 = va;
-    ruling.v1 = vb;
-    ruling.type = composite::EdgeType::Ruling;
-    const int added = static_cast<int>(design.edges.size());
-    design.edges.push_back(ruling);
-    // Corner i to corner j along the loop, then the new edge back; and j to i, then the new edge.
-    std::vector<int> first, second;
-    for (int k = i; k != j; k = (k + 1) % n) first.push_back(loop[static_cast<std::size_t>(k)]);
-    first.push_back(added);
-    for (int k = j; k != i; k = (k + 1) % n) second.push_back(loop[static_cast<std::size_t>(k)]);
-    second.push_back(added);
-    design.faces[static_cast<std::size_t>(f)] = std::move(first);
-    design.faces.push_back(std::move(second));
+    composite::splitFaceLoop(design, f, i, j);
     if (const std::string why = verdict(design); !why.empty())
       return reject("invalid", "the two halves are not valid faces: " + why, "vertices");
   } else if (type == "split_along_ruling") {

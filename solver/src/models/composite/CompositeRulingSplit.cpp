@@ -64,6 +64,27 @@ int loopCorner(const CompositeDesign& d, int x, int y) {
 
 }  // namespace
 
+int splitFaceLoop(CompositeDesign& design, int face, int i, int j) {
+  const std::vector<int> loop = design.faces[static_cast<std::size_t>(face)];
+  const int n = static_cast<int>(loop.size());
+  assert(i != j && (i + 1) % n != j && (j + 1) % n != i && "the corners are not neighbours");
+  CompositeEdge ruling;
+  ruling.v0 = loopCorner(design, loop[static_cast<std::size_t>((i + n - 1) % n)], loop[static_cast<std::size_t>(i)]);
+  ruling.v1 = loopCorner(design, loop[static_cast<std::size_t>((j + n - 1) % n)], loop[static_cast<std::size_t>(j)]);
+  ruling.type = EdgeType::Ruling;
+  const int added = static_cast<int>(design.edges.size());
+  design.edges.push_back(ruling);
+  // Corner i to corner j along the loop, then the new edge back; and j to i, then the new edge.
+  std::vector<int> first, second;
+  for (int k = i; k != j; k = (k + 1) % n) first.push_back(loop[static_cast<std::size_t>(k)]);
+  first.push_back(added);
+  for (int k = j; k != i; k = (k + 1) % n) second.push_back(loop[static_cast<std::size_t>(k)]);
+  second.push_back(added);
+  design.faces[static_cast<std::size_t>(face)] = std::move(first);
+  design.faces.push_back(std::move(second));
+  return added;
+}
+
 std::map<int, bool> linkedSplineEdges(const CompositeTopology& topology, int edge) {
   std::map<int, bool> reversedOf{{edge, false}};
   std::vector<int> queue{edge};
@@ -181,20 +202,7 @@ CompositeDesign splitAlongRuling(const CompositeDesign& design, const CompositeT
     const auto ia = std::find(corner.begin(), corner.end(), from), ib = std::find(corner.begin(), corner.end(), to);
     if (ia == corner.end() || ib == corner.end())
       throw std::logic_error("faces[" + std::to_string(f) + "]: a cut point is not a corner of its face");
-    const int i = static_cast<int>(ia - corner.begin()), j = static_cast<int>(ib - corner.begin());
-    CompositeEdge ruling;
-    ruling.v0 = from;
-    ruling.v1 = to;
-    ruling.type = EdgeType::Ruling;
-    const int added = static_cast<int>(d.edges.size());
-    d.edges.push_back(ruling);
-    std::vector<int> first, second;
-    for (int k = i; k != j; k = (k + 1) % n) first.push_back(loop[static_cast<std::size_t>(k)]);
-    first.push_back(added);
-    for (int k = j; k != i; k = (k + 1) % n) second.push_back(loop[static_cast<std::size_t>(k)]);
-    second.push_back(added);
-    d.faces[static_cast<std::size_t>(f)] = std::move(first);
-    d.faces.push_back(std::move(second));
+    splitFaceLoop(d, f, static_cast<int>(ia - corner.begin()), static_cast<int>(ib - corner.begin()));
   }
 
   // 4. What referred to the second part of a cut edge follows it.

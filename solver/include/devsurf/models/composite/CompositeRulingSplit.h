@@ -12,6 +12,12 @@ namespace devsurf::models::composite {
 /// runs against `edge`'s (a parameter u of `edge` is begin + end − u there).
 std::map<int, bool> linkedSplineEdges(const CompositeTopology& topology, int edge);
 
+/// Face `face` of the design split by a new R edge between its corner loop positions i and j (the
+/// vertices where loop edges i − 1 and i, and j − 1 and j, meet; not neighbours): the face keeps
+/// the loop from corner i to corner j plus the new edge, the other part (j to i plus the new edge)
+/// is appended as the last face. Returns the new edge's index (the last edge).
+int splitFaceLoop(CompositeDesign& design, int face, int i, int j);
+
 /// A composite split along a new ruling (000_… §4.1, editing the labelled mesh): S edge `edge` is
 /// cut at the fraction `at` ∈ (0, 1) of its parameter domain (in its own direction), and so is
 /// every S edge linked to it (linkedSplineEdges) at the same parameter, by knot insertion — no
