@@ -262,20 +262,14 @@ bool Session::applyLabelledMeshEdit(int participant, const json& edit, bool repl
     const int w = static_cast<int>(design.vertices.rows());
     design.vertices.conservativeResize(w + 1, 3);
     design.vertices.row(w) = (1.0 - at) * design.vertices.row(was.v0) + at * design.vertices.row(was.v1);
+    const std::vector<composite::CompositeEdge> edgesBefore = design.edges;
     composite::CompositeEdge first = was, second = was;
     first.v1 = w;
     second.v0 = w;
     design.edges[static_cast<std::size_t>(e)] = first;
     const int added = static_cast<int>(design.edges.size());
     design.edges.push_back(second);
-    for (std::vector<int>& loop : design.faces) {
-      const auto pos = std::find(loop.begin(), loop.end(), e);
-      if (pos == loop.end()) continue;
-      const int k = static_cast<int>(pos - loop.begin()), n = static_cast<int>(loop.size());
-      const composite::CompositeEdge& prev = design.edges[static_cast<std::size_t>(loop[static_cast<std::size_t>((k + n - 1) % n)])];
-      const bool entersAtV0 = prev.v0 == was.v0 || prev.v1 == was.v0;  // (prev is not e: a face has ≥ 3 edges)
-      loop.insert(entersAtV0 ? pos + 1 : pos, added);
-    }
+    composite::insertSecondHalves(design, edgesBefore, {{e, added}});
     const std::vector<composite::FoldAngleTarget> targets = design.foldAngles;
     for (const composite::FoldAngleTarget& t : targets)
       if (t.edge == e) design.foldAngles.push_back({added, t.end, t.angleDeg});  // both halves fold as one

@@ -64,6 +64,28 @@ int loopCorner(const CompositeDesign& d, int x, int y) {
 
 }  // namespace
 
+void insertSecondHalves(CompositeDesign& design, const std::vector<CompositeEdge>& before, const std::map<int, int>& secondHalf) {
+  for (std::vector<int>& loop : design.faces) {
+    std::vector<int> next;
+    const int n = static_cast<int>(loop.size());
+    for (int k = 0; k < n; ++k) {
+      const int e = loop[static_cast<std::size_t>(k)];
+      const auto half = secondHalf.find(e);
+      if (half == secondHalf.end()) {
+        next.push_back(e);
+        continue;
+      }
+      // The loop enters e at the vertex it shares with the previous edge (old endpoints).
+      const CompositeEdge& was = before[static_cast<std::size_t>(e)];
+      const CompositeEdge& prev = before[static_cast<std::size_t>(loop[static_cast<std::size_t>((k + n - 1) % n)])];
+      const bool entersAtV0 = prev.v0 == was.v0 || prev.v1 == was.v0;
+      next.push_back(entersAtV0 ? e : half->second);
+      next.push_back(entersAtV0 ? half->second : e);
+    }
+    loop = std::move(next);
+  }
+}
+
 int splitFaceLoop(CompositeDesign& design, int face, int i, int j) {
   const std::vector<int> loop = design.faces[static_cast<std::size_t>(face)];
   const int n = static_cast<int>(loop.size());
@@ -154,31 +176,7 @@ CompositeDesign splitAlongRuling(const CompositeDesign& design, const CompositeT
   }
 
   // 2. Face loops: the two halves take the old edge's place, in the loop's direction.
-  for (std::vector<int>& loop : d.faces) {
-    std::vector<int> next;
-    const int n = static_cast<int>(loop.size());
-    for (int k = 0; k < n; ++k) {
-      const int e = loop[static_cast<std::size_t>(k)];
-      const auto half = secondHalf.find(e);
-      if (half == secondHalf.end()) {
-        next.push_back(e);
-        continue;
-      }
-      // The loop enters e at the vertex it shares with the previous edge (old endpoints).
-      const int previous = loop[static_cast<std::size_t>((k + n - 1) % n)];
-      const CompositeEdge& was = design.edges[static_cast<std::size_t>(e)];
-      const CompositeEdge& prev = design.edges[static_cast<std::size_t>(previous)];
-      const bool entersAtV0 = prev.v0 == was.v0 || prev.v1 == was.v0;
-      if (entersAtV0) {
-        next.push_back(e);
-        next.push_back(half->second);
-      } else {
-        next.push_back(half->second);
-        next.push_back(e);
-      }
-    }
-    loop = std::move(next);
-  }
+  insertSecondHalves(d, design.edges, secondHalf);
 
   // 3. Every face on a cut curve becomes two: a new ruling from the cut point to the other curve's
   //    cut point (strips) or to the apex (cones). Faces are listed once, in their original order.

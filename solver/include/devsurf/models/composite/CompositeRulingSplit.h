@@ -12,6 +12,11 @@ namespace devsurf::models::composite {
 /// runs against `edge`'s (a parameter u of `edge` is begin + end − u there).
 std::map<int, bool> linkedSplineEdges(const CompositeTopology& topology, int edge);
 
+/// Edges cut in two: every face loop through an old edge e of `secondHalf` (e → the index of its
+/// appended second half; e itself now runs from its v0 to the cut point) takes both halves in e's
+/// place, in the loop's direction. `before`: the design's edges as they were before the cut.
+void insertSecondHalves(CompositeDesign& design, const std::vector<CompositeEdge>& before, const std::map<int, int>& secondHalf);
+
 /// Face `face` of the design split by a new R edge between its corner loop positions i and j (the
 /// vertices where loop edges i − 1 and i, and j − 1 and j, meet; not neighbours): the face keeps
 /// the loop from corner i to corner j plus the new edge, the other part (j to i plus the new edge)
