@@ -207,6 +207,13 @@ TEST(SessionLabelledMesh, AStripCutAcrossAlongANewRulingBecomesTwoStripsThatDoNo
     EXPECT_EQ(d1.edges[k].crease, composite::CreaseKind::None);
   }
   EXPECT_EQ(e.journal.edits.size(), journalled + 1);
+  // A restart replays the journal onto the preset: the same cut.
+  testing::ManualExecutor ex2;
+  auto restored = std::make_shared<Session>("e1", testing::exampleScene("composite-two-creases"),
+                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
+                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
+  restored->restore(nullptr, 0, e.journal.edits, e.journal.edits.back().first);
+  EXPECT_TRUE(sameLabelledMesh(restored->sceneJson(), e.session->sceneJson()));
   // The cut design solves like any composite (the preset's handles fold the sheet up): as
   // developable, and its old vertices end where the uncut sheet's do (the new rulings are
   // rulings the strips had).
