@@ -72,13 +72,14 @@ SCHEDULE = {"energy_min": 1e-12, "isometry_min": 1e-12, "round_iterations": 20, 
 ITERATIONS = 200  # the scene's solver.iterations: all rounds of Algorithm 1 together
 
 
-def scene(name, description, faces, mesh, variable, unfolding=None, units=None, conformal=False,
+def scene(name, description, faces, mesh, variables, unfolding=None, units=None, conformal=False,
           handles=(), fixed=(), glue=(), reference=None, weights=None, schedule=None):
-    model = {"kind": "quad_mesh", "faces": faces, "mesh": mesh}
+    """fixed: vertices of M (integers) or {"vertex", "on"} objects for M′; glue: pairs [i, j] of M;
+    reference: {"vertices", "faces"} (triangles). M′ is planar: "planar" is written only when false."""
+    model = {"kind": "quad_mesh", "mesh": {"vertices": mesh, "faces": faces}}
     if unfolding is not None:
-        model["unfolding"] = unfolding
-    model["unfolding_planar"] = True
-    model["variable"] = variable
+        model["unfolding"] = {"vertices": unfolding}
+    model["variables"] = variables
     model["conformal"] = conformal
     model["gauss_image"] = False
     model["handles"] = list(handles)
@@ -137,30 +138,32 @@ def polar_sector(sectors, total, rings, radius, first=0):
     return pts, faces, idx
 
 
-def coons_disc(boundary, n):
-    """Transfinite (Coons) quad grid of a closed boundary of 4n points (counter-clockwise), split
-    into four sides of n edges: bottom b[0..n], right b[n..2n], top b[3n..2n], left b[4n..3n].
-    Returns the (n+1)² grid points row by row (boundary points exactly as given), the quads and
-    the grid index of boundary point k."""
-    m = 4 * n
-    b = lambda k: boundary[k % m]
-    bottom = [b(k) for k in range(0, n + 1)]
-    right = [b(k) for k in range(n, 2 * n + 1)]
-    top = [b(3 * n - i) for i in range(0, n + 1)]
-    left = [b(4 * n - j) for j in range(0, n + 1)]
-    c00, c10, c11, c01 = bottom[0], bottom[n], top[n], top[0]
+def coons_rect(boundary, n1, n2, start=0):
+    """Transfinite (Coons) quad grid of a closed boundary of 2(n1 + n2) points (counter-clockwise)
+    split into four sides from point `start`: bottom n1 edges, right n2, top n1, left n2.
+    Returns the (n1 + 1)(n2 + 1) grid points row by row (boundary points exactly as given), the
+    faces and the grid index of boundary point k. The grid's corners sit on a smooth boundary:
+    their quads have an angle near 180°, which the checkerboard (diagonals only) leaves free to
+    fold, so each is split into two triangles through the corner, held by all their edges."""
+    m = 2 * (n1 + n2)
+    b = lambda k: boundary[(start + k) % m]
+    bottom = [b(k) for k in range(0, n1 + 1)]
+    right = [b(k) for k in range(n1, n1 + n2 + 1)]
+    top = [b(2 * n1 + n2 - i) for i in range(0, n1 + 1)]
+    left = [b(m - j) for j in range(0, n2 + 1)]
+    c00, c10, c11, c01 = bottom[0], bottom[n1], top[n1], top[0]
     pts = []
-    for j in range(n + 1):
-        v = j / n
-        for i in range(n + 1):
-            u = i / n
+    for j in range(n2 + 1):
+        v = j / n2
+        for i in range(n1 + 1):
+            u = i / n1
             if j == 0:
                 p = bottom[i]
-            elif j == n:
+            elif j == n2:
                 p = top[i]
             elif i == 0:
                 p = left[j]
-            elif i == n:
+            elif i == n1:
                 p = right[j]
             else:
                 p = [(1 - v) * bottom[i][d] + v * top[i][d] + (1 - u) * left[j][d] + u * right[j][d]
@@ -169,17 +172,14 @@ def coons_disc(boundary, n):
             pts.append(list(p))
 
     def idx(i, j):
-        return j * (n + 1) + i
+        return j * (n1 + 1) + i
+    corners = {idx(0, 0), idx(n1, 0), idx(n1, n2), idx(0, n2)}
     faces = []
-    corners = {idx(0, 0), idx(n, 0), idx(n, n), idx(0, n)}
-    for j in range(n):
-        for i in range(n):
+    for j in range(n2):
+        for i in range(n1):
             f = [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]
             c = [k for k in range(4) if f[k] in corners]
             if c:
-                # The grid's corner sits on a smooth boundary: its quad has an angle near 180°,
-                # which the checkerboard (diagonals only) leaves free to fold. Two triangles
-                # through the corner are held by all their edges.
                 k = c[0]
                 faces.append([f[k], f[(k + 1) % 4], f[(k + 2) % 4]])
                 faces.append([f[k], f[(k + 2) % 4], f[(k + 3) % 4]])
@@ -187,15 +187,21 @@ def coons_disc(boundary, n):
                 faces.append(f)
     grid_of = {}
     for k in range(m):
-        if k <= n:
-            grid_of[k] = idx(k, 0)
-        elif k <= 2 * n:
-            grid_of[k] = idx(n, k - n)
-        elif k <= 3 * n:
-            grid_of[k] = idx(3 * n - k, n)
+        q = (k - start) % m
+        if q <= n1:
+            grid_of[k] = idx(q, 0)
+        elif q <= n1 + n2:
+            grid_of[k] = idx(n1, q - n1)
+        elif q <= 2 * n1 + n2:
+            grid_of[k] = idx(2 * n1 + n2 - q, n2)
         else:
-            grid_of[k] = idx(0, 4 * n - k)
+            grid_of[k] = idx(0, m - q)
     return pts, faces, grid_of
+
+
+def coons_disc(boundary, n):
+    """coons_rect of a boundary of 4n points with four sides of n edges from point 0."""
+    return coons_rect(boundary, n, n, 0)
 
 
 def equal_chords(curve, count, t0=0.0):
@@ -289,7 +295,7 @@ def developable_approx():
         "0.001 / 0.001 as Fig. 22 row 10 keeps M near its design while isometry to a flat M′ "
         "makes it developable; watch K go to zero and the rulings appear. Fig. 8 has up to 50k "
         "vertices (here 441).",
-        faces, mesh, "both", reference={"vertices": mesh, "triangles": triangulate(faces)},
+        faces, mesh, "both", reference={"vertices": mesh, "faces": triangulate(faces)},
         weights={"proximity_point": 0.001, "proximity_plane": 0.001, "fairness_mesh": 0.1,
                  "fairness_unfolding": 0.1})
 
@@ -337,7 +343,7 @@ def cut_glue():
         "hole pulled shut and the sheet arched, and the solve makes it isometric with the glued "
         "vertices coinciding. Export the SVG: the hole's edges are numbered glue edges; cut, "
         "glue, and compare with the solved shape. Fig. 18 has 8.4k vertices (here 404).",
-        faces, mesh, "mesh", unfolding=pts, units="cm", glue=[{"on": "mesh", "pairs": glue}],
+        faces, mesh, "mesh", unfolding=pts, units="cm", glue=glue,
         weights={"fairness_mesh": 0.1, "fairness_unfolding": 0, "mapping": 10})
 
 
@@ -386,7 +392,7 @@ def cut_glue_diagonal():
         "bottom corners meet. M′ (the sheet with the hole) is fixed; M starts with the hole "
         "pulled shut and the sheet arched, and the solve makes it isometric with the glued "
         "vertices coinciding. Export the SVG: the diamond's edges are numbered glue edges.",
-        faces, mesh, "mesh", unfolding=pts, units="cm", glue=[{"on": "mesh", "pairs": glue}],
+        faces, mesh, "mesh", unfolding=pts, units="cm", glue=glue,
         weights={"fairness_mesh": 0.1, "fairness_unfolding": 0, "mapping": 10})
 
 
@@ -413,7 +419,7 @@ def cone_deficit():
         "gluing makes (a cone of half-angle asin(3/4)). Developable everywhere except at the "
         "apex, where the Gauss curvature 2π − 270° = 90° is concentrated. Export the SVG and "
         "glue seam 1 to get a paper cone; drag the rim to see the cone point stay.",
-        faces, mesh, "mesh", unfolding=pts, units="cm", glue=[{"on": "mesh", "pairs": glue}],
+        faces, mesh, "mesh", unfolding=pts, units="cm", glue=glue,
         weights={"fairness_mesh": 0.1, "fairness_unfolding": 0})
 
 
@@ -479,7 +485,7 @@ def cone_excess():
         "is developable and ruffles like a saddle. M′ is fixed; M starts with straight radial "
         "lines and rings waved twice round the apex to the right length. Export the SVG and glue "
         "seams 1 and 2 to build it.",
-        faces, mesh, "mesh", unfolding=pts, units="cm", glue=[{"on": "mesh", "pairs": glue}],
+        faces, mesh, "mesh", unfolding=pts, units="cm", glue=glue,
         weights={"fairness_mesh": 0.1, "fairness_unfolding": 0})
 
 
@@ -515,7 +521,7 @@ def dform(name, curve_a, curve_b, t0, description, n=12):
                 bump = math.sin(math.pi * i / n) * math.sin(math.pi * j / n)
                 mesh.append([p[0], p[1], sign * lift * bump])
     return scene(name, description, faces, mesh, "mesh", unfolding=pts, units="cm",
-                 glue=[{"on": "mesh", "pairs": glue}],
+                 glue=glue,
                  weights={"fairness_mesh": 0.1, "fairness_unfolding": 0})
 
 
@@ -590,9 +596,9 @@ def curved_fold(i0=1, i1=23, fixed_frame=True):
         # A small rigid frame at the bottom edge's middle: three fixed vertices close together
         # stop rigid motions without holding the bottom edge straight (three fixed points across
         # the edge did, against the bending of the lower half: L-Err 0.032 % → 0.0125 %).
-        fixed = [{"on": "mesh", "vertex": v} for v in (idx(nx // 2, 0), idx(nx // 2 + 1, 0), idx(nx // 2, 1))]
+        fixed = [idx(nx // 2, 0), idx(nx // 2 + 1, 0), idx(nx // 2, 1)]
     else:
-        fixed = [{"on": "mesh", "vertex": v} for v in (idx(0, 0), idx(nx // 2, 0), idx(nx, 0))]
+        fixed = [idx(0, 0), idx(nx // 2, 0), idx(nx, 0)]
     return scene(
         "quad: curved fold by gluing a zero-width hole",
         "A curved fold (Jiang et al. 2020, Fig. 25): a 24 × 16 cm sheet whose grid rows bow by up "
@@ -604,7 +610,7 @@ def curved_fold(i0=1, i1=23, fixed_frame=True):
         "the SVG (the slit is seam 1) and score the slit instead of cutting it for a paper "
         "model. Fig. 25 has 1.5k vertices (here 446).",
         faces, mesh, "mesh", unfolding=pts, units="cm", handles=handles, fixed=fixed,
-        glue=[{"on": "mesh", "pairs": glue}],
+        glue=glue,
         weights={"fairness_mesh": 0.1, "fairness_unfolding": 0, "mapping": 10})
 
 
@@ -624,7 +630,7 @@ def conformal_flatten():
         "fixed. The result is as isometric as a conformal map of a sphere can be, and starts an "
         "isometric solve of the same mesh. Fig. 4 has 1.1k vertices (here 625).",
         faces, mesh, "unfolding", unfolding=unfolding, conformal=True,
-        fixed=[{"on": "unfolding", "vertex": idx(n // 2, n // 2)}],
+        fixed=[{"vertex": idx(n // 2, n // 2), "on": "unfolding"}],
         weights={"conformality": 1, "conformal_factor": 0.1, "fairness_unfolding": 0.01,
                  "fairness_mesh": 0})
 
@@ -676,13 +682,14 @@ def main():
     args = parser.parse_args()
     for name, doc in presets().items():
         model = doc["model"]
+        faces = model["mesh"]["faces"]
         if model.get("unfolding") is not None:
-            for f, face in enumerate(model["faces"]):
-                assert signed_area(model["unfolding"], face) > 0, "%s: face %d is not ccw" % (name, f)
+            for f, face in enumerate(faces):
+                assert signed_area(model["unfolding"]["vertices"], face) > 0, "%s: face %d is not ccw" % (name, f)
         path = os.path.join(args.out, name + ".json")
         with open(path, "w") as f:
             f.write(dump(doc) + "\n")
-        print("%s: %d vertices, %d faces" % (path, len(model["mesh"]), len(model["faces"])))
+        print("%s: %d vertices, %d faces" % (path, len(model["mesh"]["vertices"]), len(faces)))
 
 
 if __name__ == "__main__":

@@ -33,7 +33,8 @@ def scene(name, description, control, handles, fairness):
     # flatter. Fairness (Algorithm 1's round-0 weight) low: at 0.1 it acts as a tension that
     # shrinks the free boundary toward the held corners (both meshes are variable, so nothing
     # keeps the size) — the surface moved 4.7 cm of 25; at 0.01 1.1 cm (docs/architecture.md).
-    model = {"kind": "quad_mesh", "control": control, "variable": "both", "unfolding_planar": True,
+    # No mesh and no unfolding: the loader refines the control net; M′ is planar (the default).
+    model = {"kind": "quad_mesh", "control": control, "variables": "both",
              "handles": handles,
              "weights": {"mapping": 10, "position": 10, "fairness_mesh": fairness, "fairness_unfolding": fairness},
              "schedule": SCHEDULE}

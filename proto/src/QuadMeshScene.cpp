@@ -133,64 +133,61 @@ void fillFromControlNet(json& m) {
   if (!m.is_object() || !m.contains("control")) return;
   const std::optional<qm::ControlNet> net = controlNetIfWellFormed(m["control"]);
   if (!net) {
-    // The schema reports the control net's fault; faces and mesh must not be reported missing first.
-    if (!m.contains("faces")) m["faces"] = json::array({json::array({0, 1, 2})});
-    if (!m.contains("mesh")) m["mesh"] = json::array({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    // The schema reports the control net's fault; the mesh must not be reported missing first.
+    if (!m.contains("mesh"))
+      m["mesh"] = {{"vertices", json::array({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}})}, {"faces", json::array({json::array({0, 1, 2})})}};
     return;
   }
   const qm::QuadMeshDesign d = refinedDesign(*net);
   json faces = json::array(), mesh = json::array();
   for (const qm::Face& f : d.faces) faces.push_back({f[0], f[1], f[2], f[3]});
   for (Eigen::Index i = 0; i < d.mesh.rows(); ++i) mesh.push_back({d.mesh(i, 0), d.mesh(i, 1), d.mesh(i, 2)});
-  m["faces"] = std::move(faces);
-  m["mesh"] = std::move(mesh);
+  m["mesh"] = {{"vertices", std::move(mesh)}, {"faces", std::move(faces)}};
 }
 
 }  // namespace
 
-void acceptQuadMeshShorthand(json& m) {
+void acceptLegacyQuadMeshSpelling(json& m) {
   if (!m.is_object()) return;
+  if (m.contains("mesh") && m["mesh"].is_array()) {
+    json mesh = {{"vertices", m["mesh"]}};
+    if (m.contains("faces")) {
+      mesh["faces"] = m["faces"];
+      m.erase("faces");
+    }
+    m["mesh"] = std::move(mesh);
+  }
+  if (m.contains("unfolding") && m["unfolding"].is_array()) m["unfolding"] = {{"vertices", m["unfolding"]}};
+  if (m.contains("unfolding_planar")) {
+    if (!m.contains("unfolding")) m["unfolding"] = json::object();
+    if (m["unfolding"].is_object() && !m["unfolding"].contains("planar")) m["unfolding"]["planar"] = m["unfolding_planar"];
+    m.erase("unfolding_planar");
+  }
+  if (m.contains("variable") && !m.contains("variables")) {
+    m["variables"] = m["variable"];
+    m.erase("variable");
+  }
+  if (m.contains("reference") && m["reference"].is_object() && m["reference"].contains("triangles") &&
+      !m["reference"].contains("faces")) {
+    m["reference"]["faces"] = m["reference"]["triangles"];
+    m["reference"].erase("triangles");
+  }
   fillFromControlNet(m);
-  if (m.contains("mesh") && m["mesh"].is_object()) {
-    json mesh = m["mesh"];
-    if (mesh.contains("faces") && !m.contains("faces")) m["faces"] = mesh["faces"];
-    m["mesh"] = mesh.contains("vertices") ? mesh["vertices"] : json::array();
-  }
-  if (m.contains("unfolding") && m["unfolding"].is_object() && m["unfolding"].contains("vertices")) {
-    json vertices = m["unfolding"]["vertices"];
-    m["unfolding"] = std::move(vertices);
-  }
-  if (m.contains("variables") && !m.contains("variable")) {
-    m["variable"] = m["variables"];
-    m.erase("variables");
-  }
-  if (m.contains("fixed") && m["fixed"].is_array()) {
-    json fixed = json::array();
-    for (const json& f : m["fixed"]) fixed.push_back(f.is_number_integer() ? json{{"vertex", f}} : f);
-    m["fixed"] = std::move(fixed);
-  }
-  if (m.contains("glue") && m["glue"].is_array() && !m["glue"].empty() && m["glue"][0].is_array())
-    m["glue"] = json::array({{{"on", "mesh"}, {"pairs", m["glue"]}}});
-  if (m.contains("reference") && m["reference"].is_object() && m["reference"].contains("faces") &&
-      !m["reference"].contains("triangles")) {
-    m["reference"]["triangles"] = m["reference"]["faces"];
-    m["reference"].erase("faces");
-  }
 }
 
 qm::QuadMeshDesign quadMeshFromJson(const json& m) {
   qm::QuadMeshDesign d;
-  const json& mesh = m.at("mesh");
+  const json& mesh = m.at("mesh").at("vertices");
   const std::size_t V = mesh.size();
   d.mesh.resize(static_cast<Eigen::Index>(V), 3);
   for (std::size_t i = 0; i < V; ++i) d.mesh.row(static_cast<Eigen::Index>(i)) = quadPoint3(mesh[i]).transpose();
 
-  const json& faces = m.at("faces");
+  const json& faces = m.at("mesh").at("faces");
   d.faces.reserve(faces.size());
   for (std::size_t f = 0; f < faces.size(); ++f) {
     qm::Face face{-1, -1, -1, -1};
     for (std::size_t k = 0; k < faces[f].size(); ++k)
-      face[k] = vertexIndex(faces[f][k], "model.faces[" + std::to_string(f) + "][" + std::to_string(k) + "]", V);
+      face[k] = vertexIndex(faces[f][k], "model.mesh.faces[" + std::to_string(f) + "][" + std::to_string(k) + "]", V);
     d.faces.push_back(face);
   }
 
@@ -202,27 +199,28 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
                        "refined vertices");
     const qm::QuadMeshDesign refined = refinedDesign(*net);
     if (refined.mesh.rows() != d.mesh.rows() || refined.faces != d.faces)
-      throw SceneError("model.mesh", "control", "the mesh of a control net is its refinement S^k(M)");
+      throw SceneError("model.mesh.vertices", "control", "the mesh of a control net is its refinement S^k(M)");
     d.mesh = refined.mesh;
     d.control = std::move(net);
   }
-  d.unfoldingPlanar = m.value("unfolding_planar", true);
-  if (m.contains("unfolding")) {
-    const json& u = m["unfolding"];
+  const json unfolding = m.value("unfolding", json::object());
+  d.unfoldingPlanar = unfolding.value("planar", true);
+  if (unfolding.contains("vertices")) {
+    const json& u = unfolding["vertices"];
     if (u.size() != V)
-      throw SceneError("model.unfolding", "count",
+      throw SceneError("model.unfolding.vertices", "count",
                        std::to_string(u.size()) + " points, the mesh has " + std::to_string(V) + " vertices");
     d.unfolding = Eigen::MatrixX3d::Zero(static_cast<Eigen::Index>(V), 3);
     for (std::size_t i = 0; i < V; ++i) {
       const json& p = u[i];
       if (!d.unfoldingPlanar && p.size() != 3)
-        throw SceneError(at("model.unfolding", i), "type", "expected [x, y, z]: the unfolding is not planar");
+        throw SceneError(at("model.unfolding.vertices", i), "type", "expected [x, y, z]: the unfolding is not planar");
       for (std::size_t k = 0; k < p.size(); ++k) d.unfolding(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = p[k].get<double>();
       if (d.unfoldingPlanar && p.size() == 3 && p[2].get<double>() != 0.0)
-        throw SceneError(at("model.unfolding", i), "planar", "a planar unfolding has z = 0 (or give [x, y])");
+        throw SceneError(at("model.unfolding.vertices", i), "planar", "a planar unfolding has z = 0 (or give [x, y])");
     }
   }
-  const std::string variable = m.value("variable", std::string("mesh"));
+  const std::string variable = m.value("variables", std::string("mesh"));
   d.variable = variable == "both" ? qm::VariableMeshes::Both
                : variable == "unfolding" ? qm::VariableMeshes::Unfolding
                                           : qm::VariableMeshes::Mesh;
@@ -242,34 +240,42 @@ qm::QuadMeshDesign quadMeshFromJson(const json& m) {
     d.handles.push_back(handle);
   }
   const json fixed = m.value("fixed", json::array());
-  for (std::size_t i = 0; i < fixed.size(); ++i)
-    d.fixed.push_back({sideFromJson(fixed[i]), vertexIndex(fixed[i].at("vertex"), at("model.fixed", i) + ".vertex",
-                                                          pointCount(sideFromJson(fixed[i]), V, d, at("model.fixed", i)))});
+  for (std::size_t i = 0; i < fixed.size(); ++i) {
+    if (fixed[i].is_object())
+      d.fixed.push_back({sideFromJson(fixed[i]), vertexIndex(fixed[i].at("vertex"), at("model.fixed", i) + ".vertex",
+                                                            pointCount(sideFromJson(fixed[i]), V, d, at("model.fixed", i)))});
+    else
+      d.fixed.push_back({qm::MeshSide::Mesh, vertexIndex(fixed[i], at("model.fixed", i), V)});
+  }
   const json glue = m.value("glue", json::array());
+  const auto addGluePair = [&d, V](qm::MeshSide side, const json& pair, const std::string& path) {
+    const int a = vertexIndex(pair[0], path + "[0]", V), b = vertexIndex(pair[1], path + "[1]", V);
+    if (a == b) throw SceneError(path, "pair", "a vertex cannot be glued to itself (" + std::to_string(a) + ")");
+    d.glue.push_back({side, a, b});
+  };
   for (std::size_t i = 0; i < glue.size(); ++i) {
+    if (glue[i].is_array()) {
+      addGluePair(qm::MeshSide::Mesh, glue[i], at("model.glue", i));
+      continue;
+    }
     const qm::MeshSide side = sideFromJson(glue[i]);
     if (side == qm::MeshSide::Control)
       throw SceneError(at("model.glue", i) + ".on", "control", "glue joins vertices of M or M′, not control points");
     const json& pairs = glue[i].at("pairs");
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-      const std::string path = at(at("model.glue", i) + ".pairs", k);
-      const int a = vertexIndex(pairs[k][0], path + "[0]", V), b = vertexIndex(pairs[k][1], path + "[1]", V);
-      if (a == b) throw SceneError(path, "pair", "a vertex cannot be glued to itself (" + std::to_string(a) + ")");
-      d.glue.push_back({side, a, b});
-    }
+    for (std::size_t k = 0; k < pairs.size(); ++k) addGluePair(side, pairs[k], at(at("model.glue", i) + ".pairs", k));
   }
   if (m.contains("reference")) {
     const json& r = m["reference"];
     qm::ReferenceSurface ref;
     const json& rv = r.at("vertices");
-    const json& rt = r.at("triangles");
+    const json& rt = r.at("faces");
     ref.vertices.resize(static_cast<Eigen::Index>(rv.size()), 3);
     for (std::size_t i = 0; i < rv.size(); ++i) ref.vertices.row(static_cast<Eigen::Index>(i)) = quadPoint3(rv[i]).transpose();
     ref.triangles.resize(static_cast<Eigen::Index>(rt.size()), 3);
     for (std::size_t t = 0; t < rt.size(); ++t)
       for (int k = 0; k < 3; ++k)
         ref.triangles(static_cast<Eigen::Index>(t), k) =
-            vertexIndex(rt[t][k], "model.reference.triangles[" + std::to_string(t) + "][" + std::to_string(k) + "]",
+            vertexIndex(rt[t][k], "model.reference.faces[" + std::to_string(t) + "][" + std::to_string(k) + "]",
                         rv.size());
     d.reference = std::move(ref);
   }
@@ -305,10 +311,11 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
     if (f[3] >= 0) face.push_back(f[3]);
     faces.push_back(std::move(face));
   }
-  m["faces"] = std::move(faces);
   json mesh = json::array();
   for (Eigen::Index i = 0; i < d.mesh.rows(); ++i) mesh.push_back({d.mesh(i, 0), d.mesh(i, 1), d.mesh(i, 2)});
-  m["mesh"] = std::move(mesh);
+  m["mesh"] = {{"vertices", std::move(mesh)}, {"faces", std::move(faces)}};
+  json unfolding = json::object();
+  if (!d.unfoldingPlanar) unfolding["planar"] = false;
   if (d.unfolding.rows() > 0) {
     json u = json::array();
     for (Eigen::Index i = 0; i < d.unfolding.rows(); ++i) {
@@ -317,8 +324,9 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
       else
         u.push_back({d.unfolding(i, 0), d.unfolding(i, 1), d.unfolding(i, 2)});
     }
-    m["unfolding"] = std::move(u);
+    unfolding["vertices"] = std::move(u);
   }
+  if (!unfolding.empty()) m["unfolding"] = std::move(unfolding);
   if (d.control) {
     json points = json::array();
     for (Eigen::Index i = 0; i < d.control->points.rows(); ++i)
@@ -336,8 +344,7 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
     if (d.control->smoothness > 0) control["smoothness"] = d.control->smoothness;
     m["control"] = std::move(control);
   }
-  m["unfolding_planar"] = d.unfoldingPlanar;
-  m["variable"] = qm::variableMeshesName(d.variable);
+  m["variables"] = qm::variableMeshesName(d.variable);
   m["conformal"] = d.conformal;
   if (!d.conformalFactors.empty()) m["conformal_factors"] = d.conformalFactors;
   m["gauss_image"] = d.gaussImage;
@@ -353,15 +360,15 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
   if (!handles.empty()) m["handles"] = std::move(handles);
   json fixed = json::array();
   for (const qm::VertexRef& v : d.fixed) {
-    json entry = {{"vertex", v.vertex}};
-    if (v.on != qm::MeshSide::Mesh) entry["on"] = qm::meshSideName(v.on);
-    fixed.push_back(std::move(entry));
+    if (v.on == qm::MeshSide::Mesh) {
+      fixed.push_back(v.vertex);
+      continue;
+    }
+    fixed.push_back({{"vertex", v.vertex}, {"on", qm::meshSideName(v.on)}});
   }
   if (!fixed.empty()) m["fixed"] = std::move(fixed);
-  json meshPairs = json::array(), unfoldingPairs = json::array();
-  for (const qm::GluePair& g : d.glue) (g.on == qm::MeshSide::Mesh ? meshPairs : unfoldingPairs).push_back({g.a, g.b});
-  json glue = json::array();
-  if (!meshPairs.empty()) glue.push_back({{"on", "mesh"}, {"pairs", std::move(meshPairs)}});
+  json glue = json::array(), unfoldingPairs = json::array();
+  for (const qm::GluePair& g : d.glue) (g.on == qm::MeshSide::Mesh ? glue : unfoldingPairs).push_back({g.a, g.b});
   if (!unfoldingPairs.empty()) glue.push_back({{"on", "unfolding"}, {"pairs", std::move(unfoldingPairs)}});
   if (!glue.empty()) m["glue"] = std::move(glue);
   if (d.reference) {
@@ -370,7 +377,7 @@ json quadMeshToJson(const qm::QuadMeshDesign& d) {
       rv.push_back({d.reference->vertices(i, 0), d.reference->vertices(i, 1), d.reference->vertices(i, 2)});
     for (Eigen::Index t = 0; t < d.reference->triangles.rows(); ++t)
       rt.push_back({d.reference->triangles(t, 0), d.reference->triangles(t, 1), d.reference->triangles(t, 2)});
-    m["reference"] = {{"vertices", std::move(rv)}, {"triangles", std::move(rt)}};
+    m["reference"] = {{"vertices", std::move(rv)}, {"faces", std::move(rt)}};
   }
   const qm::QuadMeshWeights& w = d.weights;
   m["weights"] = {{"isometry", w.isometry},           {"conformality", w.conformality},

@@ -199,7 +199,7 @@ void estimateQuadMesh(const models::quad_mesh::QuadMeshDesign& d, ResourceEstima
       kQuadBytesPerRowPair * 3.0 * F * perRow * perRow);
   add(e, "model.mesh", number(V) + " vertices of M and M′", kQuadBytesPerVertex * V);
   if (d.reference)
-    add(e, "model.reference.triangles", number(static_cast<double>(d.reference->triangles.rows())) +
+    add(e, "model.reference.faces", number(static_cast<double>(d.reference->triangles.rows())) +
                                             " reference triangles (search tree)",
         200.0 * static_cast<double>(d.reference->triangles.rows()));
 }
@@ -229,7 +229,7 @@ int countControlPoints(const Scene& scene, std::string& largestPath) {
     count(k->p.points.rows(), "model.p.points");
     count(k->q.points.rows(), "model.q.points");
   } else if (const auto* m = std::get_if<models::quad_mesh::QuadMeshDesign>(&scene.model)) {
-    count(m->mesh.rows(), "model.mesh");
+    count(m->mesh.rows(), "model.mesh.vertices");
   }
   return static_cast<int>(std::min<long>(total, 2147483647L));
 }

@@ -626,13 +626,13 @@ void checkModelNumbers(const json& j, const std::string& path, bool coordinates)
 }  // namespace
 
 Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
-  // A quad_mesh model may be written in issue 13's shorthand; it is read as the scene's spelling.
+  // A quad_mesh model written in the spelling before issue 13's contract is read as the contract's.
   const bool shorthand = given.is_object() && given.contains("model") && given["model"].is_object() &&
                          given["model"].value("kind", json()) == "quad_mesh";
   json rewritten;
   if (shorthand) {
     rewritten = given;
-    acceptQuadMeshShorthand(rewritten["model"]);
+    acceptLegacyQuadMeshSpelling(rewritten["model"]);
   }
   const json& document = shorthand ? rewritten : given;
   const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
@@ -829,7 +829,8 @@ void collectControlPoints(const json& j, bool inside, Eigen::Vector3d& lo, Eigen
     for (const json& e : j) collectControlPoints(e, inside, lo, hi, count);
   } else if (j.is_object()) {
     for (const auto& [key, value] : j.items())
-      if (key != "handles" && key != "development") collectControlPoints(value, inside || key == "points" || key == "vertices" || key == "mesh", lo, hi, count);
+      if (key != "handles" && key != "development" && key != "unfolding")
+        collectControlPoints(value, inside || key == "points" || key == "vertices", lo, hi, count);
   }
 }
 

@@ -356,7 +356,7 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
         u.push_back(planar ? nlohmann::json{flat.vertices(i, 0), flat.vertices(i, 1)}
                            : nlohmann::json{flat.vertices(i, 0), flat.vertices(i, 1), flat.vertices(i, 2)});
       model["unfolding"] = {{"vertices", u}};
-      model["unfolding_planar"] = planar;
+      if (!planar) model["unfolding"]["planar"] = false;
     }
     model["variables"] = !variables.empty() ? variables : unfoldingPath.empty() ? "both" : "mesh";
     if (proximity) {

@@ -113,7 +113,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
     const qm::QuadMeshDesign d = model.design();
     if (!d.unfoldingPlanar)
       throw ExportUnavailable("format: " + format + " draws a planar unfolding; this scene's M′ is a second surface "
-                              "(unfolding_planar false)");
+                              "(unfolding.planar false)");
     const double mm = proto::millimetresPerUnit(scene_.units);
     try {
       if (format == "dxf") {

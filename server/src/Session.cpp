@@ -58,6 +58,7 @@ namespace qm = models::quad_mesh;
 
 /// A quad_mesh vertex of a target or scene entry ({"vertex"} with optional "on").
 qm::VertexRef quadRefOf(const json& target) {
+  if (target.is_number_integer()) return {qm::MeshSide::Mesh, target.get<int>()};  // a scene's fixed vertex of M
   const std::string on = target.value("on", std::string("mesh"));
   return {on == "unfolding" ? qm::MeshSide::Unfolding : on == "control" ? qm::MeshSide::Control : qm::MeshSide::Mesh,
           target.at("vertex").get<int>()};
@@ -945,8 +946,8 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     else
       je["crease"] = crease;
   } else if (type == "set_params" && std::holds_alternative<qm::QuadMeshDesign>(current.model)) {
-    static const std::vector<std::string> kQuadMesh = {"weights", "schedule", "variable", "conformal", "gauss_image",
-                                                       "glue"};
+    static const std::vector<std::string> kQuadMesh = {"weights", "schedule", "variable", "variables", "conformal",
+                                                       "gauss_image", "glue"};
     for (const auto& [key, value] : edit["params"].items()) {
       if (std::find(kQuadMesh.begin(), kQuadMesh.end(), key) == kQuadMesh.end())
         return reject("invalid", "\"" + key + "\" is not a quad_mesh parameter (weights, schedule, variable, conformal, "
@@ -954,6 +955,8 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
                       "params." + key);
       if (key == "weights" || key == "schedule")
         for (const auto& [k, v] : value.items()) model[key][k] = v;
+      else if (key == "variable" || key == "variables")  // the scene spells it "variables"
+        model["variables"] = value;
       else
         model[key] = value;
     }

@@ -60,7 +60,7 @@ std::vector<Eigen::Vector3d> allPoints(const json& model) {
   if (model.contains("vertices"))
     for (const json& p : model["vertices"]) pts.push_back(vec(p));
   if (model.contains("mesh"))  // quad_mesh: M
-    for (const json& p : model["mesh"]) pts.push_back(vec(p));
+    for (const json& p : model["mesh"]["vertices"]) pts.push_back(vec(p));
   if (model.contains("control"))  // quad_mesh spline surface: its control points
     for (const json& p : model["control"]["points"]) pts.push_back(vec(p));
   if (model.contains("edges"))
@@ -71,7 +71,7 @@ std::vector<Eigen::Vector3d> allPoints(const json& model) {
 
 bool isFixed(const json& model, const json& target) {
   for (const json& f : model.value("fixed", json::array())) {
-    json key = f;
+    const json key = f.is_number_integer() ? json{{"vertex", f}} : f;  // quad_mesh: a vertex of M by its index
     if (key == target) return true;
   }
   return false;
@@ -156,10 +156,10 @@ std::vector<DragTarget> dragTargets(const json& model, const Eigen::Vector3d& ce
   if (kind == "quad_mesh") {
     // M's vertices (M′'s when only the unfolding moves): the boundary vertex farthest from the
     // centre, the boundary vertex nearest to it and the interior vertex farthest from it.
-    const bool onUnfolding = model.value("variable", "mesh") == "unfolding";
-    const json& points = model[onUnfolding ? "unfolding" : "mesh"];
+    const bool onUnfolding = model.value("variables", "mesh") == "unfolding";
+    const json& points = model[onUnfolding ? "unfolding" : "mesh"]["vertices"];
     std::map<std::pair<int, int>, int> edgeFaces;
-    for (const json& f : model["faces"])
+    for (const json& f : model["mesh"]["faces"])
       for (std::size_t k = 0; k < f.size(); ++k) {
         const int a = f[k], b = f[(k + 1) % f.size()];
         ++edgeFaces[{std::min(a, b), std::max(a, b)}];
@@ -243,7 +243,7 @@ Eigen::Vector3d currentPosition(const json& model, const json& target) {
   if (model["kind"] == "quad_mesh") {
     const std::string on = target.value("on", "mesh");
     const json& p = on == "control" ? model["control"]["points"][target["vertex"].get<std::size_t>()]
-                                    : model[on == "unfolding" ? "unfolding" : "mesh"][target["vertex"].get<std::size_t>()];
+                                    : model[on == "unfolding" ? "unfolding" : "mesh"]["vertices"][target["vertex"].get<std::size_t>()];
     return {p[0].get<double>(), p[1].get<double>(), p.size() > 2 ? p[2].get<double>() : 0.0};
   }
   if (target.contains("vertex")) return vec(model["vertices"][target["vertex"].get<std::size_t>()]);

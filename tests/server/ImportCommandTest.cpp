@@ -59,11 +59,11 @@ TEST(ImportCommand, MakesAQuadMeshSceneThatSolvesFromAnObjFile) {
   const json scene = json::parse(r.out);
   const json& m = scene["model"];
   EXPECT_EQ(m["kind"], "quad_mesh");
-  EXPECT_EQ(m["mesh"].size(), 81u);
-  EXPECT_EQ(m["faces"].size(), 65u);
-  EXPECT_EQ(m["faces"][0].size(), 3u) << "triangles kept as triangles";
-  EXPECT_EQ(m["variable"], "both");
-  EXPECT_EQ(m["reference"]["triangles"].size(), 2u + 2u * 63u);
+  EXPECT_EQ(m["mesh"]["vertices"].size(), 81u);
+  EXPECT_EQ(m["mesh"]["faces"].size(), 65u);
+  EXPECT_EQ(m["mesh"]["faces"][0].size(), 3u) << "triangles kept as triangles";
+  EXPECT_EQ(m["variables"], "both");
+  EXPECT_EQ(m["reference"]["faces"].size(), 2u + 2u * 63u);
   EXPECT_EQ(scene["units"], "cm");
   // It is a scene like any other: the solver makes the saddle developable near itself.
   const std::string scenePath = importTempPath("saddle.json");
@@ -82,8 +82,9 @@ TEST(ImportCommand, TakesAnUnfoldingWithTheSameFacesAndRefusesOneWithout) {
   const CliRun r = runCommand({"import", mesh, "--unfolding", flat});
   ASSERT_EQ(r.code, 0) << r.err;
   const json m = json::parse(r.out)["model"];
-  EXPECT_EQ(m["variable"], "mesh");
-  EXPECT_EQ(m["unfolding"][3].size(), 2u) << "a planar unfolding is written as [x, y]";
+  EXPECT_EQ(m["variables"], "mesh");
+  EXPECT_EQ(m["unfolding"]["vertices"][3].size(), 2u) << "a planar unfolding is written as [x, y]";
+  EXPECT_FALSE(m["unfolding"].contains("planar")) << "planar is the default, written only when false";
   const CliRun bad = runCommand({"import", mesh, "--unfolding", other});
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("the unfolding must have the mesh's vertices and faces"), std::string::npos) << bad.err;
@@ -104,30 +105,63 @@ TEST(ImportCommand, BadFilesAndOptionsAreNamed) {
   std::filesystem::remove(pentagon);
 }
 
-TEST(QuadMeshShorthand, TheIssuesSpellingReadsAsTheScenesOwn) {
-  const json shorthand = json::parse(R"({"format":"devsurf-scene","version":1,"model":{"kind":"quad_mesh",
+TEST(QuadMeshSpelling, TheContractsSpellingIsWhatIsReadAndWrittenBack) {
+  const json contract = json::parse(R"({"format":"devsurf-scene","version":1,"model":{"kind":"quad_mesh",
     "mesh":{"vertices":[[0,0,0],[1,0,0],[1,1,0.1],[0,1,0],[2,0,0],[2,1,0]],"faces":[[0,1,2,3],[1,4,5,2]]},
     "unfolding":{"vertices":[[0,0],[1,0],[1,1],[0,1],[2,0],[2,1]]},"variables":"mesh","fixed":[0,3],
     "handles":[{"vertex":5,"position":[2,1,0.5]}],"glue":[[4,0]],
     "reference":{"vertices":[[0,0,0],[2,0,0],[0,2,0]],"faces":[[0,1,2]]}}})");
-  const proto::Scene scene = proto::sceneFromJson(shorthand);
+  const proto::Scene scene = proto::sceneFromJson(contract);
   const json m = proto::sceneToJson(scene)["model"];
-  EXPECT_EQ(m["faces"], json::parse("[[0,1,2,3],[1,4,5,2]]"));
-  EXPECT_EQ(m["mesh"].size(), 6u);
-  EXPECT_EQ(m["variable"], "mesh");
-  EXPECT_EQ(m["fixed"], json::parse(R"([{"vertex":0},{"vertex":3}])"));
-  EXPECT_EQ(m["glue"], json::parse(R"([{"on":"mesh","pairs":[[4,0]]}])"));
-  EXPECT_EQ(m["reference"]["triangles"], json::parse("[[0,1,2]]"));
+  for (const char* key : {"mesh", "unfolding", "variables", "fixed", "glue", "reference"})
+    EXPECT_EQ(m[key], contract["model"][key]) << key << " is written as the contract spells it";
+  for (const char* legacy : {"faces", "variable", "unfolding_planar"}) EXPECT_FALSE(m.contains(legacy)) << legacy;
   // And it reads back from its own spelling to the same document.
   EXPECT_EQ(proto::sceneToJson(proto::sceneFromJson(proto::sceneToJson(scene))), proto::sceneToJson(scene));
-  // A bad index in the shorthand is named in the scene's spelling.
-  json bad = shorthand;
-  bad["model"]["glue"] = json::parse("[[4,40]]");
+  // A bad index is named where it stands.
+  json bad = contract;
+  bad["model"]["glue"] = json::parse("[[4,0],[4,40]]");
   try {
     proto::sceneFromJson(bad);
     FAIL() << "accepted a glue pair with vertex 40";
   } catch (const proto::SceneError& e) {
-    EXPECT_EQ(e.path(), "model.glue[0].pairs[0][1]");
+    EXPECT_EQ(e.path(), "model.glue[1][1]");
+  }
+  bad = contract;
+  bad["model"]["mesh"]["faces"][1][2] = 9;
+  try {
+    proto::sceneFromJson(bad);
+    FAIL() << "accepted a face with vertex 9";
+  } catch (const proto::SceneError& e) {
+    EXPECT_EQ(e.path(), "model.mesh.faces[1][2]");
+  }
+}
+
+TEST(QuadMeshSpelling, ScenesWrittenBeforeTheContractReadAsTheSameDesign) {
+  // The spelling devsurf wrote until issue 13's contract was adopted: faces and mesh apart,
+  // unfolding as a list with unfolding_planar, variable, {vertex} and {on, pairs} objects,
+  // reference triangles. Files of that time still open, and M′ on its own glue group keeps its side.
+  const json legacy = json::parse(R"({"format":"devsurf-scene","version":1,"model":{"kind":"quad_mesh",
+    "faces":[[0,1,2,3],[1,4,5,2]],"mesh":[[0,0,0],[1,0,0],[1,1,0.1],[0,1,0],[2,0,0],[2,1,0]],
+    "unfolding":[[0,0,0],[1,0,0],[1,1,0],[0,1,0],[2,0,0],[2,1,0]],"unfolding_planar":false,"variable":"both",
+    "fixed":[{"vertex":0},{"vertex":3,"on":"unfolding"}],"handles":[{"vertex":5,"position":[2,1,0.5]}],
+    "glue":[{"on":"mesh","pairs":[[4,0]]},{"on":"unfolding","pairs":[[5,3]]}],
+    "reference":{"vertices":[[0,0,0],[2,0,0],[0,2,0]],"triangles":[[0,1,2]]}}})");
+  const json m = proto::sceneToJson(proto::sceneFromJson(legacy))["model"];
+  EXPECT_EQ(m["mesh"]["faces"], legacy["model"]["faces"]);
+  EXPECT_EQ(m["mesh"]["vertices"], legacy["model"]["mesh"]);
+  EXPECT_EQ(m["unfolding"], json::parse(R"({"planar":false,"vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0],[2,0,0],[2,1,0]]})"));
+  EXPECT_EQ(m["variables"], "both");
+  EXPECT_EQ(m["fixed"], json::parse(R"([0,{"on":"unfolding","vertex":3}])"));
+  EXPECT_EQ(m["glue"], json::parse(R"([[4,0],{"on":"unfolding","pairs":[[5,3]]}])"));
+  EXPECT_EQ(m["reference"]["faces"], json::parse("[[0,1,2]]"));
+  json bad = legacy;
+  bad["model"]["faces"][0][0] = 6;
+  try {
+    proto::sceneFromJson(bad);
+    FAIL() << "accepted a face with vertex 6";
+  } catch (const proto::SceneError& e) {
+    EXPECT_EQ(e.path(), "model.mesh.faces[0][0]") << "named in the spelling the scene is written in now";
   }
 }
 

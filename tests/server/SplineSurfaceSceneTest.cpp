@@ -46,14 +46,14 @@ TEST(SplineSurfaceScene, SolvesAndItsSolvedSceneSolvesAgainToTheSameQuality) {
   EXPECT_LE(l1, 1.2e-3);  // Fig. 22 row 13: 0.12 %
   const json solved = proto::sceneToJson(first.currentScene());
   ASSERT_TRUE(solved["model"].contains("control"));
-  EXPECT_EQ(solved["model"]["mesh"].size(), 19u * 19u);
-  EXPECT_EQ(solved["model"]["faces"].size(), 18u * 18u);
+  EXPECT_EQ(solved["model"]["mesh"]["vertices"].size(), 19u * 19u);
+  EXPECT_EQ(solved["model"]["mesh"]["faces"].size(), 18u * 18u);
   // The mesh written is S^k of the control points written.
   Eigen::MatrixXd control(49, 3), mesh(361, 3);
   for (int j = 0; j < 49; ++j)
     for (int k = 0; k < 3; ++k) control(j, k) = solved["model"]["control"]["points"][j][k].get<double>();
   for (int i = 0; i < 361; ++i)
-    for (int k = 0; k < 3; ++k) mesh(i, k) = solved["model"]["mesh"][i][k].get<double>();
+    for (int k = 0; k < 3; ++k) mesh(i, k) = solved["model"]["mesh"]["vertices"][i][k].get<double>();
   EXPECT_LT((spline::cubicGridSubdivisionMatrix(7, 7, 2) * control - mesh).cwiseAbs().maxCoeff(), 1e-12);
 
   SceneSolver again(proto::sceneFromJson(solved));

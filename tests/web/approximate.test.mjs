@@ -35,13 +35,13 @@ test('a mesh uploaded on the start page opens as glued developable patches that 
     const opened = await h.state(page);
     const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
     assert.equal(server.scene.model.kind, 'quad_mesh');
-    assert.equal(server.scene.model.reference.triangles.length, 1396, "patch-01.off's triangles are the reference");
+    assert.equal(server.scene.model.reference.faces.length, 1396, "patch-01.off's triangles are the reference");
     assert.equal(server.scene.name, 'patch-01 in developable patches');
     await page.getByTestId('solve').click();
     await h.waitState(page, (s) => s.lastSolved && s.metrics && typeof s.metrics.approximation_distance_rms_relative === 'number'
       && s.metrics.length_error < 1e-3, undefined, { what: 'solved patches with approximation metrics', timeout: 90000 });
     const st = await h.state(page);
-    console.log(`patch-01 in ${server.scene.model.faces.length} faces: L-Err ${(100 * st.metrics.length_error).toFixed(4)} %, `
+    console.log(`patch-01 in ${server.scene.model.mesh.faces.length} faces: L-Err ${(100 * st.metrics.length_error).toFixed(4)} %, `
       + `RMS ${(100 * st.metrics.approximation_distance_rms_relative).toFixed(3)} % of the diagonal`);
     assert.ok(st.metrics.approximation_distance_rms_relative < 0.01, 'the patches stay on the mesh');
     assert.match(await page.getByTestId('status-fit').textContent(), /^RMS [\d.]+ % · max [\d.]+ % · [\d.]+ % covered$/);

@@ -40,6 +40,18 @@ async function caughtUp(page, daemon, demo, after) {
 
 const openDemo = (page, daemon, id) => h.openQuadMeshDemo(page, daemon, id);
 
+/**
+ * The glue pairs of a quad_mesh scene model in issue 13's spelling: plain pairs [i, j] glue
+ * vertices of M; pairs of M′ come in one { on: 'unfolding', pairs } object after them.
+ */
+function gluePairs(model) {
+  return model.glue.flatMap((g) => {
+    if (Array.isArray(g)) return [g];
+    assert.equal(g.on, 'unfolding', `pairs on M are plain [i, j]: ${JSON.stringify(g)}`);
+    return g.pairs;
+  });
+}
+
 test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K turns the Gauss image on', { timeout: 240000 }, () =>
   ctx.guard('quad-mesh', async () => {
     const { daemon } = ctx;
@@ -62,7 +74,7 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
     const released = server0.metrics.length_error;
     assert.ok(released > 0 && released < 0.02, `the demo starts isometric enough: L-Err ${released}`);
     const mid = 12;  // middle of the sheet's first row (boundary)
-    const p0 = server0.scene.model.mesh[mid];
+    const p0 = server0.scene.model.mesh.vertices[mid];
 
     // A long drag as a mouse sends it: 30 real pointer moves, a burst of 60 pointermove events
     // within one frame (the app sends at most one drag per animation frame, the latest position),
@@ -104,7 +116,7 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
     await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
     const { st, server } = await caughtUp(page, daemon, demo, server0.seq);
     const m = server.metrics;
-    const moved = Math.hypot(...server.scene.model.mesh[mid].map((v, i) => v - p0[i]));
+    const moved = Math.hypot(...server.scene.model.mesh.vertices[mid].map((v, i) => v - p0[i]));
     const dragMessages = drags().length - drags0;
     console.log(`quad drag: ${dragMessages} drag messages, ${st.iterateCount - st0.iterateCount} iterates, vertex ${mid} moved ${moved.toFixed(3)}, `
       + `L-Err ${released} → ${m.length_error}, A-Err ${m.area_error}, flipped ${m.unfolding_flipped_faces}`);
@@ -146,7 +158,7 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
     const page = await ctx.page();
     const demo = await openDemo(page, daemon, 'demo-quad-cut-glue');
     const scene0 = (await daemon.session(demo.id, demo.view_token)).scene;
-    const pairs0 = scene0.model.glue.flatMap((g) => g.pairs);
+    const pairs0 = gluePairs(scene0.model);
     const [a, b] = pairs0[4];
 
     // Unglue one pair with its remove button (the list shows every pair).
@@ -155,7 +167,7 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
     await page.getByTestId('glue-pair').nth(4).getByTestId('glue-remove').click();
     const removed = await h.poll(async () => {
       const s = await daemon.session(demo.id, demo.view_token);
-      return { s, ok: s.seq > seq0 && s.scene.model.glue.flatMap((g) => g.pairs).length === pairs0.length - 1 };
+      return { s, ok: s.seq > seq0 && gluePairs(s.scene.model).length === pairs0.length - 1 };
     });
     assert.ok(removed.ok, 'the pair was removed from the scene');
     await page.waitForFunction((n) => document.querySelectorAll('[data-testid="glue-pair"]').length === n, pairs0.length - 1);
@@ -166,7 +178,7 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
     await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
     const opened = await caughtUp(page, daemon, demo, removed.s.seq);
     const gap = (s) => {
-      const m = s.scene.model.mesh;
+      const m = s.scene.model.mesh.vertices;
       return Math.hypot(...m[a].map((v, i) => v - m[b][i]));
     };
     console.log(`glue: pair ${a}–${b} removed, dragged apart: gap ${gap(opened.server).toFixed(3)}, glue_gap_max ${opened.server.metrics.glue_gap_max}, `
@@ -185,7 +197,7 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
     await page.mouse.click(pb.x, pb.y);
     const glued = await h.poll(async () => {
       const s = await daemon.session(demo.id, demo.view_token);
-      const pairs = s.scene.model.glue.flatMap((g) => g.pairs);
+      const pairs = gluePairs(s.scene.model);
       return { s, pairs, ok: s.seq > seq1 && pairs.length === pairs0.length };
     });
     assert.ok(glued.ok, `the scene's glue grew back to ${pairs0.length} pairs`);
@@ -214,9 +226,9 @@ test('where the unfolding is variable, a vertex of M′ drags in the 2D view', {
     page.on('websocket', (ws) => ws.on('framesent', (f) => { try { sent.push(JSON.parse(f.payload)); } catch { /* binary */ } }));
     const demo = await openDemo(page, daemon, 'demo-quad-developable-approx');
     const server0 = await daemon.session(demo.id, demo.view_token);
-    assert.equal(server0.scene.model.variable, 'both');
+    assert.equal(server0.scene.model.variables, 'both');
     const corner = 0;
-    const u0 = server0.scene.model.unfolding[corner];
+    const u0 = server0.scene.model.unfolding.vertices[corner];
     const st0 = await h.state(page);
     const from = await unfoldingPagePosition(page, corner);
     await h.dragBy(page, from, { dx: -30, dy: 25, steps: 20, pauseMs: 10 });
@@ -226,7 +238,7 @@ test('where the unfolding is variable, a vertex of M′ drags in the 2D view', {
     assert.ok(drags.length > 0 && drags.every((x) => x.target.on === 'unfolding' && x.target.vertex === corner && x.position[2] === 0),
       `drags address vertex ${corner} of M′ in its plane: ${JSON.stringify(drags.slice(0, 2))}`);
     assert.ok(sent.some((x) => x.type === 'drag_end' && x.target.on === 'unfolding'), 'drag_end on release');
-    const u1 = server.scene.model.unfolding[corner];
+    const u1 = server.scene.model.unfolding.vertices[corner];
     const moved = Math.hypot(u1[0] - u0[0], u1[1] - u0[1]);
     console.log(`M′ drag: ${drags.length} drag messages, corner of M′ moved ${moved.toFixed(3)}, L-Err ${server.metrics.length_error}, flipped ${server.metrics.unfolding_flipped_faces}`);
     assert.equal(st.lastError, null);

@@ -6,8 +6,9 @@ import { divergingColorAt } from '../src/geometry/colormap.js';
 import {
   AddHandleCommand, DragCommand, DragEndCommand, RemoveHandleCommand, SetFixedCommand, SetParamsCommand, sameTarget, targetKey, targetLabel, targetOf,
 } from '../src/commands/index.js';
-import { glueCommand, gluePairList, isGlued, withGluePair, withoutGluePair } from '../src/commands/glue.js';
+import { glueCommand, gluePairList, isGlued, normalizedGlue, withGluePair, withoutGluePair } from '../src/commands/glue.js';
 import { percent } from '../src/ui/QuadMeshControls.js';
+import { exportFormats } from '../src/ui/exportFormats.js';
 import { f32, i32, validClient } from './helpers/proto.js';
 
 
@@ -230,6 +231,15 @@ describe('glue list edits', () => {
     expect(() => withoutGluePair(glue, 1, 1)).toThrow(RangeError);
   });
 
+  it('read the scene\'s spelling: bare pairs of M form one group where the first stands', () => {
+    const scene = [[1, 2], { on: 'unfolding', pairs: [[5, 6]] }, [3, 4]];
+    expect(normalizedGlue(scene)).toEqual([{ on: 'mesh', pairs: [[1, 2], [3, 4]] }, { on: 'unfolding', pairs: [[5, 6]] }]);
+    expect(withGluePair(scene, 'mesh', 7, 8)).toEqual([{ on: 'mesh', pairs: [[1, 2], [3, 4], [7, 8]] }, { on: 'unfolding', pairs: [[5, 6]] }]);
+    expect(isGlued(scene, 'mesh', 4, 3)).toBe(true);
+    expect(gluePairList(scene).map((p) => `${p.on}:${p.pair.join('-')}@${p.group}.${p.index}`)).toEqual(['mesh:1-2@0.0', 'mesh:3-4@0.1', 'unfolding:5-6@1.0']);
+    expect(withoutGluePair(scene, 0, 1)).toEqual([{ on: 'mesh', pairs: [[1, 2]] }, { on: 'unfolding', pairs: [[5, 6]] }]);
+  });
+
   it('list the pairs in order and send the whole list', () => {
     expect(gluePairList(glue).map((p) => `${p.on}:${p.pair.join('-')}@${p.group}.${p.index}`)).toEqual(['mesh:1-2@0.0', 'mesh:3-4@0.1', 'unfolding:5-6@1.0']);
     const msg = glueCommand(withGluePair(glue, 'mesh', 7, 8)).toMessage(3);
@@ -245,5 +255,15 @@ describe('metric formats', () => {
     expect(percent(0)).toBe('0 %');
     expect(percent(1e-9)).toBe('1.00e-7 %');
     expect(percent(undefined)).toBe('–');
+  });
+});
+
+describe('export menu of a quad_mesh scene', () => {
+  it('offers the flat pattern unless the scene says its unfolding is a second surface', () => {
+    const flat = exportFormats('quad_mesh', { kind: 'quad_mesh', mesh: { vertices: [], faces: [] }, unfolding: { vertices: [] } });
+    expect(flat).toEqual(expect.arrayContaining(['svg', 'dxf', 'fold']));
+    const surface = exportFormats('quad_mesh', { kind: 'quad_mesh', mesh: { vertices: [], faces: [] }, unfolding: { planar: false } });
+    expect(surface).not.toContain('svg');
+    expect(surface).not.toContain('dxf');
   });
 });

@@ -321,9 +321,10 @@ def targets_of(scene):
         for k, p in enumerate(edge.get("points", [])):
             out.append(({"edge": e, "index": k}, p[:3]))
     if model.get("kind") == "quad_mesh":  # vertices of M, and of M′ (z = 0 when planar)
-        for i, p in enumerate(model.get("mesh", [])):
+        # (issue 13's spelling: "mesh": {"vertices", "faces"}, "unfolding": {"vertices", "planar"})
+        for i, p in enumerate(model.get("mesh", {}).get("vertices", [])):
             out.append(({"vertex": i}, p[:3]))
-        for i, p in enumerate(model.get("unfolding", [])):
+        for i, p in enumerate(model.get("unfolding", {}).get("vertices", [])):
             out.append(({"vertex": i, "on": "unfolding"}, (list(p) + [0.0])[:3]))
         # A spline surface: its control points (the scene file may give no mesh: the loader
         # writes S^k(M) from the net).

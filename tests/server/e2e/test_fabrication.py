@@ -216,7 +216,7 @@ class FabricationExportsOfEveryPreset(unittest.TestCase):
             with self.subTest(preset=name):
                 model = scene["model"]
                 mm = MM[scene.get("units", "mm")]
-                if model["kind"] == "quad_mesh" and model.get("unfolding_planar") is False:
+                if model["kind"] == "quad_mesh" and model["unfolding"].get("planar", True) is False:
                     status, raw = self.export(demo, "dxf")
                     self.assertEqual(status, 400, "a second surface has no flat pattern")
                     continue

@@ -254,7 +254,7 @@ class ProtocolTest(DaemonTestCase):
         self.assertEqual(scene["solver"]["iterations"], 20)
         self.assertGreater(summary["quads"], 200)
         self.assertGreaterEqual(summary["patches"], 2)
-        self.assertEqual(len(scene["model"]["reference"]["triangles"]), 2 * n * n)
+        self.assertEqual(len(scene["model"]["reference"]["faces"]), 2 * n * n)
         # As a batch job, with progress, to a developable result near the mesh.
         state = self.finished_job(scene)
         self.assertEqual(state["progress"]["iteration"], state["progress"]["of"])

@@ -1,14 +1,29 @@
-// The glue list of a quad_mesh scene ([{on: 'mesh'|'unfolding', pairs: [[i, j], …]}]) edited as a
-// value: a `set_params` glue replaces the whole list, so every edit builds the next list from the
-// current one. Pure functions; the command is a SetParamsCommand.
+// The glue list of a quad_mesh scene edited as a value: a `set_params` glue replaces the whole list,
+// so every edit builds the next list from the current one. A scene writes pairs of M as bare
+// [i, j] items and the pairs of M′ as {on: 'unfolding', pairs} (older scenes: {on, pairs} groups
+// for both); the edits work on groups [{on: 'mesh'|'unfolding', pairs: [[i, j], …]}], which the
+// message's params.glue takes. Pure functions; the command is a SetParamsCommand.
 
 import { SetParamsCommand } from './SetParamsCommand.js';
 
 const sides = ['mesh', 'unfolding'];
 
-/** A copy of a scene's glue list with `on` filled in and pairs copied. */
+/**
+ * A copy of a scene's glue list as groups, `on` filled in and pairs copied; the scene's bare pairs
+ * of M form one group, where the first of them stands.
+ */
 export function normalizedGlue(glue) {
-  return (Array.isArray(glue) ? glue : []).map((g) => ({ on: g.on || 'mesh', pairs: (g.pairs || []).map((p) => [p[0], p[1]]) }));
+  const groups = [];
+  let bare = null;
+  for (const g of Array.isArray(glue) ? glue : []) {
+    if (Array.isArray(g)) {
+      if (!bare) groups.push((bare = { on: 'mesh', pairs: [] }));
+      bare.pairs.push([g[0], g[1]]);
+    } else if (g && typeof g === 'object') {
+      groups.push({ on: g.on || 'mesh', pairs: (g.pairs || []).map((p) => [p[0], p[1]]) });
+    }
+  }
+  return groups;
 }
 
 /** Every glued pair in list order: [{on, pair: [i, j], group, index}] (group/index locate it). */

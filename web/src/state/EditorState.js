@@ -217,7 +217,8 @@ export class EditorState {
     if (scene && scene.model && scene.model.kind) this.kind = scene.model.kind;
     const model = (scene && scene.model) || {};
     this.constraints = {
-      fixed: (constraints && constraints.fixed) || model.fixed || [],
+      // A quad_mesh scene writes a fixed vertex of M as its index; a target is {vertex}.
+      fixed: (constraints && constraints.fixed) || (model.fixed || []).map((f) => (Number.isInteger(f) ? { vertex: f } : f)),
       handles: (constraints && constraints.handles) || model.handles || [],
     };
   }

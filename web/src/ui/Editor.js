@@ -551,9 +551,10 @@ export class Editor {
       if (c && Array.isArray(c.points) && c.points.length === this.quad.spline.controlCount) {
         c.points = c.points.map((p, i) => round(this.quad.pointOf({ vertex: i, on: 'control' })));
       }
-      if (Array.isArray(model.mesh) && model.mesh.length === V) model.mesh = model.mesh.map((v, i) => round(this.quad.pointOf({ vertex: i })));
-      if (Array.isArray(model.unfolding) && model.unfolding.length === V) {
-        model.unfolding = model.unfolding.map((v, i) => round(this.quad.pointOf({ vertex: i, on: 'unfolding' })).slice(0, v.length));
+      const mesh = model.mesh || {}, unfolding = model.unfolding || {};
+      if (Array.isArray(mesh.vertices) && mesh.vertices.length === V) mesh.vertices = mesh.vertices.map((v, i) => round(this.quad.pointOf({ vertex: i })));
+      if (Array.isArray(unfolding.vertices) && unfolding.vertices.length === V) {
+        unfolding.vertices = unfolding.vertices.map((v, i) => round(this.quad.pointOf({ vertex: i, on: 'unfolding' })).slice(0, v.length));
       }
     }
     for (const c of this.buffers.curveNames) {
@@ -562,7 +563,8 @@ export class Editor {
         model[c].points = Array.from({ length: n }, (_, i) => this.buffers.point(c, i).map((v) => Number(v.toPrecision(7))));
       }
     }
-    model.fixed = st.constraints.fixed;
+    // The scene's spelling: a quad_mesh writes a fixed vertex of M as its index.
+    model.fixed = model.kind === 'quad_mesh' ? st.constraints.fixed.map((f) => (f.on ? f : f.vertex)) : st.constraints.fixed;
     model.handles = st.constraints.handles;
     if (!model.handles.length) delete model.handles;
     if (!model.fixed.length) delete model.fixed;

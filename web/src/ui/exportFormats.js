@@ -28,7 +28,7 @@ export function exportFormats(kind, model) {
   const quad = kind === 'quad_mesh';
   const development = composite && !!(model && model.development);
   const pieces = composite && cutAlongSeams(model);
-  const flat = composite ? development || pieces : quad ? !(model && model.unfolding_planar === false) : true;
+  const flat = composite ? development || pieces : quad ? !(model && model.unfolding && model.unfolding.planar === false) : true;
   const spline = quad && !!(model && model.control);
   const formats = new Set(['json', 'obj', 'stl']);
   if (flat) { formats.add('svg'); formats.add('dxf'); }

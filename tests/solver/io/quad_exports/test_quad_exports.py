@@ -76,14 +76,24 @@ def tube_case():
 
 
 def preset_case(path):
+    """A preset's scene model (issue 13's spelling: "mesh": {"vertices", "faces"}, "unfolding":
+    {"vertices"}, glue pairs [i, j] on M then one {"on": "unfolding", "pairs"} object) as a case."""
     with open(path) as f:
         model = json.load(f)["model"]
-    pts = model.get("unfolding")
-    if pts is None:  # the model flattens M to start: any planar stand-in will do for the checks
-        pts = [[p[0], p[1]] for p in model["mesh"]]
+    mesh = model["mesh"]["vertices"]
+    if "unfolding" in model:
+        pts = model["unfolding"]["vertices"]
+    else:  # the model flattens M to start: any planar stand-in will do for the checks
+        pts = [[p[0], p[1]] for p in mesh]
     pts = [p[:2] for p in pts]
-    glue = [pair for g in model.get("glue", []) for pair in g["pairs"]]
-    return {"unfolding": pts, "mesh": model["mesh"], "faces": model["faces"], "glue": glue,
+    glue = []
+    for g in model.get("glue", []):
+        if isinstance(g, list):
+            glue.append(g)
+        else:
+            assert g["on"] == "unfolding", g  # pairs on M are plain pairs
+            glue += g["pairs"]
+    return {"unfolding": pts, "mesh": mesh, "faces": model["mesh"]["faces"], "glue": glue,
             "mm_per_unit": 10.0}
 
 
