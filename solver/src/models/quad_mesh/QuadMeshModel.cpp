@@ -469,7 +469,10 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
     ++round;
     stepsIntoRound = 0;
   }
-  if (out.isometryReached) merged.converged = true;
+  if (out.isometryReached) {  // Algorithm 1's own stop (E_iso ≤ E_iso,min), not the last round's limit
+    merged.converged = true;
+    merged.reason = engine::TerminationReason::ResidualTolerance;
+  }
   return out;
 }
 

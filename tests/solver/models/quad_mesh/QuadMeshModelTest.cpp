@@ -50,7 +50,10 @@ TEST(QuadMeshModelTest, ACylinderWithItsExactUnrollingIsAFixedPoint) {
   const QuadMeshQuality before = model.quality();
   EXPECT_LT(before.lengthError, 1e-14);
   EXPECT_LT(before.isometryResidualMax, 1e-15);
-  model.solve(iterations(10));
+  const QuadMeshSolveSummary summary = model.solve(iterations(10));
+  EXPECT_TRUE(summary.isometryReached);
+  EXPECT_EQ(summary.summary.reason, engine::TerminationReason::ResidualTolerance)
+      << "Algorithm 1 stopped on E_iso, not on an iteration limit";
   const QuadMeshQuality after = model.quality();
   EXPECT_LT(after.lengthError, 1e-12);
   EXPECT_LT(after.areaError, 1e-12);
