@@ -416,7 +416,7 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
     o.maxIterations = std::min(remaining, s.roundIterations - stepsIntoRound);
     if (o.factorizationReuse.maxAge <= 0 && numUnknowns() >= options_.factorizationReuseFrom) {
       o.factorizationReuse.maxAge = s.roundIterations;
-      o.factorizationReuse.tolerance = 1e-6;  // L-Err after 10 steps as with 1e-8 to 9 digits
+      o.factorizationReuse.tolerance = kReuseTolerance;
     }
     o.residualTolerance = std::max(options.residualTolerance, s.energyMin);
     // The band is absolute (|w r| of one hard row); isometry rows are ‖d‖² − ‖d′‖², of the size of

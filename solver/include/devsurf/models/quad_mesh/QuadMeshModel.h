@@ -26,14 +26,21 @@ struct QuadMeshOptions {
   engine::Deadline deadline;
   /// From this many free unknowns on, solve() reuses the first factorization of every round for
   /// the round's later steps (engine::FactorizationReuseOptions: CG preconditioned with it, the
-  /// steps to a relative residual of 1e-6; a factorization again when CG needs more than 10
-  /// solves), unless the caller's options already ask for reuse. Measured with
+  /// steps to a relative residual of kReuseTolerance; a factorization again when CG needs more
+  /// than 10 solves), unless the caller's options already ask for reuse. Measured with
   /// bench/quad_mesh_iteration (saddle, M and M′ variable, docs/architecture.md "quad_mesh
-  /// performance"): from ~40 000 unknowns the factorization is most of an iteration and 4–8
-  /// preconditioned solves replace it (40 500: 264 → 138 ms per iteration; 250 880: 3.57 → 1.03 s;
-  /// L-Err after 10 steps unchanged to 9 digits); at 10 000 a factorization costs ~10 solves.
+  /// performance"): from ~40 000 unknowns the factorization is most of an iteration and 2–5
+  /// preconditioned solves replace it (40 500: 264 → 101 ms per iteration; 250 880: 3.57 →
+  /// 0.88 s); at 10 000 a factorization costs ~10 solves.
   int factorizationReuseFrom = 40000;
 };
+
+/// Relative residual ‖H δ + g‖ ≤ tol · ‖g‖ to which a step is solved with an earlier
+/// factorization (an inexact Gauss–Newton step). 1e-3 against 1e-6 (stop 35, bench medians, one
+/// core): 10 iterations at 250 880 unknowns 11.7 → 8.8 s, 100 820: 4.4 → 3.4 s, 40 500: 1.6 →
+/// 1.0 s (preconditioned solves 35 → 18, 44 → 27, 54 → 27); L-Err after them changes in the 6th
+/// digit (0.0372543 → 0.0372541; at 250 880: 0.0844339 both).
+inline constexpr double kReuseTolerance = 1e-3;
 
 /// The isometry quality of Fig. 22 and the gluing, in the design's units.
 struct QuadMeshQuality {
