@@ -6,6 +6,7 @@
 //     and picked again in glue mode on M′: the scene's glue grows and the solve closes the gap.
 //     Where M′ is variable (the developable-approximation demo), its vertices drag in the 2D view.
 import assert from 'node:assert/strict';
+import fs from 'node:fs';
 import path from 'node:path';
 import { test } from 'node:test';
 import * as h from './lib/harness.mjs';
@@ -215,6 +216,25 @@ test('gluing: a pair picked on two boundary vertices of M′ grows the glue and 
     const shot = await h.screenshotViewport(page, '13-quad-glued-3d');
     const stats = h.pixelStats(shot.image);
     assert.ok(stats.distinct >= 64 && stats.dominantShare < 0.9, `M is drawn: ${JSON.stringify(stats)}`);
+
+    // Save scene file: the scene as shown, in issue 13's spelling, opens again as a session.
+    const [download] = await Promise.all([page.waitForEvent('download'), page.getByTestId('save-scene').click()]);
+    const saved = JSON.parse(fs.readFileSync(await download.path(), 'utf8'));
+    const model = saved.model;
+    assert.equal(model.kind, 'quad_mesh');
+    for (const legacy of ['faces', 'variable', 'unfolding_planar']) assert.ok(!(legacy in model), `no legacy key ${legacy}`);
+    assert.equal(model.mesh.vertices.length, done.server.scene.model.mesh.vertices.length);
+    assert.deepEqual(model.mesh.faces, done.server.scene.model.mesh.faces);
+    assert.equal(model.unfolding.vertices.length, model.mesh.vertices.length);
+    assert.equal(model.variables, done.server.scene.model.variables);
+    assert.deepEqual(gluePairs(model), glued.pairs, 'the glue as the session has it');
+    const shown = done.server.scene.model.mesh.vertices;
+    const moved = Math.max(...model.mesh.vertices.map((p, i) => Math.hypot(...p.map((v, k) => v - shown[i][k]))));
+    assert.ok(moved < 1e-4, `the saved M is the solved M (to 7 digits): ${moved}`);
+    const reopened = await daemon.createSession(saved);
+    const again = await daemon.session(reopened.id, reopened.view_token);
+    assert.equal(again.scene.model.mesh.vertices.length, model.mesh.vertices.length);
+    console.log(`saved scene: ${download.suggestedFilename()}, ${model.mesh.vertices.length} vertices, ${gluePairs(model).length} glue pairs, reopened as ${reopened.id}`);
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 
