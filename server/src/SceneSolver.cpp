@@ -522,7 +522,8 @@ void SceneSolver::exportTo(const std::string& spec) const {
     }
     return;
   }
-  const bool flatPattern = format == "svg" && !(composite_ && composite_->hasDevelopment());
+  const bool flatPattern = (format == "svg" && !(composite_ && composite_->hasDevelopment())) ||
+                           (format == "fold" && cutAlongSeams());
   if (quadMesh_ || format == "step" || format == "dxf" || format == "png" || flatPattern) {  // the bytes of exportAs, written as they are
     ExportedFile file;
     try {
@@ -604,7 +605,7 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
   if (!composite_->hasDevelopment())
     throw ExportUnavailable("format: " + format +
                             " needs a development; add \"development\": {\"samples\": n} to the composite model" +
-                            (cutAlongSeams() ? " (its pieces cut along the seams export as svg and dxf)" : ""));
+                            (cutAlongSeams() ? " (its pieces cut along the seams export as svg, dxf and fold)" : ""));
   try {
     io::CreasePattern cp = composite_->creasePattern(scene_.name);
     cp.unitToMm = proto::millimetresPerUnit(scene_.units);
@@ -650,6 +651,7 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
   }
   if (format == "svg" && !(composite_ && composite_->hasDevelopment()) && (cutAlongSeams() || hasFlatStripPattern()))
     return fabricationExport(format);
+  if (format == "fold" && cutAlongSeams()) return fabricationExport(format);
   if (format == "fold" || format == "svg") {
     const io::CreasePattern cp = creasePattern(format);
     if (format == "fold") return {io::foldString(cp), "application/json", "fold"};

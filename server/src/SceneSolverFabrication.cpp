@@ -7,6 +7,7 @@
 
 #include "devsurf/io/CuttingPatternSvg.h"
 #include "devsurf/io/DxfDrawing.h"
+#include "devsurf/io/QuadMeshFold.h"
 #include "devsurf/models/composite/CompositePieces.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/SceneSolver.h"
@@ -62,6 +63,7 @@ SceneSolver::CuttingParts SceneSolver::cuttingParts(const std::string& format) c
           models::composite::unfoldPieces(composite_->design(), composite_->topology());
       CuttingParts parts;
       parts.vertices = pieces.vertices;
+      parts.spaceVertices = pieces.spaceVertices;
       parts.faces = pieces.faces;
       parts.gluePairs = pieces.gluePairs;
       parts.title = sceneTitle(scene_) + ": " + std::to_string(pieces.pieces) +
@@ -93,6 +95,9 @@ SceneSolver::CuttingParts SceneSolver::cuttingParts(const std::string& format) c
     const spatial::FlatLayout layout = spatial::unfoldPieces(points, polygons, spatial::edgeConnectedPieces(polygons));
     CuttingParts parts;
     parts.vertices = layout.vertices;
+    parts.spaceVertices.resize(static_cast<Eigen::Index>(layout.pointOfVertex.size()), 3);
+    for (std::size_t k = 0; k < layout.pointOfVertex.size(); ++k)
+      parts.spaceVertices.row(static_cast<Eigen::Index>(k)) = points[static_cast<std::size_t>(layout.pointOfVertex[k])].transpose();
     parts.faces = polygonFaces(layout.polygons);
     parts.title = sceneTitle(scene_) + ": flat pattern" +
                   (layout.pieces == 1 ? std::string() : ", " + std::to_string(layout.pieces) + " pieces");
@@ -121,6 +126,20 @@ ExportedFile SceneSolver::fabricationExport(const std::string& format) const {
   if (format == "stl") {
     return orExportFailed(format, "the surface in its current state cannot be written", [this]() {
       return ExportedFile{io::meshString(sampledSurface(), "stl"), "model/stl", "stl"};
+    });
+  }
+  if (format == "fold") {
+    // A composite cut along its seams: its pieces as one crease pattern of several parts (FOLD
+    // allows disconnected faces), glued edges as joins numbered by seam, the folded form in 3D.
+    if (!cutAlongSeams()) creasePattern(format);  // throws, naming what is missing
+    const CuttingParts parts = cuttingParts(format);
+    io::QuadMeshFoldOptions options;
+    options.title = parts.title;
+    options.description = scene_.description;
+    options.unitToMm = proto::millimetresPerUnit(scene_.units);
+    return orExportFailed(format, "the pieces in their current state cannot be written", [&parts, &options]() {
+      return ExportedFile{io::quadMeshFoldString(parts.vertices, parts.spaceVertices, parts.faces, parts.gluePairs, options),
+                          "application/json", "fold"};
     });
   }
   if (format == "svg") {

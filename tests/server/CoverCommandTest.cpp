@@ -11,6 +11,7 @@
 #include <functional>
 #include <iterator>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -147,9 +148,47 @@ TEST(CoverCommand, TheCoversPiecesExportAsACuttingPatternWhoseSeamsMatchTheirCur
                                              [a](double x, double y) { return std::abs(x - a) < std::abs(y - a); });
     EXPECT_NEAR(a, nearest, 2e-3 * nearest) << "seam " << seam << " has the length of a shared curve";
   }
-  const CliRun fold = runCommand({"solve", sceneFile, "--out", report, "--export", "fold:" + (dir.path() / "f.fold").string()});
-  EXPECT_NE(fold.code, 0);
-  EXPECT_NE(fold.err.find("development"), std::string::npos) << fold.err;
+
+  // The same pieces as FOLD: one crease pattern of several parts whose seams are joins ("J"), one
+  // per glue line of the SVG, and the folded frame where the two copies of every seam point meet
+  // and the flat pieces' edges have their folded lengths — all read from the file.
+  std::size_t glueLines = 0;
+  for (const auto& [seam, edges] : seams) glueLines += edges.size();
+  const std::string foldPath = (dir.path() / "pieces.fold").string();
+  const CliRun fold = runCommand({"solve", sceneFile, "--out", report, "--export", "fold:" + foldPath});
+  ASSERT_EQ(fold.code, 0) << fold.err;
+  const nlohmann::json doc = nlohmann::json::parse(std::ifstream(foldPath));
+  EXPECT_EQ(doc["frame_unit"], "m") << "the scene's units";
+  const nlohmann::json& flat = doc["vertices_coords"];
+  const nlohmann::json& folded = doc["file_frames"][0]["vertices_coords"];
+  ASSERT_EQ(flat.size(), folded.size());
+  std::size_t joins = 0;
+  std::set<int> seamNumbers;
+  double stretch = 0.0;
+  for (std::size_t e = 0; e < doc["edges_vertices"].size(); ++e) {
+    const std::size_t a = doc["edges_vertices"][e][0], b = doc["edges_vertices"][e][1];
+    if (doc["edges_assignment"][e] == "J") {
+      ++joins;
+      seamNumbers.insert(doc["edges_devsurf:seam"][e].get<int>());
+    }
+    const double l2 = std::hypot(flat[a][0].get<double>() - flat[b][0].get<double>(),
+                                 flat[a][1].get<double>() - flat[b][1].get<double>());
+    const double l3 = std::hypot(folded[a][0].get<double>() - folded[b][0].get<double>(),
+                                 folded[a][1].get<double>() - folded[b][1].get<double>(),
+                                 folded[a][2].get<double>() - folded[b][2].get<double>());
+    stretch = std::max(stretch, std::abs(l2 - l3) / l3);
+  }
+  EXPECT_EQ(joins, glueLines) << "every glue line of the SVG is a join";
+  EXPECT_EQ(seamNumbers.size(), 7u);
+  EXPECT_LT(stretch, 1e-4) << "the flat pieces keep the folded edge lengths";
+  double gap = 0.0;
+  for (const auto& pair : doc["devsurf:gluePairs"]) {
+    const nlohmann::json &p = folded[pair[0].get<std::size_t>()], &q = folded[pair[1].get<std::size_t>()];
+    gap = std::max(gap, std::hypot(p[0].get<double>() - q[0].get<double>(), p[1].get<double>() - q[1].get<double>(),
+                                   p[2].get<double>() - q[2].get<double>()));
+  }
+  EXPECT_FALSE(doc["devsurf:gluePairs"].empty());
+  EXPECT_LT(gap, 1e-12) << "the copies of a seam point are one point of the surface";
 }
 
 TEST(CoverCommand, BadArgumentsAreRefusedNamingTheOption) {

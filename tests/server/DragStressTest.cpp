@@ -337,9 +337,14 @@ DragOutcome runDrag(const std::string& preset, const DragTarget& t, const Eigen:
   }
   for (const auto& [name, value] : out.metrics.items())
     if (value.is_number() && !std::isfinite(value.get<double>())) out.nonFinite.push_back(name);
-  if (kind == "composite" && f.session->sceneJson()["model"].contains("development")) {
+  if (kind == "composite") {  // the development's crease pattern, or the pieces cut along seams
     try {
       out.fold = checks::checkFoldDevelopment(json::parse(f.session->exportAs("fold").content));
+    } catch (const ExportUnavailable& e) {
+      if (f.session->sceneJson()["model"].contains("development")) {
+        out.foldError = e.what();
+        out.fold.flippedFaces = -1;
+      }
     } catch (const std::exception& e) {
       out.foldError = e.what();
       out.fold.flippedFaces = -1;
@@ -381,12 +386,13 @@ Violations violations(const std::string& kind, const DragOutcome& o) {
     above(v.accuracy, "δ_mean (OBJ)", o.obj.mean, 2e-4);
     above(v.accuracy, "vertex_curvature_max", m.value("vertex_curvature_max", 1.0), 1e-3);
     above(v.accuracy, "crease_backtrack_max", m.value("crease_backtrack_max", 0.0), 0.05);  // as SceneSolver::quality()
-    if (m.contains("development_flipped_faces")) {
+    if (m.contains("development_flipped_faces"))
       above(v.tears, "development_flipped_faces", m["development_flipped_faces"].get<double>(), 0.0);
-      above(v.tears, "flipped faces (FOLD)", o.fold.flippedFaces < 0 ? 1e9 : o.fold.flippedFaces, 0.0);
-      if (!o.foldError.empty()) v.tears.push_back("FOLD export: " + o.foldError);
-      above(v.accuracy, "edge length error (FOLD)", o.fold.lengthError, 5e-3);
-    }
+    // The FOLD export (a development's crease pattern, or the pieces cut along seams) whenever
+    // the design has one; a development without it is a tear.
+    above(v.tears, "flipped faces (FOLD)", o.fold.flippedFaces < 0 ? 1e9 : o.fold.flippedFaces, 0.0);
+    if (!o.foldError.empty()) v.tears.push_back("FOLD export: " + o.foldError);
+    above(v.accuracy, "edge length error (FOLD)", o.fold.lengthError, 5e-3);
   } else if (kind == "quad_mesh") {
     // Never: M′ folded over. Fabrication: L-Err ≤ 1 % after the release (conformal maps 5 %,
     // Fig. 4: 4.2 %), from the session and independently from the two OBJ exports; glued pairs

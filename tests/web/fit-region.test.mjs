@@ -152,8 +152,9 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     const shot = await h.screenshotViewport(page, '11-fit-region-cover');
     const s = h.pixelStats(shot.image);
     assert.ok(s.distinct >= 32 && s.dominantShare < 0.97, `the composite is drawn (${s.distinct} colours)`);
-    // Pieces cut along seams: the export menu offers their flat patterns, not a crease pattern.
-    assert.equal(await page.getByTestId('export-fold').isVisible(), false, 'no FOLD: no development');
+    // Pieces cut along seams: the export menu offers their flat patterns (SVG, DXF and FOLD).
+    assert.equal(await page.getByTestId('export-fold').isVisible(), true);
+    assert.match(await page.getByTestId('export-fold').getAttribute('title'), /flat pieces/);
     assert.equal(await page.getByTestId('export-svg').isVisible(), true);
     assert.match(await page.getByTestId('export-svg').getAttribute('title'), /flat pieces/);
     const token = new URL(page.url()).searchParams.get('token');
@@ -173,6 +174,27 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     assert.match(dxf.text, /\$INSUNITS\r?\n 70\r?\n4\r?\n/, 'millimetres');
     const labels = [...dxf.text.matchAll(/\nTEXT\r?\n[\s\S]*?\n  1\r?\n(\d+)\r?\n/g)].map((m) => m[1]);
     assert.equal(labels.length, 14, 'seven seams, each numbered on both of its pieces');
+    // FOLD: the pieces as one crease pattern with joins, the surface as its folded frame; read
+    // here: every join's two copies meet in the folded frame, and the flat pieces keep the
+    // folded frame's edge lengths.
+    const foldFile = await exported('export-fold');
+    assert.match(foldFile.name, /\.fold$/);
+    const fold = JSON.parse(foldFile.text);
+    const flatXY = fold.vertices_coords, folded = fold.file_frames[0].vertices_coords;
+    assert.equal(folded.length, flatXY.length);
+    const joins = fold.edges_assignment.filter((a) => a === 'J').length;
+    assert.ok(joins > 50, `the seams are joins: ${joins}`);
+    const pairs = fold['devsurf:gluePairs'];
+    const gapMax = Math.max(...pairs.map(([a, b]) => Math.hypot(...folded[a].map((v, k) => v - folded[b][k]))));
+    assert.ok(gapMax < 1e-9, `the copies of a seam point meet in the folded frame: ${gapMax}`);
+    let stretch = 0;
+    for (const [a, b] of fold.edges_vertices) {
+      const l2 = Math.hypot(flatXY[a][0] - flatXY[b][0], flatXY[a][1] - flatXY[b][1]);
+      const l3 = Math.hypot(...folded[a].map((v, k) => v - folded[b][k]));
+      stretch = Math.max(stretch, Math.abs(l2 - l3) / l3);
+    }
+    assert.ok(stretch < 1e-3, `flat pieces keep the surface's edge lengths: ${stretch}`);
+    console.log(`cover FOLD: ${flatXY.length} vertices, ${joins} join edges, ${pairs.length} glue pairs, gap ${gapMax}, stretch ${stretch}`);
     const stl = await exported('export-stl');
     assert.match(stl.name, /\.stl$/);
     assert.ok((stl.text.match(/\n\s*facet normal /g) || []).length > 1000, 'the cover as triangles');

@@ -19,7 +19,7 @@ export function cutAlongSeams(model) {
  * The formats that apply to a scene of `kind` with `model` (the scene's "model" object):
  * json, obj and stl always; svg and dxf where there is a flat pattern — a composite's crease
  * pattern (with a development) or its pieces (cut along seams), a quad mesh's planar unfolding,
- * any strip kind unrolled; fold for composites with a development and for quad meshes;
+ * any strip kind unrolled; fold for composites with a development or cut along seams and for quad meshes;
  * unfolding_obj for quad meshes; iges and step for strip kinds, composites and spline surfaces
  * (quad meshes with a control net).
  */
@@ -32,7 +32,7 @@ export function exportFormats(kind, model) {
   const spline = quad && !!(model && model.control);
   const formats = new Set(['json', 'obj', 'stl']);
   if (flat) { formats.add('svg'); formats.add('dxf'); }
-  if (development || quad) formats.add('fold');
+  if (development || quad || pieces) formats.add('fold');
   if (quad) formats.add('unfolding_obj');
   if (!quad || spline) { formats.add('iges'); formats.add('step'); }
   return EXPORT_FORMATS.filter((f) => formats.has(f));

@@ -292,7 +292,9 @@ export class ExportPanel {
       this.objButton.title = quad ? 'The mesh M as an OBJ mesh (from the server)' : 'The sampled surface as OBJ quads (from the server)';
       this.stlButton.title = quad ? 'The mesh M as STL triangles (from the server)'
         : 'The surface as STL triangles in the scene\'s units, for 3D printing and CAD (from the server)';
-      this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames' : 'The crease pattern as FOLD 1.2 (composites with a development)';
+      this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames'
+        : pieces ? 'The flat pieces and their places on the surface as FOLD 1.2: seams as joins (J), numbered as on the SVG'
+          : 'The crease pattern as FOLD 1.2 (composites with a development)';
       this.svgButton.title = quad ? 'The cutting pattern of M′ at true size: cuts, glue edges numbered in pairs'
         : pieces ? 'The flat pieces at true size, cut along the seams: each seam numbered on both of its pieces'
           : development ? 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed'

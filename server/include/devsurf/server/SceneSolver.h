@@ -209,6 +209,7 @@ class SceneSolver {
   /// vertex pairs glued together in 3D and a title.
   struct CuttingParts {
     Eigen::MatrixX2d vertices;
+    Eigen::MatrixX3d spaceVertices;  ///< each vertex on the surface (the folded form)
     std::vector<io::PolygonFace> faces;
     std::vector<std::array<int, 2>> gluePairs;
     std::string title;

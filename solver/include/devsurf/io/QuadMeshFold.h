@@ -21,7 +21,9 @@ struct QuadMeshFoldOptions {
 };
 
 /// FOLD 1.2 export (https://github.com/edemaine/fold, doc/spec.md) of a quad mesh M and its
-/// unfolding M′ (same vertex indices), in the house style of FoldWriter.h:
+/// unfolding M′ (same vertex indices), in the house style of FoldWriter.h. It also writes a
+/// composite cut along its seams (server::SceneSolver): M′ its flat pieces, several parts of one
+/// crease pattern, M where their vertices are on the surface, the seams' copies as glue pairs.
 ///  * file metadata: file_spec 1.2, file_creator "devsurf", file_classes ["singleModel"],
 ///    file_title, file_author / file_description when given;
 ///  * key frame (top level) = the crease pattern M′: frame_title, frame_classes

@@ -116,6 +116,9 @@ FlatPieces unfoldPieces(const CompositeDesign& design, const CompositeTopology& 
   out.pieceOfVertex = layout.pieceOfVertex;
   out.pointOfVertex = layout.pointOfVertex;
   out.lengthErrorMax = layout.lengthErrorMax;
+  out.spaceVertices.resize(static_cast<Eigen::Index>(out.pointOfVertex.size()), 3);
+  for (std::size_t k = 0; k < out.pointOfVertex.size(); ++k)
+    out.spaceVertices.row(static_cast<Eigen::Index>(k)) = s.points[static_cast<std::size_t>(out.pointOfVertex[k])].transpose();
   for (std::size_t k = 0; k < layout.polygons.size(); ++k) {
     const std::vector<int>& ids = layout.polygons[k];
     if (ids.empty()) continue;

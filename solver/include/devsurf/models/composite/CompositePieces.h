@@ -39,6 +39,7 @@ SampledComposite sampleComposite(const CompositeDesign& design, const CompositeT
 /// design units. A composite without seams is one piece.
 struct FlatPieces {
   Eigen::MatrixX2d vertices;                ///< every piece's own copies of its points
+  Eigen::MatrixX3d spaceVertices;           ///< where each of them is on the surface (its point)
   std::vector<io::PolygonFace> faces;       ///< quads and triangles, counter-clockwise
   std::vector<int> faceOfPolygon;           ///< composite face of each entry of faces
   std::vector<int> pieceOfVertex;           ///< piece of each vertex
