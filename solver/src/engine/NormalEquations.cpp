@@ -630,7 +630,15 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
     for (int i = 0; i < numDirect; ++i) {
       const double ri = r[plan.directRow[i]];
       const int begin = plan.directStart[i], n = plan.directStart[i + 1] - begin;
-      for (int k = 0; k < n; ++k) jr[k] = J[entry[begin + k]];  // the row's values, contiguous
+      bool zero = true;
+      for (int k = 0; k < n; ++k) {
+        jr[k] = J[entry[begin + k]];  // the row's values, contiguous
+        zero = zero && jr[k] == 0.0;
+      }
+      if (zero) {  // an inactive row (a hinge guard at rest): nothing to add
+        slot += n * (n + 1) / 2;
+        continue;
+      }
       for (int a = 0; a < n; ++a) {
         const double wja = w2 * jr[a];
         rhs[column[begin + a]] -= wja * ri;

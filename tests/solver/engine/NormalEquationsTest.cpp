@@ -172,6 +172,54 @@ TEST(NormalEquations, MatchDenseJacobianProductsInAnyOrdering) {
   EXPECT_EQ(eq.nonZeros(), eq.reducedNonZeros());
 }
 
+/// r_i = Σ_k a_ik x_{v_ik} − 1 over each row's own variables (rows of different supports).
+class SparseRowsTerm final : public Term {
+ public:
+  using Row = std::vector<std::pair<int, double>>;
+  SparseRowsTerm(std::string name, std::vector<Row> rows) : Term(std::move(name)), rows_(std::move(rows)) {}
+  int numResiduals() const override { return static_cast<int>(rows_.size()); }
+  void jacobianStructure(std::vector<JacobianEntry>& entries) const override {
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+      for (const auto& [v, a] : rows_[i]) entries.push_back({static_cast<int>(i), v});
+  }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+      double value = rows_[i].empty() || rows_[i][0].second == 0.0 ? 0.0 : -1.0;
+      for (const auto& [v, a] : rows_[i]) {
+        value += a * x[v];
+        if (J) *J++ = a;
+      }
+      r[i] = value;
+    }
+  }
+
+ private:
+  std::vector<Row> rows_;
+};
+
+TEST(NormalEquations, RowsWithAZeroJacobianAddNothingAndTheRowsAfterThemStillLandInTheirSlots) {
+  // A guard at rest (a hinge row: residual and Jacobian zero) is skipped by the assembler; the
+  // rows after it, on other variables, must still scatter into their own slots.
+  Problem problem;
+  problem.addBlock("x", 6);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int i = 0; i < 6; ++i) problem.x()[i] = uni(rng);
+  std::vector<SparseRowsTerm::Row> rows = {{{0, 0.9}, {1, -0.4}},
+                                           {{2, 0.0}, {3, 0.0}, {4, 0.0}},  // at rest
+                                           {{4, 0.6}, {5, 0.8}},
+                                           {{0, 0.0}, {5, 0.0}},  // at rest
+                                           {{1, 0.3}, {2, 0.7}, {3, -0.5}}};
+  problem.addTerm(std::make_unique<SparseRowsTerm>("rows", rows), 0.7, Strength::Soft);
+  problem.addTerm(std::make_unique<ProductTerm>("p", 0, 5, 1.0), 2.0, Strength::Hard);
+  disableElimination(problem);
+  NormalEquations eq(problem);
+  const std::vector<double> weights = {0.7, 2.0};
+  const Eigen::VectorXd step = engineStep(eq, problem, weights, 0.1);
+  const Eigen::VectorXd reference = referenceStep(problem, weights, 0.1);
+  EXPECT_LT((step - reference).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(NormalEquations, AutomaticEliminationTakesTheSameStep) {
   Problem problem = denseTestProblem();
   const std::vector<double> weights = {0.5, 2.0, 1.0};
