@@ -490,39 +490,10 @@ def cone_excess():
 
 
 def dform(name, curve_a, curve_b, t0, description, n=12):
-    """Two Coons-gridded domains of equal perimeter, glued along their boundaries."""
-    m = 4 * n
-    a_boundary, c = equal_chords(curve_a, m, t0)
-    b_unit, cb = equal_chords(curve_b, m, t0)
-    b_boundary = [[p[0] * c / cb, p[1] * c / cb] for p in b_unit]  # same chord: same perimeter
-    a_pts, a_faces, a_of = coons_disc(a_boundary, n)
-    b_local, b_faces, b_of = coons_disc(b_boundary, n)
-    width = lambda pts: max(p[0] for p in pts) - min(p[0] for p in pts)
-    dx = max(p[0] for p in a_pts) - min(p[0] for p in b_local) + 0.15 * width(a_pts)
-    b_pts = [[x + dx, y] for x, y in b_local]
-    first_b = len(a_pts)
-    pts = a_pts + b_pts
-    faces = a_faces + [[v + first_b for v in f] for f in b_faces]
-    # Boundary point k of A meets point −k of B: A faces up, B is turned over (faces down), so
-    # its counter-clockwise boundary runs the other way round in 3D.
-    partner = lambda k: (-k) % m
-    glue = [[a_of[k], first_b + b_of[partner(k)]] for k in range(m)]
-    # M: the common boundary halfway between A's boundary and B's mirrored (x, −y), the two
-    # Coons sheets over it bulged apart (A up, B down) by 15% of the size.
-    common = [[0.5 * (a_boundary[k][0] + b_boundary[partner(k)][0]),
-               0.5 * (a_boundary[k][1] - b_boundary[partner(k)][1]), 0.0] for k in range(m)]
-    lift = 0.15 * width(a_pts)
-    mesh = []
-    for sign, boundary_of in ((1.0, lambda k: common[k]), (-1.0, lambda k: common[partner(k)])):
-        sheet, _, _ = coons_disc([boundary_of(k) for k in range(m)], n)
-        for j in range(n + 1):
-            for i in range(n + 1):
-                p = sheet[j * (n + 1) + i]
-                bump = math.sin(math.pi * i / n) * math.sin(math.pi * j / n)
-                mesh.append([p[0], p[1], sign * lift * bump])
-    return scene(name, description, faces, mesh, "mesh", unfolding=pts, units="cm",
-                 glue=glue,
-                 weights={"fairness_mesh": 0.1, "fairness_unfolding": 0})
+    """Two square Coons-gridded domains of equal perimeter (4n boundary points each, both sampled
+    from parameter t0), glued along their boundaries: dform_aligned with n × n cells from point 0."""
+    assert n % 2 == 0, "the grids start at boundary point 0: n even"
+    return dform_aligned(name, curve_a, curve_b, t0, t0, description, 4 * n, n, n, n // 2, n // 2)
 
 
 def dform_aligned(name, curve_a, curve_b, ta, tb, description, m, a_cols, b_cols, a_centre, b_centre):
