@@ -251,11 +251,77 @@ void registerScaled() {
   }
 }
 
+/// Ten iterations of the large sheets from the same start (the corner handle pulling), each
+/// factorized or — `reuse` — solved by CG preconditioned with the first factorization (to a
+/// relative residual of 1e-3, refactorizing when CG needs more than 10 solves): the mean of
+/// iterations 1…10 and the hard residual after them (the two variants must end alike).
+void registerTenIterations() {
+  struct Size {
+    int strips, spans;
+  };
+  for (const Size s : std::vector<Size>{{24, 40}, {40, 40}})
+    for (const bool withDevelopment : {false, true})
+      for (const bool reuse : {false, true}) {
+        const std::string key = "CompositeSheetTen/" + std::to_string(s.strips) + "x" + std::to_string(s.spans) + "/" +
+                                (withDevelopment ? "dev" : "nodev") + "/" + (reuse ? "reuse" : "factorize");
+        benchmark::RegisterBenchmark(key.c_str(), [s, key, withDevelopment, reuse](benchmark::State& state) {
+          auto make = [s, withDevelopment]() {
+            composite::CompositeDesign d = parallelCreaseSheet(s.strips, s.spans);
+            d.developmentSamples = withDevelopment ? 4 : 0;
+            return d;
+          };
+          Fixture& f = fixture(key, make, composite::CompositeOptions{}, engine::SolverOptions{});
+          if (!f.model) {
+            state.SkipWithError(f.error.c_str());
+            for (auto _ : state) {
+            }
+            return;
+          }
+          engine::SolverOptions options = f.options;
+          options.maxIterations = 10;
+          if (reuse) {
+            options.factorizationReuse.maxAge = 10;
+            options.factorizationReuse.maxIterations = 10;
+            options.factorizationReuse.tolerance = 1e-3;
+          }
+          composite::CompositeModel& model = *f.model;
+          double iteration = 0, factorizations = 0, hard = 0;
+          for (auto _ : state) {
+            state.PauseTiming();
+            model.problem().x() = f.x0;
+            model.solver().resetStepControl();
+            state.ResumeTiming();
+            const engine::SolveSummary summary = model.solve(options);
+            state.PauseTiming();
+            double total = 0;
+            for (std::size_t k = 1; k < summary.iterations.size(); ++k) {
+              total += summary.iterations[k].totalMs;
+              factorizations += summary.iterations[k].factorized ? 1 : 0;
+            }
+            iteration += total / std::max<std::size_t>(1, summary.iterations.size() - 1);
+            hard = summary.iterations.back().hardResidual;
+            state.ResumeTiming();
+          }
+          model.problem().x() = f.x0;
+          using benchmark::Counter;
+          state.counters["unknowns"] = Counter(model.numUnknowns());
+          state.counters["iteration_ms"] = Counter(iteration, Counter::kAvgIterations);
+          state.counters["factorizations"] = Counter(factorizations, Counter::kAvgIterations);
+          state.counters["hard_residual"] = Counter(hard);
+        })
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(1)
+            ->Repetitions(3)
+            ->ReportAggregatesOnly(true);
+      }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   registerPresets();
   registerScaled();
+  registerTenIterations();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
