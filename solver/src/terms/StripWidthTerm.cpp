@@ -66,8 +66,15 @@ void StripWidthTerm::evaluate(const Eigen::VectorXd& x, double* residuals, doubl
     const double g = 1.0 - N.squaredNorm() * row.inverseSquared;
     residuals[i] = hingeResidual(g);
     if (!out) continue;
+    const double slope = hingeSlope(g);
+    if (slope == 0.0) {  // at rest (wide enough): a zero row, which the assembler skips
+      const std::size_t n = 3 * row.entries.size();
+      std::fill(out, out + n, 0.0);
+      out += n;
+      continue;
+    }
     // d|N|² = 2 (t × N)·dr + 2 (N × r)·dt; the row is −slope/m² times that.
-    const double s = -2.0 * hingeSlope(g) * row.inverseSquared;
+    const double s = -2.0 * slope * row.inverseSquared;
     const Eigen::Vector3d gr = s * t.cross(N), gt = s * N.cross(r);
     for (const Entry& e : row.entries) {
       const Eigen::Vector3d v = e.r * gr + e.t * gt;
