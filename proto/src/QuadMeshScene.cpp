@@ -156,6 +156,9 @@ void acceptLegacyQuadMeshSpelling(json& m) {
       m.erase("faces");
     }
     m["mesh"] = std::move(mesh);
+  } else if (!m.contains("mesh") && m.contains("faces")) {  // faces without points: a control net's
+    m["mesh"] = {{"faces", m["faces"]}};                    // (its refinement replaces both)
+    m.erase("faces");
   }
   if (m.contains("unfolding") && m["unfolding"].is_array()) m["unfolding"] = {{"vertices", m["unfolding"]}};
   if (m.contains("unfolding_planar")) {

@@ -617,7 +617,7 @@ void checkModelNumbers(const json& j, const std::string& path, bool coordinates)
   } else if (j.is_object()) {
     for (const auto& [key, value] : j.items()) {
       const bool inner = coordinates || key == "points" || key == "vertices" || key == "position" || key == "at" ||
-                         key == "boundary" || key == "mesh" || key == "unfolding" || key == "target";
+                         key == "boundary" || key == "target";
       checkModelNumbers(value, path + "." + key, inner);
     }
   }

@@ -163,6 +163,25 @@ TEST(QuadMeshSpelling, ScenesWrittenBeforeTheContractReadAsTheSameDesign) {
   } catch (const proto::SceneError& e) {
     EXPECT_EQ(e.path(), "model.mesh.faces[0][0]") << "named in the spelling the scene is written in now";
   }
+  // A control net written with a top-level faces list and no mesh (its refinement is the mesh).
+  json spline = json::parse(std::ifstream(std::string(DEVSURF_SOURCE_DIR) + "/examples/spline-single-patch.json"));
+  spline["model"].erase("mesh");
+  spline["model"]["faces"] = json::parse("[[0,1,2,3]]");
+  const json refined = proto::sceneToJson(proto::sceneFromJson(spline))["model"];
+  EXPECT_GT(refined["mesh"]["faces"].size(), 100u) << "the refinement's faces, not the list given";
+}
+
+TEST(QuadMeshSpelling, AFaceIndexBeyondTheCoordinateRangeIsNamedAsAMissingVertex) {
+  json doc = json::parse(R"({"format":"devsurf-scene","version":1,"model":{"kind":"quad_mesh",
+    "mesh":{"vertices":[[0,0,0],[1,0,0],[1,1,0],[0,1,0]],"faces":[[0,1,2,3]]}}})");
+  doc["model"]["mesh"]["faces"][0][2] = 3000000000LL;
+  try {
+    proto::sceneFromJson(doc);
+    FAIL() << "accepted vertex 3000000000";
+  } catch (const proto::SceneError& e) {
+    EXPECT_EQ(e.path(), "model.mesh.faces[0][2]");
+    EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what() << ": an index, not a coordinate";
+  }
 }
 
 }  // namespace

@@ -471,7 +471,9 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
   }
   if (out.isometryReached) {  // Algorithm 1's own stop (E_iso ≤ E_iso,min), not the last round's limit
     merged.converged = true;
-    merged.reason = engine::TerminationReason::ResidualTolerance;
+    using engine::TerminationReason;
+    if (merged.reason == TerminationReason::MaxIterations || merged.reason == TerminationReason::RelativeChange)
+      merged.reason = TerminationReason::ResidualTolerance;  // a divergence or a time budget keeps its name
   }
   return out;
 }
