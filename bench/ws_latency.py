@@ -3,11 +3,14 @@
 
   drag   — drag → first streamed iterate latency and iterates per second for one client on a
            strip of ~10 000 unknowns (budget ≤ 30 ms, ≥ 30 iterates/s);
+  drag-composite — the same on a composite of ~10 000 unknowns: bench/composite_iteration's
+           parallel-crease sheet (--strips 10 --spans 40: 9 879 unknowns without development),
+           its last vertex dragged up and down;
   load   — S sessions × C clients dragging for T seconds: p50/p99 drag → iterate latency,
            iterates received, daemon memory (VmHWM), errors (must be 0).
 
-Usage: bench/ws_latency.py [--bin build/server/devsurf] [drag|load|all] [--sessions 50]
-       [--clients 4] [--seconds 60] [--spans 370]
+Usage: bench/ws_latency.py [--bin build/server/devsurf] [drag|drag-composite|load|all] [--sessions 50]
+       [--clients 4] [--seconds 60] [--spans 370] [--strips 10]
 Needs Debian's python3-websockets (scripts/setup.sh installs it).
 """
 import argparse
@@ -51,6 +54,29 @@ def strip_scene(spans):
             "solver": {"fairness": 0.01, "regularization": 0.01}}
 
 
+def composite_sheet_scene(strips, spans):
+    """bench/composite_iteration.cpp's parallelCreaseSheet as a scene: strips + 1 wavy cubic S
+    edges along y (x = i + 0.2 sin 2πt, y = 4t), the interior ones curved folds, rulings across
+    their ends; the first edge's ends and middle point held, a handle lifting the far corner."""
+    n = spans + 3
+    vertices, edges, faces = [], [], []
+    for i in range(strips + 1):
+        pts = [[i + 0.2 * math.sin(2 * math.pi * k / (n - 1)), 4.0 * k / (n - 1), 0.0] for k in range(n)]
+        vertices += [pts[0], pts[-1]]
+        edge = {"v": [2 * i, 2 * i + 1], "type": "S", "degree": 3, "points": pts[1:-1]}
+        if 0 < i < strips:
+            edge["crease"] = "fold"
+        edges.append(edge)
+    edges += [{"v": [2 * j, 2 * j + 2], "type": "R"} for j in range(strips)]
+    edges += [{"v": [2 * j + 3, 2 * j + 1], "type": "R"} for j in range(strips)]
+    faces = [[strips + 1 + j, j + 1, 2 * strips + 1 + j, j] for j in range(strips)]
+    corner = 2 * strips + 1
+    return {"format": "devsurf-scene", "version": 1, "name": f"bench composite {strips} × {spans}",
+            "model": {"kind": "composite", "vertices": vertices, "edges": edges, "faces": faces,
+                      "fixed": [{"vertex": 0}, {"vertex": 1}, {"edge": 0, "index": n // 2}],
+                      "handles": [{"vertex": corner, "position": [vertices[corner][0] - 0.1, vertices[corner][1], 0.5]}]}}
+
+
 def create(port, scene):
     req = urllib.request.Request(f"http://127.0.0.1:{port}/api/sessions", data=json.dumps(scene).encode(),
                                  headers={"Content-Type": "application/json"}, method="POST")
@@ -61,9 +87,14 @@ async def drag_client(port, session, token, index, seconds, rate, latencies, cou
     async with websockets.connect(f"ws://127.0.0.1:{port}/ws", max_size=None) as ws:
         await ws.send(json.dumps({"type": "join", "session": session, "token": token}))
         state = json.loads(await ws.recv())
-        n = len(state["scene"]["model"]["b"]["points"])
-        target = {"curve": "b", "index": n - 1 - (index % 3)}
-        base = state["scene"]["model"]["b"]["points"][target["index"]]
+        model = state["scene"]["model"]
+        if model["kind"] == "composite":  # the vertex before the lifted corner (the handle's is taken)
+            target = {"vertex": len(model["vertices"]) - 3}
+            base = model["vertices"][target["vertex"]]
+        else:
+            n = len(model["b"]["points"])
+            target = {"curve": "b", "index": n - 1 - (index % 3)}
+            base = model["b"]["points"][target["index"]]
         sent_at = {}      # op → send time
         op_seq = {}       # seq → send time of the op it acknowledged
         done = time.monotonic() + seconds
@@ -110,17 +141,18 @@ def vm_hwm_mb(pid):
     return float("nan")
 
 
-def run_drag(binary, spans, seconds):
+def run_drag(binary, spans, seconds, strips=0):
     data = tempfile.mkdtemp(prefix="devsurf-bench-")
     proc, port = start_daemon(binary, data)
     try:
-        s = create(port, strip_scene(spans))
+        s = create(port, composite_sheet_scene(strips, spans) if strips else strip_scene(spans))
         latencies, counts, errors = [], [0], []
         asyncio.run(drag_client(port, s["id"], s["edit_token"], 0, seconds, 60.0, latencies, counts, errors))
         unknowns = json.load(urllib.request.urlopen(
             urllib.request.Request(f"http://127.0.0.1:{port}/api/sessions/{s['id']}",
                                    headers={"Authorization": "Bearer " + s["view_token"]})))["metrics"]["unknowns"]
-        print(f"drag: strip of {spans} spans ({unknowns:.0f} unknowns), 60 drags/s for {seconds} s")
+        what = f"composite sheet of {strips} strips × {spans} spans" if strips else f"strip of {spans} spans"
+        print(f"drag: {what} ({unknowns:.0f} unknowns), 60 drags/s for {seconds} s")
         print(f"  drag → first iterate: median {statistics.median(latencies):.1f} ms, "
               f"p99 {percentile(latencies, 99):.1f} ms (budget ≤ 30 ms); {len(latencies)} samples")
         print(f"  iterates received: {counts[0] / seconds:.1f} per second (budget ≥ 30); errors {len(errors)}")
@@ -161,15 +193,18 @@ def run_load(binary, sessions, clients, seconds):
 
 def main():
     p = argparse.ArgumentParser()
-    p.add_argument("what", nargs="?", default="all", choices=["drag", "load", "all"])
+    p.add_argument("what", nargs="?", default="all", choices=["drag", "drag-composite", "load", "all"])
     p.add_argument("--bin", default=os.path.join(ROOT, "build", "server", "devsurf"))
-    p.add_argument("--spans", type=int, default=370)
+    p.add_argument("--spans", type=int, default=None, help="strip: 370 spans; composite sheet: 40 spans per S edge")
+    p.add_argument("--strips", type=int, default=10, help="strips of the composite sheet")
     p.add_argument("--sessions", type=int, default=50)
     p.add_argument("--clients", type=int, default=4)
     p.add_argument("--seconds", type=int, default=60)
     a = p.parse_args()
     if a.what in ("drag", "all"):
-        run_drag(a.bin, a.spans, min(a.seconds, 20))
+        run_drag(a.bin, a.spans or 370, min(a.seconds, 20))
+    if a.what in ("drag-composite", "all"):
+        run_drag(a.bin, a.spans or 40, min(a.seconds, 20), strips=a.strips)
     if a.what in ("load", "all"):
         run_load(a.bin, a.sessions, a.clients, a.seconds)
 
