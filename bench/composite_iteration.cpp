@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -33,6 +34,7 @@
 #include "devsurf/engine/LinearSolver.h"
 #include "devsurf/models/composite/CompositeDesign.h"
 #include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/spline/KnotVector.h"
 
@@ -221,8 +223,11 @@ void registerScaled() {
   struct Solver {
     const char* name;
     engine::LinearSolverKind kind;
+    bool normalSplines = false;
   };
+  // "splines": the auto solver with normal splines (CompositeOptions::normalSplines).
   std::vector<Solver> solvers{{"auto", engine::LinearSolverKind::Auto},
+                              {"splines", engine::LinearSolverKind::Auto, true},
                               {"ldlt", engine::LinearSolverKind::SimplicialLDLT}};
   if (engine::cholmodAvailable()) solvers.push_back({"cholmod", engine::LinearSolverKind::Cholmod});
   for (const Solver& solver : solvers) {
@@ -239,6 +244,7 @@ void registerScaled() {
           };
           composite::CompositeOptions options;
           options.linearSolver = solver.kind;
+          options.normalSplines = solver.normalSplines;
           Fixture& f = fixture(key, make, options, engine::SolverOptions{});
           runIteration(state, f, withDevelopment ? 4 : 0);
         })
@@ -316,12 +322,65 @@ void registerTenIterations() {
       }
 }
 
+/// What an editing session computes for every streamed composite iterate besides the solver
+/// (Session::geometryJson, ARCHITECTURE §7's drag latency): the quality metrics, the streamed
+/// geometry (12 samples per span, as SessionSettings::compositeSamplesPerSpan) and its JSON text.
+/// Each repetition moves one free variable by 1e-12 first, so nothing remembered from the last
+/// state is reused (a real iterate moves every variable).
+void registerIterateOutput() {
+  struct Size {
+    int strips, spans;
+  };
+  for (const Size s : std::vector<Size>{{10, 40}, {40, 40}}) {
+    const std::string key = "CompositeIterateOutput/" + std::to_string(s.strips) + "x" + std::to_string(s.spans);
+    benchmark::RegisterBenchmark(key.c_str(), [s, key](benchmark::State& state) {
+      Fixture& f = fixture(key, [s]() { return parallelCreaseSheet(s.strips, s.spans); }, composite::CompositeOptions{},
+                           engine::SolverOptions{});
+      if (!f.model) {
+        state.SkipWithError(f.error.c_str());
+        for (auto _ : state) {
+        }
+        return;
+      }
+      composite::CompositeModel& model = *f.model;
+      const Eigen::Index moved = model.problem().x().size() - 1;  // the far corner's handle side
+      double qualityMs = 0, geometryMs = 0, textMs = 0;
+      using Clock = std::chrono::steady_clock;
+      auto ms = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+      for (auto _ : state) {
+        model.problem().x()[moved] += 1e-12;
+        const Clock::time_point t0 = Clock::now();
+        const composite::CompositeQuality q = model.quality();
+        const Clock::time_point t1 = Clock::now();
+        const nlohmann::json geometry = proto::compositeGeometryJson(model, q, 12);
+        const Clock::time_point t2 = Clock::now();
+        benchmark::DoNotOptimize(geometry.dump());
+        const Clock::time_point t3 = Clock::now();
+        qualityMs += ms(t0, t1);
+        geometryMs += ms(t1, t2);
+        textMs += ms(t2, t3);
+      }
+      model.problem().x() = f.x0;
+      using benchmark::Counter;
+      state.counters["unknowns"] = Counter(model.numUnknowns());
+      state.counters["quality_ms"] = Counter(qualityMs, Counter::kAvgIterations);
+      state.counters["geometry_ms"] = Counter(geometryMs, Counter::kAvgIterations);
+      state.counters["json_text_ms"] = Counter(textMs, Counter::kAvgIterations);
+    })
+        ->Unit(benchmark::kMillisecond)
+        ->MinTime(0.5)
+        ->Repetitions(5)
+        ->ReportAggregatesOnly(true);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   registerPresets();
   registerScaled();
   registerTenIterations();
+  registerIterateOutput();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

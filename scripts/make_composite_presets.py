@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Writes the generated composite presets of examples/ (a folded annulus; a curved-crease column; a curved box).
+"""Writes the generated composite presets of examples/ (a folded annulus; a curved-crease column; a curved box;
+a pleated sheet with normal splines).
 The scenes are plain JSON (proto/schemas/scene.schema.json); this script only saves typing their
 numbers. The column is shaped the way a designer would shape it: its handles are dragged in small
 steps, each solved by the devsurf binary (build it first: scripts/setup.sh), and the last state is
-saved with its development. Run from anywhere: python3 scripts/make_composite_presets.py"""
+saved with its development. Run from anywhere: python3 scripts/make_composite_presets.py [annulus|column|curved-box|pleated-sheet ...]"""
 import json
 import math
 import os
@@ -279,7 +280,39 @@ def curved_box():
         "solver": {"iterations": 40}})
 
 
+def pleated_sheet():
+    """A sheet of parallel curved creases (bench/composite_iteration's parallelCreaseSheet at a
+    modest size), solved with normal splines (000_… §2.2, §7)."""
+    strips, spans = 6, 12
+    n = spans + 3
+    vertices, edges = [], []
+    for i in range(strips + 1):
+        pts = [[0.6 * i + 0.12 * math.sin(2 * math.pi * k / (n - 1)), 3.0 * k / (n - 1), 0.0] for k in range(n)]
+        vertices += [r(pts[0]), r(pts[-1])]
+        edges.append(s_edge(2 * i, 2 * i + 1, pts, "fold" if 0 < i < strips else None))
+    edges += [r_edge(2 * j, 2 * j + 2) for j in range(strips)]
+    edges += [r_edge(2 * j + 3, 2 * j + 1) for j in range(strips)]
+    faces = [[strips + 1 + j, j + 1, 2 * strips + 1 + j, j] for j in range(strips)]
+    far0, far1 = 2 * strips, 2 * strips + 1
+    handles = [{"vertex": far0, "position": r([vertices[far0][0] - 0.5, vertices[far0][1], 1.2])},
+               {"vertex": far1, "position": r([vertices[far1][0] - 0.5, vertices[far1][1], 1.2])}]
+    write("composite-pleated-sheet.json", {
+        "format": "devsurf-scene", "version": 1,
+        "name": "sheet of parallel curved creases",
+        "description": "Seven wavy curves across a 3.6 x 3 sheet, the five inside ones curved folds: six strips side "
+                       "by side. The left edge is held and handles lift the right edge, so every crease folds a "
+                       "little. Each strip's normals are a cubic normal spline (solver setting normal_splines; "
+                       "Tang et al. 2016 section 7), a quarter of the unknowns of free normals.",
+        "model": {"kind": "composite", "vertices": vertices, "edges": edges, "faces": faces,
+                  "fixed": [{"vertex": 0}, {"vertex": 1}, {"edge": 0, "index": n // 2}],
+                  "handles": handles, "development": {"samples": 4}},
+        "solver": {"iterations": 40, "normal_splines": True}})
+
+
+PRESETS = {"annulus": annulus, "column": column, "curved-box": curved_box, "pleated-sheet": pleated_sheet}
+
 if __name__ == "__main__":
-    annulus()
-    column()
-    curved_box()
+    import sys
+    # Names (annulus, column, curved-box, pleated-sheet) write only those; none writes all.
+    for name in sys.argv[1:] or list(PRESETS):
+        PRESETS[name]()

@@ -495,6 +495,7 @@ models::strip::StripOptions SolverSettings::stripOptions() const {
 models::composite::CompositeOptions SolverSettings::compositeOptions() const {
   models::composite::CompositeOptions o;
   o.softening = softening;
+  o.normalSplines = normalSplines;
   o.developabilityWeight = developabilityWeight;
   o.unitNormalWeight = unitNormalWeight;
   o.normalize = normalize;
@@ -660,6 +661,7 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
   s.stepControl = solver.value("step_control", s.stepControl);
   s.hardBand = solver.value("hard_band", s.hardBand);
   s.hardTolerance = solver.value("hard_tolerance", s.hardTolerance);
+  s.normalSplines = solver.value("normal_splines", s.normalSplines);
   if (solver.contains("softening")) {
     for (std::size_t i = 0; i < 4; ++i) s.softening[i] = solver["softening"][i].get<double>();
     const auto& x = s.softening;
@@ -811,7 +813,8 @@ json sceneToJson(const Scene& scene) {
                  {"step_control", s.stepControl},
                  {"hard_band", s.hardBand},
                  {"hard_tolerance", s.hardTolerance},
-                 {"softening", s.softening}};
+                 {"softening", s.softening},
+                 {"normal_splines", s.normalSplines}};
   return j;
 }
 

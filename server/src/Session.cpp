@@ -922,7 +922,9 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     model["fixed"] = fixed;
   } else if (type == "set_solver") {
     if (edit.contains("normals") && isComposite())
-      return reject("invalid", "\"normals\" applies to strip sessions; a composite keeps free normal vectors per face",
+      return reject("invalid",
+                    "\"normals\" applies to strip sessions; a composite chooses normal splines with the solver's "
+                    "\"normal_splines\" setting",
                     "normals");
     for (const auto& [k, v] : edit["solver"].items()) doc["solver"][k] = v;
     if (edit.contains("normals")) model["normals"] = edit["normals"];

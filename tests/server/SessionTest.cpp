@@ -226,6 +226,31 @@ TEST(Session, NormalRepresentationCanSwitchToASplineAndBack) {
   EXPECT_EQ(e.session->sceneJson()["model"]["normals"]["type"], "vectors");
 }
 
+TEST(Session, ACompositeSwitchesToNormalSplinesAndAMouseDragStaysDevelopable) {
+  testing::ExampleEditor e("composite-curved-fold");
+  const double vectorUnknowns = e.session->metricsJson()["unknowns"].get<double>();
+  e.send({{"type", "set_solver"}, {"op", 1}, {"solver", {{"normal_splines", true}}}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.ofType("error")[0].dump();
+  EXPECT_EQ(e.session->sceneJson()["solver"]["normal_splines"], true);
+  EXPECT_LT(e.session->metricsJson()["unknowns"].get<double>(), 0.75 * vectorUnknowns);
+  // A drag as a mouse sends it: the free corner (vertex 2) lifted in 30 small moves, then released.
+  const json start = e.session->sceneJson()["model"]["vertices"][2];
+  for (int k = 1; k <= 30; ++k)
+    e.send({{"type", "drag"}, {"op", 1 + k}, {"target", {{"vertex", 2}}},
+            {"position", {start[0].get<double>(), start[1].get<double>(), start[2].get<double>() + 0.02 * k}}});
+  e.send({{"type", "drag_end"}, {"op", 40}, {"target", {{"vertex", 2}}}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.ofType("error")[0].dump();
+  const json metrics = e.session->metricsJson();
+  EXPECT_LT(metrics["warp_angle_max_deg"].get<double>(), 0.05);
+  EXPECT_LT(metrics["crease_fold_residual_max"].get<double>(), 1e-3);
+  EXPECT_GT(e.session->sceneJson()["model"]["vertices"][2][2].get<double>(), start[2].get<double>() + 0.3);
+  // The strip sessions' "normals" does not apply; the error says what does.
+  e.send({{"type", "set_solver"}, {"op", 41}, {"solver", json::object()}, {"normals", {{"type", "spline"}}}});
+  ASSERT_EQ(e.inbox.ofType("error").size(), 1u);
+  EXPECT_EQ(e.inbox.ofType("error")[0]["path"], "normals");
+  EXPECT_NE(e.inbox.ofType("error")[0]["message"].get<std::string>().find("normal_splines"), std::string::npos);
+}
+
 TEST(Session, RejectedEditsNameTheFieldAndChangeNothing) {
   JoinedEditor e;
   auto& [ex, journal, s, inbox, pid] = e;

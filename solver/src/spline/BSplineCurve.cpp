@@ -14,6 +14,10 @@ namespace devsurf::spline {
 
 namespace {
 
+/// Basis values on the stack (basisFunctionsInto) up to kStackBasisDegree.
+using StackBasis = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kStackBasisDegree + 1,
+                                 kStackBasisDegree + 1>;
+
 [[noreturn]] void failCurve(const std::string& message) { throw std::invalid_argument(message); }
 
 /// O(1) shape checks done on every evaluation (the O(n) ones live in validate()).
@@ -48,8 +52,16 @@ Eigen::VectorXd BSplineCurve::evaluate(double u, int derivative) const {
   requireShapes(*this);
   if (derivative < 0) failCurve("evaluate: derivative must be >= 0, got " + std::to_string(derivative));
   const int p = degree();
-  const BasisValues b = basisFunctions(knots, u, derivative);
   const int dim = dimension();
+  if (!isRational() && p <= kStackBasisDegree && derivative <= kStackBasisDegree) {
+    Eigen::VectorXd result = Eigen::VectorXd::Zero(dim);
+    if (derivative > p) return result;
+    StackBasis basis(derivative + 1, p + 1);
+    const int s = basisFunctionsInto(knots, u, derivative, basis);
+    for (int j = 0; j <= p; ++j) result += basis(derivative, j) * points.row(knots.controlIndex(s - p + j)).transpose();
+    return result;
+  }
+  const BasisValues b = basisFunctions(knots, u, derivative);
 
   if (!isRational()) {
     Eigen::VectorXd result = Eigen::VectorXd::Zero(dim);
@@ -89,6 +101,56 @@ Eigen::VectorXd BSplineCurve::evaluate(double u, int derivative) const {
     ck.col(k) = v / wders(0);
   }
   return ck.col(derivative);
+}
+
+void BSplineCurve::derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> out) const {
+  requireShapes(*this);
+  if (upTo < 0) failCurve("derivatives: upTo must be >= 0, got " + std::to_string(upTo));
+  if (out.rows() != dimension() || out.cols() != upTo + 1)
+    failCurve("derivatives: out must be " + std::to_string(dimension()) + " x " + std::to_string(upTo + 1) +
+              ", got " + std::to_string(out.rows()) + " x " + std::to_string(out.cols()));
+  const int p = degree();
+  if (isRational() || p > kStackBasisDegree || upTo > kStackBasisDegree) {
+    for (int k = 0; k <= upTo; ++k) out.col(k) = evaluate(u, k);
+    return;
+  }
+  StackBasis basis(upTo + 1, p + 1);
+  const int s = basisFunctionsInto(knots, u, upTo, basis);
+  out.setZero();
+  for (int j = 0; j <= p; ++j) {
+    const auto point = points.row(knots.controlIndex(s - p + j)).transpose();
+    for (int k = 0; k <= upTo; ++k) out.col(k) += basis(k, j) * point;
+  }
+}
+
+CurvePair::CurvePair(const BSplineCurve& a, const BSplineCurve& b) : a_(a), b_(b) {
+  requireShapes(a);
+  requireShapes(b);
+  shared_ = !a.isRational() && !b.isRational() && a.degree() <= kStackBasisDegree && a.knots.kind() == b.knots.kind() &&
+            a.knots.degree() == b.knots.degree() && a.knots.knots() == b.knots.knots();
+}
+
+void CurvePair::derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> outA, Eigen::Ref<Eigen::MatrixXd> outB) const {
+  if (!shared_ || upTo > kStackBasisDegree) {
+    a_.derivatives(u, upTo, outA);
+    b_.derivatives(u, upTo, outB);
+    return;
+  }
+  if (upTo < 0 || outA.rows() != a_.dimension() || outA.cols() != upTo + 1 || outB.rows() != b_.dimension() ||
+      outB.cols() != upTo + 1)
+    failCurve("CurvePair::derivatives: out must be dim x " + std::to_string(upTo + 1));
+  const int p = a_.degree();
+  StackBasis basis(upTo + 1, p + 1);
+  const int s = basisFunctionsInto(a_.knots, u, upTo, basis);
+  outA.setZero();
+  outB.setZero();
+  for (int j = 0; j <= p; ++j) {
+    const int ci = a_.knots.controlIndex(s - p + j);
+    for (int k = 0; k <= upTo; ++k) {
+      outA.col(k) += basis(k, j) * a_.points.row(ci).transpose();
+      outB.col(k) += basis(k, j) * b_.points.row(ci).transpose();
+    }
+  }
 }
 
 Eigen::MatrixXd BSplineCurve::evaluate(const std::vector<double>& params, int derivative) const {

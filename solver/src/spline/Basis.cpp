@@ -14,24 +14,36 @@ namespace devsurf::spline {
 namespace {
 
 /// The NURBS Book A2.3 (DersBasisFuns) for span s: fills ders(k, j) = N^{(k)}_{s−p+j}(u) for
-/// k ≤ min(derivatives, p); rows beyond the degree stay zero.
+/// k ≤ min(derivatives, p); rows beyond the degree stay zero. `ders` is (derivatives+1)×(p+1).
+/// Scratch lives on the stack up to kStackBasisDegree (the per-sample evaluations of a drag call
+/// this hundreds of thousands of times per second), on the heap beyond.
 void dersBasisFuns(int s, double u, int p, int derivatives, const std::vector<double>& t,
-                   Eigen::MatrixXd& ders) {
-  ders.setZero(derivatives + 1, p + 1);
-  Eigen::MatrixXd ndu(p + 1, p + 1);
-  Eigen::VectorXd left(p + 1);
-  Eigen::VectorXd right(p + 1);
+                   Eigen::Ref<Eigen::MatrixXd> ders) {
+  assert(ders.rows() == derivatives + 1 && ders.cols() == p + 1 && "caller sizes the output");
+  ders.setZero();
+  constexpr int cap = kStackBasisDegree + 1;
+  double stack[cap * cap + 4 * cap];
+  std::vector<double> heap;
+  double* scratch = stack;
+  if (p + 1 > cap) {
+    heap.resize(static_cast<std::size_t>((p + 1) * (p + 1) + 4 * (p + 1)));
+    scratch = heap.data();
+  }
+  Eigen::Map<Eigen::MatrixXd> ndu(scratch, p + 1, p + 1);
+  double* left = scratch + (p + 1) * (p + 1);
+  double* right = left + (p + 1);
+  Eigen::Map<Eigen::MatrixXd> a(right + (p + 1), 2, p + 1);
   ndu(0, 0) = 1.0;
   for (int j = 1; j <= p; ++j) {
-    left(j) = u - t[s + 1 - j];
-    right(j) = t[s + j] - u;
+    left[j] = u - t[s + 1 - j];
+    right[j] = t[s + j] - u;
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
-      ndu(j, r) = right(r + 1) + left(j - r);  // knot differences (lower triangle)
+      ndu(j, r) = right[r + 1] + left[j - r];  // knot differences (lower triangle)
       assert(ndu(j, r) > 0.0 && "non-empty span gives positive knot differences");
       const double temp = ndu(r, j - 1) / ndu(j, r);
-      ndu(r, j) = saved + right(r + 1) * temp;  // basis functions (upper triangle)
-      saved = left(j - r) * temp;
+      ndu(r, j) = saved + right[r + 1] * temp;  // basis functions (upper triangle)
+      saved = left[j - r] * temp;
     }
     ndu(j, j) = saved;
   }
@@ -39,7 +51,6 @@ void dersBasisFuns(int s, double u, int p, int derivatives, const std::vector<do
 
   const int nd = std::min(derivatives, p);
   if (nd == 0) return;
-  Eigen::MatrixXd a(2, p + 1);
   for (int r = 0; r <= p; ++r) {
     int s1 = 0;
     int s2 = 1;
@@ -92,12 +103,27 @@ BasisValues basisFunctions(const KnotVector& knots, double u, int derivatives) {
   const double uc = std::clamp(u, knots.domainBegin(), knots.domainEnd());
   BasisValues result;
   result.span = knots.spanIndex(uc);
+  result.values.resize(derivatives + 1, p + 1);
   dersBasisFuns(result.span, uc, p, derivatives, knots.knots(), result.values);
   result.controlIndex.resize(static_cast<size_t>(p + 1));
   for (int j = 0; j <= p; ++j) {
     result.controlIndex[j] = knots.controlIndex(result.span - p + j);
   }
   return result;
+}
+
+int basisFunctionsInto(const KnotVector& knots, double u, int derivatives, Eigen::Ref<Eigen::MatrixXd> values) {
+  requireUsable(knots, "basisFunctionsInto");
+  const int p = knots.degree();
+  if (derivatives < 0 || values.rows() != derivatives + 1 || values.cols() != p + 1) {
+    throw std::invalid_argument("basisFunctionsInto: values must be (derivatives + 1) x (degree + 1) = " +
+                                std::to_string(derivatives + 1) + " x " + std::to_string(p + 1) + ", got " +
+                                std::to_string(values.rows()) + " x " + std::to_string(values.cols()));
+  }
+  const double uc = std::clamp(u, knots.domainBegin(), knots.domainEnd());
+  const int span = knots.spanIndex(uc);
+  dersBasisFuns(span, uc, p, derivatives, knots.knots(), values);
+  return span;
 }
 
 EvaluationMatrix evaluationMatrix(const KnotVector& knots, const std::vector<double>& params,

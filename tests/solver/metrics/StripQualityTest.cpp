@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <vector>
 
 namespace devsurf::metrics {
 namespace {
@@ -49,6 +51,33 @@ TEST(StripQuality, AveragesTheWarpOverEquallySpacedRulings) {
   }
   EXPECT_NEAR(q.warpAngleMeanDeg, mean / 1001, 1e-9);
   EXPECT_THROW(stripQuality(a, b, 1), std::invalid_argument);
+}
+
+TEST(StripQuality, OnATabledBasisIsTheSameAsOnTheCurves) {
+  // A twisted cubic strip (warp well above zero), measured by the plain function and on a
+  // BasisTable at the same 1 000 parameters: the same numbers; curves on another knot vector are
+  // refused.
+  spline::BSplineCurve a, b;
+  a.knots = b.knots = spline::KnotVector::clamped(3, {0, 0, 0, 0, 0.3, 0.5, 1, 1, 1, 1}, 6);
+  a.points.resize(6, 3);
+  b.points.resize(6, 3);
+  for (int i = 0; i < 6; ++i) {
+    a.points.row(i) << i, 0.2 * std::sin(i), 0.0;
+    b.points.row(i) << i, 1.0, 0.3 * i * std::cos(0.7 * i);
+  }
+  std::vector<double> params(1000);
+  for (int i = 0; i < 1000; ++i) params[static_cast<std::size_t>(i)] = static_cast<double>(i) / 999;
+  const spline::BasisTable table(a.knots, params, 1);
+  const StripQuality plain = stripQuality(a, b, 1000), tabled = stripQuality(table, a, b);
+  EXPECT_GT(plain.warpAngleMaxDeg, 1.0);
+  EXPECT_NEAR(tabled.warpAngleMaxDeg, plain.warpAngleMaxDeg, 1e-12);
+  EXPECT_NEAR(tabled.warpAngleMeanDeg, plain.warpAngleMeanDeg, 1e-12);
+  EXPECT_NEAR(tabled.developabilityResidualMax, plain.developabilityResidualMax, 1e-12);
+  EXPECT_EQ(tabled.rulings, 1000);
+  spline::BSplineCurve other = b;
+  other.knots = spline::KnotVector::clampedUniform(3, 6);
+  EXPECT_FALSE(table.fits(other));
+  EXPECT_THROW(stripQuality(table, a, other), std::invalid_argument);
 }
 
 }  // namespace

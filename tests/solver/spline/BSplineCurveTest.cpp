@@ -1,6 +1,8 @@
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -105,6 +107,61 @@ TEST(NurbsCurve, QuadraticRationalArcTracesAQuarterCircleExactly) {
   }
   EXPECT_LT((c.evaluate(0.0) - Eigen::Vector2d(1, 0)).norm(), 1e-15);
   EXPECT_LT((c.evaluate(1.0) - Eigen::Vector2d(0, 1)).norm(), 1e-15);
+}
+
+TEST(BSplineCurve, DerivativesFromOneBasisEvaluationMatchEvaluate) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coordinate(-2.0, 2.0);
+  auto randomPoints = [&rng, &coordinate](int n, int dim) {
+    Eigen::MatrixXd p(n, dim);
+    for (Eigen::Index i = 0; i < p.size(); ++i) p.data()[i] = coordinate(rng);
+    return p;
+  };
+  std::vector<BSplineCurve> curves = {
+      {KnotVector::clamped(3, {0, 0, 0, 0, 0.3, 0.5, 0.5, 1, 1, 1, 1}, 7), randomPoints(7, 3), {}},
+      {KnotVector::periodicUniform(3, 7), randomPoints(7, 3), {}},
+      {KnotVector::clampedUniform(17, 19), randomPoints(19, 3), {}},  // degree beyond the stack path
+      quarterCircle(),                                                 // rational
+  };
+  for (const BSplineCurve& c : curves) {
+    for (int upTo : {0, 1, 2, c.degree() + 1}) {
+      Eigen::MatrixXd out(c.dimension(), upTo + 1);
+      for (double u : c.knots.uniformSamples(37)) {
+        c.derivatives(u, upTo, out);
+        for (int k = 0; k <= upTo; ++k) {
+          const Eigen::VectorXd expected = c.evaluate(u, k);
+          EXPECT_LE((out.col(k) - expected).norm(), 1e-11 * (1.0 + expected.norm()))
+              << "degree " << c.degree() << ", derivative " << k << ", u = " << u;
+        }
+      }
+    }
+  }
+  Eigen::MatrixXd wrong(3, 1);
+  EXPECT_THROW(curves[0].derivatives(0.5, 1, wrong), std::invalid_argument);
+}
+
+TEST(BSplineCurve, DerivativesOfAPairMatchEachCurveWhetherOrNotTheKnotsAreShared) {
+  Eigen::MatrixXd a(7, 3), b(7, 3), c(8, 3);
+  for (int i = 0; i < 7; ++i) {
+    a.row(i) << i, std::sin(i), 0.1 * i * i;
+    b.row(i) << i, 1.0 + std::cos(i), -0.2 * i;
+  }
+  for (int i = 0; i < 8; ++i) c.row(i) << i, 2.0, std::sin(0.5 * i);
+  const KnotVector shared = KnotVector::clamped(3, {0, 0, 0, 0, 0.3, 0.5, 0.5, 1, 1, 1, 1}, 7);
+  const BSplineCurve first{shared, a, {}}, second{shared, b, {}};
+  const BSplineCurve other{KnotVector::clampedUniform(3, 8), c, {}};  // another knot vector
+  for (const auto& [p, q] : {std::pair{first, second}, std::pair{first, other}}) {
+    const CurvePair pair(p, q);
+    EXPECT_EQ(pair.sharesBasis(), p.knots.knots() == q.knots.knots());
+    Eigen::Matrix<double, 3, 3> outP, outQ;
+    for (double u : shared.uniformSamples(23)) {
+      pair.derivatives(u, 2, outP, outQ);
+      for (int k = 0; k <= 2; ++k) {
+        EXPECT_LE((outP.col(k) - p.evaluate(u, k)).norm(), 1e-12 * (1.0 + outP.col(k).norm()));
+        EXPECT_LE((outQ.col(k) - q.evaluate(u, k)).norm(), 1e-12 * (1.0 + outQ.col(k).norm()));
+      }
+    }
+  }
 }
 
 TEST(NurbsCurve, RationalDerivativesMatchFiniteDifferences) {

@@ -7,6 +7,7 @@
 
 #include "devsurf/spline/BSplineCurve.h"
 #include "devsurf/spline/Basis.h"
+#include "devsurf/spline/BasisTable.h"
 #include "devsurf/spline/KnotVector.h"
 
 namespace devsurf::spline {
@@ -136,6 +137,60 @@ TEST(BSplineBasis, EvaluationMatrixSumsSlotsSharingAControlPoint) {
     EXPECT_LT((m.row(static_cast<Eigen::Index>(k)).transpose() - folded).cwiseAbs().maxCoeff(),
               1e-15);
   }
+}
+
+TEST(BSplineBasis, BasisFunctionsIntoCallerStorageAgreeWithBasisFunctions) {
+  std::vector<KnotVector> kvs = sampleKnotVectors();
+  kvs.push_back(KnotVector::clampedUniform(17, 20));  // beyond the stack capacity: the heap path
+  for (const KnotVector& kv : kvs) {
+    const int p = kv.degree();
+    for (int derivatives : {0, 1, 2, p + 1}) {
+      Eigen::MatrixXd values(derivatives + 1, p + 1);
+      for (double u : denseParams(kv)) {
+        const BasisValues reference = basisFunctions(kv, u, derivatives);
+        const int span = basisFunctionsInto(kv, u, derivatives, values);
+        ASSERT_EQ(span, reference.span) << "p = " << p << ", u = " << u;
+        EXPECT_LE((values - reference.values).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + reference.values.cwiseAbs().maxCoeff()))
+            << "p = " << p << ", u = " << u << ", derivatives = " << derivatives;
+        for (int j = 0; j <= p; ++j) EXPECT_EQ(kv.controlIndex(span - p + j), reference.controlIndex[j]);
+      }
+    }
+    // Partition of unity on the heap path too (no reference needed).
+    Eigen::MatrixXd values(1, p + 1);
+    basisFunctionsInto(kv, 0.37 * kv.domainBegin() + 0.63 * kv.domainEnd(), 0, values);
+    EXPECT_NEAR(values.sum(), 1.0, 1e-12) << "p = " << p;
+  }
+}
+
+TEST(BSplineBasis, BasisFunctionsIntoRejectsWronglySizedStorage) {
+  const KnotVector kv = KnotVector::clampedUniform(3, 8);
+  Eigen::MatrixXd values(2, 3);  // should be 2 x 4 for one derivative of a cubic
+  EXPECT_THROW(basisFunctionsInto(kv, 0.5, 1, values), std::invalid_argument);
+  EXPECT_THROW(basisFunctionsInto(kv, 0.5, -1, values), std::invalid_argument);
+}
+
+TEST(BasisTable, EvaluatesCurvesAtItsParametersAsTheCurvesDo) {
+  for (const KnotVector& kv : sampleKnotVectors()) {
+    Eigen::MatrixXd points(kv.numControlPoints(), 3);
+    for (Eigen::Index i = 0; i < points.rows(); ++i) points.row(i) << std::cos(1.3 * i), std::sin(0.7 * i), 0.1 * i * i;
+    const BSplineCurve curve{kv, points, {}};
+    const std::vector<double> params = denseParams(kv);
+    const int upTo = kv.degree() + 1;  // one beyond the degree: zero
+    const BasisTable table(kv, params, upTo);
+    ASSERT_EQ(table.size(), static_cast<int>(params.size()));
+    EXPECT_TRUE(table.fits(curve));
+    Eigen::MatrixXd tabled(3, upTo + 1), direct(3, upTo + 1);
+    for (int k = 0; k < table.size(); ++k) {
+      table.evaluate(k, points, upTo, tabled);
+      curve.derivatives(params[static_cast<std::size_t>(k)], upTo, direct);
+      EXPECT_LE((tabled - direct).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + direct.cwiseAbs().maxCoeff()))
+          << "degree " << kv.degree() << ", u = " << params[static_cast<std::size_t>(k)];
+    }
+    BSplineCurve rational = curve;
+    rational.weights = Eigen::VectorXd::Ones(kv.numControlPoints());
+    EXPECT_FALSE(table.fits(rational));
+  }
+  EXPECT_THROW(BasisTable(KnotVector::clampedUniform(3, 8), {0.5}, -1), std::invalid_argument);
 }
 
 TEST(BSplineBasis, RejectsNegativeDerivativeOrders) {

@@ -42,10 +42,17 @@ export class SolverPanel {
       c.domElement.after(slot);
       this.controllers.set(key, c);
     }
-    // Normal representation (000_… §2.2): free vectors per parameter, or a normal spline.
+    // Normal representation (000_… §2.2): free vectors per parameter, or a normal spline. A
+    // composite has one per face (one control point per curve control point): the solver's
+    // normal_splines setting.
     this.normals = { normals: 'vectors', 'spline points': 8 };
     const normalsChanged = () => {
       const spline = this.normals.normals === 'spline';
+      if (this._isComposite()) {
+        const op = this.send(new SetSolverCommand({ normal_splines: spline }, {}, { source: 'solver:normals' }));
+        if (op !== null && op !== undefined) this.pending.sent('normals');
+        return;
+      }
       const command = new SetSolverCommand({}, {
         normals: spline ? { type: 'spline', degree: 3, points: Math.round(this.normals['spline points']) } : { type: 'vectors' },
       }, { source: 'solver:normals' });
@@ -63,6 +70,11 @@ export class SolverPanel {
     state.on('ack', ({ command }) => this._settled(command, null));
     state.on('error', ({ command, message }) => this._settled(command, message));
     this.refresh();
+  }
+
+  _isComposite() {
+    const model = this.state.scene && this.state.scene.model;
+    return !!model && model.kind === 'composite';
   }
 
   _changed(key, kind, value) {
@@ -97,7 +109,9 @@ export class SolverPanel {
       if (typeof v === 'number') this.params[key] = v;
     }
     const normals = this.state.scene && this.state.scene.model && this.state.scene.model.normals;
-    if (normals && (force || !this.pending.has('normals'))) {
+    if (this._isComposite() && (force || !this.pending.has('normals'))) {
+      this.normals.normals = solver.normal_splines === true ? 'spline' : 'vectors';
+    } else if (normals && (force || !this.pending.has('normals'))) {
       this.normals.normals = normals.type === 'spline' ? 'spline' : 'vectors';
       if (normals.type === 'spline' && typeof normals.points === 'number') this.normals['spline points'] = normals.points;
     }
@@ -106,7 +120,8 @@ export class SolverPanel {
     for (const c of this.controllers.values()) c.enable(editable);
     if (this.normalsPoints) {
       this.normalsPoints.updateDisplay();
-      this.normalsPoints.enable(editable && this.normals.normals === 'spline');
+      // A composite's normal splines have one control point per curve control point.
+      this.normalsPoints.enable(editable && this.normals.normals === 'spline' && !this._isComposite());
     }
   }
 }

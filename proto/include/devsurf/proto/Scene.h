@@ -55,6 +55,7 @@ struct SolverSettings {
   double hardBand = 0.1;        ///< "hard_band": engine::StepControlOptions::hardBand (batch solves;
                                 ///< sessions stream with SessionSettings::dragHardBand)
   double hardTolerance = 0.0;   ///< "hard_tolerance": engine::SolverOptions::hardTolerance
+  bool normalSplines = false;   ///< "normal_splines": models::composite::CompositeOptions::normalSplines
 
   engine::SolverOptions solverOptions() const;
   models::strip::StripOptions stripOptions() const;

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 
 #include "devsurf/spline/BSplineCurve.h"
+#include "devsurf/spline/BasisTable.h"
 
 namespace devsurf::metrics {
 
@@ -31,5 +32,11 @@ struct StripQuality {
 /// @param[in] rulings  number of rulings, equally spaced over the domain, ends included (≥ 2)
 StripQuality stripQuality(const spline::BSplineCurve& a, const spline::BSplineCurve& b,
                           int rulings = 1000);
+
+/// The same metrics at the parameters of a BasisTable (≥ 1 derivative tabled), for loops that
+/// measure one strip every iterate: a and b must fit the table (spline::BasisTable::fits).
+/// @throws std::invalid_argument if they do not, or the table has fewer than 2 parameters
+StripQuality stripQuality(const spline::BasisTable& rulings, const spline::BSplineCurve& a,
+                          const spline::BSplineCurve& b);
 
 }  // namespace devsurf::metrics

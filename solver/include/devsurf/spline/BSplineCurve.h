@@ -30,6 +30,29 @@ struct BSplineCurve {
   Eigen::VectorXd evaluate(double u, int derivative = 0) const;
   /// Rows are evaluate(params[k], derivative).
   Eigen::MatrixXd evaluate(const std::vector<double>& params, int derivative = 0) const;
+  /// The point and its derivatives up to `upTo` at u from one basis evaluation: column k of
+  /// `out` is evaluate(u, k). No allocation for polynomial curves up to kStackBasisDegree, so
+  /// loops that sample a surface every iterate pass fixed-size storage (Eigen::Matrix3Xd-like).
+  /// @param[out] out  dim×(upTo+1), sized by the caller
+  /// @throws std::invalid_argument for a malformed curve or a wrongly sized `out`
+  void derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> out) const;
+};
+
+/// Two curves evaluated at the same parameters: a.derivatives(u, …) and b.derivatives(u, …) from
+/// one basis evaluation when both are polynomial curves on equal knot vectors (the two boundaries
+/// of a strip), which is checked once, here. Keeps references: the curves must outlive it.
+class CurvePair {
+ public:
+  CurvePair(const BSplineCurve& a, const BSplineCurve& b);
+  /// @param[out] outA, outB  dim×(upTo+1), sized by the caller: column k is the k-th derivative
+  void derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> outA, Eigen::Ref<Eigen::MatrixXd> outB) const;
+  /// Whether one basis evaluation serves both curves.
+  bool sharesBasis() const { return shared_; }
+
+ private:
+  const BSplineCurve& a_;
+  const BSplineCurve& b_;
+  bool shared_ = false;
 };
 
 /// A Bézier piece of degree p: p+1 control points as rows, parameter interval [begin, end].

@@ -25,6 +25,18 @@ struct BasisValues {
 /// @param[in] u  parameter, clamped into the domain
 BasisValues basisFunctions(const KnotVector& knots, double u, int derivatives);
 
+/// Largest degree whose basis functions are evaluated without touching the heap.
+inline constexpr int kStackBasisDegree = 15;
+
+/// basisFunctions into caller storage, for loops that evaluate many parameters (a drag's
+/// per-iterate sampling): no allocation for degrees up to kStackBasisDegree.
+/// @param[out] values  (derivatives+1)×(p+1), sized by the caller (e.g. a fixed-capacity matrix):
+///                     values(l, j) = N^{(l)}_{s−p+j}(u); column j's control point is
+///                     knots.controlIndex(s − p + j)
+/// @return the span s
+/// @throws std::invalid_argument for an unusable knot vector or a wrongly sized `values`
+int basisFunctionsInto(const KnotVector& knots, double u, int derivatives, Eigen::Ref<Eigen::MatrixXd> values);
+
 /// N^{(l)}: the |params|×n matrix whose row k evaluates the l-th derivative at params[k]
 /// when multiplied with the n×dim control-point matrix (003_… §5.2.2 "Implementation").
 /// Built once per topology; columns are wrapped for periodic knot vectors.

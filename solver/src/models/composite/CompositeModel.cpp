@@ -1,12 +1,15 @@
 #include "devsurf/models/composite/CompositeModel.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 
 #include "devsurf/models/HandleValidation.h"
 #include <cmath>
 #include <map>
+#include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -18,6 +21,7 @@
 #include "devsurf/terms/RulingLengthTerm.h"
 #include "devsurf/terms/StripWidthTerm.h"
 #include "devsurf/spline/Basis.h"
+#include "devsurf/spline/BasisTable.h"
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
@@ -49,6 +53,22 @@ std::vector<double> evaluationParams(const spline::KnotVector& k) {
   p.insert(p.end(), inner.begin(), inner.end());
   p.push_back(k.domainEnd());
   return p;
+}
+
+/// The normal spline of a face (000_… §2.2, §7) evaluated at `params`: cubic with one control
+/// point per control point of the face's curves, on the face's own knots when they are cubic
+/// (C² across every simple knot), else on uniform knots over the same domain.
+EvaluationMatrix normalSplineEvaluation(const spline::KnotVector& faceKnots, const std::vector<double>& params) {
+  if (faceKnots.degree() == 3) return spline::evaluationMatrix(faceKnots, params, 0);
+  const int count = std::max(faceKnots.numControlPoints(), 4);
+  const bool periodic = faceKnots.kind() == spline::KnotKind::Periodic;
+  const spline::KnotVector uniform = periodic ? spline::KnotVector::periodicUniform(3, count)
+                                              : spline::KnotVector::clampedUniform(3, count);
+  const double u0 = faceKnots.domainBegin(), u1 = faceKnots.domainEnd();
+  const double v0 = uniform.domainBegin(), v1 = uniform.domainEnd();
+  std::vector<double> t(params.size());
+  for (std::size_t k = 0; k < params.size(); ++k) t[k] = v0 + (v1 - v0) * (params[k] - u0) / (u1 - u0);
+  return spline::evaluationMatrix(uniform, t, 0);
 }
 
 EvaluationMatrix emptyRows(int rows, int cols) {
@@ -191,8 +211,41 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
   }
 }
 
+struct CompositeModel::StateCache {
+  /// Per strip-like face, the basis of its first curve at the dense warp metric's 1 000 rulings
+  /// (metrics::stripQuality's parameters): depends on the topology only, built on first use.
+  std::once_flag warpOnce;
+  std::vector<spline::BasisTable> warpRulings;
+
+  std::mutex mutex;
+  Eigen::VectorXd x;  ///< the variables every entry below was computed from
+  std::map<int, CompositeQuality> quality;
+  std::map<int, CreaseSamples> creases;
+
+  /// The entry for `key` in `entries` if it was computed from `now`; drops everything when the
+  /// variables moved. Entries are copied out: the lock is not held while computing.
+  template <class Value>
+  std::optional<Value> find(const Eigen::VectorXd& now, std::map<int, Value>& entries, int key) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (x.size() != now.size() || x != now) {
+      quality.clear();
+      creases.clear();
+      x = now;
+      return std::nullopt;
+    }
+    const auto it = entries.find(key);
+    if (it == entries.end()) return std::nullopt;
+    return it->second;
+  }
+  template <class Value>
+  void store(const Eigen::VectorXd& from, std::map<int, Value>& entries, int key, const Value& value) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (x.size() == from.size() && x == from) entries[key] = value;
+  }
+};
+
 CompositeModel::CompositeModel(CompositeDesign design, CompositeOptions options)
-    : design_(std::move(design)), options_(options) {
+    : design_(std::move(design)), options_(options), stateCache_(std::make_unique<StateCache>()) {
   validateDesign(design_);
   topology_ = std::make_unique<CompositeTopology>(design_);
   std::vector<Eigen::Vector3d> all;
@@ -234,27 +287,44 @@ terms::LinearPoints CompositeModel::curveRows(const spline::KnotVector& knots, c
   return {W, 0};
 }
 
+terms::LinearPoints CompositeModel::faceNormals(int f) const {
+  const int offset = problem_.layout().block(normalBlock_[f]).offset;
+  if (!stripLike(topology_->face(f))) return terms::LinearPoints::identity(1, offset);
+  if (!normalSplineRows_.empty() && normalSplineRows_[f].rows() > 0) return {normalSplineRows_[f], offset};
+  return terms::LinearPoints::identity(static_cast<int>(faceParams_[f].size()), offset);
+}
+
+namespace {
+
+/// Rows `rows` of a linear map, in that order.
+EvaluationMatrix selectRows(const EvaluationMatrix& m, const std::vector<int>& rows) {
+  std::vector<Eigen::Triplet<double>> t;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (EvaluationMatrix::InnerIterator it(m, rows[i]); it; ++it) t.emplace_back(static_cast<int>(i), it.col(), it.value());
+  EvaluationMatrix out(static_cast<Eigen::Index>(rows.size()), m.cols());
+  out.setFromTriplets(t.begin(), t.end());
+  out.makeCompressed();
+  return out;
+}
+
+}  // namespace
+
 terms::LinearPoints CompositeModel::normalsAlongEdge(int f, int e) const {
+  const terms::LinearPoints all = faceNormals(f);
   const int K = static_cast<int>(faceParams_[f].size());
   const bool runs = topology_->edgeRunsWithU(f, e);
-  EvaluationMatrix W(K, K);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < K; ++k) t.emplace_back(k, runs ? k : K - 1 - k, 1.0);
-  W.setFromTriplets(t.begin(), t.end());
-  W.makeCompressed();
-  return {W, problem_.layout().block(normalBlock_[f]).offset};
+  std::vector<int> rows(static_cast<std::size_t>(K));
+  for (int k = 0; k < K; ++k) rows[static_cast<std::size_t>(k)] = runs ? k : K - 1 - k;
+  return {selectRows(all.weights, rows), all.offset};
 }
 
 terms::LinearPoints CompositeModel::normalAtRuling(int f, int e) const {
-  const int offset = problem_.layout().block(normalBlock_[f]).offset;
-  if (!stripLike(topology_->face(f))) return terms::LinearPoints::identity(1, offset);
+  const terms::LinearPoints all = faceNormals(f);
+  if (!stripLike(topology_->face(f))) return all;
   const int K = static_cast<int>(faceParams_[f].size());
   const int end = topology_->rulingEnd(f, e);
   if (end < 0) throw std::logic_error("edge " + std::to_string(e) + " is not a ruling of face " + std::to_string(f));
-  EvaluationMatrix W(1, K);
-  W.insert(0, end == 0 ? 0 : K - 1) = 1.0;
-  W.makeCompressed();
-  return {W, offset};
+  return {selectRows(all.weights, {end == 0 ? 0 : K - 1}), all.offset};
 }
 
 void CompositeModel::buildProblem() {
@@ -264,6 +334,7 @@ void CompositeModel::buildProblem() {
   edgeBlock_.assign(E, -1);
   normalBlock_.assign(F, -1);
   faceParams_.assign(F, {});
+  normalSplineRows_.assign(options_.normalSplines ? F : 0, EvaluationMatrix());
   faceRows_.assign(F, {});
   for (int v = 0; v < V; ++v) vertexBlock_[v] = problem_.addBlock("vertex " + std::to_string(v), 3);
   for (int e = 0; e < E; ++e)
@@ -273,8 +344,13 @@ void CompositeModel::buildProblem() {
     const FaceInfo& info = topo.face(f);
     if (stripLike(info)) {
       faceParams_[f] = evaluationParams(info.knots);
-      normalBlock_[f] = problem_.addBlock("face " + std::to_string(f) + " normals",
-                                          3 * static_cast<int>(faceParams_[f].size()));
+      int count = static_cast<int>(faceParams_[f].size());
+      if (options_.normalSplines) {
+        normalSplineRows_[f] = normalSplineEvaluation(info.knots, faceParams_[f]);
+        count = static_cast<int>(normalSplineRows_[f].cols());
+      }
+      normalBlock_[f] = problem_.addBlock("face " + std::to_string(f) + (options_.normalSplines ? " normal spline" : " normals"),
+                                          3 * count);
     } else {
       normalBlock_[f] = problem_.addBlock("face " + std::to_string(f) + " normal", 3);
     }
@@ -349,7 +425,7 @@ void CompositeModel::buildProblem() {
     diff.makeCompressed();
     problem_.addTerm(std::make_unique<terms::StripDevelopabilityTerm>(
                          "developability", terms::LinearPoints{emptyRows(K, P), 0}, rows.da,
-                         terms::LinearPoints{diff, 0}, rows.db, terms::LinearPoints::identity(K, offN)),
+                         terms::LinearPoints{diff, 0}, rows.db, faceNormals(f)),
                      options_.developabilityWeight, Strength::Hard);
     if (options_.rulingGuardRatio > 0.0) {
       // Degeneracy guard: no ruling shrinks below a fraction of its length at build time (a
@@ -381,8 +457,11 @@ void CompositeModel::buildProblem() {
             std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth), 1.0, Strength::Hard));
       }
     }
+    // Unit normals: hard at the first parameter (a normal spline's first control point), soft at
+    // the other normals or control points (000_… §2.2).
     hardUnit.push_back(offN);
-    for (int k = 1; k < K; ++k) softUnit.push_back(offN + 3 * k);
+    const int normalCount = static_cast<int>(faceNormals(f).weights.cols());
+    for (int k = 1; k < normalCount; ++k) softUnit.push_back(offN + 3 * k);
   }
   problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal_hard", hardUnit), 1.0, Strength::Hard);
   if (!softUnit.empty())
@@ -596,7 +675,23 @@ void CompositeModel::initializeNormals() {
       }
       n[k] = best >= 0 ? n[best] : polygonNormal;
     }
-    for (int k = 0; k < K; ++k) normals.segment<3>(3 * k) = n[k];
+    if (normalSplineRows_.empty() || normalSplineRows_[f].rows() == 0) {
+      for (int k = 0; k < K; ++k) normals.segment<3>(3 * k) = n[k];
+      continue;
+    }
+    // Normal spline: least-squares fit of its control points to the unit normals (a tiny
+    // Tikhonov term keeps the fit well posed), scaled so the first control point (held at unit
+    // length) starts there.
+    const EvaluationMatrix& N = normalSplineRows_[f];
+    Eigen::MatrixXd samples(K, 3);
+    for (int k = 0; k < K; ++k) samples.row(k) = n[k].transpose();
+    Eigen::SparseMatrix<double> A = Eigen::SparseMatrix<double>(N.transpose()) * N;
+    for (int i = 0; i < A.rows(); ++i) A.coeffRef(i, i) += 1e-10;
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+    Eigen::MatrixXd control = ldlt.solve(Eigen::MatrixXd(N.transpose() * samples));
+    const double first = control.row(0).norm();
+    if (first > 1e-12) control /= first;
+    for (Eigen::Index i = 0; i < control.rows(); ++i) normals.segment<3>(3 * i) = control.row(i).transpose();
   }
 }
 
@@ -693,7 +788,14 @@ Eigen::Vector3d CompositeModel::pointValue(const PointSlot& s) const {
 }
 
 Eigen::Vector3d CompositeModel::normalVariable(int f, int k) const {
-  return problem_.x().segment<3>(problem_.layout().block(normalBlock_[f]).offset + 3 * k);
+  const int offset = problem_.layout().block(normalBlock_[f]).offset;
+  if (!normalSplineRows_.empty() && normalSplineRows_[f].rows() > 0) {
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (EvaluationMatrix::InnerIterator it(normalSplineRows_[f], k); it; ++it)
+      n += it.value() * problem_.x().segment<3>(offset + 3 * static_cast<int>(it.col()));
+    return n;
+  }
+  return problem_.x().segment<3>(offset + 3 * k);
 }
 
 CompositeDesign CompositeModel::design() const {
@@ -739,10 +841,11 @@ std::pair<spline::BSplineCurve, spline::BSplineCurve> curvesOf(const CompositeTo
   return {std::move(a), std::move(b)};
 }
 
-Eigen::Vector3d geometricNormal(const std::pair<spline::BSplineCurve, spline::BSplineCurve>& c, double u) {
-  const Eigen::Vector3d a = c.first.evaluate(u, 0), b = c.second.evaluate(u, 0);
-  const Eigen::Vector3d ta = c.first.evaluate(u, 1), tb = c.second.evaluate(u, 1);
-  const Eigen::Vector3d r = b - a;
+Eigen::Vector3d geometricNormal(const spline::CurvePair& c, double u) {
+  Eigen::Matrix<double, 3, 2> da, db;  // point and tangent of each boundary (one basis evaluation for both)
+  c.derivatives(u, 1, da, db);
+  const Eigen::Vector3d ta = da.col(1), tb = db.col(1);
+  const Eigen::Vector3d r = db.col(0) - da.col(0);
   Eigen::Vector3d n = (ta + tb).cross(r);
   if (n.norm() <= 1e-9 * (ta.norm() + tb.norm()) * std::max(r.norm(), 1e-300)) n = ta.cross(tb);
   const double len = n.norm();
@@ -815,7 +918,8 @@ Eigen::Vector3d CompositeModel::faceNormal(int f, double u) const {
     for (int c : info.corners) corners.push_back(d.vertices.row(c).transpose());
     return newellNormal(corners).normalized();
   }
-  return geometricNormal(curvesOf(*topology_, d, f), u);
+  const auto curves = curvesOf(*topology_, d, f);
+  return geometricNormal(spline::CurvePair(curves.first, curves.second), u);
 }
 
 namespace {
@@ -825,6 +929,7 @@ struct Evaluation {
   const CompositeTopology& topo;
   CompositeDesign d;
   std::vector<std::pair<spline::BSplineCurve, spline::BSplineCurve>> curves;  ///< per face (planar: empty)
+  std::vector<std::optional<spline::CurvePair>> pairs;                        ///< over `curves` (planar: none)
   std::vector<Eigen::Vector3d> planarNormal;                                   ///< per face (planar)
   /// Variable normals per face (orientation reference), with their parameters.
   std::vector<std::vector<Eigen::Vector3d>> varNormals;
@@ -833,10 +938,15 @@ struct Evaluation {
   Evaluation(const CompositeTopology& t, CompositeDesign design) : topo(t), d(std::move(design)) {}
 
   /// Unit normal of face f at its parameter u, oriented like the face's normal variables.
-  Eigen::Vector3d normal(int f, double u) const {
-    const FaceInfo& info = topo.face(f);
-    if (info.type == FaceType::Planar) return planarNormal[f];
-    Eigen::Vector3d n = geometricNormal(curves[f], u);
+  Eigen::Vector3d normal(int f, double u) const { return oriented(f, u, geometric(f, u)); }
+  /// The surface's own unit normal of face f at u (planar: Newell's), unoriented.
+  Eigen::Vector3d geometric(int f, double u) const {
+    if (topo.face(f).type == FaceType::Planar) return planarNormal[f];
+    return geometricNormal(*pairs[f], u);
+  }
+  /// n turned like the face's normal variable nearest to u.
+  Eigen::Vector3d oriented(int f, double u, Eigen::Vector3d n) const {
+    if (topo.face(f).type == FaceType::Planar) return planarNormal[f];
     const std::vector<double>& p = varParams[f];
     const auto it = std::lower_bound(p.begin(), p.end(), u);
     std::size_t k = static_cast<std::size_t>(std::min<std::ptrdiff_t>(it - p.begin(), static_cast<std::ptrdiff_t>(p.size()) - 1));
@@ -848,11 +958,37 @@ struct Evaluation {
 
 }  // namespace
 
+CompositeModel::~CompositeModel() = default;
+CompositeModel::CompositeModel(CompositeModel&&) noexcept = default;
+CompositeModel& CompositeModel::operator=(CompositeModel&&) noexcept = default;
+
 std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
+  return creaseSamples(samplesPerSpan).creases;
+}
+
+CompositeModel::CreaseSamples CompositeModel::creaseSamples(int samplesPerSpan) const {
+  const Eigen::VectorXd& x = problem_.x();
+  if (auto hit = stateCache_->find(x, stateCache_->creases, samplesPerSpan)) return std::move(*hit);
+  CreaseSamples value;
+  value.creases = computeCreases(samplesPerSpan, &value.foldResidualMax);
+  stateCache_->store(x, stateCache_->creases, samplesPerSpan, value);
+  return value;
+}
+
+CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
+  const Eigen::VectorXd& x = problem_.x();
+  if (auto hit = stateCache_->find(x, stateCache_->quality, samplesPerSpan)) return std::move(*hit);
+  CompositeQuality value = computeQuality(samplesPerSpan);
+  stateCache_->store(x, stateCache_->quality, samplesPerSpan, value);
+  return value;
+}
+
+std::vector<CreaseGeometry> CompositeModel::computeCreases(int samplesPerSpan, double* foldResidualMax) const {
   if (samplesPerSpan < 1) throw std::invalid_argument("creases: need at least 1 sample per span");
   const CompositeTopology& topo = *topology_;
   Evaluation ev(topo, design());
   ev.curves.resize(topo.numFaces());
+  ev.pairs.resize(topo.numFaces());
   ev.planarNormal.resize(topo.numFaces());
   ev.varNormals.resize(topo.numFaces());
   ev.varParams = faceParams_;
@@ -866,6 +1002,7 @@ std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
       continue;
     }
     ev.curves[f] = curvesOf(topo, ev.d, f);
+    ev.pairs[f].emplace(ev.curves[f].first, ev.curves[f].second);
     for (std::size_t k = 0; k < faceParams_[f].size(); ++k)
       ev.varNormals[f].push_back(normalVariable(f, static_cast<int>(k)));
   }
@@ -884,11 +1021,24 @@ std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
       const int count = curve.knots.numSpans() * samplesPerSpan + 1;
       const std::vector<double> us = curve.knots.uniformSamples(count);
       const double sum = curve.knots.domainBegin() + curve.knots.domainEnd();
+      // The crease rows' residual (eq. 7/8 with the surfaces' unit normals) from the same samples.
+      const bool measured = foldResidualMax && (c.kind == CreaseKind::Fold || c.kind == CreaseKind::Geodesic);
+      const double sign = c.kind == CreaseKind::Fold ? 1.0 : -1.0;
+      Eigen::Matrix<double, 3, 3> point;
       for (double u : us) {
-        pts.push_back(curve.evaluate(u, 0));
-        tangents.push_back(curve.evaluate(u, 1));
-        n1s.push_back(ev.normal(f1, topo.edgeRunsWithU(f1, e) ? u : sum - u));
-        n2s.push_back(ev.normal(f2, topo.edgeRunsWithU(f2, e) ? u : sum - u));
+        curve.derivatives(u, 2, point);
+        pts.push_back(point.col(0));
+        tangents.push_back(point.col(1));
+        const double u1 = topo.edgeRunsWithU(f1, e) ? u : sum - u, u2 = topo.edgeRunsWithU(f2, e) ? u : sum - u;
+        const Eigen::Vector3d g1 = ev.geometric(f1, u1), g2 = ev.geometric(f2, u2);
+        n1s.push_back(ev.oriented(f1, u1, g1));
+        n2s.push_back(ev.oriented(f2, u2, g2));
+        if (!measured) continue;
+        const Eigen::Vector3d m = g1 + sign * g2;
+        const Eigen::Vector3d t1 = point.col(1), t2 = point.col(2);
+        const double s1 = t1.norm() > 1e-12 ? 1.0 / t1.norm() : 1.0;
+        const double s2 = t2.norm() > 1e-12 ? 1.0 / t2.norm() : 1.0;
+        *foldResidualMax = std::max({*foldResidualMax, std::abs(s1 * t1.dot(m)), std::abs(s2 * t2.dot(m))});
       }
     } else {
       const auto ends = topo.edgeVertices(e);
@@ -924,7 +1074,7 @@ std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
   return out;
 }
 
-CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
+CompositeQuality CompositeModel::computeQuality(int samplesPerSpan) const {
   if (samplesPerSpan < 1) throw std::invalid_argument("quality: need at least 1 sample per span");
   const CompositeTopology& topo = *topology_;
   const CompositeDesign d = design();
@@ -992,13 +1142,30 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
     q.vertexCurvatureMax = std::max(q.vertexCurvatureMax, k);
   }
 
-  // Warp angles over all strip-like faces.
+  // Warp angles over all strip-like faces (1 000 rulings each; the basis at them tabled once).
+  std::call_once(stateCache_->warpOnce, [this, &topo]() {
+    std::vector<spline::BasisTable>& tables = stateCache_->warpRulings;
+    tables.resize(static_cast<std::size_t>(topo.numFaces()));
+    for (int f = 0; f < topo.numFaces(); ++f) {
+      const FaceInfo& info = topo.face(f);
+      if (info.type == FaceType::Planar) continue;
+      const spline::KnotVector knots = topo.knots(info.a.edge, info.a.reversed);
+      const double u0 = knots.domainBegin(), u1 = knots.domainEnd();
+      std::vector<double> params(1000);
+      for (int i = 0; i < 1000; ++i) params[static_cast<std::size_t>(i)] = u0 + (u1 - u0) * static_cast<double>(i) / 999;
+      tables[static_cast<std::size_t>(f)] = spline::BasisTable(knots, std::move(params), 1);
+    }
+  });
+  const std::vector<spline::BasisTable>& warpRulings = stateCache_->warpRulings;
   double warpSum = 0.0;
   int warpFaces = 0;
   for (int f = 0; f < topo.numFaces(); ++f) {
     if (topo.face(f).type == FaceType::Planar) continue;
     const auto curves = curvesOf(topo, d, f);
-    const metrics::StripQuality sq = metrics::stripQuality(curves.first, curves.second, 1000);
+    const spline::BasisTable& rulings = warpRulings[static_cast<std::size_t>(f)];
+    const metrics::StripQuality sq = rulings.fits(curves.first) && rulings.fits(curves.second)
+                                         ? metrics::stripQuality(rulings, curves.first, curves.second)
+                                         : metrics::stripQuality(curves.first, curves.second, 1000);
     q.warpAngleMaxDeg = std::max(q.warpAngleMaxDeg, sq.warpAngleMaxDeg);
     warpSum += sq.warpAngleMeanDeg;
     ++warpFaces;
@@ -1006,26 +1173,10 @@ CompositeQuality CompositeModel::quality(int samplesPerSpan) const {
   q.warpAngleMeanDeg = warpFaces > 0 ? warpSum / warpFaces : 0.0;
 
   // Crease rows (eq. 7/8) with the surfaces' unit normals; fold angles.
-  const std::vector<CreaseGeometry> cs = creases(samplesPerSpan);
-  for (const CreaseGeometry& c : cs) {
+  const CreaseSamples cs = creaseSamples(samplesPerSpan);
+  for (const CreaseGeometry& c : cs.creases)
     if (c.foldAngleDeg.size() > 0) q.foldAngleMaxDeg = std::max(q.foldAngleMaxDeg, c.foldAngleDeg.cwiseAbs().maxCoeff());
-    if (c.kind != CreaseKind::Fold && c.kind != CreaseKind::Geodesic) continue;
-    const double sign = c.kind == CreaseKind::Fold ? 1.0 : -1.0;
-    const EdgeInfo& info = topo.edge(c.edge);
-    const spline::BSplineCurve& curve = d.edges[c.edge].curve;
-    const double sum = curve.knots.domainBegin() + curve.knots.domainEnd();
-    const auto c1 = curvesOf(topo, d, info.faces[0]), c2 = curvesOf(topo, d, info.faces[1]);
-    const std::vector<double> us = curve.knots.uniformSamples(curve.knots.numSpans() * samplesPerSpan + 1);
-    for (double u : us) {
-      Eigen::Vector3d n1 = geometricNormal(c1, topo.edgeRunsWithU(info.faces[0], c.edge) ? u : sum - u);
-      Eigen::Vector3d n2 = geometricNormal(c2, topo.edgeRunsWithU(info.faces[1], c.edge) ? u : sum - u);
-      const Eigen::Vector3d m = n1 + sign * n2;
-      const Eigen::Vector3d t1 = curve.evaluate(u, 1), t2 = curve.evaluate(u, 2);
-      const double s1 = t1.norm() > 1e-12 ? 1.0 / t1.norm() : 1.0;
-      const double s2 = t2.norm() > 1e-12 ? 1.0 / t2.norm() : 1.0;
-      q.creaseFoldResidualMax = std::max({q.creaseFoldResidualMax, std::abs(s1 * t1.dot(m)), std::abs(s2 * t2.dot(m))});
-    }
-  }
+  q.creaseFoldResidualMax = cs.foldResidualMax;
   return q;
 }
 

@@ -18,6 +18,7 @@
 #include "devsurf/models/composite/CompositeHinges.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/spline/BSplineCurve.h"
+#include "devsurf/spline/Basis.h"
 #include "devsurf/terms/LinearPoints.h"
 #include "devsurf/terms/SofteningWeight.h"
 
@@ -63,6 +64,13 @@ struct CompositeOptions {
   /// legGuardRatio of its length at build time); false = off.
   bool creaseBacktrackGuard = true;
   double legGuardRatio = 0.25;
+  /// Normal splines (000_… §2.2, §7): the normals of a strip-like face are a cubic spline with
+  /// one control point per control point of the face's curves (C² on the face's own knots when
+  /// they are cubic), evaluated linearly at the parameters where the equations need a normal,
+  /// instead of one free vector per parameter. About a seventh of the normal unknowns (Tang et
+  /// al. used them in 8 of the 10 rows of Fig. 17: "reducing computation times to almost half");
+  /// the unit length is held hard at the first control point, soft at the others.
+  bool normalSplines = false;
   /// Whoever builds the model gives up here (a job's time limit, a session's budget): checked
   /// while the faces, the development mesh and its unfolding are built and the pattern analyzed;
   /// once passed, the constructor throws engine::DeadlineExceeded. Solves have their own
@@ -190,6 +198,9 @@ class CompositeModel {
  public:
   /// @throws std::invalid_argument naming the path ("faces[2]: …", "fixed[0].index: …")
   explicit CompositeModel(CompositeDesign design, CompositeOptions options = {});
+  ~CompositeModel();
+  CompositeModel(CompositeModel&&) noexcept;
+  CompositeModel& operator=(CompositeModel&&) noexcept;
 
   /// The checks the constructor makes (topology and references), without building anything.
   /// @throws std::invalid_argument
@@ -219,6 +230,8 @@ class CompositeModel {
   /// Re-initializes all normals from the current geometry.
   void resetNormals();
 
+  /// The metrics of the current state. Remembered until the variables change, so a session that
+  /// streams an iterate (geometry, its metrics, a checkpoint) measures each state once.
   CompositeQuality quality(int samplesPerSpan = 10) const;
   CompositeGeometry geometry(int samplesPerSpan = 16, int vSamples = 3) const;
   /// Whether the model manages a development (design.developmentSamples > 0).
@@ -258,7 +271,7 @@ class CompositeModel {
   /// patches (centroid, corner, edge midpoint, next corner), every S edge as a curve (entity 126).
   /// Labels: "F<face>", "F<face>P<k>", "E<edge>".
   void igesEntities(std::vector<io::IgesSurface>& surfaces, std::vector<io::IgesCurve>& curves) const;
-  /// Every interior edge with its fold angles.
+  /// Every interior edge with its fold angles (remembered like quality()).
   std::vector<CreaseGeometry> creases(int samplesPerSpan = 16) const;
 
   /// A hinge of the creases (see FoldHinge) and its current fold angle.
@@ -334,9 +347,26 @@ class CompositeModel {
   terms::LinearPoints normalAtRuling(int f, int e) const;
   Eigen::Vector3d pointValue(const PointSlot& s) const;  ///< design coordinates
   Eigen::Vector3d normalVariable(int f, int k) const;
+  /// The normals of face f at its parameters faceParams_[f] as linear points of its normal block:
+  /// the identity (free vectors) or the normal spline's evaluation matrix.
+  terms::LinearPoints faceNormals(int f) const;
 
   CompositeDesign design_;
   CompositeOptions options_;
+  CompositeQuality computeQuality(int samplesPerSpan) const;
+  /// creases(samplesPerSpan); with `foldResidualMax`, also the largest crease-row residual of the
+  /// fold and geodesic S edges at the same samples (CompositeQuality::creaseFoldResidualMax).
+  std::vector<CreaseGeometry> computeCreases(int samplesPerSpan, double* foldResidualMax = nullptr) const;
+  struct CreaseSamples {
+    std::vector<CreaseGeometry> creases;
+    double foldResidualMax = 0.0;
+  };
+  /// computeCreases with its residual, remembered like quality().
+  CreaseSamples creaseSamples(int samplesPerSpan) const;
+  /// quality() and creases() of the variables they were computed from (CompositeModel.cpp).
+  struct StateCache;
+  mutable std::unique_ptr<StateCache> stateCache_;
+
   std::unique_ptr<CompositeTopology> topology_;
   engine::Normalization normalization_;
   engine::Problem problem_;
@@ -344,6 +374,9 @@ class CompositeModel {
   std::vector<int> vertexBlock_, edgeBlock_, normalBlock_;
   std::vector<std::vector<double>> faceParams_;
   std::vector<FaceRows> faceRows_;
+  /// Per strip-like face with options_.normalSplines: K×M evaluation of its normal spline at
+  /// faceParams_[f]; empty otherwise (free vectors).
+  std::vector<spline::EvaluationMatrix> normalSplineRows_;
   std::vector<int> handleTerms_;
   std::vector<int> rulingTerms_, widthTerms_;  ///< degeneracy guards "ruling_length", "strip_width" per face
   double scale_ = 1.0;  ///< bounding-box diagonal of the input (design coordinates)
