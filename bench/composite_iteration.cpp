@@ -163,6 +163,7 @@ void runIteration(benchmark::State& state, Fixture& f, int development) {
   state.counters["factorization_ms"] = Counter(factorization, Counter::kAvgIterations);
   state.counters["solve_ms"] = Counter(solve, Counter::kAvgIterations);
   state.counters["iteration_ms"] = Counter(iteration, Counter::kAvgIterations);
+  state.counters["assembly_threads"] = Counter(model.solver().assemblyThreads());
   state.SetLabel(model.solver().linearSolverName());  // "auto (cholmod)" says what auto chose
 }
 

@@ -302,7 +302,8 @@ def pleated_sheet():
         "description": "Seven wavy curves across a 3.6 x 3 sheet, the five inside ones curved folds: six strips side "
                        "by side. The left edge is held and handles lift the right edge, so every crease folds a "
                        "little. Each strip's normals are a cubic normal spline (solver setting normal_splines; "
-                       "Tang et al. 2016 section 7), a quarter of the unknowns of free normals.",
+                       "Tang et al. 2016 section 7): half the unknowns of free normals here, a fifth of the normals "
+                       "alone.",
         "model": {"kind": "composite", "vertices": vertices, "edges": edges, "faces": faces,
                   "fixed": [{"vertex": 0}, {"vertex": 1}, {"edge": 0, "index": n // 2}],
                   "handles": handles, "development": {"samples": 4}},

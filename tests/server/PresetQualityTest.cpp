@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "devsurf/server/SceneSolver.h"
 #include "support/ExportChecks.h"
@@ -65,6 +67,45 @@ TEST_P(PresetAsShipped, SolvedAsDevsurfSolveSolvesItMeetsTheQualityThresholds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, PresetAsShipped, ::testing::ValuesIn(presetFiles()),
+                         devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
+
+/// Every composite preset with the solver's normal splines switched on (the designer's "normals:
+/// spline" in the Solver panel, or `"normal_splines": true`): still solved to the same quality
+/// thresholds, with far fewer unknowns (Tang et al. §7: "this did not impair quality").
+class CompositePresetWithNormalSplines : public ::testing::TestWithParam<std::string> {};
+
+std::vector<std::string> compositePresetFiles() {
+  std::vector<std::string> out;
+  for (const std::string& name : presetFiles()) {
+    std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
+    if (json::parse(file)["model"]["kind"] == "composite") out.push_back(name);
+  }
+  return out;
+}
+
+TEST_P(CompositePresetWithNormalSplines, SolvedWithNormalSplinesItStillMeetsTheQualityThresholds) {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + GetParam());
+  json scene = json::parse(file);
+  const bool shippedWithSplines = scene.value("solver", json::object()).value("normal_splines", false);
+  scene["solver"]["normal_splines"] = false;
+  const double freeNormalUnknowns = SceneSolver(proto::sceneFromJson(scene)).metrics().at("unknowns");
+  scene["solver"]["normal_splines"] = true;
+  SceneSolver solver(proto::sceneFromJson(scene));
+  EXPECT_LT(solver.metrics().at("unknowns"), 0.8 * freeNormalUnknowns) << "normal splines have fewer unknowns";
+  const engine::SolveSummary summary = solver.solve();
+  EXPECT_NE(summary.reason, engine::TerminationReason::Diverged);
+  const proto::Metrics metrics = solver.metrics();
+  for (const auto& [name, value] : metrics) EXPECT_TRUE(std::isfinite(value)) << name;
+  const QualityVerdict verdict = solver.quality();
+  std::cout << GetParam() << (shippedWithSplines ? " (shipped with normal splines)" : "") << ": "
+            << summary.stepsTaken() << " iterations, quality " << verdict.toJson().dump() << "\n";
+  for (const QualityCheck& c : verdict.checks) EXPECT_TRUE(c.ok) << c.metric << " = " << c.value << ", limit " << c.limit;
+  EXPECT_LT(metrics.at("warp_angle_max_deg"), 0.05);
+  const checks::FlatnessStats flat = checks::objFlatness(checks::parseObj(solver.exportAs("obj").content));
+  EXPECT_LE(flat.max, 1e-3) << "face flatness recomputed from the OBJ export";
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, CompositePresetWithNormalSplines, ::testing::ValuesIn(compositePresetFiles()),
                          devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
 
 TEST(PresetAsShipped, EveryKindHasAPreset) {

@@ -1,6 +1,7 @@
 #include "devsurf/engine/GuidedProjectionSolver.h"
 
 #include <chrono>
+#include <sched.h>
 #include <cmath>
 #include <algorithm>
 #include <limits>
@@ -103,8 +104,21 @@ bool GuidedProjectionSolver::solveWithEarlierFactorization(const FactorizationRe
   }
 }
 
+namespace {
+
+/// The cores this process may run on (its affinity mask), as taskset and cgroup cpusets set it.
+int availableCores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) != 0) return 1;
+  return std::max(1, CPU_COUNT(&set));
+}
+
+}  // namespace
+
 SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   const Clock::time_point start = Clock::now();
+  equations_.setAssemblyThreads(options.assemblyThreads > 0 ? options.assemblyThreads : availableCores());
   SolveSummary summary;
   for (int t = 0; t < problem_.numTerms(); ++t) summary.termNames.push_back(problem_.term(t).term->name());
   summary.iterations.reserve(static_cast<std::size_t>(std::max(0, options.maxIterations)) + 1);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include <Eigen/OrderingMethods>
 
@@ -480,6 +481,10 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
       longestDirectRow = std::max(longestDirectRow,
                                   static_cast<std::size_t>(plan.directStart[i + 1] - plan.directStart[i]));
   rowValues_.assign(longestDirectRow, 0.0);
+  for (TermPlan& plan : plans_) {
+    plan.directProducts = static_cast<long>(plan.pairSlot.size());
+    directProducts_ += plan.directProducts;
+  }
 
   deadline.check();
   // 9. Elimination blocks and groups in processing order.
@@ -592,41 +597,37 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
   rhs_.setZero(numReduced_);
 }
 
-void NormalEquations::assemble(Problem& problem, const std::vector<double>& termWeights,
-                               double regularization, std::vector<double>& termResiduals,
-                               double relaxableLimit) {
-  assert(static_cast<int>(termWeights.size()) == problem.numTerms() && "one weight per term");
-  double* H = S_.valuePtr();
-  std::fill(H, H + S_.nonZeros(), 0.0);
-  rhs_.setZero();
-  termResiduals.assign(problem.numTerms(), 0.0);
-  std::copy(termWeights.begin(), termWeights.end(), weights_.begin());
-  eps2_ = regularization * regularization;
-  const Eigen::VectorXd& x = problem.x();
-  double* rhs = rhs_.data();
-
-  for (int t = 0; t < problem.numTerms(); ++t) {
-    Term& term = *problem.term(t).term;
-    const TermPlan& plan = plans_[t];
-    double* r = residual_.data() + termResidualOffset_[t];
-    double* J = jacobian_.data() + termJacobianOffset_[t];
-    term.linearizeAt(x);
-    term.evaluate(x, r, J);
-    const double w2 = termWeights[t] * termWeights[t];
-    double energy = 0.0;
-    for (int row = 0; row < plan.numResiduals; ++row) energy += r[row] * r[row];
-    if (problem.term(t).relaxable && energy > relaxableLimit * relaxableLimit) {
-      const double shorten = relaxableLimit / std::sqrt(energy);
-      for (int row = 0; row < plan.numResiduals; ++row) r[row] *= shorten;
-      energy = relaxableLimit * relaxableLimit;
+void NormalEquations::setAssemblyThreads(int threads, long minProducts) {
+  const int wanted = threads >= 2 && directProducts_ >= minProducts && plans_.size() >= 2 ? 2 : 1;
+  if (wanted == assemblyThreads_) return;
+  assemblyThreads_ = wanted;
+  if (wanted == 1) return;
+  // Split the terms into two runs of about equal products (deterministic: the partition depends
+  // on the pattern only), and size the second thread's copies once.
+  long seen = 0;
+  splitTerm_ = static_cast<int>(plans_.size());
+  for (std::size_t t = 0; t < plans_.size(); ++t) {
+    seen += plans_[t].directProducts;
+    if (2 * seen >= directProducts_) {
+      splitTerm_ = static_cast<int>(t) + 1;
+      break;
     }
-    termResiduals[t] = w2 * energy;
+  }
+  workerMatrix_.assign(static_cast<std::size_t>(S_.nonZeros()), 0.0);
+  workerRhs_.assign(static_cast<std::size_t>(rhs_.size()), 0.0);
+  workerRow_.assign(rowValues_.size(), 0.0);
+}
 
+void NormalEquations::accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const {
+  for (int t = firstTerm; t < endTerm; ++t) {
+    const TermPlan& plan = plans_[t];
+    const double* r = residual_.data() + termResidualOffset_[t];
+    const double* J = jacobian_.data() + termJacobianOffset_[t];
+    const double w2 = weights_[t] * weights_[t];
     const int* slot = plan.pairSlot.data();
     const int* entry = plan.directEntry.data();
     const int* column = plan.directColumn.data();
     const int numDirect = static_cast<int>(plan.directRow.size());
-    double* jr = rowValues_.data();
     for (int i = 0; i < numDirect; ++i) {
       const double ri = r[plan.directRow[i]];
       const int begin = plan.directStart[i], n = plan.directStart[i + 1] - begin;
@@ -645,6 +646,55 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
         for (int b = a; b < n; ++b) H[*slot++] += wja * jr[b];
       }
     }
+  }
+}
+
+void NormalEquations::assemble(Problem& problem, const std::vector<double>& termWeights,
+                               double regularization, std::vector<double>& termResiduals,
+                               double relaxableLimit) {
+  assert(static_cast<int>(termWeights.size()) == problem.numTerms() && "one weight per term");
+  double* H = S_.valuePtr();
+  std::fill(H, H + S_.nonZeros(), 0.0);
+  rhs_.setZero();
+  termResiduals.assign(problem.numTerms(), 0.0);
+  std::copy(termWeights.begin(), termWeights.end(), weights_.begin());
+  eps2_ = regularization * regularization;
+  const Eigen::VectorXd& x = problem.x();
+  double* rhs = rhs_.data();
+
+  // Every term evaluated (one thread: terms may share state, a foot-point set say), then the
+  // products of the rows accumulated, in two runs of terms when a second thread is worth it.
+  for (int t = 0; t < problem.numTerms(); ++t) {
+    Term& term = *problem.term(t).term;
+    const TermPlan& plan = plans_[t];
+    double* r = residual_.data() + termResidualOffset_[t];
+    double* J = jacobian_.data() + termJacobianOffset_[t];
+    term.linearizeAt(x);
+    term.evaluate(x, r, J);
+    const double w2 = termWeights[t] * termWeights[t];
+    double energy = 0.0;
+    for (int row = 0; row < plan.numResiduals; ++row) energy += r[row] * r[row];
+    if (problem.term(t).relaxable && energy > relaxableLimit * relaxableLimit) {
+      const double shorten = relaxableLimit / std::sqrt(energy);
+      for (int row = 0; row < plan.numResiduals; ++row) r[row] *= shorten;
+      energy = relaxableLimit * relaxableLimit;
+    }
+    termResiduals[t] = w2 * energy;
+  }
+  const int numTerms = problem.numTerms();
+  if (assemblyThreads_ > 1 && splitTerm_ < numTerms) {
+    std::fill(workerMatrix_.begin(), workerMatrix_.end(), 0.0);
+    std::fill(workerRhs_.begin(), workerRhs_.end(), 0.0);
+    std::thread second([this, numTerms]() {
+      accumulateDirectRows(splitTerm_, numTerms, workerMatrix_.data(), workerRhs_.data(), workerRow_.data());
+    });
+    accumulateDirectRows(0, splitTerm_, H, rhs, rowValues_.data());
+    second.join();
+    const Eigen::Index nnz = S_.nonZeros();
+    for (Eigen::Index k = 0; k < nnz; ++k) H[k] += workerMatrix_[static_cast<std::size_t>(k)];
+    for (Eigen::Index k = 0; k < rhs_.size(); ++k) rhs[k] += workerRhs_[static_cast<std::size_t>(k)];
+  } else {
+    accumulateDirectRows(0, numTerms, H, rhs, rowValues_.data());
   }
   for (int c = 0; c < numReduced_; ++c) H[diagonalSlot_[c]] += eps2_ * regularizationScale_[c];
 }

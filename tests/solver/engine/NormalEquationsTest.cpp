@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <memory>
 #include <random>
+#include <set>
 
 #include "solver/engine/TestProblems.h"
 #include "solver/engine/TestTerms.h"
@@ -196,6 +197,48 @@ class SparseRowsTerm final : public Term {
  private:
   std::vector<Row> rows_;
 };
+
+TEST(NormalEquations, TwoThreadsAccumulateTheSameSystemAndRunsRepeatBitForBit) {
+  // 30 terms of random sparse rows over 60 variables: the second thread takes the later terms.
+  Problem problem;
+  problem.addBlock("x", 60);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  std::uniform_int_distribution<int> variable(0, 59);
+  for (int i = 0; i < 60; ++i) problem.x()[i] = uni(rng);
+  for (int t = 0; t < 30; ++t) {
+    std::vector<SparseRowsTerm::Row> rows(8);
+    for (auto& row : rows) {
+      std::set<int> used;
+      while (used.size() < 6) used.insert(variable(rng));
+      for (int v : used) row.emplace_back(v, uni(rng));
+    }
+    problem.addTerm(std::make_unique<SparseRowsTerm>("rows" + std::to_string(t), rows), 0.5 + 0.1 * t, Strength::Soft);
+  }
+  disableElimination(problem);
+  NormalEquations eq(problem);
+  const std::vector<double> weights(30, 1.3);
+  std::vector<double> residuals;
+  eq.assemble(problem, weights, 0.1, residuals);
+  ASSERT_EQ(eq.assemblyThreads(), 1);
+  const Eigen::VectorXd oneH = Eigen::Map<const Eigen::VectorXd>(eq.matrix().valuePtr(), eq.matrix().nonZeros());
+  const Eigen::VectorXd oneRhs = eq.rhs();
+  eq.setAssemblyThreads(2, 0);
+  ASSERT_EQ(eq.assemblyThreads(), 2);
+  eq.assemble(problem, weights, 0.1, residuals);
+  const Eigen::VectorXd twoH = Eigen::Map<const Eigen::VectorXd>(eq.matrix().valuePtr(), eq.matrix().nonZeros());
+  const Eigen::VectorXd twoRhs = eq.rhs();
+  EXPECT_LE((twoH - oneH).cwiseAbs().maxCoeff(), 1e-13 * oneH.cwiseAbs().maxCoeff());
+  EXPECT_LE((twoRhs - oneRhs).cwiseAbs().maxCoeff(), 1e-13 * oneRhs.cwiseAbs().maxCoeff());
+  EXPECT_GT(oneH.cwiseAbs().maxCoeff(), 1.0);  // a system with something in it
+  eq.assemble(problem, weights, 0.1, residuals);
+  const Eigen::VectorXd againH = Eigen::Map<const Eigen::VectorXd>(eq.matrix().valuePtr(), eq.matrix().nonZeros());
+  EXPECT_EQ(againH, twoH);  // the same partition and order of sums: the same bits
+  EXPECT_EQ(eq.rhs(), twoRhs);
+  // Below the threshold (the default) one thread does it.
+  eq.setAssemblyThreads(2);
+  EXPECT_EQ(eq.assemblyThreads(), 1);
+}
 
 TEST(NormalEquations, RowsWithAZeroJacobianAddNothingAndTheRowsAfterThemStillLandInTheirSlots) {
   // A guard at rest (a hinge row: residual and Jacobian zero) is skipped by the assembler; the

@@ -15,6 +15,7 @@
 #include "devsurf/terms/ControlPolygonFairnessTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
+#include "devsurf/terms/NormalSplineUnitTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
 
 namespace devsurf::terms {
@@ -93,6 +94,24 @@ TEST(StripDevelopabilityTerm, VanishesOnACylinderWithItsTrueNormals) {
 TEST(UnitNormalTerm, JacobianMatchesFiniteDifferences) {
   UnitNormalTerm term("unit_normal", {0, 3, 9});
   expectJacobianMatches(term, randomVector(12, 5));
+}
+
+TEST(NormalSplineUnitTerm, JacobianMatchesFiniteDifferencesAndResidualsAreTheEvaluatedLengths) {
+  StripFixture f;
+  const spline::KnotVector nk = spline::KnotVector::clampedUniform(3, 5);
+  const LinearPoints normals{spline::evaluationMatrix(nk, f.params, 0), f.offN};
+  NormalSplineUnitTerm term("unit_normal", normals);
+  EXPECT_EQ(term.numResiduals(), f.K);
+  const Eigen::VectorXd x = randomVector(f.offN + 15, 6);
+  expectJacobianMatches(term, x);
+  Eigen::VectorXd r(f.K);
+  term.evaluate(x, r.data(), nullptr);
+  for (int k = 0; k < f.K; ++k) EXPECT_NEAR(r[k], normals.point(x, k).squaredNorm() - 1.0, 1e-14);
+  // Control points that are the same unit vector give unit normals everywhere (partition of unity).
+  Eigen::VectorXd unit = x;
+  for (int j = 0; j < 5; ++j) unit.segment<3>(f.offN + 3 * j) = Eigen::Vector3d(0.6, 0.0, 0.8);
+  term.evaluate(unit, r.data(), nullptr);
+  EXPECT_LT(r.cwiseAbs().maxCoeff(), 1e-14);
 }
 
 TEST(UnitNormalTerm, ResidualIsSquaredLengthMinusOne) {

@@ -134,6 +134,10 @@ struct SolverOptions {
     double decrease = 0.05;
     double range = 10.0;
   } hardPlateau;
+  /// Threads that accumulate the normal equations' products (NormalEquations::setAssemblyThreads:
+  /// a second one only for large systems). 0 = the cores this process may run on (its CPU
+  /// affinity; `taskset -c 0` makes it one), at most 2; 1 = one thread.
+  int assemblyThreads = 0;
   StepControlOptions stepControl;        ///< see StepControlOptions
   FactorizationReuseOptions factorizationReuse;  ///< off by default; see there
   /// The schedule's iteration of the first step: the fairness weight of step k is
@@ -198,6 +202,8 @@ class GuidedProjectionSolver {
   int numFree() const { return equations_.numFree(); }
   long normalMatrixNonZeros() const { return equations_.nonZeros(); }
   const std::string linearSolverName() const { return linear_->name(); }
+  /// Threads of the last solve's assembly (1 or 2; SolverOptions::assemblyThreads).
+  int assemblyThreads() const { return equations_.assemblyThreads(); }
 
  private:
   /// delta_ = solution of matrix() δ = rhs() by CG preconditioned with the linear solver's current

@@ -54,6 +54,20 @@ class NormalEquations {
                 std::vector<double>& termResiduals,
                 double relaxableLimit = std::numeric_limits<double>::infinity());
 
+  /// Accumulates the rows' products on a second thread when `threads` ≥ 2 and one assembly has at
+  /// least kParallelAssemblyProducts of them (issue 17: the machine's two cores): the terms are
+  /// split once into two runs of about equal products, the second run accumulated into its own
+  /// copy of S and rhs, added after. The partition depends on the pattern only, so every run gives
+  /// the same numbers (they differ from one thread's in the last bits: another order of sums).
+  /// Terms are still evaluated on the calling thread (they may share state). Default: one thread.
+  /// @param[in] minProducts  the threshold (tests lower it to split small systems)
+  void setAssemblyThreads(int threads, long minProducts = kParallelAssemblyProducts);
+  /// 1 or 2: what setAssemblyThreads chose.
+  int assemblyThreads() const { return assemblyThreads_; }
+  /// Products per assembly (Σ over direct rows of n(n+1)/2) from which a second thread pays for
+  /// itself (starting and joining a thread, summing a copy of S: well under a millisecond).
+  static constexpr long kParallelAssemblyProducts = 2'000'000;
+
   /// Eliminates every elimination group (block Gaussian elimination of H, the first stage of its
   /// factorization) into matrix() and rhs(), using the Jacobian of the last assemble(). Returns
   /// false if a group's diagonal block is not numerically positive definite (then H is not).
@@ -96,6 +110,7 @@ class NormalEquations {
     std::vector<int> directEntry;      ///< entry id (index into this term's Jacobian values)
     std::vector<int> directColumn;     ///< reduced column of that entry
     std::vector<int> pairSlot;         ///< per direct row, per pair (a ≤ b in row order): slot in S
+    long directProducts = 0;           ///< pairSlot.size(): the products one assembly adds
   };
   /// A run of groups with the same kept columns: their kept Jacobian rows are stacked and the
   /// update of S is one dense product, scattered once.
@@ -158,6 +173,13 @@ class NormalEquations {
   std::vector<double> factors_;
   // Scratch, sized for the largest group/block at construction.
   std::vector<double> rowValues_;  ///< one direct row's Jacobian values
+  /// Adds w²JᵀJ and −w²Jᵀr of the direct rows of terms [firstTerm, endTerm) (from the last
+  /// evaluation) into H (S's value array) and rhs; jr: scratch for one row.
+  void accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const;
+  long directProducts_ = 0;          ///< Σ over all terms of TermPlan::directProducts
+  int assemblyThreads_ = 1;
+  int splitTerm_ = 0;                ///< the second thread accumulates terms [splitTerm_, end)
+  std::vector<double> workerMatrix_, workerRhs_, workerRow_;  ///< the second thread's copies
   std::vector<double> jn_, localResidual_, v_, pr_, jstack_, ystack_, blockMatrix_, blockRhs_,
       work_;
 };

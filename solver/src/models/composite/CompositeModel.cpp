@@ -25,6 +25,7 @@
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
+#include "devsurf/terms/NormalSplineUnitTerm.h"
 #include "devsurf/terms/PlanarPolygonTerm.h"
 #include "devsurf/terms/StraightUnfoldingTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
@@ -55,20 +56,22 @@ std::vector<double> evaluationParams(const spline::KnotVector& k) {
   return p;
 }
 
-/// The normal spline of a face (000_… §2.2, §7) evaluated at `params`: cubic with one control
-/// point per control point of the face's curves, on the face's own knots when they are cubic
-/// (C² across every simple knot), else on uniform knots over the same domain.
+/// The normal spline of a face (000_… §2.2, §7) evaluated at `params`: on the face's own knots
+/// when its curves are cubic (one control point per curve control point, C² across simple knots:
+/// Tang's degree 3 and smoothness C²); otherwise of degree min(3, m) on the face's breakpoints with
+/// simple knots (spans + degree control points — never more than the parameters, so the fit of
+/// initializeNormals is determined: a linear face of one span has 3 parameters and 2 control
+/// points). Composite edges are clamped (CompositeTopology), so the spline is too.
 EvaluationMatrix normalSplineEvaluation(const spline::KnotVector& faceKnots, const std::vector<double>& params) {
-  if (faceKnots.degree() == 3) return spline::evaluationMatrix(faceKnots, params, 0);
-  const int count = std::max(faceKnots.numControlPoints(), 4);
-  const bool periodic = faceKnots.kind() == spline::KnotKind::Periodic;
-  const spline::KnotVector uniform = periodic ? spline::KnotVector::periodicUniform(3, count)
-                                              : spline::KnotVector::clampedUniform(3, count);
-  const double u0 = faceKnots.domainBegin(), u1 = faceKnots.domainEnd();
-  const double v0 = uniform.domainBegin(), v1 = uniform.domainEnd();
-  std::vector<double> t(params.size());
-  for (std::size_t k = 0; k < params.size(); ++k) t[k] = v0 + (v1 - v0) * (params[k] - u0) / (u1 - u0);
-  return spline::evaluationMatrix(uniform, t, 0);
+  const int m = faceKnots.degree();
+  if (m == 3) return spline::evaluationMatrix(faceKnots, params, 0);
+  const int d = std::min(3, m);
+  const std::vector<double> breaks = faceKnots.breakpoints();
+  std::vector<double> knots(static_cast<std::size_t>(d + 1), breaks.front());
+  for (std::size_t i = 1; i + 1 < breaks.size(); ++i) knots.push_back(breaks[i]);
+  knots.insert(knots.end(), static_cast<std::size_t>(d + 1), breaks.back());
+  const int count = static_cast<int>(knots.size()) - d - 1;
+  return spline::evaluationMatrix(spline::KnotVector::clamped(d, knots, count), params, 0);
 }
 
 EvaluationMatrix emptyRows(int rows, int cols) {
@@ -457,11 +460,21 @@ void CompositeModel::buildProblem() {
             std::make_unique<terms::StripWidthTerm>("strip_width", ruling, tangent, minWidth), 1.0, Strength::Hard));
       }
     }
-    // Unit normals: hard at the first parameter (a normal spline's first control point), soft at
-    // the other normals or control points (000_… §2.2).
+    // Unit normals: hard at the first parameter (a normal spline's first control point, the
+    // normal at the face's first parameter), soft at the other normals. A normal spline's soft
+    // rows hold the normals it gives at the parameters, where the crease rows compare two faces'
+    // normals, rather than its control points (000_… §2.2 holds those; between them the spline's
+    // normals then drifted to |n| = 0.9957 on the cylinder crease, and eq. 7 wants them equal).
     hardUnit.push_back(offN);
-    const int normalCount = static_cast<int>(faceNormals(f).weights.cols());
-    for (int k = 1; k < normalCount; ++k) softUnit.push_back(offN + 3 * k);
+    if (!normalSplineRows_.empty() && normalSplineRows_[f].rows() > 0) {
+      std::vector<int> rest(static_cast<std::size_t>(K - 1));
+      for (int k = 1; k < K; ++k) rest[static_cast<std::size_t>(k - 1)] = k;
+      problem_.addTerm(std::make_unique<terms::NormalSplineUnitTerm>(
+                           "unit_normal", terms::LinearPoints{selectRows(normalSplineRows_[f], rest), offN}),
+                       options_.unitNormalWeight, Strength::Soft);
+    } else {
+      for (int k = 1; k < K; ++k) softUnit.push_back(offN + 3 * k);
+    }
   }
   problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal_hard", hardUnit), 1.0, Strength::Hard);
   if (!softUnit.empty())
@@ -936,6 +949,8 @@ struct Evaluation {
   std::vector<std::vector<double>> varParams;
 
   Evaluation(const CompositeTopology& t, CompositeDesign design) : topo(t), d(std::move(design)) {}
+  Evaluation(const Evaluation&) = delete;  // `pairs` refer to this object's `curves`
+  Evaluation& operator=(const Evaluation&) = delete;
 
   /// Unit normal of face f at its parameter u, oriented like the face's normal variables.
   Eigen::Vector3d normal(int f, double u) const { return oriented(f, u, geometric(f, u)); }
@@ -959,8 +974,6 @@ struct Evaluation {
 }  // namespace
 
 CompositeModel::~CompositeModel() = default;
-CompositeModel::CompositeModel(CompositeModel&&) noexcept = default;
-CompositeModel& CompositeModel::operator=(CompositeModel&&) noexcept = default;
 
 std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
   return creaseSamples(samplesPerSpan).creases;

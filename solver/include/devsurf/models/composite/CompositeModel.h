@@ -199,8 +199,9 @@ class CompositeModel {
   /// @throws std::invalid_argument naming the path ("faces[2]: …", "fixed[0].index: …")
   explicit CompositeModel(CompositeDesign design, CompositeOptions options = {});
   ~CompositeModel();
-  CompositeModel(CompositeModel&&) noexcept;
-  CompositeModel& operator=(CompositeModel&&) noexcept;
+  /// Not movable: the solver keeps a reference to this model's problem.
+  CompositeModel(CompositeModel&&) = delete;
+  CompositeModel& operator=(CompositeModel&&) = delete;
 
   /// The checks the constructor makes (topology and references), without building anything.
   /// @throws std::invalid_argument
