@@ -97,3 +97,47 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     await h.screenshotPage(page, '06-composite-curvature');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
+
+test('the Solver panel switches a composite to normal splines, and a drag keeps it developable', { timeout: 240000 }, () =>
+  ctx.guard('composite-normal-splines', async () => {
+    const { daemon } = ctx;
+    const demo = (await daemon.api('GET', '/api/sessions')).body.sessions.find((s) => s.id === 'demo-composite-curved-fold');
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+    const before = await daemon.session(demo.id, demo.view_token);
+    assert.equal(before.scene.solver.normal_splines, false, 'the demo ships with free normals');
+    const unknowns0 = before.metrics.unknowns;
+
+    // "normals: spline" in the Solver panel is the solver's normal_splines on a composite.
+    await page.locator('[data-setting="normals"] select').selectOption('spline');
+    const switched = await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { s, ok: s.scene.solver.normal_splines === true };
+    });
+    assert.ok(switched.ok, 'the server has normal splines on');
+    assert.ok(switched.s.metrics.unknowns < unknowns0, `fewer unknowns: ${switched.s.metrics.unknowns} < ${unknowns0}`);
+    await page.waitForFunction(() => window.__devsurf.state.scene.solver.normal_splines === true);
+    // The spline's control-point count belongs to strips; a composite's follows its curves.
+    assert.equal(await page.locator('[data-setting="normals"] select').inputValue(), 'spline');
+
+    const st0 = await h.state(page);
+    const from = await h.pointPagePosition(page, { vertex: 3 });
+    await h.dragBy(page, from, { dy: -40, steps: 10, pauseMs: 50 });
+    await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
+    await h.waitQuiet(page);
+    const done = await h.poll(async () => {
+      const st = await h.state(page);
+      const server = await daemon.session(demo.id, demo.view_token);
+      return { st, server, ok: st.lastSolved && st.lastSolved.seq === server.seq && server.seq > switched.s.seq };
+    });
+    assert.ok(done.ok, 'the drag was solved');
+    const m = done.server.metrics;
+    console.log(`normal splines: ${unknowns0} → ${m.unknowns} unknowns; after the drag warp ${m.warp_angle_max_deg}°, `
+      + `flatness ${m.face_flatness_max}, crease residual ${m.crease_fold_residual_max}`);
+    assert.ok(m.warp_angle_max_deg < 0.05, `warp ${m.warp_angle_max_deg}°`);
+    assert.ok(m.face_flatness_max < 1e-3, `face flatness ${m.face_flatness_max}`);
+    assert.equal(done.st.lastError, null);
+    await h.screenshotPage(page, '06-composite-normal-splines');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
