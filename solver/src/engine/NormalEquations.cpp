@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <thread>
 
 #include <Eigen/OrderingMethods>
@@ -685,11 +686,17 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
   if (assemblyThreads_ > 1 && splitTerm_ < numTerms) {
     std::fill(workerMatrix_.begin(), workerMatrix_.end(), 0.0);
     std::fill(workerRhs_.begin(), workerRhs_.end(), 0.0);
-    std::thread second([this, numTerms]() {
+    std::thread second;
+    try {
+      second = std::thread([this, numTerms]() {
+        accumulateDirectRows(splitTerm_, numTerms, workerMatrix_.data(), workerRhs_.data(), workerRow_.data());
+      });
+    } catch (const std::system_error&) {
+      // No thread to be had (a process at its limit): the same runs, one after the other.
       accumulateDirectRows(splitTerm_, numTerms, workerMatrix_.data(), workerRhs_.data(), workerRow_.data());
-    });
+    }
     accumulateDirectRows(0, splitTerm_, H, rhs, rowValues_.data());
-    second.join();
+    if (second.joinable()) second.join();
     const Eigen::Index nnz = S_.nonZeros();
     for (Eigen::Index k = 0; k < nnz; ++k) H[k] += workerMatrix_[static_cast<std::size_t>(k)];
     for (Eigen::Index k = 0; k < rhs_.size(); ++k) rhs[k] += workerRhs_[static_cast<std::size_t>(k)];
