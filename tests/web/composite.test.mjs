@@ -34,11 +34,8 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     // Drag vertex 3 (the lifted corner) upwards on screen.
     const server0 = await daemon.session(demo.id, demo.view_token);
     const z0 = server0.scene.model.vertices[3][2];
-    const st0 = await h.state(page);
     const from = await h.pointPagePosition(page, { vertex: 3 });
-    await h.dragBy(page, from, { dy: -50, steps: 10, pauseMs: 50 });
-    await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
-    await h.waitQuiet(page);
+    const st0 = await h.dragAndSettle(page, from, { dy: -50, steps: 10, pauseMs: 50 });
     const done = await h.poll(async () => {
       const st = await h.state(page);
       const server = await daemon.session(demo.id, demo.view_token);
@@ -121,11 +118,7 @@ test('the Solver panel switches a composite to normal splines, and a drag keeps 
     // The spline's control-point count belongs to strips; a composite's follows its curves.
     assert.equal(await page.locator('[data-setting="normals"] select').inputValue(), 'spline');
 
-    const st0 = await h.state(page);
-    const from = await h.pointPagePosition(page, { vertex: 3 });
-    await h.dragBy(page, from, { dy: -40, steps: 10, pauseMs: 50 });
-    await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
-    await h.waitQuiet(page);
+    await h.dragAndSettle(page, await h.pointPagePosition(page, { vertex: 3 }), { dy: -40, steps: 10, pauseMs: 50 });
     const done = await h.poll(async () => {
       const st = await h.state(page);
       const server = await daemon.session(demo.id, demo.view_token);

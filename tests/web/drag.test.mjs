@@ -23,9 +23,7 @@ test('dragging the last control point of b streams iterates and ends developable
     assert.ok(from.local.x >= 0 && from.local.y >= 0 && from.local.x <= from.box.width && from.local.y <= from.box.height,
       `b[${idx}] is inside the viewport: ${JSON.stringify(from.local)} in ${from.box.width}x${from.box.height}`);
 
-    await h.dragBy(page, from, { dy: -60, steps: 12, pauseMs: 40 });
-    await h.waitState(page, (st, n) => st.iterateCount > n, st0.iterateCount, { what: 'iterates after the drag' });
-    await h.waitQuiet(page);
+    await h.dragAndSettle(page, from, { dy: -60, steps: 12, pauseMs: 40 });
 
     // After the drag_end solve: the page's metrics are the server's latest, and developable.
     const done = await h.poll(async () => {

@@ -18,6 +18,18 @@ namespace {
 using StackBasis = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kStackBasisDegree + 1,
                                  kStackBasisDegree + 1>;
 
+/// out.col(l) = Σ_j basis(l, j) · points.row(controlIndex(s − p + j)) for l ≤ upTo: a polynomial
+/// curve's derivatives from basis values of span s.
+void accumulateDerivatives(const KnotVector& knots, const Eigen::MatrixXd& points, const StackBasis& basis, int s,
+                           int upTo, Eigen::Ref<Eigen::MatrixXd> out) {
+  const int p = knots.degree();
+  out.setZero();
+  for (int j = 0; j <= p; ++j) {
+    const auto point = points.row(knots.controlIndex(s - p + j)).transpose();
+    for (int k = 0; k <= upTo; ++k) out.col(k) += basis(k, j) * point;
+  }
+}
+
 [[noreturn]] void failCurve(const std::string& message) { throw std::invalid_argument(message); }
 
 /// O(1) shape checks done on every evaluation (the O(n) ones live in validate()).
@@ -116,11 +128,7 @@ void BSplineCurve::derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> o
   }
   StackBasis basis(upTo + 1, p + 1);
   const int s = basisFunctionsInto(knots, u, upTo, basis);
-  out.setZero();
-  for (int j = 0; j <= p; ++j) {
-    const auto point = points.row(knots.controlIndex(s - p + j)).transpose();
-    for (int k = 0; k <= upTo; ++k) out.col(k) += basis(k, j) * point;
-  }
+  accumulateDerivatives(knots, points, basis, s, upTo, out);
 }
 
 CurvePair::CurvePair(const BSplineCurve& a, const BSplineCurve& b) : a_(a), b_(b) {
@@ -142,15 +150,8 @@ void CurvePair::derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> outA
   const int p = a_.degree();
   StackBasis basis(upTo + 1, p + 1);
   const int s = basisFunctionsInto(a_.knots, u, upTo, basis);
-  outA.setZero();
-  outB.setZero();
-  for (int j = 0; j <= p; ++j) {
-    const int ci = a_.knots.controlIndex(s - p + j);
-    for (int k = 0; k <= upTo; ++k) {
-      outA.col(k) += basis(k, j) * a_.points.row(ci).transpose();
-      outB.col(k) += basis(k, j) * b_.points.row(ci).transpose();
-    }
-  }
+  accumulateDerivatives(a_.knots, a_.points, basis, s, upTo, outA);
+  accumulateDerivatives(a_.knots, b_.points, basis, s, upTo, outB);
 }
 
 Eigen::MatrixXd BSplineCurve::evaluate(const std::vector<double>& params, int derivative) const {

@@ -100,11 +100,9 @@ BasisValues basisFunctions(const KnotVector& knots, double u, int derivatives) {
                                 std::to_string(derivatives));
   }
   const int p = knots.degree();
-  const double uc = std::clamp(u, knots.domainBegin(), knots.domainEnd());
   BasisValues result;
-  result.span = knots.spanIndex(uc);
   result.values.resize(derivatives + 1, p + 1);
-  dersBasisFuns(result.span, uc, p, derivatives, knots.knots(), result.values);
+  result.span = basisFunctionsInto(knots, u, derivatives, result.values);
   result.controlIndex.resize(static_cast<size_t>(p + 1));
   for (int j = 0; j <= p; ++j) {
     result.controlIndex[j] = knots.controlIndex(result.span - p + j);

@@ -333,6 +333,16 @@ const CANVAS_ONLY = '* { visibility: hidden !important; } '
   + '[data-testid="viewport"] canvas { visibility: visible !important; }';
 
 /** Screenshot of the viewport element showing the WebGL canvas only; decoded to RGBA. */
+/** A drag as a mouse sends it (dragBy), then waits for its iterates and for the page to go quiet.
+ *  Returns the page's state from before the drag. */
+export async function dragAndSettle(page, from, options) {
+  const before = await state(page);
+  await dragBy(page, from, options);
+  await waitState(page, (st, n) => st.iterateCount > n, before.iterateCount, { what: 'iterates after the drag' });
+  await waitQuiet(page);
+  return before;
+}
+
 export async function screenshotViewport(page, name) {
   const file = path.join(ARTIFACTS, `${name}.png`);
   const viewport = page.getByTestId('viewport');
