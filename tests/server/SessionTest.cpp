@@ -244,6 +244,18 @@ TEST(Session, ACompositeSwitchesToNormalSplinesAndAMouseDragStaysDevelopable) {
   EXPECT_LT(metrics["warp_angle_max_deg"].get<double>(), 0.05);
   EXPECT_LT(metrics["crease_fold_residual_max"].get<double>(), 1e-3);
   EXPECT_GT(e.session->sceneJson()["model"]["vertices"][2][2].get<double>(), start[2].get<double>() + 0.3);
+  // A restart from the last checkpoint keeps the splines and the shape.
+  ASSERT_FALSE(e.journal.checkpoints.empty());
+  const SessionCheckpoint& last = e.journal.checkpoints.back();
+  ManualExecutor ex2;
+  auto restored = std::make_shared<Session>("r1", proto::sceneFromJson(last.scene),
+                                            Session::Tokens{tokenHash("edit-token"), tokenHash("view-token")},
+                                            SessionSettings{}, ex2.scheduler(), nullptr, nullptr);
+  restored->restore(last.state, last.revision, {}, last.seq);
+  EXPECT_EQ(restored->sceneJson()["solver"]["normal_splines"], true);
+  EXPECT_EQ(restored->metricsJson()["unknowns"], e.session->metricsJson()["unknowns"]);
+  EXPECT_NEAR(restored->sceneJson()["model"]["vertices"][2][2].get<double>(),
+              e.session->sceneJson()["model"]["vertices"][2][2].get<double>(), 1e-12);
   // The strip sessions' "normals" does not apply; the error says what does.
   e.send({{"type", "set_solver"}, {"op", 41}, {"solver", json::object()}, {"normals", {{"type", "spline"}}}});
   ASSERT_EQ(e.inbox.ofType("error").size(), 1u);
