@@ -11,7 +11,7 @@ APT_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcpp-httplib-dev libboost-dev libsqlite3-dev libsuitesparse-dev
   libocct-data-exchange-dev libtbb-dev liblbfgs-dev libssl-dev libcgal-dev libnanoflann-dev libcgal-demo
-  libopenblas0-serial libdxflib-dev libpugixml-dev libpng-dev libbrotli-dev zlib1g-dev
+  libopenblas0-serial libpq-dev postgresql haproxy libdxflib-dev libpugixml-dev libpng-dev libbrotli-dev zlib1g-dev
   python3 python3-websockets python3-ezdxf
   clang libclang-rt-dev
   chromium fonts-liberation fonts-dejavu-core

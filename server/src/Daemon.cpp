@@ -6,6 +6,8 @@
 
 #include "devsurf/proto/BoundedJson.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -152,9 +154,14 @@ std::size_t Daemon::sessionCount() const {
 int Daemon::start() {
   // The web app first: a web root that cannot be served stops the start before anything else.
   if (!options_.webRoot.empty()) assets_ = std::make_unique<StaticAssets>(StaticAssets::load(options_.webRoot));
-  store_ = std::make_unique<store::Store>(options_.dataDir);
+  store_ = store::openStore(options_.store.empty() ? options_.dataDir : options_.store);
   journal_ = std::make_unique<StoreJournal>(*store_);
-  jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs);
+  if (options_.nodeId.empty()) {
+    char host[256] = {0};
+    if (::gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "node");
+    options_.nodeId = std::string(host) + "-" + std::to_string(::getpid());
+  }
+  jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs, options_.nodeId);
   restoreSessions();
   openDemos();
   if (startAbandoned_) {
@@ -181,8 +188,8 @@ int Daemon::start() {
   http_ = std::make_unique<transport::Server>(handlers, limits);
   routes();
   const int port = http_->bind(options_.bind, options_.port);
-  spdlog::info("devsurf listening on http://{}:{} (data in {}, {} sessions)", options_.bind, port,
-               options_.dataDir, sessionCount());
+  spdlog::info("devsurf node {} listening on http://{}:{} (store {}, {} sessions)", options_.nodeId, options_.bind,
+               port, store_->info().path, sessionCount());
   return port;
 }
 
@@ -355,8 +362,19 @@ void Daemon::routes() {
       std::lock_guard<std::mutex> lock(mutex_);
       quarantined = quarantined_.size();
     }
-    replyJson(res, 200, {{"status", "ok"}, {"sessions", sessionCount()}, {"sessions_quarantined", quarantined},
-                         {"jobs_queued", jobs_->queued()}});
+    json health{{"status", "ok"},
+                {"node", options_.nodeId},
+                {"store", store_->shared() ? "postgresql" : "sqlite"},
+                {"sessions", sessionCount()},
+                {"sessions_quarantined", quarantined}};
+    try {
+      health["jobs_queued"] = jobs_->queued();
+    } catch (const std::exception& e) {  // the store is unreachable: sessions held here still run
+      health["status"] = "store_unavailable";
+      health["error"] = e.what();
+      return replyJson(res, 503, health);
+    }
+    replyJson(res, 200, health);
   });
   s.Get("/api/metrics", [this](const httplib::Request&, httplib::Response& res) {
     res.set_content(prometheus(), "text/plain; version=0.0.4");
@@ -720,6 +738,9 @@ nlohmann::json Daemon::openApi() const { return proto::embeddedDocument("openapi
 
 std::string Daemon::prometheus() const {
   std::ostringstream out;
+  out << "# HELP devsurf_node_info This daemon: its node id and its store.\n# TYPE devsurf_node_info gauge\n"
+      << "devsurf_node_info{node=\"" << options_.nodeId << "\",store=\"" << (store_->shared() ? "postgresql" : "sqlite")
+      << "\"} 1\n";
   std::size_t clients = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -728,7 +749,10 @@ std::string Daemon::prometheus() const {
   }
   out << "# HELP devsurf_clients Open WebSocket connections.\n# TYPE devsurf_clients gauge\ndevsurf_clients " << clients << "\n";
   out << "# HELP devsurf_jobs Batch jobs by state.\n# TYPE devsurf_jobs gauge\n";
-  for (const auto& [state, n] : jobs_->counts()) out << "devsurf_jobs{state=\"" << store::jobStateName(state) << "\"} " << n << "\n";
+  try {
+    for (const auto& [state, n] : jobs_->counts()) out << "devsurf_jobs{state=\"" << store::jobStateName(state) << "\"} " << n << "\n";
+  } catch (const std::exception&) {  // the store is unreachable: no job counts, the rest is this node's
+  }
   out << "# HELP devsurf_iterations_total Guided-projection iterations run in sessions.\n# TYPE devsurf_iterations_total counter\n"
       << "devsurf_iterations_total " << counters_.iterations.load() << "\n";
   out << "# HELP devsurf_iteration_seconds Wall time of one guided-projection iteration in a session.\n"

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include <spdlog/spdlog.h>
+
 #include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/SceneSolver.h"
@@ -14,24 +16,41 @@ using nlohmann::json;
 using store::JobRecord;
 using store::JobState;
 
-JobQueue::JobQueue(store::Store& store, JobLimits limits) : store_(store), limits_(limits) {
+namespace {
+std::int64_t milliseconds(double ms) { return static_cast<std::int64_t>(ms); }
+}  // namespace
+
+JobQueue::JobQueue(store::Store& store, JobLimits limits, std::string nodeId)
+    : store_(store), limits_(limits), nodeId_(std::move(nodeId)) {
+  limits_.heartbeatMs = std::clamp(limits_.heartbeatMs, 10.0, std::max(10.0, limits_.leaseMs / 3.0));
   for (int i = 0; i < std::max(1, limits_.workers); ++i) workers_.emplace_back([this]() { work(); });
+  heartbeat_ = std::thread([this]() { heartbeat(); });
 }
 
 JobQueue::~JobQueue() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
-    for (auto& [id, flag] : cancel_) flag->store(true);
+    for (auto& [id, r] : running_) r.cancelled->store(true);
   }
   wake_.notify_all();
   for (std::thread& t : workers_) t.join();
+  heartbeat_.join();
+  // What this node was running goes back to the queue at once (not after its lease).
+  try {
+    const int released = store_.releaseJobLeases(nodeId_, store::wallClockMs());
+    if (released > 0) spdlog::info("{} running job(s) handed back to the queue", released);
+  } catch (const std::exception& e) {
+    spdlog::warn("could not hand running jobs back to the queue ({}); their leases will end", e.what());
+  }
 }
 
 void JobQueue::restore() {
-  store_.requeueInterruptedJobs(store::wallClockMs());
+  const std::int64_t now = store::wallClockMs();
+  const int requeued = store_.shared() ? store_.releaseJobLeases(nodeId_, now) : store_.requeueInterruptedJobs(now);
+  if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
   std::lock_guard<std::mutex> lock(mutex_);
-  for (const JobRecord& j : store_.unfinishedJobs()) queue_.push_back(j.id);
+  ++submitted_;
   wake_.notify_all();
 }
 
@@ -46,8 +65,7 @@ JobQueue::Submitted JobQueue::submit(const json& scene, const std::optional<std:
       return {existing->id, false};
     }
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (queue_.size() >= limits_.maxQueued)
+  if (queued() >= limits_.maxQueued)
     throw QueueFullError("the job queue is full (" + std::to_string(limits_.maxQueued) + " queued jobs)");
   JobRecord job;
   job.id = randomToken().substr(0, 16);
@@ -64,19 +82,22 @@ JobQueue::Submitted JobQueue::submit(const json& scene, const std::optional<std:
       throw IdempotencyMismatchError("Idempotency-Key \"" + *key + "\" was used for a different scene");
     return {e.existingJobId(), false};
   }
-  queue_.push_back(job.id);
-  wake_.notify_one();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++submitted_;
+  }
+  wake_.notify_all();  // the heartbeat thread waits on it too
   return {job.id, true};
 }
 
 std::optional<JobRecord> JobQueue::job(const std::string& id) const {
   std::optional<JobRecord> j = store_.job(id);
-  if (!j) return j;
+  if (!j || j->state != JobState::Running) return j;
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto p = progress_.find(id);
-  if (p != progress_.end()) {
-    j->progressIteration = p->second.first;
-    j->progressOf = p->second.second;
+  const auto r = running_.find(id);  // this node's progress is newer than the last heartbeat's
+  if (r != running_.end()) {
+    j->progressIteration = r->second.iteration;
+    j->progressOf = r->second.of;
   }
   return j;
 }
@@ -85,59 +106,104 @@ bool JobQueue::cancel(const std::string& id) {
   std::optional<JobRecord> j = store_.job(id);
   if (!j) throw store::NotFoundError("no job " + id);
   if (store::isFinished(j->state)) return false;
+  const JobState after = store_.requestJobCancel(id, store::wallClockMs());
+  if (after != JobState::Running) return after == JobState::Cancelled;
   std::lock_guard<std::mutex> lock(mutex_);
-  const auto running = cancel_.find(id);
-  if (running != cancel_.end()) {
-    running->second->store(true);  // the worker records the cancellation
-    return true;
-  }
-  const auto queued = std::find(queue_.begin(), queue_.end(), id);
-  if (queued != queue_.end()) queue_.erase(queued);
-  j->state = JobState::Cancelled;
-  j->updatedMs = store::wallClockMs();
-  store_.updateJob(*j);
+  const auto r = running_.find(id);
+  if (r != running_.end()) r->second.cancelled->store(true);  // here: at once; elsewhere: its heartbeat
   return true;
 }
 
 std::map<JobState, int> JobQueue::counts() const { return store_.jobCounts(); }
 
-std::size_t JobQueue::queued() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return queue_.size();
-}
+std::size_t JobQueue::queued() const { return static_cast<std::size_t>(store_.jobCounts().at(JobState::Queued)); }
 
 void JobQueue::work() {
+  std::uint64_t seen = 0;
   for (;;) {
-    std::string id;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [this]() { return stopping_ || !queue_.empty(); });
       if (stopping_) return;
-      id = queue_.front();
-      queue_.pop_front();
+      seen = submitted_;
     }
-    std::optional<JobRecord> job = store_.job(id);
-    if (!job || job->state != JobState::Queued) continue;
-    run(*job);
+    std::optional<JobRecord> job;
+    try {
+      job = store_.claimJob(nodeId_, store::wallClockMs(), milliseconds(limits_.leaseMs));
+    } catch (const std::exception& e) {
+      spdlog::warn("job queue: cannot claim jobs: {}", e.what());
+    }
+    if (job) {
+      run(std::move(*job));
+      continue;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    wake_.wait_for(lock, std::chrono::duration<double, std::milli>(limits_.pollMs),
+                   [this, seen]() { return stopping_ || submitted_ != seen; });
+  }
+}
+
+void JobQueue::heartbeat() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_.wait_for(lock, std::chrono::duration<double, std::milli>(limits_.heartbeatMs),
+                   [this]() { return stopping_; });
+    if (stopping_) return;
+    std::vector<std::pair<std::string, Running>> mine(running_.begin(), running_.end());
+    lock.unlock();
+    for (const auto& [id, r] : mine) {
+      try {
+        const store::JobLeaseRenewal renewal = store_.renewJobLease(
+            id, nodeId_, r.attempt, store::wallClockMs(), milliseconds(limits_.leaseMs), r.iteration, r.of);
+        if (!renewal.held || renewal.cancelRequested) {
+          std::lock_guard<std::mutex> relock(mutex_);
+          const auto it = running_.find(id);
+          if (it == running_.end()) continue;
+          if (!renewal.held) {
+            spdlog::warn("job {}: its lease was lost (another node runs it now); stopping here", id);
+            it->second.leaseLost = true;
+          }
+          it->second.cancelled->store(true);
+        }
+      } catch (const std::exception& e) {
+        spdlog::warn("job {}: cannot renew its lease: {}", id, e.what());
+      }
+    }
+    lock.lock();
+  }
+}
+
+void JobQueue::finish(const JobRecord& job, int attempt) {
+  // Retried while the store is unreachable, up to one lease: after that another node may hold it.
+  const auto giveUp = std::chrono::steady_clock::now() + std::chrono::duration<double, std::milli>(limits_.leaseMs);
+  for (;;) {
+    try {
+      if (!store_.finishJob(job, nodeId_, attempt))
+        spdlog::warn("job {}: finished here after its lease was lost; the result is not stored", job.id);
+      return;
+    } catch (const std::exception& e) {
+      if (std::chrono::steady_clock::now() > giveUp) {
+        spdlog::error("job {}: cannot store its result ({}); its lease will end and it runs again", job.id, e.what());
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
   }
 }
 
 void JobQueue::run(JobRecord job) {
-  auto cancelled = std::make_shared<std::atomic<bool>>(false);
+  auto cancelled = std::make_shared<std::atomic<bool>>(job.cancelRequested);
+  const int attempt = job.attempt;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    cancel_[job.id] = cancelled;
-    progress_[job.id] = {0, job.progressOf};
+    running_[job.id] = Running{attempt, 0, job.progressOf, cancelled, false};
   }
-  job.state = JobState::Running;
-  job.updatedMs = store::wallClockMs();
-  store_.updateJob(job);
-  // A cancellation by shutdown leaves the job running in the store: a restart re-queues it.
-  auto leftForRestart = [this, &job]() {
+  // A stop by shutdown or by a lost lease is not a cancellation: the job is left to the queue
+  // (the destructor hands it back; a lost lease means another node has it).
+  auto leftForOthers = [this, &job]() {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!stopping_) return false;
-    cancel_.erase(job.id);
-    progress_.erase(job.id);
+    const auto r = running_.find(job.id);
+    if (!stopping_ && (r == running_.end() || !r->second.leaseLost)) return false;
+    running_.erase(job.id);
     return true;
   };
   try {
@@ -153,7 +219,9 @@ void JobQueue::run(JobRecord job) {
     const engine::SolveSummary summary =
         solver.solve(-1, [this, id, cancelled, of = scene.solver.iterations](const engine::IterationRecord& r) {
           std::lock_guard<std::mutex> lock(mutex_);
-          progress_[id] = {r.iteration, std::max(of, r.iteration)};
+          Running& mine = running_[id];
+          mine.iteration = r.iteration;
+          mine.of = std::max(of, r.iteration);
           return !cancelled->load();
         });
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -161,7 +229,7 @@ void JobQueue::run(JobRecord job) {
     // quasi_strip and conical_strip have their own iteration limits (or none): done is done.
     job.progressOf = solver.keepsInputGeometry() ? job.progressIteration : scene.solver.iterations;
     if (cancelled->load()) {
-      if (leftForRestart()) return;
+      if (leftForOthers()) return;
       job.state = JobState::Cancelled;
     } else if (summary.reason == engine::TerminationReason::Diverged) {
       job.state = JobState::Failed;
@@ -180,7 +248,7 @@ void JobQueue::run(JobRecord job) {
     }
   } catch (const engine::DeadlineExceeded& e) {
     if (e.cancelled()) {
-      if (leftForRestart()) return;
+      if (leftForOthers()) return;
       job.state = JobState::Cancelled;
     } else {
       job.state = JobState::Failed;
@@ -191,10 +259,9 @@ void JobQueue::run(JobRecord job) {
     job.error = e.what();
   }
   job.updatedMs = store::wallClockMs();
-  store_.updateJob(job);
+  finish(job, attempt);
   std::lock_guard<std::mutex> lock(mutex_);
-  cancel_.erase(job.id);
-  progress_.erase(job.id);
+  running_.erase(job.id);
 }
 
 }  // namespace devsurf::server

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "devsurf/proto/Scene.h"
+#include "support/StoreBackends.h"
 
 namespace devsurf::server {
 namespace {
@@ -15,12 +16,12 @@ namespace {
 using nlohmann::json;
 using store::JobState;
 
-std::string freshDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("devsurf_jobs_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  return dir.string();
-}
+/// Every test runs against both stores (issue 18).
+class JobQueueOn : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override { DEVSURF_REQUIRE_STORE(where); }
+  devsurf::testing::StoreLocation where{GetParam()};
+};
 
 json exampleScene(const std::string& name) {
   std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/" + name);
@@ -52,8 +53,9 @@ std::optional<store::JobRecord> waitFor(JobQueue& q, const std::string& id, JobS
   return q.job(id);
 }
 
-TEST(JobQueue, SolvesASubmittedSceneAndKeepsTheReport) {
-  store::Store store(freshDir("solve"));
+TEST_P(JobQueueOn, SolvesASubmittedSceneAndKeepsTheReport) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {});
   const auto s = q.submit(exampleScene("strip-twisted.json"), std::nullopt);
   EXPECT_TRUE(s.created);
@@ -64,8 +66,9 @@ TEST(JobQueue, SolvesASubmittedSceneAndKeepsTheReport) {
   EXPECT_TRUE(proto::schemaRegistry().validate(*j->report, "report.schema.json").empty());
 }
 
-TEST(JobQueue, IdempotencyKeyReturnsTheSameJobAndRejectsADifferentBody) {
-  store::Store store(freshDir("idem"));
+TEST_P(JobQueueOn, IdempotencyKeyReturnsTheSameJobAndRejectsADifferentBody) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {});
   const auto first = q.submit(exampleScene("strip-cone.json"), std::string("key-1"));
   const auto again = q.submit(exampleScene("strip-cone.json"), std::string("key-1"));
@@ -75,8 +78,9 @@ TEST(JobQueue, IdempotencyKeyReturnsTheSameJobAndRejectsADifferentBody) {
   EXPECT_THROW(q.submit(exampleScene("strip-cylinder.json"), std::string("key-1")), IdempotencyMismatchError);
 }
 
-TEST(JobQueue, CancelsRunningAndQueuedJobs) {
-  store::Store store(freshDir("cancel"));
+TEST_P(JobQueueOn, CancelsRunningAndQueuedJobs) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {1, 8, 600000.0, 10000});
   const auto running = q.submit(slowScene(), std::nullopt);
   const auto queued = q.submit(slowScene(), std::nullopt);
@@ -90,8 +94,9 @@ TEST(JobQueue, CancelsRunningAndQueuedJobs) {
   EXPECT_THROW(q.cancel("nope"), store::NotFoundError);
 }
 
-TEST(JobQueue, RejectsInvalidScenesAndAFullQueue) {
-  store::Store store(freshDir("full"));
+TEST_P(JobQueueOn, RejectsInvalidScenesAndAFullQueue) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {1, 1, 600000.0, 10000});
   json bad = exampleScene("strip-cone.json");
   bad["model"]["a"]["degree"] = "three";
@@ -102,27 +107,76 @@ TEST(JobQueue, RejectsInvalidScenesAndAFullQueue) {
   EXPECT_THROW(q.submit(slowScene(), std::nullopt), QueueFullError);
 }
 
-TEST(JobQueue, ARestartedQueueFinishesJobsThatWereRunning) {
-  const std::string dir = freshDir("restart");
+TEST_P(JobQueueOn, AJobRunningAtShutdownIsHandedBackAndARestartedQueueFinishesIt) {
   std::string id;
   {
-    store::Store store(dir);
-    JobQueue q(store, {1, 8, 600000.0, 10000});
+    auto storeOwner = where.open();
+    JobQueue q(*storeOwner, {1, 8, 600000.0, 10000});
     json scene = slowScene();
     scene["solver"]["time_budget_ms"] = 2000.0;  // the scene's own budget: the re-run ends soon
     id = q.submit(scene, std::nullopt).id;
     ASSERT_TRUE(waitFor(q, id, JobState::Running));
   }  // shutdown while running
-  store::Store store(dir);
-  EXPECT_EQ(store.job(id)->state, JobState::Running);
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
+  EXPECT_EQ(store.job(id)->state, JobState::Queued);
+  EXPECT_FALSE(store.job(id)->leaseOwner);
   JobQueue q(store, {1, 8, 600000.0, 10000});
   q.restore();
   const auto j = waitFor(q, id, JobState::Succeeded);
   EXPECT_EQ(j->state, JobState::Succeeded);
+  EXPECT_EQ(j->attempt, 2);
 }
 
-TEST(JobQueue, SolvesQuasiAndConicalStripScenesAndReportsTheirResults) {
-  store::Store store(freshDir("between_curves"));
+/// A daemon killed mid-job leaves it running under a lease nobody renews: another node claims
+/// it when the lease ends and runs it to one result.
+TEST_P(JobQueueOn, AJobWhoseNodeDiedIsRunByAnotherNodeWhenItsLeaseEnds) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
+  std::string id;
+  {
+    auto deadStore = where.open();
+    store::JobRecord job;
+    job.id = "orphaned-job";
+    job.scene = exampleScene("strip-twisted.json");
+    job.idempotencyFingerprint = "fp";
+    job.createdMs = job.updatedMs = store::wallClockMs();
+    deadStore->putJob(job);
+    ASSERT_TRUE(deadStore->claimJob("dead-node", store::wallClockMs(), 400));  // then it "dies"
+    id = job.id;
+  }
+  JobLimits limits{1, 8, 600000.0, 10000};
+  limits.leaseMs = 400;
+  limits.pollMs = 50;
+  JobQueue q(store, limits, "survivor");
+  q.restore();  // re-queues only the survivor's own: the dead node's lease must end first
+  const auto j = waitFor(q, id, JobState::Succeeded);
+  ASSERT_TRUE(j && j->state == JobState::Succeeded);
+  EXPECT_EQ(j->attempt, 2);
+  EXPECT_LT((*j->report)["metrics"]["warp_angle_max_deg"].get<double>(), 0.05);
+}
+
+/// Two nodes on one store: a job runs on one of them and is cancelled through the other.
+TEST_P(JobQueueOn, ACancellationOnOneNodeStopsTheJobRunningOnAnother) {
+  auto storeA = where.open();
+  auto storeB = where.open();
+  JobLimits limits{1, 8, 600000.0, 10000};
+  limits.heartbeatMs = 50;
+  JobQueue a(*storeA, limits, "node-a");
+  JobQueue b(*storeB, limits, "node-b");
+  const auto s = a.submit(slowScene(), std::nullopt);
+  const auto running = waitFor(a, s.id, JobState::Running);
+  ASSERT_TRUE(running && running->leaseOwner);
+  JobQueue& other = *running->leaseOwner == "node-a" ? b : a;
+  EXPECT_TRUE(other.cancel(s.id));
+  const auto j = waitFor(other, s.id, JobState::Cancelled);
+  EXPECT_EQ(j->state, JobState::Cancelled);
+  EXPECT_FALSE(j->leaseOwner);
+}
+
+TEST_P(JobQueueOn, SolvesQuasiAndConicalStripScenesAndReportsTheirResults) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {});
   for (const std::string name : {"quasi-strip-twisted.json", "conical-strip-twisted.json"}) {
     const json scene = exampleScene(name);
@@ -139,8 +193,9 @@ TEST(JobQueue, SolvesQuasiAndConicalStripScenesAndReportsTheirResults) {
 /// A job of every kind that works longer than the queue's time limit ends failed, stopped inside
 /// its model's loops (issue 12: a 42 s conical job "succeeded" under a 2 s limit). Each of these
 /// takes seconds to tens of seconds without the limit.
-TEST(JobQueue, AJobOfAnyKindOverItsTimeLimitFailsWithAMessageNamingTheLimit) {
-  store::Store store(freshDir("timeout"));
+TEST_P(JobQueueOn, AJobOfAnyKindOverItsTimeLimitFailsWithAMessageNamingTheLimit) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {1, 8, 300.0, 10000});
   json conical = exampleScene("conical-strip-twisted.json");
   conical["model"]["np"] = conical["model"]["nq"] = 10000;
@@ -158,8 +213,9 @@ TEST(JobQueue, AJobOfAnyKindOverItsTimeLimitFailsWithAMessageNamingTheLimit) {
   }
 }
 
-TEST(JobQueue, AScenesOwnTimeBudgetBelowTheLimitEndsItsSolveNormally) {
-  store::Store store(freshDir("own_budget"));
+TEST_P(JobQueueOn, AScenesOwnTimeBudgetBelowTheLimitEndsItsSolveNormally) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {1, 8, 600000.0, 10000});
   json scene = slowScene();
   scene["solver"]["time_budget_ms"] = 200.0;
@@ -169,8 +225,9 @@ TEST(JobQueue, AScenesOwnTimeBudgetBelowTheLimitEndsItsSolveNormally) {
   EXPECT_EQ((*j->report)["termination"], "time_budget");
 }
 
-TEST(JobQueue, ASceneOverTheMemoryBudgetIsRefusedAtSubmissionNamingTheField) {
-  store::Store store(freshDir("memory"));
+TEST_P(JobQueueOn, ASceneOverTheMemoryBudgetIsRefusedAtSubmissionNamingTheField) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
   JobQueue q(store, {});
   json quasi = exampleScene("quasi-strip-twisted.json");
   quasi["model"]["mapping"] = {{"degree", 9}, {"coefficients", 10000}};
@@ -183,6 +240,11 @@ TEST(JobQueue, ASceneOverTheMemoryBudgetIsRefusedAtSubmissionNamingTheField) {
   }
   EXPECT_EQ(q.queued(), 0u);
 }
+
+std::string jobQueueBackendName(const ::testing::TestParamInfo<std::string>& info) { return info.param; }
+
+INSTANTIATE_TEST_SUITE_P(Backends, JobQueueOn, ::testing::ValuesIn(devsurf::testing::storeBackends()),
+                         jobQueueBackendName);
 
 }  // namespace
 }  // namespace devsurf::server

@@ -3,6 +3,10 @@ fresh data directory, driven by an independent client (Python's websockets from 
 python3-websockets, and urllib). Every `test_*.py` in this folder is its own CTest entry.
 
 Run one: /usr/bin/python3 -m unittest tests/server/e2e/test_protocol.py   (DEVSURF_BIN = devsurf)
+
+The store: SQLite in the data directory, or with DEVSURF_TEST_STORE=postgresql a schema of its own
+(named after the data directory) in the PostgreSQL database DEVSURF_TEST_POSTGRES (CTest runs
+every test both ways, issue 18). open_store() reads the store behind the daemon's back either way.
 """
 import asyncio
 import json
@@ -19,6 +23,87 @@ import urllib.error
 import urllib.request
 
 import websockets
+
+STORE = os.environ.get("DEVSURF_TEST_STORE", "sqlite")
+POSTGRES = os.environ.get("DEVSURF_TEST_POSTGRES", "")
+if STORE == "postgresql" and not POSTGRES:
+    raise RuntimeError("DEVSURF_TEST_STORE=postgresql needs DEVSURF_TEST_POSTGRES (a libpq URI)")
+
+
+def postgres_schema(data_dir):
+    """The schema that stands for a data directory (a restart on the same directory reopens it)."""
+    return "e2e_" + re.sub(r"[^a-z0-9]", "_", os.path.basename(os.path.normpath(data_dir)).lower())
+
+
+def store_location(data_dir):
+    """What `devsurf serve --store` gets for this data directory (created on first use)."""
+    if STORE != "postgresql":
+        return data_dir
+    schema = postgres_schema(data_dir)
+    subprocess.run(["psql", POSTGRES, "-X", "-q", "-c", f"CREATE SCHEMA IF NOT EXISTS {schema}"],
+                   check=True, stdout=subprocess.DEVNULL)
+    return POSTGRES + ("&" if "?" in POSTGRES else "?") + "options=-csearch_path%3D" + schema
+
+
+class _Rows:
+    def __init__(self, rows):
+        self.rows = rows
+
+    def fetchone(self):
+        return self.rows[0] if self.rows else None
+
+    def __iter__(self):
+        return iter(self.rows)
+
+
+class PostgresConnection:
+    """The few sqlite3.Connection calls the tests make (execute with ? parameters, fetchone,
+    iteration, commit, close), run through psql, Debian's PostgreSQL client: an independent reader
+    of the daemon's PostgreSQL store. Each statement commits on its own."""
+
+    FIELD, RECORD, NULL = "\x1f", "\x1e", "\x1d"
+
+    def __init__(self, uri):
+        self.uri = uri
+
+    @staticmethod
+    def literal(v):
+        if v is None:
+            return "NULL"
+        if isinstance(v, (int, float)):
+            return repr(v)
+        return "'" + str(v).replace("'", "''") + "'"
+
+    def execute(self, sql, params=()):
+        parts = sql.split("?")
+        assert len(parts) == len(params) + 1, sql
+        text = parts[0] + "".join(self.literal(p) + rest for p, rest in zip(params, parts[1:]))
+        out = subprocess.run(["psql", self.uri, "-X", "-q", "-t", "-A", "-F", self.FIELD, "-R", self.RECORD,
+                              "-P", "null=" + self.NULL, "-v", "ON_ERROR_STOP=1", "-c", text],
+                             check=True, capture_output=True, text=True).stdout
+        rows = []
+        for record in out.rstrip("\n").split(self.RECORD):
+            if record == "":
+                continue
+            row = tuple(None if f == self.NULL else int(f) if re.fullmatch(r"-?\d+", f) else f
+                        for f in record.split(self.FIELD))
+            rows.append(row)
+        return _Rows(rows)
+
+    def commit(self):
+        pass
+
+    def close(self):
+        pass
+
+
+def open_store(data_dir):
+    """A connection to the store of a daemon started on data_dir: sqlite3 on DIR/devsurf.db, or
+    PostgresConnection on its schema."""
+    if STORE == "postgresql":
+        return PostgresConnection(store_location(data_dir))
+    import sqlite3
+    return sqlite3.connect(os.path.join(data_dir, "devsurf.db"))
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 BIN = os.environ.get("DEVSURF_BIN", os.path.join(ROOT, "build", "server", "devsurf"))
@@ -37,7 +122,8 @@ class Daemon:
 
     def start(self):
         self.proc = subprocess.Popen(
-            [BIN, "serve", "--port", "0", "--data", self.data_dir, "--demo", DEMO, *self.extra],
+            [BIN, "serve", "--port", "0", "--data", self.data_dir, "--store", store_location(self.data_dir),
+             "--demo", DEMO, *self.extra],
             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
         line = self.proc.stdout.readline()
         m = re.search(r":(\d+)/", line)

@@ -12,7 +12,7 @@ import unittest
 import websockets
 
 from daemon import (BIN, COMPOSITE, CONICAL, DEMO, QUASI, ROOT, Daemon, DaemonTestCase, drag, join,
-                    numbers, recv_until)
+                    numbers, open_store, recv_until, store_location)
 
 
 class RestartTest(unittest.TestCase):
@@ -222,8 +222,7 @@ class KillUnderAnEditStreamTest(unittest.TestCase):
         return {"type": "set_params", "op": op, "params": {"np": rng.randint(30, 50)}}
 
     def read_store(self, data_dir, session):
-        import sqlite3
-        con = sqlite3.connect(os.path.join(data_dir, "devsurf.db"))
+        con = open_store(data_dir)
         try:
             last_seq = con.execute("SELECT last_seq FROM sessions WHERE id = ?", (session,)).fetchone()[0]
             row = con.execute("SELECT seq, revision, scene FROM snapshots WHERE session_id = ? ORDER BY seq DESC LIMIT 1",
@@ -432,7 +431,6 @@ class QuarantineTest(unittest.TestCase):
     deleted — and every other session is restored as usual."""
 
     def test_unrestorable_sessions_are_quarantined_kept_and_reported(self):
-        import sqlite3
         tmp = tempfile.mkdtemp(prefix="devsurf-quarantine-")
         try:
             daemon = Daemon(tmp).start()
@@ -452,8 +450,7 @@ class QuarantineTest(unittest.TestCase):
             for s in created:
                 asyncio.run(edit(s))
             daemon.kill()
-            db = os.path.join(tmp, "devsurf.db")
-            con = sqlite3.connect(db)
+            con = open_store(tmp)
             unreadable, invalid, healthy, broken_initial = created
             con.execute("UPDATE sessions SET initial_scene = 'not json' WHERE id = ?", (broken_initial["id"],))
             con.execute("DELETE FROM snapshots WHERE session_id = ?", (broken_initial["id"],))
@@ -500,7 +497,7 @@ class QuarantineTest(unittest.TestCase):
                                               headers={"Authorization": "Bearer " + healthy["view_token"]})
                 self.assertEqual(status, 200, body)
                 daemon.stop()
-            con = sqlite3.connect(db)
+            con = open_store(tmp)
             reasons = dict(con.execute("SELECT id, quarantine FROM sessions"))
             for s in created:
                 rows = (con.execute("SELECT COUNT(*) FROM snapshots WHERE session_id = ?", (s["id"],)).fetchone()[0]
@@ -513,7 +510,7 @@ class QuarantineTest(unittest.TestCase):
             self.assertIsNone(reasons[healthy["id"]])
             # Repaired by an operator, a quarantined session comes back at the next start; its owner
             # may delete one that stays broken (the daemon never does).
-            con = sqlite3.connect(db)
+            con = open_store(tmp)
             con.execute("UPDATE snapshots SET scene = ? WHERE session_id = ?", (json.dumps(bad_scene_fixed), invalid["id"]))
             con.commit()
             con.close()
@@ -532,7 +529,7 @@ class QuarantineTest(unittest.TestCase):
             status, _, health = daemon.json("GET", "/api/health")
             self.assertEqual(health["sessions_quarantined"], 1, health)
             daemon.stop()
-            con = sqlite3.connect(db)
+            con = open_store(tmp)
             reasons = dict(con.execute("SELECT id, quarantine FROM sessions"))
             con.close()
             self.assertIsNone(reasons[invalid["id"]], "the quarantine is lifted once the session restores")
@@ -561,7 +558,8 @@ class SignalDuringStartUpTest(unittest.TestCase):
             daemon.stop()
             log_path = os.path.join(tmp, "start.log")
             with open(log_path, "w") as log:
-                proc = subprocess.Popen([BIN, "serve", "--port", "0", "--data", tmp, "--log-level", "info"],
+                proc = subprocess.Popen([BIN, "serve", "--port", "0", "--data", tmp, "--store", store_location(tmp),
+                                         "--log-level", "info"],
                                         stdout=subprocess.PIPE, stderr=log, text=True)
                 # Signalled once it is restoring (three whole conical solves): under load the
                 # process may take longer than any fixed sleep just to load its libraries.
@@ -582,8 +580,7 @@ class SignalDuringStartUpTest(unittest.TestCase):
             self.assertNotIn("serving on", out, "it must not start serving after the signal")
             with open(log_path) as f:
                 self.assertIn("stopped during start-up", f.read())
-            import sqlite3  # and everything is still stored, nothing quarantined
-            con = sqlite3.connect(os.path.join(tmp, "devsurf.db"))
+            con = open_store(tmp)  # and everything is still stored, nothing quarantined
             rows = dict(con.execute("SELECT id, quarantine FROM sessions"))
             con.close()
             for s in ids:

@@ -3,7 +3,7 @@
 // acknowledged edit survived and the log has no gaps. Repeated on the same directory, so later
 // trials also exercise WAL recovery of a database left behind by a killed writer.
 
-#include "devsurf/server/store/Store.h"
+#include "devsurf/server/store/SqliteStore.h"
 
 #include <gtest/gtest.h>
 
@@ -51,7 +51,7 @@ bool writeAll(int fd, const void* data, std::size_t n) {
 [[noreturn]] void childMain(const std::string& dir, int fd, Durability durability,
                             bool snapshots) {
   try {
-    Store store(dir, durability);
+    SqliteStore store(dir, durability);
     if (!store.loadSession(kSession)) {
       SessionRecord s;
       s.id = kSession;
@@ -155,7 +155,7 @@ void runCrashTrials(Durability durabilityA, Durability durabilityB, bool snapsho
     Trial t = runAndKill(tmp.str(), durability, snapshots, runFor);
     totalAcked += static_cast<std::int64_t>(t.acked.size());
 
-    Store store(tmp.str());
+    SqliteStore store(tmp.str());
     auto r = store.loadSession(kSession);
     if (t.acked.empty() && !r) continue;  // killed before creating the session
     ASSERT_TRUE(r) << "trial " << trial;

@@ -1,7 +1,9 @@
 #include "devsurf/server/store/Store.h"
+#include "devsurf/server/store/SqliteStore.h"
 
 #include <gtest/gtest.h>
 
+#include "support/StoreBackends.h"
 #include "support/TempDir.h"
 #include <sqlite3.h>
 #include <stdlib.h>
@@ -28,7 +30,7 @@ class TempDir : public devsurf::testing::TempDir {
 /// Runs a single-value query directly on DIR/devsurf.db (bypassing the Store).
 std::int64_t rawInt(const fs::path& dir, const std::string& sql) {
   sqlite3* db = nullptr;
-  std::string file = (dir / Store::kFileName).string();
+  std::string file = (dir / SqliteStore::kFileName).string();
   if (sqlite3_open_v2(file.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     sqlite3_close(db);
     throw std::runtime_error("open " + file);
@@ -83,7 +85,23 @@ void expectContiguous(const RestoredSession& r) {
   EXPECT_EQ(expected - 1, r.lastSeq) << "session " << r.session.id;
 }
 
+/// The suites below run once per backend (StoreBackends.h): a fresh store location per test.
+class BackendTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override { DEVSURF_REQUIRE_STORE(where); }
+  devsurf::testing::StoreLocation where{GetParam()};
+};
+class StoreSessions : public BackendTest {};
+class StoreJobs : public BackendTest {};
+class StoreConcurrency : public BackendTest {};
+
+std::string backendName(const ::testing::TestParamInfo<std::string>& info) { return info.param; }
+
 }  // namespace
+
+INSTANTIATE_TEST_SUITE_P(Backends, StoreSessions, ::testing::ValuesIn(devsurf::testing::storeBackends()), backendName);
+INSTANTIATE_TEST_SUITE_P(Backends, StoreJobs, ::testing::ValuesIn(devsurf::testing::storeBackends()), backendName);
+INSTANTIATE_TEST_SUITE_P(Backends, StoreConcurrency, ::testing::ValuesIn(devsurf::testing::storeBackends()), backendName);
 
 // --- opening ------------------------------------------------------------------------------------
 
@@ -91,7 +109,7 @@ TEST(StoreOpen, CreatesDirectoryWalDatabaseAndSchema) {
   TempDir tmp;
   fs::path dir = tmp.path() / "nested" / "data";
   {
-    Store store(dir.string());
+    SqliteStore store(dir.string());
     StoreInfo info = store.info();
     EXPECT_EQ(info.path, (dir / "devsurf.db").string());
     EXPECT_EQ(info.journalMode, "wal");
@@ -106,7 +124,7 @@ TEST(StoreOpen, CreatesDirectoryWalDatabaseAndSchema) {
 TEST(StoreOpen, ADirectoryItCreatesIsPrivateAndSoIsTheDatabase) {
   TempDir tmp;
   const fs::path dir = tmp.path() / "private";
-  { Store store(dir.string()); }
+  { SqliteStore store(dir.string()); }
   EXPECT_EQ(fs::status(dir).permissions() & fs::perms::all, fs::perms::owner_all);
   for (const char* file : {"devsurf.db", "devsurf.db-wal", "devsurf.db-shm"}) {
     if (!fs::exists(dir / file)) continue;
@@ -117,7 +135,7 @@ TEST(StoreOpen, ADirectoryItCreatesIsPrivateAndSoIsTheDatabase) {
 
 TEST(StoreOpen, PowerDurabilityUsesSynchronousFull) {
   TempDir tmp;
-  Store store(tmp.str(), Durability::Power);
+  SqliteStore store(tmp.str(), Durability::Power);
   EXPECT_EQ(store.info().synchronous, "FULL");
   EXPECT_EQ(store.info().journalMode, "wal");
 }
@@ -127,7 +145,7 @@ TEST(StoreOpen, NonSqliteFileGivesClearError) {
     TempDir tmp;
     { std::ofstream(tmp.path() / "devsurf.db", std::ios::binary) << garbage; }
     try {
-      Store store(tmp.str());
+      SqliteStore store(tmp.str());
       FAIL() << "opening a non-SQLite file must throw";
     } catch (const std::runtime_error& e) {
       std::string what = e.what();
@@ -142,7 +160,7 @@ TEST(StoreOpen, DirectoryThatIsAFileGivesClearError) {
   fs::path file = tmp.path() / "plainfile";
   { std::ofstream(file) << "x"; }
   try {
-    Store store(file.string());
+    SqliteStore store(file.string());
     FAIL() << "must throw";
   } catch (const StoreError& e) {
     EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
@@ -151,10 +169,10 @@ TEST(StoreOpen, DirectoryThatIsAFileGivesClearError) {
 
 TEST(StoreOpen, NewerSchemaIsRefused) {
   TempDir tmp;
-  { Store store(tmp.str()); }
+  { SqliteStore store(tmp.str()); }
   rawInt(tmp.path(), "PRAGMA user_version = 99");
   try {
-    Store store(tmp.str());
+    SqliteStore store(tmp.str());
     FAIL() << "must throw";
   } catch (const StoreError& e) {
     EXPECT_NE(std::string(e.what()).find("newer"), std::string::npos) << e.what();
@@ -163,9 +181,9 @@ TEST(StoreOpen, NewerSchemaIsRefused) {
 
 // --- sessions -----------------------------------------------------------------------------------
 
-TEST(StoreSessions, RoundTripAndDuplicateId) {
-  TempDir tmp;
-  Store store(tmp.str());
+TEST_P(StoreSessions, RoundTripAndDuplicateId) {
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   SessionRecord s = makeSession("alpha");
   store.createSession(s);
   EXPECT_THROW(store.createSession(s), AlreadyExistsError);
@@ -188,10 +206,10 @@ TEST(StoreSessions, RoundTripAndDuplicateId) {
   EXPECT_THROW(store.lastSeq("missing"), NotFoundError);
 }
 
-TEST(StoreSessions, EditsRestoreAfterReopen) {
-  TempDir tmp;
+TEST_P(StoreSessions, EditsRestoreAfterReopen) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     store.createSession(makeSession("b", 2000));
     store.createSession(makeSession("a", 1000));
     for (std::int64_t seq = 1; seq <= 5; ++seq) store.appendEdit("a", seq, editFor(seq), 100 + seq);
@@ -199,7 +217,8 @@ TEST(StoreSessions, EditsRestoreAfterReopen) {
     store.appendEdit("b", 1, editFor(1));
     store.appendEdits("b", {});  // no-op
   }
-  Store store(tmp.str());
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   auto all = store.loadSessions();
   ASSERT_EQ(all.size(), 2u);
   EXPECT_EQ(all[0].session.id, "a");  // oldest first
@@ -219,9 +238,9 @@ TEST(StoreSessions, EditsRestoreAfterReopen) {
   expectContiguous(all[1]);
 }
 
-TEST(StoreSessions, SeqGapsAndRepeatsAreRejected) {
-  TempDir tmp;
-  Store store(tmp.str());
+TEST_P(StoreSessions, SeqGapsAndRepeatsAreRejected) {
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   store.createSession(makeSession("s"));
   EXPECT_THROW(store.appendEdit("s", 2, editFor(2)), SeqConflictError);  // first must be 1
   store.appendEdit("s", 1, editFor(1));
@@ -237,17 +256,17 @@ TEST(StoreSessions, SeqGapsAndRepeatsAreRejected) {
   EXPECT_THROW(store.appendEdits("s", {{2, editFor(2), 0}, {4, editFor(4), 0}}), SeqConflictError);
   EXPECT_THROW(store.appendEdits("s", {{3, editFor(3), 0}, {4, editFor(4), 0}}), SeqConflictError);
   EXPECT_EQ(store.lastSeq("s"), 1);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits"), 1);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM edits"), 1);
 
   EXPECT_THROW(store.appendEdit("nope", 1, editFor(1)), NotFoundError);
   store.appendEdit("s", 2, editFor(2));
   EXPECT_EQ(store.loadSession("s")->lastSeq, 2);
 }
 
-TEST(StoreSessions, SnapshotsRestoreAndPrune) {
-  TempDir tmp;
+TEST_P(StoreSessions, SnapshotsRestoreAndPrune) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     store.createSession(makeSession("s"));
     for (std::int64_t seq = 1; seq <= 10; ++seq) store.appendEdit("s", seq, editFor(seq));
 
@@ -263,22 +282,23 @@ TEST(StoreSessions, SnapshotsRestoreAndPrune) {
     EXPECT_EQ(r->editsAfterSnapshot.front().seq, 6);
     expectContiguous(*r);
     // The first snapshot prunes nothing (the initial scene is the previous "snapshot").
-    EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits"), 10);
+    EXPECT_EQ(where.rawInt("SELECT count(*) FROM edits"), 10);
 
     store.saveSnapshot("s", 8, json{{"at", 8}});
     EXPECT_THROW(store.saveSnapshot("s", 7, json{{"at", 7}}), StoreError);  // older than newest
     // Keeps snapshots 5 and 8 and the edits after 5.
-    EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots"), 2);
-    EXPECT_EQ(rawInt(tmp.path(), "SELECT min(seq) FROM edits"), 6);
+    EXPECT_EQ(where.rawInt("SELECT count(*) FROM snapshots"), 2);
+    EXPECT_EQ(where.rawInt("SELECT min(seq) FROM edits"), 6);
 
     store.saveSnapshot("s", 10, json{{"at", 10}});
     store.saveSnapshot("s", 10, json{{"at", "10b"}});  // same seq replaces
-    EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots"), 2);
-    EXPECT_EQ(rawInt(tmp.path(), "SELECT min(seq) FROM snapshots"), 8);
-    EXPECT_EQ(rawInt(tmp.path(), "SELECT min(seq) FROM edits"), 9);
+    EXPECT_EQ(where.rawInt("SELECT count(*) FROM snapshots"), 2);
+    EXPECT_EQ(where.rawInt("SELECT min(seq) FROM snapshots"), 8);
+    EXPECT_EQ(where.rawInt("SELECT min(seq) FROM edits"), 9);
     store.appendEdit("s", 11, editFor(11));
   }
-  Store store(tmp.str());
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   auto r = store.loadSession("s");
   ASSERT_TRUE(r && r->snapshot);
   EXPECT_EQ(r->snapshot->seq, 10);
@@ -291,24 +311,24 @@ TEST(StoreSessions, SnapshotsRestoreAndPrune) {
   store.appendEdit("s", 12, editFor(12));
 }
 
-TEST(StoreSessions, KeepSnapshotsOption) {
-  TempDir tmp;
+TEST_P(StoreSessions, KeepSnapshotsOption) {
   StoreOptions options;
   options.keepSnapshots = 1;
-  Store store(tmp.str(), options);
+  auto storeOwner = where.open(options);
+  Store& store = *storeOwner;
   store.createSession(makeSession("s"));
   for (std::int64_t seq = 1; seq <= 4; ++seq) store.appendEdit("s", seq, editFor(seq));
   store.saveSnapshot("s", 3, json{{"at", 3}});
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits"), 1);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots"), 1);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM edits"), 1);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM snapshots"), 1);
   auto r = store.loadSession("s");
   EXPECT_EQ(r->snapshot->seq, 3);
   expectContiguous(*r);
 }
 
-TEST(StoreSessions, DeleteCascadesToEditsAndSnapshots) {
-  TempDir tmp;
-  Store store(tmp.str());
+TEST_P(StoreSessions, DeleteCascadesToEditsAndSnapshots) {
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   store.createSession(makeSession("gone"));
   store.createSession(makeSession("kept"));
   for (std::int64_t seq = 1; seq <= 6; ++seq) {
@@ -321,10 +341,10 @@ TEST(StoreSessions, DeleteCascadesToEditsAndSnapshots) {
   EXPECT_TRUE(store.deleteSession("gone"));
   EXPECT_FALSE(store.deleteSession("gone"));
   EXPECT_FALSE(store.loadSession("gone"));
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits WHERE session_id = 'gone'"), 0);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots WHERE session_id = 'gone'"), 0);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits WHERE session_id = 'kept'"), 6);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots WHERE session_id = 'kept'"), 1);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM edits WHERE session_id = 'gone'"), 0);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM snapshots WHERE session_id = 'gone'"), 0);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM edits WHERE session_id = 'kept'"), 6);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM snapshots WHERE session_id = 'kept'"), 1);
 
   // The id can be reused and starts over.
   store.createSession(makeSession("gone"));
@@ -337,17 +357,18 @@ TEST(StoreSessions, DeleteCascadesToEditsAndSnapshots) {
   EXPECT_EQ(store.loadSessions().size(), 2u);
 }
 
-TEST(StoreSessions, CheckpointsKeepTheSessionStateAndRevisionAndReplaceEachOtherWithinASeq) {
-  TempDir tmp;
+TEST_P(StoreSessions, CheckpointsKeepTheSessionStateAndRevisionAndReplaceEachOtherWithinASeq) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     store.createSession(makeSession("s"));
     for (std::int64_t seq = 1; seq <= 4; ++seq) store.appendEdit("s", seq, editFor(seq));
     store.saveSnapshot("s", Snapshot{4, json{{"at", "4a"}}, json{{"drag_iterations", 7}}, 11});
     store.saveSnapshot("s", Snapshot{4, json{{"at", "4b"}}, json{{"drag_iterations", 8}}, 12});  // the next state shown
     store.appendEdit("s", 5, editFor(5));
   }
-  Store store(tmp.str());
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   auto r = store.loadSession("s");
   ASSERT_TRUE(r && r->snapshot);
   EXPECT_EQ(r->snapshot->seq, 4);
@@ -357,13 +378,13 @@ TEST(StoreSessions, CheckpointsKeepTheSessionStateAndRevisionAndReplaceEachOther
   ASSERT_EQ(r->editsAfterSnapshot.size(), 1u);
   EXPECT_EQ(r->editsAfterSnapshot[0].seq, 5);
   EXPECT_FALSE(r->loadError);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM snapshots WHERE session_id = 's'"), 1);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM snapshots WHERE session_id = 's'"), 1);
 }
 
-TEST(StoreSessions, AQuarantinedSessionKeepsEveryRowAndItsReasonAcrossReopening) {
-  TempDir tmp;
+TEST_P(StoreSessions, AQuarantinedSessionKeepsEveryRowAndItsReasonAcrossReopening) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     store.createSession(makeSession("q"));
     for (std::int64_t seq = 1; seq <= 3; ++seq) store.appendEdit("q", seq, editFor(seq));
     store.saveSnapshot("q", 2, json{{"at", 2}});
@@ -371,34 +392,37 @@ TEST(StoreSessions, AQuarantinedSessionKeepsEveryRowAndItsReasonAcrossReopening)
     EXPECT_THROW(store.quarantineSession("nope", "x"), NotFoundError);
     EXPECT_THROW(store.liftQuarantine("nope"), NotFoundError);
   }
-  Store store(tmp.str());
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   auto r = store.loadSession("q");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->session.quarantine, std::optional<std::string>("model.fixed[0]: no control point 99"));
   ASSERT_TRUE(r->snapshot);
   EXPECT_EQ(r->editsAfterSnapshot.size(), 1u);
-  EXPECT_EQ(rawInt(tmp.path(), "SELECT count(*) FROM edits WHERE session_id = 'q'"), 3);
+  EXPECT_EQ(where.rawInt("SELECT count(*) FROM edits WHERE session_id = 'q'"), 3);
   store.liftQuarantine("q");
   EXPECT_FALSE(store.loadSession("q")->session.quarantine);
 }
 
-TEST(StoreSessions, ARowThatDoesNotParseMakesOnlyItsSessionUnrestorable) {
-  TempDir tmp;
+TEST_P(StoreSessions, ARowThatDoesNotParseMakesOnlyItsSessionUnrestorable) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     for (const char* id : {"a", "b"}) {
       store.createSession(makeSession(id));
       store.appendEdit(id, 1, editFor(1));
       store.saveSnapshot(id, 1, json{{"at", 1}});
     }
   }
-  rawInt(tmp.path(), "UPDATE snapshots SET scene = '{\"at\": ' WHERE session_id = 'a'");
+  where.rawInt("UPDATE snapshots SET scene = '{\"at\": ' WHERE session_id = 'a'");
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     store.createSession(makeSession("c"));
   }
-  rawInt(tmp.path(), "UPDATE sessions SET initial_scene = 'nope' WHERE id = 'c'");
-  Store store(tmp.str());
+  where.rawInt("UPDATE sessions SET initial_scene = 'nope' WHERE id = 'c'");
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   const auto all = store.loadSessions();
   ASSERT_EQ(all.size(), 3u);
   for (const RestoredSession& r : all) {
@@ -421,7 +445,7 @@ TEST(StoreOpen, AVersion1DatabaseMigratesKeepingItsSessions) {
   TempDir tmp;
   {
     sqlite3* db = nullptr;
-    const std::string file = (tmp.path() / Store::kFileName).string();
+    const std::string file = (tmp.path() / SqliteStore::kFileName).string();
     ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
     const char* v1 = R"sql(
 CREATE TABLE sessions (id TEXT NOT NULL PRIMARY KEY, edit_token_hash TEXT NOT NULL, view_token_hash TEXT NOT NULL,
@@ -445,8 +469,8 @@ PRAGMA user_version = 1;
     ASSERT_EQ(sqlite3_exec(db, v1, nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
     sqlite3_close(db);
   }
-  Store store(tmp.str());
-  EXPECT_EQ(store.info().schemaVersion, 2);
+  SqliteStore store(tmp.str());
+  EXPECT_EQ(store.info().schemaVersion, Store::kSchemaVersion);
   auto r = store.loadSession("old");
   ASSERT_TRUE(r && r->snapshot);
   EXPECT_EQ(r->session.editTokenHash, "a9993e364706816aba3e25717850c26c9cd0d89d");
@@ -460,7 +484,7 @@ PRAGMA user_version = 1;
 
 // --- jobs ---------------------------------------------------------------------------------------
 
-TEST(StoreJobs, StateNames) {
+TEST(StoreJobStates, NamesRoundTripAndFinishedOnesAreKnown) {
   for (JobState s : {JobState::Queued, JobState::Running, JobState::Succeeded, JobState::Failed,
                      JobState::Cancelled}) {
     EXPECT_EQ(jobStateFromName(jobStateName(s)), s);
@@ -471,10 +495,10 @@ TEST(StoreJobs, StateNames) {
   EXPECT_FALSE(isFinished(JobState::Running));
 }
 
-TEST(StoreJobs, RoundTripUpdateAndReopen) {
-  TempDir tmp;
+TEST_P(StoreJobs, RoundTripUpdateAndReopen) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     JobRecord j = makeJob("j1", "key-1");
     store.putJob(j);
     EXPECT_THROW(store.putJob(makeJob("j1")), AlreadyExistsError);
@@ -501,7 +525,8 @@ TEST(StoreJobs, RoundTripUpdateAndReopen) {
     store.updateJob(j);
     EXPECT_THROW(store.updateJob(makeJob("missing")), NotFoundError);
   }
-  Store store(tmp.str());
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   auto got = store.job("j1");
   ASSERT_TRUE(got);
   EXPECT_EQ(got->state, JobState::Succeeded);
@@ -514,9 +539,9 @@ TEST(StoreJobs, RoundTripUpdateAndReopen) {
   EXPECT_FALSE(store.job("nope"));
 }
 
-TEST(StoreJobs, IdempotencyKeyConflict) {
-  TempDir tmp;
-  Store store(tmp.str());
+TEST_P(StoreJobs, IdempotencyKeyConflict) {
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   store.putJob(makeJob("first", "K"));
   try {
     store.putJob(makeJob("second", "K"));
@@ -547,10 +572,10 @@ TEST(StoreJobs, IdempotencyKeyConflict) {
   EXPECT_EQ(store.jobByIdempotencyKey("K")->id, "third");
 }
 
-TEST(StoreJobs, UnfinishedRequeueCountsAndPrune) {
-  TempDir tmp;
+TEST_P(StoreJobs, UnfinishedRequeueCountsAndPrune) {
   {
-    Store store(tmp.str());
+    auto storeOwner = where.open();
+    Store& store = *storeOwner;
     const JobState states[] = {JobState::Queued,    JobState::Running, JobState::Succeeded,
                                JobState::Failed,    JobState::Cancelled, JobState::Running,
                                JobState::Succeeded};
@@ -573,7 +598,8 @@ TEST(StoreJobs, UnfinishedRequeueCountsAndPrune) {
     EXPECT_EQ(counts[JobState::Cancelled], 1);
   }
   // "Restart": running jobs are found and re-queued.
-  Store store(tmp.str());
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   auto unfinished = store.unfinishedJobs();
   ASSERT_EQ(unfinished.size(), 3u);
   EXPECT_EQ(unfinished[0].id, "job5");  // oldest first
@@ -600,9 +626,9 @@ TEST(StoreJobs, UnfinishedRequeueCountsAndPrune) {
 
 // --- concurrency --------------------------------------------------------------------------------
 
-TEST(StoreConcurrency, WritersOnDifferentSessionsWithReaders) {
-  TempDir tmp;
-  Store store(tmp.str());
+TEST_P(StoreConcurrency, WritersOnDifferentSessionsWithReaders) {
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   constexpr int kWriters = 6;
   constexpr std::int64_t kEdits = 300;
   for (int w = 0; w < kWriters; ++w) store.createSession(makeSession("s" + std::to_string(w)));
@@ -659,9 +685,9 @@ TEST(StoreConcurrency, WritersOnDifferentSessionsWithReaders) {
   }
 }
 
-TEST(StoreConcurrency, RacingAppendsToOneSessionNeverDuplicateOrSkip) {
-  TempDir tmp;
-  Store store(tmp.str());
+TEST_P(StoreConcurrency, RacingAppendsToOneSessionNeverDuplicateOrSkip) {
+  auto storeOwner = where.open();
+  Store& store = *storeOwner;
   store.createSession(makeSession("shared"));
   constexpr int kThreads = 4;
   constexpr std::int64_t kTotal = 400;

@@ -25,6 +25,12 @@ struct DaemonOptions {
   std::string bind = "127.0.0.1";
   int port = 8080;                          ///< 0 = ephemeral (tests)
   std::string dataDir = "./var";            ///< SQLite database and nothing else
+  /// Where sessions and jobs are stored (`--store`): empty = SQLite in dataDir; a
+  /// "postgresql://…" URI = the shared PostgreSQL store of several daemons (issue 18).
+  std::string store;
+  /// This daemon's name among several (`--node-id`): in job leases, /api/health and the metrics.
+  /// Empty = the host name and the process id.
+  std::string nodeId;
   std::string apiKey;                       ///< when set, creating sessions and jobs needs it
   /// Built web app served at / (empty = none); read into memory by start() (StaticAssets),
   /// which throws when it is not a folder it can serve.

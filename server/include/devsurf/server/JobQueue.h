@@ -3,7 +3,6 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -32,6 +31,15 @@ struct JobLimits {
   /// What a job's scene may ask for (memory estimate, control points); checked at submission and
   /// again when the job runs.
   proto::ResourceLimits resources;
+  /// A running job's lease (`--job-lease-ms`): when its node stops renewing it for this long
+  /// (the node died), any node may claim the job again.
+  double leaseMs = 10000.0;
+  /// How often a node renews the leases of its running jobs and stores their progress
+  /// (≤ leaseMs / 3).
+  double heartbeatMs = 1000.0;
+  /// How often an idle worker looks for jobs other nodes queued (a shared store); a job queued on
+  /// this node wakes it at once.
+  double pollMs = 200.0;
 };
 
 class QueueFullError : public std::runtime_error {
@@ -44,15 +52,21 @@ class IdempotencyMismatchError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Batch jobs (REST `/api/jobs`): a bounded queue and a worker pool that solve scenes with
-/// `SceneSolver`, persisting every state change in the store so a restarted daemon re-queues
-/// what was queued or running.
+/// Batch jobs (REST `/api/jobs`): a queue in the store and a pool of workers that claim jobs
+/// from it and solve them with `SceneSolver`. Every state change is stored. The queue may be
+/// shared by several nodes (PostgresStore): each job runs under a lease (store/Store.h) that a
+/// heartbeat renews with the job's progress; a job whose node died is claimed again when its lease
+/// ends, its result is written once, and a cancellation asked for on any node stops it.
 class JobQueue {
  public:
-  JobQueue(store::Store& store, JobLimits limits);
-  ~JobQueue();  ///< stops the workers; running jobs stay "running" in the store (re-queued on restart)
+  /// @param[in] nodeId  this node's name in the store's leases (DaemonOptions::nodeId)
+  JobQueue(store::Store& store, JobLimits limits, std::string nodeId = "local");
+  /// Stops the workers: running jobs are stopped and handed back to the queue (Queued) for this or
+  /// another node to run.
+  ~JobQueue();
 
-  /// Re-queues the store's unfinished jobs (call once at start-up, before serving).
+  /// Re-queues what a previous run left running: every Running job for an embedded store, this
+  /// node's own for a shared one (others' end with their leases). Call once at start-up.
   void restore();
 
   struct Submitted {
@@ -65,26 +79,40 @@ class JobQueue {
 
   /// The job as the REST API shows it, or nullopt.
   std::optional<store::JobRecord> job(const std::string& id) const;
-  /// Cancels a queued or running job. @returns false if it had already finished.
+  /// Cancels a queued or running job, wherever it runs (a running job on another node stops at
+  /// that node's next heartbeat). @returns false if it had already finished.
   /// @throws store::NotFoundError
   bool cancel(const std::string& id);
 
   std::map<store::JobState, int> counts() const;
+  /// Jobs waiting in the store (all nodes').
   std::size_t queued() const;
+  const std::string& nodeId() const { return nodeId_; }
 
  private:
+  /// A job this node runs.
+  struct Running {
+    int attempt = 0;
+    int iteration = 0, of = 0;
+    std::shared_ptr<std::atomic<bool>> cancelled;
+    bool leaseLost = false;
+  };
   void work();
+  void heartbeat();
   void run(store::JobRecord job);
+  /// The final write under the job's lease, retried while the store is unreachable.
+  void finish(const store::JobRecord& job, int attempt);
 
   store::Store& store_;
   JobLimits limits_;
+  std::string nodeId_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
-  std::deque<std::string> queue_;
-  std::map<std::string, std::pair<int, int>> progress_;  ///< running: iteration, of
-  std::map<std::string, std::shared_ptr<std::atomic<bool>>> cancel_;
+  std::uint64_t submitted_ = 0;  ///< bumped by submit(): wakes a worker without a poll
+  std::map<std::string, Running> running_;
   bool stopping_ = false;
   std::vector<std::thread> workers_;
+  std::thread heartbeat_;
 };
 
 }  // namespace devsurf::server

@@ -1,36 +1,28 @@
 #pragma once
 
-// Persistence of the devsurf daemon: editing sessions (edit log + snapshots) and batch jobs, in
-// one SQLite database DIR/devsurf.db in WAL mode.
+// Persistence of the devsurf daemon: editing sessions (edit log + snapshots) and batch jobs.
 //
-// Durability
-// ----------
-// Every mutating method returns only after its transaction has COMMITted, so an edit acknowledged
-// after appendEdit()/appendEdits() returns is "durable" in the sense chosen at construction:
-//   Durability::Process  PRAGMA synchronous=NORMAL. In WAL mode a commit write()s the WAL frames
-//                        before returning but does not fsync; the data then lives in the kernel's
-//                        page cache and survives the daemon dying in any way (SIGKILL, abort,
-//                        OOM kill). It does NOT survive power loss or a kernel crash: the last
-//                        transactions before such an event can be lost (the database still
-//                        reopens consistently, never half-applied). fsync happens at checkpoints.
-//   Durability::Power    PRAGMA synchronous=FULL. The WAL is fsynced on every commit, so
-//                        commits also survive power loss (given storage that honours fsync);
-//                        each commit costs a disk flush.
+// `Store` is the interface; two backends implement it with the same schema versions and the same
+// behaviour (tests/server/store/StoreContractTest.cpp runs one suite against both):
+//   SqliteStore    one SQLite database DIR/devsurf.db in WAL mode: the embedded default, for one
+//                  daemon (store/SqliteStore.h).
+//   PostgresStore  a PostgreSQL database shared by several daemons and workers (`devsurf serve
+//                  --store postgresql://…`, issue 18; store/PostgresStore.h).
+// openStore() picks one from a location string.
 //
-// Threading
-// ---------
-// All methods are thread-safe. A Store owns two connections: one writer (every mutating method,
-// serialised by a mutex) and one reader (every const method, serialised by another mutex). In WAL
-// mode the reader never waits for the writer, and it sees every transaction committed before the
-// read started. Other processes may open the same file (busy_timeout applies), but the daemon is
-// expected to be its only writer. WAL needs shared memory between connections, so DIR must be
-// on a local file system (not NFS/SMB).
+// Every mutating method returns only after its transaction has committed: an edit acknowledged
+// after appendEdit()/appendEdits() returns is stored (how durably: see each backend).
 //
-// Schema
-// ------
-// Versioned with PRAGMA user_version (Store::kSchemaVersion); opening an older database migrates
-// it step by step, each step in its own transaction; a newer one is refused. Tables are STRICT
-// (SQLite ≥ 3.37). JSON is stored as compact text, so the file can be inspected with sqlite3.
+// Jobs on a shared queue
+// ----------------------
+// A job runs under a lease: claimJob() takes the oldest queued job (or a running one whose lease
+// expired: its worker died) for one owner (a node id) until nowMs + leaseMs and counts the
+// attempt; the worker renews the lease while it solves (renewJobLease, which also stores progress
+// and reports a cancellation asked for on any node); finishJob() writes the result only while
+// the caller still holds that lease and attempt, so a result is written once even when a worker
+// that lost its lease finishes later.
+//
+// All methods of both backends are thread-safe.
 
 #include <chrono>
 #include <cstdint>
@@ -162,66 +154,81 @@ struct JobRecord {
   std::int64_t updatedMs = 0;
   int progressIteration = 0;
   int progressOf = 0;
+  /// The node that runs it (state Running): set by claimJob, cleared when it finishes or is
+  /// re-queued.
+  std::optional<std::string> leaseOwner;
+  std::int64_t leaseExpiresMs = 0;   ///< the lease ends then unless renewed (ms since epoch)
+  int attempt = 0;                   ///< how many times the job was claimed
+  bool cancelRequested = false;      ///< a cancellation asked for while it was running
 };
 
 // --- the store ----------------------------------------------------------------------------------
 
 enum class Durability {
-  Process,  ///< synchronous=NORMAL: survives process death, not power loss (default)
-  Power,    ///< synchronous=FULL: survives power loss too, one fsync per commit
+  Process,  ///< SQLite synchronous=NORMAL: survives process death, not power loss (default)
+  Power,    ///< SQLite synchronous=FULL: survives power loss too, one fsync per commit
 };
 
 struct StoreOptions {
-  Durability durability = Durability::Process;
+  Durability durability = Durability::Process;  ///< SQLite only (PostgreSQL: the server's settings)
   /// How long a statement waits for a lock held by another connection before failing.
   std::chrono::milliseconds busyTimeout{5000};
   /// Snapshots kept per session (≥ 1). With the default 2, saveSnapshot keeps the new and the
   /// previous snapshot and the edits after the previous one; older ones are pruned.
   int keepSnapshots = 2;
+  /// PostgreSQL: connections kept open (≥ 1); each one serves one operation at a time.
+  int connections = 4;
 };
 
 /// Facts about an open store, for logs and health endpoints.
 struct StoreInfo {
-  std::string path;          ///< DIR/devsurf.db
-  int schemaVersion = 0;     ///< PRAGMA user_version
-  std::string journalMode;   ///< "wal"
-  std::string synchronous;   ///< "NORMAL" or "FULL"
+  std::string backend;       ///< "sqlite" or "postgresql"
+  std::string path;          ///< SQLite: DIR/devsurf.db; PostgreSQL: the URL without its password
+  int schemaVersion = 0;
+  std::string journalMode;   ///< SQLite: "wal"; PostgreSQL: empty
+  std::string synchronous;   ///< SQLite: "NORMAL" or "FULL"; PostgreSQL: synchronous_commit
+};
+
+/// What renewJobLease found.
+struct JobLeaseRenewal {
+  bool held = false;             ///< false: the lease was lost (expired and taken, or job gone)
+  bool cancelRequested = false;  ///< someone asked to cancel the job
 };
 
 class Store {
  public:
-  static constexpr int kSchemaVersion = 2;
-  static constexpr const char* kFileName = "devsurf.db";
+  /// The schema version both backends migrate to (SQLite: PRAGMA user_version; PostgreSQL: the
+  /// table devsurf_schema). Opening an older database migrates it step by step, each step in its
+  /// own transaction; a newer one is refused.
+  static constexpr int kSchemaVersion = 3;
 
-  /// Opens (creating the directory and the database if missing) DIR/devsurf.db, switches it to
-  /// WAL, enables foreign keys, sets busy_timeout and migrates the schema.
-  /// @throws StoreError (a std::runtime_error) naming the path and SQLite's message, e.g. for a
-  ///         file that is not an SQLite database or a schema newer than kSchemaVersion
-  explicit Store(const std::string& directory, Durability durability = Durability::Process);
-  Store(const std::string& directory, const StoreOptions& options);
-  ~Store();
+  virtual ~Store() = default;
+  Store() = default;
   Store(const Store&) = delete;
   Store& operator=(const Store&) = delete;
 
-  StoreInfo info() const;
+  virtual StoreInfo info() const = 0;
+  /// True when other processes share the store (PostgreSQL): a job marked running may be
+  /// another node's, so a starting daemon re-queues only its own (releaseJobLeases).
+  virtual bool shared() const = 0;
 
   // --- sessions ---
 
   /// @throws AlreadyExistsError if the id exists
-  void createSession(const SessionRecord& session);
+  virtual void createSession(const SessionRecord& session) = 0;
   /// Removes the session with its edits and snapshots. @return false if it did not exist
-  bool deleteSession(const std::string& id);
+  virtual bool deleteSession(const std::string& id) = 0;
 
-  /// Appends one edit; durable when it returns. timeMs defaults to now.
+  /// Appends one edit; stored when it returns. timeMs defaults to now.
   /// @throws SeqConflictError unless seq == lastSeq + 1, NotFoundError for an unknown session
   void appendEdit(const std::string& sessionId, std::int64_t seq, const nlohmann::json& edit,
                   std::optional<std::int64_t> timeMs = std::nullopt);
   /// Appends several edits in one transaction (coalesced drags): their seqs must be
   /// lastSeq+1, lastSeq+2, … in order. All or nothing; an empty batch is a no-op.
   /// @throws SeqConflictError, NotFoundError (nothing written)
-  void appendEdits(const std::string& sessionId, const std::vector<EditRecord>& edits);
+  virtual void appendEdits(const std::string& sessionId, const std::vector<EditRecord>& edits) = 0;
   /// @return the seq of the last stored edit (0: none). @throws NotFoundError
-  std::int64_t lastSeq(const std::string& sessionId) const;
+  virtual std::int64_t lastSeq(const std::string& sessionId) const = 0;
 
   /// Stores the scene as it is after edit `seq` (0 ≤ seq ≤ lastSeq, not older than the newest
   /// snapshot; an equal seq replaces it). Then prunes per StoreOptions::keepSnapshots: snapshots
@@ -229,44 +236,69 @@ class Store {
   /// @throws NotFoundError, StoreError for a seq outside that range
   void saveSnapshot(const std::string& sessionId, std::int64_t seq, const nlohmann::json& scene);
   /// The same with the session's own state and the revision (Snapshot::sessionState, revision).
-  void saveSnapshot(const std::string& sessionId, const Snapshot& snapshot);
+  virtual void saveSnapshot(const std::string& sessionId, const Snapshot& snapshot) = 0;
   /// Marks a session that could not be restored (SessionRecord::quarantine = reason); it stays
   /// with its initial scene, snapshots and edits. @throws NotFoundError
-  void quarantineSession(const std::string& id, const std::string& reason);
+  virtual void quarantineSession(const std::string& id, const std::string& reason) = 0;
   /// Clears the mark (the session was restored after all). @throws NotFoundError
-  void liftQuarantine(const std::string& id);
+  virtual void liftQuarantine(const std::string& id) = 0;
 
   /// Every session, oldest first (createdMs, then id), each read in one consistent transaction.
-  std::vector<RestoredSession> loadSessions() const;
-  std::optional<RestoredSession> loadSession(const std::string& id) const;
+  virtual std::vector<RestoredSession> loadSessions() const = 0;
+  virtual std::optional<RestoredSession> loadSession(const std::string& id) const = 0;
 
   // --- jobs ---
 
   /// Inserts a new job.
   /// @throws IdempotencyConflictError if job.idempotencyKey is set and already stored,
   ///         AlreadyExistsError if the id exists
-  void putJob(const JobRecord& job);
-  std::optional<JobRecord> jobByIdempotencyKey(const std::string& key) const;
-  /// Writes the mutable fields: state, report, error, updatedMs, progressIteration, progressOf.
+  virtual void putJob(const JobRecord& job) = 0;
+  virtual std::optional<JobRecord> jobByIdempotencyKey(const std::string& key) const = 0;
+  /// Writes the mutable fields: state, report, error, updatedMs, progressIteration, progressOf
+  /// (unconditionally: a worker's final write goes through finishJob).
   /// @throws NotFoundError
-  void updateJob(const JobRecord& job);
-  std::optional<JobRecord> job(const std::string& id) const;
-  /// Queued and Running jobs, oldest first (createdMs, then id). Running ones were interrupted
-  /// by a restart; see requeueInterruptedJobs.
-  std::vector<JobRecord> unfinishedJobs() const;
-  /// At startup: sets every Running job back to Queued (progressIteration = 0,
-  /// updatedMs = nowMs).
-  /// @return how many were re-queued
-  int requeueInterruptedJobs(std::int64_t nowMs);
+  virtual void updateJob(const JobRecord& job) = 0;
+  virtual std::optional<JobRecord> job(const std::string& id) const = 0;
+  /// Queued and Running jobs, oldest first (createdMs, then id).
+  virtual std::vector<JobRecord> unfinishedJobs() const = 0;
   /// Number of jobs per state; every state is present (0 when none).
-  std::map<JobState, int> jobCounts() const;
+  virtual std::map<JobState, int> jobCounts() const = 0;
   /// Deletes Succeeded/Failed/Cancelled jobs with updatedMs < olderThanMs (their idempotency
   /// keys become free again). @return how many were deleted
-  int pruneFinishedJobs(std::int64_t olderThanMs);
+  virtual int pruneFinishedJobs(std::int64_t olderThanMs) = 0;
 
- private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  /// Claims the oldest queued job, or else the oldest running job whose lease ended before nowMs:
+  /// it becomes Running, leased to `owner` until nowMs + leaseMs, attempt + 1, progress 0. Two
+  /// callers never claim the same job (PostgreSQL: SELECT … FOR UPDATE SKIP LOCKED).
+  /// @return the claimed job as stored after the claim, or nullopt when there is none
+  virtual std::optional<JobRecord> claimJob(const std::string& owner, std::int64_t nowMs,
+                                            std::int64_t leaseMs) = 0;
+  /// Extends the lease of a running job that `owner` holds in `attempt` to nowMs + leaseMs and
+  /// stores its progress.
+  virtual JobLeaseRenewal renewJobLease(const std::string& id, const std::string& owner, int attempt,
+                                        std::int64_t nowMs, std::int64_t leaseMs,
+                                        int progressIteration, int progressOf) = 0;
+  /// Writes a claimed job's final fields (state, report, error, updatedMs, progress) and clears
+  /// its lease, only if it is still Running under `owner` and `attempt`.
+  /// @return false when the lease was lost: nothing written (another attempt owns the job)
+  virtual bool finishJob(const JobRecord& job, const std::string& owner, int attempt) = 0;
+  /// A queued job becomes Cancelled at once; a running one is marked (cancelRequested) for its
+  /// worker to stop, wherever it runs. @return the job's state after the call (Cancelled, Running
+  /// or the finished state it already had). @throws NotFoundError
+  virtual JobState requestJobCancel(const std::string& id, std::int64_t nowMs) = 0;
+  /// Sets the running jobs leased to `owner` back to Queued (progress 0, lease cleared): a node
+  /// that stops, or restarts under the same id. @return how many
+  virtual int releaseJobLeases(const std::string& owner, std::int64_t nowMs) = 0;
+  /// At the start of the only daemon of an embedded store: sets every Running job back to Queued
+  /// (progressIteration = 0, updatedMs = nowMs, lease cleared). @return how many were re-queued
+  virtual int requeueInterruptedJobs(std::int64_t nowMs) = 0;
 };
+
+/// Opens the store a location names: "postgresql://…" or "postgres://…" (a libpq connection URI)
+/// opens PostgresStore, anything else is a directory for SqliteStore.
+/// @throws StoreError naming the location
+std::unique_ptr<Store> openStore(const std::string& location, const StoreOptions& options = {});
+/// True when openStore would open PostgreSQL for this location.
+bool isPostgresLocation(const std::string& location);
 
 }  // namespace devsurf::server::store
