@@ -61,7 +61,7 @@ constexpr const char* kUsage =
     "        obj (M), unfolding_obj (M′), stl, svg and dxf (cutting pattern) and fold\n"
     "        (both frames).\n"
     "  serve [--port 8080] [--bind 127.0.0.1] [--data DIR] [--store postgresql://...]\n"
-    "        [--node-id ID] [--job-lease-ms MS] [--api-key KEY] [--web DIR]\n"
+    "        [--node-id ID] [--lease-ms MS] [--api-key KEY] [--web DIR]\n"
     "        [--demo SCENE]... [--workers N] [--max-sessions N] [--max-clients N]\n"
     "        [--max-body BYTES] [--max-message BYTES] [--message-rate PER_S]\n"
     "        [--max-control-points N] [--max-iterations N] [--job-workers N]\n"
@@ -79,8 +79,9 @@ constexpr const char* kUsage =
     "        --web \"\" serves none. Its files are read and compressed once, at start-up.\n"
     "        Sessions and jobs are stored in DIR/devsurf.db (SQLite; --data, default ./var),\n"
     "        or with --store postgresql://USER@HOST/DB in PostgreSQL, shared by several\n"
-    "        daemons (docs/scaling.md): jobs are claimed from one queue under leases of\n"
-    "        --job-lease-ms (default 10000); --node-id names this daemon (default\n"
+    "        daemons (docs/scaling.md): jobs are claimed from one queue and sessions held\n"
+    "        by one daemon at a time, under leases of --lease-ms (default 10000) that a\n"
+    "        daemon that dies stops renewing; --node-id names this daemon (default\n"
     "        HOST-PID) in leases, /api/health and /api/metrics.\n"
     "        serve --help prints this text.\n"
     "  reference SHAPE [--thin RADIUS] [--seed N] [--out CLOUD.xyz]\n"
@@ -409,10 +410,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
         if (o.nodeId.empty() || o.nodeId.size() > 64)
           throw std::invalid_argument("--node-id: expected 1 to 64 characters");
       }
-      else if (a == "--job-lease-ms") {
-        o.jobs.leaseMs = static_cast<double>(parseNumber(a, value(), 100, 3600000));
-        o.jobs.heartbeatMs = o.jobs.leaseMs / 10.0;
-      }
+      else if (a == "--lease-ms") o.leaseMs = static_cast<double>(parseNumber(a, value(), 100, 3600000));
       else if (a == "--api-key") o.apiKey = value();
       else if (a == "--web") {
         o.webRoot = value();

@@ -120,6 +120,7 @@ std::string demoToken(const std::string& scenePath, const std::string& role) {
 
 /// Per WebSocket connection: which session it joined, and its message budget.
 struct Daemon::Client {
+  std::weak_ptr<transport::Connection> connection;
   std::weak_ptr<Session> session;
   int participant = -1;
   double tokens = 0.0;
@@ -161,8 +162,25 @@ int Daemon::start() {
     if (::gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "node");
     options_.nodeId = std::string(host) + "-" + std::to_string(::getpid());
   }
+  options_.jobs.leaseMs = options_.leaseMs;
+  options_.jobs.heartbeatMs = std::min(options_.jobs.heartbeatMs, options_.leaseMs / 10.0);
   jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs, options_.nodeId);
-  restoreSessions();
+  if (store_->shared()) {
+    // Several daemons share the store: a session is served by the one node that holds its lease,
+    // adopted when a request for it arrives (findSession), not restored here.
+    store_->setSessionOwner(options_.nodeId);
+    leaseThread_ = std::thread([this]() {
+      std::unique_lock<std::mutex> lock(leaseMutex_);
+      while (!leaseWake_.wait_for(lock, std::chrono::duration<double, std::milli>(options_.leaseMs / 10.0),
+                                  [this]() { return leaseStopping_; })) {
+        lock.unlock();
+        renewSessionLeases();
+        lock.lock();
+      }
+    });
+  } else {
+    restoreSessions();
+  }
   openDemos();
   if (startAbandoned_) {
     spdlog::info("stopped during start-up");
@@ -176,6 +194,7 @@ int Daemon::start() {
   transport::WebSocketHandlers handlers;
   handlers.onOpen = [this](const std::shared_ptr<transport::Connection>& c) {
     auto client = std::make_shared<Client>();
+    client->connection = c;
     client->tokens = 2.0 * options_.messageRate;
     std::lock_guard<std::mutex> lock(mutex_);
     clients_[c->id()] = client;
@@ -198,6 +217,20 @@ void Daemon::run() { http_->serve(); }
 void Daemon::stop() {
   if (http_) http_->stop();
   jobs_.reset();
+  if (leaseThread_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(leaseMutex_);
+      leaseStopping_ = true;
+    }
+    leaseWake_.notify_all();
+    leaseThread_.join();
+    try {  // handed over at once: the next node need not wait for the leases to end
+      const int released = store_->releaseSessionLeases(options_.nodeId);
+      if (released > 0) spdlog::info("released {} session lease(s)", released);
+    } catch (const std::exception& e) {
+      spdlog::warn("could not release session leases ({}); they end by themselves", e.what());
+    }
+  }
 }
 
 void Daemon::restoreSessions() {
@@ -205,55 +238,135 @@ void Daemon::restoreSessions() {
   if (!stored.empty()) spdlog::info("restoring {} stored session(s)", stored.size());
   for (const store::RestoredSession& r : stored) {
     if (startAbandoned_) return;  // a signal during start-up: what is restored so far is stored
-    // A quarantined session is tried again at every start: what stopped it may have been
-    // transient (an I/O error) or fixed since (an upgrade, an operator's repair).
-    std::string reason = r.loadError.value_or("");
-    // What was built and shown before comes back without a time budget (a restart may run on a
-    // busier machine); the session's budget applies again to the edits that follow.
-    SessionSettings restoring = options_.session;
-    restoring.rebuildTimeBudgetMs = 0.0;
-    if (reason.empty()) {
-      try {
-        const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
-        auto session = std::make_shared<Session>(
-            r.session.id, proto::sceneFromJson(scene, options_.session.resources), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
-            restoring, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
-            journal_.get(), &counters_, r.session.demo);
-        if (r.snapshot) session->setInitialScene(proto::sceneFromJson(r.session.initialScene));
-        std::vector<std::pair<std::int64_t, json>> edits;
-        for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
-        session->restore(r.snapshot ? r.snapshot->sessionState : json(), r.snapshot ? r.snapshot->revision : 0, edits,
-                         r.lastSeq);
-        session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
-        if (r.session.quarantine) {
-          spdlog::info("session {} was quarantined ({}) and is restored now", r.session.id, *r.session.quarantine);
-          store_->liftQuarantine(r.session.id);
-        }
-        std::lock_guard<std::mutex> lock(mutex_);
-        sessions_[r.session.id] = session;
-        continue;
-      } catch (const std::exception& e) {
-        reason = e.what();
-      }
-    }
-    // Kept, never deleted: the store still holds its initial scene, snapshot and journal, and its
-    // last stored scene can be downloaded (GET /api/sessions/{id}/export?format=json).
-    if (r.session.quarantine != reason) {
-      spdlog::error("session {} could not be restored and is quarantined: {}", r.session.id, reason);
-      try {
-        store_->quarantineSession(r.session.id, reason);
-      } catch (const std::exception& e) {
-        spdlog::error("session {}: cannot record the quarantine: {}", r.session.id, e.what());
-      }
-    }
-    Quarantined q;
-    q.reason = reason;
-    q.tokens = Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash};
-    q.scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;  // null if even that did not parse
-    q.seq = r.snapshot ? r.snapshot->seq : 0;
-    std::lock_guard<std::mutex> lock(mutex_);
-    quarantined_[r.session.id] = std::move(q);
+    restoreSession(r);
   }
+}
+
+bool Daemon::restoreSession(const store::RestoredSession& r) {
+  // A quarantined session is tried again at every start: what stopped it may have been
+  // transient (an I/O error) or fixed since (an upgrade, an operator's repair).
+  std::string reason = r.loadError.value_or("");
+  // What was built and shown before comes back without a time budget (a restart may run on a
+  // busier machine); the session's budget applies again to the edits that follow.
+  SessionSettings restoring = options_.session;
+  restoring.rebuildTimeBudgetMs = 0.0;
+  if (reason.empty()) {
+    try {
+      const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
+      auto session = std::make_shared<Session>(
+          r.session.id, proto::sceneFromJson(scene, options_.session.resources), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
+          restoring, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
+          journal_.get(), &counters_, r.session.demo);
+      if (r.snapshot) session->setInitialScene(proto::sceneFromJson(r.session.initialScene));
+      std::vector<std::pair<std::int64_t, json>> edits;
+      for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
+      session->restore(r.snapshot ? r.snapshot->sessionState : json(), r.snapshot ? r.snapshot->revision : 0, edits,
+                       r.lastSeq);
+      session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
+      if (r.session.quarantine) {
+        spdlog::info("session {} was quarantined ({}) and is restored now", r.session.id, *r.session.quarantine);
+        store_->liftQuarantine(r.session.id);
+      }
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (const auto demo = demoTokens_.find(r.session.id); demo != demoTokens_.end())
+        session->setTokens({tokenHash(demo->second.first), tokenHash(demo->second.second)});
+      sessions_[r.session.id] = session;
+      return true;
+    } catch (const std::exception& e) {
+      reason = e.what();
+    }
+  }
+  // Kept, never deleted: the store still holds its initial scene, snapshot and journal, and its
+  // last stored scene can be downloaded (GET /api/sessions/{id}/export?format=json).
+  if (r.session.quarantine != reason) {
+    spdlog::error("session {} could not be restored and is quarantined: {}", r.session.id, reason);
+    try {
+      store_->quarantineSession(r.session.id, reason);
+    } catch (const std::exception& e) {
+      spdlog::error("session {}: cannot record the quarantine: {}", r.session.id, e.what());
+    }
+  }
+  Quarantined q;
+  q.reason = reason;
+  q.tokens = Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash};
+  q.scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;  // null if even that did not parse
+  q.seq = r.snapshot ? r.snapshot->seq : 0;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (const auto demo = demoTokens_.find(r.session.id); demo != demoTokens_.end())
+    q.tokens = {tokenHash(demo->second.first), tokenHash(demo->second.second)};
+  quarantined_[r.session.id] = std::move(q);
+  return false;
+}
+
+std::shared_ptr<Session> Daemon::adoptSession(const std::string& id) {
+  std::lock_guard<std::mutex> adopting(adoptMutex_);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (const auto it = sessions_.find(id); it != sessions_.end()) return it->second;  // adopted meanwhile
+  }
+  try {
+    if (!store_->acquireSessionLease(id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs))) {
+      // The proxy routes this session here now (a node came back, or it was created elsewhere):
+      // its holder hands it over at its next renewal, and the client's retry finds it free.
+      store_->requestSessionHandover(id, options_.nodeId);
+      spdlog::info("session {} is held by another node; handover requested", id);
+      return nullptr;
+    }
+    const std::optional<store::RestoredSession> stored = store_->loadSession(id);
+    if (!stored) return nullptr;
+    spdlog::info("session {} adopted: journal replayed from seq {} to {}", id, stored->snapshot ? stored->snapshot->seq : 0,
+                 stored->lastSeq);
+    restoreSession(*stored);
+  } catch (const store::NotFoundError&) {
+    return nullptr;
+  } catch (const std::exception& e) {
+    spdlog::error("session {} could not be adopted: {}", id, e.what());
+    return nullptr;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = sessions_.find(id);
+  return it == sessions_.end() ? nullptr : it->second;
+}
+
+std::optional<std::string> Daemon::sessionHolder(const std::string& id) const {
+  if (!store_->shared()) return std::nullopt;
+  try {
+    const auto lease = store_->sessionLease(id);
+    if (lease && lease->first != options_.nodeId) return lease->first;
+  } catch (const store::NotFoundError&) {
+  } catch (const std::exception& e) {  // the store is unreachable: the session may exist
+    return std::string("unknown (the store is unreachable: ") + e.what() + ")";
+  }
+  return std::nullopt;
+}
+
+void Daemon::renewSessionLeases() {
+  std::vector<std::string> held;
+  try {
+    held = store_->renewSessionLeases(options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
+  } catch (const std::exception& e) {  // the store is unreachable: keep serving; writes fail until it is back
+    spdlog::warn("cannot renew session leases: {}", e.what());
+    return;
+  }
+  std::sort(held.begin(), held.end());
+  std::vector<std::shared_ptr<transport::Connection>> toClose;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = sessions_.begin(); it != sessions_.end();) {
+      if (std::binary_search(held.begin(), held.end(), it->first)) {
+        ++it;
+        continue;
+      }
+      spdlog::info("session {}: handed over to another node (or its lease was taken); dropped here", it->first);
+      for (const auto& [cid, client] : clients_) {
+        std::lock_guard<std::mutex> clientLock(client->mutex);
+        if (client->session.lock() == it->second)
+          if (auto c = client->connection.lock()) toClose.push_back(std::move(c));
+      }
+      it = sessions_.erase(it);
+    }
+  }
+  for (const auto& c : toClose) c->close(transport::CloseCode::ServiceRestart, "session moved to another node; reconnect");
 }
 
 void Daemon::openDemos() {
@@ -276,6 +389,8 @@ void Daemon::openDemos() {
       }
     }
     try {
+      // A shared store: a demo another node created is adopted on its first request.
+      if (store_->shared() && store_->loadSession(id)) continue;
       // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first drag
       // must not also carry out the preset's own pending solve.
       createSession(SceneSolver::solvedScene(proto::sceneFromText(readFile(path))), edit, view, true, id);
@@ -306,6 +421,7 @@ std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const 
   record.initialScene = proto::sceneToJson(scene);
   record.createdMs = store::wallClockMs();
   store_->createSession(record);
+  if (store_->shared()) store_->acquireSessionLease(id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
   std::lock_guard<std::mutex> lock(mutex_);
   sessions_[id] = session;
   return session;
@@ -318,10 +434,13 @@ std::optional<Daemon::Quarantined> Daemon::quarantinedSession(const std::string&
   return it->second;
 }
 
-std::shared_ptr<Session> Daemon::findSession(const std::string& id) const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = sessions_.find(id);
-  return it == sessions_.end() ? nullptr : it->second;
+std::shared_ptr<Session> Daemon::findSession(const std::string& id) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = sessions_.find(id);
+    if (it != sessions_.end()) return it->second;
+  }
+  return store_->shared() ? adoptSession(id) : nullptr;
 }
 
 void Daemon::routes() {
@@ -369,10 +488,11 @@ void Daemon::routes() {
                 {"sessions_quarantined", quarantined}};
     try {
       health["jobs_queued"] = jobs_->queued();
-    } catch (const std::exception& e) {  // the store is unreachable: sessions held here still run
+    } catch (const std::exception& e) {
+      // The store is unreachable: this node still serves the sessions it holds (their edits are
+      // refused until the store is back), so it stays alive for a proxy's health check (200).
       health["status"] = "store_unavailable";
       health["error"] = e.what();
-      return replyJson(res, 503, health);
     }
     replyJson(res, 200, health);
   });
@@ -384,12 +504,28 @@ void Daemon::routes() {
   // --- sessions ---
   s.Get("/api/sessions", [this](const httplib::Request&, httplib::Response& res) {
     json list = json::array();
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [id, session] : sessions_) {
-      if (!session->demo()) continue;
-      const auto& t = demoTokens_[id];
-      list.push_back({{"id", id}, {"name", session->name()}, {"participants", session->participantCount()},
-                      {"edit_token", t.first}, {"view_token", t.second}});
+    std::map<std::string, std::pair<std::string, std::string>> demos;
+    std::map<std::string, std::shared_ptr<Session>> held;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      demos = demoTokens_;
+      held = sessions_;
+    }
+    for (const auto& [id, t] : demos) {
+      const auto session = held.find(id);
+      if (session != held.end()) {
+        list.push_back({{"id", id}, {"name", session->second->name()}, {"participants", session->second->participantCount()},
+                        {"edit_token", t.first}, {"view_token", t.second}});
+      } else if (store_->shared()) {
+        // Held by another node (or by none yet): listed from the store, not adopted here.
+        try {
+          if (const auto stored = store_->loadSession(id))
+            list.push_back({{"id", id}, {"name", stored->session.name}, {"participants", 0},
+                            {"edit_token", t.first}, {"view_token", t.second}});
+        } catch (const std::exception& e) {
+          spdlog::warn("demo {}: {}", id, e.what());
+        }
+      }
     }
     replyJson(res, 200, {{"sessions", list}});
   });
@@ -423,6 +559,15 @@ void Daemon::routes() {
                    "this session could not be restored after a restart and is kept unchanged for its owner (" +
                        q->reason + "); its last stored scene: GET /api/sessions/" + std::string(req.matches[1]) +
                        "/export?format=json",
+                   "session");
+        return nullptr;
+      }
+    }
+    if (!session) {
+      if (const auto holder = sessionHolder(req.matches[1])) {
+        res.set_header("Retry-After", "1");
+        replyError(res, 503, "unavailable",
+                   "this session is served by node " + *holder + " (it moves here when that node's lease ends)",
                    "session");
         return nullptr;
       }
@@ -690,6 +835,15 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
                  "/export?format=json",
              "session");
         c->close(transport::CloseCode::PolicyViolation, "quarantined");
+        return;
+      }
+    }
+    if (!session) {
+      if (const auto holder = sessionHolder(message["session"])) {
+        fail(op, "unavailable",
+             "this session is served by node " + *holder + " (it moves here when that node's lease ends); reconnect",
+             "session");
+        c->close(transport::CloseCode::TryAgainLater, "session held by another node");
         return;
       }
     }

@@ -1,5 +1,5 @@
 import { beforeEach, describe, expect, it } from 'vitest';
-import { ProtocolClient, backoffDelay, openEarlyJoin } from '../src/net/ProtocolClient.js';
+import { ProtocolClient, backoffDelay, openEarlyJoin, sessionSocketUrl } from '../src/net/ProtocolClient.js';
 import { EditorState } from '../src/state/EditorState.js';
 import { DragCommand, SetSolverCommand, SolveCommand, UndoCommand } from '../src/commands/index.js';
 
@@ -89,7 +89,7 @@ describe('ProtocolClient', () => {
     client.connect('s1', 'edit-token', 'ada');
     expect(state.connection).toBe('connecting');
     const ws = socket();
-    expect(ws.url).toBe('ws://test/ws');
+    expect(ws.url).toBe('ws://test/ws?session=s1');  // the session in the URL: a proxy routes by it
     ws.open();
     expect(ws.sent).toEqual([{ type: 'join', session: 's1', token: 'edit-token', name: 'ada' }]);
     expect(state.connection).toBe('connecting');
@@ -301,5 +301,13 @@ describe('ProtocolClient', () => {
     expect(state.undo.available).toBe(1);
     expect(state.constraints.handles).toHaveLength(1);
     expect(state.seq).toBe(10);
+  });
+});
+
+describe('sessionSocketUrl', () => {
+  it('names the session in the socket URL, encoded, so a proxy can route by it', () => {
+    expect(sessionSocketUrl('ws://h/ws', 'demo-strip')).toBe('ws://h/ws?session=demo-strip');
+    expect(sessionSocketUrl('ws://h/ws?x=1', 'a b&c')).toBe('ws://h/ws?x=1&session=a%20b%26c');
+    expect(sessionSocketUrl('ws://h/ws', '')).toBe('ws://h/ws');
   });
 });

@@ -72,6 +72,13 @@ ALTER TABLE jobs ADD COLUMN attempt INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN cancel_requested BOOLEAN NOT NULL DEFAULT FALSE;
 CREATE INDEX jobs_to_claim ON jobs (created_ms, id) WHERE state IN ('queued', 'running');
 )sql",
+    // v3 → v4: sessions held by one node under a lease (issue 18).
+    R"sql(
+ALTER TABLE sessions ADD COLUMN lease_owner TEXT;
+ALTER TABLE sessions ADD COLUMN lease_expires_ms BIGINT NOT NULL DEFAULT 0;
+ALTER TABLE sessions ADD COLUMN handover_to TEXT;
+CREATE INDEX sessions_by_lease_owner ON sessions (lease_owner);
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == Store::kSchemaVersion,
               "one migration per schema version");
@@ -387,9 +394,11 @@ struct PostgresStore::Impl {
   }
 
   /// last_seq of a session, its row locked until the caller's transaction ends.
-  static std::int64_t lockedLastSeq(pg::Connection& c, const std::string& id) {
-    pg::Result q = c.exec("SELECT last_seq FROM sessions WHERE id = $1 FOR UPDATE", {id});
+  static std::int64_t lockedLastSeq(pg::Connection& c, const std::string& id,
+                                    std::optional<std::string>* holder = nullptr) {
+    pg::Result q = c.exec("SELECT last_seq, lease_owner FROM sessions WHERE id = $1 FOR UPDATE", {id});
     if (q.rows() == 0) throw NotFoundError("no session '" + id + "'");
+    if (holder) *holder = q.optStr(0, 1);
     return q.int64(0, 0);
   }
 
@@ -476,7 +485,9 @@ void PostgresStore::appendEdits(const std::string& sessionId, const std::vector<
 
   Impl::Lease c = impl_->lend();
   pg::Transaction t(*c);
-  const std::int64_t last = Impl::lockedLastSeq(*c, sessionId);
+  std::optional<std::string> holder;
+  const std::int64_t last = Impl::lockedLastSeq(*c, sessionId, &holder);
+  checkSessionOwner(sessionId, holder);
   if (edits.front().seq != last + 1) throw SeqConflictError(sessionId, last + 1, edits.front().seq);
   for (std::size_t i = 0; i < edits.size(); ++i) {
     c->exec("INSERT INTO edits (session_id, seq, edit, time_ms) VALUES ($1, $2, $3, $4)",
@@ -502,7 +513,9 @@ void PostgresStore::saveSnapshot(const std::string& sessionId, const Snapshot& s
 
   Impl::Lease c = impl_->lend();
   pg::Transaction t(*c);
-  const std::int64_t last = Impl::lockedLastSeq(*c, sessionId);
+  std::optional<std::string> holder;
+  const std::int64_t last = Impl::lockedLastSeq(*c, sessionId, &holder);
+  checkSessionOwner(sessionId, holder);
   if (seq < 0 || seq > last) {
     throw StoreError("session '" + sessionId + "': snapshot seq " + std::to_string(seq) + " outside 0.." +
                      std::to_string(last));
@@ -567,6 +580,57 @@ std::optional<RestoredSession> PostgresStore::loadSession(const std::string& id)
   auto s = Impl::readSession(*c, id);
   t.commit();
   return s;
+}
+
+// --- sessions under leases -------------------------------------------------------------------------
+
+bool PostgresStore::acquireSessionLease(const std::string& id, const std::string& owner, std::int64_t nowMs,
+                                        std::int64_t leaseMs) {
+  Impl::Lease c = impl_->lend();
+  pg::Result q = c->exec(
+      "UPDATE sessions SET lease_owner = $2, lease_expires_ms = $3 + $4, handover_to = NULL WHERE id = $1 AND "
+      "(lease_owner IS NULL OR lease_owner = $2 OR lease_expires_ms < $3) RETURNING id",
+      {id, owner, pg::text(nowMs), pg::text(leaseMs)});
+  if (q.rows() > 0) return true;
+  if (c->exec("SELECT 1 FROM sessions WHERE id = $1", {id}).rows() == 0) throw NotFoundError("no session '" + id + "'");
+  return false;
+}
+
+std::vector<std::string> PostgresStore::renewSessionLeases(const std::string& owner, std::int64_t nowMs,
+                                                           std::int64_t leaseMs) {
+  Impl::Lease c = impl_->lend();
+  pg::Transaction t(*c);
+  c->exec("UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL "
+          "WHERE lease_owner = $1 AND handover_to IS NOT NULL",
+          {owner});
+  pg::Result q = c->exec("UPDATE sessions SET lease_expires_ms = $2 WHERE lease_owner = $1 RETURNING id",
+                         {owner, pg::text(nowMs + leaseMs)});
+  std::vector<std::string> ids;
+  for (int i = 0; i < q.rows(); ++i) ids.push_back(q.str(i, 0));
+  t.commit();
+  return ids;
+}
+
+void PostgresStore::requestSessionHandover(const std::string& id, const std::string& requester) {
+  Impl::Lease c = impl_->lend();
+  c->exec("UPDATE sessions SET handover_to = $2 WHERE id = $1 AND lease_owner IS NOT NULL AND lease_owner <> $2",
+          {id, requester});
+}
+
+int PostgresStore::releaseSessionLeases(const std::string& owner) {
+  Impl::Lease c = impl_->lend();
+  return c
+      ->exec("UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL WHERE lease_owner = $1",
+             {owner})
+      .affected();
+}
+
+std::optional<std::pair<std::string, std::int64_t>> PostgresStore::sessionLease(const std::string& id) const {
+  Impl::Lease c = impl_->lend();
+  pg::Result q = c->exec("SELECT lease_owner, lease_expires_ms FROM sessions WHERE id = $1", {id});
+  if (q.rows() == 0) throw NotFoundError("no session '" + id + "'");
+  if (q.isNull(0, 0)) return std::nullopt;
+  return std::make_pair(q.str(0, 0), q.int64(0, 1));
 }
 
 // --- jobs -----------------------------------------------------------------------------------------

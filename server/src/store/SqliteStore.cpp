@@ -78,6 +78,12 @@ ALTER TABLE jobs ADD COLUMN lease_expires_ms INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN attempt INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN cancel_requested INTEGER NOT NULL DEFAULT 0 CHECK (cancel_requested IN (0, 1));
 )sql",
+    // v3 → v4: sessions held by one node under a lease (issue 18).
+    R"sql(
+ALTER TABLE sessions ADD COLUMN lease_owner TEXT;
+ALTER TABLE sessions ADD COLUMN lease_expires_ms INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE sessions ADD COLUMN handover_to TEXT;
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == Store::kSchemaVersion,
               "one migration per schema version");
@@ -369,10 +375,12 @@ struct SqliteStore::Impl {
   }
 
   // Current last_seq of a session inside the caller's transaction. @throws NotFoundError
-  static std::int64_t lastSeqOf(Connection& c, const std::string& id) {
-    Query q(c, "SELECT last_seq FROM sessions WHERE id = ?");
+  static std::int64_t lastSeqOf(Connection& c, const std::string& id,
+                                std::optional<std::string>* holder = nullptr) {
+    Query q(c, "SELECT last_seq, lease_owner FROM sessions WHERE id = ?");
     q.bind(1, id);
     if (!q.step()) throw NotFoundError("no session '" + id + "'");
+    if (holder) *holder = q.optText(1);
     return q.int64(0);
   }
 
@@ -485,7 +493,9 @@ void SqliteStore::appendEdits(const std::string& sessionId, const std::vector<Ed
   std::lock_guard<std::mutex> lock(impl_->writeMutex);
   Connection& w = *impl_->writer;
   Transaction t(w, Transaction::Write);
-  std::int64_t last = Impl::lastSeqOf(w, sessionId);
+  std::optional<std::string> holder;
+  std::int64_t last = Impl::lastSeqOf(w, sessionId, &holder);
+  checkSessionOwner(sessionId, holder);
   if (edits.front().seq != last + 1) throw SeqConflictError(sessionId, last + 1, edits.front().seq);
   for (std::size_t i = 0; i < edits.size(); ++i) {
     Query q(w, "INSERT INTO edits (session_id, seq, edit, time_ms) VALUES (?, ?, ?, ?)");
@@ -510,7 +520,9 @@ void SqliteStore::saveSnapshot(const std::string& sessionId, const Snapshot& sna
   std::lock_guard<std::mutex> lock(impl_->writeMutex);
   Connection& w = *impl_->writer;
   Transaction t(w, Transaction::Write);
-  std::int64_t last = Impl::lastSeqOf(w, sessionId);
+  std::optional<std::string> holder;
+  std::int64_t last = Impl::lastSeqOf(w, sessionId, &holder);
+  checkSessionOwner(sessionId, holder);
   if (seq < 0 || seq > last) {
     throw StoreError("session '" + sessionId + "': snapshot seq " + std::to_string(seq) +
                      " outside 0.." + std::to_string(last));
@@ -694,6 +706,76 @@ int SqliteStore::pruneFinishedJobs(std::int64_t olderThanMs) {
       .bind(1, olderThanMs)
       .run();
   return w.changes();
+}
+
+// --- sessions under leases -------------------------------------------------------------------------
+
+bool SqliteStore::acquireSessionLease(const std::string& id, const std::string& owner, std::int64_t nowMs,
+                                      std::int64_t leaseMs) {
+  std::lock_guard<std::mutex> lock(impl_->writeMutex);
+  Connection& w = *impl_->writer;
+  Transaction t(w, Transaction::Write);
+  Impl::lastSeqOf(w, id);  // NotFoundError
+  Query(w,
+        "UPDATE sessions SET lease_owner = ?, lease_expires_ms = ?, handover_to = NULL WHERE id = ? AND "
+        "(lease_owner IS NULL OR lease_owner = ? OR lease_expires_ms < ?)")
+      .bind(1, owner)
+      .bind(2, nowMs + leaseMs)
+      .bind(3, id)
+      .bind(4, owner)
+      .bind(5, nowMs)
+      .run();
+  const bool held = w.changes() > 0;
+  t.commit();
+  return held;
+}
+
+std::vector<std::string> SqliteStore::renewSessionLeases(const std::string& owner, std::int64_t nowMs,
+                                                         std::int64_t leaseMs) {
+  std::lock_guard<std::mutex> lock(impl_->writeMutex);
+  Connection& w = *impl_->writer;
+  Transaction t(w, Transaction::Write);
+  Query(w,
+        "UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL "
+        "WHERE lease_owner = ? AND handover_to IS NOT NULL")
+      .bind(1, owner)
+      .run();
+  std::vector<std::string> ids;
+  {
+    Query q(w, "UPDATE sessions SET lease_expires_ms = ? WHERE lease_owner = ? RETURNING id");
+    q.bind(1, nowMs + leaseMs).bind(2, owner);
+    while (q.step()) ids.push_back(q.text(0));
+  }
+  t.commit();
+  return ids;
+}
+
+void SqliteStore::requestSessionHandover(const std::string& id, const std::string& requester) {
+  std::lock_guard<std::mutex> lock(impl_->writeMutex);
+  Connection& w = *impl_->writer;
+  Query(w, "UPDATE sessions SET handover_to = ? WHERE id = ? AND lease_owner IS NOT NULL AND lease_owner <> ?")
+      .bind(1, requester)
+      .bind(2, id)
+      .bind(3, requester)
+      .run();
+}
+
+int SqliteStore::releaseSessionLeases(const std::string& owner) {
+  std::lock_guard<std::mutex> lock(impl_->writeMutex);
+  Connection& w = *impl_->writer;
+  Query(w, "UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL WHERE lease_owner = ?")
+      .bind(1, owner)
+      .run();
+  return w.changes();
+}
+
+std::optional<std::pair<std::string, std::int64_t>> SqliteStore::sessionLease(const std::string& id) const {
+  std::lock_guard<std::mutex> lock(impl_->readMutex);
+  Query q(*impl_->reader, "SELECT lease_owner, lease_expires_ms FROM sessions WHERE id = ?");
+  q.bind(1, id);
+  if (!q.step()) throw NotFoundError("no session '" + id + "'");
+  if (q.isNull(0)) return std::nullopt;
+  return std::make_pair(q.text(0), q.int64(1));
 }
 
 // --- jobs under leases ------------------------------------------------------------------------------

@@ -63,6 +63,12 @@ void Store::saveSnapshot(const std::string& sessionId, std::int64_t seq, const n
   saveSnapshot(sessionId, Snapshot{seq, scene, nullptr, 0});
 }
 
+void Store::checkSessionOwner(const std::string& sessionId, const std::optional<std::string>& holder) const {
+  if (sessionOwner_.empty() || !holder || *holder == sessionOwner_) return;
+  throw LeaseLostError("session '" + sessionId + "' is held by node " + *holder + ", not by " + sessionOwner_ +
+                       "; nothing was stored");
+}
+
 bool isPostgresLocation(const std::string& location) {
   return location.rfind("postgresql://", 0) == 0 || location.rfind("postgres://", 0) == 0;
 }

@@ -26,7 +26,7 @@ export function backoffDelay(attempt, initial = BACKOFF_INITIAL_MS, max = BACKOF
  * Returns {socket, queued: MessageEvent[], joinSent()}; throws when no WebSocket can be made.
  */
 export function openEarlyJoin(url, session, token, name, WebSocketImpl = globalThis.WebSocket) {
-  const socket = new WebSocketImpl(url);
+  const socket = new WebSocketImpl(sessionSocketUrl(url, session));
   const queued = [];
   let sent = false;
   const mark = (name) => globalThis.performance && performance.mark && performance.mark(name);
@@ -46,6 +46,16 @@ export function openEarlyJoin(url, session, token, name, WebSocketImpl = globalT
 export function defaultSocketUrl(loc = globalThis.location) {
   const proto = loc.protocol === 'https:' ? 'wss:' : 'ws:';
   return `${proto}//${loc.host}/ws`;
+}
+
+/**
+ * The socket URL for one session: `?session=ID` names it in the URL, so a proxy in front of
+ * several daemons (docs/scaling.md) routes every connection of a session to the daemon that
+ * holds it. The daemon reads the session from the join message; the parameter is for the proxy.
+ */
+export function sessionSocketUrl(url, session) {
+  if (!session) return url;
+  return `${url}${url.includes('?') ? '&' : '?'}session=${encodeURIComponent(session)}`;
 }
 
 const OPEN = 1;
@@ -146,7 +156,8 @@ export class ProtocolClient {
     let ws;
     try {
       // An early socket that already closed (its close event went unheard) is not used.
-      ws = socket && socket.readyState <= OPEN ? socket : new this.WebSocketImpl(this.url);
+      ws = socket && socket.readyState <= OPEN ? socket
+        : new this.WebSocketImpl(sessionSocketUrl(this.url, this.joinInfo && this.joinInfo.session));
     } catch (e) {
       this.ws = null;
       this._scheduleReconnect();

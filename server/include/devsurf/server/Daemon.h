@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -31,6 +32,9 @@ struct DaemonOptions {
   /// This daemon's name among several (`--node-id`): in job leases, /api/health and the metrics.
   /// Empty = the host name and the process id.
   std::string nodeId;
+  /// Leases on a shared store (`--lease-ms`): a session or job whose node stops renewing it for
+  /// this long (the node died) is taken over by another node. Renewed every leaseMs / 10.
+  double leaseMs = 10000.0;
   std::string apiKey;                       ///< when set, creating sessions and jobs needs it
   /// Built web app served at / (empty = none); read into memory by start() (StaticAssets),
   /// which throws when it is not a folder it can serve.
@@ -76,10 +80,21 @@ class Daemon {
   struct Client;  // per WebSocket connection
   void routes();
   void restoreSessions();
+  /// Restores one stored session into sessions_, or quarantines it. @return whether it is served
+  bool restoreSession(const store::RestoredSession& stored);
+  /// A shared store: takes a session that no live node holds (its lease), replays its journal and
+  /// serves it here. @return nullptr when it does not exist or another node holds it
+  std::shared_ptr<Session> adoptSession(const std::string& id);
+  /// A shared store: renews this node's session leases; sessions it lost are dropped here and
+  /// their clients disconnected (they reconnect to the node that holds them now).
+  void renewSessionLeases();
+  /// A shared store: the node that holds a session other than this one, if any.
+  std::optional<std::string> sessionHolder(const std::string& id) const;
   void openDemos();
   std::shared_ptr<Session> createSession(const proto::Scene& scene, const std::string& editToken,
                                          const std::string& viewToken, bool demo, const std::string& id);
-  std::shared_ptr<Session> findSession(const std::string& id) const;
+  /// The session served here; on a shared store one no live node holds is adopted.
+  std::shared_ptr<Session> findSession(const std::string& id);
   void onMessage(const std::shared_ptr<transport::Connection>& c, std::string text);
   void onClose(const std::shared_ptr<transport::Connection>& c);
   nlohmann::json openApi() const;
@@ -112,6 +127,11 @@ class Daemon {
   std::map<std::string, Quarantined> quarantined_;
   std::atomic<std::uint64_t> httpRequests_{0};
   std::atomic<bool> startAbandoned_{false};
+  std::mutex adoptMutex_;                ///< one adoption at a time (two requests for one session)
+  std::thread leaseThread_;              ///< a shared store: renews session leases
+  std::mutex leaseMutex_;
+  std::condition_variable leaseWake_;
+  bool leaseStopping_ = false;
 };
 
 /// Demo sessions are public: their tokens derive from the scene's file name.

@@ -22,6 +22,14 @@
 // the caller still holds that lease and attempt, so a result is written once even when a worker
 // that lost its lease finishes later.
 //
+// Sessions held by one node
+// -------------------------
+// On a shared store a daemon serves a session only while it holds the session's lease
+// (acquireSessionLease, renewed by renewSessionLeases); a session whose node died is taken over
+// by the next node that acquires it after the lease ended, which replays the stored journal. A
+// store told its owner (setSessionOwner) refuses edits and snapshots of sessions another owner
+// leases (LeaseLostError), so a node that lost a lease cannot write over its successor.
+//
 // All methods of both backends are thread-safe.
 
 #include <chrono>
@@ -47,6 +55,13 @@ class StoreError : public std::runtime_error {
 
 /// A session or job that the operation needs does not exist.
 class NotFoundError : public StoreError {
+ public:
+  using StoreError::StoreError;
+};
+
+/// appendEdits/saveSnapshot on a session another node leases (Store::setSessionOwner). Nothing
+/// was written.
+class LeaseLostError : public StoreError {
  public:
   using StoreError::StoreError;
 };
@@ -200,7 +215,7 @@ class Store {
   /// The schema version both backends migrate to (SQLite: PRAGMA user_version; PostgreSQL: the
   /// table devsurf_schema). Opening an older database migrates it step by step, each step in its
   /// own transaction; a newer one is refused.
-  static constexpr int kSchemaVersion = 3;
+  static constexpr int kSchemaVersion = 4;
 
   virtual ~Store() = default;
   Store() = default;
@@ -247,6 +262,30 @@ class Store {
   virtual std::vector<RestoredSession> loadSessions() const = 0;
   virtual std::optional<RestoredSession> loadSession(const std::string& id) const = 0;
 
+  /// This store writes for `owner` (a node id; empty = no fencing, the default): appendEdits and
+  /// saveSnapshot throw LeaseLostError for a session whose lease another owner holds.
+  void setSessionOwner(std::string owner) { sessionOwner_ = std::move(owner); }
+  const std::string& sessionOwner() const { return sessionOwner_; }
+  /// Takes or extends the lease of a session for `owner` until nowMs + leaseMs: when nobody holds
+  /// it, `owner` already does, or the holder's lease ended before nowMs (a pending handover
+  /// request is then cleared).
+  /// @return false when another owner holds it. @throws NotFoundError
+  virtual bool acquireSessionLease(const std::string& id, const std::string& owner, std::int64_t nowMs,
+                                   std::int64_t leaseMs) = 0;
+  /// Extends the session leases `owner` holds to nowMs + leaseMs, except those another node asked
+  /// for (requestSessionHandover), which are released in the same transaction.
+  /// @return the ids of the sessions `owner` still holds
+  virtual std::vector<std::string> renewSessionLeases(const std::string& owner, std::int64_t nowMs,
+                                                      std::int64_t leaseMs) = 0;
+  /// Asks the holder of a session's lease to hand it over (its next renewal releases it): the
+  /// proxy now routes the session to `requester`. No effect when nobody or `requester` holds it.
+  virtual void requestSessionHandover(const std::string& id, const std::string& requester) = 0;
+  /// Gives up the leases `owner` holds (a node that stops): others may take them at once.
+  /// @return how many
+  virtual int releaseSessionLeases(const std::string& owner) = 0;
+  /// The owner of a session's lease and when it ends (nullopt: none). @throws NotFoundError
+  virtual std::optional<std::pair<std::string, std::int64_t>> sessionLease(const std::string& id) const = 0;
+
   // --- jobs ---
 
   /// Inserts a new job.
@@ -292,6 +331,14 @@ class Store {
   /// At the start of the only daemon of an embedded store: sets every Running job back to Queued
   /// (progressIteration = 0, updatedMs = nowMs, lease cleared). @return how many were re-queued
   virtual int requeueInterruptedJobs(std::int64_t nowMs) = 0;
+
+ protected:
+  /// Throws LeaseLostError when sessionOwner_ is set and `holder` (the session's lease owner, if
+  /// any) is another owner.
+  void checkSessionOwner(const std::string& sessionId, const std::optional<std::string>& holder) const;
+
+ private:
+  std::string sessionOwner_;
 };
 
 /// Opens the store a location names: "postgresql://…" or "postgres://…" (a libpq connection URI)

@@ -33,6 +33,8 @@ struct CloseCode {
   static constexpr std::uint16_t PolicyViolation = 1008;  // client too slow (backlog overflow)
   static constexpr std::uint16_t MessageTooBig = 1009;
   static constexpr std::uint16_t InternalError = 1011;
+  static constexpr std::uint16_t ServiceRestart = 1012;   // the session moved to another daemon
+  static constexpr std::uint16_t TryAgainLater = 1013;    // the session is held by another daemon
 };
 
 enum class Delivery {

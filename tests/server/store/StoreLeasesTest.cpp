@@ -1,4 +1,5 @@
-// Jobs on a shared queue (issue 18): claims, leases, renewals, fenced results and cancellation,
+// Leases on a shared store (issue 18): jobs (claims, renewals, fenced results, cancellation) and
+// sessions held by one node,
 // the same against both backends; several stores on one location stand for several nodes.
 
 #include <gtest/gtest.h>
@@ -191,4 +192,68 @@ TEST_P(StoreJobLeases, ConcurrentClaimsFromSeveralNodesRunEveryJobToOneResult) {
   int reclaimed = 0;
   for (int i = 0; i < kJobs; ++i) reclaimed += nodes[0]->job("job" + std::to_string(1000 + i))->attempt == 2;
   EXPECT_EQ(reclaimed, 5) << "the dead node's jobs ran a second time, the others once";
+}
+
+/// Sessions held by one node: a second node cannot take a live lease, takes it when it ends, and
+/// from then on the first node's writes are refused with nothing stored.
+TEST_P(StoreJobLeases, ASessionIsHeldByOneNodeUntilItsLeaseEndsAndTheLoserCannotWrite) {
+  auto nodeA = where.open();
+  auto nodeB = where.open();
+  nodeA->setSessionOwner("a");
+  nodeB->setSessionOwner("b");
+  SessionRecord s;
+  s.id = "shared";
+  s.editTokenHash = "e";
+  s.viewTokenHash = "v";
+  s.name = "shared";
+  s.initialScene = json{{"at", 0}};
+  s.createdMs = 1;
+  nodeA->createSession(s);
+  EXPECT_FALSE(nodeA->sessionLease("shared"));
+  EXPECT_THROW(nodeA->acquireSessionLease("nope", "a", 1000, 5000), NotFoundError);
+  ASSERT_TRUE(nodeA->acquireSessionLease("shared", "a", 1000, 5000));
+  EXPECT_TRUE(nodeA->acquireSessionLease("shared", "a", 1500, 5000)) << "the holder extends it";
+  EXPECT_FALSE(nodeB->acquireSessionLease("shared", "b", 6000, 5000)) << "held until 6500";
+  nodeA->appendEdit("shared", 1, json{{"by", "a"}});
+  EXPECT_EQ(nodeA->renewSessionLeases("a", 6400, 5000), std::vector<std::string>{"shared"});
+  EXPECT_FALSE(nodeB->acquireSessionLease("shared", "b", 11000, 5000)) << "renewed until 11400";
+
+  ASSERT_TRUE(nodeB->acquireSessionLease("shared", "b", 11500, 5000));  // a died: b takes over
+  EXPECT_EQ(nodeB->sessionLease("shared")->first, "b");
+  EXPECT_THROW(nodeA->appendEdit("shared", 2, json{{"by", "a"}}), LeaseLostError);
+  EXPECT_THROW(nodeA->saveSnapshot("shared", 1, json{{"by", "a"}}), LeaseLostError);
+  EXPECT_TRUE(nodeA->renewSessionLeases("a", 11600, 5000).empty()) << "a learns it lost the session";
+  nodeB->appendEdit("shared", 2, json{{"by", "b"}});
+  const auto r = nodeB->loadSession("shared");
+  ASSERT_EQ(r->editsAfterSnapshot.size(), 2u);
+  EXPECT_EQ(r->editsAfterSnapshot[1].edit, (json{{"by", "b"}}));
+  EXPECT_FALSE(r->snapshot);
+  EXPECT_EQ(nodeB->releaseSessionLeases("b"), 1);
+  EXPECT_FALSE(nodeB->sessionLease("shared"));
+  EXPECT_TRUE(nodeA->acquireSessionLease("shared", "a", 11700, 5000)) << "released: free at once";
+}
+
+/// A node the proxy now routes a session to asks its holder for it: the holder's next renewal
+/// releases it (and no longer lists it), and the asker takes it at once.
+TEST_P(StoreJobLeases, AHandoverRequestReleasesTheSessionAtTheHoldersNextRenewal) {
+  auto store = where.open();
+  SessionRecord s;
+  s.id = "moving";
+  s.editTokenHash = "e";
+  s.viewTokenHash = "v";
+  s.name = "moving";
+  s.initialScene = json::object();
+  s.createdMs = 1;
+  store->createSession(s);
+  ASSERT_TRUE(store->acquireSessionLease("moving", "x", 1000, 60000));
+  store->requestSessionHandover("moving", "x");  // its own holder: no effect
+  EXPECT_EQ(store->renewSessionLeases("x", 2000, 60000), std::vector<std::string>{"moving"});
+  EXPECT_FALSE(store->acquireSessionLease("moving", "y", 3000, 60000));
+  store->requestSessionHandover("moving", "y");
+  EXPECT_FALSE(store->acquireSessionLease("moving", "y", 3100, 60000)) << "not before the holder renews";
+  EXPECT_TRUE(store->renewSessionLeases("x", 3200, 60000).empty()) << "x gives it up";
+  EXPECT_FALSE(store->sessionLease("moving"));
+  ASSERT_TRUE(store->acquireSessionLease("moving", "y", 3300, 60000));
+  EXPECT_EQ(store->renewSessionLeases("y", 3400, 60000), std::vector<std::string>{"moving"})
+      << "the request was cleared when y took it";
 }
