@@ -20,6 +20,7 @@
 
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Tokens.h"
+#include "devsurf/server/store/PostgresStore.h"
 
 namespace devsurf::server {
 namespace {
@@ -32,13 +33,29 @@ class StoreJournal final : public SessionJournal {
  public:
   explicit StoreJournal(store::Store& store) : store_(store) {}
   void appendEdit(const std::string& session, std::int64_t seq, const json& edit) override {
-    store_.appendEdit(session, seq, edit);
+    guarded("the edit was not stored, so it is not applied",
+            [this, &session, seq, &edit]() { store_.appendEdit(session, seq, edit); });
   }
   void saveCheckpoint(const std::string& session, const SessionCheckpoint& c) override {
-    store_.saveSnapshot(session, store::Snapshot{c.seq, c.scene, c.state, c.revision});
+    guarded("the new state was not stored, so it is not shown",
+            [this, &session, &c]() { store_.saveSnapshot(session, store::Snapshot{c.seq, c.scene, c.state, c.revision}); });
   }
 
  private:
+  // A store that cannot write is the participants' to know, by a code of its own.
+  template <typename Write>
+  static void guarded(const char* consequence, const Write& write) {
+    try {
+      write();
+    } catch (const store::LeaseLostError& e) {
+      throw JournalError("session_moved", std::string("this session is served by another daemon now (") + e.what() +
+                                              "); " + consequence + ": reconnect");
+    } catch (const store::StoreUnavailableError& e) {
+      throw JournalError("store_unavailable",
+                         std::string("the store is unreachable (") + e.what() + "); " + consequence + ": retry later");
+    }
+  }
+
   store::Store& store_;
 };
 
@@ -167,8 +184,15 @@ int Daemon::start() {
   jobs_ = std::make_unique<JobQueue>(*store_, options_.jobs, options_.nodeId);
   if (store_->shared()) {
     // Several daemons share the store: a session is served by the one node that holds its lease,
-    // adopted when a request for it arrives (findSession), not restored here.
+    // adopted when a request for it arrives (findSession). What this node held before a restart
+    // under the same --node-id comes back now, as an embedded daemon restores everything.
     store_->setSessionOwner(options_.nodeId);
+    const std::vector<std::string> mine = store_->sessionsLeasedBy(options_.nodeId);
+    if (!mine.empty()) spdlog::info("restoring {} stored session(s) this node held", mine.size());
+    for (const std::string& id : mine) {
+      if (startAbandoned_) break;
+      adoptSession(id);
+    }
     leaseThread_ = std::thread([this]() {
       std::unique_lock<std::mutex> lock(leaseMutex_);
       while (!leaseWake_.wait_for(lock, std::chrono::duration<double, std::milli>(options_.leaseMs / 10.0),
@@ -186,7 +210,6 @@ int Daemon::start() {
     spdlog::info("stopped during start-up");
     return -1;
   }
-  jobs_->restore();
 
   transport::TransportLimits limits;
   limits.http = options_.http;
@@ -225,8 +248,8 @@ void Daemon::stop() {
     leaseWake_.notify_all();
     leaseThread_.join();
     try {  // handed over at once: the next node need not wait for the leases to end
-      const int released = store_->releaseSessionLeases(options_.nodeId);
-      if (released > 0) spdlog::info("released {} session lease(s)", released);
+      const int ended = store_->endSessionLeases(options_.nodeId);
+      if (ended > 0) spdlog::info("ended {} session lease(s): other nodes may take the sessions at once", ended);
     } catch (const std::exception& e) {
       spdlog::warn("could not release session leases ({}); they end by themselves", e.what());
     }
@@ -394,6 +417,8 @@ void Daemon::openDemos() {
       // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first drag
       // must not also carry out the preset's own pending solve.
       createSession(SceneSolver::solvedScene(proto::sceneFromText(readFile(path))), edit, view, true, id);
+    } catch (const store::AlreadyExistsError&) {
+      // Another daemon on the shared store created it meanwhile: adopted on its first request.
     } catch (const std::exception& e) {
       spdlog::error("demo scene {}: {}", path, e.what());
     }
@@ -439,6 +464,7 @@ std::shared_ptr<Session> Daemon::findSession(const std::string& id) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = sessions_.find(id);
     if (it != sessions_.end()) return it->second;
+    if (quarantined_.count(id)) return nullptr;  // tried at start or adoption; kept as it is
   }
   return store_->shared() ? adoptSession(id) : nullptr;
 }
@@ -468,6 +494,10 @@ void Daemon::routes() {
     std::string what = "internal error";
     try {
       std::rethrow_exception(ep);
+    } catch (const store::StoreUnavailableError& e) {
+      // PostgreSQL is down: nothing was stored, and the request may be repeated once it is back.
+      res.set_header("Retry-After", "5");
+      return replyError(res, 503, "store_unavailable", std::string("the store is unreachable: ") + e.what());
     } catch (const std::exception& e) {
       what = e.what();
     } catch (...) {

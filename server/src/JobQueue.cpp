@@ -23,6 +23,10 @@ std::int64_t milliseconds(double ms) { return static_cast<std::int64_t>(ms); }
 JobQueue::JobQueue(store::Store& store, JobLimits limits, std::string nodeId)
     : store_(store), limits_(limits), nodeId_(std::move(nodeId)) {
   limits_.heartbeatMs = std::clamp(limits_.heartbeatMs, 10.0, std::max(10.0, limits_.leaseMs / 3.0));
+  // Before any worker claims: what this queue claims itself must not be re-queued.
+  const std::int64_t now = store::wallClockMs();
+  const int requeued = store_.shared() ? store_.releaseJobLeases(nodeId_, now) : store_.requeueInterruptedJobs(now);
+  if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
   for (int i = 0; i < std::max(1, limits_.workers); ++i) workers_.emplace_back([this]() { work(); });
   heartbeat_ = std::thread([this]() { heartbeat(); });
 }
@@ -43,15 +47,6 @@ JobQueue::~JobQueue() {
   } catch (const std::exception& e) {
     spdlog::warn("could not hand running jobs back to the queue ({}); their leases will end", e.what());
   }
-}
-
-void JobQueue::restore() {
-  const std::int64_t now = store::wallClockMs();
-  const int requeued = store_.shared() ? store_.releaseJobLeases(nodeId_, now) : store_.requeueInterruptedJobs(now);
-  if (requeued > 0) spdlog::info("{} interrupted job(s) queued again", requeued);
-  std::lock_guard<std::mutex> lock(mutex_);
-  ++submitted_;
-  wake_.notify_all();
 }
 
 JobQueue::Submitted JobQueue::submit(const json& scene, const std::optional<std::string>& key) {

@@ -652,7 +652,9 @@ void Session::drain() {
       // sender's error by its own code, not an internal one (hostile client, 20 000 messages).
       if (work) {
         const auto* scene = dynamic_cast<const proto::SceneError*>(&e);
-        error(work->participant, work->message.value("op", json()), scene ? codeOf(*scene) : "internal", e.what(),
+        const auto* journal = dynamic_cast<const JournalError*>(&e);
+        error(work->participant, work->message.value("op", json()),
+              scene ? codeOf(*scene) : journal ? journal->code() : "internal", e.what(),
               scene ? scene->path() : std::string());
       }
       try {

@@ -121,8 +121,7 @@ TEST_P(JobQueueOn, AJobRunningAtShutdownIsHandedBackAndARestartedQueueFinishesIt
   store::Store& store = *storeOwner;
   EXPECT_EQ(store.job(id)->state, JobState::Queued);
   EXPECT_FALSE(store.job(id)->leaseOwner);
-  JobQueue q(store, {1, 8, 600000.0, 10000});
-  q.restore();
+  JobQueue q(store, {1, 8, 600000.0, 10000});  // re-queues what a previous run left running
   const auto j = waitFor(q, id, JobState::Succeeded);
   EXPECT_EQ(j->state, JobState::Succeeded);
   EXPECT_EQ(j->attempt, 2);
@@ -148,8 +147,7 @@ TEST_P(JobQueueOn, AJobWhoseNodeDiedIsRunByAnotherNodeWhenItsLeaseEnds) {
   JobLimits limits{1, 8, 600000.0, 10000};
   limits.leaseMs = 400;
   limits.pollMs = 50;
-  JobQueue q(store, limits, "survivor");
-  q.restore();  // re-queues only the survivor's own: the dead node's lease must end first
+  JobQueue q(store, limits, "survivor");  // sqlite: re-queues it at once; postgresql: when the lease ends
   const auto j = waitFor(q, id, JobState::Succeeded);
   ASSERT_TRUE(j && j->state == JobState::Succeeded);
   EXPECT_EQ(j->attempt, 2);

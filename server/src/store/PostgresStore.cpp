@@ -617,12 +617,19 @@ void PostgresStore::requestSessionHandover(const std::string& id, const std::str
           {id, requester});
 }
 
-int PostgresStore::releaseSessionLeases(const std::string& owner) {
+int PostgresStore::endSessionLeases(const std::string& owner) {
   Impl::Lease c = impl_->lend();
   return c
-      ->exec("UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL WHERE lease_owner = $1",
-             {owner})
+      ->exec("UPDATE sessions SET lease_expires_ms = 0, handover_to = NULL WHERE lease_owner = $1", {owner})
       .affected();
+}
+
+std::vector<std::string> PostgresStore::sessionsLeasedBy(const std::string& owner) const {
+  Impl::Lease c = impl_->lend();
+  pg::Result q = c->exec("SELECT id FROM sessions WHERE lease_owner = $1 ORDER BY created_ms, id", {owner});
+  std::vector<std::string> ids;
+  for (int i = 0; i < q.rows(); ++i) ids.push_back(q.str(i, 0));
+  return ids;
 }
 
 std::optional<std::pair<std::string, std::int64_t>> PostgresStore::sessionLease(const std::string& id) const {

@@ -760,13 +760,20 @@ void SqliteStore::requestSessionHandover(const std::string& id, const std::strin
       .run();
 }
 
-int SqliteStore::releaseSessionLeases(const std::string& owner) {
+int SqliteStore::endSessionLeases(const std::string& owner) {
   std::lock_guard<std::mutex> lock(impl_->writeMutex);
   Connection& w = *impl_->writer;
-  Query(w, "UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL WHERE lease_owner = ?")
-      .bind(1, owner)
-      .run();
+  Query(w, "UPDATE sessions SET lease_expires_ms = 0, handover_to = NULL WHERE lease_owner = ?").bind(1, owner).run();
   return w.changes();
+}
+
+std::vector<std::string> SqliteStore::sessionsLeasedBy(const std::string& owner) const {
+  std::lock_guard<std::mutex> lock(impl_->readMutex);
+  Query q(*impl_->reader, "SELECT id FROM sessions WHERE lease_owner = ? ORDER BY created_ms, id");
+  q.bind(1, owner);
+  std::vector<std::string> ids;
+  while (q.step()) ids.push_back(q.text(0));
+  return ids;
 }
 
 std::optional<std::pair<std::string, std::int64_t>> SqliteStore::sessionLease(const std::string& id) const {

@@ -35,6 +35,14 @@ def postgres_schema(data_dir):
     return "e2e_" + re.sub(r"[^a-z0-9]", "_", os.path.basename(os.path.normpath(data_dir)).lower())
 
 
+def store_args(data_dir):
+    """The serve flags for this data directory's store: --store, and on PostgreSQL a --node-id of
+    its own that a restart on the same directory keeps (it takes back the sessions it held)."""
+    if STORE != "postgresql":
+        return ["--store", data_dir]
+    return ["--store", store_location(data_dir), "--node-id", postgres_schema(data_dir)]
+
+
 def store_location(data_dir):
     """What `devsurf serve --store` gets for this data directory (created on first use)."""
     if STORE != "postgresql":
@@ -122,15 +130,23 @@ class Daemon:
 
     def start(self):
         self.proc = subprocess.Popen(
-            [BIN, "serve", "--port", "0", "--data", self.data_dir, "--store", store_location(self.data_dir),
+            [BIN, "serve", "--port", "0", "--data", self.data_dir, *store_args(self.data_dir),
              "--demo", DEMO, *self.extra],
-            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+            stdout=subprocess.PIPE, stderr=self.log_file(), text=True)
         line = self.proc.stdout.readline()
         m = re.search(r":(\d+)/", line)
         if not m:
             raise RuntimeError("daemon did not start: " + line)
         self.port = int(m.group(1))
         return self
+
+    def log_file(self):
+        """The daemon's log: DEVSURF_E2E_LOGS/<data dir name>.log when that is set, else nowhere."""
+        logs = os.environ.get("DEVSURF_E2E_LOGS")
+        if not logs:
+            return subprocess.DEVNULL
+        os.makedirs(logs, exist_ok=True)
+        return open(os.path.join(logs, os.path.basename(os.path.normpath(self.data_dir)) + ".log"), "a")
 
     def kill(self):
         self.proc.send_signal(signal.SIGKILL)

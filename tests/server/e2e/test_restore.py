@@ -12,7 +12,7 @@ import unittest
 import websockets
 
 from daemon import (BIN, COMPOSITE, CONICAL, DEMO, QUASI, ROOT, Daemon, DaemonTestCase, drag, join,
-                    numbers, open_store, recv_until, store_location)
+                    numbers, open_store, recv_until, store_args)
 
 
 class RestartTest(unittest.TestCase):
@@ -558,7 +558,7 @@ class SignalDuringStartUpTest(unittest.TestCase):
             daemon.stop()
             log_path = os.path.join(tmp, "start.log")
             with open(log_path, "w") as log:
-                proc = subprocess.Popen([BIN, "serve", "--port", "0", "--data", tmp, "--store", store_location(tmp),
+                proc = subprocess.Popen([BIN, "serve", "--port", "0", "--data", tmp, *store_args(tmp),
                                          "--log-level", "info"],
                                         stdout=subprocess.PIPE, stderr=log, text=True)
                 # Signalled once it is restoring (three whole conical solves): under load the

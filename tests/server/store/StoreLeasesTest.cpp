@@ -228,9 +228,11 @@ TEST_P(StoreJobLeases, ASessionIsHeldByOneNodeUntilItsLeaseEndsAndTheLoserCannot
   ASSERT_EQ(r->editsAfterSnapshot.size(), 2u);
   EXPECT_EQ(r->editsAfterSnapshot[1].edit, (json{{"by", "b"}}));
   EXPECT_FALSE(r->snapshot);
-  EXPECT_EQ(nodeB->releaseSessionLeases("b"), 1);
-  EXPECT_FALSE(nodeB->sessionLease("shared"));
-  EXPECT_TRUE(nodeA->acquireSessionLease("shared", "a", 11700, 5000)) << "released: free at once";
+  EXPECT_EQ(nodeB->endSessionLeases("b"), 1);
+  EXPECT_EQ(nodeB->sessionLease("shared"), std::make_pair(std::string("b"), std::int64_t{0})) << "ended, b's name kept";
+  EXPECT_EQ(nodeB->sessionsLeasedBy("b"), std::vector<std::string>{"shared"}) << "b restarting takes it back";
+  EXPECT_TRUE(nodeA->acquireSessionLease("shared", "a", 11700, 5000)) << "ended: free for others at once";
+  EXPECT_TRUE(nodeB->sessionsLeasedBy("b").empty());
 }
 
 /// A node the proxy now routes a session to asks its holder for it: the holder's next renewal

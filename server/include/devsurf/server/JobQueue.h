@@ -59,15 +59,13 @@ class IdempotencyMismatchError : public std::runtime_error {
 /// ends, its result is written once, and a cancellation asked for on any node stops it.
 class JobQueue {
  public:
+  /// Re-queues what a previous run left running — every Running job for an embedded store, this
+  /// node's own for a shared one (others' end with their leases) — then starts the workers.
   /// @param[in] nodeId  this node's name in the store's leases (DaemonOptions::nodeId)
   JobQueue(store::Store& store, JobLimits limits, std::string nodeId = "local");
   /// Stops the workers: running jobs are stopped and handed back to the queue (Queued) for this or
   /// another node to run.
   ~JobQueue();
-
-  /// Re-queues what a previous run left running: every Running job for an embedded store, this
-  /// node's own for a shared one (others' end with their leases). Call once at start-up.
-  void restore();
 
   struct Submitted {
     std::string id;

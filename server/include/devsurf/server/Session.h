@@ -40,6 +40,18 @@ struct SessionCheckpoint {
   nlohmann::json state;  ///< {"drag_iterations", "release_iterations"}
 };
 
+/// A journal that could not store (the store is unreachable, or another daemon holds the session
+/// now): nothing was stored, so nothing is acknowledged or shown. Participants get an error with
+/// code(): "store_unavailable" or "session_moved".
+class JournalError : public std::runtime_error {
+ public:
+  JournalError(std::string code, const std::string& message) : std::runtime_error(message), code_(std::move(code)) {}
+  const std::string& code() const noexcept { return code_; }
+
+ private:
+  std::string code_;
+};
+
 /// What a session writes so that a restarted daemon can restore it.
 class SessionJournal {
  public:

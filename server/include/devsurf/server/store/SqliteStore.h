@@ -67,9 +67,10 @@ class SqliteStore final : public Store {
                            std::int64_t leaseMs) override;
   std::vector<std::string> renewSessionLeases(const std::string& owner, std::int64_t nowMs,
                                               std::int64_t leaseMs) override;
-  int releaseSessionLeases(const std::string& owner) override;
+  int endSessionLeases(const std::string& owner) override;
   void requestSessionHandover(const std::string& id, const std::string& requester) override;
   std::optional<std::pair<std::string, std::int64_t>> sessionLease(const std::string& id) const override;
+  std::vector<std::string> sessionsLeasedBy(const std::string& owner) const override;
 
   void putJob(const JobRecord& job) override;
   std::optional<JobRecord> jobByIdempotencyKey(const std::string& key) const override;

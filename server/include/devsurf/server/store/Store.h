@@ -280,9 +280,13 @@ class Store {
   /// Asks the holder of a session's lease to hand it over (its next renewal releases it): the
   /// proxy now routes the session to `requester`. No effect when nobody or `requester` holds it.
   virtual void requestSessionHandover(const std::string& id, const std::string& requester) = 0;
-  /// Gives up the leases `owner` holds (a node that stops): others may take them at once.
-  /// @return how many
-  virtual int releaseSessionLeases(const std::string& owner) = 0;
+  /// Ends the leases `owner` holds now (a node that stops): others may take them at once, and
+  /// they keep naming `owner`, so a restart under the same id takes back what nobody took
+  /// meanwhile (sessionsLeasedBy). @return how many
+  virtual int endSessionLeases(const std::string& owner) = 0;
+  /// The sessions whose lease `owner` holds or held last (a node restarted under the same id takes
+  /// them back at once), oldest first.
+  virtual std::vector<std::string> sessionsLeasedBy(const std::string& owner) const = 0;
   /// The owner of a session's lease and when it ends (nullopt: none). @throws NotFoundError
   virtual std::optional<std::pair<std::string, std::int64_t>> sessionLease(const std::string& id) const = 0;
 
