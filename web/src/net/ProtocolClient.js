@@ -87,6 +87,8 @@ export class ProtocolClient {
     this.joinInfo = null;
     /** The `unauthorized` or `quarantined` error that ended the connection for good, if any. */
     this.fatal = null;
+    /** The last join was answered `unavailable`: the session is moving to another daemon. */
+    this.moving = false;
   }
 
   /**
@@ -215,6 +217,12 @@ export class ProtocolClient {
       case 'error': {
         const p = msg.op !== undefined ? this.pending.get(msg.op) : undefined;
         if (p) this.pending.delete(msg.op);
+        // Several daemons (docs/scaling.md): the session is moving between them. The server closes
+        // the socket and the reconnect finds it where it is now; nothing to show but the status.
+        if (msg.code === 'unavailable' && !this.joined) {
+          this.moving = true;
+          return;
+        }
         if (msg.code === 'unauthorized' || msg.code === 'quarantined') this.fatal = msg;
         this.state.applyError(msg, p ? p.command : null);
         return;
@@ -250,7 +258,9 @@ export class ProtocolClient {
     this.attempt++;
     this.scheduledDelays.push(delay);
     this.nextRetryAt = this.now() + delay;
-    this.state.setConnection('reconnecting', { delay, attempt: this.attempt, code: event && event.code });
+    this.state.setConnection('reconnecting', { delay, attempt: this.attempt, code: event && event.code,
+      moving: this.moving || (event && (event.code === 1012 || event.code === 1013)) || false });
+    this.moving = false;
     this.retryTimer = this.timers.setTimeout(() => this._open(), delay);
   }
 

@@ -434,7 +434,9 @@ export class Editor {
     const b = this.banner;
     b.replaceChildren();
     if (connection === 'reconnecting') {
-      b.append('Connection lost: reconnecting… ', h('button', { class: 'btn small', onclick: () => this.client.reconnectNow() }, 'Retry now'));
+      const text = detail && detail.moving ? 'The session is moving to another server: reconnecting… '
+        : 'Connection lost: reconnecting… ';
+      b.append(text, h('button', { class: 'btn small', onclick: () => this.client.reconnectNow() }, 'Retry now'));
       b.hidden = false;
     } else if (connection === 'offline') {
       const reason = (detail && detail.reason) || 'Disconnected from the server.';
