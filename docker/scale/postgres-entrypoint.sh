@@ -3,7 +3,7 @@
 # network. Every start: the server in the foreground.
 set -eu
 bin=/usr/lib/postgresql/15/bin
-data=/var/lib/postgresql/data
+data=${PGDATA:-/var/lib/postgresql/data}
 if [ ! -f "$data/PG_VERSION" ]; then
   : "${DEVSURF_DB_PASSWORD:?set DEVSURF_DB_PASSWORD}"
   "$bin/initdb" -D "$data" -U postgres --auth-local=peer --auth-host=scram-sha-256 --encoding=UTF8 --locale=C.UTF-8

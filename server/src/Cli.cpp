@@ -134,6 +134,10 @@ constexpr const char* kUsage =
     "        optionally with its unfolding M′ (same vertices and faces; planar when every z is\n"
     "        0). Without one, M′ is computed (both meshes move); --proximity keeps M near the\n"
     "        input (Fig. 8: make a mesh developable close to its original).\n"
+    "  worker --store postgresql://... [--node-id ID] [--job-workers N] [--lease-ms MS]\n"
+    "        [--job-timeout-ms MS] [--max-iterations N] [--max-control-points N] [--memory-budget-mb MB]\n"
+    "        Solve batch jobs from the shared PostgreSQL queue of several daemons, serving no\n"
+    "        HTTP (docs/scaling.md); SIGTERM hands its running jobs back to the queue.\n"
     "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
     "        Submit a batch job; with --wait, show progress and write the report.\n"
     "  version   Print the version.\n"
@@ -433,12 +437,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
         o.session.rebuildTimeBudgetMs = static_cast<double>(parseNumber(a, value(), 100, 86400000));
       else if (a == "--drag-iterations") o.session.dragIterations = static_cast<int>(parseNumber(a, value(), 1, 100));
       else if (a == "--release-iterations") o.session.releaseIterations = static_cast<int>(parseNumber(a, value(), 0, 1000));
-      else if (a == "--log-level") {
-        const std::string& level = value();
-        logLevel = spdlog::level::from_str(level);
-        if (logLevel == spdlog::level::off && level != "off")
-          throw std::invalid_argument("--log-level: expected trace, debug, info, warn, error, critical or off, got \"" + level + "\"");
-      }
+      else if (a == "--log-level") logLevel = cli::parseLogLevel(a, value());
       else if (a == "--max-connections") o.http.maxConnections = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
       else if (a == "--max-connections-per-address") o.http.maxConnectionsPerAddress = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
       else if (a == "--max-header-bytes") o.http.maxHeaderBytes = static_cast<std::size_t>(parseNumber(a, value(), 1024, 1L << 20));
@@ -601,6 +600,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   if (command == "solve") return solveCommand(rest, in, out, err);
   if (command == "serve") return serveCommand(rest, out, err);
   if (command == "job") return jobCommand(rest, out, err);
+  if (command == "worker") return workerCommand(rest, out, err);
   if (command == "import") return importCommand(rest, out, err);
   if (command == "reference") return referenceCommand(rest, out, err);
   if (command == "fit") return fitCommand(rest, out, err);

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <spdlog/spdlog.h>
+
 namespace devsurf::server::cli {
 
 /// The value after the flag at args[i] (advancing i). @throws std::invalid_argument if missing.
@@ -41,6 +43,14 @@ inline double parseLength(const std::string& flag, const std::string& value) {
   if (used != value.size() || !std::isfinite(x) || x <= 0.0)
     throw std::invalid_argument(flag + ": expected a positive length, got \"" + value + "\"");
   return x;
+}
+
+/// A --log-level value. @throws std::invalid_argument naming the flag and the levels.
+inline spdlog::level::level_enum parseLogLevel(const std::string& flag, const std::string& value) {
+  const spdlog::level::level_enum level = spdlog::level::from_str(value);
+  if (level == spdlog::level::off && value != "off")
+    throw std::invalid_argument(flag + ": expected trace, debug, info, warn, error, critical or off, got \"" + value + "\"");
+  return level;
 }
 
 }  // namespace devsurf::server::cli

@@ -664,7 +664,7 @@ void Daemon::routes() {
   });
 
   // A picture of the session's current surface (start page thumbnails), kept per revision.
-  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+)/thumbnail)", [this, sessionFor](const httplib::Request& req, httplib::Response& res) {
+  s.Get(R"(/api/sessions/([A-Za-z0-9_-]+)/thumbnail)", [sessionFor](const httplib::Request& req, httplib::Response& res) {
     auto session = sessionFor(req, res, Role::View);
     if (!session) return;
     res.set_header("Cache-Control", "private, no-cache");

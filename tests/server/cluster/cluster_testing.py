@@ -13,7 +13,7 @@ import urllib.request
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from cluster_local import Cluster  # noqa: E402
+from cluster_local import Cluster  # noqa: E402,F401  (re-exported for bench/cluster_jobs.py)
 
 EXAMPLES = os.path.join(ROOT, "examples")
 

@@ -3,6 +3,8 @@ SIGKILLed mid-run. Every job ends exactly once with its result, none is lost or 
 progress, cancellation and idempotency keys hold across nodes. The store is read back with psql."""
 import math
 import os
+import signal
+import subprocess
 import time
 import unittest
 
@@ -106,6 +108,30 @@ class JobsOnThreeDaemonsTest(unittest.TestCase):
         wait_for(lambda: http(cluster.url(f"/api/jobs/{job_id}"))[2]["state"] == "cancelled", 30,
                  what="the cancellation")
         self.assertEqual(psql(cluster.postgres, f"SELECT lease_owner IS NULL FROM jobs WHERE id = '{job_id}'")[0][0], "t")
+
+
+    def test_a_worker_process_claims_jobs_and_hands_them_back_when_stopped(self):
+        cluster = start_cluster(self, nodes=1, lease_ms=2000, extra=["--max-jobs", "100"])
+        log = open(os.path.join(cluster.dir, "worker.log"), "w")
+        self.addCleanup(log.close)
+        worker = subprocess.Popen([os.environ.get("DEVSURF_BIN", "devsurf"), "worker", "--store", cluster.postgres,
+                                   "--node-id", "w1", "--lease-ms", "2000"], stdout=subprocess.PIPE, stderr=log, text=True)
+        self.addCleanup(lambda: worker.poll() is None and worker.kill())
+        self.assertIn("devsurf worker w1 claiming jobs", worker.stdout.readline())
+        scene = job_scene(iterations=400)
+        ids = [http(cluster.url("/api/jobs"), "POST", scene)[2]["id"] for _ in range(6)]
+        running_on_worker = wait_for(lambda: psql(cluster.postgres, "SELECT id FROM jobs WHERE state = 'running' "
+                                                                    "AND lease_owner = 'w1'"), 60,
+                                     step=0.02, what="a job claimed by the worker")
+        job_id = running_on_worker[0][0]
+        worker.send_signal(signal.SIGTERM)
+        self.assertEqual(worker.wait(timeout=30), 0)
+        state, owner = psql(cluster.postgres, f"SELECT state, coalesce(lease_owner, '') FROM jobs WHERE id = '{job_id}'")[0]
+        self.assertNotEqual(owner, "w1", "handed back: no longer the worker's")
+        self.assertIn(state, ("queued", "running", "succeeded"))
+        wait_for(lambda: psql(cluster.postgres, "SELECT count(*) FROM jobs WHERE state = 'succeeded'")[0][0] == "6",
+                 300, step=0.25, what="every job to succeed")
+        self.assertEqual(sorted(r[0] for r in psql(cluster.postgres, "SELECT id FROM jobs")), sorted(ids))
 
 
 if __name__ == "__main__":

@@ -41,6 +41,10 @@ int approximateCommand(const std::vector<std::string>& args, std::ostream& out, 
 /// `devsurf serve …`: the daemon, until SIGINT/SIGTERM.
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
+/// `devsurf worker --store postgresql://… [--job-workers N] …`: solves jobs from a shared store's
+/// queue (issue 18; docs/scaling.md) without serving HTTP, until SIGINT/SIGTERM.
+int workerCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
 /// `devsurf job submit SCENE --server URL [--wait] …`
 int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
