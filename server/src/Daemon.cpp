@@ -332,6 +332,7 @@ std::shared_ptr<Session> Daemon::adoptSession(const std::string& id) {
       // The proxy routes this session here now (a node came back, or it was created elsewhere):
       // its holder hands it over at its next renewal, and the client's retry finds it free.
       store_->requestSessionHandover(id, options_.nodeId);
+      ++handoversRequested_;
       spdlog::info("session {} is held by another node; handover requested", id);
       return nullptr;
     }
@@ -339,6 +340,7 @@ std::shared_ptr<Session> Daemon::adoptSession(const std::string& id) {
     if (!stored) return nullptr;
     spdlog::info("session {} adopted: journal replayed from seq {} to {}", id, stored->snapshot ? stored->snapshot->seq : 0,
                  stored->lastSeq);
+    ++sessionsAdopted_;
     restoreSession(*stored);
   } catch (const store::NotFoundError&) {
     return nullptr;
@@ -387,6 +389,7 @@ void Daemon::renewSessionLeases() {
           if (auto c = client->connection.lock()) toClose.push_back(std::move(c));
       }
       it = sessions_.erase(it);
+      ++sessionsHandedOff_;
     }
   }
   for (const auto& c : toClose) c->close(transport::CloseCode::ServiceRestart, "session moved to another node; reconnect");
@@ -957,6 +960,17 @@ std::string Daemon::prometheus() const {
   for (const auto& [code, n] : counters_.errorsByCode()) out << "devsurf_errors_total{code=\"" << code << "\"} " << n << "\n";
   out << "# HELP devsurf_http_requests_total HTTP requests served.\n# TYPE devsurf_http_requests_total counter\n"
       << "devsurf_http_requests_total " << httpRequests_.load() << "\n";
+  const JobQueue::Counters& jobs = jobs_->counters();
+  out << "# HELP devsurf_node_jobs_total What this node's job workers did: claims, results written, jobs another node took over.\n"
+      << "# TYPE devsurf_node_jobs_total counter\n"
+      << "devsurf_node_jobs_total{event=\"claimed\"} " << jobs.claimed.load() << "\n"
+      << "devsurf_node_jobs_total{event=\"finished\"} " << jobs.finished.load() << "\n"
+      << "devsurf_node_jobs_total{event=\"lease_lost\"} " << jobs.leaseLost.load() << "\n";
+  out << "# HELP devsurf_node_sessions_total Sessions moving between nodes of a shared store, seen from this node.\n"
+      << "# TYPE devsurf_node_sessions_total counter\n"
+      << "devsurf_node_sessions_total{event=\"adopted\"} " << sessionsAdopted_.load() << "\n"
+      << "devsurf_node_sessions_total{event=\"handover_requested\"} " << handoversRequested_.load() << "\n"
+      << "devsurf_node_sessions_total{event=\"handed_off\"} " << sessionsHandedOff_.load() << "\n";
   return out.str();
 }
 

@@ -128,6 +128,7 @@ void JobQueue::work() {
       spdlog::warn("job queue: cannot claim jobs: {}", e.what());
     }
     if (job) {
+      ++counters_.claimed;
       run(std::move(*job));
       continue;
     }
@@ -156,6 +157,7 @@ void JobQueue::heartbeat() {
           if (!renewal.held) {
             spdlog::warn("job {}: its lease was lost (another node runs it now); stopping here", id);
             it->second.leaseLost = true;
+            ++counters_.leaseLost;
           }
           it->second.cancelled->store(true);
         }
@@ -172,7 +174,9 @@ void JobQueue::finish(const JobRecord& job, int attempt) {
   const auto giveUp = std::chrono::steady_clock::now() + std::chrono::duration<double, std::milli>(limits_.leaseMs);
   for (;;) {
     try {
-      if (!store_.finishJob(job, nodeId_, attempt))
+      if (store_.finishJob(job, nodeId_, attempt))
+        ++counters_.finished;
+      else
         spdlog::warn("job {}: finished here after its lease was lost; the result is not stored", job.id);
       return;
     } catch (const std::exception& e) {

@@ -5,8 +5,10 @@ within 5 s (the lease is 2 s), and every edit any client had acknowledged is in 
 reconnected clients get, and in the store (read back with psql)."""
 import asyncio
 import json
+import re
 import time
 import unittest
+import urllib.request
 
 import websockets
 
@@ -152,6 +154,16 @@ class SessionsOnThreeDaemonsTest(unittest.TestCase):
             self.assertGreaterEqual(stored[sid], acked, sid)
 
         self.assertGreater(max(after.acked), acked_before[after.session["id"]], "a moved session takes edits again")
+        # Each surviving node's own metrics: its id, and the sessions it took over.
+        adopted = 0
+        for n in cluster.nodes:
+            if n["id"] == victim:
+                continue
+            with urllib.request.urlopen(f"http://127.0.0.1:{n['port']}/api/metrics", timeout=10) as r:
+                text = r.read().decode()
+            self.assertIn(f'devsurf_node_info{{node="{n["id"]}",store="postgresql"}} 1', text)
+            adopted += int(re.search(r'devsurf_node_sessions_total\{event="adopted"\} (\d+)', text).group(1))
+        self.assertGreaterEqual(adopted, len(moved), "the survivors adopted every session of the victim")
 
 
 if __name__ == "__main__":

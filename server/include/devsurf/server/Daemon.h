@@ -126,6 +126,9 @@ class Daemon {
   std::map<std::uint64_t, std::shared_ptr<Client>> clients_;
   std::map<std::string, Quarantined> quarantined_;
   std::atomic<std::uint64_t> httpRequests_{0};
+  std::atomic<std::uint64_t> sessionsAdopted_{0};     ///< a shared store: sessions taken over or taken back
+  std::atomic<std::uint64_t> handoversRequested_{0};  ///< … asked of another node
+  std::atomic<std::uint64_t> sessionsHandedOff_{0};   ///< … given up to another node
   std::atomic<bool> startAbandoned_{false};
   std::mutex adoptMutex_;                ///< one adoption at a time (two requests for one session)
   std::thread leaseThread_;              ///< a shared store: renews session leases

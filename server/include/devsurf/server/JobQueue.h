@@ -87,6 +87,14 @@ class JobQueue {
   std::size_t queued() const;
   const std::string& nodeId() const { return nodeId_; }
 
+  /// What this node did, for its metrics.
+  struct Counters {
+    std::atomic<std::uint64_t> claimed{0};    ///< jobs claimed (attempts started here)
+    std::atomic<std::uint64_t> finished{0};   ///< results written here
+    std::atomic<std::uint64_t> leaseLost{0};  ///< jobs stopped here because another node took them
+  };
+  const Counters& counters() const { return counters_; }
+
  private:
   /// A job this node runs.
   struct Running {
@@ -109,6 +117,7 @@ class JobQueue {
   std::uint64_t submitted_ = 0;  ///< bumped by submit(): wakes a worker without a poll
   std::map<std::string, Running> running_;
   bool stopping_ = false;
+  Counters counters_;
   std::vector<std::thread> workers_;
   std::thread heartbeat_;
 };
