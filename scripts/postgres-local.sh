@@ -22,6 +22,7 @@ if [ -z "$command" ] || [ -z "$dir" ]; then
   sed -n '2,16p' "$0" >&2
   exit 2
 fi
+case "$dir" in /*) ;; *) dir="$PWD/$dir" ;; esac  # the server commands run from /
 fast=0
 [ "${3:-}" = "--fast" ] && fast=1
 
@@ -33,7 +34,8 @@ fi
 
 as_server() {
   if [ "$(id -u)" -eq 0 ]; then
-    runuser -u postgres -- "$@"
+    # From / : the caller's directory may be one the postgres account cannot enter.
+    (cd / && runuser -u postgres -- "$@")
   else
     "$@"
   fi

@@ -102,8 +102,11 @@ class StoreLocation {
   /// The directory or URI (what `devsurf serve --store` takes).
   const std::string& location() const { return location_; }
 
-  std::unique_ptr<server::store::Store> open(const server::store::StoreOptions& options = {}) const {
+  /// A store on this location. The lease tests pass their own times (nowMs 1000, 6000, …), so
+  /// PostgreSQL's lease clock is the callers' unless `serverClock`.
+  std::unique_ptr<server::store::Store> open(server::store::StoreOptions options = {}, bool serverClock = false) const {
     if (!available()) throw std::logic_error("no test PostgreSQL (DEVSURF_TEST_POSTGRES)");
+    options.serverClock = serverClock;
     return server::store::openStore(location_, options);
   }
 

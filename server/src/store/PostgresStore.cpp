@@ -222,7 +222,11 @@ class Connection {
   }
 
   void connect() {
-    conn_ = PQconnectdb(uri_.c_str());
+    // A server that does not answer fails a connection within 5 s (libpq waits forever by
+    // default); a URI's own connect_timeout comes later and wins.
+    const char* keywords[] = {"connect_timeout", "dbname", nullptr};
+    const char* values[] = {"5", uri_.c_str(), nullptr};
+    conn_ = PQconnectdbParams(keywords, values, /*expand_dbname=*/1);
     if (!conn_) throw StoreUnavailableError("devsurf store " + label_ + ": out of memory connecting");
     if (PQstatus(conn_) != CONNECTION_OK) {
       const std::string why = trimmed(PQerrorMessage(conn_));
@@ -391,6 +395,13 @@ struct PostgresStore::Impl {
       r.loadError = e.what();
     }
     return r;
+  }
+
+  /// The time leases are measured in: the server's clock (StoreOptions::serverClock), else the
+  /// caller's.
+  std::int64_t leaseClock(pg::Connection& c, std::int64_t callerNowMs) const {
+    if (!options.serverClock) return callerNowMs;
+    return c.exec("SELECT (extract(epoch FROM clock_timestamp()) * 1000)::bigint").int64(0, 0);
   }
 
   /// last_seq of a session, its row locked until the caller's transaction ends.
@@ -587,6 +598,7 @@ std::optional<RestoredSession> PostgresStore::loadSession(const std::string& id)
 bool PostgresStore::acquireSessionLease(const std::string& id, const std::string& owner, std::int64_t nowMs,
                                         std::int64_t leaseMs) {
   Impl::Lease c = impl_->lend();
+  nowMs = impl_->leaseClock(*c, nowMs);
   pg::Result q = c->exec(
       "UPDATE sessions SET lease_owner = $2, lease_expires_ms = $3 + $4, handover_to = NULL WHERE id = $1 AND "
       "(lease_owner IS NULL OR lease_owner = $2 OR lease_expires_ms < $3) RETURNING id",
@@ -599,6 +611,7 @@ bool PostgresStore::acquireSessionLease(const std::string& id, const std::string
 std::vector<std::string> PostgresStore::renewSessionLeases(const std::string& owner, std::int64_t nowMs,
                                                            std::int64_t leaseMs) {
   Impl::Lease c = impl_->lend();
+  nowMs = impl_->leaseClock(*c, nowMs);
   pg::Transaction t(*c);
   c->exec("UPDATE sessions SET lease_owner = NULL, lease_expires_ms = 0, handover_to = NULL "
           "WHERE lease_owner = $1 AND handover_to IS NOT NULL",
@@ -717,6 +730,7 @@ int PostgresStore::pruneFinishedJobs(std::int64_t olderThanMs) {
 std::optional<JobRecord> PostgresStore::claimJob(const std::string& owner, std::int64_t nowMs,
                                                  std::int64_t leaseMs) {
   Impl::Lease c = impl_->lend();
+  nowMs = impl_->leaseClock(*c, nowMs);
   // A job cancelled while its worker died is not run again.
   c->exec(
       "UPDATE jobs SET state = 'cancelled', lease_owner = NULL, lease_expires_ms = 0, updated_ms = $1 "
@@ -742,6 +756,7 @@ JobLeaseRenewal PostgresStore::renewJobLease(const std::string& id, const std::s
                                              std::int64_t nowMs, std::int64_t leaseMs, int progressIteration,
                                              int progressOf) {
   Impl::Lease c = impl_->lend();
+  nowMs = impl_->leaseClock(*c, nowMs);
   pg::Result q = c->exec(
       "UPDATE jobs SET lease_expires_ms = $1, progress_iteration = $2, progress_of = $3 "
       "WHERE id = $4 AND state = 'running' AND lease_owner = $5 AND attempt = $6 RETURNING cancel_requested",

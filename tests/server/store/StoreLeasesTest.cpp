@@ -259,3 +259,28 @@ TEST_P(StoreJobLeases, AHandoverRequestReleasesTheSessionAtTheHoldersNextRenewal
   EXPECT_EQ(store->renewSessionLeases("y", 3400, 60000), std::vector<std::string>{"moving"})
       << "the request was cleared when y took it";
 }
+
+/// Nodes whose clocks disagree still agree on leases: PostgreSQL measures them on the server's
+/// clock. A node that believes it is year 2100 cannot take a lease another node took a moment
+/// ago, and one that believes it is 1970 cannot make a lease end at once.
+TEST_P(StoreJobLeases, OnPostgresqlLeasesRunOnTheServersClockNotTheNodes) {
+  if (GetParam() != "postgresql") GTEST_SKIP() << "SQLite is one process on one machine: one clock";
+  auto fast = where.open({}, /*serverClock=*/true);
+  auto slow = where.open({}, /*serverClock=*/true);
+  SessionRecord s;
+  s.id = "clocks";
+  s.editTokenHash = s.viewTokenHash = "h";
+  s.name = "clocks";
+  s.initialScene = json::object();
+  s.createdMs = 1;
+  fast->createSession(s);
+  const std::int64_t year2100 = 4102444800000;
+  ASSERT_TRUE(slow->acquireSessionLease("clocks", "slow", /*nowMs=*/0, 60000));
+  EXPECT_FALSE(fast->acquireSessionLease("clocks", "fast", year2100, 60000));
+  const auto lease = fast->sessionLease("clocks");
+  EXPECT_NEAR(static_cast<double>(lease->second), static_cast<double>(wallClockMs() + 60000), 10000.0)
+      << "the expiry is the server's now + the lease";
+  fast->putJob(queuedJob("job", 1));
+  ASSERT_TRUE(slow->claimJob("slow", 0, 60000));
+  EXPECT_FALSE(fast->claimJob("fast", year2100, 60000)) << "the job's lease has not ended on the server";
+}

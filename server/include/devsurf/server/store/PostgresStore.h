@@ -19,8 +19,9 @@
 //
 // Outages
 // -------
-// A call on a broken connection tries one reconnect; when the server stays unreachable it throws
-// StoreUnavailableError (a StoreError) and nothing is acknowledged. The next call reconnects.
+// A call on a broken connection tries one reconnect (connect_timeout 5 s unless the URI sets
+// one); when the server stays unreachable it throws StoreUnavailableError (a StoreError) and
+// nothing is acknowledged. The next call reconnects.
 //
 // Schema
 // ------

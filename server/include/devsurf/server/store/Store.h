@@ -193,6 +193,10 @@ struct StoreOptions {
   int keepSnapshots = 2;
   /// PostgreSQL: connections kept open (≥ 1); each one serves one operation at a time.
   int connections = 4;
+  /// PostgreSQL: lease times (claims, renewals, expiries) are read from the database server's
+  /// clock, not from the callers' nowMs, so that nodes whose clocks disagree still agree on when a
+  /// lease ends. Off only in tests that play with time.
+  bool serverClock = true;
 };
 
 /// Facts about an open store, for logs and health endpoints.
@@ -310,6 +314,8 @@ class Store {
   /// keys become free again). @return how many were deleted
   virtual int pruneFinishedJobs(std::int64_t olderThanMs) = 0;
 
+  /// Lease methods take the caller's time as nowMs; PostgresStore uses its server's clock instead
+  /// unless StoreOptions::serverClock is off.
   /// Claims the oldest queued job, or else the oldest running job whose lease ended before nowMs:
   /// it becomes Running, leased to `owner` until nowMs + leaseMs, attempt + 1, progress 0. Two
   /// callers never claim the same job (PostgreSQL: SELECT … FOR UPDATE SKIP LOCKED).
