@@ -1,4 +1,6 @@
 #include "devsurf/server/Daemon.h"
+
+#include "DaemonClient.h"
 #include "devsurf/server/CreasePatternImport.h"
 #include "devsurf/server/ShapeApproximation.h"
 #include "devsurf/server/ShapeFitting.h"
@@ -99,13 +101,6 @@ std::optional<json> parseBody(const httplib::Request& req, httplib::Response& re
   }
 }
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// Answers an export (SceneSolver::exportAs) as an attachment named `stem`.`extension`; a format
 /// that does not apply is a 400, a model state that cannot be exported a 422, both naming "format".
 void replyExport(httplib::Response& res, const std::string& stem, const std::function<ExportedFile()>& produce) {
@@ -135,15 +130,6 @@ std::string demoToken(const std::string& scenePath, const std::string& role) {
   return sha256Hex("devsurf demo " + role + " " + std::filesystem::path(scenePath).stem().string()).substr(0, 32);
 }
 
-/// Per WebSocket connection: which session it joined, and its message budget.
-struct Daemon::Client {
-  std::weak_ptr<transport::Connection> connection;
-  std::weak_ptr<Session> session;
-  int participant = -1;
-  double tokens = 0.0;
-  Clock::time_point refilled = Clock::now();
-  std::mutex mutex;
-};
 
 Daemon::Daemon(DaemonOptions options)
     : options_(std::move(options)),
@@ -254,222 +240,6 @@ void Daemon::stop() {
       spdlog::warn("could not release session leases ({}); they end by themselves", e.what());
     }
   }
-}
-
-void Daemon::restoreSessions() {
-  const std::vector<store::RestoredSession> stored = store_->loadSessions();
-  if (!stored.empty()) spdlog::info("restoring {} stored session(s)", stored.size());
-  for (const store::RestoredSession& r : stored) {
-    if (startAbandoned_) return;  // a signal during start-up: what is restored so far is stored
-    restoreSession(r);
-  }
-}
-
-bool Daemon::restoreSession(const store::RestoredSession& r) {
-  // A quarantined session is tried again at every start: what stopped it may have been
-  // transient (an I/O error) or fixed since (an upgrade, an operator's repair).
-  std::string reason = r.loadError.value_or("");
-  // What was built and shown before comes back without a time budget (a restart may run on a
-  // busier machine); the session's budget applies again to the edits that follow.
-  SessionSettings restoring = options_.session;
-  restoring.rebuildTimeBudgetMs = 0.0;
-  if (reason.empty()) {
-    try {
-      const json scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;
-      auto session = std::make_shared<Session>(
-          r.session.id, proto::sceneFromJson(scene, options_.session.resources), Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash},
-          restoring, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
-          journal_.get(), &counters_, r.session.demo);
-      if (r.snapshot) session->setInitialScene(proto::sceneFromJson(r.session.initialScene));
-      std::vector<std::pair<std::int64_t, json>> edits;
-      for (const store::EditRecord& e : r.editsAfterSnapshot) edits.emplace_back(e.seq, e.edit);
-      session->restore(r.snapshot ? r.snapshot->sessionState : json(), r.snapshot ? r.snapshot->revision : 0, edits,
-                       r.lastSeq);
-      session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
-      if (r.session.quarantine) {
-        spdlog::info("session {} was quarantined ({}) and is restored now", r.session.id, *r.session.quarantine);
-        store_->liftQuarantine(r.session.id);
-      }
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (const auto demo = demoTokens_.find(r.session.id); demo != demoTokens_.end())
-        session->setTokens({tokenHash(demo->second.first), tokenHash(demo->second.second)});
-      sessions_[r.session.id] = session;
-      return true;
-    } catch (const std::exception& e) {
-      reason = e.what();
-    }
-  }
-  // Kept, never deleted: the store still holds its initial scene, snapshot and journal, and its
-  // last stored scene can be downloaded (GET /api/sessions/{id}/export?format=json).
-  if (r.session.quarantine != reason) {
-    spdlog::error("session {} could not be restored and is quarantined: {}", r.session.id, reason);
-    try {
-      store_->quarantineSession(r.session.id, reason);
-    } catch (const std::exception& e) {
-      spdlog::error("session {}: cannot record the quarantine: {}", r.session.id, e.what());
-    }
-  }
-  Quarantined q;
-  q.reason = reason;
-  q.tokens = Session::Tokens{r.session.editTokenHash, r.session.viewTokenHash};
-  q.scene = r.snapshot ? r.snapshot->scene : r.session.initialScene;  // null if even that did not parse
-  q.seq = r.snapshot ? r.snapshot->seq : 0;
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (const auto demo = demoTokens_.find(r.session.id); demo != demoTokens_.end())
-    q.tokens = {tokenHash(demo->second.first), tokenHash(demo->second.second)};
-  quarantined_[r.session.id] = std::move(q);
-  return false;
-}
-
-std::shared_ptr<Session> Daemon::adoptSession(const std::string& id) {
-  std::lock_guard<std::mutex> adopting(adoptMutex_);
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (const auto it = sessions_.find(id); it != sessions_.end()) return it->second;  // adopted meanwhile
-  }
-  try {
-    if (!store_->acquireSessionLease(id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs))) {
-      // The proxy routes this session here now (a node came back, or it was created elsewhere):
-      // its holder hands it over at its next renewal, and the client's retry finds it free.
-      store_->requestSessionHandover(id, options_.nodeId);
-      ++handoversRequested_;
-      spdlog::info("session {} is held by another node; handover requested", id);
-      return nullptr;
-    }
-    const std::optional<store::RestoredSession> stored = store_->loadSession(id);
-    if (!stored) return nullptr;
-    spdlog::info("session {} adopted: journal replayed from seq {} to {}", id, stored->snapshot ? stored->snapshot->seq : 0,
-                 stored->lastSeq);
-    ++sessionsAdopted_;
-    restoreSession(*stored);
-  } catch (const store::NotFoundError&) {
-    return nullptr;
-  } catch (const std::exception& e) {
-    spdlog::error("session {} could not be adopted: {}", id, e.what());
-    return nullptr;
-  }
-  std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = sessions_.find(id);
-  return it == sessions_.end() ? nullptr : it->second;
-}
-
-std::optional<std::string> Daemon::sessionHolder(const std::string& id) const {
-  if (!store_->shared()) return std::nullopt;
-  try {
-    const auto lease = store_->sessionLease(id);
-    if (lease && lease->first != options_.nodeId) return lease->first;
-  } catch (const store::NotFoundError&) {
-  } catch (const std::exception& e) {  // the store is unreachable: the session may exist
-    return std::string("unknown (the store is unreachable: ") + e.what() + ")";
-  }
-  return std::nullopt;
-}
-
-void Daemon::renewSessionLeases() {
-  std::vector<std::string> held;
-  try {
-    held = store_->renewSessionLeases(options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
-  } catch (const std::exception& e) {  // the store is unreachable: keep serving; writes fail until it is back
-    spdlog::warn("cannot renew session leases: {}", e.what());
-    return;
-  }
-  std::sort(held.begin(), held.end());
-  std::vector<std::shared_ptr<transport::Connection>> toClose;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (auto it = sessions_.begin(); it != sessions_.end();) {
-      if (std::binary_search(held.begin(), held.end(), it->first)) {
-        ++it;
-        continue;
-      }
-      spdlog::info("session {}: handed over to another node (or its lease was taken); dropped here", it->first);
-      for (const auto& [cid, client] : clients_) {
-        std::lock_guard<std::mutex> clientLock(client->mutex);
-        if (client->session.lock() == it->second)
-          if (auto c = client->connection.lock()) toClose.push_back(std::move(c));
-      }
-      it = sessions_.erase(it);
-      ++sessionsHandedOff_;
-    }
-  }
-  for (const auto& c : toClose) c->close(transport::CloseCode::ServiceRestart, "session moved to another node; reconnect");
-}
-
-void Daemon::openDemos() {
-  for (const std::string& path : options_.demoScenes) {
-    if (startAbandoned_) return;
-    const std::string id = "demo-" + std::filesystem::path(path).stem().string();
-    const std::string edit = demoToken(path, "edit"), view = demoToken(path, "view");
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      demoTokens_[id] = {edit, view};
-      if (const auto q = quarantined_.find(id); q != quarantined_.end()) {
-        q->second.tokens = {tokenHash(edit), tokenHash(view)};
-        continue;  // kept as it is; reported by /api/health
-      }
-      if (const auto restored = sessions_.find(id); restored != sessions_.end()) {
-        // Restored with its edits; its public tokens are derived anew (they may have been stored
-        // with an earlier derivation or hash).
-        restored->second->setTokens({tokenHash(edit), tokenHash(view)});
-        continue;
-      }
-    }
-    try {
-      // A shared store: a demo another node created is adopted on its first request.
-      if (store_->shared() && store_->loadSession(id)) continue;
-      // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first drag
-      // must not also carry out the preset's own pending solve.
-      createSession(SceneSolver::solvedScene(proto::sceneFromText(readFile(path))), edit, view, true, id);
-    } catch (const store::AlreadyExistsError&) {
-      // Another daemon on the shared store created it meanwhile: adopted on its first request.
-    } catch (const std::exception& e) {
-      spdlog::error("demo scene {}: {}", path, e.what());
-    }
-  }
-}
-
-std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const std::string& editToken,
-                                               const std::string& viewToken, bool demo, const std::string& id) {
-  const Session::Tokens tokens{tokenHash(editToken), tokenHash(viewToken)};
-  // A demo is the operator's own scene (--demo), built at startup: like a restored session it
-  // is built without the session's time budget (a slower machine, or a sanitizer build, must not
-  // drop it: three conical demos took over 5 s under ASan), which then applies to its edits.
-  SessionSettings settings = options_.session;
-  if (demo) settings.rebuildTimeBudgetMs = 0.0;
-  auto session = std::make_shared<Session>(
-      id, scene, tokens, settings, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
-      journal_.get(), &counters_, demo);
-  if (demo) session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
-  store::SessionRecord record;
-  record.id = id;
-  record.editTokenHash = tokens.editHash;
-  record.viewTokenHash = tokens.viewHash;
-  record.name = scene.name;
-  record.demo = demo;
-  record.initialScene = proto::sceneToJson(scene);
-  record.createdMs = store::wallClockMs();
-  store_->createSession(record);
-  if (store_->shared()) store_->acquireSessionLease(id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
-  std::lock_guard<std::mutex> lock(mutex_);
-  sessions_[id] = session;
-  return session;
-}
-
-std::optional<Daemon::Quarantined> Daemon::quarantinedSession(const std::string& id, const std::string& token) const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  const auto it = quarantined_.find(id);
-  if (it == quarantined_.end() || Session::roleOf(it->second.tokens, token) == Role::None) return std::nullopt;
-  return it->second;
-}
-
-std::shared_ptr<Session> Daemon::findSession(const std::string& id) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const auto it = sessions_.find(id);
-    if (it != sessions_.end()) return it->second;
-    if (quarantined_.count(id)) return nullptr;  // tried at start or adoption; kept as it is
-  }
-  return store_->shared() ? adoptSession(id) : nullptr;
 }
 
 void Daemon::routes() {
