@@ -132,16 +132,22 @@ std::optional<std::string> Daemon::sessionHolder(const std::string& id) const {
 }
 
 void Daemon::renewSessionLeases() {
-  std::vector<std::string> held;
-  try {
-    held = store_->renewSessionLeases(options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
-  } catch (const std::exception& e) {  // the store is unreachable: keep serving; writes fail until it is back
-    spdlog::warn("cannot renew session leases: {}", e.what());
-    return;
-  }
-  std::sort(held.begin(), held.end());
-  std::vector<std::shared_ptr<transport::Connection>> toClose;
+  // Lock order: adoptMutex_ → mutex_, and never a client's mutex under either (a join holds its
+  // client's mutex while it looks the session up).
+  std::vector<std::shared_ptr<Session>> dropped;
+  std::vector<std::shared_ptr<Client>> clients;
   {
+    // One at a time with adoptions and creations: a lease taken after the renewal read the held
+    // ones must not be dropped as lost.
+    std::lock_guard<std::mutex> adopting(adoptMutex_);
+    std::vector<std::string> held;
+    try {
+      held = store_->renewSessionLeases(options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
+    } catch (const std::exception& e) {  // the store is unreachable: keep serving; writes fail until it is back
+      spdlog::warn("cannot renew session leases: {}", e.what());
+      return;
+    }
+    std::sort(held.begin(), held.end());
     std::lock_guard<std::mutex> lock(mutex_);
     for (auto it = sessions_.begin(); it != sessions_.end();) {
       if (std::binary_search(held.begin(), held.end(), it->first)) {
@@ -149,14 +155,19 @@ void Daemon::renewSessionLeases() {
         continue;
       }
       spdlog::info("session {}: handed over to another node (or its lease was taken); dropped here", it->first);
-      for (const auto& [cid, client] : clients_) {
-        std::lock_guard<std::mutex> clientLock(client->mutex);
-        if (client->session.lock() == it->second)
-          if (auto c = client->connection.lock()) toClose.push_back(std::move(c));
-      }
+      dropped.push_back(it->second);
       it = sessions_.erase(it);
       ++sessionsHandedOff_;
     }
+    if (dropped.empty()) return;
+    for (const auto& [cid, client] : clients_) clients.push_back(client);
+  }
+  std::vector<std::shared_ptr<transport::Connection>> toClose;
+  for (const auto& client : clients) {
+    std::lock_guard<std::mutex> clientLock(client->mutex);
+    const auto session = client->session.lock();
+    if (session && std::find(dropped.begin(), dropped.end(), session) != dropped.end())
+      if (auto c = client->connection.lock()) toClose.push_back(std::move(c));
   }
   for (const auto& c : toClose) c->close(transport::CloseCode::ServiceRestart, "session moved to another node; reconnect");
 }
@@ -217,6 +228,7 @@ std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const 
   record.demo = demo;
   record.initialScene = proto::sceneToJson(scene);
   record.createdMs = store::wallClockMs();
+  std::lock_guard<std::mutex> adopting(adoptMutex_);  // held with its lease before a renewal looks
   store_->createSession(record);
   if (store_->shared()) store_->acquireSessionLease(id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
   std::lock_guard<std::mutex> lock(mutex_);

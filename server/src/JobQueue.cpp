@@ -153,7 +153,7 @@ void JobQueue::heartbeat() {
         if (!renewal.held || renewal.cancelRequested) {
           std::lock_guard<std::mutex> relock(mutex_);
           const auto it = running_.find(id);
-          if (it == running_.end()) continue;
+          if (it == running_.end() || it->second.attempt != r.attempt) continue;  // finished, or a later attempt
           if (!renewal.held) {
             spdlog::warn("job {}: its lease was lost (another node runs it now); stopping here", id);
             it->second.leaseLost = true;
@@ -194,15 +194,27 @@ void JobQueue::run(JobRecord job) {
   const int attempt = job.attempt;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    // An earlier attempt still running here lost its lease (the store was unreachable longer than
+    // a lease, and this worker claimed the job again): it stops, and its result will be refused.
+    if (const auto earlier = running_.find(job.id); earlier != running_.end()) {
+      earlier->second.leaseLost = true;
+      earlier->second.cancelled->store(true);
+    }
     running_[job.id] = Running{attempt, 0, job.progressOf, cancelled, false};
   }
-  // A stop by shutdown or by a lost lease is not a cancellation: the job is left to the queue
-  // (the destructor hands it back; a lost lease means another node has it).
-  auto leftForOthers = [this, &job]() {
-    std::lock_guard<std::mutex> lock(mutex_);
+  // This attempt's entry, or end() once a later attempt replaced it. Under mutex_.
+  auto mine = [this, &job, attempt]() {
     const auto r = running_.find(job.id);
-    if (!stopping_ && (r == running_.end() || !r->second.leaseLost)) return false;
-    running_.erase(job.id);
+    return r != running_.end() && r->second.attempt == attempt ? r : running_.end();
+  };
+  // A stop by shutdown or by a lost lease is not a cancellation: the job is left to the queue
+  // (the destructor hands it back; a lost lease means another node, or attempt, has it).
+  auto leftForOthers = [this, &mine]() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto r = mine();
+    if (r == running_.end()) return true;  // replaced by a later attempt
+    if (!stopping_ && !r->second.leaseLost) return false;
+    running_.erase(r);
     return true;
   };
   try {
@@ -214,13 +226,13 @@ void JobQueue::run(JobRecord job) {
     scene.solver.iterations = std::min(scene.solver.iterations, limits_.maxIterations);
     const auto start = std::chrono::steady_clock::now();
     SceneSolver solver(scene, deadline);
-    const std::string id = job.id;
     const engine::SolveSummary summary =
-        solver.solve(-1, [this, id, cancelled, of = scene.solver.iterations](const engine::IterationRecord& r) {
+        solver.solve(-1, [this, &mine, cancelled, of = scene.solver.iterations](const engine::IterationRecord& r) {
           std::lock_guard<std::mutex> lock(mutex_);
-          Running& mine = running_[id];
-          mine.iteration = r.iteration;
-          mine.of = std::max(of, r.iteration);
+          if (const auto entry = mine(); entry != running_.end()) {
+            entry->second.iteration = r.iteration;
+            entry->second.of = std::max(of, r.iteration);
+          }
           return !cancelled->load();
         });
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -260,7 +272,7 @@ void JobQueue::run(JobRecord job) {
   job.updatedMs = store::wallClockMs();
   finish(job, attempt);
   std::lock_guard<std::mutex> lock(mutex_);
-  running_.erase(job.id);
+  if (const auto entry = mine(); entry != running_.end()) running_.erase(entry);
 }
 
 }  // namespace devsurf::server
