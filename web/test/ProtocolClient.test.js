@@ -313,30 +313,27 @@ describe('sessionSocketUrl', () => {
 });
 
 describe('a session moving between daemons', () => {
-  it('treats an `unavailable` join answer as a move: no error shown, a reconnect that says so', () => {
-    const state = new EditorState();
-    const sockets = [];
-    class FakeSocket {
-      constructor(url) { this.url = url; this.sent = []; this.readyState = 0; sockets.push(this); }
-      send(text) { this.sent.push(JSON.parse(text)); }
-      close() {}
-    }
-    const timers = { setTimeout: () => 1, clearTimeout: () => {} };
-    const client = new ProtocolClient({ url: 'ws://h/ws', state, WebSocketImpl: FakeSocket, timers });
+  it('treats an `unavailable` join answer as a move: no error shown, a reconnect that says so and joins', () => {
     const errors = [];
     state.on('error', (e) => errors.push(e));
     const connections = [];
     state.on('connection', (c) => connections.push(c));
-    client.connect('s1', 'tok', 'ada');
-    const ws = sockets[0];
-    ws.readyState = 1;
-    ws.onopen();
-    ws.onmessage({ data: JSON.stringify({ type: 'error', code: 'unavailable', message: 'served by node2', path: 'session' }) });
-    ws.onclose({ code: 1013 });
+    client.connect('s1', 'edit-token', 'ada');
+    const first = socket();
+    first.open();
+    first.receive({ type: 'error', code: 'unavailable', message: 'served by node2', path: 'session' });
+    first.drop(1013);
     expect(errors).toEqual([]);
     expect(client.fatal).toBe(null);
     const last = connections[connections.length - 1];
     expect(last.connection).toBe('reconnecting');
     expect(last.detail.moving).toBe(true);
+    timers.runNext();  // the back-off
+    const second = socket();
+    expect(second).not.toBe(first);
+    expect(second.url).toBe('ws://test/ws?session=s1');
+    second.open();
+    second.receive(stateMessage());
+    expect(state.connection).toBe('connected');
   });
 });
