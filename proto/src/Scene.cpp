@@ -90,6 +90,8 @@ StripDesign stripFromJson(const json& m) {
     target.pointWeight = weights.value("point", target.pointWeight);
     target.tangencyWeight = weights.value("tangency", target.tangencyWeight);
     target.tangentPlaneWeight = weights.value("tangent_plane", target.tangentPlaneWeight);
+    target.overhangWeight = weights.value("overhang", target.overhangWeight);
+    target.overhangReach = t.value("overhang_reach", target.overhangReach);
     d.approximation = std::move(target);
   }
   const json fixed = m.value("fixed", json::array());
@@ -794,6 +796,8 @@ json sceneToJson(const Scene& scene) {
                             {"weights", {{"point", t.pointWeight},
                                          {"tangency", t.tangencyWeight},
                                          {"tangent_plane", t.tangentPlaneWeight}}}};
+      if (t.overhangWeight > 0.0) m["approximation"]["weights"]["overhang"] = t.overhangWeight;
+      if (t.overhangReach > 0.0) m["approximation"]["overhang_reach"] = t.overhangReach;
     }
     j["model"] = std::move(m);
   }

@@ -136,7 +136,7 @@ const std::map<std::string, std::string>& regionFlags() {
       {"--centre", "centre"},   {"--center", "centre"},   {"--radius", "radius"}, {"--thin", "thin"},
       {"--seed", "seed"},       {"--control-points", "control_points"},           {"--iterations", "iterations"},
       {"--rulings", "rulings"}, {"--strips", "strips"},   {"--rounds", "rounds"}, {"--crease", "crease"},
-      {"--name", "name"},       {"--units", "units"}};
+      {"--regions", "regions"}, {"--name", "name"},       {"--units", "units"}};
   return flags;
 }
 
@@ -272,8 +272,8 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
 namespace {
 
 constexpr const char* kCoverUsage =
-    "usage: devsurf cover SHAPE [--centre X,Y,Z --radius R] [--strips K] [--thin RADIUS] [--seed N]\n"
-    "                     [--control-points N] [--rounds N] [--crease none|fold] [--name NAME]\n"
+    "usage: devsurf cover SHAPE [--centre X,Y,Z --radius R] [--strips K] [--regions R] [--thin RADIUS]\n"
+    "                     [--seed N] [--control-points N] [--rounds N] [--crease none|fold] [--name NAME]\n"
     "                     [--units mm|cm|m|in] [--region-out POINTS.xyz] [--out SCENE.json]\n";
 
 }  // namespace

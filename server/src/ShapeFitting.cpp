@@ -4,12 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <sstream>
 
 #include "devsurf/models/composite/CompositeFromStrips.h"
+#include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/strip/StripCover.h"
+#include "devsurf/models/strip/StripShapeCover.h"
+#include "devsurf/reference/PointNormals.h"
 #include "devsurf/reference/PointThinning.h"
 
 namespace devsurf::server {
@@ -88,6 +92,7 @@ RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std:
       r.flat = value == "true";
     } else if (key == "strips" && cover) r.strips = static_cast<int>(integerParameter(key, value, 1, 64));
     else if (key == "rounds" && cover) r.rounds = static_cast<int>(integerParameter(key, value, 0, 100));
+    else if (key == "regions" && cover) r.regions = static_cast<int>(integerParameter(key, value, 1, 32));
     else if (key == "crease" && cover) {
       if (value == "none") r.crease = models::composite::CreaseKind::None;
       else if (value == "fold") r.crease = models::composite::CreaseKind::Fold;
@@ -96,7 +101,7 @@ RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std:
     else if (key == "units") r.units = unitsParameter(key, value);
     else {
       throw ApproximationInputError(key, key + ": unknown parameter (centre, radius, thin, seed, control_points, " +
-                                             (cover ? std::string("strips, rounds, crease") : std::string("iterations, rulings, flat")) +
+                                             (cover ? std::string("strips, rounds, crease, regions") : std::string("iterations, rulings, flat")) +
                                              ", name, units, format)");
     }
   }
@@ -104,6 +109,10 @@ RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std:
   if (cover && r.strips * r.rounds > 400)
     throw ApproximationInputError("rounds", "rounds: strips × rounds is at most 400 (" + std::to_string(r.strips) +
                                                 " × " + std::to_string(r.rounds) + ")");
+  if (cover && r.regions * r.strips * r.rounds > 1600)
+    throw ApproximationInputError("regions", "regions: regions × strips × rounds is at most 1600 (" +
+                                                 std::to_string(r.regions) + " × " + std::to_string(r.strips) + " × " +
+                                                 std::to_string(r.rounds) + ")");
   if (r.centre.has_value() != (r.radius > 0.0))
     throw ApproximationInputError(r.centre ? "radius" : "centre", "centre and radius go together");
   return r;
@@ -147,19 +156,207 @@ RegionFitResult fitStripToShape(const reference::ReferenceShape& shape, const st
   return result;
 }
 
-RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, const std::string& source,
-                                     const RegionFitRequest& request) {
-  const auto [points, normals] = regionOf(shape, request);
-  requireRegion(points, 6L * request.strips, source, std::to_string(request.strips) + " strips");
+namespace {
+
+models::strip::RegionCoverOptions regionCoverOptions(const RegionFitRequest& request) {
   models::strip::RegionCoverOptions options;
   options.strips = request.strips;
   options.thinRadius = request.thin;
   options.seed = request.seed;
   options.placement.controlPoints = request.controlPoints;
   options.pairing.rounds = request.rounds;
+  return options;
+}
+
+nlohmann::json sweepRounds(const models::strip::RegionCover& cover) {
+  nlohmann::json rounds = nlohmann::json::array();
+  for (const auto& r : cover.paired.rounds)
+    rounds.push_back({{"gap_max", r.gapMax}, {"gap_mean", r.gapMean}, {"warp_angle_max_deg", r.warpMaxDeg}});
+  return rounds;
+}
+
+double lastSweepWarp(const models::strip::RegionCover& cover) {
+  return cover.paired.rounds.empty() ? 0.0 : cover.paired.rounds.back().warpMaxDeg;
+}
+
+std::string steepWarning(const std::string& where, double steepFraction) {
+  return std::to_string(std::lround(100 * steepFraction)) + " % of " + where +
+         "'s normals are more than 75° from its mean plane's: the region wraps around the shape and bands across a "
+         "plane do not describe it";
+}
+
+std::string warpWarning(const std::string& where, double warp) {
+  std::ostringstream text;
+  text << "after the last sweep a strip of " << where << " is " << warp
+       << "° from developable; the composite may not solve";
+  return text.str();
+}
+
+/// A region's composite is kept when its solve ends within this warp (a fabrication threshold of
+/// the composite presets is 0.05°; the solve of the whole goes on from here).
+constexpr double kRegionWarpLimitDeg = 0.5;
+/// ε_reg of a cover of several regions (see coverShapeByRegions).
+constexpr double kUnionRegularization = 0.1;
+
+/// The solver settings of a cover's composite scene. No fairness: it pulls the composite off the
+/// shape (a sphere cap: RMS 0.25 % → 1 % of the diagonal in 10 iterations at ε_fair = ε_reg =
+/// 1e-3); ε_reg = 1e-2 keeps it in place.
+void setCoverSolver(proto::Scene& scene) {
+  scene.solver.iterations = 20;
+  scene.solver.regularization = 1e-2;
+  scene.solver.fairness = 0.0;
+}
+
+/// One region's paired strips joined as a composite and solved as its scene would be; its largest
+/// warp after the solve (NaN when the strips cannot be joined or the solve fails).
+std::pair<models::composite::CompositeDesign, double> solvedRegionComposite(const models::strip::RegionCover& cover,
+                                                                            models::composite::CreaseKind crease) {
+  try {
+    proto::Scene scene;
+    scene.model = models::composite::compositeFromStrips(cover.paired.strips, cover.pairings, crease);
+    setCoverSolver(scene);
+    models::composite::CompositeModel model(std::get<models::composite::CompositeDesign>(scene.model));
+    model.solve(scene.solver.solverOptions());
+    return {model.design(), model.quality().warpAngleMaxDeg};
+  } catch (const std::exception&) {
+    return {{}, std::numeric_limits<double>::quiet_NaN()};
+  }
+}
+
+/// Appends the points of a cover's bands (the region as covered) to `covered`.
+void appendCoveredPoints(const models::strip::RegionCover& cover, const Eigen::MatrixX3d& points,
+                         const std::vector<int>& rows, std::vector<Eigen::RowVector3d>& covered) {
+  for (const auto& band : cover.layout.bands)
+    for (const int j : band) covered.push_back(points.row(rows.empty() ? j : rows[static_cast<std::size_t>(j)]));
+}
+
+Eigen::MatrixX3d stackRows(const std::vector<Eigen::RowVector3d>& rows) {
+  Eigen::MatrixX3d out(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = rows[k];
+  return out;
+}
+
+/// Fig. 10e: the region segmented, each part covered by its own strips, one composite of all.
+RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, const std::string& source,
+                                    const RegionFitRequest& request) {
+  // Normals oriented over the whole shape (a mesh's own, a file's, or fitted and propagated), so
+  // that the two sides of an ear fall into different regions.
+  const Eigen::MatrixX3d allNormals = reference::orientedPointNormals(shape);
+  std::vector<int> rows;
+  if (request.centre) rows = models::strip::pointsInBall(shape.points, *request.centre, request.radius);
+  else {
+    rows.resize(static_cast<std::size_t>(shape.points.rows()));
+    std::iota(rows.begin(), rows.end(), 0);
+  }
+  Eigen::MatrixX3d points(static_cast<Eigen::Index>(rows.size()), 3), normals(points.rows(), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    points.row(static_cast<Eigen::Index>(k)) = shape.points.row(rows[k]);
+    normals.row(static_cast<Eigen::Index>(k)) = allNormals.row(rows[k]);
+  }
+  requireRegion(points, 6L * request.strips * request.regions, source,
+                std::to_string(request.regions) + " regions of " + std::to_string(request.strips) + " strips");
+  models::strip::ShapeCoverOptions options;
+  options.regions = request.regions;
+  options.seed = request.seed;
+  options.region = regionCoverOptions(request);
+  const models::strip::ShapeCover cover = models::strip::coverShapeByRegions(points, normals, options);
+
+  RegionFitResult result;
+  nlohmann::json& summary = result.summary;
+  summary = {{"region_points", points.rows()}, {"strips", request.strips}, {"regions", nlohmann::json::array()}};
+  std::vector<models::composite::CompositeDesign> parts;
+  int stripCount = 0;
+  std::vector<Eigen::RowVector3d> covered;
+  int coveredRegions = 0;
+  for (std::size_t r = 0; r < cover.regions.size(); ++r) {
+    const models::strip::ShapeRegionCover& region = cover.regions[r];
+    const std::string name = "region " + std::to_string(r);
+    nlohmann::json entry = {{"points", region.points.size()}, {"covered", region.covered}};
+    if (!region.covered) {
+      entry["skipped"] = region.skipped;
+      result.warnings.push_back(name + " (" + std::to_string(region.points.size()) + " points) is not covered: " +
+                                region.skipped);
+      summary["regions"].push_back(std::move(entry));
+      continue;
+    }
+    const models::strip::RegionCover& c = region.cover;
+    // A region whose strips did not end developable, or whose own composite does not start so
+    // (a pairing's gap left large: one strip takes the other's curve), would spoil the whole
+    // composite's solve: it is left out.
+    std::ostringstream why;
+    std::pair<models::composite::CompositeDesign, double> part;
+    if (lastSweepWarp(c) > 1.0) why << "its strips ended " << lastSweepWarp(c) << "° from developable";
+    else {
+      part = solvedRegionComposite(c, request.crease);
+      entry["composite_warp_angle_max_deg"] = std::isfinite(part.second) ? nlohmann::json(part.second) : nlohmann::json();
+      if (!(part.second <= kRegionWarpLimitDeg)) why << "its strips joined as a composite solve to " << part.second << "° from developable";
+    }
+    if (!why.str().empty()) {
+      entry["covered"] = false;
+      entry["skipped"] = why.str();
+      entry["rounds"] = sweepRounds(c);
+      result.warnings.push_back(name + " (" + std::to_string(region.points.size()) + " points) is not covered: " + why.str());
+      summary["regions"].push_back(std::move(entry));
+      continue;
+    }
+    ++coveredRegions;
+    entry["first_face"] = stripCount;
+    entry["steep_fraction"] = c.steepFraction;
+    entry["rounds"] = sweepRounds(c);
+    if (c.steepFraction > 0.05) result.warnings.push_back(steepWarning(name, c.steepFraction));
+    stripCount += static_cast<int>(c.paired.strips.size());
+    parts.push_back(std::move(part.first));
+    std::vector<int> shapeRows;
+    for (const int j : region.points) shapeRows.push_back(rows[static_cast<std::size_t>(j)]);
+    appendCoveredPoints(c, shape.points, shapeRows, covered);
+    summary["regions"].push_back(std::move(entry));
+  }
+  if (coveredRegions == 0)
+    throw ApproximationInputError("regions", "regions: none of the " + std::to_string(cover.regions.size()) +
+                                                 " regions could be covered (region 0: " +
+                                                 summary["regions"][0].value("skipped", std::string()) +
+                                                 "); fewer regions or more strips");
+  proto::Scene& scene = result.scene;
+  scene.name = request.name.empty() ? std::to_string(coveredRegions) + " regions covering " + source : request.name;
+  scene.description = "A composite of " + std::to_string(stripCount) + " developable strips in " +
+                      std::to_string(coveredRegions) + " parts covering " + (request.centre ? "a region of " : "") +
+                      source + ": the shape segmented by normal, each part covered by strips side by side " +
+                      "with paired boundaries (devsurf cover --regions; Tang et al. 2016 Fig. 10e).";
+  scene.units = request.units;
+  // The parts as their own solves left them, then solved together as the scene will be. The
+  // solver works in coordinates normalized by the whole shape, where a small part's moves are
+  // small and ε_reg = 1e-2 holds it too loosely (CGAL's bunny in 38 regions: a part solved to
+  // 0.004° alone went to 45° in the union); ε_reg = 0.1 holds every part (0.022°).
+  setCoverSolver(scene);
+  scene.solver.regularization = kUnionRegularization;
+  models::composite::CompositeModel union_(models::composite::disjointUnion(parts));
+  const engine::SolveSummary solved = union_.solve(scene.solver.solverOptions());
+  scene.model = union_.design();
+  const models::composite::CompositeQuality quality = union_.quality();
+  summary["warp_angle_max_deg"] = quality.warpAngleMaxDeg;
+  summary["face_flatness_max"] = quality.faceFlatnessMax;
+  if (quality.warpAngleMaxDeg > kRegionWarpLimitDeg) {
+    std::ostringstream text;
+    text << "the parts solved together end " << quality.warpAngleMaxDeg << "° from developable ("
+         << engine::terminationReasonName(solved.reason) << ")";
+    result.warnings.push_back(text.str());
+  }
+  summary["covered_regions"] = coveredRegions;
+  summary["warnings"] = result.warnings;
+  result.covered = stackRows(covered);
+  return result;
+}
+
+}  // namespace
+
+RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, const std::string& source,
+                                     const RegionFitRequest& request) {
+  if (request.regions > 1) return coverShapeByRegions(shape, source, request);
+  const auto [points, normals] = regionOf(shape, request);
+  requireRegion(points, 6L * request.strips, source, std::to_string(request.strips) + " strips");
   models::strip::RegionCover cover;
   try {
-    cover = models::strip::coverRegion(points, normals, options);
+    cover = models::strip::coverRegion(points, normals, regionCoverOptions(request));
   } catch (const std::invalid_argument& e) {
     // Too few points in the layout's rectangle or a band: the region is the user's to change.
     throw ApproximationInputError("radius", std::string("radius: ") + e.what());
@@ -173,11 +370,7 @@ RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, con
   scene.units = request.units;
   // Fig. 10d → e: the paired strips initialize a composite (one face per strip).
   scene.model = models::composite::compositeFromStrips(cover.paired.strips, cover.pairings, request.crease);
-  // No fairness: it pulls the composite off the shape (a sphere cap: RMS 0.25 % → 1 % of the
-  // diagonal in 10 iterations at ε_fair = ε_reg = 1e-3); ε_reg = 1e-2 keeps it in place.
-  scene.solver.iterations = 20;
-  scene.solver.regularization = 1e-2;
-  scene.solver.fairness = 0.0;
+  setCoverSolver(scene);
   nlohmann::json& summary = result.summary;
   summary = {{"region_points", points.rows()}, {"strips", request.strips}, {"steep_fraction", cover.steepFraction}};
   summary["pairings"] = nlohmann::json::array();
@@ -187,27 +380,14 @@ RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, con
                                    {"second", p.second},
                                    {"second_curve", models::strip::curveName(p.secondCurve)},
                                    {"reversed", p.reversed}});
-  summary["rounds"] = nlohmann::json::array();
-  for (const auto& r : cover.paired.rounds)
-    summary["rounds"].push_back({{"gap_max", r.gapMax}, {"gap_mean", r.gapMean}, {"warp_angle_max_deg", r.warpMaxDeg}});
-  if (cover.steepFraction > 0.05)
-    result.warnings.push_back(std::to_string(std::lround(100 * cover.steepFraction)) +
-                              " % of the region's normals are more than 75° from its mean plane's: the region wraps "
-                              "around the shape and bands across a plane do not describe it (a smaller radius)");
-  const double warp = cover.paired.rounds.empty() ? 0.0 : cover.paired.rounds.back().warpMaxDeg;
-  if (warp > 1.0) {
-    std::ostringstream text;
-    text << "after the last sweep a strip is " << warp
-         << "° from developable; the composite may not solve (a smaller region, more strips or more rounds)";
-    result.warnings.push_back(text.str());
-  }
+  summary["rounds"] = sweepRounds(cover);
+  if (cover.steepFraction > 0.05) result.warnings.push_back(steepWarning("the region", cover.steepFraction) + " (a smaller radius)");
+  if (lastSweepWarp(cover) > 1.0)
+    result.warnings.push_back(warpWarning("the region", lastSweepWarp(cover)) + " (a smaller region, more strips or more rounds)");
   summary["warnings"] = result.warnings;
-  long covered = 0;
-  for (const auto& band : cover.layout.bands) covered += static_cast<long>(band.size());
-  result.covered.resize(covered, 3);
-  long row = 0;
-  for (const auto& band : cover.layout.bands)
-    for (const int j : band) result.covered.row(row++) = points.row(j);
+  std::vector<Eigen::RowVector3d> covered;
+  appendCoveredPoints(cover, points, {}, covered);
+  result.covered = stackRows(covered);
   return result;
 }
 

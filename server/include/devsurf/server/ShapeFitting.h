@@ -30,6 +30,9 @@ struct RegionFitRequest {
   bool flat = false;          ///< fit: leave the start flat (the paper's Fig. 10a)
   int strips = 4;             ///< cover: bands, one strip each
   int rounds = 8;             ///< cover: sweeps
+  /// cover: regions the shape (or the ball) is segmented into, each covered by `strips` strips
+  /// (000_… Fig. 10e: the bunny as six composites); 1 = the whole region as one set of bands.
+  int regions = 1;
   models::composite::CreaseKind crease = models::composite::CreaseKind::None;  ///< cover: shared edges
   std::string name;           ///< the scene's name ("" = from the source)
   std::string units = "mm";
@@ -45,7 +48,8 @@ struct RegionFitResult {
 
 /// The request from query parameters: centre ("x,y,z"), radius, thin, seed, control_points,
 /// iterations, rulings (auto|across|along), flat (true|false), name, units; for a cover also
-/// strips, rounds, crease (none|fold), with strips × rounds ≤ 400. Unknown ones are refused.
+/// strips, rounds, crease (none|fold), regions (1–32), with strips × rounds ≤ 400 and
+/// regions × strips × rounds ≤ 1600. Unknown ones are refused.
 /// @throws ApproximationInputError naming the parameter
 RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std::string>& params, bool cover);
 
@@ -59,7 +63,10 @@ RegionFitResult fitStripToShape(const reference::ReferenceShape& shape, const st
 /// A composite scene of strips side by side covering the region (000_… Fig. 10d–e;
 /// models::strip::coverRegion, models::composite::compositeFromStrips). Its summary lists the
 /// pairings and each sweep's gap and warp; warnings when the region wraps around the shape or the
-/// strips end far from developable.
+/// strips end far from developable. With request.regions > 1 the region is first segmented
+/// (models::strip::coverShapeByRegions, normals from reference::orientedPointNormals) and the
+/// composite has one part per covered region; the summary lists every region, and a region that
+/// could not be covered is a warning, not an error, unless none could.
 /// @throws ApproximationInputError naming the parameter the region fails on
 RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, const std::string& source,
                                      const RegionFitRequest& request);

@@ -29,4 +29,15 @@ struct NormalSegmentationOptions {
 std::vector<int> segmentByNormals(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& T,
                                   const NormalSegmentationOptions& options = {});
 
+/// The same clustering for points (a cloud, or a mesh's vertices), each of weight one: k-means++
+/// over [unit normal, w·point/diagonal]. The normals must be oriented consistently (the two sides
+/// of a thin part fall into different clusters only then): orientedPointNormals gives such.
+/// @param[in] points   n×3
+/// @param[in] normals  n×3, oriented (zero rows cluster by position alone)
+/// @return n patch ids in 0 … k′−1 (k′ ≤ k: empty clusters are dropped), numbered by first point
+/// @throws std::invalid_argument if there are no points, sizes disagree, a value is not finite, or
+///         patches < 1 or positionWeight < 0
+std::vector<int> segmentPointsByNormals(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& normals,
+                                        const NormalSegmentationOptions& options = {});
+
 }  // namespace devsurf::reference

@@ -295,4 +295,45 @@ CompositeDesign compositeFromStrips(std::vector<StripDesign> strips, const std::
   return design;
 }
 
+CompositeDesign disjointUnion(const std::vector<CompositeDesign>& parts) {
+  if (parts.empty()) throw std::invalid_argument("disjointUnion: no parts");
+  CompositeDesign out;
+  Eigen::Index vertexCount = 0;
+  for (const CompositeDesign& part : parts) vertexCount += part.vertices.rows();
+  out.vertices.resize(vertexCount, 3);
+  int vertexOffset = 0, edgeOffset = 0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const CompositeDesign& part = parts[k];
+    if (part.developmentSamples > 0 || !part.developmentDomain.empty() || !part.developmentSeam.empty() ||
+        !part.foldAngles.empty() || !part.drawing.empty())
+      throw std::invalid_argument("parts[" + std::to_string(k) +
+                                  "]: a development, fold angles or a drawing describe one sheet; the union has several");
+    const auto moved = [vertexOffset, edgeOffset](PointRef p) {
+      if (p.isVertex()) p.vertex += vertexOffset;
+      else p.edge += edgeOffset;
+      return p;
+    };
+    out.vertices.middleRows(vertexOffset, part.vertices.rows()) = part.vertices;
+    for (CompositeEdge edge : part.edges) {
+      edge.v0 += vertexOffset;
+      edge.v1 += vertexOffset;
+      out.edges.push_back(std::move(edge));
+    }
+    for (std::vector<int> face : part.faces) {
+      for (int& e : face) e += edgeOffset;
+      out.faces.push_back(std::move(face));
+    }
+    for (const PointRef& p : part.fixed) out.fixed.push_back(moved(p));
+    for (Handle h : part.handles) {
+      h.point = moved(h.point);
+      out.handles.push_back(h);
+    }
+    for (const auto& [e0, e1] : part.tangentContinuity) out.tangentContinuity.push_back({e0 + edgeOffset, e1 + edgeOffset});
+    vertexOffset += static_cast<int>(part.vertices.rows());
+    edgeOffset += static_cast<int>(part.edges.size());
+  }
+  CompositeModel::validateDesign(out);
+  return out;
+}
+
 }  // namespace devsurf::models::composite

@@ -134,7 +134,7 @@ std::pair<double, double> pairingGap(const std::vector<StripDesign>& strips, con
 
 StripPairingResult pairStripBoundaries(std::vector<StripDesign> strips, const std::vector<BoundaryPairing>& pairings,
                                        const StripPairingOptions& options) {
-  if (options.rounds < 0 || options.iterationsPerRound < 0)
+  if (options.rounds < 0 || options.iterationsPerRound < 0 || options.lastRoundIterations < 0)
     throw std::invalid_argument("rounds, iterations: must be ≥ 0");
   if (!(options.initialWeightRatio > 0.0 && options.initialWeightRatio <= 1.0))
     throw std::invalid_argument("initialWeightRatio: must be in (0, 1]");
@@ -178,6 +178,8 @@ StripPairingResult pairStripBoundaries(std::vector<StripDesign> strips, const st
         design.boundaryTargets.push_back(std::move(target));
       }
       StripModel model(std::move(design), options.strip);
+      solve.maxIterations = round + 1 == options.rounds ? std::max(options.iterationsPerRound, options.lastRoundIterations)
+                                                        : options.iterationsPerRound;
       model.solve(solve);
       strips[i] = model.design();
       strips[i].boundaryTargets.clear();
@@ -287,6 +289,7 @@ RegionCover coverRegion(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& 
     }
     const reference::ThinnedCloud thin = reference::thinPointCloud(bandPoints, bandNormals, thinning);
     ApproximationTarget target = approximationTargetFrom(thin.points, thin.normals);
+    target.overhangWeight = options.overhangWeight;
     if (target.points.rows() < 6)
       throw std::invalid_argument("bands[" + std::to_string(k) + "]: " + std::to_string(target.points.rows()) +
                                   " thinned points with a normal; a smaller thinning radius or fewer strips");

@@ -10,6 +10,7 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "devsurf/spatial/MatrixRowsKdTree.h"
 #include "devsurf/spline/RationalBasis.h"
 #include "devsurf/terms/ControlPolygonFairnessTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
@@ -20,6 +21,7 @@
 #include "devsurf/terms/LinearPoints.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/StripFootPoints.h"
+#include "devsurf/terms/StripOverhangTerm.h"
 #include "devsurf/terms/StripPointDistanceTerm.h"
 #include "devsurf/terms/StripReferenceTangencyTerm.h"
 #include "devsurf/terms/StripTangentPlaneDistanceTerm.h"
@@ -30,6 +32,24 @@ namespace {
 
 using engine::Strength;
 using engine::WeightSchedule;
+
+/// Median distance from a row of q to its nearest other row (0 for fewer than two rows).
+double medianNeighbourSpacing(const Eigen::MatrixX3d& q) {
+  if (q.rows() < 2) return 0.0;
+  const spatial::MatrixRows rows{q};
+  const spatial::MatrixRowsKdTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  std::vector<double> spacing;
+  spacing.reserve(static_cast<std::size_t>(q.rows()));
+  for (Eigen::Index j = 0; j < q.rows(); ++j) {
+    std::size_t found[2] = {0, 0};
+    double squared[2] = {0.0, 0.0};
+    const Eigen::Vector3d p = q.row(j).transpose();  // a row of a column-major matrix is strided
+    tree.knnSearch(p.data(), 2, found, squared);
+    spacing.push_back(std::sqrt(squared[1]));
+  }
+  std::nth_element(spacing.begin(), spacing.begin() + static_cast<std::ptrdiff_t>(spacing.size() / 2), spacing.end());
+  return spacing[spacing.size() / 2];
+}
 
 bool allFinite(const Eigen::MatrixXd& m) { return m.allFinite(); }
 
@@ -107,10 +127,13 @@ void StripModel::validateDesign(StripDesign& design) {
       throw std::invalid_argument("approximation.normals: normals must be finite and non-zero");
     const std::pair<const char*, double> weights[] = {{"point", t.pointWeight},
                                                       {"tangency", t.tangencyWeight},
-                                                      {"tangent_plane", t.tangentPlaneWeight}};
+                                                      {"tangent_plane", t.tangentPlaneWeight},
+                                                      {"overhang", t.overhangWeight}};
     for (const auto& [name, w] : weights)
       if (!std::isfinite(w) || w < 0.0)
         throw std::invalid_argument(std::string("approximation.weights.") + name + ": must be finite and ≥ 0");
+    if (!std::isfinite(t.overhangReach) || t.overhangReach < 0.0)
+      throw std::invalid_argument("approximation.overhang_reach: must be finite and ≥ 0");
   }
   for (std::size_t t = 0; t < design.boundaryTargets.size(); ++t) {
     const BoundaryTarget& target = design.boundaryTargets[t];
@@ -306,6 +329,15 @@ void StripModel::buildProblem() {
     Eigen::MatrixX3d q(target.points.rows(), 3);
     for (Eigen::Index j = 0; j < q.rows(); ++j)
       q.row(j) = normalization_.toNormalized(target.points.row(j).transpose()).transpose();
+    if (target.overhangWeight > 0.0) {
+      // Not in the paper: samples of the strip beyond reach of every q_j pulled back (a flap).
+      const double reach = target.overhangReach > 0.0 ? target.overhangReach / normalization_.scale
+                                                      : 2.0 * medianNeighbourSpacing(q);
+      if (reach > 0.0)
+        problem_.addTerm(std::make_unique<terms::StripOverhangTerm>("approximation_overhang", a.knots, a.weights, offA,
+                                                                    offB, q, reach, 4 * n, 5),
+                         target.overhangWeight, Strength::Soft);
+    }
     auto feet = std::make_shared<terms::StripFootPoints>(a.knots, a.weights, offA, offB, std::move(q));
     problem_.addTerm(std::make_unique<terms::StripPointDistanceTerm>("approximation_point", feet),
                      target.pointWeight, Strength::Soft);

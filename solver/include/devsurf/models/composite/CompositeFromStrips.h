@@ -23,4 +23,12 @@ namespace devsurf::models::composite {
 CompositeDesign compositeFromStrips(std::vector<strip::StripDesign> strips,
                                     const std::vector<strip::BoundaryPairing>& pairings, CreaseKind crease);
 
+/// Several composites as one design of as many separate parts (000_… Fig. 10e: "the bunny is
+/// approximated by 6 composite surfaces"): vertices, edges and faces of part k follow those of
+/// parts 0 … k−1, with their indices moved on, and so do fixed points, handles and tangent
+/// continuity pairs.
+/// @throws std::invalid_argument for no parts, or a part with a development, fold-angle targets or
+///         a drawing (they describe one sheet)
+CompositeDesign disjointUnion(const std::vector<CompositeDesign>& parts);
+
 }  // namespace devsurf::models::composite

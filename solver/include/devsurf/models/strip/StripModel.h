@@ -54,6 +54,13 @@ struct ApproximationTarget {
   double pointWeight = 1e-3;          ///< eq. (9): s(u_j, v_j) − q_j
   double tangencyWeight = 1e-4;       ///< eq. (10): ⟨m_j, a − b⟩, ⟨m_j, a′⟩ at u_j
   double tangentPlaneWeight = 1e-2;   ///< eq. (11): ⟨s(u_j, v_j) − q_j, n(u_j)⟩
+  /// Not in the paper: the strip's own samples farther than overhangReach from every q_j pulled
+  /// back (terms::StripOverhangTerm), so that a strip on a bounded or doubly curved region does not
+  /// spread where no point holds it. 0 = off (eq. 9–11 alone, as the paper).
+  double overhangWeight = 0.0;
+  /// ρ of the overhang rows in design units; 0 = twice the median distance from a q_j to its
+  /// nearest other q_j (a thinned cloud's spacing).
+  double overhangReach = 0.0;
 };
 
 /// A neighbouring strip's boundary that one of this strip's curves is to follow (000_… §4.2,

@@ -1,0 +1,57 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "devsurf/models/strip/StripCover.h"
+
+namespace devsurf::models::strip {
+
+/// Options of coverShapeByRegions.
+struct ShapeCoverOptions {
+  int regions = 6;              ///< clusters of the segmentation (Fig. 10e: six composites on the bunny)
+  /// Segmentation: weight of position against normal (reference::NormalSegmentationOptions); 2
+  /// keeps the regions compact enough that each is one piece of surface on CGAL's bunny and kitten.
+  double positionWeight = 2.0;
+  std::uint32_t seed = 1;       ///< segmentation's k-means++ seeding
+  /// Points closer than this are neighbours when clusters are split into connected parts; 0 =
+  /// reference::suggestedThinningRadius of the points (without normals).
+  double connectionReach = 0.0;
+  /// A connected part smaller than this share of its cluster joins the region around it; larger
+  /// ones become regions of their own.
+  double minimumPartShare = 0.25;
+  RegionCoverOptions region;    ///< each region's cover: strips, thinning, placement, sweeps
+};
+
+/// One region of the shape and its cover, or why it has none.
+struct ShapeRegionCover {
+  std::vector<int> points;      ///< indices into the shape's points
+  bool covered = false;
+  RegionCover cover;            ///< when covered
+  std::string skipped;          ///< why not, when not covered
+};
+
+/// A whole shape cut into regions, each covered by strips side by side.
+struct ShapeCover {
+  std::vector<int> label;                 ///< per point its region
+  std::vector<ShapeRegionCover> regions;  ///< in label order
+};
+
+/// 000_… Fig. 10e on a whole shape: "the bunny is approximated by 6 composite surfaces". The paper
+/// leaves the layout to the user ("if one already guesses at the final strip layout…"); here the
+/// points are segmented by normal and position (reference::segmentPointsByNormals), so that each
+/// region is close to a height field over its own plane; each cluster is split into its connected
+/// parts (two flanks facing one way are two regions; small parts join the region around them);
+/// and each region is covered by
+/// coverRegion (Fig. 10b–d). A region too small or too thin for its strips is reported as skipped,
+/// not thrown: the rest of the shape is still covered.
+/// @param[in] points   n×3
+/// @param[in] normals  n×3, oriented consistently (reference::orientedPointNormals)
+/// @throws std::invalid_argument for regions < 1, sizes that disagree or non-finite values
+ShapeCover coverShapeByRegions(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& normals,
+                               const ShapeCoverOptions& options = {});
+
+}  // namespace devsurf::models::strip

@@ -1,0 +1,152 @@
+// A whole shape covered region by region (000_… Fig. 10e).
+#include "devsurf/models/strip/StripShapeCover.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "devsurf/reference/PointThinning.h"
+#include "devsurf/reference/SurfaceSegmentation.h"
+#include "devsurf/spatial/MatrixRowsKdTree.h"
+
+namespace devsurf::models::strip {
+
+namespace {
+
+/// Union–find over point indices.
+struct RegionParts {
+  std::vector<int> parent;
+  explicit RegionParts(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int i) {
+    while (parent[static_cast<std::size_t>(i)] != i)
+      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    return i;
+  }
+  void join(int i, int j) { parent[static_cast<std::size_t>(find(i))] = find(j); }
+};
+
+/// k-means clusters of normals need not be connected (two flanks facing one way); a region must
+/// be one piece of surface for its bands to describe it. Splits every cluster into its connected
+/// parts (points within `reach` of each other), gives parts under `minimumShare` of their cluster
+/// to the label most of their neighbours carry, and numbers the labels 0 … by first point.
+std::vector<int> connectedRegionLabels(const Eigen::MatrixX3d& points, std::vector<int> label, double reach,
+                                       double minimumShare) {
+  const auto n = static_cast<std::size_t>(points.rows());
+  const spatial::MatrixRows rows{points};
+  const spatial::MatrixRowsKdTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  const nanoflann::SearchParams search(32, 0.0f, false);
+  std::vector<std::vector<int>> neighbours(n);
+  std::vector<std::pair<std::size_t, double>> ball;
+  RegionParts parts(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Eigen::Vector3d p = points.row(static_cast<Eigen::Index>(j)).transpose();
+    ball.clear();
+    tree.radiusSearch(p.data(), reach * reach, ball, search);
+    for (const auto& [k, d2] : ball) {
+      if (k == j) continue;
+      neighbours[j].push_back(static_cast<int>(k));
+      if (label[k] == label[j]) parts.join(static_cast<int>(j), static_cast<int>(k));
+    }
+  }
+  std::map<int, int> clusterSize, partSize;
+  for (std::size_t j = 0; j < n; ++j) ++clusterSize[label[j]], ++partSize[parts.find(static_cast<int>(j))];
+  // The largest part of each cluster keeps the cluster; other parts become clusters of their own
+  // or, when small, join the label around them.
+  std::map<int, int> largestPart;
+  for (std::size_t j = 0; j < n; ++j) {
+    const int part = parts.find(static_cast<int>(j));
+    auto [it, inserted] = largestPart.emplace(label[j], part);
+    if (!inserted && partSize[part] > partSize[it->second]) it->second = part;
+  }
+  int nextLabel = 0;
+  for (const auto& [l, size] : clusterSize) nextLabel = std::max(nextLabel, l + 1);
+  std::map<int, int> newLabelOfPart;
+  std::vector<char> small(n, 0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const int part = parts.find(static_cast<int>(j));
+    if (largestPart[label[j]] == part) continue;
+    if (partSize[part] < minimumShare * clusterSize[label[j]]) {
+      small[j] = 1;
+      continue;
+    }
+    auto [it, inserted] = newLabelOfPart.emplace(part, nextLabel);
+    if (inserted) ++nextLabel;
+    label[j] = it->second;
+  }
+  // Small parts: the most common other label among their points' neighbours (repeated while some
+  // part borders only other small parts).
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<int, std::map<int, int>> votes;  // part → label → count
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!small[j]) continue;
+      for (const int k : neighbours[j])
+        if (!small[static_cast<std::size_t>(k)]) ++votes[parts.find(static_cast<int>(j))][label[static_cast<std::size_t>(k)]];
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!small[j]) continue;
+      const auto it = votes.find(parts.find(static_cast<int>(j)));
+      if (it == votes.end()) continue;
+      const auto best = std::max_element(it->second.begin(), it->second.end(),
+                                         [](const auto& x, const auto& y) { return x.second < y.second; });
+      label[j] = best->first;
+      small[j] = 0;
+      changed = true;
+    }
+  }
+  // Parts with no neighbour at all keep a label of their own.
+  for (std::size_t j = 0; j < n; ++j)
+    if (small[j]) {
+      auto [it, inserted] = newLabelOfPart.emplace(parts.find(static_cast<int>(j)), nextLabel);
+      if (inserted) ++nextLabel;
+      label[j] = it->second;
+    }
+  std::map<int, int> renumber;
+  for (int& l : label) l = renumber.emplace(l, static_cast<int>(renumber.size())).first->second;
+  return label;
+}
+
+}  // namespace
+
+ShapeCover coverShapeByRegions(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& normals,
+                               const ShapeCoverOptions& options) {
+  if (options.regions < 1) throw std::invalid_argument("regions: at least one");
+  if (normals.rows() != points.rows()) throw std::invalid_argument("normals: one per point is needed");
+  reference::NormalSegmentationOptions segmentation;
+  segmentation.patches = options.regions;
+  segmentation.positionWeight = options.positionWeight;
+  segmentation.seed = options.seed;
+  ShapeCover out;
+  out.label = reference::segmentPointsByNormals(points, normals, segmentation);
+  const double reach = options.connectionReach > 0.0 ? options.connectionReach
+                                                      : reference::suggestedThinningRadius(points, false);
+  if (reach > 0.0) out.label = connectedRegionLabels(points, std::move(out.label), reach, options.minimumPartShare);
+  int count = 0;
+  for (const int l : out.label) count = std::max(count, l + 1);
+  out.regions.resize(static_cast<std::size_t>(count));
+  for (std::size_t j = 0; j < out.label.size(); ++j)
+    out.regions[static_cast<std::size_t>(out.label[j])].points.push_back(static_cast<int>(j));
+  for (std::size_t r = 0; r < out.regions.size(); ++r) {
+    ShapeRegionCover& region = out.regions[r];
+    const auto size = static_cast<Eigen::Index>(region.points.size());
+    Eigen::MatrixX3d regionPoints(size, 3), regionNormals(size, 3);
+    for (Eigen::Index j = 0; j < size; ++j) {
+      regionPoints.row(j) = points.row(region.points[static_cast<std::size_t>(j)]);
+      regionNormals.row(j) = normals.row(region.points[static_cast<std::size_t>(j)]);
+    }
+    try {
+      region.cover = coverRegion(regionPoints, regionNormals, options.region);
+      region.covered = true;
+    } catch (const std::invalid_argument& e) {
+      // Too few points for the strips, points on a line, a band thinned to nothing: the region
+      // stays uncovered and says why; the others go on.
+      region.skipped = e.what();
+    }
+  }
+  return out;
+}
+
+}  // namespace devsurf::models::strip
