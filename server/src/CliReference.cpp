@@ -123,7 +123,8 @@ bool writeScene(const proto::Scene& scene, const std::string& outPath, const std
 constexpr const char* kFitUsage =
     "usage: devsurf fit SHAPE [--centre X,Y,Z --radius R] [--thin RADIUS] [--seed N]\n"
     "                   [--control-points N] [--rulings auto|across|along] [--flat]\n"
-    "                   [--iterations N] [--name NAME] [--units mm|cm|m|in] [--out SCENE.json]\n";
+    "                   [--iterations N] [--overhang W] [--name NAME] [--units mm|cm|m|in]\n"
+    "                   [--out SCENE.json]\n";
 
 }  // namespace
 
@@ -136,7 +137,7 @@ const std::map<std::string, std::string>& regionFlags() {
       {"--centre", "centre"},   {"--center", "centre"},   {"--radius", "radius"}, {"--thin", "thin"},
       {"--seed", "seed"},       {"--control-points", "control_points"},           {"--iterations", "iterations"},
       {"--rulings", "rulings"}, {"--strips", "strips"},   {"--rounds", "rounds"}, {"--crease", "crease"},
-      {"--regions", "regions"}, {"--name", "name"},       {"--units", "units"}};
+      {"--regions", "regions"}, {"--overhang", "overhang"}, {"--name", "name"},       {"--units", "units"}};
   return flags;
 }
 
@@ -273,7 +274,9 @@ namespace {
 
 constexpr const char* kCoverUsage =
     "usage: devsurf cover SHAPE [--centre X,Y,Z --radius R] [--strips K] [--regions R] [--thin RADIUS]\n"
-    "                     [--seed N] [--control-points N] [--rounds N] [--crease none|fold] [--name NAME]\n"
+    "                     [--seed N] [--control-points N] [--rounds N] [--crease none|fold] [--overhang W]\n"
+    "                     [--name NAME]"
+    "\n"
     "                     [--units mm|cm|m|in] [--region-out POINTS.xyz] [--out SCENE.json]\n";
 
 }  // namespace

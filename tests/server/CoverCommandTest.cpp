@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -205,6 +206,100 @@ TEST(CoverCommand, BadArgumentsAreRefusedNamingTheOption) {
   EXPECT_NE(ball.err.find("--radius"), std::string::npos) << ball.err;
   const CliRun missing = runCommand({"cover", (dir.path() / "nothing.off").string()});
   EXPECT_NE(missing.code, 0);
+  for (const std::vector<std::string>& flags : {std::vector<std::string>{"--regions", "0"},
+                                                std::vector<std::string>{"--regions", "33"},
+                                                std::vector<std::string>{"--regions", "32", "--strips", "8"},
+                                                std::vector<std::string>{"--overhang", "-1"}}) {
+    std::vector<std::string> args{"cover", bunny};
+    args.insert(args.end(), flags.begin(), flags.end());
+    const CliRun bad = runCommand(args);
+    EXPECT_EQ(bad.code, 2) << flags[0] << " " << flags[1];
+    EXPECT_NE(bad.err.find(flags[0]), std::string::npos) << bad.err;
+  }
+}
+
+/// 000_… Fig. 10e, "the bunny is approximated by 6 composite surfaces": the whole closed bunny cut
+/// into regions, each covered by strips, one composite of the parts. Distances from all of the
+/// bunny's vertices are measured twice: by `solve --reference` and from the exported STL read
+/// back through OpenMesh.
+TEST(CoverCommand, CoversTheWholeClosedBunnyRegionByRegionAsOneCompositeOfDevelopableParts) {
+  devsurf::testing::TempDir dir;
+  const std::string bunny = cgalData(dir, "data/meshes/bunny00.off");
+  const std::string scene = (dir.path() / "whole.json").string(), report = (dir.path() / "report.json").string(),
+                    stl = (dir.path() / "whole.stl").string();
+  const CliRun cover = runCommand({"cover", bunny, "--regions", "32", "--strips", "4", "--out", scene});
+  ASSERT_EQ(cover.code, 0) << cover.err;
+  const nlohmann::json summary = nlohmann::json::parse(cover.out);
+  const int covered = summary["covered_regions"].get<int>();
+  int skipped = 0;
+  for (const auto& region : summary["regions"]) {
+    if (region["covered"].get<bool>()) continue;
+    ++skipped;
+    EXPECT_FALSE(region["skipped"].get<std::string>().empty());
+    EXPECT_NE(cover.err.find("is not covered"), std::string::npos);
+  }
+  EXPECT_EQ(covered + skipped, static_cast<int>(summary["regions"].size()));
+  EXPECT_GE(covered, 25);
+  EXPECT_LE(summary["warp_angle_max_deg"].get<double>(), 0.05);
+  const nlohmann::json document = nlohmann::json::parse(std::ifstream(scene));
+  EXPECT_EQ(document["model"]["kind"], "composite");
+  EXPECT_EQ(document["model"]["faces"].size(), 4u * static_cast<std::size_t>(covered));
+
+  // Solved again as a user would: it stays developable.
+  const CliRun solve = runCommand({"solve", scene, "--reference", bunny, "--out", report, "--export", "stl:" + stl});
+  ASSERT_EQ(solve.code, 0) << solve.err;
+  const nlohmann::json metrics = nlohmann::json::parse(std::ifstream(report))["metrics"];
+  const reference::ReferenceShape shape = reference::readReferenceShape(bunny);
+  const double diagonal = shape.diagonal();
+  const reference::ReferenceShape surface = reference::readReferenceShape(stl);
+  ASSERT_GT(surface.triangles.rows(), 0);
+  const reference::SurfaceDistance d = reference::surfaceDistance(shape.points, surface.points, surface.triangles,
+                                                                   0.01 * diagonal);
+  std::printf("whole bunny, %d of %zu regions: warp %.3g°, flatness %.3g, RMS %.3g %% max %.3g %% of the diagonal, "
+              "%.1f %% of %ld vertices within 1 %%\n",
+              covered, summary["regions"].size(), metrics["warp_angle_max_deg"].get<double>(),
+              metrics["face_flatness_max"].get<double>(), 100 * d.rmsDistance / diagonal, 100 * d.maxDistance / diagonal,
+              100 * d.coverage, static_cast<long>(shape.points.rows()));
+  EXPECT_LE(metrics["warp_angle_max_deg"].get<double>(), 0.05);
+  EXPECT_LE(metrics["face_flatness_max"].get<double>(), 1e-3);
+  EXPECT_NEAR(d.coverage, metrics["reference_coverage"].get<double>(), 0.01);
+  EXPECT_GE(d.coverage, 0.75);
+  EXPECT_LE(d.rmsDistance, 0.02 * diagonal);
+}
+
+/// Without the overhang rows a strip grows where no point holds it (000_… Fig. 11: "so as to
+/// cover as much of the reference shape as possible"); on a doubly curved region that is a flap.
+/// With them it stays over its region: the farthest point of the exported surface from the
+/// region's points, computed here by brute force, is less than half as far.
+TEST(CoverCommand, TheOverhangWeightKeepsAFittedStripOverItsRegion) {
+  devsurf::testing::TempDir dir;
+  const std::string bunny = cgalData(dir, "data/meshes/bunny00.off");
+  double farthest[2] = {0.0, 0.0};
+  for (int withOverhang = 0; withOverhang < 2; ++withOverhang) {
+    const std::string scene = (dir.path() / ("fit" + std::to_string(withOverhang) + ".json")).string();
+    const std::string stl = (dir.path() / ("fit" + std::to_string(withOverhang) + ".stl")).string();
+    std::vector<std::string> args{"fit", bunny, "--centre", "0.187,0.119,0.014", "--radius", "0.3", "--out", scene};
+    if (withOverhang) args.insert(args.end(), {"--overhang", "0.001"});
+    const CliRun fit = runCommand(args);
+    ASSERT_EQ(fit.code, 0) << fit.err;
+    const CliRun solve = runCommand({"solve", scene, "--export", "stl:" + stl});
+    ASSERT_EQ(solve.code, 0) << solve.err;
+    const nlohmann::json document = nlohmann::json::parse(std::ifstream(scene));
+    const nlohmann::json& points = document["model"]["approximation"]["points"];
+    EXPECT_EQ(document["model"]["approximation"]["weights"].value("overhang", 0.0), withOverhang ? 0.001 : 0.0);
+    const reference::ReferenceShape surface = reference::readReferenceShape(stl);
+    for (Eigen::Index v = 0; v < surface.points.rows(); v += 3) {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const auto& q : points)
+        nearest = std::min(nearest, std::hypot(surface.points(v, 0) - q[0].get<double>(),
+                                               surface.points(v, 1) - q[1].get<double>(),
+                                               surface.points(v, 2) - q[2].get<double>()));
+      farthest[withOverhang] = std::max(farthest[withOverhang], nearest);
+    }
+  }
+  std::printf("fitted strip on the bunny's back: farthest surface point from the region %.3g without, %.3g with overhang rows\n",
+              farthest[0], farthest[1]);
+  EXPECT_LT(farthest[1], 0.5 * farthest[0]);
 }
 
 }  // namespace

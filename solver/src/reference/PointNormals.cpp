@@ -88,14 +88,23 @@ Eigen::MatrixX3d orientedPointNormals(const ReferenceShape& shape) {
     if (!(thinning.radius > 0.0)) return normals;  // coincident points
     ThinnedCloud thin = thinPointCloud(shape.points, Eigen::MatrixX3d(0, 3), thinning);
     orientAlongSpanningTree(thin.points, thin.normals, 3.0 * thinning.radius);
-    const spatial::MatrixRows kept{thin.points};
+    // Each point takes the normal of its nearest kept point that has one (a ball with too few
+    // points fits none).
+    std::vector<Eigen::Index> withNormal;
+    for (Eigen::Index k = 0; k < thin.points.rows(); ++k)
+      if (thin.normals.row(k).squaredNorm() > 0.0) withNormal.push_back(k);
+    if (withNormal.empty()) return normals;
+    Eigen::MatrixX3d keptPoints(static_cast<Eigen::Index>(withNormal.size()), 3);
+    for (std::size_t k = 0; k < withNormal.size(); ++k)
+      keptPoints.row(static_cast<Eigen::Index>(k)) = thin.points.row(withNormal[k]);
+    const spatial::MatrixRows kept{keptPoints};
     const spatial::MatrixRowsKdTree tree(3, kept, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     for (Eigen::Index j = 0; j < n; ++j) {
       std::size_t nearest = 0;
       double d2 = 0.0;
       const Eigen::Vector3d p = shape.points.row(j).transpose();
       tree.knnSearch(p.data(), 1, &nearest, &d2);
-      normals.row(j) = thin.normals.row(static_cast<Eigen::Index>(nearest));
+      normals.row(j) = thin.normals.row(withNormal[nearest]);
     }
   }
   for (Eigen::Index j = 0; j < n; ++j) {

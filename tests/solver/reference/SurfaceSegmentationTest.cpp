@@ -103,5 +103,62 @@ TEST(SurfaceSegmentation, RefusesWhatItCannotSegment) {
   EXPECT_THROW(segmentByNormals(V, out), std::invalid_argument);
 }
 
+TEST(SurfaceSegmentation, SplitsPointsOnABoxsSixSidesOneLabelPerSideInHundredsOfPoses) {
+  std::mt19937 random(1506);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(2.0 * M_PI * unit(random), Eigen::Vector3d(unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5).normalized())
+            .toRotationMatrix();
+    const Eigen::Vector3d size(0.5 + unit(random), 0.5 + unit(random), 0.5 + unit(random));
+    const int perSide = 40;
+    Eigen::MatrixX3d points(6 * perSide, 3), normals(6 * perSide, 3);
+    std::vector<int> sideOf;
+    for (int side = 0; side < 6; ++side) {
+      const int axis = side / 2;
+      const double sign = side % 2 ? 1.0 : -1.0;
+      for (int k = 0; k < perSide; ++k) {
+        Eigen::Vector3d p(size.x() * (unit(random) - 0.5), size.y() * (unit(random) - 0.5), size.z() * (unit(random) - 0.5));
+        p[axis] = sign * 0.5 * size[axis];
+        const int row = side * perSide + k;
+        points.row(row) = (turn * p).transpose();
+        normals.row(row) = (turn * (sign * Eigen::Vector3d::Unit(axis))).transpose();
+        sideOf.push_back(side);
+      }
+    }
+    NormalSegmentationOptions options;
+    options.patches = 6;
+    options.positionWeight = 0.0;  // the Gauss image alone: six points
+    options.seed = static_cast<std::uint32_t>(trial);
+    const std::vector<int> label = segmentPointsByNormals(points, normals, options);
+    ASSERT_EQ(label.size(), sideOf.size());
+    // One label per side, a different one for each side.
+    std::set<std::pair<int, int>> pairs;
+    for (std::size_t j = 0; j < label.size(); ++j) pairs.insert({sideOf[j], label[j]});
+    EXPECT_EQ(pairs.size(), 6u) << "trial " << trial;
+    std::set<int> labels;
+    for (const auto& [side, l] : pairs) labels.insert(l);
+    EXPECT_EQ(labels.size(), 6u) << "trial " << trial;
+  }
+}
+
+TEST(SurfaceSegmentation, PointsWithOneNormalAreSplitByPositionWhenItIsWeighed) {
+  // Two parallel plates facing one way, far apart: the normals cannot tell them apart.
+  Eigen::MatrixX3d points(200, 3), normals(200, 3);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int j = 0; j < 200; ++j) {
+    points.row(j) << unit(random) + (j < 100 ? 0.0 : 5.0), unit(random), 0.0;
+    normals.row(j) << 0.0, 0.0, 1.0;
+  }
+  NormalSegmentationOptions options;
+  options.patches = 2;
+  options.positionWeight = 1.0;
+  const std::vector<int> label = segmentPointsByNormals(points, normals, options);
+  for (int j = 0; j < 200; ++j) EXPECT_EQ(label[static_cast<std::size_t>(j)], j < 100 ? 0 : 1) << j;
+  EXPECT_THROW(segmentPointsByNormals(points, Eigen::MatrixX3d(3, 3), options), std::invalid_argument);
+  EXPECT_THROW(segmentPointsByNormals(Eigen::MatrixX3d(0, 3), Eigen::MatrixX3d(0, 3), options), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace devsurf::reference

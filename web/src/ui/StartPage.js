@@ -141,9 +141,19 @@ export class StartPage {
     this.radiusName = h('span', {}, 'Radius ');
     this.regionMode = h('select', { class: 'input fit', testid: 'region-mode', 'aria-label': 'What to fit' },
       h('option', { value: 'strip' }, 'one strip, fitted live'),
-      h('option', { value: 'cover' }, 'strips side by side (a composite)'));
+      h('option', { value: 'cover' }, 'strips side by side (a composite)'),
+      h('option', { value: 'whole' }, 'the whole shape, region by region (Fig. 10e)'));
     this.regionStrips = h('input', { type: 'number', class: 'input narrow', min: '1', max: '64', value: '6', testid: 'region-strips', 'aria-label': 'Strips' });
-    this.regionMode.addEventListener('change', () => { this.regionStrips.disabled = this.regionMode.value !== 'cover'; this._updateRegion(); });
+    // The whole shape: cut into this many clusters by normal, each covered by its own strips.
+    this.shapeRegions = h('input', { type: 'number', class: 'input narrow', min: '2', max: '32', value: '24', testid: 'shape-regions', 'aria-label': 'Regions' });
+    this.shapeRegionsField = h('label', { class: 'small', hidden: true }, 'Regions ', this.shapeRegions);
+    this.regionMode.addEventListener('change', () => {
+      const mode = this.regionMode.value;
+      this.regionStrips.disabled = mode === 'strip';
+      if (mode === 'whole' && Number(this.regionStrips.value) > 4) this.regionStrips.value = '4';
+      this.shapeRegionsField.hidden = mode !== 'whole';
+      this._updateRegion();
+    });
     this.regionStrips.addEventListener('change', () => this._updateRegion());
     this.regionStrips.disabled = true;
     this.regionButton = h('button', { class: 'btn', testid: 'fit-region', disabled: true, onclick: () => this._fitRegion() }, 'Fit');
@@ -189,13 +199,13 @@ export class StartPage {
           this.meshInput,
           h('div', { class: 'row' }, h('label', { class: 'small' }, 'Patches ', this.meshPatches), h('label', { class: 'small' }, 'Quads ', this.meshFaces), this.meshButton)),
         h('section', { class: 'card wide', testid: 'shape-card' }, h('h2', {}, 'Fit strips to your own shape'),
-          h('p', { class: 'muted small' }, 'Choose a region of a scan or mesh: one developable strip grows onto it while you watch (Tang et al. 2016 §4.2), or strips side by side become one composite covering it (Fig. 10).'),
+          h('p', { class: 'muted small' }, 'Choose a region of a scan or mesh: one developable strip grows onto it while you watch (Tang et al. 2016 §4.2), or strips side by side become one composite covering it (Fig. 10) — or the whole shape, region by region.'),
           this.shapeInput, this.shapeInfo, this.regionView,
           h('div', { class: 'row' }, this.regionTool, this.centreField,
             h('label', { class: 'small' }, this.radiusName, this.regionRadius, ' ', this.regionRadiusLabel),
             this.regionCount, this.regionClear),
           this.regionHint,
-          h('div', { class: 'row' }, this.regionMode, h('label', { class: 'small' }, 'Strips ', this.regionStrips), this.regionButton)),
+          h('div', { class: 'row' }, this.regionMode, h('label', { class: 'small' }, 'Strips ', this.regionStrips), this.shapeRegionsField, this.regionButton)),
         h('section', { class: 'card' }, h('h2', {}, 'Join by link'),
           h('div', { class: 'row' }, this.joinInput, h('button', { class: 'btn', onclick: join }, 'Join')), this.joinError)),
       h('div', { class: 'start-status' }, this.apiKeyRow, this.busy, this.createError),
@@ -392,7 +402,9 @@ export class StartPage {
     if (this.regionPicker) this.regionPicker.setRegion(centre, radius);
     const marked = this.regionPicker ? this.regionPicker.insideCount() : 0;
     this.regionCount.textContent = this.preview ? `${marked.toLocaleString('en')} points in the region` : '';
-    this.regionButton.disabled = !this.preview || (this.regionTool.value === 'ball' ? !centre : marked === 0);
+    // The whole shape needs no region; a ball needs its centre, a brush or lasso its points.
+    const whole = this.regionMode.value === 'whole';
+    this.regionButton.disabled = !this.preview || (!whole && (this.regionTool.value === 'ball' ? !centre : marked === 0));
     this.regionCentre.classList.toggle('invalid', this.regionCentre.value.trim() !== '' && !centre);
   }
 
@@ -407,25 +419,30 @@ export class StartPage {
     }
     const shape = this._shapeFile();
     const { centre, radius } = this._region();
+    const whole = this.regionMode.value === 'whole';
     const ball = this.regionTool.value === 'ball';
-    if (!shape || (ball && !centre)) return;
-    const cover = this.regionMode.value === 'cover';
+    if (!shape || (!whole && ball && !centre)) return;
+    const cover = this.regionMode.value !== 'strip';
     const strips = Math.max(1, Math.min(64, Math.round(Number(this.regionStrips.value) || 4)));
+    const regions = whole ? Math.max(2, Math.min(32, Math.round(Number(this.shapeRegions.value) || 24))) : 1;
     const stem = shape.file.name.replace(/\.[^.]*$/, '');
-    const what = cover ? `cover a region of ${shape.file.name}` : `fit a strip to ${shape.file.name}`;
+    const what = whole ? `cover ${shape.file.name}` : cover ? `cover a region of ${shape.file.name}` : `fit a strip to ${shape.file.name}`;
     this.createError.hidden = true;
-    this.busy.textContent = cover ? `Fitting ${strips} strips side by side…` : 'Placing the strip…';
+    this.busy.textContent = whole ? `Covering ${regions} regions by ${strips} strips each…`
+      : cover ? `Fitting ${strips} strips side by side…` : 'Placing the strip…';
     this.busy.hidden = false;
     this.regionButton.disabled = true;
     let result;
     try {
-      const name = cover ? `${stem}: ${strips} strips` : `${stem}: fitted strip`;
+      const name = whole ? `${stem}: covered in ${regions} regions` : cover ? `${stem}: ${strips} strips` : `${stem}: fitted strip`;
       const key = this.apiKeyInput.value.trim() || apiKey();
       // A painted or lassoed region goes as its own points (an XYZ cloud: the region is the whole
       // of it); the ball as the shape file with its centre and radius.
-      result = ball
-        ? await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips, name }, key)
-        : await fitRegion(xyzBlob(this.regionPicker.selectedPositions()), { format: 'xyz', cover, strips, name }, key);
+      result = whole
+        ? await fitRegion(shape.file, { format: shape.format, centre: null, cover, strips, regions, name }, key)
+        : ball
+          ? await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips, name }, key)
+          : await fitRegion(xyzBlob(this.regionPicker.selectedPositions()), { format: 'xyz', cover, strips, name }, key);
     } catch (e) {
       this._showCreateError(e, what);
       this.busy.hidden = true;
@@ -438,7 +455,11 @@ export class StartPage {
     this.regionButton.disabled = false;
     const warnings = (result.summary && result.summary.warnings) || [];
     if (warnings.length) {
-      this.createError.textContent = `${what}: ${warnings.join(' ')}`;
+      const regions = whole && result.summary.regions;
+      // A whole shape leaves some regions out as a rule: say how many, not every reason.
+      this.createError.textContent = regions
+        ? `${what}: ${result.summary.covered_regions} of ${regions.length} regions covered; ${warnings.length} warning${warnings.length === 1 ? '' : 's'}, e.g. ${warnings[0]}`
+        : `${what}: ${warnings.join(' ')}`;
       this.createError.hidden = false;
       this.pendingRegion = { scene: result.scene, what };
       this.regionButton.textContent = 'Open anyway';

@@ -169,5 +169,50 @@ TEST(CompositeFromStrips, RandomShapesInRandomPosesAreCoveredBySolvableComposite
   EXPECT_EQ(developable, cases) << "composites with warp ≤ 0.05° after 20 iterations";
 }
 
+TEST(CompositeFromStrips, ADisjointUnionKeepsEveryPartAsItWasWithItsIndicesMovedOn) {
+  // Two sheets of two and three strips, the second lifted to z = 1, a fixed vertex and a handle on
+  // the second: the union is both, and solving it leaves each part where it was.
+  std::vector<CompositeDesign> parts;
+  for (int count : {2, 3}) {
+    std::vector<StripDesign> strips;
+    for (int k = 0; k < count; ++k) strips.push_back(flatStrip(0.3 * k, 0.3 * (k + 1)));
+    parts.push_back(compositeFromStrips(strips, strip::proposeBoundaryPairings(strips), CreaseKind::None));
+  }
+  parts[1].vertices.col(2).array() += 1.0;
+  for (CompositeEdge& e : parts[1].edges)
+    if (e.curve.points.rows() > 0) e.curve.points.col(2).array() += 1.0;
+  parts[1].fixed.push_back(PointRef::ofVertex(1));
+  parts[1].handles.push_back({PointRef::ofEdgePoint(0, 2), Eigen::Vector3d(0.4, 0.0, 1.0), 1.0});
+  const CompositeDesign both = disjointUnion(parts);
+  ASSERT_EQ(both.vertices.rows(), parts[0].vertices.rows() + parts[1].vertices.rows());
+  ASSERT_EQ(both.edges.size(), parts[0].edges.size() + parts[1].edges.size());
+  ASSERT_EQ(both.faces.size(), 5u);
+  const int v0 = static_cast<int>(parts[0].vertices.rows()), e0 = static_cast<int>(parts[0].edges.size());
+  EXPECT_EQ(both.vertices.bottomRows(parts[1].vertices.rows()), parts[1].vertices);
+  for (std::size_t f = 0; f < parts[1].faces.size(); ++f)
+    for (std::size_t k = 0; k < parts[1].faces[f].size(); ++k)
+      EXPECT_EQ(both.faces[parts[0].faces.size() + f][k], parts[1].faces[f][k] + e0);
+  for (std::size_t e = 0; e < parts[1].edges.size(); ++e) {
+    EXPECT_EQ(both.edges[e0 + e].v0, parts[1].edges[e].v0 + v0);
+    EXPECT_EQ(both.edges[e0 + e].v1, parts[1].edges[e].v1 + v0);
+  }
+  ASSERT_EQ(both.fixed.size(), 1u);
+  EXPECT_EQ(both.fixed[0].vertex, 1 + v0);
+  ASSERT_EQ(both.handles.size(), 1u);
+  EXPECT_EQ(both.handles[0].point.edge, e0);
+  EXPECT_EQ(both.handles[0].point.index, 2);
+  CompositeModel model(both);
+  engine::SolverOptions options;
+  options.maxIterations = 3;
+  model.solve(options);
+  EXPECT_LT(model.quality().warpAngleMaxDeg, 1e-6);
+  EXPECT_LT(model.design().vertices.topRows(v0).col(2).cwiseAbs().maxCoeff(), 1e-9);
+
+  CompositeDesign sheet = parts[0];
+  sheet.developmentSamples = 4;
+  EXPECT_THROW(disjointUnion({sheet, parts[1]}), std::invalid_argument);
+  EXPECT_THROW(disjointUnion({}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace devsurf::models::composite

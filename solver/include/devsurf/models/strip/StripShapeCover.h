@@ -23,7 +23,17 @@ struct ShapeCoverOptions {
   /// A connected part smaller than this share of its cluster joins the region around it; larger
   /// ones become regions of their own.
   double minimumPartShare = 0.25;
-  RegionCoverOptions region;    ///< each region's cover: strips, thinning, placement, sweeps
+  /// Each region's cover: strips, thinning, placement, sweeps. Its rectangle spans the whole
+  /// region (keep = 1): the regions meet, so a margin left by each would be a gap between them
+  /// (a closed can in 6 regions: 57 % of its points within 1 % of its size at keep = 0.7, 91 % at
+  /// 0.9, all at 1).
+  RegionCoverOptions region = wholeRegion();
+
+  static RegionCoverOptions wholeRegion() {
+    RegionCoverOptions options;
+    options.keep = 1.0;
+    return options;
+  }
 };
 
 /// One region of the shape and its cover, or why it has none.
