@@ -230,6 +230,44 @@ test('strips side by side over the bunny\'s back open as one composite that solv
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 
+test('the whole bunny covered region by region opens as one composite of developable parts (Fig. 10e)',
+  { timeout: 180000 }, () => ctx.guard('fit-region-whole', async () => {
+    const { daemon, page } = await bunnyOnTheStartPage();
+    // No region to mark: the whole shape is cut into regions by the server.
+    await page.getByTestId('region-mode').selectOption('whole');
+    assert.equal(await page.getByTestId('shape-regions').isVisible(), true);
+    assert.equal(await page.getByTestId('region-strips').inputValue(), '4', 'four strips a region by default');
+    await page.getByTestId('shape-regions').fill('16');
+    assert.equal(await page.getByTestId('fit-region').isDisabled(), false, 'nothing to mark first');
+    await page.getByTestId('fit-region').click();
+    // Some regions are left out as a rule: the page says how many were covered, and opens on a
+    // second click.
+    const warning = page.locator('.start-status .field-error');
+    await warning.waitFor({ state: 'visible', timeout: 90000 });
+    const said = await warning.textContent();
+    const m = /^cover bunny00\.off: (\d+) of (\d+) regions covered; \d+ warnings?, e\.g\. region \d+/.exec(said);
+    assert.ok(m, said);
+    const covered = Number(m[1]);
+    assert.ok(covered >= 8 && covered <= Number(m[2]), said);
+    assert.equal(await page.getByTestId('fit-region').textContent(), 'Open anyway');
+    await page.getByTestId('fit-region').click();
+    await page.getByTestId('editor').waitFor({ timeout: 60000 });
+    await h.waitForConnected(page);
+    const opened = await h.state(page);
+    const server = await daemon.session(opened.session, new URL(page.url()).searchParams.get('token'));
+    assert.equal(server.scene.model.kind, 'composite');
+    assert.equal(server.scene.model.faces.length, 4 * covered, 'four faces a covered region');
+    assert.match(server.scene.name, /bunny00: covered in 16 regions/);
+    await page.getByTestId('solve').click();
+    await h.waitState(page, (s) => s.lastSolved && s.metrics && s.metrics.warp_angle_max_deg < 0.05,
+      undefined, { what: 'developable parts', timeout: 90000 });
+    await h.settleFrames(page);
+    const shot = await h.screenshotViewport(page, '11-fit-region-whole');
+    const s = h.pixelStats(shot.image);
+    assert.ok(s.distinct >= 32 && s.dominantShare < 0.97, `the parts are drawn (${s.distinct} colours)`);
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
+
 test('a lasso drawn over the bunny takes only the side facing the viewer, a brush paints and Shift erases, and the marked points fit one strip',
   { timeout: 180000 }, () => ctx.guard('fit-region-lasso', async () => {
     const { daemon, bunny, page } = await bunnyOnTheStartPage();

@@ -523,7 +523,8 @@ class Worker:
             for key, values in [("centre", ["0.5,0.5,0", "0,0", "nan,0,0", "1e308,0,0"]), ("radius", ["0.4", "0", "-1", "inf"]),
                                 ("thin", ["0.05", "0", "1e-300"]), ("strips", ["2", "0", "65", "x"]), ("rounds", ["1", "101"]),
                                 ("control_points", ["4", "3", "201"]), ("crease", ["fold", "valley"]),
-                                ("points", ["10", "0", "200001"]), ("flat", ["true", "maybe"]), ("bogus", ["1"])]:
+                                ("points", ["10", "0", "200001"]), ("flat", ["true", "maybe"]),
+                                ("regions", ["2", "3", "0", "33", "x"]), ("overhang", ["0.001", "-1", "nan"]), ("bogus", ["1"])]:
                 if rng.random() < 0.2:
                     params[key] = rng.choice(values)
         query = "&".join(f"{k}={v}" for k, v in params.items())

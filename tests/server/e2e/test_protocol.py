@@ -312,6 +312,25 @@ class ProtocolTest(DaemonTestCase):
             self.assertLess(state["report"]["metrics"].get(metric, 0.0), 0.01)
         status, _, session = self.daemon.json("POST", "/api/sessions", fit["scene"])
         self.assertEqual(status, 201, session)
+        # Fig. 10e: a closed can (its side and two discs, 4000 points) covered region by region.
+        rows = []
+        for _ in range(4000):
+            a, pick = 2 * math.pi * rng.random(), rng.random() * (4 * math.pi + 2 * math.pi)
+            if pick < 4 * math.pi:
+                rows.append(f"{math.cos(a)} {math.sin(a)} {2 * rng.random() - 1}")
+            else:
+                r = math.sqrt(rng.random())
+                rows.append(f"{r * math.cos(a)} {r * math.sin(a)} {1 if pick > 5 * math.pi else -1}")
+        can = ("\n".join(rows) + "\n").encode()
+        status, _, whole = self.daemon.json("POST", "/api/covers?format=xyz&regions=6&strips=3", can, octet)
+        self.assertEqual(status, 200, whole)
+        summary = whole["summary"]
+        self.assertEqual(len(summary["regions"]), 6, summary)
+        self.assertGreaterEqual(summary["covered_regions"], 5, summary)
+        self.assertLessEqual(summary["warp_angle_max_deg"], 0.05)
+        self.assertEqual(len(whole["scene"]["model"]["faces"]), 3 * summary["covered_regions"])
+        state = self.finished_job(whole["scene"])
+        self.assertLess(state["report"]["metrics"]["warp_angle_max_deg"], 0.05)
         # Bad input names the field.
         cases = [("/api/fits?format=dxf", xyz, "format"), ("/api/fits?format=xyz&centre=1,0", xyz, "centre"),
                  ("/api/fits?format=xyz&centre=1,0,0", xyz, "radius"), ("/api/fits?format=xyz&radius=-1&centre=0,0,0", xyz, "radius"),
@@ -319,7 +338,9 @@ class ProtocolTest(DaemonTestCase):
                  ("/api/covers?format=xyz&strips=0", xyz, "strips"), ("/api/covers?format=xyz&crease=valley", xyz, "crease"),
                  ("/api/covers?format=xyz&centre=nan,0,0&radius=1", xyz, "centre"), ("/api/covers?format=xyz", b"", "body"),
                  ("/api/covers?format=xyz", b"1 2\n", "body"), ("/api/references?format=xyz&points=0", xyz, "points"),
-                 ("/api/references?format=xyz&colour=red", xyz, "colour")]
+                 ("/api/references?format=xyz&colour=red", xyz, "colour"), ("/api/covers?format=xyz&regions=0", xyz, "regions"),
+                 ("/api/covers?format=xyz&regions=32&strips=8", xyz, "regions"), ("/api/fits?format=xyz&overhang=-1", xyz, "overhang"),
+                 ("/api/fits?format=xyz&regions=2", xyz, "regions")]
         for route, data, field in cases:
             status, _, err = self.daemon.json("POST", route, data, octet)
             self.assertEqual(status, 400, (route, err))

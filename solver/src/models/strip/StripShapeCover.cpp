@@ -97,7 +97,24 @@ std::vector<int> connectedRegionLabels(const Eigen::MatrixX3d& points, std::vect
       changed = true;
     }
   }
-  // Parts with no neighbour at all keep a label of their own.
+  // Parts with no neighbour within reach (stray points of a sparse cloud) take the label of the
+  // nearest point that has one if it is within three reaches; others keep a label of their own.
+  std::vector<int> assigned = label;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!small[j]) continue;
+    std::size_t found[32];
+    double squared[32];
+    const Eigen::Vector3d p = points.row(static_cast<Eigen::Index>(j)).transpose();
+    const std::size_t count = tree.knnSearch(p.data(), 32, found, squared);
+    for (std::size_t k = 0; k < count; ++k)
+      if (!small[found[k]] && squared[k] <= 9.0 * reach * reach) {
+        assigned[j] = label[found[k]];
+        small[j] = 2;  // settled (not a neighbour for the others)
+        break;
+      }
+  }
+  for (std::size_t j = 0; j < n; ++j)
+    if (small[j] == 2) label[j] = assigned[j], small[j] = 0;
   for (std::size_t j = 0; j < n; ++j)
     if (small[j]) {
       auto [it, inserted] = newLabelOfPart.emplace(parts.find(static_cast<int>(j)), nextLabel);
