@@ -130,11 +130,11 @@ class QuadPresetsTest(unittest.TestCase):
                     used.update(f)
                 self.assertEqual(used, set(range(n)), "every vertex is in a face")
                 self.assertTrue(all(c <= 2 for c in edges_of(faces(m)).values()), "manifold")
-                for h in m["handles"]:
+                for h in m.get("handles", []):
                     self.assertIn(h.get("on", "mesh"), ("mesh", "unfolding"))
                     self.assertTrue(0 <= h["vertex"] < n)
                     self.assertEqual(len(h["position"]), 3)
-                for fx in m["fixed"]:
+                for fx in m.get("fixed", []):
                     if isinstance(fx, int):  # a vertex of M
                         self.assertTrue(0 <= fx < n)
                     else:
@@ -211,8 +211,11 @@ class QuadPresetsTest(unittest.TestCase):
                             if frozenset((a2, b2)) in lookup:
                                 glued += 1
                                 u = unfolding(m)
+                                # Built presets are exact; an approximation ships its solved state,
+                                # whose unfoldings keep glued lengths within its L-Err (max 1.2e-4 here).
+                                tolerance = 1e-3 if "reference" in m else 1e-9
                                 self.assertAlmostEqual(dist(u[a], u[b]), dist(u[a2], u[b2]),
-                                                       delta=1e-9 * dist(u[a], u[b]))
+                                                       delta=tolerance * dist(u[a], u[b]))
                 self.assertGreater(glued, 0)
 
     def test_d_form_pieces_have_equal_perimeters_and_meet_on_their_glued_boundary(self):
