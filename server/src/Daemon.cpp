@@ -30,6 +30,9 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
+/// POST /api/covers and /api/fits run in the request's thread: a cover gives up after this long.
+constexpr double kRegionRouteTimeLimitMs = 60000.0;
+
 /// The store as a session journal.
 class StoreJournal final : public SessionJournal {
  public:
@@ -507,7 +510,8 @@ void Daemon::routes() {
       if (!needApiKey(req, res)) return;
       try {
         const std::multimap<std::string, std::string> params(req.params.begin(), req.params.end());
-        const RegionFitRequest request = regionFitRequestFromQuery(params, cover);
+        RegionFitRequest request = regionFitRequestFromQuery(params, cover);
+        request.timeLimitMs = kRegionRouteTimeLimitMs;  // the work runs in this request's thread
         const reference::ReferenceShape shape = uploadedShape(req);
         const std::string source = request.name.empty() ? "the uploaded shape" : request.name;
         const RegionFitResult result =

@@ -60,13 +60,16 @@ std::pair<Eigen::MatrixX3d, Eigen::MatrixX3d> regionOf(const reference::Referenc
   return {points, normals};
 }
 
-void requireRegion(const Eigen::MatrixX3d& points, long needed, const std::string& source, const std::string& what) {
+/// @param[in] field  the parameter to change: "radius" for a ball, else what asked for the points
+void requireRegion(const Eigen::MatrixX3d& points, long needed, const std::string& source, const std::string& what,
+                   const std::string& field = "radius") {
+  const std::string region = field == "radius" ? "the region" : "the shape";
   if (points.rows() < needed)
-    throw ApproximationInputError("radius", "radius: the region holds " + std::to_string(points.rows()) +
-                                                " points of " + source + "; " + what + " needs at least " +
-                                                std::to_string(needed));
+    throw ApproximationInputError(field, field + ": " + region + " holds " + std::to_string(points.rows()) +
+                                             " points of " + source + "; " + what + " needs at least " +
+                                             std::to_string(needed));
   if (!((points.colwise().maxCoeff() - points.colwise().minCoeff()).norm() > 0.0))
-    throw ApproximationInputError("radius", "radius: the region's points all coincide");
+    throw ApproximationInputError(field, field + ": " + region + "'s points all coincide");
 }
 
 }  // namespace
@@ -110,7 +113,7 @@ RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std:
   if (cover && r.strips * r.rounds > 400)
     throw ApproximationInputError("rounds", "rounds: strips × rounds is at most 400 (" + std::to_string(r.strips) +
                                                 " × " + std::to_string(r.rounds) + ")");
-  if (cover && r.regions * r.strips * r.rounds > 1600)
+  if (cover && r.regions * r.strips * std::max(r.rounds, 1) > 1600)
     throw ApproximationInputError("regions", "regions: regions × strips × rounds is at most 1600 (" +
                                                  std::to_string(r.regions) + " × " + std::to_string(r.strips) + " × " +
                                                  std::to_string(r.rounds) + ")");
@@ -167,6 +170,9 @@ models::strip::RegionCoverOptions regionCoverOptions(const RegionFitRequest& req
   options.seed = request.seed;
   options.placement.controlPoints = request.controlPoints;
   options.pairing.rounds = request.rounds;
+  options.pairing.deadline = request.timeLimitMs > 0.0
+                                 ? engine::Deadline::after(request.timeLimitMs, "the cover's time limit")
+                                 : engine::Deadline();
   options.overhangWeight = request.overhang;
   return options;
 }
@@ -210,20 +216,33 @@ void setCoverSolver(proto::Scene& scene) {
   scene.solver.fairness = 0.0;
 }
 
-/// One region's paired strips joined as a composite and solved as its scene would be; its largest
-/// warp after the solve (NaN when the strips cannot be joined or the solve fails).
-std::pair<models::composite::CompositeDesign, double> solvedRegionComposite(const models::strip::RegionCover& cover,
-                                                                            models::composite::CreaseKind crease) {
+/// One region's paired strips joined as a composite and solved as its scene would be.
+struct RegionComposite {
+  models::composite::CompositeDesign design;
+  double warpDeg = std::numeric_limits<double>::quiet_NaN();  ///< largest warp after the solve
+  std::string failure;  ///< why the strips could not be joined or solved ("" when they were)
+};
+
+/// @throws engine::DeadlineExceeded when the request's time runs out
+RegionComposite solvedRegionComposite(const models::strip::RegionCover& cover, models::composite::CreaseKind crease,
+                                      const engine::Deadline& deadline) {
+  RegionComposite out;
   try {
     proto::Scene scene;
     scene.model = models::composite::compositeFromStrips(cover.paired.strips, cover.pairings, crease);
     setCoverSolver(scene);
     models::composite::CompositeModel model(std::get<models::composite::CompositeDesign>(scene.model));
-    model.solve(scene.solver.solverOptions());
-    return {model.design(), model.quality().warpAngleMaxDeg};
-  } catch (const std::exception&) {
-    return {{}, std::numeric_limits<double>::quiet_NaN()};
+    engine::SolverOptions options = scene.solver.solverOptions();
+    options.deadline = deadline;
+    model.solve(options);
+    out.design = model.design();
+    out.warpDeg = model.quality().warpAngleMaxDeg;
+  } catch (const engine::DeadlineExceeded&) {
+    throw;
+  } catch (const std::exception& e) {
+    out.failure = e.what();
   }
+  return out;
 }
 
 /// Appends the points of a cover's bands (the region as covered) to `covered`.
@@ -257,13 +276,15 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
     normals.row(static_cast<Eigen::Index>(k)) = allNormals.row(rows[k]);
   }
   requireRegion(points, 6L * request.strips * request.regions, source,
-                std::to_string(request.regions) + " regions of " + std::to_string(request.strips) + " strips");
+                std::to_string(request.regions) + " regions of " + std::to_string(request.strips) + " strips",
+                request.centre ? "radius" : "regions");
   models::strip::ShapeCoverOptions options;
   options.regions = request.regions;
   options.seed = request.seed;
   const double keep = options.region.keep;
   options.region = regionCoverOptions(request);
   options.region.keep = keep;
+  options.deadline = options.region.pairing.deadline;  // one limit for the whole request
   const models::strip::ShapeCover cover = models::strip::coverShapeByRegions(points, normals, options);
 
   RegionFitResult result;
@@ -289,12 +310,14 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
     // (a pairing's gap left large: one strip takes the other's curve), would spoil the whole
     // composite's solve: it is left out.
     std::ostringstream why;
-    std::pair<models::composite::CompositeDesign, double> part;
-    if (lastSweepWarp(c) > 1.0) why << "its strips ended " << lastSweepWarp(c) << "° from developable";
+    RegionComposite part;
+    if (!(lastSweepWarp(c) <= 1.0)) why << "its strips ended " << lastSweepWarp(c) << "° from developable";
     else {
-      part = solvedRegionComposite(c, request.crease);
-      entry["composite_warp_angle_max_deg"] = std::isfinite(part.second) ? nlohmann::json(part.second) : nlohmann::json();
-      if (!(part.second <= kRegionWarpLimitDeg)) why << "its strips joined as a composite solve to " << part.second << "° from developable";
+      part = solvedRegionComposite(c, request.crease, options.deadline);
+      entry["composite_warp_angle_max_deg"] = std::isfinite(part.warpDeg) ? nlohmann::json(part.warpDeg) : nlohmann::json();
+      if (!part.failure.empty()) why << "its strips do not make a composite: " << part.failure;
+      else if (!(part.warpDeg <= kRegionWarpLimitDeg))
+        why << "its strips joined as a composite solve to " << part.warpDeg << "° from developable";
     }
     if (!why.str().empty()) {
       entry["covered"] = false;
@@ -310,7 +333,7 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
     entry["rounds"] = sweepRounds(c);
     if (c.steepFraction > 0.05) result.warnings.push_back(steepWarning(name, c.steepFraction));
     stripCount += static_cast<int>(c.paired.strips.size());
-    parts.push_back(std::move(part.first));
+    parts.push_back(std::move(part.design));
     std::vector<int> shapeRows;
     for (const int j : region.points) shapeRows.push_back(rows[static_cast<std::size_t>(j)]);
     appendCoveredPoints(c, shape.points, shapeRows, covered);
@@ -340,12 +363,13 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
   // (CGAL's bunny, seed 2: 0.31° after 20, 0.02° after 40).
   engine::SolverOptions unionOptions = scene.solver.solverOptions();
   unionOptions.maxIterations *= 2;
+  unionOptions.deadline = options.deadline;
   const engine::SolveSummary solved = union_.solve(unionOptions);
   scene.model = union_.design();
   const models::composite::CompositeQuality quality = union_.quality();
-  summary["warp_angle_max_deg"] = quality.warpAngleMaxDeg;
   summary["face_flatness_max"] = quality.faceFlatnessMax;
-  if (quality.warpAngleMaxDeg > kRegionWarpLimitDeg) {
+  summary["warp_angle_max_deg"] = std::isfinite(quality.warpAngleMaxDeg) ? nlohmann::json(quality.warpAngleMaxDeg) : nlohmann::json();
+  if (!(quality.warpAngleMaxDeg <= kRegionWarpLimitDeg)) {
     std::ostringstream text;
     text << "the parts solved together end " << quality.warpAngleMaxDeg << "° from developable ("
          << engine::terminationReasonName(solved.reason) << ")";
@@ -357,11 +381,29 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
   return result;
 }
 
+RegionFitResult coverOneRegion(const reference::ReferenceShape& shape, const std::string& source,
+                               const RegionFitRequest& request);
+
 }  // namespace
 
 RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, const std::string& source,
                                      const RegionFitRequest& request) {
-  if (request.regions > 1) return coverShapeByRegions(shape, source, request);
+  try {
+    if (request.regions > 1) return coverShapeByRegions(shape, source, request);
+    return coverOneRegion(shape, source, request);
+  } catch (const engine::DeadlineExceeded& e) {
+    // The request's thread is bounded: the work asked for did not fit in its time.
+    throw ApproximationInputError(request.regions > 1 ? "regions" : "rounds",
+                                  std::string(request.regions > 1 ? "regions: " : "rounds: ") + e.what() +
+                                      "; fewer regions, strips or rounds",
+                                  true);
+  }
+}
+
+namespace {
+
+RegionFitResult coverOneRegion(const reference::ReferenceShape& shape, const std::string& source,
+                               const RegionFitRequest& request) {
   const auto [points, normals] = regionOf(shape, request);
   requireRegion(points, 6L * request.strips, source, std::to_string(request.strips) + " strips");
   models::strip::RegionCover cover;
@@ -400,6 +442,8 @@ RegionFitResult coverShapeWithStrips(const reference::ReferenceShape& shape, con
   result.covered = stackRows(covered);
   return result;
 }
+
+}  // namespace
 
 nlohmann::json referencePreview(const reference::ReferenceShape& shape, int maxPoints) {
   const Eigen::Index n = shape.points.rows();

@@ -1,5 +1,6 @@
 #include "devsurf/terms/StripOverhangTerm.h"
 
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -30,21 +31,25 @@ StripOverhangTerm::StripOverhangTerm(std::string name, const spline::KnotVector&
   index_ = std::make_unique<Index>(points_);
   const double u0 = knots.domainBegin(), u1 = knots.domainEnd();
   const bool closed = knots.kind() == spline::KnotKind::Periodic;
+  support_ = knots.degree() + 1;
   const int count = samplesU * samplesV;
-  basis_ = Eigen::MatrixXd::Zero(count, n_);
   v_.reserve(static_cast<std::size_t>(count));
+  supportIndex_.reserve(static_cast<std::size_t>(count * support_));
+  basis_.reserve(static_cast<std::size_t>(count * support_));
   for (int i = 0; i < samplesU; ++i) {
     // A closed strip's last sample would repeat its first.
     const double u = u0 + (u1 - u0) * i / (closed ? samplesU : samplesU - 1);
     const spline::BasisValues bv = spline::basisFunctions(knots, u, 0);
+    assert(static_cast<int>(bv.controlIndex.size()) == support_ && "a span has degree + 1 basis functions");
     double W = 0.0;
-    for (std::size_t c = 0; c < bv.controlIndex.size(); ++c)
-      W += (weights.size() ? weights[bv.controlIndex[c]] : 1.0) * bv.values(0, static_cast<Eigen::Index>(c));
+    for (int c = 0; c < support_; ++c)
+      W += (weights.size() ? weights[bv.controlIndex[static_cast<std::size_t>(c)]] : 1.0) * bv.values(0, c);
     for (int j = 0; j < samplesV; ++j) {
-      const int k = i * samplesV + j;
-      for (std::size_t c = 0; c < bv.controlIndex.size(); ++c)
-        basis_(k, bv.controlIndex[c]) +=
-            (weights.size() ? weights[bv.controlIndex[c]] : 1.0) * bv.values(0, static_cast<Eigen::Index>(c)) / W;
+      for (int c = 0; c < support_; ++c) {
+        const int control = bv.controlIndex[static_cast<std::size_t>(c)];
+        supportIndex_.push_back(control);
+        basis_.push_back((weights.size() ? weights[control] : 1.0) * bv.values(0, c) / W);
+      }
       v_.push_back(static_cast<double>(j) / (samplesV - 1));
     }
   }
@@ -56,20 +61,22 @@ StripOverhangTerm::~StripOverhangTerm() = default;
 void StripOverhangTerm::jacobianStructure(std::vector<engine::JacobianEntry>& entries) const {
   for (int k = 0; k < samples(); ++k)
     for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < n_; ++i)
+      for (int t = 0; t < support_; ++t) {
+        const int i = supportIndex_[static_cast<std::size_t>(k * support_ + t)];
         for (int d = 0; d < 3; ++d) {
           entries.push_back({3 * k + c, offsetA_ + 3 * i + d});
           entries.push_back({3 * k + c, offsetB_ + 3 * i + d});
         }
+      }
 }
 
 Eigen::Vector3d StripOverhangTerm::samplePoint(const Eigen::VectorXd& x, int k) const {
   Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
-  for (int i = 0; i < n_; ++i) {
-    const double r = basis_(k, i);
-    if (r == 0.0) continue;
-    a += r * x.segment<3>(offsetA_ + 3 * i);
-    b += r * x.segment<3>(offsetB_ + 3 * i);
+  for (int t = 0; t < support_; ++t) {
+    const std::size_t slot = static_cast<std::size_t>(k * support_ + t);
+    const int i = supportIndex_[slot];
+    a += basis_[slot] * x.segment<3>(offsetA_ + 3 * i);
+    b += basis_[slot] * x.segment<3>(offsetB_ + 3 * i);
   }
   const double v = v_[static_cast<std::size_t>(k)];
   return (1.0 - v) * a + v * b;
@@ -100,11 +107,13 @@ void StripOverhangTerm::evaluate(const Eigen::VectorXd& x, double* residuals, do
     if (!jacobian) continue;
     const double v = v_[static_cast<std::size_t>(k)];
     for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < n_; ++i)
+      for (int t = 0; t < support_; ++t) {
+        const double r = basis_[static_cast<std::size_t>(k * support_ + t)];
         for (int e = 0; e < 3; ++e) {
-          *jacobian++ = ds(c, e) * (1.0 - v) * basis_(k, i);
-          *jacobian++ = ds(c, e) * v * basis_(k, i);
+          *jacobian++ = ds(c, e) * (1.0 - v) * r;
+          *jacobian++ = ds(c, e) * v * r;
         }
+      }
   }
 }
 

@@ -16,7 +16,7 @@ namespace {
 constexpr int kOverhangPoints = 5;  // per curve; a at x[0..14], b at x[15..29]
 
 /// The flat strip over [0, 2] × [0, 1] at z = 0: a along y = 0, b along y = 1.
-Eigen::VectorXd flatStrip() {
+Eigen::VectorXd stripOverTwoUnits() {
   Eigen::VectorXd x(30);
   for (int i = 0; i < kOverhangPoints; ++i) {
     x.segment<3>(3 * i) << 2.0 * i / (kOverhangPoints - 1), 0.0, 0.0;
@@ -43,7 +43,7 @@ TEST(StripOverhangTerm, RestsOverItsPointsAndPullsTheRestBackByItsDistanceBeyond
   // x > 1 lies x − 1 from the nearest point (1, v, 0); its rows have length x − 1 − ρ, pointing +x.
   const double reach = 0.1;
   StripOverhangTerm term = overhangTerm(leftHalf(), reach);
-  const Eigen::VectorXd x = flatStrip();
+  const Eigen::VectorXd x = stripOverTwoUnits();
   const Eigen::VectorXd r = testing::residuals(term, x);
   ASSERT_EQ(r.size(), 3 * 9 * 5);
   for (int k = 0; k < term.samples(); ++k) {

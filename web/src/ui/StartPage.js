@@ -147,11 +147,14 @@ export class StartPage {
     // The whole shape: cut into this many clusters by normal, each covered by its own strips.
     this.shapeRegions = h('input', { type: 'number', class: 'input narrow', min: '2', max: '32', value: '24', testid: 'shape-regions', 'aria-label': 'Regions' });
     this.shapeRegionsField = h('label', { class: 'small', hidden: true }, 'Regions ', this.shapeRegions);
+    // The server takes regions × strips × 8 sweeps ≤ 1600: the strips' field follows the regions.
+    this.shapeRegions.addEventListener('change', () => this._limitStrips());
     this.regionMode.addEventListener('change', () => {
       const mode = this.regionMode.value;
       this.regionStrips.disabled = mode === 'strip';
       if (mode === 'whole' && Number(this.regionStrips.value) > 4) this.regionStrips.value = '4';
       this.shapeRegionsField.hidden = mode !== 'whole';
+      this._limitStrips();
       this._updateRegion();
     });
     this.regionStrips.addEventListener('change', () => this._updateRegion());
@@ -383,6 +386,18 @@ export class StartPage {
     this._updateRegion();
   }
 
+  /** Whole-shape covers: at most ⌊200 / regions⌋ strips a region (the server's work bound). */
+  _limitStrips() {
+    if (this.regionMode.value !== 'whole') {
+      this.regionStrips.max = '64';
+      return;
+    }
+    const regions = Math.max(2, Math.min(32, Math.round(Number(this.shapeRegions.value) || 24)));
+    const most = Math.max(1, Math.floor(200 / regions));
+    this.regionStrips.max = String(most);
+    if (Number(this.regionStrips.value) > most) this.regionStrips.value = String(most);
+  }
+
   /** The centre typed or picked ([x, y, z] or null) and the radius in the shape's units. */
   _region() {
     const parts = this.regionCentre.value.split(/[\s,]+/).filter(Boolean).map(Number);
@@ -423,8 +438,8 @@ export class StartPage {
     const ball = this.regionTool.value === 'ball';
     if (!shape || (!whole && ball && !centre)) return;
     const cover = this.regionMode.value !== 'strip';
-    const strips = Math.max(1, Math.min(64, Math.round(Number(this.regionStrips.value) || 4)));
     const regions = whole ? Math.max(2, Math.min(32, Math.round(Number(this.shapeRegions.value) || 24))) : 1;
+    const strips = Math.max(1, Math.min(whole ? Math.floor(200 / regions) : 64, Math.round(Number(this.regionStrips.value) || 4)));
     const stem = shape.file.name.replace(/\.[^.]*$/, '');
     const what = whole ? `cover ${shape.file.name}` : cover ? `cover a region of ${shape.file.name}` : `fit a strip to ${shape.file.name}`;
     this.createError.hidden = true;

@@ -40,6 +40,9 @@ struct RegionFitRequest {
   /// (000_… Fig. 10e: the bunny as six composites); 1 = the whole region as one set of bands.
   int regions = 1;
   models::composite::CreaseKind crease = models::composite::CreaseKind::None;  ///< cover: shared edges
+  /// Wall-clock limit of a cover in ms (0 = none, the CLI's); POST /api/covers sets 60 000 — the
+  /// work runs in the request's thread. Running out is an ApproximationInputError (413 "limit").
+  double timeLimitMs = 0.0;
   std::string name;           ///< the scene's name ("" = from the source)
   std::string units = "mm";
 };
@@ -54,7 +57,7 @@ struct RegionFitResult {
 
 /// The request from query parameters: centre ("x,y,z"), radius, thin, seed, control_points,
 /// iterations, rulings (auto|across|along), flat (true|false), name, units; for a cover also
-/// strips, rounds, crease (none|fold), regions (1–32), overhang (weight ≥ 0), with strips × rounds ≤ 400 and
+/// strips, rounds, crease (none|fold), regions (1–32), overhang (weight in [0, 10]), with strips × rounds ≤ 400 and
 /// regions × strips × rounds ≤ 1600. Unknown ones are refused.
 /// @throws ApproximationInputError naming the parameter
 RegionFitRequest regionFitRequestFromQuery(const std::multimap<std::string, std::string>& params, bool cover);

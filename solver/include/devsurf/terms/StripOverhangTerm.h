@@ -56,8 +56,10 @@ class StripOverhangTerm final : public engine::Term {
   double reach_ = 0.0;
   Eigen::MatrixX3d points_;
   std::unique_ptr<Index> index_;
+  int support_ = 0;             ///< control points a sample depends on (degree + 1)
   std::vector<double> v_;       ///< v_k
-  Eigen::MatrixXd basis_;       ///< samples × n: R_i(u_k), dense
+  std::vector<int> supportIndex_;   ///< samples × support: the control points of sample k
+  std::vector<double> basis_;   ///< samples × support: R_i(u_k) of those control points
   Eigen::MatrixX3d nearest_;    ///< q_k
 };
 

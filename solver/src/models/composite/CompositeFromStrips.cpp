@@ -305,7 +305,8 @@ CompositeDesign disjointUnion(const std::vector<CompositeDesign>& parts) {
   for (std::size_t k = 0; k < parts.size(); ++k) {
     const CompositeDesign& part = parts[k];
     if (part.developmentSamples > 0 || !part.developmentDomain.empty() || !part.developmentSeam.empty() ||
-        !part.foldAngles.empty() || !part.drawing.empty())
+        part.developmentVertices.rows() > 0 || !part.foldAngles.empty() || part.foldAmount != 1.0 ||
+        !part.drawing.empty())
       throw std::invalid_argument("parts[" + std::to_string(k) +
                                   "]: a development, fold angles or a drawing describe one sheet; the union has several");
     const auto moved = [vertexOffset, edgeOffset](PointRef p) {

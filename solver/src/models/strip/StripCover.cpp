@@ -159,6 +159,7 @@ StripPairingResult pairStripBoundaries(std::vector<StripDesign> strips, const st
   solve.maxIterations = options.iterationsPerRound;
   solve.regularization = options.regularization;
   solve.fairness = options.fairness;
+  solve.deadline = options.deadline;
   for (int round = 0; round < options.rounds; ++round) {
     StripPairingRound record;
     const double ramp = options.rounds > 1 ? double(options.rounds - 1 - round) / (options.rounds - 1) : 0.0;

@@ -28,27 +28,36 @@ struct RegionParts {
   void join(int i, int j) { parent[static_cast<std::size_t>(find(i))] = find(j); }
 };
 
+/// Neighbours per point in the graph whose connected parts split the clusters.
+constexpr int kRegionGraphNeighbours = 12;
+
 /// k-means clusters of normals need not be connected (two flanks facing one way); a region must
 /// be one piece of surface for its bands to describe it. Splits every cluster into its connected
-/// parts (points within `reach` of each other), gives parts under `minimumShare` of their cluster
-/// to the label most of their neighbours carry, and numbers the labels 0 … by first point.
+/// parts in the graph of each point's 12 nearest points within `reach` (12 per point, whatever
+/// the cloud's density), gives parts under `minimumShare` of their cluster to the label most of
+/// their neighbours carry, a part with no other neighbour to the label most of its points' 32
+/// nearest labelled points within three reaches carry (stray points of a sparse cloud), and numbers
+/// the labels 0 … by first point.
 std::vector<int> connectedRegionLabels(const Eigen::MatrixX3d& points, std::vector<int> label, double reach,
                                        double minimumShare) {
   const auto n = static_cast<std::size_t>(points.rows());
   const spatial::MatrixRows rows{points};
   const spatial::MatrixRowsKdTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  const nanoflann::SearchParams search(32, 0.0f, false);
-  std::vector<std::vector<int>> neighbours(n);
-  std::vector<std::pair<std::size_t, double>> ball;
+  constexpr int K = kRegionGraphNeighbours;
+  std::vector<int> neighbours(n * K, -1);  // row j: its nearest points within reach, −1 padded
   RegionParts parts(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    const Eigen::Vector3d p = points.row(static_cast<Eigen::Index>(j)).transpose();
-    ball.clear();
-    tree.radiusSearch(p.data(), reach * reach, ball, search);
-    for (const auto& [k, d2] : ball) {
-      if (k == j) continue;
-      neighbours[j].push_back(static_cast<int>(k));
-      if (label[k] == label[j]) parts.join(static_cast<int>(j), static_cast<int>(k));
+  {
+    std::size_t found[K + 1];
+    double squared[K + 1];
+    for (std::size_t j = 0; j < n; ++j) {
+      const Eigen::Vector3d p = points.row(static_cast<Eigen::Index>(j)).transpose();
+      const std::size_t count = tree.knnSearch(p.data(), K + 1, found, squared);
+      int slot = 0;
+      for (std::size_t k = 0; k < count && slot < K; ++k) {
+        if (found[k] == j || squared[k] > reach * reach) continue;
+        neighbours[j * K + static_cast<std::size_t>(slot++)] = static_cast<int>(found[k]);
+        if (label[found[k]] == label[j]) parts.join(static_cast<int>(j), static_cast<int>(found[k]));
+      }
     }
   }
   std::map<int, int> clusterSize, partSize;
@@ -76,45 +85,46 @@ std::vector<int> connectedRegionLabels(const Eigen::MatrixX3d& points, std::vect
     if (inserted) ++nextLabel;
     label[j] = it->second;
   }
-  // Small parts: the most common other label among their points' neighbours (repeated while some
-  // part borders only other small parts).
-  for (bool changed = true; changed;) {
-    changed = false;
+  // Each small part takes the label most votes give it; `votesOf` lists a point's voters.
+  const auto settleByVotes = [&small, &label, &parts, n](const auto& votesOf) {
+    bool changed = false;
     std::map<int, std::map<int, int>> votes;  // part → label → count
+    for (std::size_t j = 0; j < n; ++j)
+      if (small[j]) votesOf(j, votes[parts.find(static_cast<int>(j))]);
     for (std::size_t j = 0; j < n; ++j) {
       if (!small[j]) continue;
-      for (const int k : neighbours[j])
-        if (!small[static_cast<std::size_t>(k)]) ++votes[parts.find(static_cast<int>(j))][label[static_cast<std::size_t>(k)]];
-    }
-    for (std::size_t j = 0; j < n; ++j) {
-      if (!small[j]) continue;
-      const auto it = votes.find(parts.find(static_cast<int>(j)));
-      if (it == votes.end()) continue;
-      const auto best = std::max_element(it->second.begin(), it->second.end(),
-                                         [](const auto& x, const auto& y) { return x.second < y.second; });
-      label[j] = best->first;
-      small[j] = 0;
+      const std::map<int, int>& ballot = votes[parts.find(static_cast<int>(j))];
+      if (ballot.empty()) continue;
+      label[j] = std::max_element(ballot.begin(), ballot.end(),
+                                  [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+      small[j] = 2;  // settled this pass: not a voter until the pass ends
       changed = true;
     }
+    for (char& s : small)
+      if (s == 2) s = 0;
+    return changed;
+  };
+  // Small parts next to labelled points (repeated while some part borders only other small parts).
+  const auto graphVotes = [&neighbours, &small, &label](std::size_t j, std::map<int, int>& ballot) {
+    for (int k = 0; k < K; ++k) {
+      const int other = neighbours[j * K + static_cast<std::size_t>(k)];
+      if (other >= 0 && !small[static_cast<std::size_t>(other)]) ++ballot[label[static_cast<std::size_t>(other)]];
+    }
+  };
+  while (settleByVotes(graphVotes)) {
   }
-  // Parts with no neighbour within reach (stray points of a sparse cloud) take the label of the
-  // nearest point that has one if it is within three reaches; others keep a label of their own.
-  std::vector<int> assigned = label;
-  for (std::size_t j = 0; j < n; ++j) {
-    if (!small[j]) continue;
+  // Parts with no labelled neighbour in the graph: their points' 32 nearest labelled points within
+  // three reaches vote.
+  const auto strayVotes = [&tree, &points, &small, &label, reach](std::size_t j, std::map<int, int>& ballot) {
     std::size_t found[32];
     double squared[32];
     const Eigen::Vector3d p = points.row(static_cast<Eigen::Index>(j)).transpose();
     const std::size_t count = tree.knnSearch(p.data(), 32, found, squared);
     for (std::size_t k = 0; k < count; ++k)
-      if (!small[found[k]] && squared[k] <= 9.0 * reach * reach) {
-        assigned[j] = label[found[k]];
-        small[j] = 2;  // settled (not a neighbour for the others)
-        break;
-      }
-  }
-  for (std::size_t j = 0; j < n; ++j)
-    if (small[j] == 2) label[j] = assigned[j], small[j] = 0;
+      if (!small[found[k]] && squared[k] <= 9.0 * reach * reach) ++ballot[label[found[k]]];
+  };
+  settleByVotes(strayVotes);
+  // The rest keep a label of their own.
   for (std::size_t j = 0; j < n; ++j)
     if (small[j]) {
       auto [it, inserted] = newLabelOfPart.emplace(parts.find(static_cast<int>(j)), nextLabel);
@@ -154,6 +164,7 @@ ShapeCover coverShapeByRegions(const Eigen::MatrixX3d& points, const Eigen::Matr
       regionPoints.row(j) = points.row(region.points[static_cast<std::size_t>(j)]);
       regionNormals.row(j) = normals.row(region.points[static_cast<std::size_t>(j)]);
     }
+    options.deadline.check();
     try {
       region.cover = coverRegion(regionPoints, regionNormals, options.region);
       region.covered = true;

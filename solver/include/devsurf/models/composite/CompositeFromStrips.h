@@ -27,8 +27,8 @@ CompositeDesign compositeFromStrips(std::vector<strip::StripDesign> strips,
 /// approximated by 6 composite surfaces"): vertices, edges and faces of part k follow those of
 /// parts 0 … k−1, with their indices moved on, and so do fixed points, handles and tangent
 /// continuity pairs.
-/// @throws std::invalid_argument for no parts, or a part with a development, fold-angle targets or
-///         a drawing (they describe one sheet)
+/// @throws std::invalid_argument for no parts, or a part with a development (or its vertices),
+///         fold-angle targets, a fold amount other than 1 or a drawing (they describe one sheet)
 CompositeDesign disjointUnion(const std::vector<CompositeDesign>& parts);
 
 }  // namespace devsurf::models::composite

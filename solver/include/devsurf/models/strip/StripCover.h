@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/engine/GuidedProjectionSolver.h"
 #include "devsurf/models/strip/StripFromRegion.h"
 #include "devsurf/models/strip/StripModel.h"
@@ -47,6 +48,8 @@ struct StripPairingOptions {
   double regularization = 1e-3; ///< ε_reg (000_… Fig. 17 row 10)
   double fairness = 1e-3;       ///< ε_fair at the first iteration of each solve
   StripOptions strip;           ///< the strip model's options
+  /// When the sweeps must give up (every strip solve checks it; engine::DeadlineExceeded).
+  engine::Deadline deadline;
 };
 
 /// The state after one sweep.

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "devsurf/engine/Deadline.h"
 #include "devsurf/models/strip/StripCover.h"
 
 namespace devsurf::models::strip {
@@ -28,6 +29,8 @@ struct ShapeCoverOptions {
   /// (a closed can in 6 regions: 57 % of its points within 1 % of its size at keep = 0.7, 91 % at
   /// 0.9, all at 1).
   RegionCoverOptions region = wholeRegion();
+  /// When to give up (checked between regions; each region's sweeps check region.pairing's).
+  engine::Deadline deadline;
 
   static RegionCoverOptions wholeRegion() {
     RegionCoverOptions options;
