@@ -20,6 +20,7 @@
 
 #include "devsurf/reference/ReferenceShape.h"
 #include "devsurf/reference/SurfaceDistance.h"
+#include "devsurf/server/ShapeFitting.h"
 #include "devsurf/spline/BSplineCurve.h"
 #include "server/CliTesting.h"
 #include "support/TempDir.h"
@@ -300,6 +301,41 @@ TEST(CoverCommand, TheOverhangWeightKeepsAFittedStripOverItsRegion) {
   std::printf("fitted strip on the bunny's back: farthest surface point from the region %.3g without, %.3g with overhang rows\n",
               farthest[0], farthest[1]);
   EXPECT_LT(farthest[1], 0.5 * farthest[0]);
+}
+
+/// The REST route runs a cover in its request's thread with a time limit: work that does not fit
+/// is refused naming the parameter (413 "limit"), not left running.
+TEST(CoverCommand, ACoverThatOutrunsItsTimeLimitIsRefusedNamingTheParameter) {
+  devsurf::testing::TempDir dir;
+  const reference::ReferenceShape bunny = reference::readReferenceShape(cgalData(dir, "data/meshes/bunny00.off"));
+  for (const int regions : {1, 8}) {
+    RegionFitRequest request;
+    request.regions = regions;
+    request.timeLimitMs = 1.0;
+    try {
+      (void)coverShapeWithStrips(bunny, "bunny00.off", request);
+      ADD_FAILURE() << "a 1 ms cover of " << regions << " regions finished";
+    } catch (const ApproximationInputError& e) {
+      EXPECT_EQ(e.field(), regions > 1 ? "regions" : "rounds") << e.what();
+      EXPECT_TRUE(e.tooLarge()) << e.what();
+      EXPECT_NE(std::string(e.what()).find("time limit"), std::string::npos) << e.what();
+    }
+  }
+}
+
+/// With no ball, too few points for the regions asked names `regions`, not a radius nobody sent.
+TEST(CoverCommand, AShapeTooSmallForItsRegionsNamesRegions) {
+  reference::ReferenceShape plate;
+  plate.points = Eigen::MatrixX3d::Random(40, 3);
+  plate.points.col(2).setZero();
+  RegionFitRequest request;
+  request.regions = 4;
+  try {
+    (void)coverShapeWithStrips(plate, "plate.xyz", request);
+    ADD_FAILURE() << "40 points covered by 4 regions of 4 strips";
+  } catch (const ApproximationInputError& e) {
+    EXPECT_EQ(e.field(), "regions") << e.what();
+  }
 }
 
 }  // namespace
