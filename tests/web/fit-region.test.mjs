@@ -109,6 +109,8 @@ test('a click on an uploaded shape centres the region, and one strip fitted ther
     assert.equal(server.scene.model.kind, 'strip');
     assert.equal(server.scene.name, 'bunny00: fitted strip');
     assert.ok(server.scene.model.approximation.points.length > 20, 'the region thinned as the target');
+    // "keep over the region" is on by default: the strip carries the overhang rows.
+    assert.equal(server.scene.model.approximation.weights.overhang, 0.001);
     await h.waitState(page, (s) => s.metrics && typeof s.metrics.approximation_distance_rms_relative === 'number',
       undefined, { what: 'the placed strip measured against the region' });
     const before = (await h.state(page)).metrics.approximation_distance_rms_relative;

@@ -99,14 +99,16 @@ export function previewShape(file, { format, points = 20000 }, apiKey) {
 /**
  * POST /api/fits (one strip) or /api/covers (strips side by side, a composite) for the region of a
  * shape within `radius` of `centre` ([x, y, z]), or for the whole file when `centre` is null;
- * `regions` > 1 cuts it into that many regions, each covered by `strips` strips (Fig. 10e)
+ * `regions` > 1 cuts it into that many regions, each covered by `strips` strips (Fig. 10e);
+ * `overhang` > 0 pulls back what spreads beyond the region
  * → {scene, summary} (issue 15).
  */
-export function fitRegion(file, { format, centre, radius, cover, strips, regions = 1, name }, apiKey) {
+export function fitRegion(file, { format, centre, radius, cover, strips, regions = 1, overhang = 0, name }, apiKey) {
   // Without a centre the region is the whole file (a painted or lassoed region sent as its points).
   const query = new URLSearchParams(centre ? { format, centre: centre.join(','), radius: String(radius) } : { format });
   if (cover) query.set('strips', String(strips));
   if (cover && regions > 1) query.set('regions', String(regions));
+  if (overhang > 0) query.set('overhang', String(overhang));
   if (name) query.set('name', name);
   return postShape(cover ? 'covers' : 'fits', file, query, apiKey);
 }

@@ -154,11 +154,16 @@ export class StartPage {
       this.regionStrips.disabled = mode === 'strip';
       if (mode === 'whole' && Number(this.regionStrips.value) > 4) this.regionStrips.value = '4';
       this.shapeRegionsField.hidden = mode !== 'whole';
+      this.keepOverField.hidden = mode !== 'strip';
       this._limitStrips();
       this._updateRegion();
     });
     this.regionStrips.addEventListener('change', () => this._updateRegion());
     this.regionStrips.disabled = true;
+    // One strip: without overhang rows it grows over all it reaches (the paper's Fig. 11), a flap
+    // where the region is doubly curved; with them it stays over the region.
+    this.keepOver = h('input', { type: 'checkbox', testid: 'region-keep-over', checked: true, 'aria-label': 'Keep the strip over the region' });
+    this.keepOverField = h('label', { class: 'small', title: 'Pull back the parts of the strip that spread beyond the region (overhang weight 0.001); off: the paper\'s equations alone, the strip grows over all it reaches' }, this.keepOver, ' keep over the region');
     this.regionButton = h('button', { class: 'btn', testid: 'fit-region', disabled: true, onclick: () => this._fitRegion() }, 'Fit');
     this.regionPicker = null;
     this.regionView = h('div', { class: 'region-view-slot', hidden: true });
@@ -208,7 +213,7 @@ export class StartPage {
             h('label', { class: 'small' }, this.radiusName, this.regionRadius, ' ', this.regionRadiusLabel),
             this.regionCount, this.regionClear),
           this.regionHint,
-          h('div', { class: 'row' }, this.regionMode, h('label', { class: 'small' }, 'Strips ', this.regionStrips), this.shapeRegionsField, this.regionButton)),
+          h('div', { class: 'row' }, this.regionMode, h('label', { class: 'small' }, 'Strips ', this.regionStrips), this.shapeRegionsField, this.keepOverField, this.regionButton)),
         h('section', { class: 'card' }, h('h2', {}, 'Join by link'),
           h('div', { class: 'row' }, this.joinInput, h('button', { class: 'btn', onclick: join }, 'Join')), this.joinError)),
       h('div', { class: 'start-status' }, this.apiKeyRow, this.busy, this.createError),
@@ -450,14 +455,15 @@ export class StartPage {
     let result;
     try {
       const name = whole ? `${stem}: covered in ${regions} regions` : cover ? `${stem}: ${strips} strips` : `${stem}: fitted strip`;
+      const overhang = !cover && this.keepOver.checked ? 0.001 : 0;
       const key = this.apiKeyInput.value.trim() || apiKey();
       // A painted or lassoed region goes as its own points (an XYZ cloud: the region is the whole
       // of it); the ball as the shape file with its centre and radius.
       result = whole
         ? await fitRegion(shape.file, { format: shape.format, centre: null, cover, strips, regions, name }, key)
         : ball
-          ? await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips, name }, key)
-          : await fitRegion(xyzBlob(this.regionPicker.selectedPositions()), { format: 'xyz', cover, strips, name }, key);
+          ? await fitRegion(shape.file, { format: shape.format, centre, radius, cover, strips, overhang, name }, key)
+          : await fitRegion(xyzBlob(this.regionPicker.selectedPositions()), { format: 'xyz', cover, strips, overhang, name }, key);
     } catch (e) {
       this._showCreateError(e, what);
       this.busy.hidden = true;
