@@ -14,6 +14,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "devsurf/spatial/DisjointSets.h"
 #include "devsurf/spatial/MatrixRowsKdTree.h"
 
 namespace devsurf::spatial {
@@ -32,22 +33,6 @@ Eigen::Vector2d unfoldCorner(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
 }
 
 double planarCross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-/// Disjoint sets with path halving.
-struct DisjointSets {
-  std::vector<int> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int i) {
-    while (parent[static_cast<std::size_t>(i)] != i)
-      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-    return i;
-  }
-  void join(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 }  // namespace
 

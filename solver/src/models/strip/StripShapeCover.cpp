@@ -10,23 +10,12 @@
 
 #include "devsurf/reference/PointThinning.h"
 #include "devsurf/reference/SurfaceSegmentation.h"
+#include "devsurf/spatial/DisjointSets.h"
 #include "devsurf/spatial/MatrixRowsKdTree.h"
 
 namespace devsurf::models::strip {
 
 namespace {
-
-/// Union–find over point indices.
-struct RegionParts {
-  std::vector<int> parent;
-  explicit RegionParts(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int i) {
-    while (parent[static_cast<std::size_t>(i)] != i)
-      i = parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
-    return i;
-  }
-  void join(int i, int j) { parent[static_cast<std::size_t>(find(i))] = find(j); }
-};
 
 /// Neighbours per point in the graph whose connected parts split the clusters.
 constexpr int kRegionGraphNeighbours = 12;
@@ -45,7 +34,7 @@ std::vector<int> connectedRegionLabels(const Eigen::MatrixX3d& points, std::vect
   const spatial::MatrixRowsKdTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   constexpr int K = kRegionGraphNeighbours;
   std::vector<int> neighbours(n * K, -1);  // row j: its nearest points within reach, −1 padded
-  RegionParts parts(n);
+  spatial::DisjointSets parts(n);
   {
     std::size_t found[K + 1];
     double squared[K + 1];
