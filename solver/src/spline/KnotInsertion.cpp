@@ -1,4 +1,5 @@
 // Knot insertion (A5.1), knot refinement and Bézier decomposition (A5.6).
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <sstream>
@@ -178,6 +179,38 @@ std::vector<BezierPiece> bezierPieces(const BSplineCurve& curve) {
   }
   assert(nb == numPieces && "one piece per non-empty span");
   return pieces;
+}
+
+BSplineCurve restrictToDomain(const BSplineCurve& curve, double u0, double u1) {
+  curve.validate();
+  requireClamped(curve, "restrictToDomain");
+  const double begin = curve.knots.domainBegin(), end = curve.knots.domainEnd();
+  if (!(std::isfinite(u0) && std::isfinite(u1) && begin <= u0 && u0 < u1 && u1 <= end))
+    failInsertion("restrictToDomain: need " + formatKnot(begin) + " ≤ u0 < u1 ≤ " + formatKnot(end) + ", got [" +
+                  formatKnot(u0) + ", " + formatKnot(u1) + "]");
+  const int p = curve.degree();
+  BSplineCurve c = curve;
+  // At an end of the domain the knot is already there p + 1 times; inside, up to p makes a control
+  // point the curve's point there.
+  if (u0 > begin) c = insertKnot(c, u0, std::max(0, p - c.knots.multiplicity(u0)));
+  if (u1 < end) c = insertKnot(c, u1, std::max(0, p - c.knots.multiplicity(u1)));
+  const std::vector<double>& t = c.knots.knots();
+  const auto below = [&t](double u) {  // knots strictly below u
+    return static_cast<int>(std::lower_bound(t.begin(), t.end(), u) - t.begin());
+  };
+  const int first = u0 > begin ? below(u0) - 1 : 0;
+  const int last = u1 < end ? below(u1) - 1 : c.knots.numControlPoints() - 1;
+  std::vector<double> knots(static_cast<std::size_t>(p + 1), u0);
+  for (const double k : t)
+    if (k > u0 && k < u1) knots.push_back(k);
+  knots.insert(knots.end(), static_cast<std::size_t>(p + 1), u1);
+  const int count = last - first + 1;
+  assert(count == static_cast<int>(knots.size()) - p - 1 && "the kept control points fit the kept knots");
+  BSplineCurve out;
+  out.knots = KnotVector::clamped(p, knots, count);
+  out.points = c.points.middleRows(first, count);
+  if (c.isRational()) out.weights = c.weights.segment(first, count);
+  return out;
 }
 
 }  // namespace devsurf::spline

@@ -171,6 +171,38 @@ TEST(KnotInsertion, RefinementLeavesTheCurveUnchanged) {
   }
 }
 
+TEST(KnotInsertion, RestrictingToAnIntervalKeepsTheCurvesPointsAtTheirParameters) {
+  // Random curves of degrees 1–5 on knots with repeated interior knots, random intervals (ends on
+  // knots, at the domain's ends, anywhere), and a rational cubic.
+  std::mt19937 rng(515);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    const BSplineCurve c = trial % 50 == 49 ? rationalCubic() : randomClampedCurve(1 + trial % 5, 100u + trial);
+    const double begin = c.knots.domainBegin(), end = c.knots.domainEnd();
+    const std::vector<double>& t = c.knots.knots();
+    double u0 = begin + (end - begin) * unit(rng), u1 = begin + (end - begin) * unit(rng);
+    if (trial % 4 == 1) u0 = t[static_cast<std::size_t>(c.degree() + 1 + trial % 3)];  // on a knot
+    if (trial % 7 == 2) u0 = begin;
+    if (trial % 5 == 3) u1 = end;
+    if (u0 > u1) std::swap(u0, u1);
+    if (!(u1 - u0 > 1e-6)) continue;
+    const BSplineCurve r = restrictToDomain(c, u0, u1);
+    EXPECT_EQ(r.knots.domainBegin(), u0);
+    EXPECT_EQ(r.knots.domainEnd(), u1);
+    EXPECT_EQ(r.isRational(), c.isRational());
+    for (int k = 0; k <= 40; ++k) {
+      const double u = u0 + (u1 - u0) * k / 40.0;
+      EXPECT_LT((r.evaluate(u) - c.evaluate(u)).norm(), 1e-12) << "trial " << trial << ", u " << u;
+    }
+    EXPECT_LT((r.points.row(0).transpose() - c.evaluate(u0)).norm(), 1e-12) << "the first control point is c(u0)";
+  }
+  const BSplineCurve c = randomClampedCurve(3, 7);
+  const BSplineCurve whole = restrictToDomain(c, c.knots.domainBegin(), c.knots.domainEnd());
+  EXPECT_EQ(whole.points, c.points);
+  expectThrowMentioning([&c] { restrictToDomain(c, 0.3, 0.3); }, "u0 < u1");
+  expectThrowMentioning([&c] { restrictToDomain(c, c.knots.domainBegin() - 1.0, 0.3); }, "u0 < u1");
+}
+
 TEST(KnotInsertion, RejectsBadRequestsWithAClearMessage) {
   const BSplineCurve c = nonUniformCubic();
   expectThrowMentioning([&] { insertKnot(c, 1.5); }, "outside the domain");

@@ -71,6 +71,13 @@ Eigen::VectorXd evaluateBezier(const Eigen::MatrixXd& points, double t);
 ///         or the curve is periodic (only clamped knot vectors are supported).
 BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times = 1);
 
+/// The part of the curve over [u0, u1] as a clamped curve of its own, exactly (knots inserted at u0
+/// and u1 up to the degree, the control points between kept; NURBS Book §5.3): the same points at
+/// the same parameters, the domain [u0, u1]. Two curves with one knot vector restricted to one
+/// interval keep one knot vector.
+/// @throws std::invalid_argument unless domainBegin ≤ u0 < u1 ≤ domainEnd, or for a periodic curve
+BSplineCurve restrictToDomain(const BSplineCurve& curve, double u0, double u1);
+
 /// Insert every knot in `newKnots` (sorted, with repetition) — knot refinement.
 /// Same requirements and exceptions as insertKnot.
 BSplineCurve refineKnots(const BSplineCurve& curve, const std::vector<double>& newKnots);

@@ -2,6 +2,7 @@
 #include "devsurf/models/strip/StripShapeCover.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 #include <utility>
 
 #include "devsurf/reference/PointThinning.h"
+#include "devsurf/spline/BSplineCurve.h"
 #include "devsurf/reference/SurfaceSegmentation.h"
 #include "devsurf/spatial/DisjointSets.h"
 #include "devsurf/spatial/MatrixRowsKdTree.h"
@@ -127,6 +129,58 @@ std::vector<int> connectedRegionLabels(const Eigen::MatrixX3d& points, std::vect
 
 }  // namespace
 
+void trimToRegion(RegionCover& cover, const Eigen::MatrixX3d& points) {
+  std::vector<StripDesign>& strips = cover.paired.strips;
+  if (strips.empty() || strips.size() != cover.layout.bands.size()) return;
+  constexpr int U = 160, W = 16;  // samples along and across each strip
+  double uLow = std::numeric_limits<double>::infinity(), uHigh = -uLow, vFirst = 1.0, vLast = 0.0;
+  const double begin = strips.front().a.knots.domainBegin(), end = strips.front().a.knots.domainEnd();
+  for (std::size_t k = 0; k < strips.size(); ++k) {
+    const StripDesign& s = strips[k];
+    Eigen::MatrixX3d samples((U + 1) * (W + 1), 3);
+    for (int i = 0; i <= U; ++i) {
+      const double u = begin + (end - begin) * i / U;
+      const Eigen::Vector3d a = s.a.evaluate(u), b = s.b.evaluate(u);
+      for (int j = 0; j <= W; ++j) samples.row(i * (W + 1) + j) = ((1.0 - double(j) / W) * a + double(j) / W * b).transpose();
+    }
+    const spatial::MatrixRows rows{samples};
+    const spatial::MatrixRowsKdTree tree(3, rows, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    for (const int j : cover.layout.bands[k]) {
+      std::size_t nearest = 0;
+      double squared = 0.0;
+      const Eigen::Vector3d p = points.row(j).transpose();
+      tree.knnSearch(p.data(), 1, &nearest, &squared);
+      const int i = static_cast<int>(nearest) / (W + 1), w = static_cast<int>(nearest) % (W + 1);
+      const double u = begin + (end - begin) * i / U, v = double(w) / W;
+      uLow = std::min(uLow, u);
+      uHigh = std::max(uHigh, u);
+      if (k == 0) vFirst = std::min(vFirst, v);
+      if (k + 1 == strips.size()) vLast = std::max(vLast, v);
+    }
+  }
+  // One sample of margin; nothing to cut when the points reach (nearly) both ends.
+  const double step = (end - begin) / U;
+  uLow = std::max(begin, uLow - step);
+  uHigh = std::min(end, uHigh + step);
+  if (uHigh - uLow < 4.0 * step) return;  // points on one ruling: nothing sensible to keep
+  for (StripDesign& s : strips) {
+    s.a = spline::restrictToDomain(s.a, uLow, uHigh);
+    s.b = spline::restrictToDomain(s.b, uLow, uHigh);
+  }
+  vFirst = std::max(0.0, vFirst - 1.0 / W);
+  vLast = std::min(1.0, vLast + 1.0 / W);
+  if (vFirst > 0.0 && vFirst < vLast) {
+    StripDesign& s = strips.front();
+    s.a.points = (1.0 - vFirst) * s.a.points + vFirst * s.b.points;
+  }
+  if (vLast < 1.0 && (strips.size() > 1 || vFirst < vLast)) {
+    StripDesign& s = strips.back();
+    // For a single strip, a moved already: v is measured on the strip as it was.
+    const double v = strips.size() > 1 ? vLast : (vLast - vFirst) / (1.0 - vFirst);
+    s.b.points = (1.0 - v) * s.a.points + v * s.b.points;
+  }
+}
+
 ShapeCover coverShapeByRegions(const Eigen::MatrixX3d& points, const Eigen::MatrixX3d& normals,
                                const ShapeCoverOptions& options) {
   if (options.regions < 1) throw std::invalid_argument("regions: at least one");
@@ -156,6 +210,7 @@ ShapeCover coverShapeByRegions(const Eigen::MatrixX3d& points, const Eigen::Matr
     options.deadline.check();
     try {
       region.cover = coverRegion(regionPoints, regionNormals, options.region);
+      if (options.trim) trimToRegion(region.cover, regionPoints);
       region.covered = true;
     } catch (const std::invalid_argument& e) {
       // Too few points for the strips, points on a line, a band thinned to nothing: the region

@@ -122,5 +122,42 @@ TEST(StripShapeCover, ARegionTooSmallForItsStripsIsReportedAndTheOthersAreCovere
   EXPECT_THROW(coverShapeByRegions(points, normals, options), std::invalid_argument);
 }
 
+TEST(StripShapeCover, TrimmingCutsAStripsBandsBackToTheirPointsAndKeepsTheSharedCurveShared) {
+  // Two flat strips side by side over [0, 1] × [0, 0.6] (shared curve y = 0.3); points on
+  // [0.25, 0.75] × [0.1, 0.5] only, each on the band of its strip.
+  RegionCover cover;
+  cover.paired.strips = {devsurf::testing::flatStrip(0.0, 0.3), devsurf::testing::flatStrip(0.3, 0.6)};
+  cover.pairings.push_back({0, Curve::B, 1, Curve::A, false, 0.0});
+  std::vector<Eigen::RowVector3d> rows;
+  cover.layout.bands.resize(2);
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 16; ++j) {
+      const double x = 0.25 + 0.5 * i / 20.0, y = 0.1 + 0.4 * j / 16.0;
+      cover.layout.bands[y < 0.3 ? 0 : 1].push_back(static_cast<int>(rows.size()));
+      rows.emplace_back(x, y, 0.0);
+    }
+  Eigen::MatrixX3d points(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k) points.row(static_cast<Eigen::Index>(k)) = rows[k];
+  trimToRegion(cover, points);
+  const StripDesign& first = cover.paired.strips[0];
+  const StripDesign& second = cover.paired.strips[1];
+  // Along: the points' extent and one sample (1/160) of margin.
+  for (const StripDesign* s : {&first, &second}) {
+    const Eigen::Vector3d start = s->a.evaluate(s->a.knots.domainBegin()), stop = s->a.evaluate(s->a.knots.domainEnd());
+    EXPECT_NEAR(std::min(start.x(), stop.x()), 0.25, 1.5 / 160);
+    EXPECT_NEAR(std::max(start.x(), stop.x()), 0.75, 1.5 / 160);
+  }
+  // Across: the outer curves at the points' extent, within a sample of margin and half a sample of
+  // rounding (samples 1/16 of the strip's width 0.3 apart); never inside the points.
+  EXPECT_NEAR(first.a.points(0, 1), 0.1, 1.5 * 0.3 / 16);
+  EXPECT_LE(first.a.points(0, 1), 0.1);
+  EXPECT_NEAR(second.b.points(0, 1), 0.5, 1.5 * 0.3 / 16);
+  EXPECT_GE(second.b.points(0, 1), 0.5);
+  // The shared curve is still one curve: same knots, same control points.
+  EXPECT_EQ(first.b.knots.knots(), second.a.knots.knots());
+  EXPECT_EQ(first.b.points, second.a.points);
+  EXPECT_NEAR(first.b.points(0, 1), 0.3, 1e-12);
+}
+
 }  // namespace
 }  // namespace devsurf::models::strip

@@ -11,6 +11,16 @@
 
 namespace devsurf::models::strip {
 
+/// Cuts a region's strips back to the part of them over its points: every strip's curves
+/// restricted to one parameter interval (the least and greatest u of the band points' nearest
+/// samples, over all strips; exact, spline::restrictToDomain), and the region's two outer
+/// curves moved along the rulings to the least / greatest v of their strip's band points
+/// (a ← (1 − v₀) a + v₀ b: the same ruled surface). Neighbouring strips share their curve's
+/// parametrization, so the shared curves stay shared. Corners of the band rectangle outside a
+/// round region are not cut (a strip's ends are rulings).
+/// @param[in] points  the region's points (the layout's bands index them)
+void trimToRegion(RegionCover& cover, const Eigen::MatrixX3d& points);
+
 /// Options of coverShapeByRegions.
 struct ShapeCoverOptions {
   int regions = 6;              ///< clusters of the segmentation (Fig. 10e: six composites on the bunny)
@@ -29,6 +39,9 @@ struct ShapeCoverOptions {
   /// (a closed can in 6 regions: 57 % of its points within 1 % of its size at keep = 0.7, 91 % at
   /// 0.9, all at 1).
   RegionCoverOptions region = wholeRegion();
+  /// Each covered region's strips cut back to its points (trimToRegion): without, a rectangle of
+  /// bands over a region that is not one leaves blades beyond the shape.
+  bool trim = true;
   /// When to give up (checked between regions; each region's sweeps check region.pairing's).
   engine::Deadline deadline;
 
