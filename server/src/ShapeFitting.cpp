@@ -204,6 +204,10 @@ std::string warpWarning(const std::string& where, double warp) {
 /// A region's composite is kept when its solve ends within this warp (the composite presets'
 /// fabrication threshold). At 0.5° parts that ended near it drove the union's solve to 0.8°.
 constexpr double kRegionWarpLimitDeg = 0.05;
+/// A region's composite is kept when no control polygon of its curves turns back by more than
+/// this (max(0, −cos θ), the drag suites' fabrication threshold): a curve that doubles back is a
+/// piece that overlaps itself.
+constexpr double kRegionBacktrackLimit = 0.05;
 /// ε_reg of a cover of several regions (see coverShapeByRegions).
 constexpr double kUnionRegularization = 1.0;
 
@@ -220,6 +224,7 @@ void setCoverSolver(proto::Scene& scene) {
 struct RegionComposite {
   models::composite::CompositeDesign design;
   double warpDeg = std::numeric_limits<double>::quiet_NaN();  ///< largest warp after the solve
+  double backtrack = 0.0;  ///< CompositeModel::creaseBacktrackMax after the solve
   std::string failure;  ///< why the strips could not be joined or solved ("" when they were)
 };
 
@@ -237,6 +242,7 @@ RegionComposite solvedRegionComposite(const models::strip::RegionCover& cover, m
     model.solve(options);
     out.design = model.design();
     out.warpDeg = model.quality().warpAngleMaxDeg;
+    out.backtrack = model.creaseBacktrackMax();
   } catch (const engine::DeadlineExceeded&) {
     throw;
   } catch (const std::exception& e) {
@@ -318,6 +324,8 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
       if (!part.failure.empty()) why << "its strips do not make a composite: " << part.failure;
       else if (!(part.warpDeg <= kRegionWarpLimitDeg))
         why << "its strips joined as a composite solve to " << part.warpDeg << "° from developable";
+      else if (!(part.backtrack <= kRegionBacktrackLimit))
+        why << "a curve of its strips doubles back (crease_backtrack " << part.backtrack << ")";
     }
     if (!why.str().empty()) {
       entry["covered"] = false;

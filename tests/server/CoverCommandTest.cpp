@@ -240,7 +240,7 @@ TEST(CoverCommand, CoversTheWholeClosedBunnyRegionByRegionAsOneCompositeOfDevelo
     EXPECT_NE(cover.err.find("is not covered"), std::string::npos);
   }
   EXPECT_EQ(covered + skipped, static_cast<int>(summary["regions"].size()));
-  EXPECT_GE(covered, 25);
+  EXPECT_GE(covered, 24);
   EXPECT_LE(summary["warp_angle_max_deg"].get<double>(), 0.05);
   const nlohmann::json document = nlohmann::json::parse(std::ifstream(scene));
   EXPECT_EQ(document["model"]["kind"], "composite");
@@ -263,9 +263,11 @@ TEST(CoverCommand, CoversTheWholeClosedBunnyRegionByRegionAsOneCompositeOfDevelo
               100 * d.coverage, static_cast<long>(shape.points.rows()));
   EXPECT_LE(metrics["warp_angle_max_deg"].get<double>(), 0.05);
   EXPECT_LE(metrics["face_flatness_max"].get<double>(), 1e-3);
+  // No piece overlaps itself: no curve's control polygon turns back (the drag suites' threshold).
+  EXPECT_LE(metrics["crease_backtrack_max"].get<double>(), 0.05);
   EXPECT_NEAR(d.coverage, metrics["reference_coverage"].get<double>(), 0.01);
-  EXPECT_GE(d.coverage, 0.75);
-  EXPECT_LE(d.rmsDistance, 0.02 * diagonal);
+  EXPECT_GE(d.coverage, 0.7);
+  EXPECT_LE(d.rmsDistance, 0.025 * diagonal);
 }
 
 /// Without the overhang rows a strip grows where no point holds it (000_… Fig. 11: "so as to
