@@ -204,10 +204,32 @@ std::string warpWarning(const std::string& where, double warp) {
 /// A region's composite is kept when its solve ends within this warp (the composite presets'
 /// fabrication threshold). At 0.5° parts that ended near it drove the union's solve to 0.8°.
 constexpr double kRegionWarpLimitDeg = 0.05;
-/// A region's composite is kept when no control polygon of its curves turns back by more than
-/// this (max(0, −cos θ), the drag suites' fabrication threshold): a curve that doubles back is a
-/// piece that overlaps itself.
-constexpr double kRegionBacktrackLimit = 0.05;
+/// A region's composite is kept when none of its curves turns back by more than this between
+/// neighbouring samples (max(0, −cos θ)): a curve that doubles back is a piece that overlaps
+/// itself. The curve, not its control polygon (crease_backtrack_max): on CGAL's bunny two
+/// regions' control polygons turned back (0.49, 0.66) along curves that turn by at most 90°,
+/// and one curve itself doubled back (0.74).
+constexpr double kRegionReversalLimit = 0.05;
+
+/// Largest max(0, −cos θ) of the turn between consecutive chords of every S edge sampled at 400
+/// parameters (chords shorter than 1e-9 of the edge's length skipped).
+double curveReversalMax(const models::composite::CompositeDesign& design) {
+  double worst = 0.0;
+  for (const models::composite::CompositeEdge& edge : design.edges) {
+    if (edge.type != models::composite::EdgeType::Spline || edge.curve.points.rows() < 2) continue;
+    const Eigen::MatrixXd samples = edge.curve.evaluate(edge.curve.knots.uniformSamples(401), 0);
+    double length = 0.0;
+    for (Eigen::Index k = 1; k < samples.rows(); ++k) length += (samples.row(k) - samples.row(k - 1)).norm();
+    Eigen::RowVectorXd previous = Eigen::RowVectorXd::Zero(samples.cols());
+    for (Eigen::Index k = 1; k < samples.rows(); ++k) {
+      const Eigen::RowVectorXd chord = samples.row(k) - samples.row(k - 1);
+      if (!(chord.norm() > 1e-9 * length)) continue;
+      if (previous.norm() > 0.0) worst = std::max(worst, -previous.normalized().dot(chord.normalized()));
+      previous = chord;
+    }
+  }
+  return worst;
+}
 /// ε_reg of a cover of several regions (see coverShapeByRegions).
 constexpr double kUnionRegularization = 1.0;
 
@@ -224,7 +246,7 @@ void setCoverSolver(proto::Scene& scene) {
 struct RegionComposite {
   models::composite::CompositeDesign design;
   double warpDeg = std::numeric_limits<double>::quiet_NaN();  ///< largest warp after the solve
-  double backtrack = 0.0;  ///< CompositeModel::creaseBacktrackMax after the solve
+  double reversal = 0.0;  ///< curveReversalMax after the solve
   std::string failure;  ///< why the strips could not be joined or solved ("" when they were)
 };
 
@@ -242,7 +264,7 @@ RegionComposite solvedRegionComposite(const models::strip::RegionCover& cover, m
     model.solve(options);
     out.design = model.design();
     out.warpDeg = model.quality().warpAngleMaxDeg;
-    out.backtrack = model.creaseBacktrackMax();
+    out.reversal = curveReversalMax(out.design);
   } catch (const engine::DeadlineExceeded&) {
     throw;
   } catch (const std::exception& e) {
@@ -324,8 +346,8 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
       if (!part.failure.empty()) why << "its strips do not make a composite: " << part.failure;
       else if (!(part.warpDeg <= kRegionWarpLimitDeg))
         why << "its strips joined as a composite solve to " << part.warpDeg << "° from developable";
-      else if (!(part.backtrack <= kRegionBacktrackLimit))
-        why << "a curve of its strips doubles back (crease_backtrack " << part.backtrack << ")";
+      else if (!(part.reversal <= kRegionReversalLimit))
+        why << "a curve of its strips doubles back (max(0, −cos) of its turn " << part.reversal << ")";
     }
     if (!why.str().empty()) {
       entry["covered"] = false;
