@@ -76,6 +76,22 @@ TEST(CoverCommand, CoversTheBunnysBackWithEightStripsThatSolveAsOneComposite) {
   EXPECT_LE(d.rmsDistance, 0.01 * diagonal);
 }
 
+/// An S edge of a composite scene's JSON as a B-spline, read here (not through proto/): the scene
+/// lists its interior control points, its ends are the edge's vertices, knots uniform unless given.
+spline::BSplineCurve sceneEdgeCurve(const nlohmann::json& model, const nlohmann::json& edge) {
+  std::vector<nlohmann::json> points{model["vertices"][edge["v"][0].get<std::size_t>()]};
+  for (const auto& p : edge["points"]) points.push_back(p);
+  points.push_back(model["vertices"][edge["v"][1].get<std::size_t>()]);
+  spline::BSplineCurve curve;
+  curve.points.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    for (int c = 0; c < 3; ++c) curve.points(static_cast<Eigen::Index>(k), c) = points[k][c].get<double>();
+  const int degree = edge["degree"].get<int>(), n = static_cast<int>(points.size());
+  curve.knots = edge.contains("knots") ? spline::KnotVector::clamped(degree, edge["knots"].get<std::vector<double>>(), n)
+                                       : spline::KnotVector::clampedUniform(degree, n);
+  return curve;
+}
+
 /// The shipped cover of the bunny's back exports its flat pieces: read back from the SVG (lines
 /// parsed here), each seam's two glue chains have the length of the 3D curve they were cut from
 /// (evaluated here from the scene's B-spline), and FOLD, a crease pattern, is refused.
@@ -115,17 +131,7 @@ TEST(CoverCommand, TheCoversPiecesExportAsACuttingPatternWhoseSeamsMatchTheirCur
   for (std::size_t e = 0; e < model["edges"].size(); ++e) {
     const nlohmann::json& edge = model["edges"][e];
     if (uses[e] != 2 || edge.value("type", "") != "S") continue;
-    // The scene lists an S edge's interior control points; its ends are the edge's vertices.
-    std::vector<nlohmann::json> points{model["vertices"][edge["v"][0].get<std::size_t>()]};
-    for (const auto& p : edge["points"]) points.push_back(p);
-    points.push_back(model["vertices"][edge["v"][1].get<std::size_t>()]);
-    spline::BSplineCurve curve;
-    curve.points.resize(static_cast<Eigen::Index>(points.size()), 3);
-    for (std::size_t k = 0; k < points.size(); ++k)
-      for (int c = 0; c < 3; ++c) curve.points(static_cast<Eigen::Index>(k), c) = points[k][c].get<double>();
-    const int degree = edge["degree"].get<int>(), n = static_cast<int>(points.size());
-    curve.knots = edge.contains("knots") ? spline::KnotVector::clamped(degree, edge["knots"].get<std::vector<double>>(), n)
-                                         : spline::KnotVector::clampedUniform(degree, n);
+    const spline::BSplineCurve curve = sceneEdgeCurve(model, edge);
     const Eigen::MatrixXd dense = curve.evaluate(curve.knots.uniformSamples(4001), 0);
     double length = 0.0;
     for (Eigen::Index k = 1; k < dense.rows(); ++k) length += (dense.row(k) - dense.row(k - 1)).norm();
@@ -270,16 +276,7 @@ TEST(CoverCommand, CoversTheWholeClosedBunnyRegionByRegionAsOneCompositeOfDevelo
   int curves = 0;
   for (const auto& edge : solved["edges"]) {
     if (edge.value("type", "") != "S") continue;
-    std::vector<nlohmann::json> points{solved["vertices"][edge["v"][0].get<std::size_t>()]};
-    for (const auto& p : edge["points"]) points.push_back(p);
-    points.push_back(solved["vertices"][edge["v"][1].get<std::size_t>()]);
-    spline::BSplineCurve curve;
-    curve.points.resize(static_cast<Eigen::Index>(points.size()), 3);
-    for (std::size_t k = 0; k < points.size(); ++k)
-      for (int c = 0; c < 3; ++c) curve.points(static_cast<Eigen::Index>(k), c) = points[k][c].get<double>();
-    const int degree = edge["degree"].get<int>(), n = static_cast<int>(points.size());
-    curve.knots = edge.contains("knots") ? spline::KnotVector::clamped(degree, edge["knots"].get<std::vector<double>>(), n)
-                                         : spline::KnotVector::clampedUniform(degree, n);
+    const spline::BSplineCurve curve = sceneEdgeCurve(solved, edge);
     const Eigen::MatrixXd dense = curve.evaluate(curve.knots.uniformSamples(2001), 0);
     for (Eigen::Index k = 2; k < dense.rows(); ++k) {
       const Eigen::RowVectorXd a = dense.row(k - 1) - dense.row(k - 2), b = dense.row(k) - dense.row(k - 1);
