@@ -15,6 +15,9 @@
 // 3. `--parallel` loads at once in one browser (fresh contexts), each timed as in 1, with
 //    /api/health sampled the same way. On a small machine with software WebGL (SwiftShader) this
 //    measures mostly the browser: its pages share one GPU process and the cores.
+// 4. `--parallel` loads at once in as many browsers (one each, as that many users would have:
+//    each its own GPU process), launched and warmed by one load beforehand; timed and sampled as
+//    in 3. All of them still share this machine's cores with the daemon.
 //
 // Environment (as tests/web): DEVSURF_BIN (default build/server/devsurf), DEVSURF_WEB (default
 // web/dist), DEVSURF_CHROMIUM (default /usr/bin/chromium). playwright-core comes from
@@ -217,10 +220,32 @@ async function main() {
     await sleep(200);
     const lat = await health.stop();
     const pms = parallel.map((r) => r.ms);
-    console.log(`\n${PARALLEL} loads at once (wall ${fmt(wall)}):`);
+    console.log(`\n${PARALLEL} loads at once in one browser (wall ${fmt(wall)}):`);
     console.log(`  first surface: median ${fmt(median(pms))}, max ${fmt(Math.max(...pms))}`);
     console.log(`  /api/health every 20 ms (${lat.length} samples): p50 ${median(lat).toFixed(1)} ms, `
       + `p95 ${quantile(lat, 0.95).toFixed(1)} ms, max ${Math.max(...lat).toFixed(1)} ms`);
+
+    // As eight users would: a browser each (its own GPU process), already open and warmed by one
+    // load, all loading at once — still on this machine's cores, beside the daemon.
+    const browsers = await Promise.all(Array.from({ length: PARALLEL },
+      () => chromium.launch({ executablePath: CHROMIUM, headless: true, args: LAUNCH_ARGS })));
+    try {
+      for (const b of browsers) await loadOnce(b, link);
+      const health2 = sampleHealth(daemon.url, 20);
+      await sleep(200);
+      const t1 = performance.now();
+      const separate = await Promise.all(browsers.map((b) => loadOnce(b, link)));
+      const wall2 = performance.now() - t1;
+      await sleep(200);
+      const lat2 = await health2.stop();
+      const sms = separate.map((r) => r.ms);
+      console.log(`\n${PARALLEL} loads at once, a browser each (wall ${fmt(wall2)}):`);
+      console.log(`  first surface: median ${fmt(median(sms))}, max ${fmt(Math.max(...sms))}`);
+      console.log(`  /api/health every 20 ms (${lat2.length} samples): p50 ${median(lat2).toFixed(1)} ms, `
+        + `p95 ${quantile(lat2, 0.95).toFixed(1)} ms, max ${Math.max(...lat2).toFixed(1)} ms`);
+    } finally {
+      await Promise.all(browsers.map((b) => b.close()));
+    }
   } finally {
     await browser.close();
     await stopDaemon(daemon);

@@ -69,21 +69,52 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   }
   Eigen::MatrixX2d pointMatrix(static_cast<Eigen::Index>(points.size()), 2);
   for (std::size_t k = 0; k < points.size(); ++k) pointMatrix.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
-  const spatial::PlanarArrangement arrangement =
-      spatial::planarArrangement(pointMatrix, segments, options.mergeFraction * diagonal);
+  spatial::PlanarArrangementOptions arrangementOptions;
+  arrangementOptions.tolerance = options.mergeFraction * diagonal;
+  arrangementOptions.bridgeIslands = true;
+  spatial::PlanarArrangement arrangement = spatial::planarArrangement(pointMatrix, segments, arrangementOptions);
+  const auto strokeOfPiece = [&strokeOfSegment, &arrangement](std::size_t s) {
+    const int source = arrangement.sourceOfSegment[s];
+    return source < 0 ? -1 : strokeOfSegment[static_cast<std::size_t>(source)];
+  };
+  // Holes: faces an outline (black) stroke inside the sheet walls off from the sheet's edge.
+  {
+    std::map<std::pair<int, int>, int> strokeOfPair;
+    for (std::size_t s = 0; s < arrangement.segments.size(); ++s)
+      strokeOfPair[std::minmax(arrangement.segments[s][0], arrangement.segments[s][1])] = strokeOfPiece(s);
+    const std::vector<bool> hole = spatial::holeFaces(arrangement.faces, [&strokeOfPair, &strokes](int a, int b) {
+      const auto it = strokeOfPair.find(std::minmax(a, b));
+      return it != strokeOfPair.end() && it->second >= 0 &&
+             strokes[static_cast<std::size_t>(it->second)].assignment == EdgeAssignment::Boundary;
+    });
+    const auto holes = std::count(hole.begin(), hole.end(), true);
+    if (holes > 0 && holes < static_cast<long>(hole.size())) {
+      std::vector<std::vector<int>> sheet;
+      for (std::size_t f = 0; f < hole.size(); ++f)
+        if (!hole[f]) sheet.push_back(std::move(arrangement.faces[f]));
+      arrangement.faces = std::move(sheet);
+      result.notes.push_back({"svg", std::to_string(holes) + " face(s) inside outline (black) strokes within the sheet; "
+                                     "cut out as holes"});
+    }
+  }
 
   std::set<int> leftOut;
   for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);
   result.strokeLeftOut.assign(strokes.size(), false);
   for (int s : leftOut) result.strokeLeftOut[static_cast<std::size_t>(s)] = true;
   std::set<int> usedStrokes;
-  for (int source : arrangement.sourceOfSegment) usedStrokes.insert(strokeOfSegment[static_cast<std::size_t>(source)]);
+  for (int source : arrangement.sourceOfSegment)
+    if (source >= 0) usedStrokes.insert(strokeOfSegment[static_cast<std::size_t>(source)]);
   for (int s : leftOut)
     if (!usedStrokes.count(s))
       result.notes.push_back({strokes[static_cast<std::size_t>(s)].element,
                               "a stroke with a free end, or apart from the sheet; left out"});
   if (arrangement.islands > 0)
-    result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet (a face with a hole); left out"});
+    result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet that no straight bridge "
+                                   "reaches; left out"});
+  if (arrangement.bridgedIslands > 0)
+    result.notes.push_back({"svg", std::to_string(arrangement.bridgedIslands) + " island(s) inside the sheet (closed strokes "
+                                   "touching nothing) joined to what surrounds them by two straight rulings each"});
   if (arrangement.faces.empty()) throw std::invalid_argument("SVG: the strokes enclose no face (draw the sheet's outline in black)");
 
   CreasePattern& p = result.pattern;
@@ -101,8 +132,17 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   for (std::size_t s = 0; s < arrangement.segments.size(); ++s) {
     const auto key = std::minmax(arrangement.segments[s][0], arrangement.segments[s][1]);
     const auto count = facesOfPair.find(key);
-    const int strokeId = strokeOfSegment[static_cast<std::size_t>(arrangement.sourceOfSegment[s])];
+    const int strokeId = strokeOfPiece(s);
     if (count == facesOfPair.end()) continue;
+    if (strokeId < 0) {  // a bridge to an island
+      CreaseEdge edge;
+      edge.v0 = key.first;
+      edge.v1 = key.second;
+      edge.proposed = true;
+      edge.assignment = count->second == 1 ? EdgeAssignment::Boundary : EdgeAssignment::Flat;
+      p.edges.push_back(edge);
+      continue;
+    }
     boundingLength[static_cast<std::size_t>(strokeId)] +=
         (arrangement.points.row(arrangement.segments[s][0]) - arrangement.points.row(arrangement.segments[s][1])).norm();
     const CreaseStroke& stroke = strokes[static_cast<std::size_t>(strokeId)];

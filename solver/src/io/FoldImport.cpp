@@ -281,14 +281,40 @@ FoldImport importFoldDocument(const json& doc) {
   if (faces.empty()) {
     // Faces from the planar arrangement of the edges.
     if (edgeEnds.empty()) refuse("neither faces_vertices nor edges_vertices: nothing to import");
-    const spatial::PlanarArrangement arrangement = spatial::planarArrangement(dev2, edgeEnds);
+    spatial::PlanarArrangementOptions arrangementOptions;
+    arrangementOptions.bridgeIslands = true;
+    spatial::PlanarArrangement arrangement = spatial::planarArrangement(dev2, edgeEnds, arrangementOptions);
+    {
+      // Holes: faces that boundary (B) edges inside the sheet wall off from its outline.
+      std::map<std::pair<int, int>, int> sourceOfPair;
+      for (std::size_t s = 0; s < arrangement.segments.size(); ++s)
+        sourceOfPair[std::minmax(arrangement.segments[s][0], arrangement.segments[s][1])] = arrangement.sourceOfSegment[s];
+      const std::vector<bool> hole = spatial::holeFaces(arrangement.faces, [&sourceOfPair, &assignmentOf](int a, int b) {
+        const auto it = sourceOfPair.find(std::minmax(a, b));
+        return it != sourceOfPair.end() && it->second >= 0 && assignmentOf(static_cast<std::size_t>(it->second)) &&
+               *assignmentOf(static_cast<std::size_t>(it->second)) == EdgeAssignment::Boundary;
+      });
+      const auto holes = std::count(hole.begin(), hole.end(), true);
+      if (holes > 0 && holes < static_cast<long>(hole.size())) {
+        std::vector<std::vector<int>> sheet;
+        for (std::size_t f = 0; f < hole.size(); ++f)
+          if (!hole[f]) sheet.push_back(std::move(arrangement.faces[f]));
+        arrangement.faces = std::move(sheet);
+        result.notes.push_back({"edges_assignment", std::to_string(holes) + " face(s) walled off from the sheet's outline by "
+                                                    "boundary (B) edges; cut out as holes"});
+      }
+    }
     for (const auto& [i, j] : arrangement.crossings)
       result.notes.push_back({at("edges_vertices", i), "crosses or touches " + at("edges_vertices", j) + "; split there"});
     for (int s : arrangement.unusedSegments)
       result.notes.push_back({at("edges_vertices", s), "dangling, of zero length or apart from the sheet; left out"});
     if (arrangement.islands > 0)
       result.notes.push_back({"edges_vertices", std::to_string(arrangement.islands) +
-                                                    " island(s) inside the sheet (a face with a hole); left out"});
+                                                    " island(s) inside the sheet that no straight bridge reaches; left out"});
+    if (arrangement.bridgedIslands > 0)
+      result.notes.push_back({"edges_vertices", std::to_string(arrangement.bridgedIslands) +
+                                                    " island(s) inside the sheet (edges touching nothing around them) joined "
+                                                    "to the sheet by two flat edges each"});
     if (arrangement.pinchedFaces > 0)
       result.notes.push_back({"edges_vertices", std::to_string(arrangement.pinchedFaces) +
                                                     " face(s) touching themselves at a vertex; left out"});
@@ -302,11 +328,23 @@ FoldImport importFoldDocument(const json& doc) {
       p.vertices3d.resize(0, 3);
     }
     faces = arrangement.faces;
+    std::map<std::pair<int, int>, int> faceCountOfPair;
+    for (const auto& f : arrangement.faces)
+      for (std::size_t k = 0; k < f.size(); ++k) ++faceCountOfPair[std::minmax(f[k], f[(k + 1) % f.size()])];
     for (std::size_t s = 0; s < arrangement.segments.size(); ++s) {
       const int source = arrangement.sourceOfSegment[s];
       CreaseEdge edge;
       edge.v0 = arrangement.segments[s][0];
       edge.v1 = arrangement.segments[s][1];
+      const auto faceCount = faceCountOfPair.find(std::minmax(edge.v0, edge.v1));
+      if (faceCount == faceCountOfPair.end()) continue;  // inside a hole
+      if (source < 0) {  // a bridge to an island
+        edge.proposed = true;
+        edge.assignment = faceCount->second == 1 ? EdgeAssignment::Boundary : EdgeAssignment::Flat;
+        edgeOfPair[std::minmax(edge.v0, edge.v1)] = static_cast<int>(p.edges.size());
+        p.edges.push_back(edge);
+        continue;
+      }
       if (assignmentOf(source)) edge.assignment = *assignmentOf(source);
       edge.foldAngle = foldAngles[source];
       edgeOfPair[std::minmax(edge.v0, edge.v1)] = static_cast<int>(p.edges.size());

@@ -140,3 +140,195 @@ TEST(PlanarArrangement, RandomChordsTileTheSheetAndSatisfyEulersFormula) {
 
 }  // namespace
 }  // namespace devsurf::spatial
+
+namespace devsurf::spatial {
+namespace {
+
+PlanarArrangementOptions bridging() {
+  PlanarArrangementOptions o;
+  o.bridgeIslands = true;
+  return o;
+}
+
+/// Whether two segments share a point other than a common end (a proper crossing, or one touching
+/// the other's inside), computed here with exact orientation tests, not the arrangement's code.
+bool segmentsMeetInside(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r, const Eigen::Vector2d& s) {
+  const auto orient = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+    const double v = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    return (v > 1e-12) - (v < -1e-12);
+  };
+  const auto same = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return (a - b).norm() < 1e-9; };
+  const int o1 = orient(p, q, r), o2 = orient(p, q, s), o3 = orient(r, s, p), o4 = orient(r, s, q);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  const auto onInside = [&same](const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& x) {
+    if (same(x, a) || same(x, b)) return false;
+    const double t = (x - a).dot(b - a) / (b - a).squaredNorm();
+    return t > 0.0 && t < 1.0 && (a + t * (b - a) - x).norm() < 1e-9;
+  };
+  return onInside(p, q, r) || onInside(p, q, s) || onInside(r, s, p) || onInside(r, s, q);
+}
+
+/// Every bridge of the arrangement crosses or touches no other segment except at its two ends.
+void expectBridgesCrossNothing(const PlanarArrangement& a) {
+  for (int b : a.bridges) {
+    const auto& bridge = a.segments[static_cast<std::size_t>(b)];
+    const Eigen::Vector2d p = a.points.row(bridge[0]), q = a.points.row(bridge[1]);
+    EXPECT_EQ(a.sourceOfSegment[static_cast<std::size_t>(b)], -1);
+    for (std::size_t k = 0; k < a.segments.size(); ++k) {
+      if (static_cast<int>(k) == b) continue;
+      const Eigen::Vector2d r = a.points.row(a.segments[k][0]), s = a.points.row(a.segments[k][1]);
+      EXPECT_FALSE(segmentsMeetInside(p, q, r, s)) << "bridge " << b << " meets segment " << k;
+    }
+  }
+}
+
+long eulerCharacteristicOfBoundedFaces(const PlanarArrangement& a) {
+  std::vector<bool> usedPoint(static_cast<std::size_t>(a.points.rows()), false);
+  for (const auto& s : a.segments) usedPoint[static_cast<std::size_t>(s[0])] = usedPoint[static_cast<std::size_t>(s[1])] = true;
+  const long vertices = std::count(usedPoint.begin(), usedPoint.end(), true);
+  return vertices - static_cast<long>(a.segments.size()) + static_cast<long>(a.faces.size());
+}
+
+TEST(PlanarArrangementBridges, AnIslandInsideTheSheetIsJoinedByTwoBridgesThatCrossNothing) {
+  const auto p = arrangementPoints({{0, 0}, {4, 0}, {4, 4}, {0, 4}, {1, 1}, {2, 1}, {2, 2}, {1, 2}});
+  const PlanarArrangement a =
+      planarArrangement(p, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}}, bridging());
+  EXPECT_EQ(a.islands, 0);
+  EXPECT_EQ(a.bridgedIslands, 1);
+  ASSERT_EQ(a.bridges.size(), 2u);
+  EXPECT_TRUE(a.unusedSegments.empty());
+  EXPECT_EQ(a.pinchedFaces, 0);
+  // The island's inside and the sheet around it, cut in two by the bridges: three faces tiling
+  // the 4 × 4 sheet, a connected plane graph (V − E + F = 1).
+  EXPECT_EQ(a.faces.size(), 3u);
+  EXPECT_NEAR(totalFaceArea(a), 16.0, 1e-12);
+  EXPECT_EQ(eulerCharacteristicOfBoundedFaces(a), 1);
+  expectFacesCloseUp(a);
+  expectBridgesCrossNothing(a);
+  // The nearest points of the sides run on along the island's sides (a straight angle at the
+  // bridge's foot), so the bridges go corner to corner: (1, 1)–(0, 0) first, the shortest that
+  // leaves steeply, then from the far corner (2, 2) to a far corner of the sheet.
+  const auto& first = a.segments[static_cast<std::size_t>(a.bridges[0])];
+  const auto& second = a.segments[static_cast<std::size_t>(a.bridges[1])];
+  std::vector<std::array<double, 4>> bridgeEnds;
+  for (const auto* b : {&first, &second}) {
+    Eigen::Vector2d x = a.points.row((*b)[0]), y = a.points.row((*b)[1]);
+    if (x.x() > y.x()) std::swap(x, y);
+    bridgeEnds.push_back({x.x(), x.y(), y.x(), y.y()});
+  }
+  std::sort(bridgeEnds.begin(), bridgeEnds.end());
+  EXPECT_EQ(bridgeEnds[0], (std::array<double, 4>{0, 0, 1, 1}));
+  // (4, 0) and (4, 4) are equally near (2, 2).
+  EXPECT_EQ((std::array<double, 2>{bridgeEnds[1][0], bridgeEnds[1][1]}), (std::array<double, 2>{2, 2}));
+  EXPECT_NEAR(std::hypot(bridgeEnds[1][2] - 2, bridgeEnds[1][3] - 2), std::sqrt(8.0), 1e-12);
+  // Without bridging the island is left out, as before.
+  EXPECT_EQ(planarArrangement(p, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}}).islands, 1);
+}
+
+TEST(PlanarArrangementBridges, NestedIslandsAreJoinedAlongOneLineOfBridges) {
+  // Three concentric squares inside a sheet: each is bridged to the one around it, and the inner
+  // ones reuse the ends of the outer bridges (one line of bridges through all the rings).
+  std::vector<std::array<double, 2>> pts{{-10, -10}, {10, -10}, {10, 10}, {-10, 10}};
+  std::vector<std::array<int, 2>> segments{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  for (double r : {7.0, 5.0, 3.0}) {
+    const int first = static_cast<int>(pts.size());
+    // A square turned a little, so the shortest bridges are not all ties.
+    for (int k = 0; k < 4; ++k) {
+      const double angle = 0.1 + k * M_PI / 2;
+      pts.push_back({r * std::cos(angle), r * std::sin(angle)});
+    }
+    for (int k = 0; k < 4; ++k) segments.push_back({first + k, first + (k + 1) % 4});
+  }
+  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  const PlanarArrangement a = planarArrangement(p, segments, bridging());
+  EXPECT_EQ(a.bridgedIslands, 3);
+  EXPECT_EQ(a.islands, 0);
+  ASSERT_EQ(a.bridges.size(), 6u);
+  EXPECT_NEAR(totalFaceArea(a), 400.0, 1e-9);
+  EXPECT_EQ(eulerCharacteristicOfBoundedFaces(a), 1);
+  expectFacesCloseUp(a);
+  expectBridgesCrossNothing(a);
+  // Points where two bridges meet (one from outside, one from inside): the inner squares' bridges
+  // end where the outer ones start, on both middle squares.
+  std::map<int, int> bridgesAt;
+  for (int b : a.bridges)
+    for (int end : a.segments[static_cast<std::size_t>(b)]) ++bridgesAt[end];
+  int relays = 0;
+  for (const auto& [point, count] : bridgesAt) relays += count == 2 ? 1 : 0;
+  EXPECT_EQ(relays, 4);
+}
+
+TEST(PlanarArrangementBridges, HoleFacesAreThoseWalledOffFromTheOutline) {
+  const auto p = arrangementPoints({{0, 0}, {4, 0}, {4, 4}, {0, 4}, {1, 1}, {2, 1}, {2, 2}, {1, 2}});
+  const PlanarArrangement a =
+      planarArrangement(p, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}}, bridging());
+  ASSERT_EQ(a.faces.size(), 3u);
+  const auto onIsland = [](int v) { return v >= 4 && v <= 7; };
+  // Walls: the island's outline. Its inside is the hole, the two faces around it are not.
+  const std::vector<bool> hole = holeFaces(a.faces, [&onIsland](int u, int v) { return onIsland(u) && onIsland(v); });
+  int holes = 0;
+  for (std::size_t f = 0; f < a.faces.size(); ++f) {
+    const bool inside = std::all_of(a.faces[f].begin(), a.faces[f].end(), onIsland);
+    EXPECT_EQ(hole[f], inside) << "face " << f;
+    holes += hole[f] ? 1 : 0;
+  }
+  EXPECT_EQ(holes, 1);
+  // No walls: no holes.
+  const std::vector<bool> none = holeFaces(a.faces, [](int, int) { return false; });
+  EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
+}
+
+// Property over seeded random crease patterns with islands: chords across a 2 × 1 sheet and 1–3
+// closed polygons (4–16 sides, any size that fits) dropped anywhere inside, some crossing chords
+// (then they are not islands) or one another. Every island is bridged, the bridges cross nothing,
+// the faces tile the sheet and the graph is connected (V − E + F = 1).
+TEST(PlanarArrangementBridges, RandomIslandsAreAllBridgedAndTheFacesStillTileTheSheet) {
+  std::mt19937 rng(20261205);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto boundaryPoint = [](double s) -> std::array<double, 2> {
+    if (s < 2) return {s, 0};
+    if (s < 3) return {2, s - 2};
+    if (s < 5) return {2 - (s - 3), 1};
+    return {0, 1 - (s - 5)};
+  };
+  int bridged = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    std::vector<std::array<double, 2>> pts{{0, 0}, {2, 0}, {2, 1}, {0, 1}};
+    std::vector<std::array<int, 2>> segments{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+    for (int c = 0; c < trial % 4; ++c) {
+      pts.push_back(boundaryPoint(6 * u(rng)));
+      pts.push_back(boundaryPoint(6 * u(rng)));
+      segments.push_back({static_cast<int>(pts.size()) - 2, static_cast<int>(pts.size()) - 1});
+    }
+    for (int k = 0; k < 1 + trial % 3; ++k) {
+      const double radius = 0.05 + 0.3 * u(rng);
+      const double cx = radius + 0.01 + (2 - 2 * radius - 0.02) * u(rng), cy = radius + 0.01 + (1 - 2 * radius - 0.02) * u(rng);
+      const int sides = 4 + static_cast<int>(13 * u(rng));
+      const double turn = 2 * M_PI * u(rng), squash = 0.4 + 0.6 * u(rng);
+      const int first = static_cast<int>(pts.size());
+      for (int j = 0; j < sides; ++j) {
+        const double angle = turn + 2 * M_PI * j / sides;
+        pts.push_back({cx + radius * std::cos(angle), cy + squash * radius * std::sin(angle)});
+      }
+      for (int j = 0; j < sides; ++j) segments.push_back({first + j, first + (j + 1) % sides});
+    }
+    Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
+    for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+    const PlanarArrangement a = planarArrangement(p, segments, bridging());
+    EXPECT_EQ(a.islands, 0);
+    EXPECT_EQ(a.bridges.size(), 2u * static_cast<std::size_t>(a.bridgedIslands));
+    EXPECT_EQ(a.pinchedFaces, 0);
+    EXPECT_NEAR(totalFaceArea(a), 2.0, 1e-9);
+    EXPECT_EQ(eulerCharacteristicOfBoundedFaces(a), 1);
+    expectFacesCloseUp(a);
+    expectBridgesCrossNothing(a);
+    for (const auto& f : a.faces) EXPECT_GT(loopSignedArea2(a.points, f), 0.0);
+    bridged += a.bridgedIslands;
+  }
+  EXPECT_GT(bridged, 100);  // most drawings had islands to bridge
+}
+
+}  // namespace
+}  // namespace devsurf::spatial

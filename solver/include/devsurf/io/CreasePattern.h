@@ -29,6 +29,10 @@ struct CreaseEdge {
   /// Polyline crease this edge belongs to (an id of CreasePattern::curves, or any id ≥ 0 shared
   /// by the edges of one chain); −1 for an edge on no curve.
   int curve = -1;
+  /// Not drawn: a straight edge the import added (a bridge that joins an island to the sheet
+  /// around it, so that no face has a hole). Flat; the composite keeps it smooth, like a proposed
+  /// ruling.
+  bool proposed = false;
 };
 
 /// Spline description of one crease curve (3D, the folded state), exported under namespaced keys.

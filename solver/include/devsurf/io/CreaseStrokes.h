@@ -47,8 +47,9 @@ struct StrokePattern {
 
 /// The crease pattern a set of strokes draws: every stroke cut into segments (its pieces keep the
 /// stroke's index as CreaseEdge::curve when any stroke is curved, else −1), faces from
-/// spatial::planarArrangement (crossings split, dangling strokes and islands left out, noted by
-/// element). Edges on the outline become boundary edges whatever their stroke (noted when a crease
+/// spatial::planarArrangement (crossings split, dangling strokes left out, islands bridged, faces
+/// walled off by black strokes cut out as holes, noted by element; a bridge is a CreaseEdge with
+/// `proposed` set). Edges on the outline become boundary edges whatever their stroke (noted when a crease
 /// colour), boundary strokes inside the sheet cuts (noted); fold angles from the strokes.
 /// Development in millimetres (unitToMm = 1), no folded state.
 /// @throws std::invalid_argument "SVG: …" for no strokes, no extent or no face

@@ -39,7 +39,9 @@ struct FoldImport {
 ///    J (U and J read as F; missing ones derived: B on one face, F on two); edges_foldAngle.
 ///  * faces: faces_vertices when present (turned counter-clockwise in the development); otherwise
 ///    found from the planar arrangement of the edges (spatial::planarArrangement): crossing edges
-///    are split, dangling edges and islands left out — each noted by element.
+///    are split, dangling edges left out, islands (edges touching nothing around them) joined to
+///    the sheet by two flat edges each (CreaseEdge::proposed), faces walled off from the outline by
+///    B edges cut out as holes — each noted by element.
 ///  * Coordinates stay as they are (model units); pattern.unitToMm from frame_unit.
 /// @throws std::invalid_argument "FOLD: …" naming the key (and index) of what cannot be read
 FoldImport importFoldDocument(const nlohmann::json& document);

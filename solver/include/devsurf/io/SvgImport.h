@@ -50,9 +50,12 @@ struct SvgImport {
 ///    and arcs are sampled (options.samplesPerCurve) into edges sharing one curve id.
 ///  * Units: the root's width/height with viewBox; px at 96 per inch when unitless. Everything is
 ///    converted to millimetres.
-///  * Faces: spatial::planarArrangement of all strokes (crossings split, dangling strokes and
-///    islands left out, noted). Edges on the outline become boundary edges whatever their colour
-///    (noted when coloured as a crease); black lines inside the sheet become cuts (noted).
+///  * Faces: spatial::planarArrangement of all strokes (crossings split, dangling strokes left
+///    out, noted; islands — closed strokes touching nothing — joined to what surrounds them by two
+///    straight bridges each, proposed rulings of the composite, noted). Faces enclosed by black
+///    strokes inside the sheet are holes, cut out (noted). Edges on the outline become boundary
+///    edges whatever their colour (noted when coloured as a crease); other black lines inside the
+///    sheet become cuts (noted).
 /// @throws std::invalid_argument "SVG: …" for malformed XML, a root other than <svg>, malformed
 ///         path data (naming the element) or a drawing enclosing no face
 /// @throws std::length_error past options.maxSegments

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -15,7 +16,7 @@ namespace devsurf::spatial {
 struct PlanarArrangement {
   Eigen::MatrixX2d points;                    ///< the input points (merged ones keep their first id), then the crossings
   std::vector<std::array<int, 2>> segments;   ///< pieces of the input segments after splitting
-  std::vector<int> sourceOfSegment;           ///< the input segment each piece comes from
+  std::vector<int> sourceOfSegment;           ///< the input segment each piece comes from; −1 for a bridge
   std::vector<int> mergedInto;                ///< per input point: the id it was merged into (itself if kept)
   std::vector<std::vector<int>> faces;        ///< bounded faces, counter-clockwise point loops
   /// Input segments with no piece on the boundary of a kept face: dangling (a free end), of zero
@@ -25,8 +26,27 @@ struct PlanarArrangement {
   std::vector<std::array<int, 2>> crossings;
   /// Faces left out because they touch themselves at a point (a loop through one point twice).
   int pinchedFaces = 0;
-  /// Faces with a hole (another component inside them): the island's segments are unused.
+  /// Components inside the sheet that were left out (another component inside a face, not
+  /// bridged): their segments are unused.
   int islands = 0;
+  /// Components inside the sheet joined to it by bridges (options.bridgeIslands).
+  int bridgedIslands = 0;
+  /// Indices into `segments` of the bridges: straight segments added from an island to what
+  /// surrounds it, two per island, so that no face has a hole (their sourceOfSegment is −1).
+  std::vector<int> bridges;
+};
+
+/// How planarArrangement treats its input.
+struct PlanarArrangementOptions {
+  /// Absolute distance below which points are one point and a point lies on a segment; ≤ 0 picks
+  /// 1e-9 × the points' bounding-box diagonal.
+  double tolerance = 0.0;
+  /// Join every component that lies inside the sheet (a closed crease, a hole's outline, a
+  /// pattern drawn apart inside a face) to the segments around it by two straight bridges, each
+  /// the shortest segment from a point of the island to a segment around it that crosses nothing
+  /// (the second from a point at least a third of the island's outline away from the first, and
+  /// ending elsewhere). Without it islands are left out.
+  bool bridgeIslands = false;
 };
 
 /// Splits the segments where they cross, overlap or touch one another's interior, merges points
@@ -40,11 +60,23 @@ struct PlanarArrangement {
 ///
 /// @param[in] points     n×2 points
 /// @param[in] segments   pairs of point ids
-/// @param[in] tolerance  absolute distance below which points are one point and a point lies on a
-///                       segment; ≤ 0 picks 1e-9 × the points' bounding-box diagonal
+/// @param[in] options    tolerance, bridging of islands
 /// @throws std::invalid_argument for non-finite points or ids out of range, naming the segment
 PlanarArrangement planarArrangement(const Eigen::MatrixX2d& points, const std::vector<std::array<int, 2>>& segments,
+                                    const PlanarArrangementOptions& options);
+
+/// planarArrangement with a tolerance (≤ 0: 1e-9 × the diagonal), islands left out.
+PlanarArrangement planarArrangement(const Eigen::MatrixX2d& points, const std::vector<std::array<int, 2>>& segments,
                                     double tolerance = 0.0);
+
+/// Which faces are holes: cut off from the sheet's outline by walls. A face belongs to the sheet
+/// when it has an edge no other face has (the outline), or a chain of neighbours across shared
+/// edges that are not walls leads to one. Faces enclosed by an outline drawn inside the sheet
+/// (a hole's outline, walls) are holes, with whatever lies inside them.
+/// @param[in] faces   point loops (as PlanarArrangement::faces)
+/// @param[in] isWall  whether the edge between two points is a wall (called once per shared edge)
+/// @return per face: a hole
+std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const std::function<bool(int, int)>& isWall);
 
 /// Whether p lies inside a point loop (even–odd rule; points on the loop either way).
 bool pointInLoop(const Eigen::MatrixX2d& points, const std::vector<int>& loop, const Eigen::Vector2d& p);

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/spatial/PolygonTriangulation.h"
 #include "devsurf/spline/Basis.h"
 #include "devsurf/terms/DevelopmentPeriodTerm.h"
 #include "devsurf/terms/EdgeIsometryTerm.h"
@@ -138,7 +139,17 @@ void CompositeModel::buildDevelopmentMesh() {
         for (int j = i + 2; j < N; ++j)
           if (!(i == 0 && j == N - 1)) addPair(c[i], c[j], PairKind::Diagonal, -1, -1, f);
       }
-      for (int i = 1; i + 1 < N; ++i) addTriangle(c[0], c[i], c[i + 1], f);
+      // A fan from the first corner, unless the face is not convex (a notch, a face beside a
+      // hole's bridge): a fan there holds triangles outside the face, turned over, and the
+      // unfolding that follows them (unfold) mirrors the sheet beyond.
+      Eigen::MatrixX3d corners(N, 3);
+      for (int i = 0; i < N; ++i) corners.row(i) = design_.vertices.row(c[i]);
+      const Eigen::MatrixX2d plane = spatial::polygonInItsPlane(corners);
+      if (spatial::isConvexPolygon(plane)) {
+        for (int i = 1; i + 1 < N; ++i) addTriangle(c[0], c[i], c[i + 1], f);
+      } else {
+        for (const auto& t : spatial::triangulateSimplePolygon(plane)) addTriangle(c[t[0]], c[t[1]], c[t[2]], f);
+      }
       continue;
     }
     const int U = edgeCount[info.a.edge];

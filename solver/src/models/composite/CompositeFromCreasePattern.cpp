@@ -112,8 +112,9 @@ CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern,
     for (int g : {a, b})
       for (int f : members[g]) loops.push_back(&pattern.faces[f]);
     if (unionBoundary(loops).empty()) {
-      result.notes.push_back({element, "flat (F), but the faces it would join enclose a hole or touch at a vertex; "
-                                       "kept as an edge that folds freely"});
+      if (!edge.proposed)
+        result.notes.push_back({element, "flat (F), but the faces it would join enclose a hole or touch at a vertex; "
+                                         "kept as an edge that folds freely"});
       continue;
     }
     group[b] = a;
@@ -179,6 +180,11 @@ CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern,
         onLoop = std::minmax(loop[k], loop[(k + 1) % loop.size()]) == key;
     if (onLoop) designEdge(key.first, key.second);
   }
+  // A bridge the import proposed to an island stays smooth: the faces on its two sides are one
+  // piece of the sheet.
+  for (std::size_t e = 0; e < pattern.edges.size(); ++e)
+    if (pattern.edges[e].proposed && result.designEdgeOf[e] >= 0)
+      d.edges[static_cast<std::size_t>(result.designEdgeOf[e])].crease = CreaseKind::Smooth;
   double largestArea = -1.0;
   int largestFace = 0;
   for (const auto& loop : loops) {

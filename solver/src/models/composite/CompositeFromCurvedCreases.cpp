@@ -45,6 +45,7 @@ using curved::chainPolyline;
 using curved::chordFits;
 using curved::fitCrease;
 using curved::proposeRuling;
+using curved::rulingsCross;
 using curved::sidesOf;
 using curved::startVertexOfPosition;
 
@@ -88,15 +89,20 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   for (std::size_t e = 0; e < pattern.edges.size(); ++e) {
     const io::CreaseEdge& edge = pattern.edges[e];
     const auto key = std::minmax(edge.v0, edge.v1);
-    if (!faceCount.count(key) || g.edgeBetween(edge.v0, edge.v1) >= 0) continue;
+    if (edge.proposed || !faceCount.count(key) || g.edgeBetween(edge.v0, edge.v1) >= 0) continue;
     g.addEdge(edge.v0, edge.v1, edge.curve, faceCount[key] == 2, static_cast<int>(e));
     if (edge.curve >= 0) {
       verticesOfChain[edge.curve].push_back(edge.v0);
       verticesOfChain[edge.curve].push_back(edge.v1);
     }
   }
+  // Edges the faces use that the pattern does not list are straight (as are the import's bridges,
+  // added below).
+  std::set<std::pair<int, int>> bridges;
+  for (const io::CreaseEdge& edge : pattern.edges)
+    if (edge.proposed) bridges.insert(std::minmax(edge.v0, edge.v1));
   for (const auto& [key, count] : faceCount)
-    if (g.edgeBetween(key.first, key.second) < 0) g.addEdge(key.first, key.second, -1, count == 2, -1);
+    if (g.edgeBetween(key.first, key.second) < 0 && !bridges.count(key)) g.addEdge(key.first, key.second, -1, count == 2, -1);
   for (const auto& [id, vs] : verticesOfChain) {
     Eigen::MatrixX2d pts(static_cast<Eigen::Index>(vs.size()), 2);
     for (std::size_t i = 0; i < vs.size(); ++i) pts.row(static_cast<Eigen::Index>(i)) = pattern.vertices2d.row(vs[i]);
@@ -112,6 +118,11 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
 
   std::vector<bool> drawnCorner(static_cast<std::size_t>(n), false);
   for (int v = 0; v < n; ++v) drawnCorner[static_cast<std::size_t>(v)] = !g.incident[static_cast<std::size_t>(v)].empty() && g.isCorner(v);
+  // The import's bridges to islands are rulings it proposes: smooth, their ends free to slide along
+  // their strokes (added after the corners were read, so their ends are not corners of the drawing).
+  for (const auto& key : bridges)
+    if (faceCount.count(key) && g.edgeBetween(key.first, key.second) < 0)
+      g.addEdge(key.first, key.second, kChordChain, faceCount[key] == 2, -1);
 
   // Propose rulings, one at a time, until every face has a layout without joints in its chains.
   std::vector<std::vector<int>> loops = pattern.faces;
@@ -162,6 +173,13 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
         const bool curved = std::any_of(sides.begin(), sides.end(), [](const Side& s) { return s.kind == SideKind::Curve; });
         if (!curved) continue;
         const std::optional<Layout> layout = bestLayout(sides);
+        const bool allCurved = std::all_of(sides.begin(), sides.end(), [](const Side& s) { return s.kind == SideKind::Curve; });
+        if (!layout && allCurved)
+          throw std::invalid_argument(faceName(f) + ": inside a closed curved crease with no straight crease in it, and "
+                                                    "every face needs straight ends between its curved sides (S R S R, "
+                                                    "S R S or S R R): outline it in black to cut it out as a hole, or draw "
+                                                    "three or more straight creases from a point inside out to the crease "
+                                                    "(cones around that point)");
         if (!layout)
           throw std::invalid_argument(faceName(f) + ": no ruling layout (a face needs straight ends between its curved "
                                                     "sides: S R S R, S R S or S R R)");
@@ -201,6 +219,38 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
     if (const auto chord = proposeRuling(g, loops[f], a, b, eps)) splitFace(f, chord->first, chord->second);
   }
   resolveJoints();
+  // A strip pairs its two curves by arc length (the splines are fitted with chord-length
+  // parameters): where the curves are too unlike (a short side of a hole facing a long crease),
+  // neighbouring rulings cross and the strip would lie on itself in its development. Such a face
+  // gets one more ruling across its middle, until none crosses.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t f = 0; f < loops.size() && !changed; ++f) {
+      const std::vector<Side> sides = sidesOf(g, loops[f]);
+      const std::optional<Layout> layout = bestLayout(sides);
+      if (!layout || layout->corners > 0) continue;
+      auto [a, b] = chainsOf(sides, *layout);
+      if (!rulingsCross(g, a, b)) continue;
+      // A ruling from the middle of one side (by arc length) to the other, either way round.
+      const auto fromMiddle = [&g, &loops, f, eps](ChainPolyline from, ChainPolyline to) -> std::optional<std::pair<int, int>> {
+        if (from.vertices.size() < 3) return std::nullopt;
+        std::size_t middle = static_cast<std::size_t>(std::lower_bound(from.t.begin(), from.t.end(), 0.5) - from.t.begin());
+        middle = std::clamp<std::size_t>(middle, 1, from.vertices.size() - 2);
+        from.joints = {middle};
+        to.joints.clear();
+        return proposeRuling(g, loops[f], from, to, eps);
+      };
+      std::optional<std::pair<int, int>> chord = fromMiddle(a, b);
+      if (!chord) chord = fromMiddle(b, a);
+      if (!chord)
+        throw std::invalid_argument(faceName(f) + ": the rulings between its curved sides would cross (the two sides are "
+                                                  "too unlike) and no straight ruling fits across its middle; draw a "
+                                                  "straight crease across it");
+      splitFace(f, chord->first, chord->second);
+      resolveJoints();
+      changed = true;
+    }
+  }
   if (proposed > 0)
     result.notes.push_back({"faces", std::to_string(proposed) + " ruling(s) proposed inside the faces so that every face "
                                                                 "is a strip, a cone or planar"});

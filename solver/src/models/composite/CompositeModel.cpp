@@ -26,6 +26,7 @@
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
 #include "devsurf/terms/NormalSplineUnitTerm.h"
+#include "devsurf/spatial/PolygonTriangulation.h"
 #include "devsurf/terms/PlanarPolygonTerm.h"
 #include "devsurf/terms/StraightUnfoldingTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
@@ -1193,6 +1194,17 @@ CompositeQuality CompositeModel::computeQuality(int samplesPerSpan) const {
   return q;
 }
 
+namespace {
+
+/// Whether a planar face's corners make a convex polygon in the face's plane.
+bool planarFaceIsConvex(const CompositeDesign& d, const FaceInfo& info) {
+  Eigen::MatrixX3d corners(static_cast<Eigen::Index>(info.corners.size()), 3);
+  for (std::size_t i = 0; i < info.corners.size(); ++i) corners.row(static_cast<Eigen::Index>(i)) = d.vertices.row(info.corners[i]);
+  return spatial::isConvexPolygon(spatial::polygonInItsPlane(corners));
+}
+
+}  // namespace
+
 CompositeGeometry CompositeModel::geometry(int samplesPerSpan, int vSamples) const {
   if (samplesPerSpan < 1 || vSamples < 2)
     throw std::invalid_argument("geometry: need at least 1 sample per span and 2 across the rulings");
@@ -1202,7 +1214,18 @@ CompositeGeometry CompositeModel::geometry(int samplesPerSpan, int vSamples) con
   for (int f = 0; f < topo.numFaces(); ++f) {
     const FaceInfo& info = topo.face(f);
     io::QuadMesh mesh;
-    if (info.type == FaceType::Planar) {
+    if (info.type == FaceType::Planar && !planarFaceIsConvex(d, info)) {
+      // Not convex (a notch, a face beside a hole's bridge): its corners' triangles, each a quad
+      // with its last corner repeated (a fan from the centre would cover the notch).
+      const int N = static_cast<int>(info.corners.size());
+      Eigen::MatrixX3d corners(N, 3);
+      for (int i = 0; i < N; ++i) corners.row(i) = d.vertices.row(info.corners[i]);
+      mesh.vertices = corners;
+      const auto triangles = spatial::triangulateSimplePolygon(spatial::polygonInItsPlane(corners));
+      mesh.quads.resize(static_cast<Eigen::Index>(triangles.size()), 4);
+      for (std::size_t t = 0; t < triangles.size(); ++t)
+        mesh.quads.row(static_cast<Eigen::Index>(t)) << triangles[t][0], triangles[t][1], triangles[t][2], triangles[t][2];
+    } else if (info.type == FaceType::Planar) {
       const int N = static_cast<int>(info.corners.size());
       mesh.vertices.resize(2 * N + 1, 3);
       Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();

@@ -168,6 +168,33 @@ std::optional<std::pair<int, int>> proposeRuling(const CurvedGraph& g, const std
   return std::nullopt;
 }
 
+bool rulingsCross(const CurvedGraph& g, const ChainPolyline& a, const ChainPolyline& b) {
+  const auto pointAt = [&g](const ChainPolyline& c, double t) {
+    if (c.vertices.size() == 1) return g.at(c.vertices[0]);
+    const auto it = std::upper_bound(c.t.begin(), c.t.end(), t);
+    const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - c.t.begin(), 1)), c.t.size() - 1);
+    const double span = c.t[i] - c.t[i - 1];
+    const double w = span > 0.0 ? std::clamp((t - c.t[i - 1]) / span, 0.0, 1.0) : 0.0;
+    return Eigen::Vector2d((1.0 - w) * g.at(c.vertices[i - 1]) + w * g.at(c.vertices[i]));
+  };
+  constexpr int kRulings = 64;
+  std::vector<double> areas;
+  double total = 0.0, largest = 0.0;
+  for (int k = 0; k < kRulings; ++k) {
+    const double t0 = static_cast<double>(k) / kRulings, t1 = static_cast<double>(k + 1) / kRulings;
+    const Eigen::Vector2d a0 = pointAt(a, t0), a1 = pointAt(a, t1), b0 = pointAt(b, t0), b1 = pointAt(b, t1);
+    for (const double area : {cross2(a1 - a0, b1 - a0), cross2(b1 - a0, b0 - a0)}) {
+      areas.push_back(area);
+      total += area;
+      largest = std::max(largest, std::abs(area));
+    }
+  }
+  const double tiny = 1e-9 * largest;
+  for (double area : areas)
+    if (area * total < 0.0 && std::abs(area) > tiny) return true;
+  return false;
+}
+
 /// The vertices of a stroke in order along it (its pattern edges only, not proposed rulings).
 std::vector<int> chainPath(const CurvedGraph& g, int chainId) {
   std::map<int, std::vector<int>> next;

@@ -104,6 +104,11 @@ bool chordFits(const CurvedGraph& g, const std::vector<int>& loop, int a, int b,
 std::optional<std::pair<int, int>> proposeRuling(const CurvedGraph& g, const std::vector<int>& loop, const ChainPolyline& from,
                                                  const ChainPolyline& to, double eps);
 
+/// Whether the rulings of a strip between two chains, paired by normalized arc length (both running
+/// from the face's first ruling to its second), cross one another: some quad between neighbouring
+/// rulings (64 along the strip) turns the other way round than the strip as a whole.
+bool rulingsCross(const CurvedGraph& g, const ChainPolyline& a, const ChainPolyline& b);
+
 /// The vertices of a stroke in order along it (its pattern edges only, not proposed rulings).
 std::vector<int> chainPath(const CurvedGraph& g, int chainId);
 

@@ -1,0 +1,271 @@
+// Islands and holes in imported crease patterns (issue 16 item 1): a closed stroke that touches
+// nothing is joined to the sheet by two straight bridges (smooth proposed rulings), and what an
+// outline drawn inside the sheet encloses is cut out. Checked independently: areas from the
+// exported crease pattern's polygons against the drawing's own geometry, fold angles measured
+// from face normals (io::measuredFoldAngles), not from the hinge term the slider pulls with.
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "devsurf/io/FoldImport.h"
+#include "devsurf/io/SvgImport.h"
+#include "devsurf/models/composite/CompositeFromCreasePattern.h"
+#include "devsurf/models/composite/CompositeModel.h"
+#include "devsurf/models/composite/CompositeTopology.h"
+#include "devsurf/spatial/PlanarArrangement.h"
+
+namespace devsurf::models::composite {
+namespace {
+
+/// A width × height mm sheet with the given SVG elements drawn on it.
+std::string islandSheetSvg(double width, double height, const std::string& elements) {
+  std::ostringstream s;
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "mm\" height=\"" << height << "mm\" viewBox=\"0 0 "
+    << width << " " << height << "\"><rect x=\"0\" y=\"0\" width=\"" << width << "\" height=\"" << height
+    << "\" fill=\"none\" stroke=\"#000000\"/>" << elements << "</svg>";
+  return s.str();
+}
+
+/// The area of a crease pattern's faces (shoelace over its development polygons).
+double patternArea(const io::CreasePattern& p) {
+  double area = 0.0;
+  for (const auto& f : p.faces) area += 0.5 * spatial::loopSignedArea2(p.vertices2d, f);
+  return area;
+}
+
+/// The area of a quad mesh, each quad as the triangles (0, 1, 2) and (0, 2, 3).
+double surfaceArea(const io::QuadMesh& mesh) {
+  double area = 0.0;
+  for (Eigen::Index q = 0; q < mesh.quads.rows(); ++q) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.quads(q, 0)), b = mesh.vertices.row(mesh.quads(q, 1)),
+                          c = mesh.vertices.row(mesh.quads(q, 2)), d = mesh.vertices.row(mesh.quads(q, 3));
+    area += 0.5 * (b - a).cross(c - a).norm() + 0.5 * (c - a).cross(d - a).norm();
+  }
+  return area;
+}
+
+/// Largest valley and mountain fold angles of the model's crease pattern, from its face normals.
+std::pair<double, double> measuredFolds(const CompositeModel& model) {
+  double valley = 0.0, mountain = 0.0;
+  for (const auto& a : io::measuredFoldAngles(model.creasePattern()))
+    if (a) {
+      valley = std::max(valley, *a);
+      mountain = std::min(mountain, *a);
+    }
+  return {valley, mountain};
+}
+
+/// Solves the model to the given fold amounts in turn, as the slider does (in stages).
+void foldInStages(CompositeModel& model, int stages, int iterationsPerStage) {
+  engine::SolverOptions o;
+  o.maxIterations = iterationsPerStage;
+  for (int k = 1; k <= stages; ++k) {
+    model.setFoldAmount(static_cast<double>(k) / stages);
+    model.solve(o);
+  }
+}
+
+bool notedWith(const std::vector<io::ImportNote>& notes, const std::string& words) {
+  return std::any_of(notes.begin(), notes.end(), [&words](const io::ImportNote& n) { return n.message.find(words) != std::string::npos; });
+}
+
+TEST(CompositeIslands, ASquareHoleIsCutOutAndTheSheetStillFoldsAlongItsValley) {
+  // 200 × 100 mm, a valley across the middle at 90° (opacity 0.5), a 40 × 40 hole left of it.
+  const io::SvgImport svg = io::importSvgText(islandSheetSvg(
+      200, 100,
+      R"(<line x1="100" y1="0" x2="100" y2="100" stroke="#0000ff" stroke-opacity="0.5"/>)"
+      R"(<rect x="30" y="30" width="40" height="40" fill="none" stroke="#000000"/>)"));
+  EXPECT_TRUE(notedWith(svg.notes, "cut out as holes"));
+  EXPECT_TRUE(notedWith(svg.notes, "joined to what surrounds them"));
+  EXPECT_NEAR(patternArea(svg.pattern), 200.0 * 100.0 - 40.0 * 40.0, 1e-6);
+  int bridges = 0;
+  for (const io::CreaseEdge& e : svg.pattern.edges) bridges += e.proposed ? 1 : 0;
+  EXPECT_EQ(bridges, 2);
+
+  const CreasePatternComposite c = compositeFromCreasePattern(svg.pattern);
+  const CompositeTopology topology(c.design);
+  // The bridges stay smooth: the faces beside them are one flat piece of the sheet.
+  int smooth = 0;
+  for (std::size_t e = 0; e < svg.pattern.edges.size(); ++e)
+    if (svg.pattern.edges[e].proposed && c.designEdgeOf[e] >= 0)
+      smooth += c.design.edges[static_cast<std::size_t>(c.designEdgeOf[e])].crease == CreaseKind::Smooth ? 1 : 0;
+  EXPECT_EQ(smooth, 2);
+  EXPECT_FALSE(notedWith(c.notes, "folds freely"));
+
+  CompositeModel model(c.design);
+  foldInStages(model, 4, 40);
+  const auto [valley, mountain] = measuredFolds(model);
+  EXPECT_NEAR(valley, 90.0, 0.5);
+  EXPECT_NEAR(mountain, 0.0, 0.5);  // nothing else folds, the bridges included
+  EXPECT_LT(model.developmentLengthError(), 1e-6);
+  EXPECT_LT(model.quality().faceFlatnessMax, 1e-6);
+  // The exported pattern still has the hole: the same area as the drawing minus the hole.
+  EXPECT_NEAR(patternArea(model.creasePattern()), 200.0 * 100.0 - 40.0 * 40.0, 1e-3);
+  // So does the folded surface (what is drawn and exported as STL): the faces beside the hole are
+  // not convex, and triangles fanned from their centres would cover part of it.
+  EXPECT_NEAR(surfaceArea(model.geometry(8, 2).merged), 200.0 * 100.0 - 40.0 * 40.0, 1e-3);
+}
+
+TEST(CompositeIslands, AFoldFileWithAHoleWalledOffByBoundaryEdgesImportsWithoutIt) {
+  // A 4 × 4 sheet, a mountain along x = 3, a 1 × 1 hole (B edges) at (1, 1); no faces_vertices.
+  const std::string fold = R"({"file_spec": 1.2, "frame_classes": ["creasePattern"],
+    "vertices_coords": [[0,0],[4,0],[4,4],[0,4],[1,1],[2,1],[2,2],[1,2],[3,0],[3,4]],
+    "edges_vertices": [[0,8],[8,1],[1,2],[2,9],[9,3],[3,0],[4,5],[5,6],[6,7],[7,4],[8,9]],
+    "edges_assignment": ["B","B","B","B","B","B","B","B","B","B","M"],
+    "edges_foldAngle": [0,0,0,0,0,0,0,0,0,0,-60]})";
+  const io::FoldImport imported = io::importFoldText(fold);
+  EXPECT_TRUE(notedWith(imported.notes, "cut out as holes"));
+  EXPECT_NEAR(patternArea(imported.pattern), 16.0 - 1.0, 1e-12);
+  const CreasePatternComposite c = compositeFromCreasePattern(imported.pattern);
+  CompositeModel model(c.design);
+  foldInStages(model, 3, 40);
+  const auto [valley, mountain] = measuredFolds(model);
+  EXPECT_NEAR(mountain, -60.0, 0.5);
+  EXPECT_NEAR(valley, 0.0, 0.5);
+  EXPECT_LT(model.developmentLengthError(), 1e-6);
+}
+
+TEST(CompositeIslands, AHoleBesideACurvedCreaseFoldsWithItsSheet) {
+  // A valley arc across a 200 × 150 mm sheet and a round hole below it.
+  const io::SvgImport svg = io::importSvgText(islandSheetSvg(
+      200, 150,
+      R"(<path d="M 0 60 C 60 30 140 30 200 60" fill="none" stroke="#0000ff" stroke-opacity="0.5"/>)"
+      R"(<circle cx="100" cy="110" r="18" fill="none" stroke="#000000"/>)"));
+  EXPECT_NEAR(patternArea(svg.pattern), 200.0 * 150.0 - M_PI * 18.0 * 18.0, 0.01 * M_PI * 18.0 * 18.0);
+  const CreasePatternComposite c = compositeFromCreasePattern(svg.pattern);
+  CompositeModel model(c.design);
+  foldInStages(model, 10, 60);
+  const auto [valley, mountain] = measuredFolds(model);
+  EXPECT_GT(valley, 0.95 * 90.0);
+  EXPECT_LT(model.foldAngleErrorMaxDeg(), 1.0);
+  // Measured 0.18 % (the same sheet without the hole: 0.018 %): the strips around the hole end
+  // their rulings on it, so the sheet bends in a ruling field the hole imposes.
+  EXPECT_LT(model.developmentLengthError(), 3e-3);
+  EXPECT_LT(model.quality().warpAngleMaxDeg, 1.0);
+}
+
+TEST(CompositeIslands, ConcentricCreasesAroundAHoleAreJoinedByRadialRulingsIntoStrips) {
+  // Tang et al. Fig. 1's annulus as a drawing: a round sheet, a hole, three concentric creases.
+  std::ostringstream e;
+  e << R"(<circle cx="100" cy="100" r="75" fill="none" stroke="#ff0000" stroke-opacity="0.3"/>)"
+    << R"(<circle cx="100" cy="100" r="60" fill="none" stroke="#0000ff" stroke-opacity="0.3"/>)"
+    << R"(<circle cx="100" cy="100" r="45" fill="none" stroke="#ff0000" stroke-opacity="0.3"/>)"
+    << R"(<circle cx="100" cy="100" r="30" fill="none" stroke="#000000"/>)";
+  const std::string text = R"(<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="200mm" viewBox="0 0 200 200">)"
+                           R"(<circle cx="100" cy="100" r="90" fill="none" stroke="#000000"/>)" +
+                           e.str() + "</svg>";
+  const io::SvgImport svg = io::importSvgText(text);
+  EXPECT_NEAR(patternArea(svg.pattern), M_PI * (90.0 * 90.0 - 30.0 * 30.0), 0.01 * M_PI * 90.0 * 90.0);
+  // Every bridge runs across the rings radially (within 10°: it may end on a corner of the sampled
+  // circle).
+  const Eigen::Vector2d centre =
+      0.5 * (svg.pattern.vertices2d.colwise().minCoeff() + svg.pattern.vertices2d.colwise().maxCoeff()).transpose();
+  int bridges = 0;
+  for (const io::CreaseEdge& edge : svg.pattern.edges) {
+    if (!edge.proposed) continue;
+    ++bridges;
+    const Eigen::Vector2d a = svg.pattern.vertices2d.row(edge.v0), b = svg.pattern.vertices2d.row(edge.v1);
+    const Eigen::Vector2d along = (b - a).normalized(), radial = (0.5 * (a + b) - centre).normalized();
+    EXPECT_GT(std::abs(along.dot(radial)), std::cos(10.0 * M_PI / 180.0)) << a.transpose() << " → " << b.transpose() << " centre " << centre.transpose();
+  }
+  EXPECT_EQ(bridges, 2 * 4);  // three closed creases and the hole's outline: four islands
+  const CreasePatternComposite c = compositeFromCreasePattern(svg.pattern);
+  const CompositeTopology topology(c.design);
+  int strips = 0;
+  for (int f = 0; f < topology.numFaces(); ++f) strips += topology.face(f).type == FaceType::Strip ? 1 : 0;
+  EXPECT_EQ(strips, topology.numFaces());
+  CompositeModel model(c.design);
+  EXPECT_LT(model.developmentLengthError(), 1e-4);  // it starts isometric to the drawing
+}
+
+TEST(CompositeIslands, AClosedCurvedCreaseWithNothingStraightInsideIsRefusedWithWhatToDo) {
+  const io::SvgImport svg = io::importSvgText(
+      islandSheetSvg(200, 200, R"(<circle cx="100" cy="100" r="50" fill="none" stroke="#0000ff" stroke-opacity="0.3"/>)"));
+  try {
+    compositeFromCreasePattern(svg.pattern);
+    FAIL() << "a disk inside a closed crease has no ruling layout";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("faces["), std::string::npos) << message;
+    EXPECT_NE(message.find("closed curved crease"), std::string::npos) << message;
+    EXPECT_NE(message.find("outline it in black"), std::string::npos) << message;
+  }
+}
+
+// Property: 120 random drawings, 1–2 curved creases across a 200 × 100 mm sheet and a round or
+// square hole of random size anywhere that does not touch a crease. Each imports into a composite
+// whose faces the topology accepts, without the hole (area from the pattern's polygons), and that
+// starts isometric to the drawing and flat. Refusals are counted and must stay rare (a face the
+// ruling layout cannot fill is refused by name rather than built folded over).
+TEST(CompositeIslandsProperty, RandomSheetsWithAHoleImportWithoutIt) {
+  std::mt19937 rng(20261205);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int built = 0, refused = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    const int creases = 1 + trial % 2;
+    std::ostringstream elements;
+    std::vector<double> lanes;
+    for (int k = 0; k < creases; ++k) {
+      const double x0 = 200.0 * (k + 1) / (creases + 1) + 20 * (u(rng) - 0.5), x3 = x0 + 30 * (u(rng) - 0.5);
+      const double bend = 40 * (u(rng) - 0.5);
+      elements << "<path d=\"M " << x0 << " 100 C " << x0 + bend << " 66, " << x3 - bend << " 33, " << x3
+               << " 0\" fill=\"none\" stroke=\"" << (u(rng) < 0.5 ? "#ff0000" : "#0000ff") << "\" stroke-opacity=\"0.4\"/>";
+      lanes.push_back(std::min(x0, x3) - 25.0);
+      lanes.push_back(std::max(x0, x3) + 25.0);
+    }
+    // The hole in the widest gap between the creases' lanes (x) and the sheet's edges.
+    std::vector<double> bounds{0.0};
+    bounds.insert(bounds.end(), lanes.begin(), lanes.end());
+    bounds.push_back(200.0);
+    double gapStart = 0.0, gapWidth = 0.0;
+    for (std::size_t i = 0; i + 1 < bounds.size(); i += 2)
+      if (bounds[i + 1] - bounds[i] > gapWidth) {
+        gapStart = bounds[i];
+        gapWidth = bounds[i + 1] - bounds[i];
+      }
+    const double size = std::min(gapWidth, 80.0) * (0.25 + 0.45 * u(rng));
+    const double cx = gapStart + 0.5 * gapWidth, cy = 50.0 + (80.0 - size) * (u(rng) - 0.5) * 0.8;
+    double holeArea = 0.0;
+    if (trial % 3 == 0) {
+      elements << "<rect x=\"" << cx - size / 2 << "\" y=\"" << cy - size / 2 << "\" width=\"" << size << "\" height=\"" << size
+               << "\" fill=\"none\" stroke=\"#000000\"/>";
+      holeArea = size * size;
+    } else {
+      elements << "<circle cx=\"" << cx << "\" cy=\"" << cy << "\" r=\"" << size / 2 << "\" fill=\"none\" stroke=\"#000000\"/>";
+      holeArea = M_PI * size * size / 4;
+    }
+    const std::string text = islandSheetSvg(200, 100, elements.str());
+    SCOPED_TRACE(text);
+    const io::SvgImport svg = io::importSvgText(text);
+    EXPECT_NEAR(patternArea(svg.pattern), 200.0 * 100.0 - holeArea, 0.01 * holeArea);
+    CreasePatternComposite c;
+    try {
+      c = compositeFromCreasePattern(svg.pattern);
+    } catch (const std::invalid_argument& e) {
+      ++refused;
+      EXPECT_NE(std::string(e.what()).find("faces["), std::string::npos) << e.what();  // says which face
+      continue;
+    }
+    ++built;
+    ASSERT_NO_THROW(CompositeTopology topology(c.design));
+    CompositeModel model(c.design);
+    EXPECT_LT(model.developmentLengthError(), 1e-4);
+    // The model's curves are splines fitted to the sampled strokes (6–8 control points a side): a
+    // round hole's arcs come out up to 3 % smaller in area (measured 2.7 % at most here); with a
+    // square hole only the creases' chords count (measured 0.004 mm² at most).
+    EXPECT_NEAR(patternArea(model.creasePattern()), 200.0 * 100.0 - holeArea, trial % 3 == 0 ? 0.02 : 0.04 * holeArea);
+  }
+  RecordProperty("built", built);
+  RecordProperty("refused", refused);
+  // Measured: 103 built, 17 refused — 5 with no ruling from a corner, 12 with rulings that would
+  // cross in a strip between a hole's side and a much longer run of outline and crease (the hole
+  // near the sheet's edge). Each refusal names its face and says what to draw.
+  EXPECT_GE(built, 100) << refused << " of 120 refused";
+}
+
+}  // namespace
+}  // namespace devsurf::models::composite
