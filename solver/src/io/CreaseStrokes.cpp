@@ -78,25 +78,12 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
     return source < 0 ? -1 : strokeOfSegment[static_cast<std::size_t>(source)];
   };
   // Holes: faces an outline (black) stroke inside the sheet walls off from the sheet's edge.
-  {
-    std::map<std::pair<int, int>, int> strokeOfPair;
-    for (std::size_t s = 0; s < arrangement.segments.size(); ++s)
-      strokeOfPair[std::minmax(arrangement.segments[s][0], arrangement.segments[s][1])] = strokeOfPiece(s);
-    const std::vector<bool> hole = spatial::holeFaces(arrangement.faces, [&strokeOfPair, &strokes](int a, int b) {
-      const auto it = strokeOfPair.find(std::minmax(a, b));
-      return it != strokeOfPair.end() && it->second >= 0 &&
-             strokes[static_cast<std::size_t>(it->second)].assignment == EdgeAssignment::Boundary;
-    });
-    const auto holes = std::count(hole.begin(), hole.end(), true);
-    if (holes > 0 && holes < static_cast<long>(hole.size())) {
-      std::vector<std::vector<int>> sheet;
-      for (std::size_t f = 0; f < hole.size(); ++f)
-        if (!hole[f]) sheet.push_back(std::move(arrangement.faces[f]));
-      arrangement.faces = std::move(sheet);
-      result.notes.push_back({"svg", std::to_string(holes) + " face(s) inside outline (black) strokes within the sheet; "
-                                     "cut out as holes"});
-    }
-  }
+  if (const int holes = spatial::cutOutHoles(arrangement, [&strokeOfSegment, &strokes](int source) {
+        return strokes[static_cast<std::size_t>(strokeOfSegment[static_cast<std::size_t>(source)])].assignment ==
+               EdgeAssignment::Boundary;
+      }))
+    result.notes.push_back({"svg", std::to_string(holes) + " face(s) inside outline (black) strokes within the sheet; "
+                                   "cut out as holes"});
 
   std::set<int> leftOut;
   for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);

@@ -284,26 +284,13 @@ FoldImport importFoldDocument(const json& doc) {
     spatial::PlanarArrangementOptions arrangementOptions;
     arrangementOptions.bridgeIslands = true;
     spatial::PlanarArrangement arrangement = spatial::planarArrangement(dev2, edgeEnds, arrangementOptions);
-    {
-      // Holes: faces that boundary (B) edges inside the sheet wall off from its outline.
-      std::map<std::pair<int, int>, int> sourceOfPair;
-      for (std::size_t s = 0; s < arrangement.segments.size(); ++s)
-        sourceOfPair[std::minmax(arrangement.segments[s][0], arrangement.segments[s][1])] = arrangement.sourceOfSegment[s];
-      const std::vector<bool> hole = spatial::holeFaces(arrangement.faces, [&sourceOfPair, &assignmentOf](int a, int b) {
-        const auto it = sourceOfPair.find(std::minmax(a, b));
-        return it != sourceOfPair.end() && it->second >= 0 && assignmentOf(static_cast<std::size_t>(it->second)) &&
-               *assignmentOf(static_cast<std::size_t>(it->second)) == EdgeAssignment::Boundary;
-      });
-      const auto holes = std::count(hole.begin(), hole.end(), true);
-      if (holes > 0 && holes < static_cast<long>(hole.size())) {
-        std::vector<std::vector<int>> sheet;
-        for (std::size_t f = 0; f < hole.size(); ++f)
-          if (!hole[f]) sheet.push_back(std::move(arrangement.faces[f]));
-        arrangement.faces = std::move(sheet);
-        result.notes.push_back({"edges_assignment", std::to_string(holes) + " face(s) walled off from the sheet's outline by "
-                                                    "boundary (B) edges; cut out as holes"});
-      }
-    }
+    // Holes: faces that boundary (B) edges inside the sheet wall off from its outline.
+    if (const int holes = spatial::cutOutHoles(arrangement, [&assignmentOf](int source) {
+          const auto a = assignmentOf(static_cast<std::size_t>(source));
+          return a && *a == EdgeAssignment::Boundary;
+        }))
+      result.notes.push_back({"edges_assignment", std::to_string(holes) + " face(s) walled off from the sheet's outline by "
+                                                  "boundary (B) edges; cut out as holes"});
     for (const auto& [i, j] : arrangement.crossings)
       result.notes.push_back({at("edges_vertices", i), "crosses or touches " + at("edges_vertices", j) + "; split there"});
     for (int s : arrangement.unusedSegments)

@@ -533,4 +533,21 @@ std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const st
   return hole;
 }
 
+int cutOutHoles(PlanarArrangement& arrangement, const std::function<bool(int)>& isWallSource) {
+  std::map<std::pair<int, int>, int> sourceOfPair;
+  for (std::size_t s = 0; s < arrangement.segments.size(); ++s)
+    sourceOfPair[std::minmax(arrangement.segments[s][0], arrangement.segments[s][1])] = arrangement.sourceOfSegment[s];
+  const std::vector<bool> hole = holeFaces(arrangement.faces, [&sourceOfPair, &isWallSource](int a, int b) {
+    const auto it = sourceOfPair.find(std::minmax(a, b));
+    return it != sourceOfPair.end() && it->second >= 0 && isWallSource(it->second);
+  });
+  const auto holes = static_cast<int>(std::count(hole.begin(), hole.end(), true));
+  if (holes == 0 || holes == static_cast<int>(hole.size())) return 0;
+  std::vector<std::vector<int>> sheet;
+  for (std::size_t f = 0; f < hole.size(); ++f)
+    if (!hole[f]) sheet.push_back(std::move(arrangement.faces[f]));
+  arrangement.faces = std::move(sheet);
+  return holes;
+}
+
 }  // namespace devsurf::spatial

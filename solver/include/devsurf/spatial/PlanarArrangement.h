@@ -78,6 +78,13 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& points, const std::v
 /// @return per face: a hole
 std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const std::function<bool(int, int)>& isWall);
 
+/// Removes the hole faces of an arrangement (holeFaces), the walls being its segments whose input
+/// segment the caller names (bridges are never walls). Nothing is removed when every face would be.
+/// @param[in,out] arrangement  its faces lose the holes (points and segments stay)
+/// @param[in] isWallSource     per input segment id: whether it is a wall (an outline drawn inside)
+/// @return the number of faces removed
+int cutOutHoles(PlanarArrangement& arrangement, const std::function<bool(int)>& isWallSource);
+
 /// Whether p lies inside a point loop (even–odd rule; points on the loop either way).
 bool pointInLoop(const Eigen::MatrixX2d& points, const std::vector<int>& loop, const Eigen::Vector2d& p);
 

@@ -2,14 +2,31 @@
 
 // Composite designs shared by the composite tests.
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "devsurf/io/CreasePattern.h"
 #include "devsurf/models/composite/CompositeDesign.h"
+#include "devsurf/models/composite/CompositeModel.h"
 
 namespace devsurf::models::composite::fixtures {
+
+/// Largest valley and most negative mountain fold angle (degrees) of the model's crease pattern,
+/// measured from its face normals (io::measuredFoldAngles), not from the hinge term the slider
+/// pulls with.
+inline std::pair<double, double> measuredValleyAndMountain(const CompositeModel& model) {
+  double valley = 0.0, mountain = 0.0;
+  for (const auto& a : io::measuredFoldAngles(model.creasePattern()))
+    if (a) {
+      valley = std::max(valley, *a);
+      mountain = std::min(mountain, *a);
+    }
+  return {valley, mountain};
+}
 
 inline spline::BSplineCurve cubicThrough(const Eigen::MatrixXd& points) {
   spline::BSplineCurve c;

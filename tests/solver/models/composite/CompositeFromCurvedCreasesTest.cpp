@@ -13,6 +13,7 @@
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/composite/CompositeTopology.h"
+#include "CompositeFixtures.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -76,17 +77,7 @@ TEST(CompositeFromCurvedCreases, TwoBezierCreasesAcrossASheetMakeThreeStrips) {
   (void)topology;
 }
 
-/// Measured fold angles (degrees) of the model's crease pattern: from its face normals, not from
-/// the hinge term the slider pulls with.
-std::pair<double, double> measuredValleyAndMountain(const CompositeModel& model) {
-  double valley = 0.0, mountain = 0.0;
-  for (const auto& a : io::measuredFoldAngles(model.creasePattern()))
-    if (a) {
-      valley = std::max(valley, *a);
-      mountain = std::min(mountain, *a);
-    }
-  return {valley, mountain};
-}
+using fixtures::measuredValleyAndMountain;
 
 TEST(CompositeFromCurvedCreasesSlider, FoldsTwoCurvedCreasesToTheirDrawnAnglesAndSettlesWithoutUnfolding) {
   const io::SvgImport svg = io::importSvgText(sheetSvg({{"M 70 100 C 55 70, 85 30, 70 0", "#0000ff", "0.5"},

@@ -17,6 +17,7 @@
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/spatial/PlanarArrangement.h"
+#include "CompositeFixtures.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -48,16 +49,7 @@ double surfaceArea(const io::QuadMesh& mesh) {
   return area;
 }
 
-/// Largest valley and mountain fold angles of the model's crease pattern, from its face normals.
-std::pair<double, double> measuredFolds(const CompositeModel& model) {
-  double valley = 0.0, mountain = 0.0;
-  for (const auto& a : io::measuredFoldAngles(model.creasePattern()))
-    if (a) {
-      valley = std::max(valley, *a);
-      mountain = std::min(mountain, *a);
-    }
-  return {valley, mountain};
-}
+using fixtures::measuredValleyAndMountain;
 
 /// Solves the model to the given fold amounts in turn, as the slider does (in stages).
 void foldInStages(CompositeModel& model, int stages, int iterationsPerStage) {
@@ -98,7 +90,7 @@ TEST(CompositeIslands, ASquareHoleIsCutOutAndTheSheetStillFoldsAlongItsValley) {
 
   CompositeModel model(c.design);
   foldInStages(model, 4, 40);
-  const auto [valley, mountain] = measuredFolds(model);
+  const auto [valley, mountain] = measuredValleyAndMountain(model);
   EXPECT_NEAR(valley, 90.0, 0.5);
   EXPECT_NEAR(mountain, 0.0, 0.5);  // nothing else folds, the bridges included
   EXPECT_LT(model.developmentLengthError(), 1e-6);
@@ -123,7 +115,7 @@ TEST(CompositeIslands, AFoldFileWithAHoleWalledOffByBoundaryEdgesImportsWithoutI
   const CreasePatternComposite c = compositeFromCreasePattern(imported.pattern);
   CompositeModel model(c.design);
   foldInStages(model, 3, 40);
-  const auto [valley, mountain] = measuredFolds(model);
+  const auto [valley, mountain] = measuredValleyAndMountain(model);
   EXPECT_NEAR(mountain, -60.0, 0.5);
   EXPECT_NEAR(valley, 0.0, 0.5);
   EXPECT_LT(model.developmentLengthError(), 1e-6);
@@ -139,7 +131,7 @@ TEST(CompositeIslands, AHoleBesideACurvedCreaseFoldsWithItsSheet) {
   const CreasePatternComposite c = compositeFromCreasePattern(svg.pattern);
   CompositeModel model(c.design);
   foldInStages(model, 10, 60);
-  const auto [valley, mountain] = measuredFolds(model);
+  const auto [valley, mountain] = measuredValleyAndMountain(model);
   EXPECT_GT(valley, 0.95 * 90.0);
   EXPECT_LT(model.foldAngleErrorMaxDeg(), 1.0);
   // Measured 0.18 % (the same sheet without the hole: 0.018 %): the strips around the hole end
