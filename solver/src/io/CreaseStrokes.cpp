@@ -77,13 +77,14 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
     const int source = arrangement.sourceOfSegment[s];
     return source < 0 ? -1 : strokeOfSegment[static_cast<std::size_t>(source)];
   };
-  // Holes: faces an outline (black) stroke inside the sheet walls off from the sheet's edge.
+  // Holes: faces that outline (black) or cut (green) strokes inside the sheet wall off from the
+  // sheet's edge — a region cut all round falls out.
   if (const int holes = spatial::cutOutHoles(arrangement, [&strokeOfSegment, &strokes](int source) {
-        return strokes[static_cast<std::size_t>(strokeOfSegment[static_cast<std::size_t>(source)])].assignment ==
-               EdgeAssignment::Boundary;
+        const EdgeAssignment a = strokes[static_cast<std::size_t>(strokeOfSegment[static_cast<std::size_t>(source)])].assignment;
+        return a == EdgeAssignment::Boundary || a == EdgeAssignment::Cut;
       }))
-    result.notes.push_back({"svg", std::to_string(holes) + " face(s) inside outline (black) strokes within the sheet; "
-                                   "cut out as holes"});
+    result.notes.push_back({"svg", std::to_string(holes) + " face(s) inside outline (black) or cut (green) strokes within "
+                                   "the sheet; cut out as holes"});
 
   std::set<int> leftOut;
   for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);

@@ -284,13 +284,13 @@ FoldImport importFoldDocument(const json& doc) {
     spatial::PlanarArrangementOptions arrangementOptions;
     arrangementOptions.bridgeIslands = true;
     spatial::PlanarArrangement arrangement = spatial::planarArrangement(dev2, edgeEnds, arrangementOptions);
-    // Holes: faces that boundary (B) edges inside the sheet wall off from its outline.
+    // Holes: faces that boundary (B) or cut (C) edges inside the sheet wall off from its outline.
     if (const int holes = spatial::cutOutHoles(arrangement, [&assignmentOf](int source) {
           const auto a = assignmentOf(static_cast<std::size_t>(source));
-          return a && *a == EdgeAssignment::Boundary;
+          return a && (*a == EdgeAssignment::Boundary || *a == EdgeAssignment::Cut);
         }))
       result.notes.push_back({"edges_assignment", std::to_string(holes) + " face(s) walled off from the sheet's outline by "
-                                                  "boundary (B) edges; cut out as holes"});
+                                                  "boundary (B) or cut (C) edges; cut out as holes"});
     for (const auto& [i, j] : arrangement.crossings)
       result.notes.push_back({at("edges_vertices", i), "crosses or touches " + at("edges_vertices", j) + "; split there"});
     for (int s : arrangement.unusedSegments)

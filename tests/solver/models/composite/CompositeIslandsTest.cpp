@@ -102,6 +102,24 @@ TEST(CompositeIslands, ASquareHoleIsCutOutAndTheSheetStillFoldsAlongItsValley) {
   EXPECT_NEAR(surfaceArea(model.geometry(8, 2).merged), 200.0 * 100.0 - 40.0 * 40.0, 1e-3);
 }
 
+TEST(CompositeIslands, ARegionCutAllRoundByAGreenLoopFallsOutAsAHole) {
+  // A closed cut (green) circle inside a 200 × 100 mm sheet with a straight valley: the disk is
+  // cut out, not kept joined as a slit that would part the sheet. (The straight valley keeps the
+  // drawing's faces planar: beside a straight crease of a curved drawing, a face around a hole has
+  // three straight sides and no strip layout, and is refused by name.)
+  const io::SvgImport svg = io::importSvgText(islandSheetSvg(
+      200, 100,
+      R"(<line x1="100" y1="0" x2="100" y2="100" stroke="#0000ff" stroke-opacity="0.5"/>)"
+      R"(<polygon points="35,35 65,35 65,65 35,65" fill="none" stroke="#00ff00"/>)"));
+  EXPECT_TRUE(notedWith(svg.notes, "cut out as holes"));
+  EXPECT_NEAR(patternArea(svg.pattern), 200.0 * 100.0 - 30.0 * 30.0, 1e-9);
+  const CreasePatternComposite c = compositeFromCreasePattern(svg.pattern);
+  CompositeModel model(c.design);
+  foldInStages(model, 4, 40);
+  EXPECT_NEAR(measuredValleyAndMountain(model).first, 90.0, 0.5);
+  EXPECT_LT(model.developmentLengthError(), 1e-6);
+}
+
 TEST(CompositeIslands, AFoldFileWithAHoleWalledOffByBoundaryEdgesImportsWithoutIt) {
   // A 4 × 4 sheet, a mountain along x = 3, a 1 × 1 hole (B edges) at (1, 1); no faces_vertices.
   const std::string fold = R"({"file_spec": 1.2, "frame_classes": ["creasePattern"],
