@@ -98,8 +98,8 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       result.notes.push_back({strokes[static_cast<std::size_t>(s)].element,
                               "a stroke with a free end, or apart from the sheet; left out"});
   if (arrangement.islands > 0)
-    result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet that no straight bridge "
-                                   "reaches; left out"});
+    result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet not bridged (no straight "
+                                   "bridge fits, or past the bound on bridging work); left out"});
   if (arrangement.bridgedIslands > 0)
     result.notes.push_back({"svg", std::to_string(arrangement.bridgedIslands) + " island(s) inside the sheet (closed strokes "
                                    "touching nothing) joined to what surrounds them by two straight rulings each"});

@@ -297,7 +297,8 @@ FoldImport importFoldDocument(const json& doc) {
       result.notes.push_back({at("edges_vertices", s), "dangling, of zero length or apart from the sheet; left out"});
     if (arrangement.islands > 0)
       result.notes.push_back({"edges_vertices", std::to_string(arrangement.islands) +
-                                                    " island(s) inside the sheet that no straight bridge reaches; left out"});
+                                                    " island(s) inside the sheet not bridged (no straight bridge "
+                                                    "fits, or past the bound on bridging work); left out"});
     if (arrangement.bridgedIslands > 0)
       result.notes.push_back({"edges_vertices", std::to_string(arrangement.bridgedIslands) +
                                                     " island(s) inside the sheet (edges touching nothing around them) joined "
@@ -311,7 +312,7 @@ FoldImport importFoldDocument(const json& doc) {
         result.notes.push_back({at("vertices_coords", i), "coincides with vertex " + std::to_string(arrangement.mergedInto[i]) + "; merged"});
     p.vertices2d = arrangement.points;
     if (p.vertices3d.rows() > 0 && arrangement.points.rows() != n) {
-      result.notes.push_back({folded->name, "crossing edges were split, so the folded form no longer fits; left out"});
+      result.notes.push_back({folded->name, "crossing edges were split (or a bridge to an island added a point), so the folded form no longer fits; left out"});
       p.vertices3d.resize(0, 3);
     }
     faces = arrangement.faces;

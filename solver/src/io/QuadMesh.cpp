@@ -88,8 +88,14 @@ PolyMesh polyMeshOf(const QuadMesh& mesh, bool triangles, const std::string& wha
     }
     for (Eigen::Index k = 0; k < t.rows(); ++k) addFace({t(k, 0), t(k, 1), t(k, 2)}, "triangle " + std::to_string(k));
   } else {
-    for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f)
-      addFace({mesh.quads(f, 0), mesh.quads(f, 1), mesh.quads(f, 2), mesh.quads(f, 3)}, "quad " + std::to_string(f));
+    for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f) {
+      // A quad whose last corner repeats its third is a triangle (a non-convex planar face of a
+      // composite is triangulated that way); OpenMesh refuses a face with a corner twice.
+      if (mesh.quads(f, 3) == mesh.quads(f, 2))
+        addFace({mesh.quads(f, 0), mesh.quads(f, 1), mesh.quads(f, 2)}, "quad " + std::to_string(f));
+      else
+        addFace({mesh.quads(f, 0), mesh.quads(f, 1), mesh.quads(f, 2), mesh.quads(f, 3)}, "quad " + std::to_string(f));
+    }
   }
   return out;
 }

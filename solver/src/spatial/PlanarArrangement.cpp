@@ -317,6 +317,21 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
     // crosses nothing, ending farther than the tolerance from `notAt`; nullopt when none fits.
     const auto shortestBridge = [&](const std::vector<int>& loop, const std::function<bool(std::size_t)>& from,
                                     const Eigen::Vector2d* notAt) -> std::optional<BridgeCandidate> {
+      // Whether direction d leaves the island at its point i: the outer loop has the outside on
+      // its left, so d must lie in the wedge turning counter-clockwise from the next edge to the
+      // reversed previous one (10° clear of both).
+      const auto leavesOutward = [&points, &loop](std::size_t i, const Eigen::Vector2d& d) {
+        const std::size_t n = loop.size();
+        const Eigen::Vector2d x = points[loop[i]];
+        const Eigen::Vector2d next = points[loop[(i + 1) % n]] - x, back = points[loop[(i + n - 1) % n]] - x;
+        const auto angleFrom = [](const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+          double a = std::atan2(from.x() * to.y() - from.y() * to.x(), from.dot(to));
+          return a < 0.0 ? a + 2.0 * M_PI : a;
+        };
+        const double wedge = angleFrom(next, back), at = angleFrom(next, d);
+        const double margin = 10.0 * M_PI / 180.0;
+        return at > margin && at < wedge - margin;
+      };
       std::vector<BridgeCandidate> candidates;
       for (std::size_t i = 0; i < loop.size(); ++i) {
         if (!from(i)) continue;
@@ -328,12 +343,14 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
           if ((a + t * d - a).squaredNorm() <= tol2) t = 0.0;
           if ((a + t * d - b).squaredNorm() <= tol2) t = 1.0;
           const Eigen::Vector2d end = a + t * d;
-          if (notAt && (end - *notAt).squaredNorm() <= tol2) continue;
-          candidates.push_back({(end - x).norm(), loop[i], static_cast<int>(i), static_cast<int>(k), t});
-          // The piece's first end too (a corner around the island may be the only end that leaves
-          // the island steeply enough when its nearest points run on along its sides).
-          if (t != 0.0 && (!notAt || (a - *notAt).squaredNorm() > tol2))
+          if ((!notAt || (end - *notAt).squaredNorm() > tol2) && leavesOutward(i, end - x))
+            candidates.push_back({(end - x).norm(), loop[i], static_cast<int>(i), static_cast<int>(k), t});
+          // The piece's ends too (a corner around the island may be the only end that leaves the
+          // island steeply enough when its nearest points run on along its sides).
+          if (t != 0.0 && (!notAt || (a - *notAt).squaredNorm() > tol2) && leavesOutward(i, a - x))
             candidates.push_back({(a - x).norm(), loop[i], static_cast<int>(i), static_cast<int>(k), 0.0});
+          if (t != 1.0 && (!notAt || (b - *notAt).squaredNorm() > tol2) && leavesOutward(i, b - x))
+            candidates.push_back({(b - x).norm(), loop[i], static_cast<int>(i), static_cast<int>(k), 1.0});
         }
       }
       // Ends of earlier bridges are preferred (a bridge up to 1.5× longer ending there wins): nested
@@ -350,13 +367,20 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
           if (along < 0 || (notAt && (points[end] - *notAt).squaredNorm() <= tol2)) continue;
           const double t = pieces[static_cast<std::size_t>(along)][0] == end ? 0.0 : 1.0;
           for (std::size_t i = 0; i < loop.size(); ++i) {
-            if (!from(i)) continue;
+            if (!from(i) || !leavesOutward(i, points[end] - points[loop[i]])) continue;
             candidates.push_back({(points[end] - points[loop[i]]).norm() / 1.5, loop[i], static_cast<int>(i), along, t});
           }
         }
       }
-      std::sort(candidates.begin(), candidates.end(),
-                [](const BridgeCandidate& a, const BridgeCandidate& b) { return a.length < b.length; });
+      // The kMaxTried shortest, in order: each costs a pass over the pieces to test, and a bridge
+      // that is not among them would be long and crooked anyway.
+      constexpr std::size_t kMaxTried = 96;
+      const auto shorter = [](const BridgeCandidate& a, const BridgeCandidate& b) { return a.length < b.length; };
+      if (candidates.size() > kMaxTried) {
+        std::nth_element(candidates.begin(), candidates.begin() + kMaxTried, candidates.end(), shorter);
+        candidates.resize(kMaxTried);
+      }
+      std::sort(candidates.begin(), candidates.end(), shorter);
       for (const BridgeCandidate& c : candidates) {
         if (c.length <= tolerance) continue;
         const auto& piece = pieces[static_cast<std::size_t>(c.piece)];
@@ -421,45 +445,63 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
       addPiece(c.from, end, -1, true);
       return points[end];
     };
-    for (int island : islands) {
-      const std::vector<int>& loop = walk.outerOfComponent.at(island);
-      const std::optional<BridgeCandidate> first =
-          shortestBridge(loop, [](std::size_t /*anywhere*/) { return true; }, nullptr);
-      if (!first) continue;
-      const Eigen::Vector2d firstEnd = points[pieces[first->piece][0]] +
-                                       first->t * (points[pieces[first->piece][1]] - points[pieces[first->piece][0]]);
-      // The second bridge must not cross the first: it is alive (and not a joined piece to end on).
-      const int before = static_cast<int>(pieces.size());
-      addBridge(*first);
-      // It leaves the island on the far side (seen from the island's centroid, at least 120° from
-      // the first), so the two split what surrounds the island in two; failing that, from a point
-      // at least a third of the island's outline away. (Asking it also to head the other way
-      // from the first, so the two cut across what surrounds the island, left more faces without
-      // a ruling layout: 36 of 120 random sheets with a hole against 17.)
-      Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-      for (int v : loop) centroid += points[v];
-      centroid /= static_cast<double>(loop.size());
-      const Eigen::Vector2d firstOut = points[first->from] - centroid;
-      const auto farSide = [&points, &loop, &centroid, &firstOut](std::size_t i) {
-        const Eigen::Vector2d out = points[loop[i]] - centroid;
-        return out.dot(firstOut) <= -0.5 * out.norm() * firstOut.norm();
-      };
-      const std::size_t minGap = std::max<std::size_t>(1, loop.size() / 3);
-      const auto farAlong = [&loop, minGap, &first](std::size_t i) {
-        const std::size_t gap = (i + loop.size() - static_cast<std::size_t>(first->position)) % loop.size();
-        return std::min(gap, loop.size() - gap) >= minGap;
-      };
-      std::optional<BridgeCandidate> second = shortestBridge(loop, farSide, &firstEnd);
-      if (!second) second = shortestBridge(loop, farAlong, &firstEnd);
-      if (!second) {
-        // Undo the first bridge (the island stays out): its piece dies; a split piece stays split.
-        for (int k = before; k < static_cast<int>(pieces.size()); ++k)
-          if (isBridge[static_cast<std::size_t>(k)]) alive[static_cast<std::size_t>(k)] = false;
-        continue;
+    // Work bound: every island weighs its outline's points times the pieces (the candidates it
+    // sorts, and then some visibility tests); past kBridgeWork the remaining islands are left out,
+    // as without bridging (a perforated sheet of thousands of tiny loops would otherwise take
+    // minutes).
+    constexpr double kBridgeWork = 4e7;
+    double work = 0.0;
+    // Passes until one joins nothing: an island whose only clear way out runs past islands not yet
+    // joined is tried again once they are.
+    std::vector<bool> done(islands.size(), false);
+    for (bool progress = true; progress && work <= kBridgeWork;) {
+      progress = false;
+      for (std::size_t which = 0; which < islands.size() && work <= kBridgeWork; ++which) {
+        if (done[which]) continue;
+        const int island = islands[which];
+        const std::vector<int>& loop = walk.outerOfComponent.at(island);
+        work += 3.0 * static_cast<double>(loop.size()) * static_cast<double>(pieces.size());
+        if (work > kBridgeWork) break;
+        const std::optional<BridgeCandidate> first =
+            shortestBridge(loop, [](std::size_t /*anywhere*/) { return true; }, nullptr);
+        if (!first) continue;
+        const Eigen::Vector2d firstEnd = points[pieces[first->piece][0]] +
+                                         first->t * (points[pieces[first->piece][1]] - points[pieces[first->piece][0]]);
+        // The second bridge must not cross the first: it is alive (and not a joined piece to end on).
+        const int before = static_cast<int>(pieces.size());
+        addBridge(*first);
+        // It leaves the island on the far side (seen from the island's centroid, at least 120° from
+        // the first), so the two split what surrounds the island in two; failing that, from a point
+        // at least a third of the island's outline away. (Asking it also to head the other way
+        // from the first, so the two cut across what surrounds the island, left more faces without
+        // a ruling layout: 36 of 120 random sheets with a hole against 17.)
+        Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+        for (int v : loop) centroid += points[v];
+        centroid /= static_cast<double>(loop.size());
+        const Eigen::Vector2d firstOut = points[first->from] - centroid;
+        const auto farSide = [&points, &loop, &centroid, &firstOut, &first](std::size_t i) {
+          const Eigen::Vector2d out = points[loop[i]] - centroid;
+          return i != static_cast<std::size_t>(first->position) && out.dot(firstOut) <= -0.5 * out.norm() * firstOut.norm();
+        };
+        const std::size_t minGap = std::max<std::size_t>(1, loop.size() / 3);
+        const auto farAlong = [&loop, minGap, &first](std::size_t i) {
+          const std::size_t gap = (i + loop.size() - static_cast<std::size_t>(first->position)) % loop.size();
+          return std::min(gap, loop.size() - gap) >= minGap;
+        };
+        std::optional<BridgeCandidate> second = shortestBridge(loop, farSide, &firstEnd);
+        if (!second) second = shortestBridge(loop, farAlong, &firstEnd);
+        if (!second) {
+          // Undo the first bridge (the island stays out): its piece dies; a split piece stays split.
+          for (int k = before; k < static_cast<int>(pieces.size()); ++k)
+            if (isBridge[static_cast<std::size_t>(k)]) alive[static_cast<std::size_t>(k)] = false;
+          continue;
+        }
+        addBridge(*second);
+        joined[static_cast<std::size_t>(island)] = true;
+        done[which] = true;
+        progress = true;
+        ++result.bridgedIslands;
       }
-      addBridge(*second);
-      joined[static_cast<std::size_t>(island)] = true;
-      ++result.bridgedIslands;
     }
     walk = walkFaces();
     islands = islandsOf(walk);
@@ -491,6 +533,7 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
   }
   for (std::size_t s = 0; s < segments.size(); ++s)
     if (!used[s]) result.unusedSegments.push_back(static_cast<int>(s));
+  if (kept >= 0) result.outline = walk.outerOfComponent.at(kept);
   result.points = std::move(pointMatrix);
   return result;
 }
@@ -502,18 +545,23 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& points, const std::v
   return planarArrangement(points, segments, options);
 }
 
-std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const std::function<bool(int, int)>& isWall) {
+std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const std::vector<int>& outline,
+                            const std::function<bool(int, int)>& isWall) {
   std::map<std::pair<int, int>, std::vector<int>> facesOfEdge;
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (std::size_t k = 0; k < faces[f].size(); ++k)
       facesOfEdge[std::minmax(faces[f][k], faces[f][(k + 1) % faces[f].size()])].push_back(static_cast<int>(f));
   std::vector<bool> reached(faces.size(), false);
   std::vector<int> stack;
-  for (const auto& [edge, around] : facesOfEdge)
-    if (around.size() == 1 && !reached[static_cast<std::size_t>(around[0])]) {
-      reached[static_cast<std::size_t>(around[0])] = true;
-      stack.push_back(around[0]);
-    }
+  for (std::size_t k = 0; k < outline.size(); ++k) {
+    const auto it = facesOfEdge.find(std::minmax(outline[k], outline[(k + 1) % outline.size()]));
+    if (it == facesOfEdge.end()) continue;
+    for (int f : it->second)
+      if (!reached[static_cast<std::size_t>(f)]) {
+        reached[static_cast<std::size_t>(f)] = true;
+        stack.push_back(f);
+      }
+  }
   while (!stack.empty()) {
     const int f = stack.back();
     stack.pop_back();
@@ -537,10 +585,50 @@ int cutOutHoles(PlanarArrangement& arrangement, const std::function<bool(int)>& 
   std::map<std::pair<int, int>, int> sourceOfPair;
   for (std::size_t s = 0; s < arrangement.segments.size(); ++s)
     sourceOfPair[std::minmax(arrangement.segments[s][0], arrangement.segments[s][1])] = arrangement.sourceOfSegment[s];
-  const std::vector<bool> hole = holeFaces(arrangement.faces, [&sourceOfPair, &isWallSource](int a, int b) {
+  const auto isWall = [&sourceOfPair, &isWallSource](int a, int b) {
     const auto it = sourceOfPair.find(std::minmax(a, b));
     return it != sourceOfPair.end() && it->second >= 0 && isWallSource(it->second);
-  });
+  };
+  std::vector<bool> hole = holeFaces(arrangement.faces, arrangement.outline, isWall);
+  // A walled-off region with a drawn edge inside it (not a wall, not a bridge) is not a hole: a
+  // hole holds no creases (an outline drawn twice, a frame drawn inside the sheet); its walls
+  // stay what they were (cuts).
+  {
+    std::map<std::pair<int, int>, std::vector<int>> facesOfEdge;
+    for (std::size_t f = 0; f < arrangement.faces.size(); ++f)
+      if (hole[f])
+        for (std::size_t k = 0; k < arrangement.faces[f].size(); ++k)
+          facesOfEdge[std::minmax(arrangement.faces[f][k], arrangement.faces[f][(k + 1) % arrangement.faces[f].size()])]
+              .push_back(static_cast<int>(f));
+    std::vector<int> region(arrangement.faces.size(), -1);
+    std::vector<bool> holdsCrease;
+    for (std::size_t start = 0; start < arrangement.faces.size(); ++start) {
+      if (!hole[start] || region[start] >= 0) continue;
+      const int id = static_cast<int>(holdsCrease.size());
+      holdsCrease.push_back(false);
+      std::vector<int> stack{static_cast<int>(start)};
+      region[start] = id;
+      while (!stack.empty()) {
+        const auto& loop = arrangement.faces[static_cast<std::size_t>(stack.back())];
+        const int f = stack.back();
+        stack.pop_back();
+        for (std::size_t k = 0; k < loop.size(); ++k) {
+          const auto edge = std::minmax(loop[k], loop[(k + 1) % loop.size()]);
+          const auto& around = facesOfEdge[edge];
+          if (around.size() != 2 || isWall(edge.first, edge.second)) continue;
+          const auto source = sourceOfPair.find(edge);
+          if (source != sourceOfPair.end() && source->second >= 0) holdsCrease[static_cast<std::size_t>(id)] = true;
+          const int other = around[0] == f ? around[1] : around[0];
+          if (region[static_cast<std::size_t>(other)] < 0) {
+            region[static_cast<std::size_t>(other)] = id;
+            stack.push_back(other);
+          }
+        }
+      }
+    }
+    for (std::size_t f = 0; f < hole.size(); ++f)
+      if (hole[f] && holdsCrease[static_cast<std::size_t>(region[f])]) hole[f] = false;
+  }
   const auto holes = static_cast<int>(std::count(hole.begin(), hole.end(), true));
   if (holes == 0 || holes == static_cast<int>(hole.size())) return 0;
   std::vector<std::vector<int>> sheet;

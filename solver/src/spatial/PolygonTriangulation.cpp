@@ -28,19 +28,16 @@ std::vector<std::array<int, 3>> triangulateSimplePolygon(const Eigen::MatrixX2d&
   std::iota(left.begin(), left.end(), 0);
   std::vector<std::array<int, 3>> triangles;
   const auto at = [&loop](int i) { return Eigen::Vector2d(loop.row(i).transpose()); };
+  // Scans on from the last ear clipped, so each clip costs one pass at most over the corners left
+  // for the ear and one over them for its emptiness: O(n²) in all for ordinary polygons.
+  std::size_t k = 0;
   while (left.size() > 3) {
     const std::size_t m = left.size();
     bool clipped = false;
-    // An ear: a convex corner whose triangle holds no other remaining corner. Among the ears, the
-    // fattest (largest smallest angle) is clipped first, so a long thin polygon does not end
-    // up as a fan of slivers.
-    double bestQuality = -1.0;
-    std::size_t best = 0;
-    for (std::size_t k = 0; k < m; ++k) {
+    for (std::size_t tried = 0; tried < m && !clipped; ++tried, k = (k + 1) % m) {
       const int a = left[(k + m - 1) % m], b = left[k], c = left[(k + 1) % m];
       const Eigen::Vector2d A = at(a), B = at(b), C = at(c);
-      const double turn = orientation * turnOf(A, B, C);
-      if (turn <= flat) continue;
+      if (orientation * turnOf(A, B, C) <= flat) continue;  // reflex or straight: not an ear
       bool empty = true;
       for (std::size_t j = 0; j < m && empty; ++j) {
         const int p = left[j];
@@ -51,28 +48,24 @@ std::vector<std::array<int, 3>> triangulateSimplePolygon(const Eigen::MatrixX2d&
                   orientation * turnOf(C, A, P) >= 0.0);
       }
       if (!empty) continue;
-      const double la = (B - C).norm(), lb = (C - A).norm(), lc = (A - B).norm();
-      const double quality = turn / std::max({la * la, lb * lb, lc * lc});
-      if (quality > bestQuality) {
-        bestQuality = quality;
-        best = k;
-      }
+      triangles.push_back({a, b, c});
+      left.erase(left.begin() + static_cast<std::ptrdiff_t>(k));
+      k = k % left.size();
       clipped = true;
     }
-    if (!clipped) {
-      // Only straight corners left among the convex ones (collinear runs): clip one that keeps the
-      // rest simple, as a zero-area triangle, rather than give up.
-      for (std::size_t k = 0; k < m && !clipped; ++k) {
-        const Eigen::Vector2d A = at(left[(k + m - 1) % m]), B = at(left[k]), C = at(left[(k + 1) % m]);
-        if (std::abs(turnOf(A, B, C)) <= flat && (B - A).dot(C - B) > 0.0) {
-          best = k;
-          clipped = true;
-        }
+    if (clipped) continue;
+    // Only straight corners left among the convex ones (collinear runs): clip one that keeps the
+    // rest simple, as a zero-area triangle, rather than give up.
+    for (std::size_t j = 0; j < m && !clipped; ++j) {
+      const Eigen::Vector2d A = at(left[(j + m - 1) % m]), B = at(left[j]), C = at(left[(j + 1) % m]);
+      if (std::abs(turnOf(A, B, C)) <= flat && (B - A).dot(C - B) > 0.0) {
+        triangles.push_back({left[(j + m - 1) % m], left[j], left[(j + 1) % m]});
+        left.erase(left.begin() + static_cast<std::ptrdiff_t>(j));
+        k = j % left.size();
+        clipped = true;
       }
-      if (!clipped) throw std::invalid_argument("triangulateSimplePolygon: the polygon is not simple (no ear left)");
     }
-    triangles.push_back({left[(best + m - 1) % m], left[best], left[(best + 1) % m]});
-    left.erase(left.begin() + static_cast<std::ptrdiff_t>(best));
+    if (!clipped) throw std::invalid_argument("triangulateSimplePolygon: the polygon is not simple (no ear left)");
   }
   triangles.push_back({left[0], left[1], left[2]});
   return triangles;

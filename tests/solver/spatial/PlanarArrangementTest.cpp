@@ -266,7 +266,8 @@ TEST(PlanarArrangementBridges, HoleFacesAreThoseWalledOffFromTheOutline) {
   ASSERT_EQ(a.faces.size(), 3u);
   const auto onIsland = [](int v) { return v >= 4 && v <= 7; };
   // Walls: the island's outline. Its inside is the hole, the two faces around it are not.
-  const std::vector<bool> hole = holeFaces(a.faces, [&onIsland](int u, int v) { return onIsland(u) && onIsland(v); });
+  const std::vector<bool> hole =
+      holeFaces(a.faces, a.outline, [&onIsland](int u, int v) { return onIsland(u) && onIsland(v); });
   int holes = 0;
   for (std::size_t f = 0; f < a.faces.size(); ++f) {
     const bool inside = std::all_of(a.faces[f].begin(), a.faces[f].end(), onIsland);
@@ -275,7 +276,7 @@ TEST(PlanarArrangementBridges, HoleFacesAreThoseWalledOffFromTheOutline) {
   }
   EXPECT_EQ(holes, 1);
   // No walls: no holes.
-  const std::vector<bool> none = holeFaces(a.faces, [](int, int) { return false; });
+  const std::vector<bool> none = holeFaces(a.faces, a.outline, [](int, int) { return false; });
   EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
 }
 
@@ -328,6 +329,77 @@ TEST(PlanarArrangementBridges, RandomIslandsAreAllBridgedAndTheFacesStillTileThe
     bridged += a.bridgedIslands;
   }
   EXPECT_GT(bridged, 100);  // most drawings had islands to bridge
+}
+
+}  // namespace
+}  // namespace devsurf::spatial
+
+namespace devsurf::spatial {
+namespace {
+
+TEST(PlanarArrangementBridges, AThousandTinyLoopsAreBridgedOnlyUpToTheWorkBoundTheRestLeftOut) {
+  // A sheet perforated by 40 × 40 = 1 600 tiny triangles: bridging them all would sort billions of
+  // candidates; past the bound the rest are left out, as without bridging, and the faces are
+  // still a tiling of the sheet with the bridged ones.
+  std::vector<std::array<double, 2>> pts{{0, 0}, {40, 0}, {40, 40}, {0, 40}};
+  std::vector<std::array<int, 2>> segments{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      const int first = static_cast<int>(pts.size());
+      pts.push_back({i + 0.3, j + 0.3});
+      pts.push_back({i + 0.7, j + 0.3});
+      pts.push_back({i + 0.5, j + 0.7});
+      segments.push_back({first, first + 1});
+      segments.push_back({first + 1, first + 2});
+      segments.push_back({first + 2, first});
+    }
+  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  PlanarArrangementOptions o;
+  o.bridgeIslands = true;
+  const PlanarArrangement a = planarArrangement(p, segments, o);
+  EXPECT_GT(a.bridgedIslands, 0);
+  EXPECT_GT(a.islands, 0);
+  EXPECT_EQ(a.bridgedIslands + a.islands, 1600);
+  EXPECT_EQ(a.bridges.size(), 2u * static_cast<std::size_t>(a.bridgedIslands));
+  EXPECT_EQ(a.pinchedFaces, 0);
+  // The sheet's faces cover it: the bridged triangles' insides are faces too.
+  double area = 0.0;
+  for (const auto& f : a.faces) area += 0.5 * loopSignedArea2(a.points, f);
+  EXPECT_NEAR(area, 1600.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace devsurf::spatial
+
+namespace devsurf::spatial {
+namespace {
+
+TEST(PlanarArrangementBridges, AGridOfRoundHolesIsBridgedWholeWhateverTheOrder) {
+  // 12 × 12 sixteen-sided loops in a square sheet: an island whose only clear way out runs past
+  // others not yet joined is tried again once they are, so none is left out.
+  std::vector<std::array<double, 2>> pts{{0, 0}, {120, 0}, {120, 120}, {0, 120}};
+  std::vector<std::array<int, 2>> segments{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      const int first = static_cast<int>(pts.size());
+      for (int k = 0; k < 16; ++k)
+        pts.push_back({10.0 * i + 5 + 3.5 * std::cos(2 * M_PI * k / 16), 10.0 * j + 5 + 3.5 * std::sin(2 * M_PI * k / 16)});
+      for (int k = 0; k < 16; ++k) segments.push_back({first + k, first + (k + 1) % 16});
+    }
+  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  PlanarArrangementOptions o;
+  o.bridgeIslands = true;
+  const PlanarArrangement a = planarArrangement(p, segments, o);
+  EXPECT_EQ(a.islands, 0);
+  EXPECT_EQ(a.bridgedIslands, 144);
+  EXPECT_EQ(a.pinchedFaces, 0);
+  double area = 0.0;
+  for (const auto& f : a.faces) area += 0.5 * loopSignedArea2(a.points, f);
+  EXPECT_NEAR(area, 120.0 * 120.0, 1e-9);
+  EXPECT_EQ(eulerCharacteristicOfBoundedFaces(a), 1);
+  expectBridgesCrossNothing(a);
 }
 
 }  // namespace

@@ -34,6 +34,8 @@ struct PlanarArrangement {
   /// Indices into `segments` of the bridges: straight segments added from an island to what
   /// surrounds it, two per island, so that no face has a hole (their sourceOfSegment is −1).
   std::vector<int> bridges;
+  /// The sheet's outer loop (the kept component's outer boundary, clockwise), empty without faces.
+  std::vector<int> outline;
 };
 
 /// How planarArrangement treats its input.
@@ -44,8 +46,11 @@ struct PlanarArrangementOptions {
   /// Join every component that lies inside the sheet (a closed crease, a hole's outline, a
   /// pattern drawn apart inside a face) to the segments around it by two straight bridges, each
   /// the shortest segment from a point of the island to a segment around it that crosses nothing
-  /// (the second from a point at least a third of the island's outline away from the first, and
-  /// ending elsewhere). Without it islands are left out.
+  /// and meets both ends at 10° or more (the second from the island's far side — 120° away seen
+  /// from its centroid, else a third of its outline away — ending elsewhere; ends of earlier
+  /// bridges preferred). Without it islands are left out;
+  /// with it too, past a work bound (3 × outline points × pieces summed over the tries, 4e7: a
+  /// sheet perforated by thousands of tiny loops).
   bool bridgeIslands = false;
 };
 
@@ -70,16 +75,21 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& points, const std::v
                                     double tolerance = 0.0);
 
 /// Which faces are holes: cut off from the sheet's outline by walls. A face belongs to the sheet
-/// when it has an edge no other face has (the outline), or a chain of neighbours across shared
-/// edges that are not walls leads to one. Faces enclosed by an outline drawn inside the sheet
-/// (a hole's outline, walls) are holes, with whatever lies inside them.
-/// @param[in] faces   point loops (as PlanarArrangement::faces)
-/// @param[in] isWall  whether the edge between two points is a wall (called once per shared edge)
+/// when it has an edge on the outline, or a chain of neighbours across shared edges that are not
+/// walls leads to one. Faces enclosed by an outline drawn inside the sheet (a hole's outline,
+/// walls) are holes, with whatever lies inside them.
+/// @param[in] faces    point loops (as PlanarArrangement::faces)
+/// @param[in] outline  the sheet's outer loop (PlanarArrangement::outline); an edge that has one
+///                     face only because a face beside it was left out (pinched) is not outline
+/// @param[in] isWall   whether the edge between two points is a wall
 /// @return per face: a hole
-std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const std::function<bool(int, int)>& isWall);
+std::vector<bool> holeFaces(const std::vector<std::vector<int>>& faces, const std::vector<int>& outline,
+                            const std::function<bool(int, int)>& isWall);
 
 /// Removes the hole faces of an arrangement (holeFaces), the walls being its segments whose input
-/// segment the caller names (bridges are never walls). Nothing is removed when every face would be.
+/// segment the caller names (bridges are never walls). A walled-off region with a drawn edge inside
+/// it that is not a wall is kept (a hole holds no creases: an outline drawn twice, a frame drawn
+/// inside). Nothing is removed when every face would be.
 /// @param[in,out] arrangement  its faces lose the holes (points and segments stay)
 /// @param[in] isWallSource     per input segment id: whether it is a wall (an outline drawn inside)
 /// @return the number of faces removed

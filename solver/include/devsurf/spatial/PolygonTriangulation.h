@@ -7,7 +7,7 @@
 
 namespace devsurf::spatial {
 
-/// Triangles of a simple polygon by ear clipping (O(n²)): n − 2 triangles of point indices into
+/// Triangles of a simple polygon by ear clipping (O(n²) for ordinary polygons, O(n³) at worst): n − 2 triangles of point indices into
 /// `loop`, each counter-clockwise when the loop is; together they cover the polygon exactly, also
 /// when it is not convex (a face with a notch, an L, a face around a hole's bridge).
 ///

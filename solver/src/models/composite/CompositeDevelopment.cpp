@@ -145,11 +145,17 @@ void CompositeModel::buildDevelopmentMesh() {
       Eigen::MatrixX3d corners(N, 3);
       for (int i = 0; i < N; ++i) corners.row(i) = design_.vertices.row(c[i]);
       const Eigen::MatrixX2d plane = spatial::polygonInItsPlane(corners);
-      if (spatial::isConvexPolygon(plane)) {
-        for (int i = 1; i + 1 < N; ++i) addTriangle(c[0], c[i], c[i + 1], f);
-      } else {
-        for (const auto& t : spatial::triangulateSimplePolygon(plane)) addTriangle(c[t[0]], c[t[1]], c[t[2]], f);
+      std::vector<std::array<int, 3>> triangles;
+      if (!spatial::isConvexPolygon(plane)) {
+        try {
+          triangles = spatial::triangulateSimplePolygon(plane);
+        } catch (const std::invalid_argument&) {
+          triangles.clear();  // not simple (a face warped over itself): the fan, as before
+        }
       }
+      if (triangles.empty())
+        for (int i = 1; i + 1 < N; ++i) triangles.push_back({0, i, i + 1});
+      for (const auto& t : triangles) addTriangle(c[t[0]], c[t[1]], c[t[2]], f);
       continue;
     }
     const int U = edgeCount[info.a.edge];

@@ -1196,11 +1196,18 @@ CompositeQuality CompositeModel::computeQuality(int samplesPerSpan) const {
 
 namespace {
 
-/// Whether a planar face's corners make a convex polygon in the face's plane.
-bool planarFaceIsConvex(const CompositeDesign& d, const FaceInfo& info) {
+/// The triangles of a planar face that is not convex (corner indices into info.corners), or none
+/// when it is convex or not simple (a face warped over itself mid-solve): those keep the fan.
+std::vector<std::array<int, 3>> nonConvexFaceTriangles(const CompositeDesign& d, const FaceInfo& info) {
   Eigen::MatrixX3d corners(static_cast<Eigen::Index>(info.corners.size()), 3);
   for (std::size_t i = 0; i < info.corners.size(); ++i) corners.row(static_cast<Eigen::Index>(i)) = d.vertices.row(info.corners[i]);
-  return spatial::isConvexPolygon(spatial::polygonInItsPlane(corners));
+  const Eigen::MatrixX2d plane = spatial::polygonInItsPlane(corners);
+  if (spatial::isConvexPolygon(plane)) return {};
+  try {
+    return spatial::triangulateSimplePolygon(plane);
+  } catch (const std::invalid_argument&) {
+    return {};
+  }
 }
 
 }  // namespace
@@ -1214,14 +1221,14 @@ CompositeGeometry CompositeModel::geometry(int samplesPerSpan, int vSamples) con
   for (int f = 0; f < topo.numFaces(); ++f) {
     const FaceInfo& info = topo.face(f);
     io::QuadMesh mesh;
-    if (info.type == FaceType::Planar && !planarFaceIsConvex(d, info)) {
+    const std::vector<std::array<int, 3>> triangles =
+        info.type == FaceType::Planar ? nonConvexFaceTriangles(d, info) : std::vector<std::array<int, 3>>{};
+    if (!triangles.empty()) {
       // Not convex (a notch, a face beside a hole's bridge): its corners' triangles, each a quad
       // with its last corner repeated (a fan from the centre would cover the notch).
       const int N = static_cast<int>(info.corners.size());
-      Eigen::MatrixX3d corners(N, 3);
-      for (int i = 0; i < N; ++i) corners.row(i) = d.vertices.row(info.corners[i]);
-      mesh.vertices = corners;
-      const auto triangles = spatial::triangulateSimplePolygon(spatial::polygonInItsPlane(corners));
+      mesh.vertices.resize(N, 3);
+      for (int i = 0; i < N; ++i) mesh.vertices.row(i) = d.vertices.row(info.corners[i]);
       mesh.quads.resize(static_cast<Eigen::Index>(triangles.size()), 4);
       for (std::size_t t = 0; t < triangles.size(); ++t)
         mesh.quads.row(static_cast<Eigen::Index>(t)) << triangles[t][0], triangles[t][1], triangles[t][2], triangles[t][2];

@@ -178,20 +178,21 @@ bool rulingsCross(const CurvedGraph& g, const ChainPolyline& a, const ChainPolyl
     return Eigen::Vector2d((1.0 - w) * g.at(c.vertices[i - 1]) + w * g.at(c.vertices[i]));
   };
   constexpr int kRulings = 64;
-  std::vector<double> areas;
-  double total = 0.0, largest = 0.0;
+  double size = 0.0;
+  for (const ChainPolyline* c : {&a, &b})
+    for (int v : c->vertices) size = std::max(size, (g.at(v) - g.at(a.vertices.front())).norm());
+  const double tiny = 1e-9 * std::max(size, 1e-300);
+  // Two neighbouring rulings cross when each one's ends lie strictly on both sides of the other.
+  const auto side = [tiny](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& x) {
+    const double d = cross2(q - p, x - p) / std::max((q - p).norm(), 1e-300);
+    return d > tiny ? 1 : d < -tiny ? -1 : 0;
+  };
   for (int k = 0; k < kRulings; ++k) {
     const double t0 = static_cast<double>(k) / kRulings, t1 = static_cast<double>(k + 1) / kRulings;
     const Eigen::Vector2d a0 = pointAt(a, t0), a1 = pointAt(a, t1), b0 = pointAt(b, t0), b1 = pointAt(b, t1);
-    for (const double area : {cross2(a1 - a0, b1 - a0), cross2(b1 - a0, b0 - a0)}) {
-      areas.push_back(area);
-      total += area;
-      largest = std::max(largest, std::abs(area));
-    }
+    if ((a0 - b0).norm() <= tiny || (a1 - b1).norm() <= tiny) continue;  // a ruling shrunk to a point
+    if (side(a0, b0, a1) * side(a0, b0, b1) < 0 && side(a1, b1, a0) * side(a1, b1, b0) < 0) return true;
   }
-  const double tiny = 1e-9 * largest;
-  for (double area : areas)
-    if (area * total < 0.0 && std::abs(area) > tiny) return true;
   return false;
 }
 

@@ -105,8 +105,8 @@ std::optional<std::pair<int, int>> proposeRuling(const CurvedGraph& g, const std
                                                  const ChainPolyline& to, double eps);
 
 /// Whether the rulings of a strip between two chains, paired by normalized arc length (both running
-/// from the face's first ruling to its second), cross one another: some quad between neighbouring
-/// rulings (64 along the strip) turns the other way round than the strip as a whole.
+/// from the face's first ruling to its second), cross one another: of 65 rulings along the strip,
+/// two neighbours cross (each one's ends strictly on both sides of the other).
 bool rulingsCross(const CurvedGraph& g, const ChainPolyline& a, const ChainPolyline& b);
 
 /// The vertices of a stroke in order along it (its pattern edges only, not proposed rulings).
