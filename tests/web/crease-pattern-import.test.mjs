@@ -8,8 +8,10 @@
 //     An SVG drawing with two curved creases is dropped on the start page, folded by the slider
 //     and exported as FOLD, read back by npm fold: its development is the drawing (200 × 100 mm),
 //     both frames the same sheet within the model's strain, its creases folded ±90° at 100 %.
-//     Screenshots: test-artifacts/web/11-fold-slider-{0,50,100}.png and
-//     11-svg-curved-{0,50,100}.png (look at them).
+//     A drawing with a hole: dropped, opened without the hole, folded to 100 %, its FOLD export's
+//     flat faces (read back by npm fold, areas computed in the test) cover the sheet less the hole.
+//     Screenshots: test-artifacts/web/11-fold-slider-{0,50,100}.png,
+//     11-svg-curved-{0,50,100}.png and 11-svg-hole-{0,100}.png (look at them).
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -202,6 +204,43 @@ test('an SVG drawing with curved creases dropped on the start page folds with th
     assert.ok(Math.abs(meanV - 0.9 * percent) < 0.2 * 0.9 * percent, `${percent} %: valley ${meanV}°`);
     assert.ok(Math.abs(meanM + 0.9 * percent) < 0.2 * 0.9 * percent, `${percent} %: mountain ${meanM}°`);
   }
+  assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
+  await page.close();
+});
+
+test('an SVG drawing with a hole dropped on the start page opens without it, folds with the slider, and its FOLD export read back by npm fold covers the sheet less the hole', async () => {
+  const page = await h.newPage(browser);
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('scene-file').setInputFiles(path.join(SVG_DIR, 'sheet-with-hole.svg'));
+  await page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 });
+  const notes = await page.getByTestId('import-notes').textContent();
+  assert.match(notes, /cut out as holes/);
+  assert.match(notes, /joined to what surrounds them/);
+  const { id, token } = await openImportedAtZero(page, '11-svg-hole-0');
+  const m = await foldTo(page, 100, 1500);
+  assert.ok(m.development_length_error < 5e-3, `development ${m.development_length_error}`);
+  await h.settleFrames(page);
+  await h.screenshotViewport(page, '11-svg-hole-100');
+  // Read back by npm fold: the flat frame's faces (shoelace, computed here) cover 200 × 150 mm
+  // less the hole of radius 15 mm; a face across the hole would add its 707 mm².
+  const { key } = await rb.exportedFold(daemon, id, token);
+  assert.ok(fold.filter.numType(key, 'faces') > 6, 'the faces, sampled');
+  let area = 0;
+  for (const f of key.faces_vertices) {
+    let twice = 0;
+    for (let k = 0; k < f.length; k++) {
+      const p = key.vertices_coords[f[k]]; const q = key.vertices_coords[f[(k + 1) % f.length]];
+      twice += p[0] * q[1] - q[0] * p[1];
+    }
+    area += Math.abs(twice) / 2;
+  }
+  const hole = Math.PI * 15 * 15;
+  assert.ok(Math.abs(area - (200 * 150 - hole)) < 0.05 * hole, `flat faces cover ${area} mm², the sheet less the hole ${200 * 150 - hole}`);
+  // The valley folded: its mean exported angle near 54° (opacity 0.3).
+  const valleys = key.edges_assignment.map((a, e) => (a === 'V' ? key.edges_foldAngle[e] : null)).filter((a) => a !== null);
+  const mean = valleys.reduce((a, b) => a + b, 0) / valleys.length;
+  assert.ok(Math.abs(mean - 54) < 0.2 * 54, `valley ${mean}°`);
   assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   await page.close();
 });
