@@ -91,6 +91,16 @@ async function foldTo(page, percent, quietMs) {
   return (await h.state(page)).metrics;
 }
 
+/** A new page on the start page with `file` chosen in its file input; resolves with the import's notes. */
+async function dropOnStartPage(file) {
+  const page = await h.newPage(browser);
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('scene-file').setInputFiles(file);
+  await page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 });
+  return { page, notes: await page.getByTestId('import-notes').textContent() };
+}
+
 /** Lengths of every edge in a frame's vertices_coords. */
 function edgeLengths(frame) {
   return frame.edges_vertices.map(([a, b]) => {
@@ -160,13 +170,8 @@ test('every SVG drawing imports through the REST route and opens as a flat compo
 });
 
 test('an SVG drawing with curved creases dropped on the start page folds with the slider and exports FOLD read back by npm fold', async () => {
-  const page = await h.newPage(browser);
-  await page.goto(daemon.url);
-  await page.getByTestId('start-page').waitFor();
-  await page.getByTestId('scene-file').setInputFiles(path.join(SVG_DIR, 'two-curved-creases.svg'));
   // The import says what it did (rulings proposed between the curved creases), then opens on request.
-  await page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 });
-  const notes = await page.getByTestId('import-notes').textContent();
+  const { page, notes } = await dropOnStartPage(path.join(SVG_DIR, 'two-curved-creases.svg'));
   assert.match(notes, /2 curved strokes/);
   assert.match(notes, /ruling\(s\) proposed/);
   const { id, token } = await openImportedAtZero(page, '11-svg-curved-0');
@@ -209,12 +214,7 @@ test('an SVG drawing with curved creases dropped on the start page folds with th
 });
 
 test('an SVG drawing with a hole dropped on the start page opens without it, folds with the slider, and its FOLD export read back by npm fold covers the sheet less the hole', async () => {
-  const page = await h.newPage(browser);
-  await page.goto(daemon.url);
-  await page.getByTestId('start-page').waitFor();
-  await page.getByTestId('scene-file').setInputFiles(path.join(SVG_DIR, 'sheet-with-hole.svg'));
-  await page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 });
-  const notes = await page.getByTestId('import-notes').textContent();
+  const { page, notes } = await dropOnStartPage(path.join(SVG_DIR, 'sheet-with-hole.svg'));
   assert.match(notes, /cut out as holes/);
   assert.match(notes, /joined to what surrounds them/);
   const { id, token } = await openImportedAtZero(page, '11-svg-hole-0');

@@ -181,12 +181,12 @@ std::vector<BezierPiece> bezierPieces(const BSplineCurve& curve) {
   return pieces;
 }
 
-BSplineCurve restrictToDomain(const BSplineCurve& curve, double u0, double u1) {
+BSplineCurve restrictToInterval(const BSplineCurve& curve, double u0, double u1) {
   curve.validate();
-  requireClamped(curve, "restrictToDomain");
+  requireClamped(curve, "restrictToInterval");
   const double begin = curve.knots.domainBegin(), end = curve.knots.domainEnd();
   if (!(std::isfinite(u0) && std::isfinite(u1) && begin <= u0 && u0 < u1 && u1 <= end))
-    failInsertion("restrictToDomain: need " + formatKnot(begin) + " ≤ u0 < u1 ≤ " + formatKnot(end) + ", got [" +
+    failInsertion("restrictToInterval: need " + formatKnot(begin) + " ≤ u0 < u1 ≤ " + formatKnot(end) + ", got [" +
                   formatKnot(u0) + ", " + formatKnot(u1) + "]");
   const int p = curve.degree();
   BSplineCurve c = curve;

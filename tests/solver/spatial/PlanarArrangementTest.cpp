@@ -16,6 +16,13 @@ Eigen::MatrixX2d arrangementPoints(std::initializer_list<std::array<double, 2>> 
   return p;
 }
 
+/// Rows (x, y) of a point list.
+Eigen::MatrixX2d arrangementPointRows(const std::vector<std::array<double, 2>>& pts) {
+  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  return p;
+}
+
 double totalFaceArea(const PlanarArrangement& a) {
   double sum = 0.0;
   for (const auto& f : a.faces) sum += 0.5 * loopSignedArea2(a.points, f);
@@ -125,8 +132,7 @@ TEST(PlanarArrangement, RandomChordsTileTheSheetAndSatisfyEulersFormula) {
       segments.push_back({static_cast<int>(pts.size()) - 2, static_cast<int>(pts.size()) - 1});
     }
     // The sheet's sides are split where chords end on them (T-junctions) by the arrangement.
-    Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
-    for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+    const Eigen::MatrixX2d p = arrangementPointRows(pts);
     const PlanarArrangement a = planarArrangement(p, segments);
     EXPECT_NEAR(totalFaceArea(a), 2.0, 1e-9) << "trial " << trial;
     std::vector<bool> usedPoint(a.points.rows(), false);
@@ -239,8 +245,7 @@ TEST(PlanarArrangementBridges, NestedIslandsAreJoinedAlongOneLineOfBridges) {
     }
     for (int k = 0; k < 4; ++k) segments.push_back({first + k, first + (k + 1) % 4});
   }
-  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
-  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  const Eigen::MatrixX2d p = arrangementPointRows(pts);
   const PlanarArrangement a = planarArrangement(p, segments, bridging());
   EXPECT_EQ(a.bridgedIslands, 3);
   EXPECT_EQ(a.islands, 0);
@@ -315,8 +320,7 @@ TEST(PlanarArrangementBridges, RandomIslandsAreAllBridgedAndTheFacesStillTileThe
       }
       for (int j = 0; j < sides; ++j) segments.push_back({first + j, first + (j + 1) % sides});
     }
-    Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
-    for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+    const Eigen::MatrixX2d p = arrangementPointRows(pts);
     const PlanarArrangement a = planarArrangement(p, segments, bridging());
     EXPECT_EQ(a.islands, 0);
     EXPECT_EQ(a.bridges.size(), 2u * static_cast<std::size_t>(a.bridgedIslands));
@@ -353,8 +357,7 @@ TEST(PlanarArrangementBridges, AThousandTinyLoopsAreBridgedOnlyUpToTheWorkBoundT
       segments.push_back({first + 1, first + 2});
       segments.push_back({first + 2, first});
     }
-  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
-  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  const Eigen::MatrixX2d p = arrangementPointRows(pts);
   PlanarArrangementOptions o;
   o.bridgeIslands = true;
   const PlanarArrangement a = planarArrangement(p, segments, o);
@@ -387,8 +390,7 @@ TEST(PlanarArrangementBridges, AGridOfRoundHolesIsBridgedWholeWhateverTheOrder) 
         pts.push_back({10.0 * i + 5 + 3.5 * std::cos(2 * M_PI * k / 16), 10.0 * j + 5 + 3.5 * std::sin(2 * M_PI * k / 16)});
       for (int k = 0; k < 16; ++k) segments.push_back({first + k, first + (k + 1) % 16});
     }
-  Eigen::MatrixX2d p(static_cast<Eigen::Index>(pts.size()), 2);
-  for (std::size_t i = 0; i < pts.size(); ++i) p.row(static_cast<Eigen::Index>(i)) << pts[i][0], pts[i][1];
+  const Eigen::MatrixX2d p = arrangementPointRows(pts);
   PlanarArrangementOptions o;
   o.bridgeIslands = true;
   const PlanarArrangement a = planarArrangement(p, segments, o);

@@ -186,7 +186,7 @@ TEST(KnotInsertion, RestrictingToAnIntervalKeepsTheCurvesPointsAtTheirParameters
     if (trial % 5 == 3) u1 = end;
     if (u0 > u1) std::swap(u0, u1);
     if (!(u1 - u0 > 1e-6)) continue;
-    const BSplineCurve r = restrictToDomain(c, u0, u1);
+    const BSplineCurve r = restrictToInterval(c, u0, u1);
     EXPECT_EQ(r.knots.domainBegin(), u0);
     EXPECT_EQ(r.knots.domainEnd(), u1);
     EXPECT_EQ(r.isRational(), c.isRational());
@@ -197,10 +197,10 @@ TEST(KnotInsertion, RestrictingToAnIntervalKeepsTheCurvesPointsAtTheirParameters
     EXPECT_LT((r.points.row(0).transpose() - c.evaluate(u0)).norm(), 1e-12) << "the first control point is c(u0)";
   }
   const BSplineCurve c = randomClampedCurve(3, 7);
-  const BSplineCurve whole = restrictToDomain(c, c.knots.domainBegin(), c.knots.domainEnd());
+  const BSplineCurve whole = restrictToInterval(c, c.knots.domainBegin(), c.knots.domainEnd());
   EXPECT_EQ(whole.points, c.points);
-  expectThrowMentioning([&c] { restrictToDomain(c, 0.3, 0.3); }, "u0 < u1");
-  expectThrowMentioning([&c] { restrictToDomain(c, c.knots.domainBegin() - 1.0, 0.3); }, "u0 < u1");
+  expectThrowMentioning([&c] { restrictToInterval(c, 0.3, 0.3); }, "u0 < u1");
+  expectThrowMentioning([&c] { restrictToInterval(c, c.knots.domainBegin() - 1.0, 0.3); }, "u0 < u1");
 }
 
 TEST(KnotInsertion, RejectsBadRequestsWithAClearMessage) {

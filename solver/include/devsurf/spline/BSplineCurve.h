@@ -76,7 +76,7 @@ BSplineCurve insertKnot(const BSplineCurve& curve, double u, int times = 1);
 /// the same parameters, the domain [u0, u1]. Two curves with one knot vector restricted to one
 /// interval keep one knot vector.
 /// @throws std::invalid_argument unless domainBegin ≤ u0 < u1 ≤ domainEnd, or for a periodic curve
-BSplineCurve restrictToDomain(const BSplineCurve& curve, double u0, double u1);
+BSplineCurve restrictToInterval(const BSplineCurve& curve, double u0, double u1);
 
 /// Insert every knot in `newKnots` (sorted, with repetition) — knot refinement.
 /// Same requirements and exceptions as insertKnot.

@@ -164,8 +164,8 @@ void trimToRegion(RegionCover& cover, const Eigen::MatrixX3d& points) {
   uHigh = std::min(end, uHigh + step);
   if (uHigh - uLow < 4.0 * step) return;  // points on one ruling: nothing sensible to keep
   for (StripDesign& s : strips) {
-    s.a = spline::restrictToDomain(s.a, uLow, uHigh);
-    s.b = spline::restrictToDomain(s.b, uLow, uHigh);
+    s.a = spline::restrictToInterval(s.a, uLow, uHigh);
+    s.b = spline::restrictToInterval(s.b, uLow, uHigh);
   }
   vFirst = std::max(0.0, vFirst - 1.0 / W);
   vLast = std::min(1.0, vLast + 1.0 / W);

@@ -213,7 +213,7 @@ TEST(CompositeIslands, ConcentricCreasesAroundAHoleAreJoinedByRadialRulingsIntoS
   EXPECT_LT(model.developmentLengthError(), 1e-4);  // it starts isometric to the drawing
 }
 
-TEST(CompositeIslands, AClosedCurvedCreaseWithNothingStraightInsideIsRefusedWithWhatToDo) {
+TEST(CompositeIslands, AClosedCurvedCreaseWithNothingStraightInsideIsRefusedSayingWhatToDraw) {
   const io::SvgImport svg = io::importSvgText(
       islandSheetSvg(200, 200, R"(<circle cx="100" cy="100" r="50" fill="none" stroke="#0000ff" stroke-opacity="0.3"/>)"));
   try {

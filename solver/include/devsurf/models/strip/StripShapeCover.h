@@ -13,7 +13,7 @@ namespace devsurf::models::strip {
 
 /// Cuts a region's strips back to the part of them over its points: every strip's curves
 /// restricted to one parameter interval (the least and greatest u of the band points' nearest
-/// samples, over all strips; exact, spline::restrictToDomain), and the region's two outer
+/// samples, over all strips; exact, spline::restrictToInterval), and the region's two outer
 /// curves moved along the rulings to the least / greatest v of their strip's band points
 /// (a ← (1 − v₀) a + v₀ b: the same ruled surface). Neighbouring strips share their curve's
 /// parametrization, so the shared curves stay shared. Corners of the band rectangle outside a
