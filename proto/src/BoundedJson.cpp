@@ -1,6 +1,9 @@
 #include "devsurf/proto/BoundedJson.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
 
 namespace devsurf::proto {
 
@@ -74,8 +77,92 @@ std::string nonFinitePath(const nlohmann::json& value, const std::string& prefix
   return {};
 }
 
+namespace {
+
+/// Whether nlohmann's compact dump writes `text` unchanged between its quotes: printable ASCII
+/// other than the quote and the backslash (8 bytes at a time; a long base64 array is one such
+/// string).
+bool writtenVerbatim(const std::string& text) {
+  const char* p = text.data();
+  std::size_t n = text.size(), i = 0;
+  for (; i + 8 <= n; i += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, p + i, 8);
+    constexpr std::uint64_t ones = 0x0101010101010101ULL, highs = 0x8080808080808080ULL;
+    // A byte < 0x20 or ≥ 0x7f, or equal to '"' (0x22) or '\\' (0x5c), stops the fast scan.
+    const std::uint64_t below = (w - ones * 0x20) & ~w & highs;
+    const std::uint64_t above = (w + ones * 0x01) & highs;  // 0x7f + 1 and ≥ 0x80 set the high bit
+    const std::uint64_t quote = ((w ^ (ones * 0x22)) - ones) & ~(w ^ (ones * 0x22)) & highs;
+    const std::uint64_t slash = ((w ^ (ones * 0x5c)) - ones) & ~(w ^ (ones * 0x5c)) & highs;
+    if ((below | above | (w & highs) | quote | slash) != 0) return false;
+  }
+  for (; i < n; ++i) {
+    const unsigned char c = static_cast<unsigned char>(p[i]);
+    if (c < 0x20 || c >= 0x7f || c == '"' || c == '\\') return false;
+  }
+  return true;
+}
+
+using Serializer = nlohmann::detail::serializer<nlohmann::json>;
+
+/// value.dump(-1, ' ', false, replace) into `out`, with strings that need no escaping copied as
+/// they are instead of character by character (nlohmann's dump_escaped was 5–6 % of a daemon
+/// streaming a 10 000-unknown composite: its base64 arrays).
+void writeWireText(const nlohmann::json& value, std::string& out, Serializer& scalars) {
+  switch (value.type()) {
+    case nlohmann::json::value_t::object: {
+      out += '{';
+      bool first = true;
+      for (auto it = value.cbegin(); it != value.cend(); ++it) {
+        if (!first) out += ',';
+        first = false;
+        const std::string& key = it.key();
+        if (writtenVerbatim(key)) {
+          out += '"';
+          out += key;
+          out += '"';
+        } else {
+          scalars.dump(nlohmann::json(key), false, false, 0);
+        }
+        out += ':';
+        writeWireText(it.value(), out, scalars);
+      }
+      out += '}';
+      return;
+    }
+    case nlohmann::json::value_t::array: {
+      out += '[';
+      bool first = true;
+      for (const nlohmann::json& element : value) {
+        if (!first) out += ',';
+        first = false;
+        writeWireText(element, out, scalars);
+      }
+      out += ']';
+      return;
+    }
+    case nlohmann::json::value_t::string: {
+      const std::string& text = value.get_ref<const std::string&>();
+      if (writtenVerbatim(text)) {
+        out += '"';
+        out += text;
+        out += '"';
+        return;
+      }
+      break;
+    }
+    default: break;
+  }
+  scalars.dump(value, false, false, 0);
+}
+
+}  // namespace
+
 std::string wireText(const nlohmann::json& value) {
-  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::string out;
+  Serializer scalars(nlohmann::detail::output_adapter<char>(out), ' ', nlohmann::json::error_handler_t::replace);
+  writeWireText(value, out, scalars);
+  return out;
 }
 
 nlohmann::json echoableId(const nlohmann::json& id) {

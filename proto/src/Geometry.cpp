@@ -34,27 +34,21 @@ int decodeChar(char c) {
 
 std::string base64Encode(const void* data, std::size_t size) {
   const auto* bytes = static_cast<const unsigned char*>(data);
-  std::string out;
-  out.reserve((size + 2) / 3 * 4);
+  std::string out((size + 2) / 3 * 4, '=');
+  char* o = out.data();
   std::size_t i = 0;
-  for (; i + 2 < size; i += 3) {
-    const std::uint32_t v = (bytes[i] << 16) | (bytes[i + 1] << 8) | bytes[i + 2];
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += kAlphabet[v & 63];
+  for (; i + 2 < size; i += 3, o += 4) {
+    const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) | (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+    o[0] = kAlphabet[(v >> 18) & 63];
+    o[1] = kAlphabet[(v >> 12) & 63];
+    o[2] = kAlphabet[(v >> 6) & 63];
+    o[3] = kAlphabet[v & 63];
   }
-  if (i + 1 == size) {
-    const std::uint32_t v = bytes[i] << 16;
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += "==";
-  } else if (i + 2 == size) {
-    const std::uint32_t v = (bytes[i] << 16) | (bytes[i + 1] << 8);
-    out += kAlphabet[(v >> 18) & 63];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += '=';
+  if (i < size) {  // one or two bytes left: the padding '=' is already in place
+    const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) | (i + 1 < size ? std::uint32_t{bytes[i + 1]} << 8 : 0u);
+    o[0] = kAlphabet[(v >> 18) & 63];
+    o[1] = kAlphabet[(v >> 12) & 63];
+    if (i + 1 < size) o[2] = kAlphabet[(v >> 6) & 63];
   }
   return out;
 }
@@ -229,6 +223,17 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
       r = r == 0.0 ? 0.35 * chord : std::min(r, 0.35 * chord);
     }
   }
+  // Only vertices with a defect make a spot (on a developable design, none or a few).
+  struct Spot {
+    Eigen::Vector3d centre;
+    double curvature, radius;
+  };
+  std::vector<Spot> spots;
+  for (int v = 0; v < numVertices; ++v) {
+    const double kv = faceValue(quality.vertexCurvature, static_cast<std::size_t>(v));
+    const double r = radius[static_cast<std::size_t>(v)];
+    if (kv > 0.0 && r > 0.0) spots.push_back({d.vertices.row(v).transpose(), kv, r});
+  }
   Eigen::Index vOffset = 0, qOffset = 0;
   for (std::size_t f = 0; f < g.faces.size(); ++f) {
     const io::QuadMesh& m = g.faces[f];
@@ -237,12 +242,9 @@ nlohmann::json compositeGeometryJson(const models::composite::CompositeModel& mo
       vertices.row(vOffset + i) = p.transpose();
       flatness(vOffset + i, 0) = 0.0;
       double k = 0.0;
-      for (int v = 0; v < numVertices; ++v) {
-        const double kv = faceValue(quality.vertexCurvature, static_cast<std::size_t>(v));
-        const double r = radius[static_cast<std::size_t>(v)];
-        if (kv <= 0.0 || r <= 0.0) continue;
-        const double dist = (p - d.vertices.row(v).transpose()).norm();
-        k = std::max(k, kv * std::max(0.0, 1.0 - dist / r));
+      for (const Spot& spot : spots) {
+        const double dist = (p - spot.centre).norm();
+        k = std::max(k, spot.curvature * std::max(0.0, 1.0 - dist / spot.radius));
       }
       curvature(vOffset + i, 0) = k;
     }

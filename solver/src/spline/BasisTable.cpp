@@ -41,10 +41,18 @@ void BasisTable::evaluate(int k, const Eigen::MatrixXd& points, int upTo, Eigen:
   const int p = degree_, rows = derivatives_ + 1;
   const int* control = control_.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(p + 1);
   const double* values = values_.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(rows * (p + 1));
-  out.setZero();
-  for (int j = 0; j <= p; ++j) {
-    const auto point = points.row(control[j]).transpose();
-    for (int l = 0; l <= upTo; ++l) out.col(l) += values[l * (p + 1) + j] * point;
+  // Plain loops over the column-major points: Eigen's dynamic-size row and column expressions
+  // cost more than the products here (a quarter of a composite iterate's metrics).
+  const Eigen::Index n = points.rows(), dim = points.cols();
+  const double* data = points.data();
+  for (int l = 0; l <= upTo; ++l) {
+    const double* basis = values + l * (p + 1);
+    for (Eigen::Index d = 0; d < dim; ++d) {
+      const double* coordinate = data + d * n;
+      double sum = 0.0;
+      for (int j = 0; j <= p; ++j) sum += basis[j] * coordinate[control[j]];
+      out(d, l) = sum;
+    }
   }
 }
 

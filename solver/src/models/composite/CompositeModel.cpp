@@ -4,6 +4,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
+#include <memory>
 
 #include "devsurf/models/HandleValidation.h"
 #include <cmath>
@@ -220,6 +222,16 @@ struct CompositeModel::StateCache {
   /// (metrics::stripQuality's parameters): depends on the topology only, built on first use.
   std::once_flag warpOnce;
   std::vector<spline::BasisTable> warpRulings;
+
+  /// The basis at computeCreases' samples of one interior S edge, for one samples-per-span: of
+  /// the edge's own curve (up to the second derivative) and of each adjacent face's curves at the
+  /// face's parameters of those samples (up to the first). Depends on the topology only.
+  struct CreaseEdgeTables {
+    spline::BasisTable curve;
+    std::array<spline::BasisTable, 2> sides;
+  };
+  std::mutex creaseTablesMutex;
+  std::map<int, std::shared_ptr<const std::vector<CreaseEdgeTables>>> creaseTables;  ///< per samples per span
 
   std::mutex mutex;
   Eigen::VectorXd x;  ///< the variables every entry below was computed from
@@ -855,15 +867,21 @@ std::pair<spline::BSplineCurve, spline::BSplineCurve> curvesOf(const CompositeTo
   return {std::move(a), std::move(b)};
 }
 
-Eigen::Vector3d geometricNormal(const spline::CurvePair& c, double u) {
-  Eigen::Matrix<double, 3, 2> da, db;  // point and tangent of each boundary (one basis evaluation for both)
-  c.derivatives(u, 1, da, db);
+/// Unit normal of a ruled strip from the point and tangent of each boundary at one parameter
+/// (columns 0 and 1 of da, db): (a′ + b′) × (b − a), or a′ × b′ where the ruling degenerates.
+Eigen::Vector3d geometricNormal(const Eigen::Matrix<double, 3, 2>& da, const Eigen::Matrix<double, 3, 2>& db) {
   const Eigen::Vector3d ta = da.col(1), tb = db.col(1);
   const Eigen::Vector3d r = db.col(0) - da.col(0);
   Eigen::Vector3d n = (ta + tb).cross(r);
   if (n.norm() <= 1e-9 * (ta.norm() + tb.norm()) * std::max(r.norm(), 1e-300)) n = ta.cross(tb);
   const double len = n.norm();
   return len > 0 ? Eigen::Vector3d(n / len) : n;
+}
+
+Eigen::Vector3d geometricNormal(const spline::CurvePair& c, double u) {
+  Eigen::Matrix<double, 3, 2> da, db;  // point and tangent of each boundary (one basis evaluation for both)
+  c.derivatives(u, 1, da, db);
+  return geometricNormal(da, db);
 }
 
 }  // namespace
@@ -1020,6 +1038,51 @@ std::vector<CreaseGeometry> CompositeModel::computeCreases(int samplesPerSpan, d
     for (std::size_t k = 0; k < faceParams_[f].size(); ++k)
       ev.varNormals[f].push_back(normalVariable(f, static_cast<int>(k)));
   }
+  // The basis at the samples, tabled once per samples-per-span (half of an iterate's metrics was
+  // basis evaluation here: three per sample).
+  std::shared_ptr<const std::vector<StateCache::CreaseEdgeTables>> tables;
+  {
+    std::lock_guard<std::mutex> lock(stateCache_->creaseTablesMutex);
+    auto& slot = stateCache_->creaseTables[samplesPerSpan];
+    if (!slot) {
+      auto built = std::make_shared<std::vector<StateCache::CreaseEdgeTables>>(static_cast<std::size_t>(topo.numEdges()));
+      for (int e = 0; e < topo.numEdges(); ++e) {
+        const EdgeInfo& info = topo.edge(e);
+        if (!info.interior() || topo.edgeType(e) != EdgeType::Spline) continue;
+        const spline::KnotVector& knots = ev.d.edges[e].curve.knots;
+        const std::vector<double> us = knots.uniformSamples(knots.numSpans() * samplesPerSpan + 1);
+        const double sum = knots.domainBegin() + knots.domainEnd();
+        StateCache::CreaseEdgeTables& t = (*built)[static_cast<std::size_t>(e)];
+        t.curve = spline::BasisTable(knots, us, 2);
+        for (int side = 0; side < 2; ++side) {
+          const int f = info.faces[side];
+          if (topo.face(f).type == FaceType::Planar) continue;
+          std::vector<double> params(us.size());
+          for (std::size_t k = 0; k < us.size(); ++k) params[k] = topo.edgeRunsWithU(f, e) ? us[k] : sum - us[k];
+          t.sides[static_cast<std::size_t>(side)] =
+              spline::BasisTable(topo.knots(topo.face(f).a.edge, topo.face(f).a.reversed), std::move(params), 1);
+        }
+      }
+      slot = std::move(built);
+    }
+    tables = slot;
+  }
+  // Whether a side's table serves face f's curves at the edge's `count` samples.
+  auto sideTabled = [&ev, &topo](int f, const spline::BasisTable& table, int count) {
+    return topo.face(f).type != FaceType::Planar && table.size() == count && table.fits(ev.curves[f].first) &&
+           table.fits(ev.curves[f].second);
+  };
+  // Face f's surface normal at sample k of a crease (its parameter u), from the table if `tabled`.
+  auto sideNormal = [&ev, &topo](int f, const spline::BasisTable& table, bool tabled, int k, double u) {
+    if (topo.face(f).type == FaceType::Planar) return ev.planarNormal[f];
+    if (!tabled) return ev.geometric(f, u);
+    const auto& [a, b] = ev.curves[f];
+    Eigen::Matrix<double, 3, 2> da, db;
+    table.evaluate(k, a.points, 1, da);
+    table.evaluate(k, b.points, 1, db);
+    return geometricNormal(da, db);
+  };
+
   std::vector<CreaseGeometry> out;
   for (int e = 0; e < topo.numEdges(); ++e) {
     const EdgeInfo& info = topo.edge(e);
@@ -1038,13 +1101,21 @@ std::vector<CreaseGeometry> CompositeModel::computeCreases(int samplesPerSpan, d
       // The crease rows' residual (eq. 7/8 with the surfaces' unit normals) from the same samples.
       const bool measured = foldResidualMax && (c.kind == CreaseKind::Fold || c.kind == CreaseKind::Geodesic);
       const double sign = c.kind == CreaseKind::Fold ? 1.0 : -1.0;
+      const StateCache::CreaseEdgeTables& table = (*tables)[static_cast<std::size_t>(e)];
+      const bool tabled = table.curve.size() == count && table.curve.fits(curve);
+      const bool tabled1 = sideTabled(f1, table.sides[0], count), tabled2 = sideTabled(f2, table.sides[1], count);
       Eigen::Matrix<double, 3, 3> point;
-      for (double u : us) {
-        curve.derivatives(u, 2, point);
+      for (int k = 0; k < count; ++k) {
+        const double u = us[static_cast<std::size_t>(k)];
+        if (tabled)
+          table.curve.evaluate(k, curve.points, 2, point);
+        else
+          curve.derivatives(u, 2, point);
         pts.push_back(point.col(0));
         tangents.push_back(point.col(1));
         const double u1 = topo.edgeRunsWithU(f1, e) ? u : sum - u, u2 = topo.edgeRunsWithU(f2, e) ? u : sum - u;
-        const Eigen::Vector3d g1 = ev.geometric(f1, u1), g2 = ev.geometric(f2, u2);
+        const Eigen::Vector3d g1 = sideNormal(f1, table.sides[0], tabled1, k, u1),
+                              g2 = sideNormal(f2, table.sides[1], tabled2, k, u2);
         n1s.push_back(ev.oriented(f1, u1, g1));
         n2s.push_back(ev.oriented(f2, u2, g2));
         if (!measured) continue;
