@@ -156,7 +156,24 @@ void CurvePair::derivatives(double u, int upTo, Eigen::Ref<Eigen::MatrixXd> outA
 
 Eigen::MatrixXd BSplineCurve::evaluate(const std::vector<double>& params, int derivative) const {
   requireShapes(*this);
-  Eigen::MatrixXd result(static_cast<Eigen::Index>(params.size()), dimension());
+  const int p = degree(), dim = dimension();
+  Eigen::MatrixXd result(static_cast<Eigen::Index>(params.size()), dim);
+  if (!isRational() && derivative >= 0 && p <= kStackBasisDegree && derivative <= p) {
+    // The common case (every sampled surface and metric) without a vector per parameter: one basis
+    // evaluation straight into the row.
+    StackBasis basis(derivative + 1, p + 1);
+    const Eigen::Index n = points.rows();
+    const double* data = points.data();
+    for (size_t k = 0; k < params.size(); ++k) {
+      const int s = basisFunctionsInto(knots, params[k], derivative, basis);
+      for (int d = 0; d < dim; ++d) {
+        double sum = 0.0;
+        for (int j = 0; j <= p; ++j) sum += basis(derivative, j) * data[d * n + knots.controlIndex(s - p + j)];
+        result(static_cast<Eigen::Index>(k), d) = sum;
+      }
+    }
+    return result;
+  }
   for (size_t k = 0; k < params.size(); ++k) {
     result.row(static_cast<Eigen::Index>(k)) = evaluate(params[k], derivative).transpose();
   }

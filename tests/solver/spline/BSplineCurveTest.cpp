@@ -85,6 +85,32 @@ TEST(BSplineCurve, VectorEvaluationStacksPointEvaluations) {
   }
 }
 
+TEST(BSplineCurve, VectorEvaluationOfAPolynomialCurveStacksPointEvaluationsForEveryDegree) {
+  // The polynomial path of evaluate(params) writes each row from one basis evaluation; it must
+  // give what evaluate(u) gives, for degrees 1…5, derivatives up to p + 1 (zero) and 2D/3D points.
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> coordinate(-2.0, 2.0);
+  for (int p = 1; p <= 5; ++p)
+    for (int dim : {2, 3}) {
+      const int n = p + 1 + p % 3;
+      const KnotVector kv = KnotVector::clampedUniform(p, n);
+      Eigen::MatrixXd points(n, dim);
+      for (Eigen::Index i = 0; i < points.size(); ++i) points.data()[i] = coordinate(rng);
+      const BSplineCurve c{kv, points, Eigen::VectorXd()};
+      const std::vector<double> params = kv.uniformSamples(17);
+      for (int d = 0; d <= p + 1; ++d) {
+        const Eigen::MatrixXd all = c.evaluate(params, d);
+        ASSERT_EQ(all.rows(), 17);
+        ASSERT_EQ(all.cols(), dim);
+        for (int k = 0; k < 17; ++k) {
+          const Eigen::VectorXd one = c.evaluate(params[k], d);
+          EXPECT_LE((all.row(k).transpose() - one).norm(), 1e-12 * (1.0 + one.norm()))
+              << "degree " << p << ", derivative " << d << ", sample " << k;
+        }
+      }
+    }
+}
+
 BSplineCurve quarterCircle() {
   Eigen::MatrixXd pts(3, 2);
   pts << 1, 0, 1, 1, 0, 1;
