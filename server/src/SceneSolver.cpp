@@ -253,6 +253,7 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
   if (limits.timeBudgetMs >= 0.0) options.timeBudgetMs = limits.timeBudgetMs;
   if (limits.hardTolerance >= 0.0) options.hardTolerance = limits.hardTolerance;
   if (limits.hardBand > 0.0) options.stepControl.hardBand = limits.hardBand;
+  if (limits.correctionSteps >= 0) options.correctionSteps = limits.correctionSteps;
   options.firstIteration = std::max(0, limits.firstIteration);
   if (limits.regularization >= 0.0) options.regularization = limits.regularization;
   options.projectionOnly = limits.projectionOnly;

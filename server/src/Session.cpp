@@ -1186,7 +1186,9 @@ bool Session::runSolver(SolveLimits limits, bool final) {
     return true;
   }
   const std::int64_t seq = seq_.load();
-  limits.hardBand = settings_.dragHardBand;
+  const bool developed = isComposite() && solver_->compositeModel().hasDevelopment();
+  limits.hardBand = developed ? settings_.developedDragHardBand : settings_.dragHardBand;
+  limits.correctionSteps = developed ? settings_.developedCorrectionSteps : 0;
   limits.firstIteration = scheduleIteration_;
   bool interrupted = false;
   std::string failure;  // a state that must not be shown: rolled back after the solve returns

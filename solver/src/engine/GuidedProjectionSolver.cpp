@@ -133,6 +133,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       std::vector<double>(static_cast<std::size_t>(numTerms), 0.0));
   termMaxAbs_.assign(static_cast<std::size_t>(numTerms), 0.0);
   step_.setZero(problem_.x().size());
+  correctedX_.setZero(problem_.x().size());
   const StepControlOptions& control = options.stepControl;
   if (pullLimit_ <= 0.0) pullLimit_ = control.initialPullLimit;
   bool anyRelaxable = false;
@@ -275,6 +276,29 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       // Residuals at the new iterate, with this iteration's nominal weights (residual-only path).
       evaluate(problem_.x(), rec.termResiduals);
       record(rec, rec.termResiduals);
+      // Correction steps: the same system solved again with the hard rows' residuals at the new
+      // iterate (SolverOptions::correctionSteps), kept while each lowers the hard residual.
+      for (int c = 0; c < options.correctionSteps && !reused && std::isfinite(rec.totalResidual); ++c) {
+        t0 = Clock::now();
+        equations_.correctionRhs(problem_, problem_.x());
+        correctedX_ = problem_.x();
+        linear_->solve(equations_.rhs(), delta_);
+        equations_.applyStep(delta_, problem_.x());
+        rec.solveMs += millisecondsSince(t0);
+        evaluate(problem_.x(), trial);
+        IterationRecord probe;
+        record(probe, trial);
+        if (!std::isfinite(probe.totalResidual) || !(probe.hardResidual < rec.hardResidual)) {
+          problem_.x() = correctedX_;
+          evaluate(problem_.x(), trial);  // termMaxAbs_ of the iterate kept
+          break;
+        }
+        std::copy(trial.begin(), trial.end(), rec.termResiduals.begin());
+        record(rec, rec.termResiduals);
+        rec.stepNorm = (problem_.x() - previousX_).norm();
+        ++rec.corrections;
+      }
+      const double stepNorm = rec.stepNorm;
       taken = 1.0;
       if (!control.enabled) return true;
       // No row may leave the band (or, above it already, grow); above the band the hard
@@ -286,7 +310,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
         return r.hardResidualMax <= control.hardBand || r.hardResidual <= previousHard;
       };
       if (acceptable(rec)) return true;
-      const bool finiteStep = std::isfinite(norm);
+      const bool finiteStep = std::isfinite(stepNorm);
       step_ = problem_.x() - previousX_;
       double alpha = 1.0;
       for (int h = 0; h < control.maxHalvings && finiteStep; ++h) {
@@ -298,7 +322,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
         if (acceptable(probe)) {
           std::copy(trial.begin(), trial.end(), rec.termResiduals.begin());
           record(rec, rec.termResiduals);
-          rec.stepNorm = alpha * norm;
+          rec.stepNorm = alpha * stepNorm;
           taken = alpha;
           return true;
         }

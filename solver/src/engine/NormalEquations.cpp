@@ -859,6 +859,83 @@ void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x
   }
 }
 
+void NormalEquations::correctGroup(const EliminationGroup& g, int ld, double* Jc, double* rb) {
+  const int m = g.size, nr = g.numRows, nk = g.numKeptRows;
+  const double* J = jacobian_.data();
+  const int* source = groupEntrySource_.data();
+  const int* dest = groupEntryDest_.data();
+  double* Jn = jn_.data();
+  double* rl = localResidual_.data();
+  double* V = v_.data();
+  double* pr = pr_.data();
+  // The rows as eliminateGroup gathered them (the Jacobian of the last assemble()), with the
+  // residuals of the correction.
+  std::fill(Jn, Jn + nr * m, 0.0);
+  for (int lr = 0; lr < nr; ++lr) {
+    const int row = g.rowOffset + lr;
+    const double w = weights_[groupRowTerm_[row]];
+    rl[lr] = w * residual_[groupRowResidual_[row]];
+    for (int k = groupRowStart_[row]; k < groupRowSplit_[row]; ++k) Jn[dest[k]] = w * J[source[k]];
+    for (int k = groupRowSplit_[row]; k < groupRowStart_[row + 1]; ++k) Jc[dest[k]] = w * J[source[k]];
+  }
+  // V = J_n L⁻ᵀ with the step's factor L, and t = L⁻¹ J_nᵀ w r replaced by the correction's (what
+  // applyStep back-substitutes with).
+  const double* L = factors_.data() + g.factorOffset;
+  double* tn = factors_.data() + g.factorOffset + m * m;
+  for (int a = 0; a < m; ++a) tn[a] = 0.0;
+  for (int lr = 0; lr < nr; ++lr) {
+    double* v = V + lr * m;
+    for (int a = 0; a < m; ++a) {
+      double s = Jn[lr * m + a];
+      for (int k = 0; k < a; ++k) s -= L[a * m + k] * v[k];
+      v[a] = s / L[a * m + a];
+      tn[a] += v[a] * rl[lr];
+    }
+  }
+  // rhs_block −= J_cᵀ (w r − V t) over the group's kept rows.
+  const double* jc = Jc + g.keptRowOffset * ld;
+  for (int i = 0; i < nk; ++i) {
+    double p = rl[i];
+    for (int a = 0; a < m; ++a) p -= V[i * m + a] * tn[a];
+    pr[i] = p;
+    for (int b = 0; b < ld; ++b) rb[b] -= jc[i * ld + b] * p;
+  }
+}
+
+void NormalEquations::correctionRhs(const Problem& problem, const Eigen::VectorXd& x) {
+  rhs_.setZero();
+  double* rhs = rhs_.data();
+  for (int t = 0; t < problem.numTerms(); ++t) {
+    const TermPlan& plan = plans_[t];
+    double* r = residual_.data() + termResidualOffset_[t];
+    if (problem.term(t).strength != Strength::Hard) {  // held by the matrix, not pulling
+      std::fill(r, r + plan.numResiduals, 0.0);
+      continue;
+    }
+    problem.term(t).term->evaluate(x, r, nullptr);
+    // −w² Jᵀ r over the term's direct rows, as accumulateDirectRows adds it.
+    const double* J = jacobian_.data() + termJacobianOffset_[t];
+    const double w2 = weights_[t] * weights_[t];
+    const int numDirect = static_cast<int>(plan.directRow.size());
+    for (int i = 0; i < numDirect; ++i) {
+      const double wri = w2 * r[plan.directRow[i]];
+      for (int k = plan.directStart[i]; k < plan.directStart[i + 1]; ++k)
+        rhs[plan.directColumn[k]] -= J[plan.directEntry[k]] * wri;
+    }
+  }
+  // The rows of the elimination groups, through each group's factor as eliminate() does.
+  double* rb = blockRhs_.data();
+  for (const EliminationBlock& block : blocks_) {
+    const int c = block.numKept, K = block.numKeptRows, ld = paddedStride(c);
+    double* Jc = jstack_.data();
+    std::fill(Jc, Jc + K * ld, 0.0);
+    std::fill(rb, rb + ld, 0.0);
+    for (int gi = block.groupBegin; gi < block.groupEnd; ++gi) correctGroup(groups_[gi], ld, Jc, rb);
+    const int* cols = blockColumn_.data() + block.keptOffset;
+    for (int b = 0; b < c; ++b) rhs[cols[b]] += rb[b];
+  }
+}
+
 double NormalEquations::applyStep(const Eigen::VectorXd& delta, Eigen::VectorXd& x) {
   for (int c = 0; c < numReduced_; ++c) x[keptVariable_[c]] += delta[c];
   double normSquared = delta.squaredNorm();

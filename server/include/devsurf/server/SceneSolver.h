@@ -53,6 +53,7 @@ struct SolveLimits {
   double timeBudgetMs = -1.0;  ///< wall-clock budget (0 = none)
   double hardTolerance = -1.0; ///< stop once every hard row is within this (0 = not used)
   double hardBand = -1.0;      ///< step control's band (engine::StepControlOptions::hardBand)
+  int correctionSteps = -1;    ///< engine::SolverOptions::correctionSteps
   int firstIteration = 0;      ///< engine::SolverOptions::firstIteration (where the schedule resumes)
   double regularization = -1.0; ///< ε_reg of every step
   bool projectionOnly = false;  ///< engine::SolverOptions::projectionOnly

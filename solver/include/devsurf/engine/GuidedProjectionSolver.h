@@ -57,6 +57,7 @@ struct IterationRecord {
   /// factorized); 0: none.
   int pcgIterations = 0;
   bool factorized = false;             ///< the matrix was factorized in this iteration
+  int corrections = 0;                 ///< correction steps kept (SolverOptions::correctionSteps)
   double totalMs = 0.0;                ///< whole iteration including residual evaluation
 };
 
@@ -134,6 +135,16 @@ struct SolverOptions {
     double decrease = 0.05;
     double range = 10.0;
   } hardPlateau;
+  /// Correction steps after each Gauss–Newton step (0 = none): the hard rows are evaluated again at
+  /// the new iterate and the step's own system is solved once more with their residuals alone,
+  /// its Jacobian and factorization held (the second-order correction of SQP methods: back onto
+  /// the hard rows along the step's linearization, soft rows resisting but not pulling). A linear
+  /// step leaves a second-order error on every quadratic hard row (|δ|² × curvature); the
+  /// correction removes most of it. A correction is kept only if it lowers the hard residual
+  /// Σ(w r)². Each costs a residual evaluation, a right-hand side and a pair of triangular solves:
+  /// no assembly, no factorization. Steps solved with an earlier factorization
+  /// (factorizationReuse) take none.
+  int correctionSteps = 0;
   /// Threads that accumulate the normal equations' products (NormalEquations::setAssemblyThreads:
   /// a second one only for large systems). 0 = the cores this process may run on (its CPU
   /// affinity; `taskset -c 0` makes it one), at most 2; 1 = one thread.
@@ -218,6 +229,7 @@ class GuidedProjectionSolver {
   Eigen::VectorXd delta_;
   Eigen::VectorXd previousX_;
   Eigen::VectorXd step_;             ///< x_{k+1} − x_k of the full step (for shortening it)
+  Eigen::VectorXd correctedX_;       ///< the iterate before a correction step (restored if it fails)
   std::vector<double> termMaxAbs_;   ///< per term: largest |r| of the last residual evaluation
   double pullLimit_ = 0.0;           ///< step control: see StepControlOptions (0: not yet set)
   double dampingScale_ = 1.0;        ///< step control: ε_reg multiplier

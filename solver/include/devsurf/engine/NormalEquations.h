@@ -80,6 +80,16 @@ class NormalEquations {
                  const std::vector<double>& termWeights, std::vector<double>& termResiduals,
                  std::vector<double>* termMaxAbs = nullptr);
 
+  /// The right-hand side of a correction step (SolverOptions::correctionSteps) after a step
+  /// (assemble(), eliminate(), a solve, applyStep()): the hard rows evaluated again at x (no
+  /// linearizeAt: the per-iteration scales of the terms stay those of the last assemble()), the
+  /// other rows' residuals taken as 0, and rhs() = the reduced −Σ w² Jᵀ r with the Jacobian,
+  /// weights and group factors of that step. matrix() δ = rhs(), solved with the step's
+  /// factorization and applied by applyStep() (which back-substitutes the groups with these
+  /// residuals), moves x back onto the hard rows along the step's linearization — the soft rows
+  /// (fairness, handles) and ε_reg resist the move as they weigh in the step, but do not pull.
+  void correctionRhs(const Problem& problem, const Eigen::VectorXd& x);
+
   /// Upper triangle of the reduced matrix S in the solver ordering (after eliminate()).
   const SymmetricUpper& matrix() const { return S_; }
   /// Right-hand side of S δ_c = rhs in the solver ordering (after eliminate()).
@@ -136,6 +146,9 @@ class NormalEquations {
   /// when known at compile time (0: any). False if A_nn is not positive definite.
   template <int M>
   bool eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y, double* rb);
+  /// correctionRhs() for one group: its t from the correction's residuals with the step's factor,
+  /// and its part of the block's right-hand side rb.
+  void correctGroup(const EliminationGroup& g, int ld, double* Jc, double* rb);
 
   std::vector<TermPlan> plans_;
   std::vector<int> termResidualOffset_;  ///< term → first index in residual_
