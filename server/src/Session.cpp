@@ -1180,15 +1180,21 @@ void Session::publishSolve(bool final) {
   }
 }
 
+SolveLimits Session::pointDragLimits(SolveLimits limits) const {
+  if (isComposite() && solver_->compositeModel().hasDevelopment()) {
+    limits.hardBand = settings_.developedDragHardBand;
+    limits.correctionSteps = settings_.developedCorrectionSteps;
+  }
+  return limits;
+}
+
 bool Session::runSolver(SolveLimits limits, bool final) {
   if (keepsInput()) {  // solved whole when the model was rebuilt
     publishSolve(final);
     return true;
   }
   const std::int64_t seq = seq_.load();
-  const bool developed = isComposite() && solver_->compositeModel().hasDevelopment();
-  limits.hardBand = developed ? settings_.developedDragHardBand : settings_.dragHardBand;
-  limits.correctionSteps = developed ? settings_.developedCorrectionSteps : 0;
+  if (!(limits.hardBand > 0.0)) limits.hardBand = settings_.dragHardBand;
   limits.firstIteration = scheduleIteration_;
   bool interrupted = false;
   std::string failure;  // a state that must not be shown: rolled back after the solve returns
@@ -1272,7 +1278,7 @@ void Session::release(const json& target, int iterations) {
   SolveLimits withHandle;
   withHandle.iterations = iterations;
   withHandle.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
-  const bool finished = keepsInput() || iterations == 0 || runSolver(withHandle, false);
+  const bool finished = keepsInput() || iterations == 0 || runSolver(pointDragLimits(withHandle), false);
   releaseDragHandle(target);
   if (!finished) {  // newer work waits: it continues from here, and settle() ends the release later
     settlePending_ = true;
@@ -1433,7 +1439,7 @@ void Session::handle(const Work& work) {
     SolveLimits frame;
     frame.iterations = settings_.dragIterations;
     frame.timeBudgetMs = settings_.dragTimeBudgetMs;
-    runSolver(frame, false);
+    runSolver(pointDragLimits(frame), false);
   } else if (type == "fold") {
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -134,6 +134,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   termMaxAbs_.assign(static_cast<std::size_t>(numTerms), 0.0);
   step_.setZero(problem_.x().size());
   correctedX_.setZero(problem_.x().size());
+  plainX_.setZero(problem_.x().size());
   const StepControlOptions& control = options.stepControl;
   if (pullLimit_ <= 0.0) pullLimit_ = control.initialPullLimit;
   bool anyRelaxable = false;
@@ -276,9 +277,24 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       // Residuals at the new iterate, with this iteration's nominal weights (residual-only path).
       evaluate(problem_.x(), rec.termResiduals);
       record(rec, rec.termResiduals);
+      // No row may leave the band (or, above it already, grow); above the band the hard
+      // residual must not grow either. A sum alone would let one row tear while many others fall.
+      const double rowLimit = std::max(control.hardBand, previous.hardResidualMax);
+      auto acceptable = [&control, previousHard, rowLimit, strict](const IterationRecord& r) {
+        if (!std::isfinite(r.totalResidual) || r.hardResidualMax > rowLimit) return false;
+        if (strict) return r.hardResidual < previousHard || r.hardResidual == 0.0;
+        return r.hardResidualMax <= control.hardBand || r.hardResidual <= previousHard;
+      };
       // Correction steps: the same system solved again with the hard rows' residuals at the new
-      // iterate (SolverOptions::correctionSteps), kept while each lowers the hard residual.
-      for (int c = 0; c < options.correctionSteps && !reused && std::isfinite(rec.totalResidual); ++c) {
+      // iterate (SolverOptions::correctionSteps), kept while each lowers the hard residual and
+      // lifts no row above what step control allows.
+      rec.corrections = 0;
+      const double plainNorm = norm;
+      if (options.correctionSteps > 0 && !reused && std::isfinite(rec.totalResidual) && rec.hardResidual > 0.0)
+        plainX_ = problem_.x();
+      for (int c = 0; c < options.correctionSteps && !reused && std::isfinite(rec.totalResidual) &&
+                      rec.hardResidual > 0.0;
+           ++c) {
         t0 = Clock::now();
         equations_.correctionRhs(problem_, problem_.x());
         correctedX_ = problem_.x();
@@ -288,7 +304,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
         evaluate(problem_.x(), trial);
         IterationRecord probe;
         record(probe, trial);
-        if (!std::isfinite(probe.totalResidual) || !(probe.hardResidual < rec.hardResidual)) {
+        const bool rowsKept = !control.enabled || probe.hardResidualMax <= std::max(rowLimit, rec.hardResidualMax);
+        if (!std::isfinite(probe.totalResidual) || !(probe.hardResidual < rec.hardResidual) || !rowsKept) {
           problem_.x() = correctedX_;
           evaluate(problem_.x(), trial);  // termMaxAbs_ of the iterate kept
           break;
@@ -298,18 +315,20 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
         rec.stepNorm = (problem_.x() - previousX_).norm();
         ++rec.corrections;
       }
-      const double stepNorm = rec.stepNorm;
       taken = 1.0;
       if (!control.enabled) return true;
-      // No row may leave the band (or, above it already, grow); above the band the hard
-      // residual must not grow either. A sum alone would let one row tear while many others fall.
-      const double rowLimit = std::max(control.hardBand, previous.hardResidualMax);
-      auto acceptable = [&control, previousHard, rowLimit, strict](const IterationRecord& r) {
-        if (!std::isfinite(r.totalResidual) || r.hardResidualMax > rowLimit) return false;
-        if (strict) return r.hardResidual < previousHard || r.hardResidual == 0.0;
-        return r.hardResidualMax <= control.hardBand || r.hardResidual <= previousHard;
-      };
       if (acceptable(rec)) return true;
+      if (rec.corrections > 0) {
+        // The corrected step is not acceptable: judge and shorten the plain step (a correction
+        // belongs to the full step, not to a fraction of it).
+        problem_.x() = plainX_;
+        evaluate(problem_.x(), rec.termResiduals);
+        record(rec, rec.termResiduals);
+        rec.stepNorm = plainNorm;
+        rec.corrections = 0;
+        if (acceptable(rec)) return true;
+      }
+      const double stepNorm = rec.stepNorm;
       const bool finiteStep = std::isfinite(stepNorm);
       step_ = problem_.x() - previousX_;
       double alpha = 1.0;

@@ -73,8 +73,9 @@ struct SessionSettings {
   /// Step control band of every streamed iterate (engine::StepControlOptions::hardBand): no hard
   /// row of what a participant sees is above it.
   double dragHardBand = 1e-3;
-  /// The band for a composite that keeps a development (its isometry rows compare short sample
-  /// edges of the flat sheet): a tenth, so that a drag stretches the sheet a tenth as much…
+  /// The band of a drag of points on a composite that keeps a development (its isometry rows
+  /// compare short sample edges of the flat sheet): a tenth, so that the drag stretches the sheet
+  /// a tenth as much… (The fold slider keeps dragHardBand: its steps follow fold-angle targets.)
   double developedDragHardBand = 1e-4;
   /// … and the correction steps after each of its steps (engine::SolverOptions::correctionSteps)
   /// that let the drag still follow the pointer within that band: without them each linear step
@@ -317,6 +318,10 @@ class Session : public std::enable_shared_from_this<Session> {
   /// checkpoint and the edits acknowledged since, applied), shown as such.
   void recover();
   bool runSolver(SolveLimits limits, bool final);
+  /// `limits` for the iterations of a drag of points (its frames and the release's catch-up, not
+  /// the fold slider or a polish): a composite that keeps a development holds
+  /// developedDragHardBand with developedCorrectionSteps.
+  SolveLimits pointDragLimits(SolveLimits limits) const;
   /// fold_end: iterations with the fold-angle targets, then the release's polish.
   void releaseFold(int iterations);
   /// The second phase of a release (drag_end, fold_end): projection steps until every hard row is

@@ -230,6 +230,7 @@ class GuidedProjectionSolver {
   Eigen::VectorXd previousX_;
   Eigen::VectorXd step_;             ///< x_{k+1} − x_k of the full step (for shortening it)
   Eigen::VectorXd correctedX_;       ///< the iterate before a correction step (restored if it fails)
+  Eigen::VectorXd plainX_;           ///< the Gauss–Newton step's iterate before its corrections
   std::vector<double> termMaxAbs_;   ///< per term: largest |r| of the last residual evaluation
   double pullLimit_ = 0.0;           ///< step control: see StepControlOptions (0: not yet set)
   double dampingScale_ = 1.0;        ///< step control: ε_reg multiplier

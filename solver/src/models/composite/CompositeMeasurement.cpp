@@ -31,6 +31,10 @@ namespace {
 
 using metrics::quadFlatness;
 
+/// π as a double (EIGEN_PI is a long double: the angle sums of a flat vertex would no longer
+/// cancel to 0).
+constexpr double kMeasurementPi = 3.14159265358979323846;
+
 /// The angle (rad, in [0, π]) at p between the legs to prev and next.
 double angleAt(const Eigen::Vector3d& prev, const Eigen::Vector3d& p, const Eigen::Vector3d& next) {
   const Eigen::Vector3d u = prev - p, v = next - p;
@@ -343,7 +347,7 @@ std::vector<CreaseGeometry> CompositeModel::computeCreases(int samplesPerSpan, d
       c.polyline.row(i) = pts[i].transpose();
       const Eigen::Vector3d t = tangents[i].norm() > 0 ? Eigen::Vector3d(tangents[i].normalized()) : tangents[i];
       const double theta = std::atan2(t.dot(n1s[i].cross(n2s[i])), n1s[i].dot(n2s[i]));
-      c.foldAngleDeg[i] = -theta * 180.0 / EIGEN_PI;
+      c.foldAngleDeg[i] = -theta * 180.0 / kMeasurementPi;
       mean += c.foldAngleDeg[i] / S;
     }
     c.assignment = mean > 0.01 ? 'V' : (mean < -0.01 ? 'M' : 'F');
@@ -415,7 +419,7 @@ CompositeQuality CompositeModel::computeQuality(int samplesPerSpan) const {
   for (std::size_t v = 0; v < points.size(); ++v) {
     if (!used[v] || boundary[v]) continue;
     ++q.interiorVertices;
-    const double k = std::abs(angleSum[v] - 2.0 * EIGEN_PI);
+    const double k = std::abs(angleSum[v] - 2.0 * kMeasurementPi);
     if (v < static_cast<std::size_t>(topo.numVertices())) q.vertexCurvature[v] = k;
     q.vertexCurvatureMax = std::max(q.vertexCurvatureMax, k);
   }
