@@ -189,8 +189,6 @@ struct Evaluation {
 
 }  // namespace
 
-CompositeModel::~CompositeModel() = default;
-
 std::vector<CreaseGeometry> CompositeModel::creases(int samplesPerSpan) const {
   return creaseSamples(samplesPerSpan).creases;
 }
@@ -300,7 +298,9 @@ std::vector<CreaseGeometry> CompositeModel::computeCreases(int samplesPerSpan, d
       const double sign = c.kind == CreaseKind::Fold ? 1.0 : -1.0;
       const StateCache::CreaseEdgeTables& table = (*tables)[static_cast<std::size_t>(e)];
       const bool tabled = table.curve.size() == count && table.curve.fits(curve);
-      const bool tabled1 = sideTabled(f1, table.sides[0], count), tabled2 = sideTabled(f2, table.sides[1], count);
+      // (The sides' parameters were made from the edge's samples: only with them.)
+      const bool tabled1 = tabled && sideTabled(f1, table.sides[0], count),
+                 tabled2 = tabled && sideTabled(f2, table.sides[1], count);
       Eigen::Matrix<double, 3, 3> point;
       for (int k = 0; k < count; ++k) {
         const double u = us[static_cast<std::size_t>(k)];

@@ -6,30 +6,22 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
-#include <array>
 #include <memory>
 
 #include "devsurf/models/HandleValidation.h"
 #include <cmath>
-#include <map>
-#include <mutex>
-#include <optional>
 #include <stdexcept>
 #include <string>
 
-#include "devsurf/metrics/StripQuality.h"
-#include "devsurf/models/composite/CompositePieces.h"
 #include "devsurf/terms/PolygonBacktrackTerm.h"
 #include "devsurf/terms/PolygonFairnessTerm.h"
 #include "devsurf/terms/RulingLengthTerm.h"
 #include "devsurf/terms/StripWidthTerm.h"
 #include "devsurf/spline/Basis.h"
-#include "devsurf/spline/BasisTable.h"
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
 #include "devsurf/terms/NormalSplineUnitTerm.h"
-#include "devsurf/spatial/PolygonTriangulation.h"
 #include "devsurf/terms/PlanarPolygonTerm.h"
 #include "devsurf/terms/StraightUnfoldingTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
@@ -100,6 +92,8 @@ CompositeModel::CompositeModel(CompositeDesign design, CompositeOptions options)
   buildProblem();
   options_.deadline = {};  // it bounds the construction only (unfold() runs in solves too)
 }
+
+CompositeModel::~CompositeModel() = default;
 
 int CompositeModel::pointIndex(const PointSlot& s) const {
   if (s.vertex >= 0) return problem_.layout().block(vertexBlock_[s.vertex]).offset / 3;
