@@ -24,6 +24,26 @@ constexpr int kMaxAutoNeighbours = 128;
 constexpr int kChunk = 8;
 int paddedStride(int c) { return (c + kChunk - 1) / kChunk * kChunk; }
 
+/// V = J_n L⁻ᵀ (row by row: L vᵀ = J_n[row]ᵀ) and t = Vᵀ w r = L⁻¹ J_nᵀ w r for one elimination
+/// group: L m×m row-major lower with inv = 1 / diag L, J_n nr×m row-major, rl = w r (nr); M = m
+/// when known at compile time (0: any).
+template <int M>
+void groupRowsThroughFactor(int mAny, int nr, const double* L, const double* inv, const double* Jn, const double* rl,
+                            double* V, double* tn) {
+  const int m = M > 0 ? M : mAny;
+  for (int a = 0; a < m; ++a) tn[a] = 0.0;
+  for (int lr = 0; lr < nr; ++lr) {
+    double* v = V + lr * m;
+    for (int a = 0; a < m; ++a) {
+      double s = Jn[lr * m + a];
+      for (int k = 0; k < a; ++k) s -= L[a * m + k] * v[k];
+      v[a] = s * inv[a];
+      tn[a] += v[a] * rl[lr];
+    }
+  }
+}
+
+
 /// S[a][b] = Σ_k Jc[k][a] Y[k][b] for a ≤ b (row-major, stride ld, K rows). Two rows of S and
 /// one chunk of columns at a time are accumulated in registers; entries left of the diagonal in
 /// a chunk are computed too and ignored.
@@ -706,28 +726,33 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
   for (int c = 0; c < numReduced_; ++c) H[diagonalSlot_[c]] += eps2_ * regularizationScale_[c];
 }
 
-template <int M>
-bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y,
-                                     double* rb) {
-  const int m = M > 0 ? M : g.size;
-  const int nr = g.numRows, nk = g.numKeptRows;
+void NormalEquations::gatherGroupRows(const EliminationGroup& g, int m, double* Jc) {
   const double* J = jacobian_.data();
   const int* source = groupEntrySource_.data();
   const int* dest = groupEntryDest_.data();
   double* Jn = jn_.data();
   double* rl = localResidual_.data();
-  double* V = v_.data();
-  double* pr = pr_.data();
-  double* inv = work_.data();
-  // Gather the weighted rows: J_n (nr × m), the group's rows of J_c, w r.
-  std::fill(Jn, Jn + nr * m, 0.0);
-  for (int lr = 0; lr < nr; ++lr) {
+  std::fill(Jn, Jn + g.numRows * m, 0.0);
+  for (int lr = 0; lr < g.numRows; ++lr) {
     const int row = g.rowOffset + lr;
     const double w = weights_[groupRowTerm_[row]];
     rl[lr] = w * residual_[groupRowResidual_[row]];
     for (int k = groupRowStart_[row]; k < groupRowSplit_[row]; ++k) Jn[dest[k]] = w * J[source[k]];
     for (int k = groupRowSplit_[row]; k < groupRowStart_[row + 1]; ++k) Jc[dest[k]] = w * J[source[k]];
   }
+}
+
+template <int M>
+bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y,
+                                     double* rb) {
+  const int m = M > 0 ? M : g.size;
+  const int nr = g.numRows, nk = g.numKeptRows;
+  double* Jn = jn_.data();
+  double* rl = localResidual_.data();
+  double* V = v_.data();
+  double* pr = pr_.data();
+  double* inv = work_.data();
+  gatherGroupRows(g, m, Jc);
   // A_nn = J_nᵀJ_n + ε²D_n = LLᵀ (row-major lower triangle; inv = 1 / diag L).
   double* L = factors_.data() + g.factorOffset;
   double* tn = L + m * m;
@@ -752,17 +777,7 @@ bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* 
     L[a * m + a] = std::sqrt(d);
     inv[a] = 1.0 / L[a * m + a];
   }
-  // V = J_n L⁻ᵀ (row by row: L vᵀ = J_n[row]ᵀ) and t = Vᵀ w r = L⁻¹ J_nᵀ w r.
-  for (int a = 0; a < m; ++a) tn[a] = 0.0;
-  for (int lr = 0; lr < nr; ++lr) {
-    double* v = V + lr * m;
-    for (int a = 0; a < m; ++a) {
-      double s = Jn[lr * m + a];
-      for (int k = 0; k < a; ++k) s -= L[a * m + k] * v[k];
-      v[a] = s * inv[a];
-      tn[a] += v[a] * rl[lr];
-    }
-  }
+  groupRowsThroughFactor<M>(m, nr, L, inv, Jn, rl, V, tn);
   if (ld == 0) return true;
   for (int i = 0; i < nk; ++i) {  // P w r on the kept rows: w r − V t
     double p = rl[i];
@@ -861,37 +876,20 @@ void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x
 
 void NormalEquations::correctGroup(const EliminationGroup& g, int ld, double* Jc, double* rb) {
   const int m = g.size, nr = g.numRows, nk = g.numKeptRows;
-  const double* J = jacobian_.data();
-  const int* source = groupEntrySource_.data();
-  const int* dest = groupEntryDest_.data();
   double* Jn = jn_.data();
   double* rl = localResidual_.data();
   double* V = v_.data();
   double* pr = pr_.data();
   // The rows as eliminateGroup gathered them (the Jacobian of the last assemble()), with the
   // residuals of the correction.
-  std::fill(Jn, Jn + nr * m, 0.0);
-  for (int lr = 0; lr < nr; ++lr) {
-    const int row = g.rowOffset + lr;
-    const double w = weights_[groupRowTerm_[row]];
-    rl[lr] = w * residual_[groupRowResidual_[row]];
-    for (int k = groupRowStart_[row]; k < groupRowSplit_[row]; ++k) Jn[dest[k]] = w * J[source[k]];
-    for (int k = groupRowSplit_[row]; k < groupRowStart_[row + 1]; ++k) Jc[dest[k]] = w * J[source[k]];
-  }
+  gatherGroupRows(g, m, Jc);
   // V = J_n L⁻ᵀ with the step's factor L, and t = L⁻¹ J_nᵀ w r replaced by the correction's (what
   // applyStep back-substitutes with).
   const double* L = factors_.data() + g.factorOffset;
   double* tn = factors_.data() + g.factorOffset + m * m;
-  for (int a = 0; a < m; ++a) tn[a] = 0.0;
-  for (int lr = 0; lr < nr; ++lr) {
-    double* v = V + lr * m;
-    for (int a = 0; a < m; ++a) {
-      double s = Jn[lr * m + a];
-      for (int k = 0; k < a; ++k) s -= L[a * m + k] * v[k];
-      v[a] = s / L[a * m + a];
-      tn[a] += v[a] * rl[lr];
-    }
-  }
+  double* inv = work_.data();
+  for (int a = 0; a < m; ++a) inv[a] = 1.0 / L[a * m + a];
+  groupRowsThroughFactor<0>(m, nr, L, inv, Jn, rl, V, tn);
   // rhs_block −= J_cᵀ (w r − V t) over the group's kept rows.
   const double* jc = Jc + g.keptRowOffset * ld;
   for (int i = 0; i < nk; ++i) {

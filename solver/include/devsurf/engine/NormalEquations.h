@@ -146,6 +146,9 @@ class NormalEquations {
   /// when known at compile time (0: any). False if A_nn is not positive definite.
   template <int M>
   bool eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y, double* rb);
+  /// The weighted rows of one group from the last assemble(): J_n (numRows × m) into jn_, w r into
+  /// localResidual_, its kept entries into the block's stacked rows Jc.
+  void gatherGroupRows(const EliminationGroup& g, int m, double* Jc);
   /// correctionRhs() for one group: its t from the correction's residuals with the step's factor,
   /// and its part of the block's right-hand side rb.
   void correctGroup(const EliminationGroup& g, int ld, double* Jc, double* rb);
