@@ -9,7 +9,8 @@
   load   — S sessions × C clients dragging for T seconds: p50/p99 drag → iterate latency,
            iterates received, daemon memory (VmHWM), errors (must be 0).
 
-Usage: bench/ws_latency.py [--bin build/server/devsurf] [drag|drag-composite|load|all] [--normal-splines] [--sessions 50]
+Usage: bench/ws_latency.py [--bin build/server/devsurf] [drag|drag-composite|load|all] [--normal-splines]
+       [--development] [--sessions 50]
        [--clients 4] [--seconds 60] [--spans 370] [--strips 10]
 Needs Debian's python3-websockets (scripts/setup.sh installs it).
 """
@@ -54,7 +55,7 @@ def strip_scene(spans):
             "solver": {"fairness": 0.01, "regularization": 0.01}}
 
 
-def composite_sheet_scene(strips, spans, normal_splines=False):
+def composite_sheet_scene(strips, spans, normal_splines=False, development=False):
     """bench/composite_iteration.cpp's parallelCreaseSheet as a scene: strips + 1 wavy cubic S
     edges along y (x = i + 0.2 sin 2πt, y = 4t), the interior ones curved folds, rulings across
     their ends; the first edge's ends and middle point held, a handle lifting the far corner."""
@@ -71,11 +72,14 @@ def composite_sheet_scene(strips, spans, normal_splines=False):
     edges += [{"v": [2 * j + 3, 2 * j + 1], "type": "R"} for j in range(strips)]
     faces = [[strips + 1 + j, j + 1, 2 * strips + 1 + j, j] for j in range(strips)]
     corner = 2 * strips + 1
-    return {"format": "devsurf-scene", "version": 1, "name": f"bench composite {strips} × {spans}",
+    scene = {"format": "devsurf-scene", "version": 1, "name": f"bench composite {strips} × {spans}",
             "model": {"kind": "composite", "vertices": vertices, "edges": edges, "faces": faces,
                       "fixed": [{"vertex": 0}, {"vertex": 1}, {"edge": 0, "index": n // 2}],
                       "handles": [{"vertex": corner, "position": [vertices[corner][0] - 0.1, vertices[corner][1], 0.5]}]},
             "solver": {"normal_splines": normal_splines}}
+    if development:  # a developed sheet: its drags hold the tighter band with correction steps
+        scene["model"]["development"] = {"samples": 4}
+    return scene
 
 
 def create(port, scene):
@@ -142,11 +146,11 @@ def vm_hwm_mb(pid):
     return float("nan")
 
 
-def run_drag(binary, spans, seconds, strips=0, normal_splines=False):
+def run_drag(binary, spans, seconds, strips=0, normal_splines=False, development=False):
     data = tempfile.mkdtemp(prefix="devsurf-bench-")
     proc, port = start_daemon(binary, data)
     try:
-        s = create(port, composite_sheet_scene(strips, spans, normal_splines) if strips else strip_scene(spans))
+        s = create(port, composite_sheet_scene(strips, spans, normal_splines, development) if strips else strip_scene(spans))
         latencies, counts, errors = [], [0], []
         asyncio.run(drag_client(port, s["id"], s["edit_token"], 0, seconds, 60.0, latencies, counts, errors))
         unknowns = json.load(urllib.request.urlopen(
@@ -155,6 +159,8 @@ def run_drag(binary, spans, seconds, strips=0, normal_splines=False):
         what = f"composite sheet of {strips} strips × {spans} spans" if strips else f"strip of {spans} spans"
         if strips and normal_splines:
             what += " with normal splines"
+        if strips and development:
+            what += " with a development"
         print(f"drag: {what} ({unknowns:.0f} unknowns), 60 drags/s for {seconds} s")
         print(f"  drag → first iterate: median {statistics.median(latencies):.1f} ms, "
               f"p99 {percentile(latencies, 99):.1f} ms (budget ≤ 30 ms); {len(latencies)} samples")
@@ -201,6 +207,8 @@ def main():
     p.add_argument("--spans", type=int, default=None, help="strip: 370 spans; composite sheet: 40 spans per S edge")
     p.add_argument("--strips", type=int, default=10, help="strips of the composite sheet")
     p.add_argument("--normal-splines", action="store_true", help="composite sheet: solver.normal_splines")
+    p.add_argument("--development", action="store_true",
+                   help="composite sheet: a development (4 samples), whose drags take correction steps")
     p.add_argument("--sessions", type=int, default=50)
     p.add_argument("--clients", type=int, default=4)
     p.add_argument("--seconds", type=int, default=60)
@@ -208,7 +216,8 @@ def main():
     if a.what in ("drag", "all"):
         run_drag(a.bin, a.spans or 370, min(a.seconds, 20))
     if a.what in ("drag-composite", "all"):
-        run_drag(a.bin, a.spans or 40, min(a.seconds, 20), strips=a.strips, normal_splines=a.normal_splines)
+        run_drag(a.bin, a.spans or 40, min(a.seconds, 20), strips=a.strips, normal_splines=a.normal_splines,
+                 development=a.development)
     if a.what in ("load", "all"):
         run_load(a.bin, a.sessions, a.clients, a.seconds)
 
