@@ -373,7 +373,7 @@ void Daemon::routes() {
       if (const auto holder = sessionHolder(req.matches[1])) {
         res.set_header("Retry-After", "1");
         replyError(res, 503, "unavailable",
-                   "this session is served by node " + *holder + " (it moves here when that node's lease ends)",
+                   "this session is " + *holder,
                    "session");
         return nullptr;
       }
@@ -648,7 +648,7 @@ void Daemon::onMessage(const std::shared_ptr<transport::Connection>& c, std::str
     if (!session) {
       if (const auto holder = sessionHolder(message["session"])) {
         fail(op, "unavailable",
-             "this session is served by node " + *holder + " (it moves here when that node's lease ends); reconnect",
+             "this session is " + *holder + "; reconnect",
              "session");
         c->close(transport::CloseCode::TryAgainLater, "session held by another node");
         return;

@@ -122,11 +122,17 @@ std::shared_ptr<Session> Daemon::adoptSession(const std::string& id) {
 std::optional<std::string> Daemon::sessionHolder(const std::string& id) const {
   if (!store_->shared()) return std::nullopt;
   try {
+    // The session exists but is not served here: another node holds it, or it is between holders
+    // (its lease released for a handover after this node's adoption found it taken: a join was
+    // answered "unauthorized" in that window once, in the cluster test). The client retries. One
+    // this node leases but could not restore (quarantined) stays unknown to a wrong token.
     const auto lease = store_->sessionLease(id);
-    if (lease && lease->first != options_.nodeId) return lease->first;
+    if (!lease) return std::string("between nodes (its lease was just released for a handover)");
+    if (lease->first != options_.nodeId)
+      return "served by node " + lease->first + " (it moves here when that node's lease ends)";
   } catch (const store::NotFoundError&) {
   } catch (const std::exception& e) {  // the store is unreachable: the session may exist
-    return std::string("unknown (the store is unreachable: ") + e.what() + ")";
+    return std::string("perhaps served by another node (the store is unreachable: ") + e.what() + ")";
   }
   return std::nullopt;
 }

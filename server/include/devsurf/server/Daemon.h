@@ -88,7 +88,9 @@ class Daemon {
   /// A shared store: renews this node's session leases; sessions it lost are dropped here and
   /// their clients disconnected (they reconnect to the node that holds them now).
   void renewSessionLeases();
-  /// A shared store: the node that holds a session other than this one, if any.
+  /// A shared store: why a session the store knows is not served here ("served by node X (…)",
+  /// "between nodes (…)", …), for an `unavailable` answer the client retries; nullopt for a
+  /// session the store does not know (or a store that is not shared).
   std::optional<std::string> sessionHolder(const std::string& id) const;
   void openDemos();
   std::shared_ptr<Session> createSession(const proto::Scene& scene, const std::string& editToken,
