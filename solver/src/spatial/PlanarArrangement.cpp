@@ -1,6 +1,7 @@
 #include "devsurf/spatial/PlanarArrangement.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -313,6 +314,18 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
       int piece = -1;      ///< the piece it ends on
       double t = 0.0;      ///< where along the piece (0 or 1: at its ends)
     };
+    // Work bound: every island weighs its outline's points times the pieces (the candidates it
+    // sorts, and then some visibility tests); past kBridgeWork the remaining islands are left out,
+    // as without bridging (a perforated sheet of thousands of tiny loops would otherwise take
+    // minutes).
+    constexpr double kBridgeWork = 4e7;
+    double work = 0.0;
+    // Candidates tested per bridge: the kFirstTried shortest (each costs a pass over the pieces,
+    // and a bridge not among them would be long and crooked anyway) — all of them, in order, in a
+    // last round for the islands whose first ones were all blocked (a regular grid of holes: every
+    // one of its 96 shortest can be blocked by a point's rounding), their tests counted as work.
+    constexpr std::size_t kFirstTried = 96;
+    std::size_t maxTried = kFirstTried;
     // The shortest bridge from the loop's points (those `from` allows) to a joined piece that
     // crosses nothing, ending farther than the tolerance from `notAt`; nullopt when none fits.
     const auto shortestBridge = [&](const std::vector<int>& loop, const std::function<bool(std::size_t)>& from,
@@ -372,17 +385,21 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
           }
         }
       }
-      // The kMaxTried shortest, in order: each costs a pass over the pieces to test, and a bridge
-      // that is not among them would be long and crooked anyway.
-      constexpr std::size_t kMaxTried = 96;
+      // The maxTried shortest, in order.
       const auto shorter = [](const BridgeCandidate& a, const BridgeCandidate& b) { return a.length < b.length; };
-      if (candidates.size() > kMaxTried) {
-        std::nth_element(candidates.begin(), candidates.begin() + kMaxTried, candidates.end(), shorter);
-        candidates.resize(kMaxTried);
+      if (candidates.size() > maxTried) {
+        std::nth_element(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(maxTried), candidates.end(),
+                         shorter);
+        candidates.resize(maxTried);
       }
       std::sort(candidates.begin(), candidates.end(), shorter);
+      std::size_t tried = 0;
       for (const BridgeCandidate& c : candidates) {
         if (c.length <= tolerance) continue;
+        if (tried++ >= kFirstTried) {
+          work += static_cast<double>(pieces.size());
+          if (work > kBridgeWork) return std::nullopt;
+        }
         const auto& piece = pieces[static_cast<std::size_t>(c.piece)];
         const Eigen::Vector2d end = points[piece[0]] + c.t * (points[piece[1]] - points[piece[0]]);
         std::vector<int> allowed = piecesAt[static_cast<std::size_t>(c.from)];
@@ -445,12 +462,6 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
       addPiece(c.from, end, -1, true);
       return points[end];
     };
-    // Work bound: every island weighs its outline's points times the pieces (the candidates it
-    // sorts, and then some visibility tests); past kBridgeWork the remaining islands are left out,
-    // as without bridging (a perforated sheet of thousands of tiny loops would otherwise take
-    // minutes).
-    constexpr double kBridgeWork = 4e7;
-    double work = 0.0;
     // Passes until one joins nothing: an island whose only clear way out runs past islands not yet
     // joined is tried again once they are.
     std::vector<bool> done(islands.size(), false);
@@ -501,6 +512,11 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
         done[which] = true;
         progress = true;
         ++result.bridgedIslands;
+      }
+      // Nothing more joined with the shortest candidates: a last round with all of them.
+      if (!progress && maxTried == kFirstTried && std::find(done.begin(), done.end(), false) != done.end()) {
+        maxTried = std::numeric_limits<std::size_t>::max();
+        progress = true;
       }
     }
     walk = walkFaces();
