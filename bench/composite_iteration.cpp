@@ -226,10 +226,14 @@ void registerScaled() {
     const char* name;
     engine::LinearSolverKind kind;
     bool normalSplines = false;
+    composite::CreaseNormals creaseNormals = composite::CreaseNormals::Ruling;
   };
-  // "splines": the auto solver with normal splines (CompositeOptions::normalSplines).
+  // "splines": the auto solver with normal splines (CompositeOptions::normalSplines); "free": the
+  // crease rows with the faces' free normals (CreaseNormals::Free, before issue 17's change).
   std::vector<Solver> solvers{{"auto", engine::LinearSolverKind::Auto},
+                              {"free", engine::LinearSolverKind::Auto, false, composite::CreaseNormals::Free},
                               {"splines", engine::LinearSolverKind::Auto, true},
+                              {"splines_free", engine::LinearSolverKind::Auto, true, composite::CreaseNormals::Free},
                               {"ldlt", engine::LinearSolverKind::SimplicialLDLT}};
   if (engine::cholmodAvailable()) solvers.push_back({"cholmod", engine::LinearSolverKind::Cholmod});
   for (const Solver& solver : solvers) {
@@ -247,6 +251,7 @@ void registerScaled() {
           composite::CompositeOptions options;
           options.linearSolver = solver.kind;
           options.normalSplines = solver.normalSplines;
+          options.creaseNormals = solver.creaseNormals;
           Fixture& f = fixture(key, make, options, engine::SolverOptions{});
           runIteration(state, f, withDevelopment ? 4 : 0);
         })

@@ -498,6 +498,7 @@ models::composite::CompositeOptions SolverSettings::compositeOptions() const {
   models::composite::CompositeOptions o;
   o.softening = softening;
   o.normalSplines = normalSplines;
+  o.creaseNormals = creaseNormals == "free" ? models::composite::CreaseNormals::Free : models::composite::CreaseNormals::Ruling;
   o.developabilityWeight = developabilityWeight;
   o.unitNormalWeight = unitNormalWeight;
   o.normalize = normalize;
@@ -664,6 +665,9 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
   s.hardBand = solver.value("hard_band", s.hardBand);
   s.hardTolerance = solver.value("hard_tolerance", s.hardTolerance);
   s.normalSplines = solver.value("normal_splines", s.normalSplines);
+  s.creaseNormals = solver.value("crease_normals", s.creaseNormals);
+  if (s.creaseNormals != "ruling" && s.creaseNormals != "free")
+    throw SceneError("solver.crease_normals", "enum", "must be \"ruling\" or \"free\"");
   if (solver.contains("softening")) {
     for (std::size_t i = 0; i < 4; ++i) s.softening[i] = solver["softening"][i].get<double>();
     const auto& x = s.softening;
@@ -818,7 +822,8 @@ json sceneToJson(const Scene& scene) {
                  {"hard_band", s.hardBand},
                  {"hard_tolerance", s.hardTolerance},
                  {"softening", s.softening},
-                 {"normal_splines", s.normalSplines}};
+                 {"normal_splines", s.normalSplines},
+                 {"crease_normals", s.creaseNormals}};
   return j;
 }
 

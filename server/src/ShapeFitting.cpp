@@ -201,9 +201,16 @@ std::string warpWarning(const std::string& where, double warp) {
   return text.str();
 }
 
-/// A region's composite is kept when its solve ends within this warp (the composite presets'
-/// fabrication threshold). At 0.5° parts that ended near it drove the union's solve to 0.8°.
+/// The whole cover's warp limit (the composite presets' fabrication threshold)…
 constexpr double kRegionWarpLimitDeg = 0.05;
+/// … and a region's own: its composite is kept when its solve ends within half the whole's, as
+/// the union's solve moves the parts again. At 0.5° parts that ended near it drove the union's
+/// solve to 0.8°; at 0.05° a part that ended at 0.046° went to 0.134° in the union (CGAL's
+/// bunny in 32 regions).
+constexpr double kPartWarpLimitDeg = 0.5 * kRegionWarpLimitDeg;
+/// The same for the faces' flatness (Tang et al. Fig. 17's δ, 1e-3 for fabrication): a part is
+/// kept within half of it (a part at 0.9e-3 ended the union at 1.05e-3).
+constexpr double kPartFlatnessLimit = 0.5e-3;
 /// A region's composite is kept when none of its curves turns back by more than this between
 /// neighbouring samples (max(0, −cos θ)): a curve that doubles back is a piece that overlaps
 /// itself. The curve, not its control polygon (crease_backtrack_max): on CGAL's bunny two
@@ -246,6 +253,7 @@ void setCoverSolver(proto::Scene& scene) {
 struct RegionComposite {
   models::composite::CompositeDesign design;
   double warpDeg = std::numeric_limits<double>::quiet_NaN();  ///< largest warp after the solve
+  double flatness = std::numeric_limits<double>::quiet_NaN();  ///< face_flatness_max after the solve
   double reversal = 0.0;  ///< curveReversalMax after the solve
   std::string failure;  ///< why the strips could not be joined or solved ("" when they were)
 };
@@ -264,6 +272,7 @@ RegionComposite solvedRegionComposite(const models::strip::RegionCover& cover, m
     model.solve(options);
     out.design = model.design();
     out.warpDeg = model.quality().warpAngleMaxDeg;
+    out.flatness = model.quality().faceFlatnessMax;
     out.reversal = curveReversalMax(out.design);
   } catch (const engine::DeadlineExceeded&) {
     throw;
@@ -344,8 +353,10 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
       part = solvedRegionComposite(c, request.crease, options.deadline);
       entry["composite_warp_angle_max_deg"] = std::isfinite(part.warpDeg) ? nlohmann::json(part.warpDeg) : nlohmann::json();
       if (!part.failure.empty()) why << "its strips do not make a composite: " << part.failure;
-      else if (!(part.warpDeg <= kRegionWarpLimitDeg))
+      else if (!(part.warpDeg <= kPartWarpLimitDeg))
         why << "its strips joined as a composite solve to " << part.warpDeg << "° from developable";
+      else if (!(part.flatness <= kPartFlatnessLimit))
+        why << "its strips joined as a composite solve to faces " << part.flatness << " from flat (face_flatness_max)";
       else if (!(part.reversal <= kRegionReversalLimit))
         why << "a curve of its strips doubles back (max(0, −cos) of its turn " << part.reversal << ")";
     }

@@ -453,7 +453,6 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
     const std::vector<int>& start = rowStarts[t];
     const std::vector<int>& order = rowOrders[t];
     plan.directStart.assign(1, 0);
-    long pairs = 0;
     for (int r = 0; r < plan.numResiduals; ++r) {
       if (rowGroup[termResidualOffset_[t] + r] >= 0) continue;
       plan.directRow.push_back(r);
@@ -462,15 +461,35 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
         plan.directColumn.push_back(reducedColumn(entryColumns[t][order[k]]));
       }
       plan.directStart.push_back(static_cast<int>(plan.directEntry.size()));
-      const long e = start[r + 1] - start[r];
+    }
+    // Runs of consecutive rows with the same columns in the same order (the samples of one span
+    // of a crease): their products are summed densely and scattered once.
+    const int numDirect = static_cast<int>(plan.directRow.size());
+    plan.directRun.assign(static_cast<std::size_t>(numDirect), 0);
+    long pairs = 0;
+    plan.directProducts = 0;
+    auto sameColumns = [&plan](int a, int b) {
+      const int na = plan.directStart[a + 1] - plan.directStart[a], nb = plan.directStart[b + 1] - plan.directStart[b];
+      return na == nb && std::equal(plan.directColumn.begin() + plan.directStart[a],
+                                    plan.directColumn.begin() + plan.directStart[a + 1],
+                                    plan.directColumn.begin() + plan.directStart[b]);
+    };
+    for (int i = 0; i < numDirect;) {
+      int j = i + 1;
+      while (j < numDirect && sameColumns(i, j)) ++j;
+      plan.directRun[static_cast<std::size_t>(i)] = j - i;
+      const long e = plan.directStart[i + 1] - plan.directStart[i];
       pairs += e * (e + 1) / 2;
+      plan.directProducts += (j - i) * e * (e + 1) / 2;
+      i = j;
     }
     plan.pairSlot.resize(static_cast<std::size_t>(pairs));
-    // Per row: its columns in ascending order; for each column j, the slots of the row's columns
+    // Per run: its columns in ascending order; for each column j, the slots of the row's columns
     // ≤ j are found in one forward pass through column j of S (they are ascending too), instead
     // of a binary search per pair.
     std::size_t written = 0;
     for (std::size_t i = 0; i + 1 < plan.directStart.size(); ++i) {
+      if (plan.directRun[i] == 0) continue;
       const int base = plan.directStart[i], e = plan.directStart[i + 1] - base;
       const int* column = plan.directColumn.data() + base;
       sortedEntry.resize(static_cast<std::size_t>(e));
@@ -501,11 +520,9 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
     for (std::size_t i = 0; i + 1 < plan.directStart.size(); ++i)
       longestDirectRow = std::max(longestDirectRow,
                                   static_cast<std::size_t>(plan.directStart[i + 1] - plan.directStart[i]));
-  rowValues_.assign(longestDirectRow, 0.0);
-  for (TermPlan& plan : plans_) {
-    plan.directProducts = static_cast<long>(plan.pairSlot.size());
-    directProducts_ += plan.directProducts;
-  }
+  longestDirectRow_ = static_cast<int>(longestDirectRow);
+  rowValues_.assign(longestDirectRow * (longestDirectRow + 1), 0.0);  // a row, then a dense run sum
+  for (const TermPlan& plan : plans_) directProducts_ += plan.directProducts;
 
   deadline.check();
   // 9. Elimination blocks and groups in processing order.
@@ -640,6 +657,7 @@ void NormalEquations::setAssemblyThreads(int threads, long minProducts) {
 }
 
 void NormalEquations::accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const {
+  double* dense = jr + longestDirectRow_;  // n×n, row-major upper triangle used
   for (int t = firstTerm; t < endTerm; ++t) {
     const TermPlan& plan = plans_[t];
     const double* r = residual_.data() + termResidualOffset_[t];
@@ -649,22 +667,58 @@ void NormalEquations::accumulateDirectRows(int firstTerm, int endTerm, double* H
     const int* entry = plan.directEntry.data();
     const int* column = plan.directColumn.data();
     const int numDirect = static_cast<int>(plan.directRow.size());
-    for (int i = 0; i < numDirect; ++i) {
-      const double ri = r[plan.directRow[i]];
-      const int begin = plan.directStart[i], n = plan.directStart[i + 1] - begin;
-      bool zero = true;
-      for (int k = 0; k < n; ++k) {
-        jr[k] = J[entry[begin + k]];  // the row's values, contiguous
-        zero = zero && jr[k] == 0.0;
+    for (int i = 0; i < numDirect;) {
+      const int run = plan.directRun[static_cast<std::size_t>(i)];
+      const int n = plan.directStart[i + 1] - plan.directStart[i];
+      const int pairs = n * (n + 1) / 2;
+      if (run == 1) {
+        const double ri = r[plan.directRow[i]];
+        const int begin = plan.directStart[i];
+        bool zero = true;
+        for (int k = 0; k < n; ++k) {
+          jr[k] = J[entry[begin + k]];  // the row's values, contiguous
+          zero = zero && jr[k] == 0.0;
+        }
+        ++i;
+        if (zero) {  // an inactive row (a hinge guard at rest): nothing to add
+          slot += pairs;
+          continue;
+        }
+        for (int a = 0; a < n; ++a) {
+          const double wja = w2 * jr[a];
+          rhs[column[begin + a]] -= wja * ri;
+          for (int b = a; b < n; ++b) H[*slot++] += wja * jr[b];
+        }
+        continue;
       }
-      if (zero) {  // an inactive row (a hinge guard at rest): nothing to add
-        slot += n * (n + 1) / 2;
+      // A run of rows with the same columns: Σ w² j jᵀ densely, then one scatter.
+      bool any = false;
+      for (int row = i; row < i + run; ++row) {
+        const double ri = r[plan.directRow[row]];
+        const int begin = plan.directStart[row];
+        bool zero = true;
+        for (int k = 0; k < n; ++k) {
+          jr[k] = J[entry[begin + k]];
+          zero = zero && jr[k] == 0.0;
+        }
+        if (zero) continue;
+        if (!any) std::fill(dense, dense + static_cast<std::ptrdiff_t>(n) * n, 0.0);
+        any = true;
+        for (int a = 0; a < n; ++a) {
+          const double wja = w2 * jr[a];
+          rhs[column[begin + a]] -= wja * ri;
+          double* d = dense + static_cast<std::ptrdiff_t>(a) * n;
+          for (int b = a; b < n; ++b) d[b] += wja * jr[b];
+        }
+      }
+      i += run;
+      if (!any) {
+        slot += pairs;
         continue;
       }
       for (int a = 0; a < n; ++a) {
-        const double wja = w2 * jr[a];
-        rhs[column[begin + a]] -= wja * ri;
-        for (int b = a; b < n; ++b) H[*slot++] += wja * jr[b];
+        const double* d = dense + static_cast<std::ptrdiff_t>(a) * n;
+        for (int b = a; b < n; ++b) H[*slot++] += d[b];
       }
     }
   }

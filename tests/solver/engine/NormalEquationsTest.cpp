@@ -263,6 +263,38 @@ TEST(NormalEquations, RowsWithAZeroJacobianAddNothingAndTheRowsAfterThemStillLan
   EXPECT_LT((step - reference).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+TEST(NormalEquations, RunsOfRowsWithTheSameColumnsAreSummedAsTheRowsWouldBe) {
+  // Consecutive rows on the same columns in the same order (the samples of one span) are summed
+  // densely and scattered once: runs of three and two, a row at rest inside a run and one at its
+  // start, a run whose rows are all at rest, and rows on the same columns in another order (no
+  // run). The step must be the dense reference's.
+  Problem problem;
+  problem.addBlock("x", 7);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int i = 0; i < 7; ++i) problem.x()[i] = uni(rng);
+  std::vector<SparseRowsTerm::Row> rows = {{{0, 0.9}, {1, -0.4}, {3, 0.2}},
+                                           {{0, 0.3}, {1, 0.8}, {3, -0.6}},
+                                           {{0, -0.7}, {1, 0.1}, {3, 0.5}},
+                                           {{2, 0.0}, {4, 0.0}},  // at rest, starting a run
+                                           {{2, 0.4}, {4, -0.9}},
+                                           {{5, 0.0}, {6, 0.0}},  // a run all at rest
+                                           {{5, 0.0}, {6, 0.0}},
+                                           {{1, 0.6}, {6, 0.3}},
+                                           {{1, 0.0}, {6, 0.0}},  // at rest inside a run
+                                           {{1, -0.2}, {6, 0.7}},
+                                           {{6, 0.5}, {1, 0.4}}};  // the same columns, another order
+  problem.addTerm(std::make_unique<SparseRowsTerm>("rows", rows), 0.7, Strength::Soft);
+  problem.addTerm(std::make_unique<ProductTerm>("p", 0, 5, 1.0), 2.0, Strength::Hard);
+  disableElimination(problem);
+  NormalEquations eq(problem);
+  const std::vector<double> weights = {0.7, 2.0};
+  const Eigen::VectorXd step = engineStep(eq, problem, weights, 0.1);
+  const Eigen::VectorXd reference = referenceStep(problem, weights, 0.1);
+  EXPECT_LT((step - reference).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_GT(reference.cwiseAbs().maxCoeff(), 0.1);
+}
+
 TEST(NormalEquations, AutomaticEliminationTakesTheSameStep) {
   Problem problem = denseTestProblem();
   const std::vector<double> weights = {0.5, 2.0, 1.0};

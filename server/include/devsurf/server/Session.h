@@ -74,9 +74,12 @@ struct SessionSettings {
   /// row of what a participant sees is above it.
   double dragHardBand = 1e-3;
   /// The band of a drag of points on a composite that keeps a development (its isometry rows
-  /// compare short sample edges of the flat sheet): a tenth, so that the drag stretches the sheet
-  /// a tenth as much… (The fold slider keeps dragHardBand: its steps follow fold-angle targets.)
-  double developedDragHardBand = 1e-4;
+  /// compare short sample edges of the flat sheet): a fifth, so that the drag stretches the sheet
+  /// less… (The fold slider keeps dragHardBand: its steps follow fold-angle targets.) 1e-4 with
+  /// the free-normal crease rows (CreaseNormals::Free); the ruling crease rows have no normals to
+  /// share a row's error with, and a drawn sheet's drag froze at 1e-4 with a crease row near its
+  /// end just above the band.
+  double developedDragHardBand = 2e-4;
   /// … and the correction steps after each of its steps (engine::SolverOptions::correctionSteps)
   /// that let the drag still follow the pointer within that band: without them each linear step
   /// leaves a second-order stretch above it, and the drag stalls. Other models take none (each

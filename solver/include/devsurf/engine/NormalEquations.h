@@ -119,8 +119,12 @@ class NormalEquations {
     std::vector<int> directStart;      ///< entries of direct row i: [directStart[i], directStart[i+1])
     std::vector<int> directEntry;      ///< entry id (index into this term's Jacobian values)
     std::vector<int> directColumn;     ///< reduced column of that entry
-    std::vector<int> pairSlot;         ///< per direct row, per pair (a ≤ b in row order): slot in S
-    long directProducts = 0;           ///< pairSlot.size(): the products one assembly adds
+    /// Per direct row: L ≥ 1 at the first of L consecutive rows with the same columns in the same
+    /// order (the samples of one span: their products are summed densely and scattered once), 0
+    /// at the others of the run.
+    std::vector<int> directRun;
+    std::vector<int> pairSlot;         ///< per run, per pair (a ≤ b in row order): slot in S
+    long directProducts = 0;           ///< the products one assembly adds (every row's)
   };
   /// A run of groups with the same kept columns: their kept Jacobian rows are stacked and the
   /// update of S is one dense product, scattered once.
@@ -188,9 +192,11 @@ class NormalEquations {
   std::vector<double> groupRegularization_;  ///< per eliminated scalar: multiplier of ε_reg²
   std::vector<double> factors_;
   // Scratch, sized for the largest group/block at construction.
-  std::vector<double> rowValues_;  ///< one direct row's Jacobian values
+  std::vector<double> rowValues_;  ///< one direct row's Jacobian values, then a run's dense sum
+  int longestDirectRow_ = 0;
   /// Adds w²JᵀJ and −w²Jᵀr of the direct rows of terms [firstTerm, endTerm) (from the last
-  /// evaluation) into H (S's value array) and rhs; jr: scratch for one row.
+  /// evaluation) into H (S's value array) and rhs; jr: scratch for one row and one run's sum
+  /// (rowValues_'s size).
   void accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const;
   long directProducts_ = 0;          ///< Σ over all terms of TermPlan::directProducts
   int assemblyThreads_ = 1;

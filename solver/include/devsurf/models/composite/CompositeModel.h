@@ -25,6 +25,17 @@
 namespace devsurf::models::composite {
 
 /// Weights and switches of the composite model (the strip model's, applied to every face).
+/// Which normals a composite's crease rows (000_… eqs. 7/8) compare.
+enum class CreaseNormals {
+  /// Each face's normal at the crease from the geometry: the crease tangent × the face's ruling
+  /// there (terms::CurvedFoldRulingTerm). The rows hold control points only, so the free normals
+  /// stay per face and are eliminated per sample before the factorization (issue 17).
+  Ruling,
+  /// The faces' free normal variables (terms::CurvedFoldTerm, Tang et al.'s formulation): the
+  /// rows couple the normals of neighbouring faces, which then stay in the factorized system.
+  Free,
+};
+
 struct CompositeOptions {
   double developabilityWeight = 1.0;  ///< hard rows: developability (eq. 4), planarity, creases (eqs. 7/8), smoothness
   double unitNormalWeight = 0.1;      ///< soft unit length of the normals not held hard
@@ -71,6 +82,8 @@ struct CompositeOptions {
   /// al. used them in 8 of the 10 rows of Fig. 17: "reducing computation times to almost half");
   /// the unit length is held hard at the first control point, soft at the others.
   bool normalSplines = false;
+  /// The normals the crease rows compare (see CreaseNormals).
+  CreaseNormals creaseNormals = CreaseNormals::Ruling;
   /// Whoever builds the model gives up here (a job's time limit, a session's budget): checked
   /// while the faces, the development mesh and its unfolding are built and the pattern analyzed;
   /// once passed, the constructor throws engine::DeadlineExceeded. Solves have their own
@@ -188,8 +201,9 @@ struct CompositeDevelopment {
 /// (000_… §2.1) — the ends give every ruling edge a normal for smoothness and folds there.
 /// Terms: "developability" (hard, per strip-like face; cones included: their third row vanishes),
 /// "planarity" (hard, PlanarPolygonTerm), "unit_normal_hard" (first normal of every face),
-/// "unit_normal" (soft), "crease_fold"/"crease_geodesic" (hard, CurvedFoldTerm at the edge's own
-/// parameters), "smooth" (hard, NormalMatchTerm along S edges or at R edges labelled smooth),
+/// "unit_normal" (soft), "crease_fold"/"crease_geodesic" (hard: CurvedFoldRulingTerm at the edge's
+/// 3m − 2 parameters per span by default, CurvedFoldTerm at all its parameters with
+/// CreaseNormals::Free), "smooth" (hard, NormalMatchTerm along S edges or at R edges labelled smooth),
 /// "fairness" (soft, decaying, per S edge including its end vertices), "handle" (soft),
 /// "vertex_developability" (hard, per interior vertex that is not a cone apex: the angles between
 /// the first control-polygon legs of its edges sum to 2π, 000_… §5 "Local developability in
@@ -326,6 +340,8 @@ class CompositeModel {
   /// Point index of the control point next to vertex v on edge e (S edges: c₁ from v's end; R
   /// edges and S edges without interior points: the other vertex).
   int neighbourPoint(int e, int v) const;
+  /// The crease rows of interior S edge e with the faces' normals from their rulings (CreaseNormals::Ruling).
+  void addRulingCreaseTerm(int e);
   void addTangentContinuityTerms();
   /// The soft "fold_angle" rows of design.foldAngles (CompositeCreaseFolding.cpp).
   void addFoldAngleTerm();
@@ -370,6 +386,8 @@ class CompositeModel {
 
   std::unique_ptr<CompositeTopology> topology_;
   engine::Normalization normalization_;
+  /// x when the model was built: a point still there reads back as design_ gives it (pointValue).
+  Eigen::VectorXd builtPoints_;
   engine::Problem problem_;
   std::unique_ptr<engine::GuidedProjectionSolver> solver_;
   std::vector<int> vertexBlock_, edgeBlock_, normalBlock_;
