@@ -20,6 +20,8 @@ Issue 17 asks that no model grow faster than n^1.5.
 Usage: bench/growth.py [--build build] [--out docs/growth.png] [--json results.json] [--quick]
   --quick     the two smallest quad-mesh sizes only (a check of the script, not a measurement)
   --from-json read earlier results (written by --json) instead of running the benches
+  --only      with --from-json: run again the series whose labels start with one of these
+              (comma-separated, e.g. "composite,comp."), keep the others as read
 The benches run under `taskset -c 0` with OMP_NUM_THREADS=1 (one core), one after the other.
 The PNG is the SVG drawn here, rendered by Chromium headless (/usr/bin/chromium).
 """
@@ -37,10 +39,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SERIES = [
     # (label, binary, filter, name part that must match, colour)
     ("strip", "strip_iteration", "StripIteration/cholmod/", "StripIteration/cholmod/", "#1f77b4"),
-    ("composite", "composite_iteration", "CompositeSheet/.*/nodev/auto", "/nodev/auto", "#2ca02c"),
-    ("composite + development", "composite_iteration", "CompositeSheet/.*/dev/auto", "/dev/auto", "#98df8a"),
-    ("composite, spline normals", "composite_iteration", "CompositeSheet/.*/nodev/splines", "/nodev/splines", "#9467bd"),
-    ("comp. + dev., spline normals", "composite_iteration", "CompositeSheet/.*/dev/splines", "/dev/splines",
+    ("composite", "composite_iteration", "CompositeSheet/.*/nodev/auto/", "/nodev/auto/", "#2ca02c"),
+    ("composite + development", "composite_iteration", "CompositeSheet/.*/dev/auto/", "/dev/auto/", "#98df8a"),
+    ("composite, spline normals", "composite_iteration", "CompositeSheet/.*/nodev/splines/", "/nodev/splines/", "#9467bd"),
+    ("comp. + dev., spline normals", "composite_iteration", "CompositeSheet/.*/dev/splines/", "/dev/splines/",
      "#c5b0d5"),
     ("quad mesh (reuse)", "quad_mesh_iteration", "QuadMeshApprox/preset/", "QuadMeshApprox/preset/", "#d62728"),
     ("quad mesh (factorize every step)", "quad_mesh_iteration", "QuadMeshApprox/preset_factorize/",
@@ -159,15 +161,25 @@ def main():
     ap.add_argument("--json")
     ap.add_argument("--from-json")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--only")
     args = ap.parse_args()
+    only = [p for p in (args.only or "").split(",") if p]
+    if only and not args.from_json:
+        sys.exit("growth.py: --only needs --from-json (the series it keeps)")
 
+    kept = []
     if args.from_json:
         with open(args.from_json) as f:
-            results = json.load(f)
+            kept = json.load(f)
+    if args.from_json and not only:
+        results = kept
     else:
         cache = {}
         results = []
         for label, binary, flt, part, colour in SERIES:
+            if only and not any(label.startswith(p) for p in only):
+                results.extend(r for r in kept if r["label"] == label)
+                continue
             key = (binary, flt)
             if key not in cache:
                 print(f"growth.py: {binary} {flt} …", file=sys.stderr)

@@ -498,7 +498,9 @@ models::composite::CompositeOptions SolverSettings::compositeOptions() const {
   models::composite::CompositeOptions o;
   o.softening = softening;
   o.normalSplines = normalSplines;
-  o.creaseNormals = creaseNormals == "free" ? models::composite::CreaseNormals::Free : models::composite::CreaseNormals::Ruling;
+  o.creaseNormals = creaseNormals == "free"     ? models::composite::CreaseNormals::Free
+                    : creaseNormals == "ruling" ? models::composite::CreaseNormals::Ruling
+                                                : models::composite::CreaseNormals::Auto;
   o.developabilityWeight = developabilityWeight;
   o.unitNormalWeight = unitNormalWeight;
   o.normalize = normalize;
@@ -666,8 +668,8 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
   s.hardTolerance = solver.value("hard_tolerance", s.hardTolerance);
   s.normalSplines = solver.value("normal_splines", s.normalSplines);
   s.creaseNormals = solver.value("crease_normals", s.creaseNormals);
-  if (s.creaseNormals != "ruling" && s.creaseNormals != "free")
-    throw SceneError("solver.crease_normals", "enum", "must be \"ruling\" or \"free\"");
+  if (s.creaseNormals != "auto" && s.creaseNormals != "ruling" && s.creaseNormals != "free")
+    throw SceneError("solver.crease_normals", "enum", "must be \"auto\", \"ruling\" or \"free\"");
   if (solver.contains("softening")) {
     for (std::size_t i = 0; i < 4; ++i) s.softening[i] = solver["softening"][i].get<double>();
     const auto& x = s.softening;

@@ -1182,7 +1182,8 @@ void Session::publishSolve(bool final) {
 
 SolveLimits Session::pointDragLimits(SolveLimits limits) const {
   if (isComposite() && solver_->compositeModel().hasDevelopment()) {
-    limits.hardBand = settings_.developedDragHardBand;
+    limits.hardBand = solver_->compositeModel().rulingCreases() ? settings_.developedDragHardBandRulingCreases
+                                                                 : settings_.developedDragHardBand;
     limits.correctionSteps = settings_.developedCorrectionSteps;
   }
   return limits;

@@ -352,6 +352,7 @@ RegionFitResult coverShapeByRegions(const reference::ReferenceShape& shape, cons
     else {
       part = solvedRegionComposite(c, request.crease, options.deadline);
       entry["composite_warp_angle_max_deg"] = std::isfinite(part.warpDeg) ? nlohmann::json(part.warpDeg) : nlohmann::json();
+      entry["composite_face_flatness_max"] = std::isfinite(part.flatness) ? nlohmann::json(part.flatness) : nlohmann::json();
       if (!part.failure.empty()) why << "its strips do not make a composite: " << part.failure;
       else if (!(part.warpDeg <= kPartWarpLimitDeg))
         why << "its strips joined as a composite solve to " << part.warpDeg << "° from developable";

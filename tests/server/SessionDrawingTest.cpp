@@ -291,12 +291,10 @@ TEST(SessionDrawing, ADrawnSheetFoldedByTheSliderKeepsWhatADragMakesOfIt) {
   // Still folded, and the corner kept part of the pull: not sprung back to the slider's fold, not
   // unfolded flat (before, the release's projections dropped the fold targets and walked the
   // sheet back to its flat drawing, 92° → 0°). The fold targets follow the drag. The sheet's
-  // lengths rest within 0.5 %: measured 0.19 % here alone (corner at 59.5 mm), with the developed
-  // sheet's drag band of 2e-4, two correction steps per drag step (SessionSettings) and the
-  // crease rows on the faces' rulings; 0.12–0.13 % with the free-normal crease rows at 1e-4 (at
-  // 1e-4 the ruling rows froze the drag: corner 49.4 mm); 0.42 % with the band of 1e-3 and no
-  // corrections before stop 40 (1.06 % under CI load) — docs/architecture.md "Drags of a design
-  // folded by its targets". A sheet that unfolded or tore is far beyond this.
+  // lengths rest within 0.5 %: measured 0.12–0.13 % here alone, with the developed sheet's drag
+  // band of 1e-4 and two correction steps per drag step (SessionSettings); 0.42 % with the band
+  // of 1e-3 and no corrections before (1.06 % under CI load) — docs/architecture.md "Drags of a
+  // design folded by its targets". A sheet that unfolded or tore is far beyond this.
   EXPECT_GT(std::abs(p1[2].get<double>()), std::abs(z0) + 5.0);
   EXPECT_LT(metrics["development_length_error"].get<double>(), 5e-3);
   EXPECT_LT(metrics["fold_angle_error_max_deg"].get<double>(), 1.0);

@@ -18,7 +18,9 @@ CurvedFoldRulingTerm::CurvedFoldRulingTerm(std::string name, const LinearPoints&
       orientation2_(std::move(orientation2)),
       mode_(mode),
       multipliers_(std::move(rowMultipliers)),
-      scales_(static_cast<std::size_t>(count_), 1.0) {
+      scales_(static_cast<std::size_t>(count_), 1.0),
+      curvatureScratch_(static_cast<std::size_t>(count_), 0.0),
+      sortedScratch_(static_cast<std::size_t>(count_), 0.0) {
   if (dda.rows() != count_ || across1.rows() != count_ || across2.rows() != count_)
     throw std::invalid_argument("CurvedFoldRulingTerm: all point sets need the same rows");
   if (static_cast<int>(orientation1_.size()) != count_ || static_cast<int>(orientation2_.size()) != count_)
@@ -50,7 +52,22 @@ CurvedFoldRulingTerm::CurvedFoldRulingTerm(std::string name, const LinearPoints&
     std::sort(row.begin(), row.end(), [](const RowPoint& p, const RowPoint& q) { return p.variable < q.variable; });
     points_.insert(points_.end(), row.begin(), row.end());
     rowStart_.push_back(static_cast<int>(points_.size()));
+    for (std::size_t s = 0; s < 4; ++s) {
+      setStart_.push_back(static_cast<int>(setEntries_.size()));
+      for (const RowPoint& p : row)
+        if (p.weight[s] != 0.0) setEntries_.push_back({p.variable, p.weight[s]});
+    }
   }
+  setStart_.push_back(static_cast<int>(setEntries_.size()));
+}
+
+Eigen::Vector3d CurvedFoldRulingTerm::vectorAt(const Eigen::VectorXd& x, int k, int s) const {
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (int e = setStart_[4 * k + s]; e < setStart_[4 * k + s + 1]; ++e) {
+    const SetEntry& entry = setEntries_[static_cast<std::size_t>(e)];
+    v += entry.weight * x.segment<3>(entry.variable);
+  }
+  return v;
 }
 
 void CurvedFoldRulingTerm::jacobianStructure(std::vector<engine::JacobianEntry>& entries) const {
@@ -60,33 +77,27 @@ void CurvedFoldRulingTerm::jacobianStructure(std::vector<engine::JacobianEntry>&
 }
 
 std::array<Eigen::Vector3d, 4> CurvedFoldRulingTerm::vectorsAt(const Eigen::VectorXd& x, int k) const {
-  std::array<Eigen::Vector3d, 4> v;
-  for (Eigen::Vector3d& u : v) u.setZero();
-  for (int p = rowStart_[k]; p < rowStart_[k + 1]; ++p) {
-    const RowPoint& point = points_[static_cast<std::size_t>(p)];
-    const Eigen::Vector3d xp = x.segment<3>(point.variable);
-    for (std::size_t s = 0; s < 4; ++s) v[s] += point.weight[s] * xp;
-  }
-  return v;
+  return {vectorAt(x, k, 0), vectorAt(x, k, 1), vectorAt(x, k, 2), vectorAt(x, k, 3)};
 }
 
 void CurvedFoldRulingTerm::linearizeAt(const Eigen::VectorXd& x) {
-  // s_k = 1 / (|a′_k|² κ̄), κ̄ the crease's largest curvature |a′ × a″| / |a′|³ over its parameters.
-  double largest = 0.0;
+  // s_k = 1 / (|a′_k|² max(κ_k, κ_ref)): κ_k the crease's curvature |a′ × a″| / |a′|³ at u_k,
+  // κ_ref its 90th percentile over the parameters.
+  std::vector<double>& curvature = curvatureScratch_;
   for (int k = 0; k < count_; ++k) {
-    Eigen::Vector3d tangent = Eigen::Vector3d::Zero(), curvature = Eigen::Vector3d::Zero();
-    for (int p = rowStart_[k]; p < rowStart_[k + 1]; ++p) {
-      const RowPoint& point = points_[static_cast<std::size_t>(p)];
-      const Eigen::Vector3d xp = x.segment<3>(point.variable);
-      tangent += point.weight[0] * xp;
-      curvature += point.weight[1] * xp;
-    }
+    const Eigen::Vector3d tangent = vectorAt(x, k, 0), second = vectorAt(x, k, 1);
     const double speed = tangent.norm();
-    scales_[static_cast<std::size_t>(k)] = speed * speed;  // |a′|², until κ̄ is known
-    if (speed > 1e-12) largest = std::max(largest, tangent.cross(curvature).norm() / (speed * speed * speed));
+    scales_[static_cast<std::size_t>(k)] = speed * speed;  // |a′|², until κ_ref is known
+    curvature[static_cast<std::size_t>(k)] = speed > 1e-12 ? tangent.cross(second).norm() / (speed * speed * speed) : 0.0;
   }
-  for (double& s : scales_) {
-    const double normal = s * largest;  // |a′|² κ̄: the length of a″'s normal part at curvature κ̄
+  std::vector<double>& sorted = sortedScratch_;
+  sorted = curvature;
+  const std::size_t at = static_cast<std::size_t>(kReferenceQuantile * (count_ - 1));
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(at), sorted.end());
+  const double reference = count_ > 0 ? sorted[at] : 0.0;
+  for (int k = 0; k < count_; ++k) {
+    double& s = scales_[static_cast<std::size_t>(k)];
+    const double normal = s * std::max(curvature[static_cast<std::size_t>(k)], reference);  // |a″'s normal part|, at least
     s = normal > 1e-12 ? 1.0 / normal : 1.0;
   }
 }

@@ -56,7 +56,7 @@ struct SolverSettings {
                                 ///< sessions stream with SessionSettings::dragHardBand)
   double hardTolerance = 0.0;   ///< "hard_tolerance": engine::SolverOptions::hardTolerance
   bool normalSplines = false;   ///< "normal_splines": models::composite::CompositeOptions::normalSplines
-  std::string creaseNormals = "ruling";  ///< "crease_normals": models::composite::CompositeOptions::creaseNormals
+  std::string creaseNormals = "auto";  ///< "crease_normals": models::composite::CompositeOptions::creaseNormals
 
   engine::SolverOptions solverOptions() const;
   models::strip::StripOptions stripOptions() const;

@@ -74,12 +74,14 @@ struct SessionSettings {
   /// row of what a participant sees is above it.
   double dragHardBand = 1e-3;
   /// The band of a drag of points on a composite that keeps a development (its isometry rows
-  /// compare short sample edges of the flat sheet): a fifth, so that the drag stretches the sheet
-  /// less… (The fold slider keeps dragHardBand: its steps follow fold-angle targets.) 1e-4 with
-  /// the free-normal crease rows (CreaseNormals::Free); the ruling crease rows have no normals to
-  /// share a row's error with, and a drawn sheet's drag froze at 1e-4 with a crease row near its
-  /// end just above the band.
-  double developedDragHardBand = 2e-4;
+  /// compare short sample edges of the flat sheet): a tenth, so that the drag stretches the sheet
+  /// a tenth as much… (The fold slider keeps dragHardBand: its steps follow fold-angle targets.)
+  double developedDragHardBand = 1e-4;
+  /// … 3e-4 when the crease rows hold the faces' ruling normals (CompositeModel::rulingCreases):
+  /// they have no normals to share a row's error with, and at 1e-4 a drawn sheet's drag stalled
+  /// with a crease row near its end just above the band (corner 49.4 mm; at 3e-4 53.7 mm, its
+  /// lengths 0.23 %; free normals at 1e-4: 58.1 mm, 0.12 %).
+  double developedDragHardBandRulingCreases = 3e-4;
   /// … and the correction steps after each of its steps (engine::SolverOptions::correctionSteps)
   /// that let the drag still follow the pointer within that band: without them each linear step
   /// leaves a second-order stretch above it, and the drag stalls. Other models take none (each

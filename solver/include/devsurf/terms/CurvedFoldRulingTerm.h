@@ -26,15 +26,17 @@ namespace devsurf::terms {
 /// control points only — the crease's and each face's other curve — so every face's free normals
 /// are coupled to their own face alone and the assembler eliminates them per sample, as a strip's.
 ///
-/// - s_k = 1 / (|a′(u_k)|² κ̄), κ̄ the crease's largest curvature over its parameters, is refreshed
-///   at every linearization and held within an iteration; 1 where that vanishes (a straight crease
-///   imposes nothing beyond both faces' developability). As ĝi ⟂ a′, the row is then
-///   (κ_k / κ̄) ⟨N_k, o1 ĝ1 ± o2 ĝ2⟩ with N the crease's principal normal: the bisector condition
-///   weighted by the local curvature, scale-invariant. CurvedFoldTerm's 1/|a″| (003_… §5.2.4)
-///   makes the row ⟨N, …⟩ itself, whose direction N is undefined where the crease straightens;
-///   with free normals such a row moves the normals, here only the crease. Measured on a drawn
-///   sheet's drag (SessionDrawing test, band 2e-4): the corner followed to 52.6 mm with 1/|a″|,
-///   59.4 mm with this scale (free normals: 58–60 mm).
+/// - s_k = 1 / (|a′(u_k)|² max(κ_k, κ_ref)), κ_k the crease's curvature at u_k and κ_ref its 90th
+///   percentile over the parameters, is refreshed at every linearization and held within an
+///   iteration; 1 where that vanishes (a straight crease imposes nothing beyond both faces'
+///   developability). As ĝi ⟂ a′, the row is ⟨N_k, o1 ĝ1 ± o2 ĝ2⟩ (N the crease's principal
+///   normal) where the crease is as curved as κ_ref or more, and that times κ_k / κ_ref where it
+///   straightens. CurvedFoldTerm's 1/|a″| (003_… §5.2.4) keeps the row ⟨N, …⟩ everywhere, whose
+///   direction N is undefined where the crease straightens; with free normals such a row moves the
+///   normals, here only the crease (a drawn sheet's drag stalled near a crease's flat end). A
+///   percentile rather than the largest curvature: after a group of vertices was turned, a kinked
+///   crease end made the largest curvature huge, every other row tiny, and the solve wandered off
+///   (strips at their width guard, the handles not reached).
 /// - m_k are optional constant row multipliers (softeningWeight of 003_… §5.5).
 /// - A row whose a′ × d_i vanishes for a side (degenerate geometry, which the model's guards keep
 ///   away) is 0 with a zero Jacobian rather than undefined.
@@ -74,13 +76,25 @@ class CurvedFoldRulingTerm final : public engine::Term {
   /// a′, a″, d_1, d_2 of row k at x.
   std::array<Eigen::Vector3d, 4> vectorsAt(const Eigen::VectorXd& x, int k) const;
 
+  /// A nonzero weight of one of the four vectors: x index of the point's x coordinate, weight.
+  struct SetEntry {
+    int variable = 0;
+    double weight = 0.0;
+  };
+  /// Vector s ∈ {a′, a″, d_1, d_2} of row k: setEntries_[setStart_[4k + s] … setStart_[4k + s + 1]).
+  Eigen::Vector3d vectorAt(const Eigen::VectorXd& x, int k, int s) const;
+
   int count_ = 0;
   std::vector<int> rowStart_;  ///< K + 1 offsets into points_
+  std::vector<int> setStart_;  ///< 4K + 1 offsets into setEntries_
+  std::vector<SetEntry> setEntries_;
   std::vector<RowPoint> points_;
   std::vector<double> orientation1_, orientation2_;
   Mode mode_;
   std::vector<double> multipliers_;
   std::vector<double> scales_;
+  std::vector<double> curvatureScratch_, sortedScratch_;  ///< linearizeAt's, per parameter
+  static constexpr double kReferenceQuantile = 0.9;
 };
 
 }  // namespace devsurf::terms

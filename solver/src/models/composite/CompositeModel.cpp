@@ -222,6 +222,8 @@ void CompositeModel::buildProblem() {
       problem_.layout().setFixed(edgeBlock_[s.edge], 3 * s.index, 3);
   }
 
+  rulingCreases_ = options_.creaseNormals == CreaseNormals::Ruling ||
+                   (options_.creaseNormals == CreaseNormals::Auto && problem_.x().size() >= options_.rulingCreaseUnknowns);
   const int P = static_cast<int>(problem_.x().size() / 3);
   std::vector<int> hardUnit, softUnit;
   for (int f = 0; f < F; ++f) {
@@ -376,7 +378,7 @@ void CompositeModel::buildProblem() {
       if (kind == CreaseKind::Smooth) {
         problem_.addTerm(std::make_unique<terms::NormalMatchTerm>("smooth", n1, n2), options_.developabilityWeight,
                          Strength::Hard);
-      } else if (options_.creaseNormals == CreaseNormals::Ruling) {
+      } else if (rulingCreases_) {
         addRulingCreaseTerm(e);
       } else {
         const bool fold = kind == CreaseKind::Fold;

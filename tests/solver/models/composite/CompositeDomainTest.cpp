@@ -11,6 +11,7 @@
 
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/terms/CurvedFoldRulingTerm.h"
+#include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/proto/Scene.h"
 
 namespace devsurf::models::composite {
@@ -204,8 +205,8 @@ TEST(CompositeDomain, TheColumnPresetUnfoldsOntoACylinder) {
   ASSERT_EQ(d.periodic.size(), 4u * 4u + 1u) << "every sample of the seam crease (4 spans × 4 samples + 1)";
   EXPECT_GT(d.period.norm(), 5.0);
   EXPECT_LT(d.period.norm(), 8.0);
-  // The preset's ten iterations close the seam to 1.07e-6 (9.6e-7 with the free-normal crease
-  // rows), falling slowly with more iterations (4.5e-7 at 20): a period of about 6 closed to 3e-7.
+  // The preset's ten iterations close the seam to 9.6e-7 (1.07e-6 with the ruling crease rows),
+  // falling slowly with more iterations (4.5e-7 at 20): a period of about 6 closed to 3e-7.
   for (const auto& p : d.periodic)
     EXPECT_LT((d.vertices2d.row(p[1]) - d.vertices2d.row(p[0]) - d.period.transpose()).norm(), 2e-6);
   EXPECT_EQ(model.flippedDevelopmentFaces(), 0);
@@ -222,25 +223,34 @@ TEST(CompositeOptions, SofteningWeighsTheCreaseRowsDownTowardsTheEdgesEnds) {
   doc["solver"]["softening"] = {0.0, 0.2, 0.8, 1.0};
   const proto::Scene scene = proto::sceneFromJson(doc);
   EXPECT_EQ(proto::sceneToJson(scene)["solver"]["softening"], doc["solver"]["softening"]);
-  CompositeModel model(std::get<CompositeDesign>(scene.model), scene.solver.compositeOptions());
-  const terms::CurvedFoldRulingTerm* fold = nullptr;
-  for (int t = 0; t < model.problem().numTerms(); ++t)
-    if (model.problem().term(t).term->name() == "crease_fold")
-      fold = dynamic_cast<const terms::CurvedFoldRulingTerm*>(model.problem().term(t).term.get());
-  ASSERT_NE(fold, nullptr);
-  const std::vector<double>& m = fold->rowMultipliers();
-  // The rows sit at the 3m − 2 parameters of each span, not at the ends: the first and last rise
-  // from 0 within ξ2 = 0.2.
-  ASSERT_GE(m.size(), 5u);
-  EXPECT_GT(m.front(), 0.0);
-  EXPECT_LT(m.front(), 0.5);
-  EXPECT_LT(m.back(), 0.5);
-  EXPECT_EQ(m[m.size() / 2], 1.0);
-  for (std::size_t k = 1; k < m.size() / 2; ++k) EXPECT_GE(m[k], m[k - 1]);
-  // The sheet still folds and meets the quality bounds.
-  model.solve(scene.solver.solverOptions());
-  EXPECT_GT(model.quality().foldAngleMaxDeg, 20.0);
-  EXPECT_LE(model.quality().faceFlatnessMax, 1e-3);
+  for (const CreaseNormals normals : {CreaseNormals::Free, CreaseNormals::Ruling}) {
+    SCOPED_TRACE(normals == CreaseNormals::Free ? "free normals" : "ruling normals");
+    CompositeOptions options = scene.solver.compositeOptions();
+    options.creaseNormals = normals;
+    CompositeModel model(std::get<CompositeDesign>(scene.model), options);
+    std::vector<double> m;
+    for (int t = 0; t < model.problem().numTerms(); ++t) {
+      const engine::Term* term = model.problem().term(t).term.get();
+      if (term->name() != "crease_fold") continue;
+      if (const auto* free = dynamic_cast<const terms::CurvedFoldTerm*>(term)) m = free->rowMultipliers();
+      if (const auto* ruling = dynamic_cast<const terms::CurvedFoldRulingTerm*>(term)) m = ruling->rowMultipliers();
+    }
+    ASSERT_GE(m.size(), 5u);
+    if (normals == CreaseNormals::Free) {  // rows at both ends of the edge too
+      EXPECT_EQ(m.front(), 0.0);
+      EXPECT_EQ(m.back(), 0.0);
+    } else {  // rows at the 3m − 2 parameters of each span: the first and last rise from 0 within ξ2
+      EXPECT_GT(m.front(), 0.0);
+      EXPECT_LT(m.front(), 0.5);
+      EXPECT_LT(m.back(), 0.5);
+    }
+    EXPECT_EQ(m[m.size() / 2], 1.0);
+    for (std::size_t k = 1; k < m.size() / 2; ++k) EXPECT_GE(m[k], m[k - 1]);
+    // The sheet still folds and meets the quality bounds.
+    model.solve(scene.solver.solverOptions());
+    EXPECT_GT(model.quality().foldAngleMaxDeg, 20.0);
+    EXPECT_LE(model.quality().faceFlatnessMax, 1e-3);
+  }
   doc["solver"]["softening"] = {0.5, 0.2, 0.8, 1.0};
   EXPECT_THROW(proto::sceneFromJson(doc), proto::SceneError);
 }

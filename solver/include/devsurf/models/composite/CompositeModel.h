@@ -24,9 +24,10 @@
 
 namespace devsurf::models::composite {
 
-/// Weights and switches of the composite model (the strip model's, applied to every face).
 /// Which normals a composite's crease rows (000_… eqs. 7/8) compare.
 enum class CreaseNormals {
+  /// Ruling from CompositeOptions::rulingCreaseUnknowns unknowns on, Free below.
+  Auto,
   /// Each face's normal at the crease from the geometry: the crease tangent × the face's ruling
   /// there (terms::CurvedFoldRulingTerm). The rows hold control points only, so the free normals
   /// stay per face and are eliminated per sample before the factorization (issue 17).
@@ -36,6 +37,7 @@ enum class CreaseNormals {
   Free,
 };
 
+/// Weights and switches of the composite model (the strip model's, applied to every face).
 struct CompositeOptions {
   double developabilityWeight = 1.0;  ///< hard rows: developability (eq. 4), planarity, creases (eqs. 7/8), smoothness
   double unitNormalWeight = 0.1;      ///< soft unit length of the normals not held hard
@@ -82,8 +84,13 @@ struct CompositeOptions {
   /// al. used them in 8 of the 10 rows of Fig. 17: "reducing computation times to almost half");
   /// the unit length is held hard at the first control point, soft at the others.
   bool normalSplines = false;
-  /// The normals the crease rows compare (see CreaseNormals).
-  CreaseNormals creaseNormals = CreaseNormals::Ruling;
+  /// The normals the crease rows compare (see CreaseNormals). Auto: Tang's rows on free normals for
+  /// designs of the size people draw and fold (they are the more forgiving far from a solution and
+  /// in a developed sheet's drag, docs/architecture.md), the ruling rows from
+  /// rulingCreaseUnknowns on, where the factorization of the free normals dominates an iteration
+  /// (a 10 × 40 sheet, 9 870 unknowns: 10 ms of it with free normals, 1.7 ms without).
+  CreaseNormals creaseNormals = CreaseNormals::Auto;
+  int rulingCreaseUnknowns = 5000;
   /// Whoever builds the model gives up here (a job's time limit, a session's budget): checked
   /// while the faces, the development mesh and its unfolding are built and the pattern analyzed;
   /// once passed, the constructor throws engine::DeadlineExceeded. Solves have their own
@@ -136,8 +143,10 @@ struct CompositeQuality {
   double vertexCurvatureMax = 0.0; ///< [vertex_curvature_max] |angle sum − 2π| at interior vertices (rad)
   double creaseFoldResidualMax = 0.0;  ///< [crease_fold_residual_max] max over the samples of
                                    ///< "fold"/"geodesic" creases of |⟨c′, n1 ± n2⟩|/|c′| and
-                                   ///< |⟨c″, n1 ± n2⟩|/|c″| (eq. 7/8 rows scaled as the solver does,
-                                   ///< with the surfaces' unit normals, not the auxiliary variables)
+                                   ///< |⟨c″, n1 ± n2⟩|/|c″| (eq. 7/8 rows scaled as Tang's free-normal
+                                   ///< rows, 003_… §5.2.4, at every sample including the crease's
+                                   ///< ends, with the surfaces' unit normals: a check independent of
+                                   ///< the solver's CurvedFoldRulingTerm rows, which it does not share)
   double warpAngleMaxDeg = 0.0;    ///< [warp_angle_max_deg] over all strip-like faces (1000 rulings each)
   double warpAngleMeanDeg = 0.0;   ///< [warp_angle_mean_deg]
   double foldAngleMaxDeg = 0.0;    ///< [crease_fold_angle_max_deg] max |fold angle| over interior edges
@@ -226,6 +235,9 @@ class CompositeModel {
   /// The current design (design coordinates); fixed points are returned exactly as given.
   CompositeDesign design() const;
   const CompositeOptions& options() const { return options_; }
+  /// True if the crease rows hold the faces' ruling normals (CreaseNormals::Ruling, or Auto at this
+  /// model's size), false if they compare free normals.
+  bool rulingCreases() const { return rulingCreases_; }
   const CompositeTopology& topology() const { return *topology_; }
 
   /// Sets the weight of handle `i` (0 releases it without rebuilding the model).
@@ -342,6 +354,7 @@ class CompositeModel {
   int neighbourPoint(int e, int v) const;
   /// The crease rows of interior S edge e with the faces' normals from their rulings (CreaseNormals::Ruling).
   void addRulingCreaseTerm(int e);
+  bool rulingCreases_ = false;
   void addTangentContinuityTerms();
   /// The soft "fold_angle" rows of design.foldAngles (CompositeCreaseFolding.cpp).
   void addFoldAngleTerm();
