@@ -240,19 +240,15 @@ TEST(NormalEquations, TwoThreadsAccumulateTheSameSystemAndRunsRepeatBitForBit) {
   EXPECT_EQ(eq.assemblyThreads(), 1);
 }
 
-TEST(NormalEquations, RowsWithAZeroJacobianAddNothingAndTheRowsAfterThemStillLandInTheirSlots) {
-  // A guard at rest (a hinge row: residual and Jacobian zero) is skipped by the assembler; the
-  // rows after it, on other variables, must still scatter into their own slots.
+/// The engine's step on `rows` (a SparseRowsTerm, weight 0.7) and x0·x5 = 1 (weight 2) over `size`
+/// random variables, nothing eliminated, against the dense reference; returns the reference step.
+Eigen::VectorXd expectSparseRowsStepMatchesTheReference(const std::vector<SparseRowsTerm::Row>& rows, int size,
+                                                        unsigned seed) {
   Problem problem;
-  problem.addBlock("x", 6);
-  std::mt19937 rng(11);
+  problem.addBlock("x", size);
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  for (int i = 0; i < 6; ++i) problem.x()[i] = uni(rng);
-  std::vector<SparseRowsTerm::Row> rows = {{{0, 0.9}, {1, -0.4}},
-                                           {{2, 0.0}, {3, 0.0}, {4, 0.0}},  // at rest
-                                           {{4, 0.6}, {5, 0.8}},
-                                           {{0, 0.0}, {5, 0.0}},  // at rest
-                                           {{1, 0.3}, {2, 0.7}, {3, -0.5}}};
+  for (int i = 0; i < size; ++i) problem.x()[i] = uni(rng);
   problem.addTerm(std::make_unique<SparseRowsTerm>("rows", rows), 0.7, Strength::Soft);
   problem.addTerm(std::make_unique<ProductTerm>("p", 0, 5, 1.0), 2.0, Strength::Hard);
   disableElimination(problem);
@@ -261,6 +257,18 @@ TEST(NormalEquations, RowsWithAZeroJacobianAddNothingAndTheRowsAfterThemStillLan
   const Eigen::VectorXd step = engineStep(eq, problem, weights, 0.1);
   const Eigen::VectorXd reference = referenceStep(problem, weights, 0.1);
   EXPECT_LT((step - reference).cwiseAbs().maxCoeff(), 1e-12);
+  return reference;
+}
+
+TEST(NormalEquations, RowsWithAZeroJacobianAddNothingAndTheRowsAfterThemStillLandInTheirSlots) {
+  // A guard at rest (a hinge row: residual and Jacobian zero) is skipped by the assembler; the
+  // rows after it, on other variables, must still scatter into their own slots.
+  expectSparseRowsStepMatchesTheReference({{{0, 0.9}, {1, -0.4}},
+                                           {{2, 0.0}, {3, 0.0}, {4, 0.0}},  // at rest
+                                           {{4, 0.6}, {5, 0.8}},
+                                           {{0, 0.0}, {5, 0.0}},  // at rest
+                                           {{1, 0.3}, {2, 0.7}, {3, -0.5}}},
+                                          6, 11);
 }
 
 TEST(NormalEquations, RunsOfRowsWithTheSameColumnsAreSummedAsTheRowsWouldBe) {
@@ -268,30 +276,19 @@ TEST(NormalEquations, RunsOfRowsWithTheSameColumnsAreSummedAsTheRowsWouldBe) {
   // densely and scattered once: runs of three and two, a row at rest inside a run and one at its
   // start, a run whose rows are all at rest, and rows on the same columns in another order (no
   // run). The step must be the dense reference's.
-  Problem problem;
-  problem.addBlock("x", 7);
-  std::mt19937 rng(12);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  for (int i = 0; i < 7; ++i) problem.x()[i] = uni(rng);
-  std::vector<SparseRowsTerm::Row> rows = {{{0, 0.9}, {1, -0.4}, {3, 0.2}},
-                                           {{0, 0.3}, {1, 0.8}, {3, -0.6}},
-                                           {{0, -0.7}, {1, 0.1}, {3, 0.5}},
-                                           {{2, 0.0}, {4, 0.0}},  // at rest, starting a run
-                                           {{2, 0.4}, {4, -0.9}},
-                                           {{5, 0.0}, {6, 0.0}},  // a run all at rest
-                                           {{5, 0.0}, {6, 0.0}},
-                                           {{1, 0.6}, {6, 0.3}},
-                                           {{1, 0.0}, {6, 0.0}},  // at rest inside a run
-                                           {{1, -0.2}, {6, 0.7}},
-                                           {{6, 0.5}, {1, 0.4}}};  // the same columns, another order
-  problem.addTerm(std::make_unique<SparseRowsTerm>("rows", rows), 0.7, Strength::Soft);
-  problem.addTerm(std::make_unique<ProductTerm>("p", 0, 5, 1.0), 2.0, Strength::Hard);
-  disableElimination(problem);
-  NormalEquations eq(problem);
-  const std::vector<double> weights = {0.7, 2.0};
-  const Eigen::VectorXd step = engineStep(eq, problem, weights, 0.1);
-  const Eigen::VectorXd reference = referenceStep(problem, weights, 0.1);
-  EXPECT_LT((step - reference).cwiseAbs().maxCoeff(), 1e-12);
+  const Eigen::VectorXd reference =
+      expectSparseRowsStepMatchesTheReference({{{0, 0.9}, {1, -0.4}, {3, 0.2}},
+                                               {{0, 0.3}, {1, 0.8}, {3, -0.6}},
+                                               {{0, -0.7}, {1, 0.1}, {3, 0.5}},
+                                               {{2, 0.0}, {4, 0.0}},  // at rest, starting a run
+                                               {{2, 0.4}, {4, -0.9}},
+                                               {{5, 0.0}, {6, 0.0}},  // a run all at rest
+                                               {{5, 0.0}, {6, 0.0}},
+                                               {{1, 0.6}, {6, 0.3}},
+                                               {{1, 0.0}, {6, 0.0}},  // at rest inside a run
+                                               {{1, -0.2}, {6, 0.7}},
+                                               {{6, 0.5}, {1, 0.4}}},  // the same columns, another order
+                                              7, 12);
   EXPECT_GT(reference.cwiseAbs().maxCoeff(), 0.1);
 }
 
