@@ -14,9 +14,8 @@ namespace devsurf::terms {
 /// from the geometry instead of from free normal variables: for every evaluation parameter u_k
 /// one row
 ///   m_k s ⟨a″(u_k), o1_k ĝ1_k ± o2_k ĝ2_k⟩,   ĝi = (a′ × d_i) / |a′ × d_i|,
-/// where a is the crease, d_i(u_k) a vector across face i from the crease (its ruling b − a at
-/// u_k, or b′ − a′ where that ruling vanishes by design: the limit of the ruling's direction at a
-/// vertex the face's curves share) and o_i,k = ±1 orients ĝi like face i's normal. The tangent
+/// where a is the crease, d_i(u_k) a vector across face i from the crease (the composite passes
+/// its ruling b − a at u_k) and o_i,k = ±1 orients ĝi like face i's normal. The tangent
 /// plane of a ruled surface along a is spanned by a′ and the ruling, so ĝi is face i's unit normal
 /// at the crease; ⟨a′, ĝi⟩ ≡ 0 and CurvedFoldTerm's tangent row has no counterpart here.
 ///

@@ -420,77 +420,59 @@ void CompositeModel::addRulingCreaseTerm(int e) {
   const CompositeTopology& topo = *topology_;
   const EdgeInfo& info = topo.edge(e);
   const spline::KnotVector knots = topo.knots(e);
-  const std::vector<double> params = evaluationParams(knots);
   const std::vector<PointSlot> slots = topo.controlSlots(e);
-  const int K = static_cast<int>(params.size());
+  // The rows hold at the 3m − 2 parameters of every span (000_… §2.1), not at the crease's two
+  // ends, which the faces sample only for their ruling edges (and where a face whose curves meet
+  // at a vertex has a ruling of no length).
+  const std::vector<double> all = evaluationParams(knots);
+  const int K = static_cast<int>(all.size());
+  const std::vector<double> params(all.begin() + 1, all.end() - 1);
+  const int rows = K - 2;
   const terms::LinearPoints da = curveRows(knots, slots, params, 1);
   const Eigen::VectorXd& x = problem_.x();
-  // Per side: the vector across the face at each crease parameter (its ruling b − a, or b′ − a′
-  // where the ruling has no length by design) and the orientation that makes a′ × it point like
-  // the face's normal.
+  // Per side: the face's ruling b − a at each row's parameter and the orientation that makes
+  // a′ × (b − a) point like the face's normal.
   terms::LinearPoints across[2];
   std::vector<double> orientation[2];
   for (int side = 0; side < 2; ++side) {
     const int f = info.faces[side];
-    const FaceRows& rows = faceRows_[f];
+    const FaceRows& face = faceRows_[f];
     if (static_cast<int>(faceParams_[f].size()) != K)
       throw std::logic_error("edge " + std::to_string(e) + ": crease and face parameters differ");
     const bool runs = topo.edgeRunsWithU(f, e);
-    std::vector<Eigen::Triplet<double>> t;
-    std::vector<double> dots(static_cast<std::size_t>(K));
-    for (int k = 0; k < K; ++k) {
-      const int r = runs ? k : K - 1 - k;
-      const double length = (rows.b.point(x, r) - rows.a.point(x, r)).norm();
-      const bool ruling = length > 1e-9;
-      for (const auto* map : {ruling ? &rows.b : &rows.db, ruling ? &rows.a : &rows.da}) {
-        const double sign = map == &rows.b || map == &rows.db ? 1.0 : -1.0;
-        for (EvaluationMatrix::InnerIterator it(map->weights, r); it; ++it)
-          t.emplace_back(k, static_cast<int>(it.col()), sign * it.value());
-      }
-      const Eigen::Vector3d d = ruling ? Eigen::Vector3d(rows.b.point(x, r) - rows.a.point(x, r))
-                                       : Eigen::Vector3d(rows.db.point(x, r) - rows.da.point(x, r));
-      const Eigen::Vector3d g = da.point(x, k).cross(d), n = normalVariable(f, r);
+    EvaluationMatrix ruling = face.b.weights - face.a.weights;  // merges a control point a and b share
+    std::vector<int> faceRows;
+    std::vector<double> dots;
+    for (int i = 0; i < rows; ++i) {
+      const int k = i + 1, r = runs ? k : K - 1 - k;
+      faceRows.push_back(r);
+      const Eigen::Vector3d g = da.point(x, i).cross(face.b.point(x, r) - face.a.point(x, r));
+      const Eigen::Vector3d n = normalVariable(f, r);
       const double dot = g.dot(n);
-      dots[static_cast<std::size_t>(k)] = std::abs(dot) > 1e-9 * g.norm() * n.norm() ? dot : 0.0;
+      dots.push_back(std::abs(dot) > 1e-9 * g.norm() * n.norm() ? dot : 0.0);
     }
-    EvaluationMatrix W(K, static_cast<Eigen::Index>(x.size() / 3));
-    W.setFromTriplets(t.begin(), t.end());  // sums the a and b weights of a shared control point
-    W.makeCompressed();
-    across[side] = {W, 0};
-    // Where a′ × d is no direction at build time (guards keep that from happening later), the
-    // orientation of the nearest parameter where it is.
-    orientation[side].assign(static_cast<std::size_t>(K), 1.0);
-    for (int k = 0; k < K; ++k) {
+    across[side] = {selectRows(ruling, faceRows), 0};
+    // Where a′ × (b − a) is no direction at build time (the guards keep that from happening
+    // later), the orientation of the nearest parameter where it is.
+    orientation[side].assign(static_cast<std::size_t>(rows), 1.0);
+    for (int i = 0; i < rows; ++i) {
       int best = -1;
-      for (int d = 0; d < K && best < 0; ++d) {
-        if (k - d >= 0 && dots[static_cast<std::size_t>(k - d)] != 0.0) best = k - d;
-        else if (k + d < K && dots[static_cast<std::size_t>(k + d)] != 0.0) best = k + d;
+      for (int d = 0; d < rows && best < 0; ++d) {
+        if (i - d >= 0 && dots[static_cast<std::size_t>(i - d)] != 0.0) best = i - d;
+        else if (i + d < rows && dots[static_cast<std::size_t>(i + d)] != 0.0) best = i + d;
       }
-      if (best >= 0) orientation[side][static_cast<std::size_t>(k)] = dots[static_cast<std::size_t>(best)] > 0.0 ? 1.0 : -1.0;
+      if (best >= 0) orientation[side][static_cast<std::size_t>(i)] = dots[static_cast<std::size_t>(best)] > 0.0 ? 1.0 : -1.0;
     }
   }
-  // The rows hold at the 3m − 2 parameters of every span (000_… §2.1), not at the crease's two
-  // ends, which the faces sample only for their ruling edges.
-  std::vector<int> inner;
-  for (int k = 1; k + 1 < K; ++k) inner.push_back(k);
-  auto innerValues = [&inner](const std::vector<double>& all) {
-    std::vector<double> out;
-    for (int k : inner) out.push_back(all[static_cast<std::size_t>(k)]);
-    return out;
-  };
   const bool fold = design_.edges[e].crease == CreaseKind::Fold;
   const bool soften = options_.softening != terms::SofteningBreakpoints{0.0, 0.0, 1.0, 1.0};
-  const terms::LinearPoints dda = curveRows(knots, slots, params, 2);
-  problem_.addTerm(
-      std::make_unique<terms::CurvedFoldRulingTerm>(
-          fold ? "crease_fold" : "crease_geodesic", terms::LinearPoints{selectRows(da.weights, inner), 0},
-          terms::LinearPoints{selectRows(dda.weights, inner), 0},
-          terms::LinearPoints{selectRows(across[0].weights, inner), 0},
-          terms::LinearPoints{selectRows(across[1].weights, inner), 0}, innerValues(orientation[0]),
-          innerValues(orientation[1]), fold ? terms::CurvedFoldTerm::Mode::CurvedFold : terms::CurvedFoldTerm::Mode::Geodesic,
-          soften ? innerValues(terms::softeningWeights(params, options_.softening, knots.domainBegin(), knots.domainEnd()))
-                 : std::vector<double>{}),
-      options_.developabilityWeight, Strength::Hard);
+  problem_.addTerm(std::make_unique<terms::CurvedFoldRulingTerm>(
+                       fold ? "crease_fold" : "crease_geodesic", da, curveRows(knots, slots, params, 2), across[0],
+                       across[1], std::move(orientation[0]), std::move(orientation[1]),
+                       fold ? terms::CurvedFoldTerm::Mode::CurvedFold : terms::CurvedFoldTerm::Mode::Geodesic,
+                       soften ? terms::softeningWeights(params, options_.softening, knots.domainBegin(), knots.domainEnd())
+                              : std::vector<double>{}),
+                   options_.developabilityWeight, Strength::Hard);
 }
 
 std::vector<int> CompositeModel::vertexStar(int v) const {
