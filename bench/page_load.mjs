@@ -18,6 +18,9 @@
 // 4. `--parallel` loads at once in as many browsers (one each, as that many users would have:
 //    each its own GPU process), launched and warmed by one load beforehand; timed and sampled as
 //    in 3. All of them still share this machine's cores with the daemon.
+// With every health sampling, a control thread sleeps 10 ms at a time and reports how late it
+// woke: a late health answer beside an equally late wake-up is the machine stalling (on a small
+// VM, eight software-rendering browsers stall even a sleeping thread by ~0.5 s), not the daemon.
 //
 // Environment (as tests/web): DEVSURF_BIN (default build/server/devsurf), DEVSURF_WEB (default
 // web/dist), DEVSURF_CHROMIUM (default /usr/bin/chromium). playwright-core comes from
@@ -132,8 +135,9 @@ async function loadOnce(browser, link) {
 }
 
 /**
- * GET /api/health every `everyMs` until stop(); resolves with the latencies (ms). Sampled on a
- * worker thread of its own, so the browser's traffic on the main event loop does not delay it.
+ * GET /api/health every `everyMs` until stop(); stop() resolves with {latencies, late} (ms): the
+ * health round trips, sampled on a worker thread of its own so the browser's traffic on the main
+ * event loop does not delay them, and the control's late wake-ups (below).
  */
 function sampleHealth(base, everyMs) {
   const worker = new Worker(`
@@ -154,11 +158,45 @@ function sampleHealth(base, everyMs) {
       parentPort.postMessage(latencies);
     })();
   `, { eval: true, workerData: { base, everyMs } });
-  const done = new Promise((resolve, reject) => {
-    worker.once('message', (latencies) => { worker.terminate(); resolve(latencies); });
-    worker.once('error', reject);
+  // The control: a thread of its own that only sleeps 10 ms at a time and records how late it
+  // wakes. It shares the machine with the browsers but not the daemon, so a late health answer
+  // that comes with a late wake-up here is the machine's stall (scheduling, the VM's vCPUs), not
+  // the daemon's.
+  const control = new Worker(`
+    const { parentPort } = require('node:worker_threads');
+    const late = [];
+    let running = true;
+    parentPort.on('message', () => { running = false; });
+    (async () => {
+      while (running) {
+        const t0 = performance.now();
+        await new Promise((res) => setTimeout(res, 10));
+        late.push(Math.max(0, performance.now() - t0 - 10));
+      }
+      parentPort.postMessage(late);
+    })();
+  `, { eval: true });
+  const collect = (w) => new Promise((resolve, reject) => {
+    w.once('message', (values) => { w.terminate(); resolve(values); });
+    w.once('error', reject);
   });
-  return { stop: () => { worker.postMessage('stop'); return done; } };
+  const done = Promise.all([collect(worker), collect(control)]);
+  return {
+    stop: async () => {
+      worker.postMessage('stop');
+      control.postMessage('stop');
+      const [latencies, late] = await done;
+      return { latencies, late };
+    },
+  };
+}
+
+/** Prints the health samples and, beside them, how late the control's 10 ms sleeps woke. */
+function reportHealth({ latencies, late }) {
+  console.log(`  /api/health every 20 ms (${latencies.length} samples): p50 ${median(latencies).toFixed(1)} ms, `
+    + `p95 ${quantile(latencies, 0.95).toFixed(1)} ms, max ${Math.max(...latencies).toFixed(1)} ms`);
+  console.log(`  control, a 10 ms sleep on another thread (${late.length} samples): woke late by p95 `
+    + `${quantile(late, 0.95).toFixed(1)} ms, max ${Math.max(...late).toFixed(1)} ms`);
 }
 
 async function main() {
@@ -205,11 +243,10 @@ async function main() {
         await sleep(50);
       }
       await sleep(200);
-      const lat = await health.stop();
+      const samples = await health.stop();
       console.log(`\n${PARALLEL} page loads at once over HTTP only, ${RUNS} times (${urls.length} files each, no browser):`);
       console.log(`  all files of a load: median ${fmt(median(times))}, max ${fmt(Math.max(...times))}`);
-      console.log(`  /api/health every 20 ms (${lat.length} samples): p50 ${median(lat).toFixed(1)} ms, `
-        + `p95 ${quantile(lat, 0.95).toFixed(1)} ms, max ${Math.max(...lat).toFixed(1)} ms`);
+      reportHealth(samples);
     }
 
     const health = sampleHealth(daemon.url, 20);
@@ -218,12 +255,11 @@ async function main() {
     const parallel = await Promise.all(Array.from({ length: PARALLEL }, () => loadOnce(browser, link)));
     const wall = performance.now() - t0;
     await sleep(200);
-    const lat = await health.stop();
+    const samples = await health.stop();
     const pms = parallel.map((r) => r.ms);
     console.log(`\n${PARALLEL} loads at once in one browser (wall ${fmt(wall)}):`);
     console.log(`  first surface: median ${fmt(median(pms))}, max ${fmt(Math.max(...pms))}`);
-    console.log(`  /api/health every 20 ms (${lat.length} samples): p50 ${median(lat).toFixed(1)} ms, `
-      + `p95 ${quantile(lat, 0.95).toFixed(1)} ms, max ${Math.max(...lat).toFixed(1)} ms`);
+    reportHealth(samples);
 
     // As eight users would: a browser each (its own GPU process), already open and warmed by one
     // load, all loading at once — still on this machine's cores, beside the daemon.
@@ -237,12 +273,11 @@ async function main() {
       const separate = await Promise.all(browsers.map((b) => loadOnce(b, link)));
       const wall2 = performance.now() - t1;
       await sleep(200);
-      const lat2 = await health2.stop();
+      const samples2 = await health2.stop();
       const sms = separate.map((r) => r.ms);
       console.log(`\n${PARALLEL} loads at once, a browser each (wall ${fmt(wall2)}):`);
       console.log(`  first surface: median ${fmt(median(sms))}, max ${fmt(Math.max(...sms))}`);
-      console.log(`  /api/health every 20 ms (${lat2.length} samples): p50 ${median(lat2).toFixed(1)} ms, `
-        + `p95 ${quantile(lat2, 0.95).toFixed(1)} ms, max ${Math.max(...lat2).toFixed(1)} ms`);
+      reportHealth(samples2);
     } finally {
       await Promise.all(browsers.map((b) => b.close()));
     }

@@ -211,7 +211,8 @@ export class Viewport {
     this.resize();
 
     this._loop = this._loop.bind(this);
-    this._raf = requestAnimationFrame(this._loop);
+    this._raf = null;
+    this.requestRender();
   }
 
   _buildScene() {
@@ -422,14 +423,21 @@ export class Viewport {
 
   // ---- rendering -----------------------------------------------------------------------------
 
+  /**
+   * Asks for a frame. Frames are drawn on demand only: an idle view requests no animation frames
+   * (with software WebGL an always-running loop cost a page ~0.3 CPU-s per idle second). The loop
+   * keeps running while the orbit controls still move the camera (their damping), then stops.
+   */
   requestRender() {
     this.dirty = true;
+    if (this._raf === null) this._raf = requestAnimationFrame(this._loop);
   }
 
   _loop() {
-    this._raf = requestAnimationFrame(this._loop);
+    this._raf = null;
     const moved = this.controls.update();
     if (moved || this.dirty) this.renderNow();
+    if (moved && this._raf === null) this._raf = requestAnimationFrame(this._loop);
   }
 
   /** Renders synchronously (used when applying an iterate, so its cost is measured). */
@@ -704,7 +712,8 @@ export class Viewport {
   }
 
   dispose() {
-    cancelAnimationFrame(this._raf);
+    if (this._raf !== null) cancelAnimationFrame(this._raf);
+    this._raf = null;
     this._resizeObserver.disconnect();
     if (this.renderer) this.renderer.dispose();
   }
