@@ -87,6 +87,13 @@ Eigen::MatrixX3d frameCoordinates(const FoldFrame& frame, const char* key = "ver
   return out;
 }
 
+/// The same points (rows), to 1e-9 of their extent.
+bool sameCoordinates(const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b) {
+  if (a.rows() != b.rows() || a.rows() == 0) return false;
+  const double extent = (a.colwise().maxCoeff() - a.colwise().minCoeff()).norm();
+  return (a - b).cwiseAbs().maxCoeff() <= 1e-9 * std::max(extent, 1.0);
+}
+
 /// Whether all points lie in the plane z = 0 (up to round-off against their extent).
 bool isFlat(const Eigen::MatrixX3d& points) {
   if (points.rows() == 0) return true;
@@ -133,9 +140,14 @@ FoldImport importFoldDocument(const json& doc) {
       development = &f;
   for (const FoldFrame& f : frames) {
     if (folded || !f.keys.contains("vertices_coords") || !f.hasClass("foldedForm")) continue;
-    if (isFlat(frameCoordinates(f))) {
-      result.notes.push_back({f.name, "a flat-folded form (every fold at 180°) cannot be a surface's folded state; "
-                                      "the crease pattern is imported flat"});
+    const Eigen::MatrixX3d coordinates = frameCoordinates(f);
+    if (isFlat(coordinates)) {
+      // The sheet as it lies (a design exported before it was folded) says nothing to note.
+      const bool unfolded = development && development->keys.contains("vertices_coords") &&
+                            sameCoordinates(frameCoordinates(*development), coordinates);
+      if (!unfolded)
+        result.notes.push_back({f.name, "a flat-folded form (every fold at 180°) cannot be a surface's folded state; "
+                                        "the crease pattern is imported flat"});
       if (!development && f.keys.contains("vertices_flatUnfoldCoords")) development = &f;
       continue;
     }
@@ -220,6 +232,22 @@ FoldImport importFoldDocument(const json& doc) {
       if (!a.is_number() || !std::isfinite(a.get<double>()) || std::abs(a.get<double>()) > 180.0)
         refuse(at("edges_foldAngle", e) + " must be a number of degrees in [-180, 180]");
       foldAngles[e] = a.get<double>();
+    }
+  }
+
+  // Edges a composite kept smooth (devsurf's own FOLD export, CreaseEdge::proposed): flat ones
+  // stay smooth when read back instead of becoming hinges that fold freely.
+  std::vector<bool> smooth(fileEdges, false);
+  if (const auto es = topology.keys.find("edges_devsurf:smooth"); es != topology.keys.end()) {
+    if (!es->is_array() || es->size() != fileEdges) refuse("edges_devsurf:smooth must have one entry per edge of edges_vertices");
+    for (std::size_t e = 0; e < fileEdges; ++e) {
+      const json& v = (*es)[e];
+      if (!v.is_boolean() && !v.is_null()) refuse(at("edges_devsurf:smooth", e) + " must be true, false or null");
+      if (!v.is_boolean() || !v.get<bool>()) continue;
+      if (assignments[e] && *assignments[e] != EdgeAssignment::Flat)
+        result.notes.push_back({at("edges_devsurf:smooth", e), "smooth, but not a flat (F) edge; read as its assignment says"});
+      else
+        smooth[e] = true;
     }
   }
 
@@ -335,6 +363,7 @@ FoldImport importFoldDocument(const json& doc) {
       }
       if (assignmentOf(source)) edge.assignment = *assignmentOf(source);
       edge.foldAngle = foldAngles[source];
+      edge.proposed = smooth[static_cast<std::size_t>(source)];
       edgeOfPair[std::minmax(edge.v0, edge.v1)] = static_cast<int>(p.edges.size());
       p.edges.push_back(edge);
     }
@@ -350,6 +379,7 @@ FoldImport importFoldDocument(const json& doc) {
       edge.v1 = edgeEnds[e][1];
       if (assignments[e]) edge.assignment = *assignments[e];
       edge.foldAngle = foldAngles[e];
+      edge.proposed = smooth[e];
       edgeOfPair[key] = static_cast<int>(p.edges.size());
       p.edges.push_back(edge);
     }

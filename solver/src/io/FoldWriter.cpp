@@ -13,6 +13,7 @@ using nlohmann::json;
 using ordered = nlohmann::ordered_json;  // keeps the spec's reading order in the written file
 
 constexpr const char* kCurveKey = "edges_devsurf:curve";
+constexpr const char* kSmoothKey = "edges_devsurf:smooth";
 constexpr const char* kCurvesKey = "devsurf:curves";
 constexpr const char* kRulingsKey = "devsurf:rulings";
 constexpr const char* kScaleKey = "devsurf:unitToMm";
@@ -112,9 +113,10 @@ ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
     vc.push_back(point(p.vertices2d(i, 0) * s, p.vertices2d(i, 1) * s));
   doc["vertices_coords"] = std::move(vc);
 
-  ordered ev = ordered::array(), ea = ordered::array(), ef = ordered::array(), ec = ordered::array();
+  ordered ev = ordered::array(), ea = ordered::array(), ef = ordered::array(), ec = ordered::array(),
+          es = ordered::array();
   const auto angles = exportedFoldAngles(p);
-  bool allAngles = true, anyCurve = false;
+  bool allAngles = true, anyCurve = false, anySmooth = false;
   for (std::size_t e = 0; e < p.edges.size(); ++e) {
     const CreaseEdge& ed = p.edges[e];
     ev.push_back(ordered::array({ed.v0, ed.v1}));
@@ -123,6 +125,8 @@ ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
       ef.push_back(*angles[e] == 0.0 ? 0.0 : *angles[e]);  // no "-0.0"
     else
       allAngles = false;
+    es.push_back(ed.proposed);
+    anySmooth = anySmooth || ed.proposed;
     if (ed.curve >= 0) {
       ec.push_back(ed.curve);
       anyCurve = true;
@@ -137,6 +141,7 @@ ordered buildFold(const CreasePattern& p, const FoldWriteOptions& options) {
 
   // Namespaced data.
   if (anyCurve) doc[kCurveKey] = std::move(ec);
+  if (anySmooth) doc[kSmoothKey] = std::move(es);
   if (!p.curves.empty()) {
     ordered curves = ordered::array();
     for (const CreaseCurve& c : p.curves) {
@@ -247,6 +252,14 @@ CreasePattern readFoldDocument(const json& doc) {
     if (ec.size() != ev.size()) bad(std::string(kCurveKey) + " and edges_vertices differ in length");
     for (std::size_t e = 0; e < ec.size(); ++e)
       p.edges[e].curve = ec[e].is_null() ? -1 : index(ec[e], kCurveKey);
+  }
+  if (doc.contains(kSmoothKey)) {
+    const json& es = array(doc, kSmoothKey);
+    if (es.size() != ev.size()) bad(std::string(kSmoothKey) + " and edges_vertices differ in length");
+    for (std::size_t e = 0; e < es.size(); ++e) {
+      if (!es[e].is_boolean() && !es[e].is_null()) bad(std::string(kSmoothKey) + " entry is not true, false or null");
+      p.edges[e].proposed = es[e].is_boolean() && es[e].get<bool>();
+    }
   }
   if (doc.contains("faces_vertices")) {
     for (const json& f : array(doc, "faces_vertices")) {

@@ -13,12 +13,11 @@ double quadFlatness(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const 
   if (e[0] <= tiny) return 0.0;
   const Eigen::Vector3d d1 = p2 - p0, d2 = p3 - p1;
   const Eigen::Vector3d c = d1.cross(d2);
-  double dist;
-  if (c.norm() <= 1e-14 * d1.norm() * d2.norm()) {
-    dist = (p1 - p0).cross(d1).norm() / std::max(d1.norm(), tiny);  // parallel diagonals
-  } else {
-    dist = std::abs((p1 - p0).dot(c)) / c.norm();
-  }
+  // Parallel diagonals (or one of no length) lie in one plane with all four corners: planar.
+  // (The distance between the two parallel lines says nothing about planarity: four corners of a
+  // flat polygon such as (100,0), (85,40), (70,40), (70,60) have parallel diagonals 12 apart.)
+  if (c.norm() <= 1e-14 * d1.norm() * d2.norm()) return 0.0;
+  const double dist = std::abs((p1 - p0).dot(c)) / c.norm();
   return dist / (0.5 * (e[0] + e[1]));
 }
 

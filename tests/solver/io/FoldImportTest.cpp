@@ -124,6 +124,24 @@ TEST(FoldImport, FrameUnitsAreRead) {
   EXPECT_EQ(r.pattern.unitToMm, 10.0);
 }
 
+TEST(FoldImport, EdgesMarkedSmoothAreReadAsProposedWhenFlatAndNotedWhenFolded) {
+  // Two triangles of a square; their shared diagonal flat and marked smooth, then a valley.
+  nlohmann::json doc = {
+      {"vertices_coords", {{0, 0}, {1, 0}, {1, 1}, {0, 1}}},
+      {"edges_vertices", {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}}},
+      {"edges_assignment", {"B", "B", "B", "B", "F"}},
+      {"edges_devsurf:smooth", {false, false, nullptr, false, true}},
+  };
+  const FoldImport flat = importFoldDocument(doc);
+  int proposed = 0;
+  for (const CreaseEdge& e : flat.pattern.edges) proposed += e.proposed ? 1 : 0;
+  EXPECT_EQ(proposed, 1);
+  doc["edges_assignment"][4] = "V";
+  const FoldImport valley = importFoldDocument(doc);
+  for (const CreaseEdge& e : valley.pattern.edges) EXPECT_FALSE(e.proposed);
+  EXPECT_TRUE(hasNoteOn(valley, "edges_devsurf:smooth[4]"));
+}
+
 TEST(FoldImport, BadInputIsRefusedNamingTheKeyAndIndex) {
   auto messageOf = [](const nlohmann::json& doc) {
     try {
@@ -148,6 +166,13 @@ TEST(FoldImport, BadInputIsRefusedNamingTheKeyAndIndex) {
   EXPECT_NE(messageOf(notNumbers).find("vertices_coords[1]"), std::string::npos) << messageOf(notNumbers);
   EXPECT_NE(messageOf(nlohmann::json::array()).find("not a JSON object"), std::string::npos);
   EXPECT_THROW(importFoldText("{\"vertices_coords\": ["), std::invalid_argument);
+  nlohmann::json smoothOfWrongLength = square;
+  smoothOfWrongLength["edges_assignment"] = {"B", "B", "B", "B"};
+  smoothOfWrongLength["edges_devsurf:smooth"] = {false, true};
+  EXPECT_NE(messageOf(smoothOfWrongLength).find("edges_devsurf:smooth"), std::string::npos) << messageOf(smoothOfWrongLength);
+  nlohmann::json smoothNotBoolean = smoothOfWrongLength;
+  smoothNotBoolean["edges_devsurf:smooth"] = {false, false, "yes", false};
+  EXPECT_NE(messageOf(smoothNotBoolean).find("edges_devsurf:smooth[2]"), std::string::npos) << messageOf(smoothNotBoolean);
   const nlohmann::json noFaces = {{"vertices_coords", {{0, 0}, {1, 0}}}, {"edges_vertices", {{0, 1}}}};
   EXPECT_NE(messageOf(noFaces).find("enclose no face"), std::string::npos) << messageOf(noFaces);
 }

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "devsurf/metrics/QuadFlatness.h"
 
@@ -29,6 +31,45 @@ TEST(QuadFlatness, IsTheDiagonalDistanceOverTheMeanOfTheTwoShortestEdges) {
 
 TEST(QuadFlatness, IsZeroForAQuadWithADegenerateSide) {
   EXPECT_EQ(quadFlatness({0, 0, 0}, {1, 0, 0}, {0, 1, 1}, {0, 0, 0}, 1e-12), 0.0);
+}
+
+TEST(QuadFlatness, IsZeroForFourCornersOfAFlatPolygonWhoseDiagonalsAreParallel) {
+  // Four consecutive corners of a flat sheet's face that runs around a hole through a bridge:
+  // the diagonals (100,0)→(70,40) and (85,40)→(70,60) are parallel, 12 apart.
+  EXPECT_EQ(quadFlatness({100, 0, 0}, {85, 40, 0}, {70, 40, 0}, {70, 60, 0}, 1e-12), 0.0);
+}
+
+TEST(QuadFlatness, IsZeroUpToRoundingForRandomCoplanarCornersAndTheDiagonalDistanceForALiftedOne) {
+  std::mt19937 rng(20261205);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto randomVector = [&rng, &u]() { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  for (int trial = 0; trial < 500; ++trial) {
+    const Eigen::Vector3d origin = 10.0 * randomVector();
+    const Eigen::Vector3d e1 = randomVector().normalized();
+    const Eigen::Vector3d e2 = e1.cross(randomVector()).normalized();
+    const auto inPlane = [&origin, &e1, &e2](double x, double y) { return Eigen::Vector3d(origin + x * e1 + y * e2); };
+    Eigen::Vector3d p[4];
+    if (trial % 2 == 0) {
+      for (Eigen::Vector3d& q : p) q = inPlane(u(rng), u(rng));
+    } else {  // parallel diagonals: p2 − p0 ∥ p3 − p1
+      const Eigen::Vector3d v = inPlane(u(rng), u(rng)) - origin;
+      p[0] = inPlane(u(rng), u(rng));
+      p[1] = inPlane(u(rng), u(rng));
+      p[2] = p[0] + (0.5 + std::abs(u(rng))) * v;
+      p[3] = p[1] + (0.5 + std::abs(u(rng))) * v;
+    }
+    EXPECT_LT(quadFlatness(p[0], p[1], p[2], p[3], 1e-12), 1e-9) << "trial " << trial;
+    if (trial % 2 == 0) {  // one corner lifted off the plane: the diagonals' distance, recomputed
+      const Eigen::Vector3d lifted = p[2] + 0.1 * e1.cross(e2);
+      const Eigen::Vector3d d1 = lifted - p[0], d2 = p[3] - p[1], c = d1.cross(d2);
+      if (c.norm() < 1e-3) continue;  // nearly parallel diagonals: their distance is ill-conditioned
+      double e[4] = {(p[1] - p[0]).norm(), (lifted - p[1]).norm(), (p[3] - lifted).norm(), (p[0] - p[3]).norm()};
+      std::sort(e, e + 4);
+      EXPECT_NEAR(quadFlatness(p[0], p[1], lifted, p[3], 1e-12),
+                  std::abs((p[1] - p[0]).dot(c)) / c.norm() / (0.5 * (e[0] + e[1])), 1e-9)
+          << "trial " << trial;
+    }
+  }
 }
 
 }  // namespace

@@ -29,9 +29,11 @@ struct CreaseEdge {
   /// Polyline crease this edge belongs to (an id of CreasePattern::curves, or any id ≥ 0 shared
   /// by the edges of one chain); −1 for an edge on no curve.
   int curve = -1;
-  /// Not drawn: a straight edge the import added (a bridge that joins an island to the sheet
-  /// around it, so that no face has a hole). Flat; the composite keeps it smooth, like a proposed
-  /// ruling.
+  /// Not a fold line: a straight edge the import added (a bridge that joins an island to the
+  /// sheet around it, so that no face has a hole), or an edge a composite keeps smooth (its
+  /// crease pattern marks its R edges labelled "smooth"). Flat; a composite built from the pattern
+  /// keeps it smooth, like a proposed ruling, and never makes it a free hinge. FOLD:
+  /// `edges_devsurf:smooth` (true/false per edge), written when any edge has it.
   bool proposed = false;
 };
 

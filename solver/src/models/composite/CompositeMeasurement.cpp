@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "CompositeModelState.h"
+#include "devsurf/metrics/PolygonFlatness.h"
 #include "devsurf/metrics/QuadFlatness.h"
 #include "devsurf/metrics/StripQuality.h"
 #include "devsurf/models/composite/CompositeModel.h"
@@ -29,6 +30,7 @@ namespace devsurf::models::composite {
 
 namespace {
 
+using metrics::polygonFlatness;
 using metrics::quadFlatness;
 
 /// π as a double (EIGEN_PI is a long double: the angle sums of a flat vertex would no longer
@@ -376,10 +378,8 @@ CompositeQuality CompositeModel::computeQuality(int samplesPerSpan) const {
     for (const std::vector<int>& poly : sampled.facePolygons[static_cast<std::size_t>(f)]) {
       const int N = static_cast<int>(poly.size());
       double delta = 0.0;
-      if (info.type == FaceType::Planar && N >= 4)  // every quadruple of consecutive corners
-        for (int i = 0; i < N; ++i)
-          delta = std::max(delta, quadFlatness(points[poly[i]], points[poly[(i + 1) % N]], points[poly[(i + 2) % N]],
-                                               points[poly[(i + 3) % N]], tiny));
+      if (info.type == FaceType::Planar)  // the corners against their least-squares plane
+        delta = polygonFlatness(points, poly, tiny);
       else if (N == 4)  // a(u_i), a(u_i+1), b(u_i+1), b(u_i)
         delta = quadFlatness(points[poly[0]], points[poly[1]], points[poly[2]], points[poly[3]], tiny);
       q.faceFlatnessMax = std::max(q.faceFlatnessMax, delta);

@@ -10,8 +10,10 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "devsurf/io/FoldImport.h"
+#include "devsurf/io/FoldWriter.h"
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/io/SvgImport.h"
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
@@ -160,6 +162,63 @@ TEST(CompositeIslands, AFoldFileWithAHoleWalledOffByBoundaryEdgesImportsWithoutI
   EXPECT_LT(model.developmentLengthError(), 1e-6);
 }
 
+TEST(CompositeIslands, AFlatSheetWithAHoleMeasuresFlatBeforeAndAfterItFolds) {
+  // 100 × 100, a valley at x = 50, a 15 × 20 hole right of it. The face around the hole runs
+  // (100,0), (85,40), (70,40), (70,60) through a bridge: four corners whose diagonals are
+  // parallel. face_flatness_max read 0.69 for the flat sheet (the distance between the parallel
+  // diagonals) and 0.073 once folded (nearly parallel: the distance is ill-conditioned), until
+  // planar faces were measured against their least-squares plane.
+  const std::string fold = R"({"file_spec": 1.2, "frame_classes": ["creasePattern"],
+    "vertices_coords": [[0,0],[100,0],[100,100],[0,100],[50,0],[50,100],[70,40],[85,40],[85,60],[70,60]],
+    "edges_vertices": [[0,4],[4,1],[1,2],[2,5],[5,3],[3,0],[4,5],[6,7],[7,8],[8,9],[9,6]],
+    "edges_assignment": ["B","B","B","B","B","B","V","B","B","B","B"],
+    "edges_foldAngle": [0,0,0,0,0,0,60,0,0,0,0]})";
+  const io::FoldImport imported = io::importFoldText(fold);
+  const CreasePatternComposite c = compositeFromCreasePattern(imported.pattern);
+  CompositeModel model(c.design);
+  EXPECT_EQ(model.quality().faceFlatnessMax, 0.0);
+  foldInStages(model, 3, 40);
+  const auto [valley, mountain] = measuredValleyAndMountain(model);
+  EXPECT_NEAR(valley, 60.0, 0.5);
+  EXPECT_NEAR(mountain, 0.0, 0.5);
+  EXPECT_LT(model.quality().faceFlatnessMax, 1e-6);
+}
+
+TEST(CompositeIslands, ASheetWithAHoleReadBackFromItsFoldExportKeepsItsBridgesSmooth) {
+  // The pattern of the test above. Its FOLD export marks the bridges (R edges kept smooth) in
+  // edges_devsurf:smooth; read back, they were flat edges whose faces cannot merge (they enclose
+  // the hole), so they became hinges that fold freely.
+  const std::string fold = R"({"file_spec": 1.2, "frame_classes": ["creasePattern"],
+    "vertices_coords": [[0,0],[100,0],[100,100],[0,100],[50,0],[50,100],[70,40],[85,40],[85,60],[70,60]],
+    "edges_vertices": [[0,4],[4,1],[1,2],[2,5],[5,3],[3,0],[4,5],[6,7],[7,8],[8,9],[9,6]],
+    "edges_assignment": ["B","B","B","B","B","B","V","B","B","B","B"],
+    "edges_foldAngle": [0,0,0,0,0,0,60,0,0,0,0]})";
+  CompositeModel model(compositeFromCreasePattern(io::importFoldText(fold).pattern).design);
+  for (const bool folded : {false, true}) {
+    SCOPED_TRACE(folded ? "folded" : "flat");
+    if (folded) foldInStages(model, 3, 40);
+    const std::string exported = io::foldString(model.creasePattern("hole"));
+    const nlohmann::json document = nlohmann::json::parse(exported);
+    ASSERT_TRUE(document.contains("edges_devsurf:smooth"));
+    int marked = 0;
+    for (const auto& v : document["edges_devsurf:smooth"]) marked += v.get<bool>() ? 1 : 0;
+    EXPECT_EQ(marked, 2);  // the two bridges, each one sampled edge
+
+    const io::FoldImport back = io::importFoldText(exported);
+    EXPECT_FALSE(notedWith(back.notes, "flat-folded")) << "the flat sheet is not a flat-folded form";
+    int proposed = 0;
+    for (const io::CreaseEdge& e : back.pattern.edges) proposed += e.proposed ? 1 : 0;
+    EXPECT_EQ(proposed, 2);
+    const CreasePatternComposite again = compositeFromCreasePattern(back.pattern);
+    EXPECT_FALSE(notedWith(again.notes, "folds freely"));
+    int smooth = 0;
+    for (std::size_t e = 0; e < back.pattern.edges.size(); ++e)
+      if (back.pattern.edges[e].proposed && again.designEdgeOf[e] >= 0)
+        smooth += again.design.edges[static_cast<std::size_t>(again.designEdgeOf[e])].crease == CreaseKind::Smooth ? 1 : 0;
+    EXPECT_EQ(smooth, 2);
+  }
+}
+
 TEST(CompositeIslands, AHoleBesideACurvedCreaseFoldsWithItsSheet) {
   // A valley arc across a 200 × 150 mm sheet and a round hole below it.
   const io::SvgImport svg = io::importSvgText(islandSheetSvg(
@@ -285,6 +344,7 @@ TEST(CompositeIslandsProperty, RandomSheetsWithAHoleImportWithoutIt) {
     ASSERT_NO_THROW(CompositeTopology topology(c.design));
     CompositeModel model(c.design);
     EXPECT_LT(model.developmentLengthError(), 1e-4);
+    EXPECT_LT(model.quality().faceFlatnessMax, 1e-9);  // the sheet as imported lies flat
     // The model's curves are splines fitted to the sampled strokes (6–8 control points a side): a
     // round hole's arcs come out up to 3 % smaller in area (measured 2.7 % at most here); with a
     // square hole only the creases' chords count (measured 0.004 mm² at most).

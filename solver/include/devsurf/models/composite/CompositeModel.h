@@ -137,8 +137,10 @@ struct CompositeGeometry {
 /// samples along shared edges are shared.
 struct CompositeQuality {
   double faceFlatnessMax = 0.0;    ///< [face_flatness_max] δ = distance of the diagonals' lines /
-                                   ///< mean of the two shortest edges, per quad (planar N-gons:
-                                   ///< max over quadruples of consecutive corners); triangles 0
+                                   ///< mean of the two shortest edges, per quad; planar faces:
+                                   ///< largest distance of a corner from their least-squares
+                                   ///< plane / mean of their two shortest edges
+                                   ///< (metrics::polygonFlatness); triangles 0
   double faceFlatnessMean = 0.0;   ///< [face_flatness_mean]
   double vertexCurvatureMax = 0.0; ///< [vertex_curvature_max] |angle sum − 2π| at interior vertices (rad)
   double creaseFoldResidualMax = 0.0;  ///< [crease_fold_residual_max] max over the samples of
@@ -286,8 +288,9 @@ class CompositeModel {
   Eigen::MatrixX2d unfoldedDevelopment() const;
   /// The crease pattern of the development: vertices2d/vertices3d of development(), edges =
   /// sampled edges (boundary B; interior S edges and R edges M/V by the sign of their fold angle
-  /// per segment (creases(samples)), F when |angle| < 1e-6° or the edge is labelled "smooth";
-  /// seam edges B; sampled rulings inside faces F),
+  /// per segment (creases(samples)), F when |angle| < 1e-6° or the edge is labelled "smooth"
+  /// (and then CreaseEdge::proposed: read back, it stays smooth); seam edges B; sampled rulings
+  /// inside faces F),
   /// faces = polygons, rulings = the sampled interior rulings, curves = every S edge (id = edge
   /// index).
   /// @throws std::logic_error without a development
