@@ -408,26 +408,31 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
           for (int k : piecesAt[static_cast<std::size_t>(piece[c.t == 0.0 ? 0 : 1])]) allowed.push_back(k);
         // A bridge leaves its island and meets what it ends on at 10° or more to every piece there:
         // one running on along a side would give its face a straight angle at the bridge's foot,
-        // one grazing a piece a sliver of a face.
+        // one grazing a piece a sliver of a face. `leaving`: the new bridge's direction away from
+        // the point the piece is at.
         const Eigen::Vector2d along = (end - points[c.from]).normalized();
         const double minSine = std::sin(10.0 * M_PI / 180.0);
-        const auto grazes = [&points, &pieces, &alive, &isBridge, &along, minSine](const Eigen::Vector2d& at, int k) {
-          // Running on along an earlier bridge is what the preference for their ends is for.
-          if (!alive[static_cast<std::size_t>(k)] || isBridge[static_cast<std::size_t>(k)]) return false;
+        const auto grazes = [&points, &pieces, &alive, &isBridge, minSine](const Eigen::Vector2d& at, int k,
+                                                                           const Eigen::Vector2d& leaving) {
+          if (!alive[static_cast<std::size_t>(k)]) return false;
           const auto& ends = pieces[static_cast<std::size_t>(k)];
           const Eigen::Vector2d away = (points[ends[0]] - at).squaredNorm() >= (points[ends[1]] - at).squaredNorm()
                                            ? Eigen::Vector2d(points[ends[0]] - at)
                                            : Eigen::Vector2d(points[ends[1]] - at);
           const Eigen::Vector2d u = away.normalized();
-          return std::abs(u.x() * along.y() - u.y() * along.x()) < minSine;
+          const bool narrow = std::abs(u.x() * leaving.y() - u.y() * leaving.x()) < minSine;
+          // Running on through an earlier bridge (nearly straight on) is what the preference for
+          // their ends is for; leaving beside it, nearly along it, cuts a sliver between the two.
+          if (isBridge[static_cast<std::size_t>(k)]) return narrow && u.dot(leaving) > 0.0;
+          return narrow;
         };
         bool steep = true;
-        for (int k : piecesAt[static_cast<std::size_t>(c.from)]) steep = steep && !grazes(points[c.from], k);
+        for (int k : piecesAt[static_cast<std::size_t>(c.from)]) steep = steep && !grazes(points[c.from], k, along);
         if (c.t == 0.0 || c.t == 1.0) {
           const int at = piece[c.t == 0.0 ? 0 : 1];
-          for (int k : piecesAt[static_cast<std::size_t>(at)]) steep = steep && !grazes(points[at], k);
+          for (int k : piecesAt[static_cast<std::size_t>(at)]) steep = steep && !grazes(points[at], k, -along);
         } else {
-          steep = steep && !grazes(end, c.piece);
+          steep = steep && !grazes(end, c.piece, -along);
         }
         if (steep && !blocked(points[c.from], end, allowed)) return c;
       }

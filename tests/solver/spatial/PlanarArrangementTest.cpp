@@ -188,6 +188,29 @@ void expectBridgesCrossNothing(const PlanarArrangement& a) {
   }
 }
 
+/// Every bridge meets every other segment at its two ends at 10° or more (less makes a sliver of
+/// a face between them). Two bridges may run on into each other (an angle near 180°).
+void expectBridgesMeetOtherSegmentsSteeply(const PlanarArrangement& a) {
+  const double minSine = std::sin(10.0 * M_PI / 180.0) - 1e-9;
+  for (int b : a.bridges) {
+    const auto& bridge = a.segments[static_cast<std::size_t>(b)];
+    for (int side = 0; side < 2; ++side) {
+      const int at = bridge[static_cast<std::size_t>(side)];
+      const Eigen::Vector2d p = a.points.row(at);
+      const Eigen::Vector2d u = (Eigen::Vector2d(a.points.row(bridge[static_cast<std::size_t>(1 - side)])) - p).normalized();
+      for (std::size_t k = 0; k < a.segments.size(); ++k) {
+        if (static_cast<int>(k) == b || (a.segments[k][0] != at && a.segments[k][1] != at)) continue;
+        const int other = a.segments[k][0] == at ? a.segments[k][1] : a.segments[k][0];
+        const Eigen::Vector2d v = (Eigen::Vector2d(a.points.row(other)) - p).normalized();
+        const double sine = std::abs(u.x() * v.y() - u.y() * v.x());
+        EXPECT_TRUE(sine >= minSine || u.dot(v) < 0.0)
+            << "bridge " << b << " and segment " << k << " leave point " << at << " at "
+            << std::atan2(sine, u.dot(v)) * 180.0 / M_PI << "°";
+      }
+    }
+  }
+}
+
 long eulerCharacteristicOfBoundedFaces(const PlanarArrangement& a) {
   std::vector<bool> usedPoint(static_cast<std::size_t>(a.points.rows()), false);
   for (const auto& s : a.segments) usedPoint[static_cast<std::size_t>(s[0])] = usedPoint[static_cast<std::size_t>(s[1])] = true;
@@ -229,6 +252,25 @@ TEST(PlanarArrangementBridges, AnIslandInsideTheSheetIsJoinedByTwoBridgesThatCro
   EXPECT_NEAR(std::hypot(bridgeEnds[1][2] - 2, bridgeEnds[1][3] - 2), std::sqrt(8.0), 1e-12);
   // Without bridging the island is left out, as before.
   EXPECT_EQ(planarArrangement(p, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}}).islands, 1);
+}
+
+TEST(PlanarArrangementBridges, ABridgeDoesNotEndBesideAnEarlierOneAtASmallAngle) {
+  // A 200 × 100 sheet; island A, a square above the bottom edge, is bridged first, corner to
+  // corner: (105, 20) to the sheet's corner (200, 0). Island B, a 2 × 2 square just above that
+  // bridge, was bridged to both its ends (ends of earlier bridges are preferred): 5.5° beside it
+  // at (200, 0) and 1.6° at (105, 20), two slivers of a face.
+  std::vector<std::array<double, 2>> pts{{0, 0}, {200, 0}, {200, 100}, {0, 100},
+                                         {95, 20}, {105, 20}, {105, 30}, {95, 30},
+                                         {190, 2.5}, {192, 2.5}, {192, 4.5}, {190, 4.5}};
+  std::vector<std::array<int, 2>> segments{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6},
+                                           {6, 7}, {7, 4}, {8, 9}, {9, 10}, {10, 11}, {11, 8}};
+  const PlanarArrangement a = planarArrangement(arrangementPointRows(pts), segments, bridging());
+  EXPECT_EQ(a.islands, 0);
+  EXPECT_EQ(a.bridgedIslands, 2);
+  EXPECT_EQ(eulerCharacteristicOfBoundedFaces(a), 1);
+  expectFacesCloseUp(a);
+  expectBridgesCrossNothing(a);
+  expectBridgesMeetOtherSegmentsSteeply(a);
 }
 
 TEST(PlanarArrangementBridges, NestedIslandsAreJoinedAlongOneLineOfBridges) {
@@ -329,6 +371,7 @@ TEST(PlanarArrangementBridges, RandomIslandsAreAllBridgedAndTheFacesStillTileThe
     EXPECT_EQ(eulerCharacteristicOfBoundedFaces(a), 1);
     expectFacesCloseUp(a);
     expectBridgesCrossNothing(a);
+    expectBridgesMeetOtherSegmentsSteeply(a);
     for (const auto& f : a.faces) EXPECT_GT(loopSignedArea2(a.points, f), 0.0);
     bridged += a.bridgedIslands;
   }
