@@ -68,7 +68,8 @@ inline double objEdgeLengthError(const ObjMesh& mesh, const ObjMesh& unfolding) 
 }
 
 /// Tang et al. 2016 Fig. 17 face flatness of one quad: distance of the lines of its diagonals over
-/// the mean of its two shortest edges; 0 for a quad with a (near) zero-length edge (a triangle).
+/// the mean of its two shortest edges; 0 for a quad with a (near) zero-length edge (a triangle) or
+/// parallel diagonals (two parallel lines share a plane).
 inline double quadFlatness(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
                            const Eigen::Vector3d& p3) {
   std::array<double, 4> edges = {(p1 - p0).norm(), (p2 - p1).norm(), (p3 - p2).norm(), (p0 - p3).norm()};
@@ -77,10 +78,8 @@ inline double quadFlatness(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
   if (edges[0] <= 1e-12 * edges[3] || scale <= 0.0) return 0.0;
   const Eigen::Vector3d u = p2 - p0, v = p3 - p1, w = p1 - p0;
   const Eigen::Vector3d n = u.cross(v);
-  double distance;
-  if (n.norm() <= 1e-14 * u.norm() * v.norm()) distance = w.cross(u).norm() / u.norm();  // parallel diagonals
-  else distance = std::abs(w.dot(n)) / n.norm();
-  return distance / scale;
+  if (n.norm() <= 1e-14 * u.norm() * v.norm()) return 0.0;  // parallel diagonals: in one plane
+  return std::abs(w.dot(n)) / n.norm() / scale;
 }
 
 struct FlatnessStats {

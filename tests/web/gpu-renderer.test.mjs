@@ -16,14 +16,28 @@ for (const file of fs.readdirSync(h.EXAMPLES).filter((f) => f.endsWith('.json'))
 }
 const ctx = h.useDaemonAndBrowser('gpu-renderer', { demos: [...firstOfKind.values()] });
 
-/** UNMASKED_RENDERER_WEBGL answered as a discrete GPU's driver answers it (both WebGL versions). */
+/**
+ * UNMASKED_RENDERER_WEBGL answered as a discrete GPU's driver answers it (both WebGL versions);
+ * contexts given up through WEBGL_lose_context are counted in window.__contextsLost.
+ */
 function pretendHardwareGPU() {
   const UNMASKED_RENDERER_WEBGL = 0x9246;
+  window.__contextsLost = 0;
   for (const proto of [WebGLRenderingContext.prototype, WebGL2RenderingContext.prototype]) {
     const getParameter = proto.getParameter;
     proto.getParameter = function patched(p) {
       if (p === UNMASKED_RENDERER_WEBGL) return 'ANGLE (NVIDIA Corporation, NVIDIA GeForce RTX 3060/PCIe/SSE2, OpenGL 4.5.0)';
       return getParameter.call(this, p);
+    };
+    const getExtension = proto.getExtension;
+    proto.getExtension = function patchedExtension(name) {
+      const extension = getExtension.call(this, name);
+      if (name === 'WEBGL_lose_context' && extension && !extension.__counted) {
+        const loseContext = extension.loseContext.bind(extension);
+        extension.loseContext = () => { window.__contextsLost += 1; loseContext(); };
+        extension.__counted = true;
+      }
+      return extension;
     };
   }
 }
@@ -44,6 +58,7 @@ test('told it runs on a hardware GPU, the editor draws every kind of demo with a
         const context = view.renderer.getContext();
         return {
           softwareGL: view.softwareGL,
+          contextsLost: window.__contextsLost,
           antialias: context.getContextAttributes().antialias,
           lost: context.isContextLost(),
           canvases: document.querySelectorAll('[data-testid="viewport"] canvas').length,
@@ -52,6 +67,7 @@ test('told it runs on a hardware GPU, the editor draws every kind of demo with a
       });
       assert.equal(gl.softwareGL, false, `${kind}: the editor believes the GPU`);
       assert.equal(gl.antialias, true, `${kind}: the hardware path asks for antialiasing`);
+      assert.equal(gl.contextsLost, 1, `${kind}: the probe context was given up, once`);
       assert.equal(gl.lost, false, `${kind}: the renderer's own context is live (only the probe's was lost)`);
       assert.equal(gl.canvases, 1, `${kind}: one canvas in the view`);
       assert.ok(gl.ownCanvas, `${kind}: the canvas shown is the renderer's`);

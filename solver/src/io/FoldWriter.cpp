@@ -258,7 +258,8 @@ CreasePattern readFoldDocument(const json& doc) {
     if (es.size() != ev.size()) bad(std::string(kSmoothKey) + " and edges_vertices differ in length");
     for (std::size_t e = 0; e < es.size(); ++e) {
       if (!es[e].is_boolean() && !es[e].is_null()) bad(std::string(kSmoothKey) + " entry is not true, false or null");
-      p.edges[e].proposed = es[e].is_boolean() && es[e].get<bool>();
+      // As the import reads it: smooth means something on a flat edge only.
+      p.edges[e].proposed = es[e].is_boolean() && es[e].get<bool>() && p.edges[e].assignment == EdgeAssignment::Flat;
     }
   }
   if (doc.contains("faces_vertices")) {

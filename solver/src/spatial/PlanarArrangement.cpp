@@ -326,6 +326,10 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
     // one of its 96 shortest can be blocked by a point's rounding), their tests counted as work.
     constexpr std::size_t kFirstTried = 96;
     std::size_t maxTried = kFirstTried;
+    // Whether a bridge may leave or end beside an earlier bridge (a sliver between the two): only
+    // in a final round, for islands that have no other way out (better a sliver than a hole the
+    // import leaves out).
+    bool besideBridges = false;
     // The shortest bridge from the loop's points (those `from` allows) to a joined piece that
     // crosses nothing, ending farther than the tolerance from `notAt`; nullopt when none fits.
     const auto shortestBridge = [&](const std::vector<int>& loop, const std::function<bool(std::size_t)>& from,
@@ -412,9 +416,9 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
         // the point the piece is at.
         const Eigen::Vector2d along = (end - points[c.from]).normalized();
         const double minSine = std::sin(10.0 * M_PI / 180.0);
-        const auto grazes = [&points, &pieces, &alive, &isBridge, minSine](const Eigen::Vector2d& at, int k,
-                                                                           const Eigen::Vector2d& leaving) {
-          if (!alive[static_cast<std::size_t>(k)]) return false;
+        const auto grazes = [&points, &pieces, &alive, &isBridge, &besideBridges, minSine](
+                                const Eigen::Vector2d& at, int k, const Eigen::Vector2d& leaving) {
+          if (!alive[static_cast<std::size_t>(k)] || (besideBridges && isBridge[static_cast<std::size_t>(k)])) return false;
           const auto& ends = pieces[static_cast<std::size_t>(k)];
           const Eigen::Vector2d away = (points[ends[0]] - at).squaredNorm() >= (points[ends[1]] - at).squaredNorm()
                                            ? Eigen::Vector2d(points[ends[0]] - at)
@@ -521,6 +525,9 @@ PlanarArrangement planarArrangement(const Eigen::MatrixX2d& inputPoints, const s
       // Nothing more joined with the shortest candidates: a last round with all of them.
       if (!progress && maxTried == kFirstTried && std::find(done.begin(), done.end(), false) != done.end()) {
         maxTried = std::numeric_limits<std::size_t>::max();
+        progress = true;
+      } else if (!progress && !besideBridges && std::find(done.begin(), done.end(), false) != done.end()) {
+        besideBridges = true;  // and, failing that, beside earlier bridges too
         progress = true;
       }
     }

@@ -245,6 +245,38 @@ TEST(FoldWriter, CurveDataRoundTripsThroughTheNamespacedKeys) {
   EXPECT_TRUE(back.rulings.isApprox(p.rulings, 1e-15));
 }
 
+TEST(FoldWriter, SmoothEdgesRoundTripOnFlatEdgesOnly) {
+  // The shared diagonal flat and smooth: written as true, read back as proposed.
+  CreasePattern p = twoTriangles(EdgeAssignment::Flat, 0.0);
+  p.vertices3d.row(3) << 2, 0, 0;
+  p.edges[4].proposed = true;
+  const json doc = foldDocument(p);
+  ASSERT_TRUE(doc.contains("edges_devsurf:smooth"));
+  EXPECT_EQ(doc["edges_devsurf:smooth"], json({false, false, false, false, true}));
+  EXPECT_TRUE(parseFold(foldString(p)).edges[4].proposed);
+  // No edge smooth: no key.
+  EXPECT_FALSE(foldDocument(twoTriangles()).contains("edges_devsurf:smooth"));
+  // A valley marked smooth is read as the valley it is.
+  json valley = foldDocument(twoTriangles());
+  valley["edges_devsurf:smooth"] = {false, false, false, false, true};
+  EXPECT_FALSE(readFoldDocument(valley).edges[4].proposed);
+  // Entries that are not booleans, and arrays of another length, are refused naming the key.
+  json bad = doc;
+  bad["edges_devsurf:smooth"][1] = "yes";
+  EXPECT_THROW(
+      {
+        try {
+          readFoldDocument(bad);
+        } catch (const std::invalid_argument& e) {
+          EXPECT_NE(std::string(e.what()).find("edges_devsurf:smooth"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      std::invalid_argument);
+  bad["edges_devsurf:smooth"] = {true};
+  EXPECT_THROW(readFoldDocument(bad), std::invalid_argument);
+}
+
 TEST(FoldWriter, FoldAnglesAreMeasuredFromTheFoldedStateWhenNotGiven) {
   const json valley = foldDocument(twoTriangles(EdgeAssignment::Valley, std::nullopt));
   EXPECT_NEAR(valley["edges_foldAngle"][4].get<double>(), 90.0, 1e-12);

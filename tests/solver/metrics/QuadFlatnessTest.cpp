@@ -39,6 +39,23 @@ TEST(QuadFlatness, IsZeroForFourCornersOfAFlatPolygonWhoseDiagonalsAreParallel) 
   EXPECT_EQ(quadFlatness({100, 0, 0}, {85, 40, 0}, {70, 40, 0}, {70, 60, 0}, 1e-12), 0.0);
 }
 
+TEST(QuadFlatness, IsZeroForSmallQuadsWithParallelDiagonalsFarFromTheOrigin) {
+  // Corners ~1000 from the origin, diagonals ~1e-3 long: their differences carry rounding errors
+  // ~1e-13, which turn an exact cross product of zero into a tiny one in a random direction.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 500; ++trial) {
+    const Eigen::Vector3d origin(1000.0 + u(rng), -1000.0 + u(rng), 1000.0 + u(rng));
+    const Eigen::Vector3d e1 = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const Eigen::Vector3d e2 = e1.cross(Eigen::Vector3d(u(rng), u(rng), u(rng))).normalized();
+    const double h = 1e-3;
+    const Eigen::Vector3d v = h * (u(rng) * e1 + u(rng) * e2);
+    const Eigen::Vector3d p0 = origin + h * (u(rng) * e1 + u(rng) * e2), p1 = origin + h * (u(rng) * e1 + u(rng) * e2);
+    const Eigen::Vector3d p2 = p0 + (1.0 + 0.5 * u(rng)) * v, p3 = p1 + (1.0 + 0.5 * u(rng)) * v;
+    EXPECT_LT(quadFlatness(p0, p1, p2, p3, 1e-15), 1e-6) << "trial " << trial;
+  }
+}
+
 TEST(QuadFlatness, IsZeroUpToRoundingForRandomCoplanarCornersAndTheDiagonalDistanceForALiftedOne) {
   std::mt19937 rng(20261205);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -212,6 +212,7 @@ export class Viewport {
 
     this._loop = this._loop.bind(this);
     this._raf = null;
+    this.disposed = false;
     this.requestRender();
   }
 
@@ -430,7 +431,7 @@ export class Viewport {
    */
   requestRender() {
     this.dirty = true;
-    if (this._raf === null) this._raf = requestAnimationFrame(this._loop);
+    if (this._raf === null && !this.disposed) this._raf = requestAnimationFrame(this._loop);
   }
 
   _loop() {
@@ -712,6 +713,7 @@ export class Viewport {
   }
 
   dispose() {
+    this.disposed = true;  // no frames after this, whoever asks
     if (this._raf !== null) cancelAnimationFrame(this._raf);
     this._raf = null;
     this._resizeObserver.disconnect();

@@ -661,7 +661,9 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
           ce.assignment = io::EdgeAssignment::Boundary;
         } else if (design_.edges[static_cast<std::size_t>(p.edge)].crease == CreaseKind::Smooth) {
           ce.assignment = io::EdgeAssignment::Flat;  // one tangent plane on both sides: not a fold
-          ce.proposed = true;                        // and kept so when the pattern is read back
+          // A straight one (R) is kept so when the pattern is read back (CreaseEdge::proposed);
+          // a smooth curve (S) keeps its curve id instead.
+          ce.proposed = p.kind == PairKind::Ruling;
         } else {
           const Eigen::VectorXd& a = it->second;
           const int s = p.kind == PairKind::Spline ? p.segment : 0;

@@ -95,7 +95,15 @@ CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern,
   std::iota(group.begin(), group.end(), 0);
   std::vector<std::vector<int>> members(faceCount);
   for (int f = 0; f < faceCount; ++f) members[f] = {f};
-  for (std::size_t e = 0; e < pattern.edges.size(); ++e) {
+  // Drawn flat edges first, then the proposed ones (bridges, edges marked smooth): around a hole
+  // some edges cannot merge, and those are best the proposed ones, which stay smooth, rather than
+  // drawn ones, which would be left to fold freely.
+  std::vector<std::size_t> mergeOrder(pattern.edges.size());
+  std::iota(mergeOrder.begin(), mergeOrder.end(), std::size_t{0});
+  std::stable_partition(mergeOrder.begin(), mergeOrder.end(),
+                        [&pattern](std::size_t e) { return !pattern.edges[e].proposed; });
+  std::vector<bool> keptAsFold(pattern.edges.size(), false);
+  for (const std::size_t e : mergeOrder) {
     const io::CreaseEdge& edge = pattern.edges[e];
     if (edge.assignment != io::EdgeAssignment::Flat) continue;
     const auto sides = facesOfPair.find(std::minmax(edge.v0, edge.v1));
@@ -104,6 +112,7 @@ CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern,
     if (measured[e] && std::abs(*measured[e]) >= 1.0) {
       result.notes.push_back({element, "flat (F) but folded by " + std::to_string(*measured[e]) +
                                            "° in the folded state; kept as a fold"});
+      keptAsFold[e] = true;
       continue;
     }
     const int a = findGroup(group, sides->second[0]), b = findGroup(group, sides->second[1]);
@@ -182,8 +191,11 @@ CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern,
   }
   // A bridge the import proposed to an island stays smooth: the faces on its two sides are one
   // piece of the sheet.
+  // (Not one the folded state folds: that one was kept as a fold, and a smooth label would force
+  // its two faces into one plane.)
   for (std::size_t e = 0; e < pattern.edges.size(); ++e)
-    if (pattern.edges[e].proposed && result.designEdgeOf[e] >= 0)
+    if (pattern.edges[e].proposed && pattern.edges[e].assignment == io::EdgeAssignment::Flat && !keptAsFold[e] &&
+        result.designEdgeOf[e] >= 0)
       d.edges[static_cast<std::size_t>(result.designEdgeOf[e])].crease = CreaseKind::Smooth;
   double largestArea = -1.0;
   int largestFace = 0;

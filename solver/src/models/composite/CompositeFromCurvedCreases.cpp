@@ -80,6 +80,10 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   const double diagonal = (pattern.vertices2d.colwise().maxCoeff() - pattern.vertices2d.colwise().minCoeff()).norm();
   const double eps = 1e-9 * std::max(diagonal, 1.0);
 
+  // A straight edge the import proposed (a bridge to an island) or one a FOLD file marks smooth:
+  // a ruling this import proposes, not a drawn crease. A marked edge on a curve stays a curve.
+  const auto isBridge = [](const io::CreaseEdge& edge) { return edge.proposed && edge.curve < 0; };
+
   // The graph of the edges the faces use; chains that are curved.
   CurvedGraph g(pattern);
   std::map<std::pair<int, int>, int> faceCount;
@@ -89,7 +93,7 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   for (std::size_t e = 0; e < pattern.edges.size(); ++e) {
     const io::CreaseEdge& edge = pattern.edges[e];
     const auto key = std::minmax(edge.v0, edge.v1);
-    if (edge.proposed || !faceCount.count(key) || g.edgeBetween(edge.v0, edge.v1) >= 0) continue;
+    if (isBridge(edge) || !faceCount.count(key) || g.edgeBetween(edge.v0, edge.v1) >= 0) continue;
     g.addEdge(edge.v0, edge.v1, edge.curve, faceCount[key] == 2, static_cast<int>(e));
     if (edge.curve >= 0) {
       verticesOfChain[edge.curve].push_back(edge.v0);
@@ -100,7 +104,7 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   // added below).
   std::set<std::pair<int, int>> bridges;
   for (const io::CreaseEdge& edge : pattern.edges)
-    if (edge.proposed) bridges.insert(std::minmax(edge.v0, edge.v1));
+    if (isBridge(edge)) bridges.insert(std::minmax(edge.v0, edge.v1));
   for (const auto& [key, count] : faceCount)
     if (g.edgeBetween(key.first, key.second) < 0 && !bridges.count(key)) g.addEdge(key.first, key.second, -1, count == 2, -1);
   for (const auto& [id, vs] : verticesOfChain) {

@@ -5,6 +5,7 @@
 // from face normals (io::measuredFoldAngles), not from the hinge term the slider pulls with.
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -236,6 +237,24 @@ TEST(CompositeIslands, AHoleBesideACurvedCreaseFoldsWithItsSheet) {
   // their rulings on it, so the sheet bends in a ruling field the hole imposes.
   EXPECT_LT(model.developmentLengthError(), 3e-3);
   EXPECT_LT(model.quality().warpAngleMaxDeg, 1.0);
+
+  // Its FOLD export read back: the smooth rulings between bent strips show the sampled quads'
+  // angle in the folded frame. Those are kept as folds (noted so), not labelled smooth, which
+  // would force their two planar faces into one plane.
+  const io::FoldImport back = io::importFoldText(io::foldString(model.creasePattern("hole")));
+  const std::vector<std::optional<double>> measured = io::measuredFoldAngles(back.pattern);
+  const CreasePatternComposite again = compositeFromCreasePattern(back.pattern);
+  int marked = 0, bent = 0;
+  for (std::size_t e = 0; e < back.pattern.edges.size(); ++e) {
+    if (!back.pattern.edges[e].proposed || again.designEdgeOf[e] < 0) continue;
+    ++marked;
+    if (!measured[e] || std::abs(*measured[e]) < 1.0) continue;
+    ++bent;
+    EXPECT_NE(again.design.edges[static_cast<std::size_t>(again.designEdgeOf[e])].crease, CreaseKind::Smooth)
+        << "edges[" << e << "] folded by " << *measured[e] << "°";
+  }
+  EXPECT_GT(marked, 0);
+  EXPECT_GT(bent, 0);
 }
 
 TEST(CompositeIslands, ConcentricCreasesAroundAHoleAreJoinedByRadialRulingsIntoStrips) {

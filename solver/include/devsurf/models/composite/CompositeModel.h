@@ -157,7 +157,7 @@ struct CompositeQuality {
   /// Per composite vertex: |angle sum − 2π| (rad) on the auxiliary mesh, 0 at boundary vertices
   /// (for colouring).
   std::vector<double> vertexCurvature;
-  /// Per face: the largest δ of its quads (planar faces: of their corner quadruples).
+  /// Per face: the largest δ of its quads (planar faces: metrics::polygonFlatness of the face).
   std::vector<double> faceFlatness;
 };
 
