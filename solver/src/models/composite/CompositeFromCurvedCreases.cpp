@@ -31,6 +31,22 @@ namespace {
 constexpr int kMinControlPoints = 6;
 constexpr int kMinDevelopmentSamples = 4;
 
+/// The two loops a chord between the loop's vertices a and b cuts it into: a … b and b … a.
+std::pair<std::vector<int>, std::vector<int>> splitLoop(const std::vector<int>& loop, int a, int b) {
+  const auto ia = static_cast<std::size_t>(std::find(loop.begin(), loop.end(), a) - loop.begin());
+  const auto ib = static_cast<std::size_t>(std::find(loop.begin(), loop.end(), b) - loop.begin());
+  std::vector<int> one, two;
+  for (std::size_t k = ia;; k = (k + 1) % loop.size()) {
+    one.push_back(loop[k]);
+    if (k == ib) break;
+  }
+  for (std::size_t k = ib;; k = (k + 1) % loop.size()) {
+    two.push_back(loop[k]);
+    if (k == ia) break;
+  }
+  return {std::move(one), std::move(two)};
+}
+
 }  // namespace
 
 using curved::ChainPolyline;
@@ -140,21 +156,39 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
       throw std::invalid_argument("crease pattern: more than " + std::to_string(maxRulings) +
                                   " rulings proposed without a valid layout; simplify the curved creases");
     g.addEdge(a, b, kChordChain, true, -1);
-    const std::vector<int>& loop = loops[f];
-    const auto ia = static_cast<std::size_t>(std::find(loop.begin(), loop.end(), a) - loop.begin());
-    const auto ib = static_cast<std::size_t>(std::find(loop.begin(), loop.end(), b) - loop.begin());
-    std::vector<int> one, two;
-    for (std::size_t k = ia;; k = (k + 1) % loop.size()) {
-      one.push_back(loop[k]);
-      if (k == ib) break;
-    }
-    for (std::size_t k = ib;; k = (k + 1) % loop.size()) {
-      two.push_back(loop[k]);
-      if (k == ia) break;
-    }
+    auto [one, two] = splitLoop(loops[f], a, b);
     loops[f] = std::move(one);
     loops.push_back(std::move(two));
     originOf.push_back(originOf[f]);
+  };
+  // A face with no ruling layout may still split into faces that have one: a straight ruling
+  // between two of its corners (a hole beside a straight crease leaves S R R R — its arc, two
+  // bridges and the crease — which a ruling from one bridge's foot on the hole to the other's on
+  // the crease cuts into a cone S R R and a planar triangle). The shortest such chord, or nullopt.
+  const auto chordIntoLayouts = [&g, &loops, eps](std::size_t f,
+                                                  const std::vector<Side>& sides) -> std::optional<std::pair<int, int>> {
+    std::vector<std::pair<double, std::pair<int, int>>> chords;
+    for (std::size_t i = 0; i < sides.size(); ++i)
+      for (std::size_t j = i + 1; j < sides.size(); ++j) {
+        const int a = sides[i].vertices.front(), b = sides[j].vertices.front();
+        if (g.edgeBetween(a, b) >= 0) continue;
+        chords.push_back({(g.at(a) - g.at(b)).norm(), {a, b}});
+      }
+    std::sort(chords.begin(), chords.end());
+    for (const auto& [length, chord] : chords) {
+      if (!chordFits(g, loops[f], chord.first, chord.second, eps)) continue;
+      curved::CurvedGraph trial = g;
+      trial.addEdge(chord.first, chord.second, kChordChain, true, -1);
+      const auto [one, two] = splitLoop(loops[f], chord.first, chord.second);
+      const auto hasLayout = [&trial](const std::vector<int>& loop) {
+        const std::vector<Side> parts = sidesOf(trial, loop);
+        if (parts.empty()) return false;
+        const bool curved = std::any_of(parts.begin(), parts.end(), [](const Side& s) { return s.kind == SideKind::Curve; });
+        return !curved || bestLayout(parts).has_value();  // a planar face, or a strip or cone
+      };
+      if (hasLayout(one) && hasLayout(two)) return chord;
+    }
+    return std::nullopt;
   };
   // The two chains of a face's layout, side by side from its first ruling to its second.
   const auto chainsOf = [&g](const std::vector<Side>& sides, const Layout& layout) {
@@ -178,6 +212,13 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
         if (!curved) continue;
         const std::optional<Layout> layout = bestLayout(sides);
         const bool allCurved = std::all_of(sides.begin(), sides.end(), [](const Side& s) { return s.kind == SideKind::Curve; });
+        if (!layout && !allCurved) {
+          if (const auto chord = chordIntoLayouts(f, sides)) {
+            splitFace(f, chord->first, chord->second);
+            changed = true;
+            continue;
+          }
+        }
         if (!layout && allCurved)
           throw std::invalid_argument(faceName(f) + ": inside a closed curved crease with no straight crease in it, and "
                                                     "every face needs straight ends between its curved sides (S R S R, "
