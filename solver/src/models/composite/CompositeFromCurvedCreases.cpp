@@ -175,18 +175,34 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
         chords.push_back({(g.at(a) - g.at(b)).norm(), {a, b}});
       }
     std::sort(chords.begin(), chords.end());
-    for (const auto& [length, chord] : chords) {
-      if (!chordFits(g, loops[f], chord.first, chord.second, eps)) continue;
-      curved::CurvedGraph trial = g;
-      trial.addEdge(chord.first, chord.second, kChordChain, true, -1);
-      const auto [one, two] = splitLoop(loops[f], chord.first, chord.second);
-      const auto hasLayout = [&trial](const std::vector<int>& loop) {
-        const std::vector<Side> parts = sidesOf(trial, loop);
-        if (parts.empty()) return false;
+    const std::vector<int>& loop = loops[f];
+    for (const auto& candidate : chords) {
+      const double length = candidate.first;
+      const int a = candidate.second.first, b = candidate.second.second;
+      // Each end once in the loop (else the split is ambiguous), and no other corner of the face on
+      // the chord (chordFits does not see a chord running along a straight crease through one: it
+      // would cut off a triangle of no area).
+      if (std::count(loop.begin(), loop.end(), a) != 1 || std::count(loop.begin(), loop.end(), b) != 1) continue;
+      if (!chordFits(g, loop, a, b, eps)) continue;
+      const Eigen::Vector2d pa = g.at(a), ab = g.at(b) - pa;
+      const bool throughAVertex = std::any_of(loop.begin(), loop.end(), [&g, &pa, &ab, a, b, length](int v) {
+        if (v == a || v == b) return false;
+        const double t = std::clamp((g.at(v) - pa).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+        return (pa + t * ab - g.at(v)).norm() <= 1e-6 * length;
+      });
+      if (throughAVertex) continue;
+      const auto [one, two] = splitLoop(loop, a, b);
+      g.addEdge(a, b, kChordChain, true, -1);  // tried on the graph itself, and taken back
+      const auto hasLayout = [&g, length](const std::vector<int>& half) {
+        if (std::abs(spatial::loopSignedArea2(g.pattern.vertices2d, half)) <= 1e-9 * length * length) return false;
+        const std::vector<Side> parts = sidesOf(g, half);
+        if (parts.size() < 3) return false;
         const bool curved = std::any_of(parts.begin(), parts.end(), [](const Side& s) { return s.kind == SideKind::Curve; });
         return !curved || bestLayout(parts).has_value();  // a planar face, or a strip or cone
       };
-      if (hasLayout(one) && hasLayout(two)) return chord;
+      const bool fits = hasLayout(one) && hasLayout(two);
+      g.removeLastEdge();
+      if (fits) return candidate.second;
     }
     return std::nullopt;
   };

@@ -1,5 +1,6 @@
 #pragma once
-// Proposing rulings in a curved crease pattern's faces (issue 16 item 1): the pieces of
+
+#include <cassert>// Proposing rulings in a curved crease pattern's faces (issue 16 item 1): the pieces of
 // compositeFromCurvedCreasePattern — a face's sides, its ruling layouts, proposed rulings inside it,
 // and the spline of a curved side. Pattern vertices and edges of io::CreasePattern throughout.
 
@@ -66,6 +67,19 @@ struct CurvedGraph {
     incident[static_cast<std::size_t>(a)].push_back(id);
     incident[static_cast<std::size_t>(b)].push_back(id);
     return id;
+  }
+  /// Takes back the edge added last (a chord tried and not kept); its two ends had no edge
+  /// between them before.
+  void removeLastEdge() {
+    assert(!ends.empty() && "an edge to take back");
+    const auto [a, b] = ends.back();
+    idOfPair.erase(std::minmax(a, b));
+    incident[static_cast<std::size_t>(a)].pop_back();
+    incident[static_cast<std::size_t>(b)].pop_back();
+    ends.pop_back();
+    chain.pop_back();
+    interior.pop_back();
+    patternEdge.pop_back();
   }
   int edgeBetween(int a, int b) const {
     const auto it = idOfPair.find(std::minmax(a, b));
