@@ -227,10 +227,14 @@ void registerScaled() {
     engine::LinearSolverKind kind;
     bool normalSplines = false;
     composite::CreaseNormals creaseNormals = composite::CreaseNormals::Ruling;
+    composite::DevelopmentSolve developmentSolve = composite::DevelopmentSolve::Coupled;
   };
   // "splines": the auto solver with normal splines (CompositeOptions::normalSplines); "free": the
-  // crease rows with the faces' free normals (CreaseNormals::Free, before issue 17's change).
+  // crease rows with the faces' free normals (CreaseNormals::Free, before issue 17's change);
+  // "alternating": auto with the development solved apart (DevelopmentSolve::Alternating).
   std::vector<Solver> solvers{{"auto", engine::LinearSolverKind::Auto},
+                              {"alternating", engine::LinearSolverKind::Auto, false, composite::CreaseNormals::Ruling,
+                               composite::DevelopmentSolve::Alternating},
                               {"free", engine::LinearSolverKind::Auto, false, composite::CreaseNormals::Free},
                               {"splines", engine::LinearSolverKind::Auto, true},
                               {"splines_free", engine::LinearSolverKind::Auto, true, composite::CreaseNormals::Free},
@@ -239,6 +243,7 @@ void registerScaled() {
   for (const Solver& solver : solvers) {
     for (const Size& s : sizes) {
       for (const bool withDevelopment : {false, true}) {
+        if (!withDevelopment && solver.developmentSolve == composite::DevelopmentSolve::Alternating) continue;
         const std::string variant = withDevelopment ? "dev" : "nodev";
         const std::string key = "CompositeSheet/" + std::to_string(s.strips) + "x" + std::to_string(s.spans) + "/" +
                                 variant + "/" + solver.name;
@@ -252,6 +257,7 @@ void registerScaled() {
           options.linearSolver = solver.kind;
           options.normalSplines = solver.normalSplines;
           options.creaseNormals = solver.creaseNormals;
+          options.developmentSolve = solver.developmentSolve;
           Fixture& f = fixture(key, make, options, engine::SolverOptions{});
           runIteration(state, f, withDevelopment ? 4 : 0);
         })
@@ -266,24 +272,30 @@ void registerScaled() {
 
 /// Ten iterations of the large sheets from the same start (the corner handle pulling), each
 /// factorized or — `reuse` — solved by CG preconditioned with the first factorization (to a
-/// relative residual of 1e-3, refactorizing when CG needs more than 10 solves): the mean of
-/// iterations 1…10 and the hard residual after them (the two variants must end alike).
+/// relative residual of 1e-3, refactorizing when CG needs more than 10 solves), or — `alternating`,
+/// with a development — with the development solved apart (CompositeOptions::developmentSolve): the mean of iterations 1…10, the hard residual and the
+/// largest hard row after them, and the handle's distance from its target (the variants must end
+/// alike).
 void registerTenIterations() {
   struct Size {
     int strips, spans;
   };
   for (const Size s : std::vector<Size>{{24, 40}, {40, 40}})
     for (const bool withDevelopment : {false, true})
-      for (const bool reuse : {false, true}) {
+      for (const std::string variant : {"factorize", "reuse", "alternating"}) {
+        if (variant == "alternating" && !withDevelopment) continue;
+        const bool reuse = variant == "reuse";
         const std::string key = "CompositeSheetTen/" + std::to_string(s.strips) + "x" + std::to_string(s.spans) + "/" +
-                                (withDevelopment ? "dev" : "nodev") + "/" + (reuse ? "reuse" : "factorize");
-        benchmark::RegisterBenchmark(key.c_str(), [s, key, withDevelopment, reuse](benchmark::State& state) {
+                                (withDevelopment ? "dev" : "nodev") + "/" + variant;
+        benchmark::RegisterBenchmark(key.c_str(), [s, key, withDevelopment, reuse, variant](benchmark::State& state) {
           auto make = [s, withDevelopment]() {
             composite::CompositeDesign d = parallelCreaseSheet(s.strips, s.spans);
             d.developmentSamples = withDevelopment ? 4 : 0;
             return d;
           };
-          Fixture& f = fixture(key, make, composite::CompositeOptions{}, engine::SolverOptions{});
+          composite::CompositeOptions modelOptions;
+          if (variant == "alternating") modelOptions.developmentSolve = composite::DevelopmentSolve::Alternating;
+          Fixture& f = fixture(key, make, modelOptions, engine::SolverOptions{});
           if (!f.model) {
             state.SkipWithError(f.error.c_str());
             for (auto _ : state) {
@@ -298,7 +310,8 @@ void registerTenIterations() {
             options.factorizationReuse.tolerance = 1e-3;
           }
           composite::CompositeModel& model = *f.model;
-          double iteration = 0, factorizations = 0, hard = 0;
+          double iteration = 0, factorizations = 0, hard = 0, hardMax = 0, handle = 0;
+          double assembly = 0, factorization = 0, solve = 0, pcg = 0, alternating = 0, steps = 0;
           for (auto _ : state) {
             state.PauseTiming();
             model.problem().x() = f.x0;
@@ -310,9 +323,19 @@ void registerTenIterations() {
             for (std::size_t k = 1; k < summary.iterations.size(); ++k) {
               total += summary.iterations[k].totalMs;
               factorizations += summary.iterations[k].factorized ? 1 : 0;
+              assembly += summary.iterations[k].assemblyMs;
+              factorization += summary.iterations[k].factorizationMs;
+              solve += summary.iterations[k].solveMs;
+              pcg += summary.iterations[k].pcgIterations;
+              alternating += summary.iterations[k].alternatingStepScale;
+              steps += 1;
             }
-            iteration += total / std::max<std::size_t>(1, summary.iterations.size() - 1);
+            iteration += total / static_cast<double>(std::max<std::size_t>(1, summary.iterations.size() - 1));
             hard = summary.iterations.back().hardResidual;
+            hardMax = summary.iterations.back().hardResidualMax;
+            handle = 0;
+            for (const auto& [name, value] : summary.finalResidualsByName())
+              if (name == "handle") handle += value;
             state.ResumeTiming();
           }
           model.problem().x() = f.x0;
@@ -320,7 +343,16 @@ void registerTenIterations() {
           state.counters["unknowns"] = Counter(model.numUnknowns());
           state.counters["iteration_ms"] = Counter(iteration, Counter::kAvgIterations);
           state.counters["factorizations"] = Counter(factorizations, Counter::kAvgIterations);
+          // Means per iteration over every iteration of every run.
+          steps = std::max(1.0, steps);
+          state.counters["assembly_ms"] = Counter(assembly / steps);
+          state.counters["factorization_ms"] = Counter(factorization / steps);
+          state.counters["solve_ms"] = Counter(solve / steps);
+          state.counters["pcg_solves"] = Counter(pcg, Counter::kAvgIterations);
+          state.counters["alternating_alpha_sum"] = Counter(alternating, Counter::kAvgIterations);
           state.counters["hard_residual"] = Counter(hard);
+          state.counters["hard_max"] = Counter(hardMax);
+          state.counters["handle_residual"] = Counter(handle);
         })
             ->Unit(benchmark::kMillisecond)
             ->Iterations(1)

@@ -7,6 +7,7 @@ Series (medians of the benches' repetitions, `iteration_ms` and `unknowns` count
   strip            bench/strip_iteration      StripIteration/cholmod/{10,100,1000,1500} spans
   composite        bench/composite_iteration  CompositeSheet/*/nodev/auto (parallel-crease sheets)
   composite + dev  bench/composite_iteration  CompositeSheet/*/dev/auto (development managed)
+  comp. + dev. apart                          CompositeSheet/*/dev/alternating (DevelopmentSolve::Alternating)
   … with normal splines                       CompositeSheet/*/{nodev,dev}/splines (CompositeOptions::normalSplines)
   quad mesh        bench/quad_mesh_iteration  QuadMeshApprox/preset/* (factorization reused)
   quad mesh, factorizing every step           QuadMeshApprox/preset_factorize/*
@@ -41,6 +42,8 @@ SERIES = [
     ("strip", "strip_iteration", "StripIteration/cholmod/", "StripIteration/cholmod/", "#1f77b4"),
     ("composite", "composite_iteration", "CompositeSheet/.*/nodev/auto/", "/nodev/auto/", "#2ca02c"),
     ("composite + development", "composite_iteration", "CompositeSheet/.*/dev/auto/", "/dev/auto/", "#98df8a"),
+    ("comp. + dev. apart (its factor reused)", "composite_iteration", "CompositeSheet/.*/dev/alternating/",
+     "/dev/alternating/", "#17becf"),
     ("composite, spline normals", "composite_iteration", "CompositeSheet/.*/nodev/splines/", "/nodev/splines/", "#9467bd"),
     ("comp. + dev., spline normals", "composite_iteration", "CompositeSheet/.*/dev/splines/", "/dev/splines/",
      "#c5b0d5"),

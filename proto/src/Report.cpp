@@ -10,7 +10,7 @@ json iterationToJson(const engine::SolveSummary& summary, const engine::Iteratio
     const std::string& name = summary.termNames[t];
     residuals[name] = residuals.value(name, 0.0) + r.termResiduals[t];
   }
-  return {{"iteration", r.iteration},
+  json out = {{"iteration", r.iteration},
           {"residuals", residuals},
           {"total", r.totalResidual},
           {"hard", r.hardResidual},
@@ -24,6 +24,8 @@ json iterationToJson(const engine::SolveSummary& summary, const engine::Iteratio
             {"factorization", r.factorizationMs},
             {"solve", r.solveMs},
             {"total", r.totalMs}}}};
+  if (summary.alternating) out["alternating_step_scale"] = r.alternatingStepScale;
+  return out;
 }
 
 json reportToJson(const engine::SolveSummary& summary, const Metrics& metrics,

@@ -501,6 +501,8 @@ models::composite::CompositeOptions SolverSettings::compositeOptions() const {
   o.creaseNormals = creaseNormals == "free"     ? models::composite::CreaseNormals::Free
                     : creaseNormals == "ruling" ? models::composite::CreaseNormals::Ruling
                                                 : models::composite::CreaseNormals::Auto;
+  o.developmentSolve = developmentSolve == "alternating" ? models::composite::DevelopmentSolve::Alternating
+                                                        : models::composite::DevelopmentSolve::Coupled;
   o.developabilityWeight = developabilityWeight;
   o.unitNormalWeight = unitNormalWeight;
   o.normalize = normalize;
@@ -670,6 +672,9 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
   s.creaseNormals = solver.value("crease_normals", s.creaseNormals);
   if (s.creaseNormals != "auto" && s.creaseNormals != "ruling" && s.creaseNormals != "free")
     throw SceneError("solver.crease_normals", "enum", "must be \"auto\", \"ruling\" or \"free\"");
+  s.developmentSolve = solver.value("development_solve", s.developmentSolve);
+  if (s.developmentSolve != "coupled" && s.developmentSolve != "alternating")
+    throw SceneError("solver.development_solve", "enum", "must be \"coupled\" or \"alternating\"");
   if (solver.contains("softening")) {
     for (std::size_t i = 0; i < 4; ++i) s.softening[i] = solver["softening"][i].get<double>();
     const auto& x = s.softening;
@@ -825,7 +830,8 @@ json sceneToJson(const Scene& scene) {
                  {"hard_tolerance", s.hardTolerance},
                  {"softening", s.softening},
                  {"normal_splines", s.normalSplines},
-                 {"crease_normals", s.creaseNormals}};
+                 {"crease_normals", s.creaseNormals},
+                 {"development_solve", s.developmentSolve}};
   return j;
 }
 

@@ -209,6 +209,19 @@ TEST(Report, ValidatesAgainstTheReportSchema) {
   ASSERT_TRUE(errors.empty()) << errors[0].toString();
   EXPECT_EQ(report["iterations"], 1);
   EXPECT_DOUBLE_EQ(report["history"][1]["residuals"]["fairness"].get<double>(), 0.75);
+  EXPECT_FALSE(report["history"][1].contains("alternating_step_scale")) << "only a solve that alternates has one";
+
+  // A solve that alternated (solver.development_solve) records its second step's α.
+  summary.alternating = true;
+  summary.iterations[1].alternatingStepScale = 0.5;
+  const json alternated = reportToJson(summary, {}, sceneToJson(sceneFromJson(validScene())), 1.0);
+  const auto alternatedErrors = schemaRegistry().validate(alternated, "report.schema.json");
+  ASSERT_TRUE(alternatedErrors.empty()) << alternatedErrors[0].toString();
+  EXPECT_DOUBLE_EQ(alternated["history"][1]["alternating_step_scale"].get<double>(), 0.5);
+  summary.iterations[1].alternatingStepScale = 1.5;  // the schema bounds it to [0, 1]
+  EXPECT_FALSE(schemaRegistry().validate(reportToJson(summary, {}, sceneToJson(sceneFromJson(validScene())), 1.0),
+                                         "report.schema.json")
+                   .empty());
 }
 
 }  // namespace

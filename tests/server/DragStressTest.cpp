@@ -257,8 +257,14 @@ Eigen::Vector3d currentPosition(const json& model, const json& target) {
 /// A preset's document: "name.json" as shipped, or "ruling:name.json" with its crease rows on the
 /// faces' rulings (`solver.crease_normals`; the presets, all under 5 000 unknowns, keep the free
 /// rows under `auto`).
+/// "alternating:name.json" has its development solved apart (`solver.development_solve`).
 json presetDocument(const std::string& preset) {
-  const std::string ruling = "ruling:";
+  const std::string ruling = "ruling:", alternating = "alternating:";
+  if (preset.rfind(alternating, 0) == 0) {
+    json doc = readPreset(preset.substr(alternating.size()));
+    doc["solver"]["development_solve"] = "alternating";
+    return doc;
+  }
   if (preset.rfind(ruling, 0) != 0) return readPreset(preset);
   json doc = readPreset(preset.substr(ruling.size()));
   doc["solver"]["crease_normals"] = "ruling";
@@ -526,6 +532,20 @@ std::vector<std::string> compositePresetsWithRulingCreases() {
 }
 
 INSTANTIATE_TEST_SUITE_P(RulingCreases, DragStress, ::testing::ValuesIn(compositePresetsWithRulingCreases()),
+                         devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
+
+/// The same drags on every composite preset with a development, solved apart from the surface
+/// (`"development_solve": "alternating"`, the Solver panel's choice for large developed designs).
+std::vector<std::string> developedPresetsSolvedApart() {
+  std::vector<std::string> out;
+  for (const std::string& name : presetFiles()) {
+    const json doc = readPreset(name);
+    if (doc["model"]["kind"] == "composite" && doc["model"].contains("development")) out.push_back("alternating:" + name);
+  }
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(AlternatingDevelopment, DragStress, ::testing::ValuesIn(developedPresetsSolvedApart()),
                          devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
 
 }  // namespace

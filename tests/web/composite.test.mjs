@@ -95,6 +95,51 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 
+test('the Solver panel solves a composite\'s development apart, and a drag keeps the development isometric', { timeout: 240000 }, () =>
+  ctx.guard('composite-development-apart', async () => {
+    const { daemon } = ctx;
+    const demo = (await daemon.api('GET', '/api/sessions')).body.sessions.find((s) => s.id === 'demo-composite-curved-fold');
+    const page = await ctx.page();
+    await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
+    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+    const before = await daemon.session(demo.id, demo.view_token);
+    assert.ok(before.scene.model.development, 'the demo has a development');
+    assert.equal(before.scene.solver.development_solve, 'coupled', 'the demo solves its development with the surface');
+    const control = page.locator('[data-setting="development_solve"] select');
+    assert.ok(await control.isVisible(), 'a composite with a development offers the choice');
+    await control.selectOption({ label: 'apart (faster)' });
+    const switched = await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { s, ok: s.scene.solver.development_solve === 'alternating' };
+    });
+    assert.ok(switched.ok, 'the server solves the development apart');
+    await page.waitForFunction(() => window.__devsurf.state.scene.solver.development_solve === 'alternating');
+
+    await h.dragAndSettle(page, await h.pointPagePosition(page, { vertex: 3 }), { dy: -40, steps: 10, pauseMs: 50 });
+    const done = await h.poll(async () => {
+      const st = await h.state(page);
+      const server = await daemon.session(demo.id, demo.view_token);
+      return { st, server, ok: st.lastSolved && st.lastSolved.seq === server.seq && server.seq > switched.s.seq };
+    });
+    assert.ok(done.ok, 'the drag was solved');
+    const m = done.server.metrics;
+    console.log(`development apart: after the drag development length error ${m.development_length_error}, `
+      + `flatness ${m.face_flatness_max}, warp ${m.warp_angle_max_deg}°`);
+    assert.ok(m.development_length_error < 5e-3, `development length error ${m.development_length_error}`);
+    assert.ok(m.face_flatness_max < 1e-3, `face flatness ${m.face_flatness_max}`);
+    assert.equal(done.st.lastError, null);
+    assert.equal(await control.evaluate((el) => el.options[el.selectedIndex].text), 'apart (faster)');
+    await h.screenshotPage(page, '06-composite-development-apart');
+    // Back with the surface: the demo is shared with the tests that follow.
+    await control.selectOption({ label: 'with the surface' });
+    const back = await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { s, ok: s.scene.solver.development_solve === 'coupled' };
+    });
+    assert.ok(back.ok, 'the demo solves its development with the surface again');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));
+
 test('the Solver panel switches a composite to normal splines, and a drag keeps it developable', { timeout: 240000 }, () =>
   ctx.guard('composite-normal-splines', async () => {
     const { daemon } = ctx;

@@ -274,7 +274,17 @@ async function foldBySlider(page, daemon, sheet, { shot } = {}) {
   await page.getByTestId('fold-slider').fill('100');
   await h.waitState(page, (s) => s.metrics && Math.abs(s.metrics.fold_amount - 1) < 1e-9, undefined, { what: 'fold amount 100 %' });
   await h.waitQuiet(page, { quietMs: 1500 });
-  const slid = await solvedState(page, daemon, sheet);
+  let slid = await solvedState(page, daemon, sheet);
+  if (slid.st.lastSolved.reason === 'time_budget' && slid.st.lastSolved.quality && !slid.st.lastSolved.quality.met) {
+    // The release polish ran out of its time budget before the quality was met (seen on a loaded
+    // machine: 8° short of the drawn fold). The status bar says so; a user presses Solve.
+    console.log(`slider 100 %: the release stopped on its time budget, quality not met: Solve continues it`);
+    const seq = slid.server.seq;
+    await page.getByTestId('solve').click();
+    await h.waitState(page, (s, n) => s.lastSolved && s.lastSolved.seq > n, seq, { what: 'the solve after the slider' });
+    await h.waitQuiet(page, { quietMs: 1500 });
+    slid = await solvedState(page, daemon, sheet);
+  }
   const m = slid.server.metrics;
   const zMax = zMaxOf(slid.server.scene.model);
   console.log(`slider 100 %: max |z| of the vertices ${zMax.toFixed(2)} mm, fold angle max ${m.crease_fold_angle_max_deg?.toFixed(2)}°, `

@@ -47,12 +47,30 @@ std::vector<std::pair<std::string, double>> SolveSummary::finalResidualsByName()
   return out;
 }
 
+namespace {
+
+/// Whether the problem's free scalars split into two non-empty sides (VariableLayout::setAlternating).
+bool splitsInTwo(const VariableLayout& layout) {
+  return layout.hasAlternation() && layout.numFree(VariablePart::Main) > 0;
+}
+
+}  // namespace
+
 GuidedProjectionSolver::GuidedProjectionSolver(Problem& problem, LinearSolverKind kind, const Deadline& deadline)
-    : problem_(problem), equations_(problem, deadline), linear_(makeLinearSolver(kind)), kind_(kind) {
+    : problem_(problem),
+      equations_(problem, deadline, splitsInTwo(problem.layout()) ? VariablePart::Main : VariablePart::All),
+      linear_(makeLinearSolver(kind)),
+      kind_(kind) {
   deadline.check();
   linear_->analyzePattern(equations_.matrix());
   delta_.setZero(equations_.numReduced());
   previousX_.setZero(problem.x().size());
+  if (splitsInTwo(problem.layout())) {
+    alternate_ = std::make_unique<NormalEquations>(problem, deadline, VariablePart::Alternating);
+    alternateLinear_ = makeLinearSolver(kind);
+    alternateLinear_->analyzePattern(alternate_->matrix());
+    alternateDelta_.setZero(alternate_->numReduced());
+  }
 }
 
 std::vector<double> GuidedProjectionSolver::effectiveWeights(const SolverOptions& options,
@@ -73,23 +91,25 @@ std::vector<double> GuidedProjectionSolver::termResiduals(const Eigen::VectorXd&
   return out;
 }
 
-bool GuidedProjectionSolver::solveWithEarlierFactorization(const FactorizationReuseOptions& reuse, int& solves) {
-  const SymmetricUpper& H = equations_.matrix();
-  const Eigen::VectorXd& g = equations_.rhs();
+bool GuidedProjectionSolver::solveWithEarlierFactorization(const NormalEquations& equations, LinearSolver& linear,
+                                                           Eigen::VectorXd& delta, PcgWork& work,
+                                                           const FactorizationReuseOptions& reuse, int& solves) {
+  const SymmetricUpper& H = equations.matrix();
+  const Eigen::VectorXd& g = equations.rhs();
   const double target = reuse.tolerance * g.norm();
-  Eigen::VectorXd& r = pcgResidual_;
-  Eigen::VectorXd& z = pcgPreconditioned_;
-  Eigen::VectorXd& p = pcgDirection_;
-  Eigen::VectorXd& Hp = pcgProduct_;
-  linear_->solve(g, delta_);  // the earlier matrix's step: the start
+  Eigen::VectorXd& r = work.residual;
+  Eigen::VectorXd& z = work.preconditioned;
+  Eigen::VectorXd& p = work.direction;
+  Eigen::VectorXd& Hp = work.product;
+  linear.solve(g, delta);  // the earlier matrix's step: the start
   ++solves;
   r = g;
-  r.noalias() -= H.selfadjointView<Eigen::Upper>() * delta_;
+  r.noalias() -= H.selfadjointView<Eigen::Upper>() * delta;
   double rz = 0.0;
   for (int it = 0;; ++it) {
     if (!(r.norm() > target)) return std::isfinite(r.norm());
     if (it >= reuse.maxIterations) return false;
-    linear_->solve(r, z);
+    linear.solve(r, z);
     ++solves;
     const double rzNext = r.dot(z);
     if (it == 0) p = z;
@@ -99,7 +119,7 @@ bool GuidedProjectionSolver::solveWithEarlierFactorization(const FactorizationRe
     const double curvature = p.dot(Hp);
     if (!(curvature > 0.0)) return false;
     const double alpha = rz / curvature;
-    delta_ += alpha * p;
+    delta += alpha * p;
     r -= alpha * Hp;
   }
 }
@@ -119,7 +139,9 @@ int availableCores() {
 SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   const Clock::time_point start = Clock::now();
   equations_.setAssemblyThreads(options.assemblyThreads > 0 ? options.assemblyThreads : availableCores());
+  if (alternate_) alternate_->setAssemblyThreads(options.assemblyThreads > 0 ? options.assemblyThreads : availableCores());
   SolveSummary summary;
+  summary.alternating = alternate_ != nullptr;
   for (int t = 0; t < problem_.numTerms(); ++t) summary.termNames.push_back(problem_.term(t).term->name());
   summary.iterations.reserve(static_cast<std::size_t>(std::max(0, options.maxIterations)) + 1);
 
@@ -203,6 +225,93 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     }
   }
 
+  // The alternating blocks' step at the current iterate, the others held (block Gauss–Seidel;
+  // VariableLayout::setAlternating), after the iteration's step; `mainRejected`: that step was not
+  // taken (x is the last iterate). Updates x, rec's residuals and records; false if the step
+  // diverged with step control off (the caller restores x).
+  auto alternateStep = [this, &options, &control, &assembled, &trial, &weights, &evaluate, &record](
+                           IterationRecord& rec, const std::vector<double>& systemWeights, bool mainRejected) {
+    const FactorizationReuseOptions& reuse = options.alternatingReuse;
+    if (alternateFactorAge_ >= 0) ++alternateFactorAge_;
+    bool factored = false, reused = false;
+    // A system that is numerically not positive definite is damped and factorized again (as the
+    // step's own, SolverOptions::stepControl).
+    for (int attempt = 0; attempt < 4 && !factored; ++attempt) {
+      if (attempt > 0) {
+        if (!control.enabled) break;
+        alternateDampingScale_ *= 100.0;
+      }
+      Clock::time_point t0 = Clock::now();
+      alternate_->assemble(problem_, systemWeights, options.regularization * std::sqrt(alternateDampingScale_),
+                           assembled, control.enabled ? pullLimit_ : std::numeric_limits<double>::infinity());
+      rec.assemblyMs += millisecondsSince(t0);
+      t0 = Clock::now();
+      if (!alternate_->eliminate()) {
+        rec.factorizationMs += millisecondsSince(t0);
+        continue;
+      }
+      if (attempt == 0 && reuse.maxAge > 0 && alternateFactorAge_ >= 0 && alternateFactorAge_ <= reuse.maxAge) {
+        rec.factorizationMs += millisecondsSince(t0);
+        t0 = Clock::now();
+        reused = solveWithEarlierFactorization(*alternate_, *alternateLinear_, alternateDelta_, alternateWork_, reuse,
+                                               rec.pcgIterations);
+        rec.solveMs += millisecondsSince(t0);
+        t0 = Clock::now();
+      }
+      factored = reused || alternateLinear_->factorize(alternate_->matrix());
+      if (!reused) {
+        alternateFactorAge_ = factored ? 0 : -1;
+        rec.alternatingFactorized = factored;
+      }
+      rec.factorizationMs += millisecondsSince(t0);
+    }
+    if (!factored) return control.enabled;  // no step; without step control the solve diverged
+    Clock::time_point t0 = Clock::now();
+    if (!reused) alternateLinear_->solve(alternate_->rhs(), alternateDelta_);
+    correctedX_ = problem_.x();  // the iterate before this step
+    const double norm = std::sqrt(alternate_->applyStep(alternateDelta_, problem_.x()));
+    step_ = problem_.x() - correctedX_;
+    rec.solveMs += millisecondsSince(t0);
+    if (!std::isfinite(norm) && !control.enabled) return false;
+    if (mainRejected && control.enabled) {
+      // rec holds the last iterate's residuals, weighed with the last iteration's weights, and
+      // termMaxAbs_ the rejected trial's rows: both of x again, with this iteration's weights.
+      evaluate(correctedX_, rec.termResiduals);
+      record(rec, rec.termResiduals);
+    }
+    const double rowLimit = std::max(control.hardBand, rec.hardResidualMax);
+    const double hardBefore = rec.hardResidual;
+    double alpha = 1.0;
+    for (int h = 0; h <= control.maxHalvings && std::isfinite(norm); ++h) {
+      if (h > 0) {
+        alpha *= 0.5;
+        problem_.x() = correctedX_ + alpha * step_;
+      }
+      std::copy(rec.termResiduals.begin(), rec.termResiduals.end(), trial.begin());
+      alternate_->partResiduals(problem_, problem_.x(), weights, trial, termMaxAbs_);
+      IterationRecord probe;
+      record(probe, trial);
+      const bool acceptable = std::isfinite(probe.totalResidual) && probe.hardResidualMax <= rowLimit &&
+                              (probe.hardResidualMax <= control.hardBand || probe.hardResidual <= hardBefore);
+      if (acceptable || !control.enabled) {
+        if (!control.enabled && !std::isfinite(probe.totalResidual)) return false;
+        std::copy(trial.begin(), trial.end(), rec.termResiduals.begin());
+        record(rec, rec.termResiduals);
+        const double moved = alpha * norm;
+        rec.stepNorm = std::sqrt(rec.stepNorm * rec.stepNorm + moved * moved);
+        rec.alternatingStepScale = alpha;
+        // Damping of this system: eased after a full step, raised after a shortened one.
+        alternateDampingScale_ = alpha == 1.0 ? std::max(1.0, 0.25 * alternateDampingScale_) : 2.0 * alternateDampingScale_;
+        return true;
+      }
+    }
+    problem_.x() = correctedX_;  // not taken
+    std::copy(rec.termResiduals.begin(), rec.termResiduals.end(), trial.begin());
+    alternate_->partResiduals(problem_, problem_.x(), weights, trial, termMaxAbs_);  // termMaxAbs_ of x
+    alternateDampingScale_ *= 4.0;
+    return true;
+  };
+
   int rejectedInARow = 0;
   // Iterations since the linear solver's factorization was made in this solve() (−1: none yet;
   // FactorizationReuseOptions).
@@ -242,7 +351,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       if (factored && reuse.maxAge > 0 && factorAge >= 0 && factorAge <= reuse.maxAge) {
         rec.factorizationMs += millisecondsSince(t0);
         t0 = Clock::now();
-        reused = solveWithEarlierFactorization(reuse, rec.pcgIterations);
+        reused = solveWithEarlierFactorization(equations_, *linear_, delta_, work_, reuse, rec.pcgIterations);
         rec.solveMs += millisecondsSince(t0);
         t0 = Clock::now();
       }
@@ -386,8 +495,15 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       rec.totalResidual = previous.totalResidual;
       rec.stepNorm = 0.0;
     }
+    if (alternate_ && !alternateStep(rec, rec.projected ? projectionWeights : weights, alpha == 0.0)) {
+      problem_.x() = previousX_;
+      summary.reason = TerminationReason::Diverged;
+      break;
+    }
     rec.stepScale = alpha;
-    rejectedInARow = alpha > 0.0 ? 0 : rejectedInARow + 1;
+    // Something moved: the step, or the alternating blocks' step after it.
+    const bool moved = alpha > 0.0 || rec.alternatingStepScale > 0.0;
+    rejectedInARow = moved ? 0 : rejectedInARow + 1;
     if (!control.enabled && (!std::isfinite(rec.stepNorm) || !std::isfinite(rec.totalResidual))) {
       problem_.x() = previousX_;
       summary.reason = TerminationReason::Diverged;
@@ -405,7 +521,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       summary.reason = TerminationReason::Stalled;
       break;
     }
-    if (last.stepScale == 0.0) continue;  // nothing moved: no tolerance can have been reached
+    if (!moved) continue;  // nothing moved: no tolerance can have been reached
     if (last.objective <= options.residualTolerance) {
       summary.reason = TerminationReason::ResidualTolerance;
       break;
@@ -425,7 +541,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
         break;
       }
     }
-    if (k >= 1 && last.stepScale == 1.0 && !last.projected && previousObjective > 0.0 &&
+    if (k >= 1 && last.stepScale == 1.0 && (!alternate_ || last.alternatingStepScale == 1.0) && !last.projected &&
+        previousObjective > 0.0 &&
         std::abs(previousObjective - last.objective) <= options.relativeChangeTolerance * previousObjective) {
       summary.reason = TerminationReason::RelativeChange;
       break;

@@ -81,11 +81,12 @@ void blockProductUpper(const double* Jc, const double* Y, double* S, int c, int 
 
 }  // namespace
 
-NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadline) {
+NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadline, VariablePart part)
+    : part_(part) {
   const VariableLayout& layout = problem.layout();
   const int numVariables = layout.numVariables();
-  const std::vector<int> natural = layout.freeIndex();  // variable → natural free column
-  numFree_ = layout.numFree();
+  const std::vector<int> natural = layout.freeIndex(part);  // variable → natural free column
+  numFree_ = layout.numFree(part);
   const int numTerms = problem.numTerms();
 
   // 1. Per term: the structure, validated; free entries grouped by row with natural columns.
@@ -115,6 +116,8 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
         throw std::logic_error("term '" + term.name() + "': Jacobian entry out of range");
       if (natural[e.variable] >= 0) ++start[e.row + 1];
     }
+    plan.numFreeEntries = 0;
+    for (int r = 0; r < plan.numResiduals; ++r) plan.numFreeEntries += start[r + 1];
     for (int r = 0; r < plan.numResiduals; ++r) start[r + 1] += start[r];
     order.assign(start.back(), -1);
     column.assign(entries.size(), -1);
@@ -742,6 +745,7 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
   for (int t = 0; t < problem.numTerms(); ++t) {
     Term& term = *problem.term(t).term;
     const TermPlan& plan = plans_[t];
+    if (part_ != VariablePart::All && plan.numFreeEntries == 0) continue;  // constant here
     double* r = residual_.data() + termResidualOffset_[t];
     double* J = jacobian_.data() + termJacobianOffset_[t];
     term.linearizeAt(x);
@@ -914,17 +918,37 @@ void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x
   termResiduals.assign(problem.numTerms(), 0.0);
   if (termMaxAbs) termMaxAbs->assign(problem.numTerms(), 0.0);
   for (int t = 0; t < problem.numTerms(); ++t) {
-    double* r = residual_.data() + termResidualOffset_[t];
-    problem.term(t).term->evaluate(x, r, nullptr);
-    const double w2 = termWeights[t] * termWeights[t];
     double energy = 0.0, largest = 0.0;
-    for (int row = 0; row < plans_[t].numResiduals; ++row) {
-      energy += r[row] * r[row];
-      largest = std::max(largest, std::abs(r[row]));
-      if (std::isnan(r[row])) largest = r[row];
-    }
-    termResiduals[t] = w2 * energy;
+    evaluateResidual(problem, t, x, energy, largest);
+    termResiduals[t] = termWeights[t] * termWeights[t] * energy;
     if (termMaxAbs) (*termMaxAbs)[t] = largest;
+  }
+}
+
+void NormalEquations::partResiduals(const Problem& problem, const Eigen::VectorXd& x,
+                                    const std::vector<double>& termWeights, std::vector<double>& termResiduals,
+                                    std::vector<double>& termMaxAbs) {
+  assert(termResiduals.size() == static_cast<std::size_t>(problem.numTerms()) &&
+         termMaxAbs.size() == termResiduals.size() && "per-term vectors of the solve");
+  for (int t = 0; t < problem.numTerms(); ++t) {
+    if (!touchesPart(t)) continue;
+    double energy = 0.0, largest = 0.0;
+    evaluateResidual(problem, t, x, energy, largest);
+    termResiduals[static_cast<std::size_t>(t)] = termWeights[t] * termWeights[t] * energy;
+    termMaxAbs[static_cast<std::size_t>(t)] = largest;
+  }
+}
+
+void NormalEquations::evaluateResidual(const Problem& problem, int t, const Eigen::VectorXd& x, double& energy,
+                                       double& largest) {
+  double* r = residual_.data() + termResidualOffset_[t];
+  problem.term(t).term->evaluate(x, r, nullptr);
+  energy = 0.0;
+  largest = 0.0;
+  for (int row = 0; row < plans_[t].numResiduals; ++row) {
+    energy += r[row] * r[row];
+    largest = std::max(largest, std::abs(r[row]));
+    if (std::isnan(r[row])) largest = r[row];
   }
 }
 
@@ -964,6 +988,7 @@ void NormalEquations::correctionRhs(const Problem& problem, const Eigen::VectorX
       std::fill(r, r + plan.numResiduals, 0.0);
       continue;
     }
+    if (plan.numFreeEntries == 0) continue;  // no row of this system
     problem.term(t).term->evaluate(x, r, nullptr);
     // −w² Jᵀ r over the term's direct rows, as accumulateDirectRows adds it.
     const double* J = jacobian_.data() + termJacobianOffset_[t];

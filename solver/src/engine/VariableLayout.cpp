@@ -8,8 +8,9 @@ int VariableLayout::addBlock(const std::string& name, int size) {
   if (size < 0) throw std::invalid_argument("variable block '" + name + "': negative size");
   for (const VariableBlock& b : blocks_)
     if (b.name == name) throw std::invalid_argument("variable block '" + name + "' exists already");
-  blocks_.push_back({name, numVariables(), size, 1.0, VariableBlock::kAutoElimination});
+  blocks_.push_back({name, numVariables(), size, 1.0, VariableBlock::kAutoElimination, false});
   fixed_.resize(fixed_.size() + static_cast<std::size_t>(size), 0);
+  blockOf_.resize(fixed_.size(), numBlocks() - 1);
   return numBlocks() - 1;
 }
 
@@ -46,17 +47,31 @@ void VariableLayout::setBlockFixed(int block, bool fixed) {
   setFixed(block, 0, blocks_.at(block).size, fixed);
 }
 
-std::vector<int> VariableLayout::freeIndex() const {
+void VariableLayout::setAlternating(int block, bool alternating) { blocks_.at(block).alternating = alternating; }
+
+bool VariableLayout::hasAlternation() const {
+  for (std::size_t i = 0; i < fixed_.size(); ++i)
+    if (!fixed_[i] && blocks_[static_cast<std::size_t>(blockOf_[i])].alternating) return true;
+  return false;
+}
+
+bool VariableLayout::inPart(int variable, VariablePart part) const {
+  if (part == VariablePart::All) return true;
+  const bool alternating = blocks_[static_cast<std::size_t>(blockOf_[static_cast<std::size_t>(variable)])].alternating;
+  return alternating == (part == VariablePart::Alternating);
+}
+
+std::vector<int> VariableLayout::freeIndex(VariablePart part) const {
   std::vector<int> index(fixed_.size(), -1);
   int column = 0;
   for (std::size_t i = 0; i < fixed_.size(); ++i)
-    if (!fixed_[i]) index[i] = column++;
+    if (!fixed_[i] && inPart(static_cast<int>(i), part)) index[i] = column++;
   return index;
 }
 
-int VariableLayout::numFree() const {
+int VariableLayout::numFree(VariablePart part) const {
   int n = 0;
-  for (char f : fixed_) n += f ? 0 : 1;
+  for (std::size_t i = 0; i < fixed_.size(); ++i) n += !fixed_[i] && inPart(static_cast<int>(i), part) ? 1 : 0;
   return n;
 }
 

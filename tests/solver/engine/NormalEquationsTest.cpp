@@ -425,6 +425,104 @@ TEST(NormalEquations, EverythingMayBeEliminated) {
   EXPECT_LT((step - ref).norm(), 1e-12);
 }
 
+/// Two sides of an alternation: "surface" (3 scalars) and "development" (3, its second fixed;
+/// alternating), coupled by dense linear rows and a product, each with a term of its own.
+Problem twoSidedProblem() {
+  Problem problem;
+  problem.addBlock("surface", 3);
+  const int development = problem.addBlock("development", 3);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  for (int i = 0; i < 6; ++i) problem.x()[i] = uni(rng);
+  problem.layout().setFixed(development, 1, 1);
+  problem.layout().setAlternating(development);
+  Eigen::MatrixXd A(4, 6);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 6; ++j) A(i, j) = uni(rng);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("both", A, Eigen::Vector4d(1, -1, 2, 0.5)), 0.7, Strength::Hard);
+  problem.addTerm(std::make_unique<ProductTerm>("coupling", 0, 3, 1.0), 1.3, Strength::Hard);
+  problem.addTerm(std::make_unique<ProductTerm>("surface only", 1, 2, 0.5), 1.0, Strength::Hard);
+  problem.addTerm(std::make_unique<ProductTerm>("development only", 3, 5, -0.4), 0.9, Strength::Soft);
+  return problem;
+}
+
+TEST(NormalEquations, EachSideOfAnAlternationSolvesItsDiagonalBlockOfTheWholeSystem) {
+  Problem problem = twoSidedProblem();
+  const std::vector<double> weights{0.7, 1.3, 1.0, 0.9};
+  const double eps = 0.05;
+  const DenseSystem whole = denseNormalEquations(problem, weights, eps);  // all five free scalars
+  ASSERT_EQ(whole.freeVariables, (std::vector<int>{0, 1, 2, 3, 5}));
+  for (const VariablePart part : {VariablePart::Main, VariablePart::Alternating}) {
+    const std::vector<int> side = part == VariablePart::Main ? std::vector<int>{0, 1, 2} : std::vector<int>{3, 4};
+    // Reference: H_ss δ_s = −g_s, the other side held.
+    Eigen::MatrixXd Hs(side.size(), side.size());
+    Eigen::VectorXd gs(side.size());
+    for (std::size_t a = 0; a < side.size(); ++a) {
+      gs[a] = whole.g[side[a]];
+      for (std::size_t b = 0; b < side.size(); ++b) Hs(a, b) = whole.H(side[a], side[b]);
+    }
+    const Eigen::VectorXd reference = Hs.ldlt().solve(-gs);
+    NormalEquations eq(problem, {}, part);
+    EXPECT_EQ(eq.numFree(), static_cast<int>(side.size()));
+    std::vector<double> residuals;
+    eq.assemble(problem, weights, eps, residuals);
+    ASSERT_TRUE(eq.eliminate());
+    const Eigen::MatrixXd S = Eigen::MatrixXd(SymmetricUpper(eq.matrix().selfadjointView<Eigen::Upper>()));
+    Eigen::VectorXd stepped = problem.x();
+    eq.applyStep(S.ldlt().solve(eq.rhs()), stepped);
+    const Eigen::VectorXd moved = stepped - problem.x();
+    for (std::size_t a = 0; a < side.size(); ++a)
+      EXPECT_NEAR(moved[whole.freeVariables[side[a]]], reference[a], 1e-12) << "scalar " << whole.freeVariables[side[a]];
+    for (int v = 0; v < 6; ++v) {
+      const bool onSide = std::any_of(side.begin(), side.end(),
+                                      [v, &whole](int c) { return whole.freeVariables[c] == v; });
+      if (!onSide) EXPECT_EQ(moved[v], 0.0) << "scalar " << v << " is held on this side";
+    }
+  }
+}
+
+TEST(NormalEquations, ASideEvaluatesAndLinearizesOnlyTheTermsThatTouchIt) {
+  Problem problem;
+  problem.addBlock("surface", 2);
+  const int development = problem.addBlock("development", 2);
+  problem.x() << 1.0, 2.0, 3.0, 4.0;
+  problem.layout().setAlternating(development);
+  using Row = testing::SparseLinearTerm::Row;
+  auto surfaceOnly = std::make_unique<testing::CountingTerm>("surface", std::vector<Row>{{{{0, 1.0}, {1, 2.0}}, 1.0}});
+  auto developmentOnly = std::make_unique<testing::CountingTerm>("development", std::vector<Row>{{{{2, 1.0}}, 0.0}});
+  auto both = std::make_unique<testing::CountingTerm>("both", std::vector<Row>{{{{1, 1.0}, {3, -1.0}}, 0.0}});
+  testing::CountingTerm* counted[3] = {surfaceOnly.get(), developmentOnly.get(), both.get()};
+  problem.addTerm(std::move(surfaceOnly), 1.0, Strength::Hard);
+  problem.addTerm(std::move(developmentOnly), 1.0, Strength::Hard);
+  problem.addTerm(std::move(both), 1.0, Strength::Hard);
+  NormalEquations main(problem, {}, VariablePart::Main), alternating(problem, {}, VariablePart::Alternating);
+  EXPECT_TRUE(main.touchesPart(0));
+  EXPECT_FALSE(main.touchesPart(1));
+  EXPECT_TRUE(main.touchesPart(2));
+  EXPECT_FALSE(alternating.touchesPart(0));
+  EXPECT_TRUE(alternating.touchesPart(1));
+  EXPECT_TRUE(alternating.touchesPart(2));
+  const std::vector<double> weights(3, 1.0);
+  std::vector<double> residuals;
+  main.assemble(problem, weights, 0.1, residuals);
+  EXPECT_EQ(counted[0]->evaluations, 1);
+  EXPECT_EQ(counted[1]->evaluations, 0);
+  EXPECT_EQ(counted[1]->linearizations, 0);
+  EXPECT_EQ(counted[2]->evaluations, 1);
+  alternating.assemble(problem, weights, 0.1, residuals);
+  EXPECT_EQ(counted[0]->evaluations, 1);
+  EXPECT_EQ(counted[0]->linearizations, 1);
+  EXPECT_EQ(counted[1]->evaluations, 1);
+  EXPECT_EQ(counted[2]->evaluations, 2);
+  // The residuals of a side's terms replace theirs; the other entries are kept as they were.
+  std::vector<double> perTerm{-1.0, -1.0, -1.0}, largest{-1.0, -1.0, -1.0};
+  problem.x()[2] = 5.0;
+  alternating.partResiduals(problem, problem.x(), weights, perTerm, largest);
+  EXPECT_EQ(perTerm, (std::vector<double>{-1.0, 25.0, 4.0}));
+  EXPECT_EQ(largest, (std::vector<double>{-1.0, 5.0, 2.0}));
+  EXPECT_EQ(counted[0]->evaluations, 1);
+}
+
 TEST(NormalEquations, ASingularGroupBlockFailsTheElimination) {
   Problem problem;
   problem.addBlock("a", 1);

@@ -169,4 +169,23 @@ class SparseLinearTerm final : public Term {
   std::vector<Row> rows_;
 };
 
+/// SparseLinearTerm that counts its evaluations (with and without a Jacobian) and linearizations.
+class CountingTerm final : public Term {
+ public:
+  CountingTerm(std::string name, std::vector<SparseLinearTerm::Row> rows)
+      : Term(name), rows_(std::move(name), std::move(rows)) {}
+  int numResiduals() const override { return rows_.numResiduals(); }
+  void jacobianStructure(std::vector<JacobianEntry>& e) const override { rows_.jacobianStructure(e); }
+  void linearizeAt(const Eigen::VectorXd&) override { ++linearizations; }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    ++evaluations;
+    rows_.evaluate(x, r, J);
+  }
+  mutable int evaluations = 0;
+  int linearizations = 0;
+
+ private:
+  SparseLinearTerm rows_;
+};
+
 }  // namespace devsurf::engine::testing

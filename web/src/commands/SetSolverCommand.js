@@ -5,7 +5,7 @@ export const SOLVER_KEYS = [
   'iterations', 'fairness', 'fairness_decay', 'regularization', 'unit_normal_weight',
   'developability_weight', 'handle_weight', 'time_budget_ms', 'residual_tolerance',
   'relative_change_tolerance', 'linear_solver', 'normalize', 'softening', 'step_control', 'hard_band',
-  'hard_tolerance', 'normal_splines', 'crease_normals',
+  'hard_tolerance', 'normal_splines', 'crease_normals', 'development_solve',
 ];
 
 /**

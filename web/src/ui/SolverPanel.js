@@ -64,6 +64,18 @@ export class SolverPanel {
     this.normalsPoints = this.gui.add(this.normals, 'spline points', 4, 200, 1).onFinishChange(normalsChanged);
     this.normalsType.domElement.after(errorSlots.slot('solver:normals'));
     this.controllers.set('normals', this.normalsType);
+    // A composite's development (000_… §5): solved with the surface, or apart from it (faster on
+    // large designs; see the scene schema's development_solve).
+    this.development = { development: 'coupled' };
+    this.developmentSolve = this.gui.add(this.development, 'development', { 'with the surface': 'coupled', 'apart (faster)': 'alternating' })
+      .onFinishChange((value) => {
+        const op = this.send(new SetSolverCommand({ development_solve: value }, {}, { source: 'solver:development_solve' }));
+        if (op === null || op === undefined) this.refresh(true);
+        else this.pending.sent('development_solve');
+      });
+    this.developmentSolve.domElement.dataset.setting = 'development_solve';
+    this.developmentSolve.domElement.after(errorSlots.slot('solver:development_solve'));
+    this.controllers.set('development_solve', this.developmentSolve);
     state.on('scene', () => this.refresh());
     state.on('settings', () => this.refresh());
     state.on('session', () => this.refresh());
@@ -115,6 +127,10 @@ export class SolverPanel {
       this.normals.normals = normals.type === 'spline' ? 'spline' : 'vectors';
       if (normals.type === 'spline' && typeof normals.points === 'number') this.normals['spline points'] = normals.points;
     }
+    if (force || !this.pending.has('development_solve'))
+      this.development.development = solver.development_solve === 'alternating' ? 'alternating' : 'coupled';
+    const model = this.state.scene && this.state.scene.model;
+    this.developmentSolve.show(this._isComposite() && !!model.development);
     for (const c of this.controllers.values()) c.updateDisplay();
     const editable = this.state.role === 'edit';
     for (const c of this.controllers.values()) c.enable(editable);

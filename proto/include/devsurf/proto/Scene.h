@@ -57,6 +57,7 @@ struct SolverSettings {
   double hardTolerance = 0.0;   ///< "hard_tolerance": engine::SolverOptions::hardTolerance
   bool normalSplines = false;   ///< "normal_splines": models::composite::CompositeOptions::normalSplines
   std::string creaseNormals = "auto";  ///< "crease_normals": models::composite::CompositeOptions::creaseNormals
+  std::string developmentSolve = "coupled";  ///< "development_solve": models::composite::CompositeOptions::developmentSolve
 
   engine::SolverOptions solverOptions() const;
   models::strip::StripOptions stripOptions() const;

@@ -41,7 +41,14 @@ struct IterationRecord {
   double totalResidual = 0.0;          ///< Σ over all terms
   double stepNorm = 0.0;               ///< ‖δ‖ (0 for iteration 0)
   double fairnessWeight = 0.0;         ///< ε_fair · decay^k used for this step
-  double stepScale = 1.0;              ///< α of the accepted step x + αδ (0: rejected, x unchanged)
+  double stepScale = 1.0;              ///< α of the accepted step x + αδ (0: rejected, x unchanged by
+                                       ///< it; with alternation the alternating step may still move)
+  /// α of the step of the alternating blocks (VariableLayout::setAlternating), taken after the
+  /// step of the others with them held; 0: rejected (or no block alternates).
+  double alternatingStepScale = 0.0;
+  /// The alternating blocks' system was factorized in this iteration (false: CG with its earlier
+  /// factorization, SolverOptions::alternatingReuse, or no alternation).
+  bool alternatingFactorized = false;
   bool projected = false;              ///< step control replaced a rejected step by a projection
                                        ///< step (hard rows only)
   double pullLimit = 0.0;              ///< step control: the largest residual norm of a relaxable term
@@ -56,7 +63,7 @@ struct IterationRecord {
   /// factorization (FactorizationReuseOptions; also when CG gave up and the matrix was then
   /// factorized); 0: none.
   int pcgIterations = 0;
-  bool factorized = false;             ///< the matrix was factorized in this iteration
+  bool factorized = false;             ///< the step's matrix was factorized in this iteration
   int corrections = 0;                 ///< correction steps kept (SolverOptions::correctionSteps)
   double totalMs = 0.0;                ///< whole iteration including residual evaluation
 };
@@ -151,6 +158,13 @@ struct SolverOptions {
   int assemblyThreads = 0;
   StepControlOptions stepControl;        ///< see StepControlOptions
   FactorizationReuseOptions factorizationReuse;  ///< off by default; see there
+  /// Factorization reuse of the alternating blocks' system (VariableLayout::setAlternating), on by
+  /// default and, unlike factorizationReuse, across solves: a composite's development system
+  /// depends on the 2D vertices alone (the rows' Jacobian is 2(v̄_j − v̄_i)), which a step moves
+  /// little, so CG preconditioned with an earlier factorization reaches 1e-10 in a few triangular
+  /// solves. The matrix is factorized again when CG does not converge, or once maxAge iterations
+  /// old. The step equals the factorized one up to the tolerance.
+  FactorizationReuseOptions alternatingReuse{50, 10, 1e-10};
   /// The schedule's iteration of the first step: the fairness weight of step k is
   /// ε_fair·decay^(firstIteration + k), so a session's many short solves of one drag continue one
   /// schedule instead of restarting it.
@@ -172,6 +186,7 @@ struct SolveSummary {
   std::vector<IterationRecord> iterations;  ///< [0] is the initial state
   TerminationReason reason = TerminationReason::MaxIterations;
   bool converged = false;                   ///< reason is a tolerance (not max iterations/abort)
+  bool alternating = false;                 ///< the solver alternated (VariableLayout::setAlternating)
   double totalMs = 0.0;
   int stepsTaken() const { return iterations.empty() ? 0 : static_cast<int>(iterations.size()) - 1; }
   /// Per-term residuals of the last iterate summed by term name.
@@ -185,6 +200,18 @@ struct SolveSummary {
 ///
 /// Setup/solve split: the constructor analyzes the topology (pattern, ordering, scatter map,
 /// symbolic factorization); solve() runs iterations that only fill numbers and factorize.
+///
+/// Alternation (VariableLayout::setAlternating): when some free block alternates, the solver
+/// analyzes two systems, one over the other blocks (the alternating ones held) and one over the
+/// alternating blocks (the others held). Each iteration takes the step described above on the
+/// first — with its step control — and then one on the second at the new iterate, with the same
+/// weights, shortened (½, ¼ …) until it raises neither the largest hard row beyond the band nor
+/// the hard residual, else not taken; that system has its own damping (ε_reg × 2 per shortened,
+/// × 4 per rejected step, eased after a full one; ×100 retries when it is not positive definite).
+/// Terms that touch only one side are linearized and assembled only in that side's system (step
+/// control still evaluates all of them). The alternating system's factorization carries over
+/// between solves (SolverOptions::alternatingReuse): a solve then depends on the solver's history
+/// up to CG's tolerance.
 class GuidedProjectionSolver {
  public:
   /// Analyzes `problem`'s topology. The problem must outlive the solver and keep its topology.
@@ -204,27 +231,48 @@ class GuidedProjectionSolver {
   void resetStepControl() {
     pullLimit_ = 0.0;  // the next solve starts at its options' initialPullLimit
     dampingScale_ = 1.0;
+    alternateDampingScale_ = 1.0;
   }
   /// The current pull limit of step control (0 before the first solve).
   double pullLimit() const { return pullLimit_; }
   /// Consecutive rejected steps after which a solve ends with Stalled.
   static constexpr int kStallRejections = 12;
 
-  int numFree() const { return equations_.numFree(); }
-  long normalMatrixNonZeros() const { return equations_.nonZeros(); }
+  /// Free scalars of the problem (both systems' with alternation).
+  int numFree() const { return equations_.numFree() + (alternate_ ? alternate_->numFree() : 0); }
+  /// Upper-triangular nonzeros of the normal matrix (both systems' with alternation).
+  long normalMatrixNonZeros() const { return equations_.nonZeros() + (alternate_ ? alternate_->nonZeros() : 0); }
+  /// True if the solver alternates between two systems (VariableLayout::setAlternating).
+  bool alternates() const { return alternate_ != nullptr; }
   const std::string linearSolverName() const { return linear_->name(); }
   /// Threads of the last solve's assembly (1 or 2; SolverOptions::assemblyThreads).
   int assemblyThreads() const { return equations_.assemblyThreads(); }
 
  private:
-  /// delta_ = solution of matrix() δ = rhs() by CG preconditioned with the linear solver's current
-  /// factorization (of an earlier matrix). False if it did not reach `reuse.tolerance` within
-  /// `reuse.maxIterations` or met non-positive curvature. `solves`: preconditioner applications.
-  bool solveWithEarlierFactorization(const FactorizationReuseOptions& reuse, int& solves);
+  /// Work vectors of conjugate gradients over one reduced system.
+  struct PcgWork {
+    Eigen::VectorXd residual, preconditioned, direction, product;
+  };
+  /// delta = solution of equations.matrix() δ = equations.rhs() by CG preconditioned with
+  /// `linear`'s current factorization (of an earlier matrix). False if it did not reach
+  /// `reuse.tolerance` within `reuse.maxIterations` or met non-positive curvature. `solves`:
+  /// preconditioner applications.
+  static bool solveWithEarlierFactorization(const NormalEquations& equations, LinearSolver& linear,
+                                            Eigen::VectorXd& delta, PcgWork& work,
+                                            const FactorizationReuseOptions& reuse, int& solves);
 
   Problem& problem_;
   NormalEquations equations_;
   std::unique_ptr<LinearSolver> linear_;
+  /// The system of the alternating blocks and its linear solver (null without alternation).
+  std::unique_ptr<NormalEquations> alternate_;
+  std::unique_ptr<LinearSolver> alternateLinear_;
+  Eigen::VectorXd alternateDelta_;
+  PcgWork alternateWork_;
+  /// Iterations since alternateLinear_ factorized (−1: never); kept across solves
+  /// (SolverOptions::alternatingReuse).
+  int alternateFactorAge_ = -1;
+  double alternateDampingScale_ = 1.0;  ///< step control of the alternating system: ε_reg multiplier
   LinearSolverKind kind_;
   Eigen::VectorXd delta_;
   Eigen::VectorXd previousX_;
@@ -235,7 +283,7 @@ class GuidedProjectionSolver {
   double pullLimit_ = 0.0;           ///< step control: see StepControlOptions (0: not yet set)
   double dampingScale_ = 1.0;        ///< step control: ε_reg multiplier
   // Factorization reuse (FactorizationReuseOptions): PCG work vectors over the reduced system.
-  Eigen::VectorXd pcgResidual_, pcgPreconditioned_, pcgDirection_, pcgProduct_;
+  PcgWork work_;
 };
 
 }  // namespace devsurf::engine

@@ -40,7 +40,12 @@ class NormalEquations {
   /// @throws std::logic_error if a term lists a variable twice in one row, an entry is out of
   ///         range, or a row couples two declared elimination groups; DeadlineExceeded once
   ///         `deadline` has passed (checked between the phases and in the loops over rows).
-  explicit NormalEquations(const Problem& problem, const Deadline& deadline = {});
+  /// @param[in] part  the free scalars this system solves for (VariableLayout::setAlternating):
+  ///            the others are held as if fixed. For a part other than All, terms with no entry
+  ///            on the part are neither evaluated nor linearized by assemble() (they are constant
+  ///            in this system); see touchesPart().
+  explicit NormalEquations(const Problem& problem, const Deadline& deadline = {},
+                           VariablePart part = VariablePart::All);
 
   /// Evaluates every term at x (after linearizeAt) and fills the part of the reduced system that
   /// involves no eliminated variable; eliminate() completes it.
@@ -90,6 +95,16 @@ class NormalEquations {
   /// (fairness, handles) and ε_reg resist the move as they weigh in the step, but do not pull.
   void correctionRhs(const Problem& problem, const Eigen::VectorXd& x);
 
+  /// Whether term `t` has an entry on a free scalar of this system's part (every term with free
+  /// entries, for VariablePart::All).
+  bool touchesPart(int t) const { return plans_[static_cast<std::size_t>(t)].numFreeEntries > 0; }
+
+  /// residuals() for the terms that touch this system's part only: their entries of
+  /// termResiduals (and termMaxAbs) are replaced, the others' kept (the other terms are constant
+  /// in a step of this system).
+  void partResiduals(const Problem& problem, const Eigen::VectorXd& x, const std::vector<double>& termWeights,
+                     std::vector<double>& termResiduals, std::vector<double>& termMaxAbs);
+
   /// Upper triangle of the reduced matrix S in the solver ordering (after eliminate()).
   const SymmetricUpper& matrix() const { return S_; }
   /// Right-hand side of S δ_c = rhs in the solver ordering (after eliminate()).
@@ -114,6 +129,7 @@ class NormalEquations {
   struct TermPlan {
     int numResiduals = 0;
     int numEntries = 0;
+    int numFreeEntries = 0;            ///< entries on free scalars of this system's part
     // Rows that touch no eliminated variable, as CSR over their free entries.
     std::vector<int> directRow;        ///< residual row of each direct row
     std::vector<int> directStart;      ///< entries of direct row i: [directStart[i], directStart[i+1])
@@ -199,6 +215,10 @@ class NormalEquations {
   /// (rowValues_'s size).
   void accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const;
   long directProducts_ = 0;          ///< Σ over all terms of TermPlan::directProducts
+  VariablePart part_ = VariablePart::All;
+  /// Evaluates the term at x into residual_ (residual-only); per term Σ r² and the largest |r|.
+  void evaluateResidual(const Problem& problem, int t, const Eigen::VectorXd& x, double& energy,
+                        double& largest);
   int assemblyThreads_ = 1;
   int splitTerm_ = 0;                ///< the second thread accumulates terms [splitTerm_, end)
   std::vector<double> workerMatrix_, workerRhs_, workerRow_;  ///< the second thread's copies

@@ -19,6 +19,16 @@ struct VariableBlock {
   /// kAutoElimination (default) lets the assembler decide, 0 never eliminates, g > 0 eliminates
   /// every consecutive group of g scalars (see VariableLayout::setEliminable).
   int eliminationGroupSize = kAutoElimination;
+  /// Solved apart from the other blocks, in turns (VariableLayout::setAlternating).
+  bool alternating = false;
+};
+
+/// Which free scalars a linear system solves for: all of them, or one side of the alternation
+/// (VariableLayout::setAlternating).
+enum class VariablePart {
+  All,          ///< every free scalar (one system, the plain method)
+  Main,         ///< the free scalars of blocks that do not alternate
+  Alternating,  ///< the free scalars of alternating blocks
 };
 
 /// All unknowns of a problem as named blocks in one vector x (Ceres parameter blocks).
@@ -55,19 +65,33 @@ class VariableLayout {
   /// @throws std::invalid_argument if groupSize < −1 or does not divide the block size.
   void setEliminable(int block, int groupSize);
 
+  /// Marks a block as solved apart (block Gauss–Seidel): each guided-projection iteration takes
+  /// its step on the other blocks with this one held, then a step on the alternating blocks with
+  /// the others held, each in its own, smaller linear system (GuidedProjectionSolver). For a
+  /// composite's development (issue 17), whose 2D vertices are coupled to the surface only by the
+  /// isometry rows: factorizing the two systems apart costs a fraction of the one coupled system.
+  void setAlternating(int block, bool alternating = true);
+  /// True if some block alternates and has a free scalar.
+  bool hasAlternation() const;
+
   /// Holds the scalars [first, first+count) of `block` fixed (or frees them).
   void setFixed(int block, int first, int count, bool fixed = true);
   /// Holds a whole block fixed (or frees it).
   void setBlockFixed(int block, bool fixed = true);
   bool isFixed(int variable) const { return fixed_[variable] != 0; }
 
-  /// Column of every scalar in the reduced system, −1 for fixed ones.
-  std::vector<int> freeIndex() const;
-  int numFree() const;
+  /// Column of every scalar in the reduced system, −1 for fixed ones (and, for a part, for the
+  /// scalars of the other part).
+  std::vector<int> freeIndex(VariablePart part = VariablePart::All) const;
+  int numFree(VariablePart part = VariablePart::All) const;
 
  private:
   std::vector<VariableBlock> blocks_;
+  /// Whether the free scalar `variable` belongs to `part`.
+  bool inPart(int variable, VariablePart part) const;
+
   std::vector<char> fixed_;
+  std::vector<int> blockOf_;  ///< variable → block id
 };
 
 }  // namespace devsurf::engine

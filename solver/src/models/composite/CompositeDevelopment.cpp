@@ -270,6 +270,11 @@ void CompositeModel::buildDevelopmentMesh() {
   }
   spline::EvaluationMatrix W(n, P);
   W.setFromTriplets(t.begin(), t.end());
+  // A sample at a knot has a basis function that is exactly 0 there: dropped, the isometry rows
+  // of a curve's samples hold the control points of one span and do not widen the band of the
+  // normal matrix (issue 17: 40 × 40 sheet with development, nnz(H) 1.84M → 1.77M, 8–14 % off
+  // the iteration).
+  W.prune(0.0);
   W.makeCompressed();
   devSpatial_ = {W, 0};
 

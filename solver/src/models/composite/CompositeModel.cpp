@@ -222,6 +222,11 @@ void CompositeModel::buildProblem() {
       problem_.layout().setFixed(edgeBlock_[s.edge], 3 * s.index, 3);
   }
 
+  if (developmentBlock_ >= 0 && options_.developmentSolve == DevelopmentSolve::Alternating) {
+    problem_.layout().setAlternating(developmentBlock_);
+    problem_.layout().setRegularizationScale(developmentBlock_, options_.alternatingDevelopmentRegularizationScale);
+    if (periodBlock_ >= 0) problem_.layout().setAlternating(periodBlock_);
+  }
   rulingCreases_ = options_.creaseNormals == CreaseNormals::Ruling ||
                    (options_.creaseNormals == CreaseNormals::Auto && problem_.x().size() >= options_.rulingCreaseUnknowns);
   const int P = static_cast<int>(problem_.x().size() / 3);
