@@ -95,14 +95,19 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 
+/** The shared curved-fold demo in an editor: its session entry, the page and the session's state. */
+async function openCurvedFoldDemo(daemon) {
+  const demo = (await daemon.api('GET', '/api/sessions')).body.sessions.find((s) => s.id === 'demo-composite-curved-fold');
+  const page = await ctx.page();
+  await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
+  await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
+  return { demo, page, before: await daemon.session(demo.id, demo.view_token) };
+}
+
 test('the Solver panel solves a composite\'s development apart, and a drag keeps the development isometric', { timeout: 240000 }, () =>
   ctx.guard('composite-development-apart', async () => {
     const { daemon } = ctx;
-    const demo = (await daemon.api('GET', '/api/sessions')).body.sessions.find((s) => s.id === 'demo-composite-curved-fold');
-    const page = await ctx.page();
-    await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
-    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
-    const before = await daemon.session(demo.id, demo.view_token);
+    const { demo, page, before } = await openCurvedFoldDemo(daemon);
     assert.ok(before.scene.model.development, 'the demo has a development');
     assert.equal(before.scene.solver.development_solve, 'coupled', 'the demo solves its development with the surface');
     const control = page.locator('[data-setting="development_solve"] select');
@@ -143,11 +148,7 @@ test('the Solver panel solves a composite\'s development apart, and a drag keeps
 test('the Solver panel switches a composite to normal splines, and a drag keeps it developable', { timeout: 240000 }, () =>
   ctx.guard('composite-normal-splines', async () => {
     const { daemon } = ctx;
-    const demo = (await daemon.api('GET', '/api/sessions')).body.sessions.find((s) => s.id === 'demo-composite-curved-fold');
-    const page = await ctx.page();
-    await h.openEditor(page, daemon.editorUrl(demo.id, demo.edit_token));
-    await h.waitState(page, (st) => st.kind === 'composite', undefined, { what: 'a composite session' });
-    const before = await daemon.session(demo.id, demo.view_token);
+    const { demo, page, before } = await openCurvedFoldDemo(daemon);
     assert.equal(before.scene.solver.normal_splines, false, 'the demo ships with free normals');
     const unknowns0 = before.metrics.unknowns;
 

@@ -455,6 +455,17 @@ TEST(GuidedProjectionSolver, FactorizationReuseFactorizesWhenCgGivesUp) {
   }
 }
 
+/// Random rows A (rows × cols) and targets y, entries in [−1, 1].
+void randomRows(std::mt19937& rng, int rows, int cols, Eigen::MatrixXd& A, Eigen::VectorXd& y) {
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  A.resize(rows, cols);
+  y.resize(rows);
+  for (int i = 0; i < rows; ++i) {
+    y[i] = uni(rng);
+    for (int j = 0; j < cols; ++j) A(i, j) = uni(rng);
+  }
+}
+
 /// Linear rows over a (2 scalars) and b (2, alternating): one iteration is the least-squares
 /// solution over a with b held, then over b with the new a held (block Gauss–Seidel), exactly.
 TEST(GuidedProjectionSolver, AnAlternatingIterationStepsEachSideWithTheOtherHeld) {
@@ -464,12 +475,9 @@ TEST(GuidedProjectionSolver, AnAlternatingIterationStepsEachSideWithTheOtherHeld
   problem.layout().setAlternating(b);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Eigen::MatrixXd A(6, 4);
-  Eigen::VectorXd y(6);
-  for (int i = 0; i < 6; ++i) {
-    y[i] = uni(rng);
-    for (int j = 0; j < 4; ++j) A(i, j) = uni(rng);
-  }
+  Eigen::MatrixXd A;
+  Eigen::VectorXd y;
+  randomRows(rng, 6, 4, A, y);
   for (int i = 0; i < 4; ++i) problem.x()[i] = uni(rng);
   const Eigen::Vector2d b0 = problem.x().tail<2>();
   problem.addTerm(std::make_unique<LinearRowsTerm>("rows", A, y), 1.0, Strength::Hard);
@@ -532,12 +540,9 @@ TEST(GuidedProjectionSolver, TheAlternatingSideReusesItsFactorizationAndTakesThe
     problem.layout().setAlternating(b);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> uni(-1.0, 1.0);
-    Eigen::MatrixXd A(6, 5);
-    Eigen::VectorXd y(6);
-    for (int i = 0; i < 6; ++i) {
-      y[i] = uni(rng);
-      for (int j = 0; j < 5; ++j) A(i, j) = uni(rng);
-    }
+    Eigen::MatrixXd A;
+    Eigen::VectorXd y;
+    randomRows(rng, 6, 5, A, y);
     for (int i = 0; i < 5; ++i) problem.x()[i] = 1.0 + 0.5 * uni(rng);
     problem.addTerm(std::make_unique<LinearRowsTerm>("rows", A, y), 0.5, Strength::Soft);
     problem.addTerm(std::make_unique<ProductTerm>("product", 0, 1, 2.0), 1.0, Strength::Hard);
