@@ -95,6 +95,18 @@ test('a composite demo opens, a vertex drags, a crease type switches and undoes,
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 
+/** Vertex 3 dragged 40 px up in ten steps; the page's and the server's state once it is solved. */
+async function dragVertexThreeUp(page, daemon, demo, afterSeq) {
+  await h.dragAndSettle(page, await h.pointPagePosition(page, { vertex: 3 }), { dy: -40, steps: 10, pauseMs: 50 });
+  const done = await h.poll(async () => {
+    const st = await h.state(page);
+    const server = await daemon.session(demo.id, demo.view_token);
+    return { st, server, ok: st.lastSolved && st.lastSolved.seq === server.seq && server.seq > afterSeq };
+  });
+  assert.ok(done.ok, 'the drag was solved');
+  return done;
+}
+
 /** The shared curved-fold demo in an editor: its session entry, the page and the session's state. */
 async function openCurvedFoldDemo(daemon) {
   const demo = (await daemon.api('GET', '/api/sessions')).body.sessions.find((s) => s.id === 'demo-composite-curved-fold');
@@ -120,13 +132,7 @@ test('the Solver panel solves a composite\'s development apart, and a drag keeps
     assert.ok(switched.ok, 'the server solves the development apart');
     await page.waitForFunction(() => window.__devsurf.state.scene.solver.development_solve === 'alternating');
 
-    await h.dragAndSettle(page, await h.pointPagePosition(page, { vertex: 3 }), { dy: -40, steps: 10, pauseMs: 50 });
-    const done = await h.poll(async () => {
-      const st = await h.state(page);
-      const server = await daemon.session(demo.id, demo.view_token);
-      return { st, server, ok: st.lastSolved && st.lastSolved.seq === server.seq && server.seq > switched.s.seq };
-    });
-    assert.ok(done.ok, 'the drag was solved');
+    const done = await dragVertexThreeUp(page, daemon, demo, switched.s.seq);
     const m = done.server.metrics;
     console.log(`development apart: after the drag development length error ${m.development_length_error}, `
       + `flatness ${m.face_flatness_max}, warp ${m.warp_angle_max_deg}°`);
@@ -164,13 +170,7 @@ test('the Solver panel switches a composite to normal splines, and a drag keeps 
     // The spline's control-point count belongs to strips; a composite's follows its curves.
     assert.equal(await page.locator('[data-setting="normals"] select').inputValue(), 'spline');
 
-    await h.dragAndSettle(page, await h.pointPagePosition(page, { vertex: 3 }), { dy: -40, steps: 10, pauseMs: 50 });
-    const done = await h.poll(async () => {
-      const st = await h.state(page);
-      const server = await daemon.session(demo.id, demo.view_token);
-      return { st, server, ok: st.lastSolved && st.lastSolved.seq === server.seq && server.seq > switched.s.seq };
-    });
-    assert.ok(done.ok, 'the drag was solved');
+    const done = await dragVertexThreeUp(page, daemon, demo, switched.s.seq);
     const m = done.server.metrics;
     console.log(`normal splines: ${unknowns0} → ${m.unknowns} unknowns; after the drag warp ${m.warp_angle_max_deg}°, `
       + `flatness ${m.face_flatness_max}, crease residual ${m.crease_fold_residual_max}`);
