@@ -1,4 +1,5 @@
 #include "devsurf/engine/NormalEquations.h"
+#include "devsurf/engine/VectorClones.h"
 
 #include <algorithm>
 #include <cassert>
@@ -659,6 +660,7 @@ void NormalEquations::setAssemblyThreads(int threads, long minProducts) {
   workerRow_.assign(rowValues_.size(), 0.0);
 }
 
+DEVSURF_VECTOR_CLONES
 void NormalEquations::accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const {
   double* dense = jr + longestDirectRow_;  // n×n, row-major upper triangle used
   for (int t = firstTerm; t < endTerm; ++t) {
@@ -784,6 +786,7 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
   for (int c = 0; c < numReduced_; ++c) H[diagonalSlot_[c]] += eps2_ * regularizationScale_[c];
 }
 
+DEVSURF_VECTOR_CLONES
 void NormalEquations::gatherGroupRows(const EliminationGroup& g, int m, double* Jc) {
   const double* J = jacobian_.data();
   const int* source = groupEntrySource_.data();
@@ -801,7 +804,7 @@ void NormalEquations::gatherGroupRows(const EliminationGroup& g, int m, double* 
 }
 
 template <int M>
-bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y,
+DEVSURF_VECTOR_CLONES bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* Jc, double* Y,
                                      double* rb) {
   const int m = M > 0 ? M : g.size;
   const int nr = g.numRows, nk = g.numKeptRows;
@@ -876,6 +879,7 @@ bool NormalEquations::eliminateGroup(const EliminationGroup& g, int ld, double* 
   return true;
 }
 
+DEVSURF_VECTOR_CLONES
 bool NormalEquations::eliminate() {
   double* H = S_.valuePtr();
   double* rhs = rhs_.data();

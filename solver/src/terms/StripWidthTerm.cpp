@@ -26,58 +26,61 @@ StripWidthTerm::StripWidthTerm(std::string name, std::vector<SignedPoints> rulin
       if (s.first.rows() != K) throw std::invalid_argument("StripWidthTerm: every point set needs one row per parameter");
   for (int k = 0; k < K; ++k) {
     if (!(minWidth[k] > 0.0) || !std::isfinite(minWidth[k])) continue;
-    Row row;
-    row.inverseSquared = 1.0 / (minWidth[k] * minWidth[k]);
-    auto accumulate = [&row](const std::vector<SignedPoints>& sets, bool isRuling, int k) {
+    const std::size_t first = entries_.size();
+    auto accumulate = [this, first](const std::vector<SignedPoints>& sets, bool isRuling, int k) {
       for (const auto& [points, sign] : sets)
         for (spline::EvaluationMatrix::InnerIterator it(points.weights, k); it; ++it) {
           const int offset = points.offset + 3 * static_cast<int>(it.col());
-          auto e = std::find_if(row.entries.begin(), row.entries.end(),
+          auto e = std::find_if(entries_.begin() + static_cast<std::ptrdiff_t>(first), entries_.end(),
                                 [offset](const Entry& entry) { return entry.offset == offset; });
-          if (e == row.entries.end()) {
-            row.entries.push_back({offset, 0.0, 0.0});
-            e = row.entries.end() - 1;
+          if (e == entries_.end()) {
+            entries_.push_back({offset, 0.0, 0.0});
+            e = entries_.end() - 1;
           }
           (isRuling ? e->r : e->t) += sign * it.value();
         }
     };
     accumulate(ruling, true, k);
     accumulate(tangent, false, k);
-    rows_.push_back(std::move(row));
+    rowStart_.push_back(static_cast<int>(entries_.size()));
+    inverseSquared_.push_back(1.0 / (minWidth[k] * minWidth[k]));
   }
 }
 
 void StripWidthTerm::jacobianStructure(std::vector<engine::JacobianEntry>& entries) const {
   for (int i = 0; i < numResiduals(); ++i)
-    for (const Entry& e : rows_[i].entries)
-      for (int c = 0; c < 3; ++c) entries.push_back({i, e.offset + c});
+    for (int k = rowStart_[i]; k < rowStart_[i + 1]; ++k)
+      for (int c = 0; c < 3; ++c) entries.push_back({i, entries_[k].offset + c});
 }
 
 void StripWidthTerm::evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const {
   double* out = jacobian;
+  const Entry* entries = entries_.data();
   for (int i = 0; i < numResiduals(); ++i) {
-    const Row& row = rows_[i];
+    const Entry* begin = entries + rowStart_[i];
+    const Entry* end = entries + rowStart_[i + 1];
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero();
-    for (const Entry& e : row.entries) {
-      r += e.r * x.segment<3>(e.offset);
-      t += e.t * x.segment<3>(e.offset);
+    for (const Entry* e = begin; e != end; ++e) {
+      r += e->r * x.segment<3>(e->offset);
+      t += e->t * x.segment<3>(e->offset);
     }
     const Eigen::Vector3d N = r.cross(t);
-    const double g = 1.0 - N.squaredNorm() * row.inverseSquared;
+    const double inverseSquared = inverseSquared_[i];
+    const double g = 1.0 - N.squaredNorm() * inverseSquared;
     residuals[i] = hingeResidual(g);
     if (!out) continue;
     const double slope = hingeSlope(g);
+    const std::size_t n = 3 * static_cast<std::size_t>(end - begin);
     if (slope == 0.0) {  // at rest (wide enough): a zero row, which the assembler skips
-      const std::size_t n = 3 * row.entries.size();
       std::fill(out, out + n, 0.0);
       out += n;
       continue;
     }
     // d|N|² = 2 (t × N)·dr + 2 (N × r)·dt; the row is −slope/m² times that.
-    const double s = -2.0 * slope * row.inverseSquared;
+    const double s = -2.0 * slope * inverseSquared;
     const Eigen::Vector3d gr = s * t.cross(N), gt = s * N.cross(r);
-    for (const Entry& e : row.entries) {
-      const Eigen::Vector3d v = e.r * gr + e.t * gt;
+    for (const Entry* e = begin; e != end; ++e) {
+      const Eigen::Vector3d v = e->r * gr + e->t * gt;
       for (int c = 0; c < 3; ++c) *out++ = v[c];
     }
   }
@@ -93,13 +96,14 @@ std::vector<double> StripWidthTerm::widths(const std::vector<SignedPoints>& ruli
 
 double StripWidthTerm::widthRatioMin(const Eigen::VectorXd& x, double ratio) const {
   double best = 1.0 / ratio;
-  for (const Row& row : rows_) {
+  for (int i = 0; i < numResiduals(); ++i) {
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), t = Eigen::Vector3d::Zero();
-    for (const Entry& e : row.entries) {
+    for (int k = rowStart_[i]; k < rowStart_[i + 1]; ++k) {
+      const Entry& e = entries_[k];
       r += e.r * x.segment<3>(e.offset);
       t += e.t * x.segment<3>(e.offset);
     }
-    best = std::min(best, r.cross(t).norm() * std::sqrt(row.inverseSquared));
+    best = std::min(best, r.cross(t).norm() * std::sqrt(inverseSquared_[i]));
   }
   return best * ratio;
 }

@@ -32,7 +32,7 @@ class StripWidthTerm final : public engine::Term {
   StripWidthTerm(std::string name, std::vector<SignedPoints> ruling, std::vector<SignedPoints> tangent,
                  std::vector<double> minWidth);
 
-  int numResiduals() const override { return static_cast<int>(rows_.size()); }
+  int numResiduals() const override { return static_cast<int>(inverseSquared_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
@@ -48,11 +48,11 @@ class StripWidthTerm final : public engine::Term {
     int offset;   ///< index in x of a 3D point
     double r, t;  ///< its coefficient in r and in t
   };
-  struct Row {
-    std::vector<Entry> entries;
-    double inverseSquared = 0.0;  ///< 1/m_k²
-  };
-  std::vector<Row> rows_;
+  // The guarded rows, stored flat (one pass over contiguous memory per evaluation): row i's
+  // entries are entries_[rowStart_[i], rowStart_[i + 1]).
+  std::vector<int> rowStart_{0};
+  std::vector<Entry> entries_;
+  std::vector<double> inverseSquared_;  ///< per row: 1/m_k²
 };
 
 }  // namespace devsurf::terms

@@ -1,0 +1,18 @@
+#pragma once
+
+/// DEVSURF_VECTOR_CLONES: compiles a hot loop twice, for AVX2 and for the baseline x86-64 (SSE2),
+/// and picks one when the program loads (GCC/Clang `target_clones`, an ifunc resolved from the
+/// CPU's features). The build itself targets the baseline so that one binary runs everywhere; the
+/// accumulation of JᵀJ and the elimination of the normals are element-wise loops over rows of 12–36
+/// entries that AVX2 runs four lanes wide (issue 17: the non-factorization part of an iteration).
+///
+/// FMA is deliberately not enabled: without contraction an AVX2 loop rounds exactly as the SSE2
+/// one does (the loops are element-wise, the compiler does not reorder sums without fast-math), so
+/// every machine computes the same iterates — nodes of one cluster, or CI and a laptop, agree to
+/// the last bit.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(DEVSURF_NO_VECTOR_CLONES)
+#define DEVSURF_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define DEVSURF_VECTOR_CLONES
+#endif
