@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -194,6 +195,52 @@ TEST_P(CompositePresetWithAlternatingDevelopment, SolvedWithTheDevelopmentApartI
 INSTANTIATE_TEST_SUITE_P(Examples, CompositePresetWithAlternatingDevelopment,
                          ::testing::ValuesIn(developedCompositePresetFiles()),
                          devsurf::testing::presetTestName<::testing::TestParamInfo<std::string>>);
+
+/// The evaluation that judged a step serves the next assembly (SolverOptions::keepEvaluations,
+/// Term::evaluatesFromXAlone): every preset whose model runs guided projection takes the same
+/// iterates bit for bit with it on and off.
+class PresetWithKeptEvaluations : public ::testing::TestWithParam<std::string> {};
+
+/// The presets whose model is solved by guided projection (strip, composite, quad_mesh).
+std::vector<std::string> guidedProjectionPresetFiles() {
+  std::vector<std::string> out;
+  for (const std::string& name : presetFiles()) {
+    const std::string kind = devsurf::testing::readPreset(name)["model"].value("kind", "");
+    if (kind == "strip" || kind == "composite" || kind == "quad_mesh") out.push_back(name);
+  }
+  return out;
+}
+
+TEST_P(PresetWithKeptEvaluations, TakesTheSameIteratesBitForBitAsWithoutThem) {
+  const json scene = devsurf::testing::readPreset(GetParam());
+  SceneSolver kept(proto::sceneFromJson(scene)), plain(proto::sceneFromJson(scene));
+  engine::SolverOptions options;
+  options.maxIterations = 12;
+  options.residualTolerance = 0.0;  // all twelve, also on a preset that ships solved
+  options.relativeChangeTolerance = 0.0;
+  engine::SolverOptions without = options;
+  without.keepEvaluations = false;
+  auto run = [](SceneSolver& solver, const engine::SolverOptions& o) -> Eigen::VectorXd {
+    if (solver.isComposite()) {
+      solver.compositeModel().solve(o);
+      return solver.compositeModel().problem().x();
+    }
+    if (solver.isStrip()) {
+      solver.stripModel().solve(o);
+      return solver.stripModel().problem().x();
+    }
+    solver.quadMeshModel().solve(o);
+    return solver.quadMeshModel().problem().x();
+  };
+  const Eigen::VectorXd a = run(kept, options), b = run(plain, without);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_TRUE(a.allFinite());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())), 0)
+      << "largest difference " << (a - b).cwiseAbs().maxCoeff();
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, PresetWithKeptEvaluations, ::testing::ValuesIn(guidedProjectionPresetFiles()),
+                         [](const auto& info) { return devsurf::testing::presetTestName(info); });
 
 TEST(PresetAsShipped, EveryKindHasAPreset) {
   std::set<std::string> kinds;

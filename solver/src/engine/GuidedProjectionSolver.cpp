@@ -138,6 +138,9 @@ int availableCores() {
 
 SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   const Clock::time_point start = Clock::now();
+  // Targets, weights and term data may have changed since the last solve: nothing evaluated before
+  // it is taken for this one's first assembly.
+  equations_.setKeepEvaluations(options.keepEvaluations);  // and forgets what was kept
   equations_.setAssemblyThreads(options.assemblyThreads > 0 ? options.assemblyThreads : availableCores());
   if (alternate_) alternate_->setAssemblyThreads(options.assemblyThreads > 0 ? options.assemblyThreads : availableCores());
   SolveSummary summary;

@@ -145,6 +145,17 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
   residual_.setZero(numRows);
   jacobian_.setZero(termJacobianOffset_[numTerms]);
   weights_.assign(numTerms, 0.0);
+  // Terms whose Jacobian a residual evaluation keeps for the next assemble() (Term::evaluatesFromXAlone).
+  keptTerm_.assign(static_cast<std::size_t>(numTerms), 0);
+  for (int t = 0; t < numTerms; ++t)
+    if (problem.term(t).term->evaluatesFromXAlone() && plans_[static_cast<std::size_t>(t)].numFreeEntries > 0) {
+      keptTerm_[static_cast<std::size_t>(t)] = 1;
+      anyKeptTerm_ = true;
+    }
+  if (anyKeptTerm_) {
+    keptJacobian_.setZero(jacobian_.size());
+    keptX_.setZero(problem.x().size());
+  }
 
   // 2. Incidence over all terms: global row → natural columns, column → rows (ascending).
   std::vector<int> rowTerm(numRows), rowPtr(numRows + 1, 0), rowCols;
@@ -742,6 +753,15 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
   const Eigen::VectorXd& x = problem.x();
   double* rhs = rhs_.data();
 
+  // The terms that evaluate from x alone were evaluated, Jacobian included, by the last
+  // residuals() call if it was at this x: their residuals are in residual_ and their Jacobians in
+  // keptJacobian_, which becomes jacobian_ (the other terms are evaluated into it below).
+  const bool reuse = keptValid_ && keptX_.size() == x.size() &&
+                     std::equal(x.data(), x.data() + x.size(), keptX_.data());
+  keptValid_ = false;
+  reusedTerms_ = 0;
+  if (reuse) jacobian_.swap(keptJacobian_);
+
   // Every term evaluated (one thread: terms may share state, a foot-point set say), then the
   // products of the rows accumulated, in two runs of terms when a second thread is worth it.
   for (int t = 0; t < problem.numTerms(); ++t) {
@@ -750,8 +770,12 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
     if (part_ != VariablePart::All && plan.numFreeEntries == 0) continue;  // constant here
     double* r = residual_.data() + termResidualOffset_[t];
     double* J = jacobian_.data() + termJacobianOffset_[t];
-    term.linearizeAt(x);
-    term.evaluate(x, r, J);
+    if (reuse && keptTerm_[static_cast<std::size_t>(t)]) {
+      ++reusedTerms_;  // residuals and Jacobian at x already in place (linearizeAt is a no-op)
+    } else {
+      term.linearizeAt(x);
+      term.evaluate(x, r, J);
+    }
     const double w2 = termWeights[t] * termWeights[t];
     double energy = 0.0;
     for (int row = 0; row < plan.numResiduals; ++row) energy += r[row] * r[row];
@@ -921,12 +945,18 @@ void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x
                                 std::vector<double>& termResiduals, std::vector<double>* termMaxAbs) {
   termResiduals.assign(problem.numTerms(), 0.0);
   if (termMaxAbs) termMaxAbs->assign(problem.numTerms(), 0.0);
+  const bool keep = keepEvaluations_ && anyKeptTerm_ && x.size() == keptX_.size();
   for (int t = 0; t < problem.numTerms(); ++t) {
     double energy = 0.0, largest = 0.0;
-    evaluateResidual(problem, t, x, energy, largest);
+    double* keptJacobian = keep && keptTerm_[static_cast<std::size_t>(t)]
+                               ? keptJacobian_.data() + termJacobianOffset_[t]
+                               : nullptr;
+    evaluateResidual(problem, t, x, energy, largest, keptJacobian);
     termResiduals[t] = termWeights[t] * termWeights[t] * energy;
     if (termMaxAbs) (*termMaxAbs)[t] = largest;
   }
+  keptValid_ = keep;
+  if (keep) keptX_ = x;  // same size: no allocation
 }
 
 void NormalEquations::partResiduals(const Problem& problem, const Eigen::VectorXd& x,
@@ -937,6 +967,7 @@ void NormalEquations::partResiduals(const Problem& problem, const Eigen::VectorX
   for (int t = 0; t < problem.numTerms(); ++t) {
     if (!touchesPart(t)) continue;
     double energy = 0.0, largest = 0.0;
+    keptValid_ = false;  // residual_ no longer holds one evaluation at one x
     evaluateResidual(problem, t, x, energy, largest);
     termResiduals[static_cast<std::size_t>(t)] = termWeights[t] * termWeights[t] * energy;
     termMaxAbs[static_cast<std::size_t>(t)] = largest;
@@ -944,16 +975,19 @@ void NormalEquations::partResiduals(const Problem& problem, const Eigen::VectorX
 }
 
 void NormalEquations::evaluateResidual(const Problem& problem, int t, const Eigen::VectorXd& x, double& energy,
-                                       double& largest) {
+                                       double& largest, double* jacobian) {
   double* r = residual_.data() + termResidualOffset_[t];
-  problem.term(t).term->evaluate(x, r, nullptr);
-  energy = 0.0;
-  largest = 0.0;
-  for (int row = 0; row < plans_[t].numResiduals; ++row) {
-    energy += r[row] * r[row];
-    largest = std::max(largest, std::abs(r[row]));
-    if (std::isnan(r[row])) largest = r[row];
+  problem.term(t).term->evaluate(x, r, jacobian);
+  // In locals: through the references every row would store and reload them (they may alias r).
+  double sum = 0.0, big = 0.0;
+  const int rows = plans_[t].numResiduals;
+  for (int row = 0; row < rows; ++row) {
+    sum += r[row] * r[row];
+    big = std::max(big, std::abs(r[row]));
+    if (std::isnan(r[row])) big = r[row];
   }
+  energy = sum;
+  largest = big;
 }
 
 void NormalEquations::correctGroup(const EliminationGroup& g, int ld, double* Jc, double* rb) {
@@ -983,6 +1017,7 @@ void NormalEquations::correctGroup(const EliminationGroup& g, int ld, double* Jc
 }
 
 void NormalEquations::correctionRhs(const Problem& problem, const Eigen::VectorXd& x) {
+  keptValid_ = false;  // residual_ is overwritten below
   rhs_.setZero();
   double* rhs = rhs_.data();
   for (int t = 0; t < problem.numTerms(); ++t) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <Eigen/Dense>
 
 #include <cmath>
@@ -387,6 +389,69 @@ TEST(GuidedProjectionSolver, EliminationLeavesTheIteratesUnchanged) {
                   1e-9 * (1e-12 + b.iterations[k].totalResidual));
     }
     EXPECT_LT(a.iterations[6].hardResidual, a.iterations[0].hardResidual);
+  }
+}
+
+/// Keeping the evaluation that judged a step for the next assembly (SolverOptions::
+/// keepEvaluations) changes no iterate — with corrections, with an alternating block (which moves
+/// x after the evaluation: the next assembly is elsewhere) and over a second solve — and
+/// evaluates the terms that evaluate from x alone once per iteration instead of twice.
+TEST(GuidedProjectionSolver, KeptEvaluationsChangeNoIterateAndSaveAnEvaluationPerIteration) {
+  struct Case {
+    int corrections;
+    bool alternating;
+  };
+  for (const Case c : {Case{0, false}, Case{1, false}, Case{0, true}}) {
+    const int corrections = c.corrections;
+    Problem kept, plain;
+    testing::buildStripLike(kept, 5, 7, 3);
+    testing::buildStripLike(plain, 5, 7, 3);
+    if (c.alternating)
+      for (Problem* p : {&kept, &plain}) {
+        const int normals = p->layout().blockId("normals");
+        p->layout().setEliminable(normals, 0);
+        p->layout().setAlternating(normals);
+      }
+    auto everyOther = [](int t) { return t % 2 == 0; };
+    const std::vector<testing::ForwardingTerm*> a = testing::forwardTerms(kept, everyOther);
+    const std::vector<testing::ForwardingTerm*> b = testing::forwardTerms(plain, everyOther);
+    GuidedProjectionSolver s1(kept, LinearSolverKind::SimplicialLDLT);
+    GuidedProjectionSolver s2(plain, LinearSolverKind::SimplicialLDLT);
+    SolverOptions options;
+    options.maxIterations = 8;
+    options.regularization = 1e-4;  // long first steps: step control shortens some
+    options.residualTolerance = 0.0;
+    options.relativeChangeTolerance = 0.0;
+    options.correctionSteps = corrections;
+    SolverOptions without = options;
+    without.keepEvaluations = false;
+    for (int solve = 0; solve < 2; ++solve) {
+      const SolveSummary sa = s1.solve(options);
+      const SolveSummary sb = s2.solve(without);
+      ASSERT_EQ(sa.iterations.size(), sb.iterations.size());
+      for (std::size_t k = 0; k < sa.iterations.size(); ++k) {
+        EXPECT_EQ(sa.iterations[k].totalResidual, sb.iterations[k].totalResidual) << k;
+        EXPECT_EQ(sa.iterations[k].stepScale, sb.iterations[k].stepScale) << k;
+        EXPECT_EQ(sa.iterations[k].corrections, sb.iterations[k].corrections) << k;
+      }
+      EXPECT_EQ(std::memcmp(kept.x().data(), plain.x().data(), sizeof(double) * kept.x().size()), 0)
+          << "solve " << solve << ", corrections " << corrections;
+      kept.x()[7] += 0.05;  // the next solve starts elsewhere
+      plain.x()[7] += 0.05;
+    }
+    int evaluationsKept = 0, evaluationsPlain = 0;
+    for (int t = 0; t < kept.numTerms(); t += 2) {
+      // Its residual-only evaluations: the corrections' right-hand sides, the alternating side's
+      // step control.
+      if (corrections == 0 && !c.alternating) EXPECT_EQ(a[t]->residualOnly, 0) << "a term evaluated from x alone keeps its Jacobian";
+      evaluationsKept += a[t]->withJacobian + a[t]->residualOnly;
+      evaluationsPlain += b[t]->withJacobian + b[t]->residualOnly;
+    }
+    // Two solves of 8 iterations: at least one evaluation per term and iteration saved (not with
+    // the alternation, whose step moves x after the evaluation).
+    if (!c.alternating)
+      EXPECT_LE(evaluationsKept, evaluationsPlain - 16 * static_cast<int>(a.size() + 1) / 2)
+          << evaluationsKept << " against " << evaluationsPlain << ", corrections " << corrections;
   }
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <set>
@@ -537,6 +538,88 @@ TEST(NormalEquations, ASingularGroupBlockFailsTheElimination) {
   std::vector<double> residuals;
   eq.assemble(problem, {1.0}, 0.1, residuals);
   EXPECT_FALSE(eq.eliminate());
+}
+
+/// Whether two assembled systems are the same bit for bit: matrix values, right-hand side and the
+/// per-term residuals.
+void expectSameSystem(const NormalEquations& a, const NormalEquations& b, const std::vector<double>& ra,
+                      const std::vector<double>& rb) {
+  ASSERT_EQ(a.matrix().nonZeros(), b.matrix().nonZeros());
+  EXPECT_EQ(std::memcmp(a.matrix().valuePtr(), b.matrix().valuePtr(), sizeof(double) * a.matrix().nonZeros()), 0);
+  ASSERT_EQ(a.rhs().size(), b.rhs().size());
+  EXPECT_EQ(std::memcmp(a.rhs().data(), b.rhs().data(), sizeof(double) * a.rhs().size()), 0);
+  EXPECT_EQ(ra, rb);
+}
+
+/// residuals() at x keeps the Jacobians of the terms that evaluate from x alone; assemble() at the
+/// same x takes them instead of evaluating those terms again and builds the same system bit for
+/// bit. At another x, after partResiduals() or correctionRhs(), once forgotten or switched off,
+/// it evaluates them again.
+TEST(NormalEquations, AnAssemblyAtTheJudgedPointTakesTheKeptJacobiansAndBuildsTheSameSystem) {
+  Problem kept, plain;
+  testing::buildStripLike(kept, 4, 5, 11);
+  testing::buildStripLike(plain, 4, 5, 11);
+  auto everyOther = [](int t) { return t % 2 == 0; };
+  const std::vector<testing::ForwardingTerm*> terms = testing::forwardTerms(kept, everyOther);
+  int fromXAlone = 0;
+  for (int t = 0; t < kept.numTerms(); ++t) fromXAlone += everyOther(t) ? 1 : 0;
+  ASSERT_GT(fromXAlone, 0);
+  ASSERT_LT(fromXAlone, kept.numTerms());
+  NormalEquations a(kept), b(plain);
+  b.setKeepEvaluations(false);
+  std::vector<double> weights(static_cast<std::size_t>(kept.numTerms()), 1.0), ra, rb;
+  weights[1] = 0.3;
+
+  a.residuals(kept, kept.x(), weights, ra);
+  b.residuals(plain, plain.x(), weights, rb);
+  EXPECT_EQ(ra, rb);
+  for (int t = 0; t < kept.numTerms(); ++t) {
+    EXPECT_EQ(terms[t]->withJacobian, everyOther(t) ? 1 : 0) << t;
+    EXPECT_EQ(terms[t]->residualOnly, everyOther(t) ? 0 : 1) << t;
+  }
+  a.assemble(kept, weights, 0.1, ra);
+  b.assemble(plain, weights, 0.1, rb);
+  EXPECT_EQ(a.reusedTerms(), fromXAlone);
+  EXPECT_EQ(b.reusedTerms(), 0);
+  for (int t = 0; t < kept.numTerms(); ++t) EXPECT_EQ(terms[t]->withJacobian, 1) << "term " << t << " evaluated once";
+  expectSameSystem(a, b, ra, rb);
+  ASSERT_TRUE(a.eliminate());
+  ASSERT_TRUE(b.eliminate());
+  expectSameSystem(a, b, ra, rb);
+
+  // Kept at one x, assembled at another: evaluated again, the same system.
+  a.residuals(kept, kept.x(), weights, ra);
+  kept.x()[5] += 1e-3;
+  plain.x()[5] += 1e-3;
+  a.assemble(kept, weights, 0.1, ra);
+  b.assemble(plain, weights, 0.1, rb);
+  EXPECT_EQ(a.reusedTerms(), 0);
+  expectSameSystem(a, b, ra, rb);
+
+  // What replaces residual_ between the evaluation and the assembly drops what was kept.
+  std::vector<double> perTerm(static_cast<std::size_t>(kept.numTerms()), 0.0), largest = perTerm;
+  a.residuals(kept, kept.x(), weights, ra);
+  a.partResiduals(kept, kept.x(), weights, perTerm, largest);
+  a.assemble(kept, weights, 0.1, ra);
+  EXPECT_EQ(a.reusedTerms(), 0) << "after partResiduals";
+  ASSERT_TRUE(a.eliminate());
+  a.residuals(kept, kept.x(), weights, ra);
+  a.correctionRhs(kept, kept.x());
+  a.assemble(kept, weights, 0.1, ra);
+  EXPECT_EQ(a.reusedTerms(), 0) << "after correctionRhs";
+  a.residuals(kept, kept.x(), weights, ra);
+  a.forgetKeptEvaluation();
+  a.assemble(kept, weights, 0.1, ra);
+  EXPECT_EQ(a.reusedTerms(), 0) << "forgotten";
+  a.residuals(kept, kept.x(), weights, ra);
+  a.assemble(kept, weights, 0.1, ra);
+  EXPECT_EQ(a.reusedTerms(), fromXAlone) << "kept again";
+  a.setKeepEvaluations(false);
+  a.residuals(kept, kept.x(), weights, ra);
+  a.assemble(kept, weights, 0.1, ra);
+  EXPECT_EQ(a.reusedTerms(), 0) << "switched off";
+  b.assemble(plain, weights, 0.1, rb);
+  expectSameSystem(a, b, ra, rb);
 }
 
 }  // namespace

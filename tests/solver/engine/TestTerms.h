@@ -4,10 +4,12 @@
 
 #include <cmath>
 #include <utility>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "devsurf/engine/Problem.h"
 #include "devsurf/engine/Term.h"
 
 namespace devsurf::engine::testing {
@@ -187,5 +189,38 @@ class CountingTerm final : public Term {
  private:
   SparseLinearTerm rows_;
 };
+
+/// Another term, forwarded, declared to evaluate from x alone (or not), with its evaluations
+/// counted: with a Jacobian and residual-only.
+class ForwardingTerm final : public Term {
+ public:
+  ForwardingTerm(std::unique_ptr<Term> inner, bool fromXAlone)
+      : Term(inner->name()), inner_(std::move(inner)), fromXAlone_(fromXAlone) {}
+  int numResiduals() const override { return inner_->numResiduals(); }
+  void jacobianStructure(std::vector<JacobianEntry>& e) const override { inner_->jacobianStructure(e); }
+  void linearizeAt(const Eigen::VectorXd& x) override { inner_->linearizeAt(x); }
+  bool evaluatesFromXAlone() const override { return fromXAlone_; }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    ++(J ? withJacobian : residualOnly);
+    inner_->evaluate(x, r, J);
+  }
+  mutable int withJacobian = 0, residualOnly = 0;
+
+ private:
+  std::unique_ptr<Term> inner_;
+  bool fromXAlone_;
+};
+
+/// Wraps every term of the problem in a ForwardingTerm; `fromXAlone(t)` says what term t declares.
+template <class Predicate>
+std::vector<ForwardingTerm*> forwardTerms(Problem& problem, Predicate fromXAlone) {
+  std::vector<ForwardingTerm*> out;
+  for (int t = 0; t < problem.numTerms(); ++t) {
+    auto wrapper = std::make_unique<ForwardingTerm>(std::move(problem.term(t).term), fromXAlone(t));
+    out.push_back(wrapper.get());
+    problem.term(t).term = std::move(wrapper);
+  }
+  return out;
+}
 
 }  // namespace devsurf::engine::testing

@@ -165,6 +165,11 @@ struct SolverOptions {
   /// solves. The matrix is factorized again when CG does not converge, or once maxAge iterations
   /// old. The step equals the factorized one up to the tolerance.
   FactorizationReuseOptions alternatingReuse{50, 10, 1e-10};
+  /// The evaluation that judges a step also serves the next iteration's assembly for the terms
+  /// that evaluate from x alone (Term::evaluatesFromXAlone; NormalEquations::residuals): the same
+  /// iterates bit for bit, one evaluation of those terms per iteration instead of two. Off only to
+  /// compare.
+  bool keepEvaluations = true;
   /// The schedule's iteration of the first step: the fairness weight of step k is
   /// ε_fair·decay^(firstIteration + k), so a session's many short solves of one drag continue one
   /// schedule instead of restarting it.

@@ -79,11 +79,27 @@ class NormalEquations {
   /// A no-op (true) without groups.
   bool eliminate();
 
-  /// Residual-only evaluation: per term id Σ (w r)² at x (no Jacobians, no linearizeAt).
+  /// Residual evaluation: per term id Σ (w r)² at x (no linearizeAt). The terms that evaluate
+  /// from x alone (Term::evaluatesFromXAlone) also write their Jacobians, into a buffer of their
+  /// own: when the next assemble() is at the same x — the step this evaluation judged was taken —
+  /// it takes their residuals and Jacobians instead of evaluating them again (one evaluation of
+  /// them per iteration, not two; the same numbers bit for bit). A later call at another x,
+  /// partResiduals(), correctionRhs() or assemble() itself replaces or drops what was kept.
   /// @param[out] termMaxAbs  optional: per term id the largest |r| of its rows (unweighted)
   void residuals(const Problem& problem, const Eigen::VectorXd& x,
                  const std::vector<double>& termWeights, std::vector<double>& termResiduals,
                  std::vector<double>* termMaxAbs = nullptr);
+
+  /// Drops the evaluation residuals() kept: the problem changed in a way x does not show (a
+  /// handle's target, a term's data). GuidedProjectionSolver::solve calls it first.
+  void forgetKeptEvaluation() { keptValid_ = false; }
+  /// Whether residuals() keeps Jacobians for the next assemble() (default true; tests compare).
+  void setKeepEvaluations(bool keep) {
+    keepEvaluations_ = keep;
+    keptValid_ = false;
+  }
+  /// Terms the last assemble() took from residuals() instead of evaluating them.
+  int reusedTerms() const { return reusedTerms_; }
 
   /// The right-hand side of a correction step (SolverOptions::correctionSteps) after a step
   /// (assemble(), eliminate(), a solve, applyStep()): the hard rows evaluated again at x (no
@@ -216,9 +232,18 @@ class NormalEquations {
   void accumulateDirectRows(int firstTerm, int endTerm, double* H, double* rhs, double* jr) const;
   long directProducts_ = 0;          ///< Σ over all terms of TermPlan::directProducts
   VariablePart part_ = VariablePart::All;
-  /// Evaluates the term at x into residual_ (residual-only); per term Σ r² and the largest |r|.
+  /// Evaluates the term at x into residual_ (and its Jacobian into `jacobian` unless null); per
+  /// term Σ r² and the largest |r|.
   void evaluateResidual(const Problem& problem, int t, const Eigen::VectorXd& x, double& energy,
-                        double& largest);
+                        double& largest, double* jacobian = nullptr);
+  // residuals()'s kept evaluation (see there).
+  std::vector<char> keptTerm_;     ///< per term: evaluates from x alone and has free entries here
+  bool anyKeptTerm_ = false;
+  bool keepEvaluations_ = true;
+  bool keptValid_ = false;         ///< residual_ and keptJacobian_ hold the kept terms at keptX_
+  Eigen::VectorXd keptJacobian_;   ///< the kept terms' Jacobians (jacobian_'s layout)
+  Eigen::VectorXd keptX_;
+  int reusedTerms_ = 0;
   int assemblyThreads_ = 1;
   int splitTerm_ = 0;                ///< the second thread accumulates terms [splitTerm_, end)
   std::vector<double> workerMatrix_, workerRhs_, workerRow_;  ///< the second thread's copies

@@ -39,6 +39,14 @@ class Term {
   /// evaluate(). The default does nothing.
   virtual void linearizeAt(const Eigen::VectorXd& x) {}
 
+  /// Whether evaluate() depends on x alone: linearizeAt() is the default one, and no state that
+  /// another term or the caller changes during a solve enters it (a handle's target may move
+  /// between iterations, so handles say no). NormalEquations then keeps the Jacobian of such a
+  /// term from a residual evaluation and gives it to the next assemble() at the same x: the
+  /// evaluation that judges a step is also the next iteration's (NormalEquations::residuals).
+  /// Default false.
+  virtual bool evaluatesFromXAlone() const { return false; }
+
   /// Writes numResiduals() residuals and, unless `jacobian` is null, one value per structural
   /// entry in jacobianStructure() order.
   /// @param[in]  x          all variables

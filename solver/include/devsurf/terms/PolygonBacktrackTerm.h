@@ -33,6 +33,7 @@ class PolygonBacktrackTerm final : public engine::Term {
 
   int numResiduals() const override;
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
   /// [crease_backtrack_max] max over consecutive legs of max(0, −cos θ), θ the turning angle

@@ -25,6 +25,7 @@ class RulingLengthTerm final : public engine::Term {
 
   int numResiduals() const override { return static_cast<int>(rows_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
   /// The smallest |r_k| / m_k over the guarded rulings times `ratio` (m_k = ratio · reference

@@ -34,6 +34,7 @@ class StripWidthTerm final : public engine::Term {
 
   int numResiduals() const override { return static_cast<int>(inverseSquared_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
   /// |N_k| at x for every parameter of the constructor (guarded or not).

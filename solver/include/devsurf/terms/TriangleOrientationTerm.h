@@ -28,6 +28,7 @@ class TriangleOrientationTerm final : public engine::Term {
 
   int numResiduals() const override { return static_cast<int>(triangles_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:
