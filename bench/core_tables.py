@@ -107,9 +107,10 @@ def main():
                 m = r[key]
                 ratio = m["iteration_ms"] / m["factorization_ms"] if m["factorization_ms"] else float("nan")
                 before = fmt(r["before_ms"]) if r["before_ms"] and cores == "1" else "–"
-                print(f"| {r['label']} | {r['unknowns']:,} | {cores} | {fmt(m['assembly_ms'])} | "
+                unknowns = f"{r['unknowns']:,}".replace(",", " ")
+                print(f"| {r['label']} | {unknowns} | {cores} | {fmt(m['assembly_ms'])} | "
                       f"{fmt(m['factorization_ms'])} | {fmt(m['solve_ms'])} | {fmt(m['iteration_ms'])} | "
-                      f"{ratio:.2f} | {before} |".replace(",", " "))
+                      f"{ratio:.2f} | {before} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=1)
