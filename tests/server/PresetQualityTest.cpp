@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -237,6 +238,48 @@ TEST_P(PresetWithKeptEvaluations, TakesTheSameIteratesBitForBitAsWithoutThem) {
   EXPECT_TRUE(a.allFinite());
   EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())), 0)
       << "largest difference " << (a - b).cwiseAbs().maxCoeff();
+}
+
+/// What a term that says it evaluates from x alone evaluates at x does not change when every term
+/// of the model is linearized elsewhere (shared foot points, row scales): the declaration holds.
+TEST_P(PresetWithKeptEvaluations, ATermThatSaysItEvaluatesFromXAloneDoes) {
+  SceneSolver solver(proto::sceneFromJson(devsurf::testing::readPreset(GetParam())));
+  engine::Problem& problem = solver.isComposite() ? solver.compositeModel().problem()
+                             : solver.isStrip()   ? solver.stripModel().problem()
+                                                  : solver.quadMeshModel().problem();
+  const Eigen::VectorXd x = problem.x();
+  Eigen::VectorXd elsewhere = x;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 1e-2 * (1.0 + x.cwiseAbs().maxCoeff()));
+  for (Eigen::Index i = 0; i < elsewhere.size(); ++i) elsewhere[i] += noise(rng);
+  struct Evaluation {
+    std::vector<double> r, J;
+  };
+  auto evaluateAt = [](const engine::Term& term, const Eigen::VectorXd& at) {
+    std::vector<engine::JacobianEntry> entries;
+    term.jacobianStructure(entries);
+    Evaluation e{std::vector<double>(static_cast<std::size_t>(term.numResiduals())), std::vector<double>(entries.size())};
+    term.evaluate(at, e.r.data(), e.J.data());
+    return e;
+  };
+  int declared = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<Evaluation> before;
+    for (int t = 0; t < problem.numTerms(); ++t) {
+      const engine::Term& term = *problem.term(t).term;
+      before.push_back(term.evaluatesFromXAlone() ? evaluateAt(term, x) : Evaluation{});
+    }
+    for (int t = 0; t < problem.numTerms(); ++t) problem.term(t).term->linearizeAt(pass == 0 ? elsewhere : x);
+    for (int t = 0; t < problem.numTerms(); ++t) {
+      const engine::Term& term = *problem.term(t).term;
+      if (!term.evaluatesFromXAlone()) continue;
+      declared += pass == 0 ? 1 : 0;
+      const Evaluation after = evaluateAt(term, x);
+      EXPECT_EQ(after.r, before[static_cast<std::size_t>(t)].r) << term.name();
+      EXPECT_EQ(after.J, before[static_cast<std::size_t>(t)].J) << term.name();
+    }
+  }
+  EXPECT_GT(declared, 0) << "no term of the model says it evaluates from x alone";
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, PresetWithKeptEvaluations, ::testing::ValuesIn(guidedProjectionPresetFiles()),

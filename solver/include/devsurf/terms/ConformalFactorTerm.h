@@ -19,6 +19,7 @@ class ConformalFactorTerm final : public engine::Term {
 
   int numResiduals() const override { return faceCount_; }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

@@ -22,6 +22,7 @@ class DevelopmentPeriodTerm final : public engine::Term {
 
   int numResiduals() const override { return 2 * static_cast<int>(pairs_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

@@ -34,6 +34,7 @@ class GaussImageNormalTerm final : public engine::Term {
 
   int numResiduals() const override { return numResiduals_; }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

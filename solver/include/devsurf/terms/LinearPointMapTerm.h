@@ -27,6 +27,7 @@ class LinearPointMapTerm final : public engine::Term {
 
   int numResiduals() const override { return 3 * static_cast<int>(mapped_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

@@ -31,6 +31,7 @@ class MappingRegularityTerm final : public engine::Term {
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override {
     rows_.jacobianStructure(entries);
   }
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override {
     rows_.evaluate(x, residuals, jacobian);
   }

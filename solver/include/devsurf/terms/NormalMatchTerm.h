@@ -26,6 +26,7 @@ class NormalMatchTerm final : public engine::Term {
 
   int numResiduals() const override { return 3 * count_; }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

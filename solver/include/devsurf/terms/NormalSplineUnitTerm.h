@@ -18,6 +18,7 @@ class NormalSplineUnitTerm final : public engine::Term {
 
   int numResiduals() const override { return normals_.rows(); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

@@ -33,6 +33,7 @@ class VertexAngleSumTerm final : public engine::Term {
 
   int numResiduals() const override { return 1; }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
   /// Current sum of the star's angles (without −Θ).

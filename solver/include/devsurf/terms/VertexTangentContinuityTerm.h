@@ -20,6 +20,7 @@ class VertexTangentContinuityTerm final : public engine::Term {
 
   int numResiduals() const override { return 3; }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
+  bool evaluatesFromXAlone() const override { return true; }
   void evaluate(const Eigen::VectorXd& x, double* residuals, double* jacobian) const override;
 
  private:

@@ -32,6 +32,7 @@ class PlanarPolylineFairnessTerm final : public engine::Term {
   PlanarPolylineFairnessTerm(std::string name, std::vector<int> pointOffsets)
       : Term(std::move(name)), points_(std::move(pointOffsets)) {}
   int numResiduals() const override { return points_.size() < 3 ? 0 : 2 * static_cast<int>(points_.size() - 2); }
+  bool evaluatesFromXAlone() const override { return true; }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override {
     for (std::size_t i = 1; i + 1 < points_.size(); ++i)
       for (int c = 0; c < 2; ++c) {
