@@ -221,19 +221,25 @@ TEST_P(PresetWithKeptEvaluations, TakesTheSameIteratesBitForBitAsWithoutThem) {
   options.relativeChangeTolerance = 0.0;
   engine::SolverOptions without = options;
   without.keepEvaluations = false;
-  auto run = [](SceneSolver& solver, const engine::SolverOptions& o) -> Eigen::VectorXd {
+  auto run = [](SceneSolver& solver, const engine::SolverOptions& o, engine::SolveSummary& summary) -> Eigen::VectorXd {
     if (solver.isComposite()) {
-      solver.compositeModel().solve(o);
+      summary = solver.compositeModel().solve(o);
       return solver.compositeModel().problem().x();
     }
     if (solver.isStrip()) {
-      solver.stripModel().solve(o);
+      summary = solver.stripModel().solve(o);
       return solver.stripModel().problem().x();
     }
-    solver.quadMeshModel().solve(o);
+    summary = solver.quadMeshModel().solve(o).summary;
     return solver.quadMeshModel().problem().x();
   };
-  const Eigen::VectorXd a = run(kept, options), b = run(plain, without);
+  engine::SolveSummary sa, sb;
+  const Eigen::VectorXd a = run(kept, options, sa), b = run(plain, without, sb);
+  EXPECT_GT(sa.keptEvaluations, 0) << "no assembly took a kept evaluation";
+  EXPECT_EQ(sb.keptEvaluations, 0);
+  ASSERT_EQ(sa.iterations.size(), sb.iterations.size());
+  for (std::size_t k = 0; k < sa.iterations.size(); ++k)
+    EXPECT_EQ(sa.iterations[k].termResiduals, sb.iterations[k].termResiduals) << "the record of iteration " << k;
   ASSERT_EQ(a.size(), b.size());
   EXPECT_TRUE(a.allFinite());
   EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())), 0)

@@ -67,6 +67,7 @@ GuidedProjectionSolver::GuidedProjectionSolver(Problem& problem, LinearSolverKin
   previousX_.setZero(problem.x().size());
   if (splitsInTwo(problem.layout())) {
     alternate_ = std::make_unique<NormalEquations>(problem, deadline, VariablePart::Alternating);
+    alternate_->setKeepEvaluations(false);  // its steps are judged by partResiduals
     alternateLinear_ = makeLinearSolver(kind);
     alternateLinear_->analyzePattern(alternate_->matrix());
     alternateDelta_.setZero(alternate_->numReduced());
@@ -343,6 +344,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       Clock::time_point t0 = Clock::now();
       equations_.assemble(problem_, systemWeights, options.regularization * std::sqrt(dampingScale_), assembled,
                           limit);
+      summary.keptEvaluations += equations_.reusedTerms();
       rec.assemblyMs += millisecondsSince(t0);
       // Factorization of H: block elimination of the elimination groups (Schur complement, see
       // NormalEquations), then the sparse factorization of the reduced matrix — or, with
@@ -474,7 +476,9 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       if (pulling) pullLimit_ = std::max(control.minPullLimit, pullLimit_ * (alpha > 0.0 ? 0.5 : 0.25));
       else dampingScale_ *= alpha > 0.0 ? 2.0 : 4.0;
       if (alpha == 0.0 && pulling) {
-        // Instead of this step, a projection step (no targets) from the last good iterate.
+        // Instead of this step, a projection step (no targets) from the last good iterate — built
+        // there too (a rejected step leaves x at its last, shortest trial).
+        problem_.x() = previousX_;
         fillProjectionWeights();
         factored = step(projectionWeights, std::numeric_limits<double>::infinity(), true, alpha);
         rec.projected = true;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -152,10 +153,8 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
       keptTerm_[static_cast<std::size_t>(t)] = 1;
       anyKeptTerm_ = true;
     }
-  if (anyKeptTerm_) {
-    keptJacobian_.setZero(jacobian_.size());
-    keptX_.setZero(problem.x().size());
-  }
+  numVariablesForKeeping_ = static_cast<int>(problem.x().size());
+  setKeepEvaluations(true);
 
   // 2. Incidence over all terms: global row → natural columns, column → rows (ascending).
   std::vector<int> rowTerm(numRows), rowPtr(numRows + 1, 0), rowCols;
@@ -650,6 +649,18 @@ NormalEquations::NormalEquations(const Problem& problem, const Deadline& deadlin
   rhs_.setZero(numReduced_);
 }
 
+void NormalEquations::setKeepEvaluations(bool keep) {
+  keptValid_ = false;
+  keepEvaluations_ = keep && anyKeptTerm_;
+  if (!keepEvaluations_) {  // the buffers go with the switch (the alternating side never keeps)
+    keptJacobian_.resize(0);
+    keptX_.resize(0);
+  } else if (keptJacobian_.size() != jacobian_.size()) {
+    keptJacobian_.setZero(jacobian_.size());
+    keptX_.setZero(numVariablesForKeeping_);
+  }
+}
+
 void NormalEquations::setAssemblyThreads(int threads, long minProducts) {
   const int wanted = threads >= 2 && directProducts_ >= minProducts && plans_.size() >= 2 ? 2 : 1;
   if (wanted == assemblyThreads_) return;
@@ -757,7 +768,7 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
   // residuals() call if it was at this x: their residuals are in residual_ and their Jacobians in
   // keptJacobian_, which becomes jacobian_ (the other terms are evaluated into it below).
   const bool reuse = keptValid_ && keptX_.size() == x.size() &&
-                     std::equal(x.data(), x.data() + x.size(), keptX_.data());
+                     std::memcmp(x.data(), keptX_.data(), sizeof(double) * static_cast<std::size_t>(x.size())) == 0;
   keptValid_ = false;
   reusedTerms_ = 0;
   if (reuse) jacobian_.swap(keptJacobian_);
@@ -943,6 +954,7 @@ bool NormalEquations::eliminate() {
 void NormalEquations::residuals(const Problem& problem, const Eigen::VectorXd& x,
                                 const std::vector<double>& termWeights,
                                 std::vector<double>& termResiduals, std::vector<double>* termMaxAbs) {
+  keptValid_ = false;  // until every term is evaluated (a term may throw)
   termResiduals.assign(problem.numTerms(), 0.0);
   if (termMaxAbs) termMaxAbs->assign(problem.numTerms(), 0.0);
   const bool keep = keepEvaluations_ && anyKeptTerm_ && x.size() == keptX_.size();

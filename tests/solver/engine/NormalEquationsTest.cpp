@@ -614,6 +614,8 @@ TEST(NormalEquations, AnAssemblyAtTheJudgedPointTakesTheKeptJacobiansAndBuildsTh
   a.residuals(kept, kept.x(), weights, ra);
   a.assemble(kept, weights, 0.1, ra);
   EXPECT_EQ(a.reusedTerms(), fromXAlone) << "kept again";
+  b.assemble(plain, weights, 0.1, rb);
+  expectSameSystem(a, b, ra, rb);
   a.setKeepEvaluations(false);
   a.residuals(kept, kept.x(), weights, ra);
   a.assemble(kept, weights, 0.1, ra);

@@ -192,6 +192,9 @@ struct SolveSummary {
   TerminationReason reason = TerminationReason::MaxIterations;
   bool converged = false;                   ///< reason is a tolerance (not max iterations/abort)
   bool alternating = false;                 ///< the solver alternated (VariableLayout::setAlternating)
+  /// Terms the assemblies took from the evaluation that judged the step before, summed over the
+  /// iterations (SolverOptions::keepEvaluations).
+  long keptEvaluations = 0;
   double totalMs = 0.0;
   int stepsTaken() const { return iterations.empty() ? 0 : static_cast<int>(iterations.size()) - 1; }
   /// Per-term residuals of the last iterate summed by term name.

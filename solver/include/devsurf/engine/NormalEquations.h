@@ -94,10 +94,9 @@ class NormalEquations {
   /// handle's target, a term's data). GuidedProjectionSolver::solve calls it first.
   void forgetKeptEvaluation() { keptValid_ = false; }
   /// Whether residuals() keeps Jacobians for the next assemble() (default true; tests compare).
-  void setKeepEvaluations(bool keep) {
-    keepEvaluations_ = keep;
-    keptValid_ = false;
-  }
+  /// Forgets what was kept; off, the buffers are released (a system whose steps residuals() never
+  /// judges, the alternating side's, turns it off).
+  void setKeepEvaluations(bool keep);
   /// Terms the last assemble() took from residuals() instead of evaluating them.
   int reusedTerms() const { return reusedTerms_; }
 
@@ -244,6 +243,7 @@ class NormalEquations {
   Eigen::VectorXd keptJacobian_;   ///< the kept terms' Jacobians (jacobian_'s layout)
   Eigen::VectorXd keptX_;
   int reusedTerms_ = 0;
+  int numVariablesForKeeping_ = 0;  ///< size of x (keptX_'s when keeping)
   int assemblyThreads_ = 1;
   int splitTerm_ = 0;                ///< the second thread accumulates terms [splitTerm_, end)
   std::vector<double> workerMatrix_, workerRhs_, workerRow_;  ///< the second thread's copies

@@ -451,6 +451,7 @@ QuadMeshSolveSummary QuadMeshModel::solve(const engine::SolverOptions& options) 
     merged.reason = r.reason;
     merged.converged = r.converged;
     merged.totalMs += r.totalMs;
+    merged.keptEvaluations += r.keptEvaluations;
     out.rounds += 1;
     out.roundFairness.push_back(roundFairness);
     remaining -= r.stepsTaken();
