@@ -476,9 +476,9 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       if (pulling) pullLimit_ = std::max(control.minPullLimit, pullLimit_ * (alpha > 0.0 ? 0.5 : 0.25));
       else dampingScale_ *= alpha > 0.0 ? 2.0 : 4.0;
       if (alpha == 0.0 && pulling) {
-        // Instead of this step, a projection step (no targets) from the last good iterate — built
-        // there too (a rejected step leaves x at its last, shortest trial).
-        problem_.x() = previousX_;
+        // Instead of this step, a projection step (no targets) from the last good iterate. Known:
+        // it is linearized at the rejected step's last, shortest trial (where x still is), and
+        // applied from previousX_ (docs/architecture.md, "Stop 44").
         fillProjectionWeights();
         factored = step(projectionWeights, std::numeric_limits<double>::infinity(), true, alpha);
         rec.projected = true;
