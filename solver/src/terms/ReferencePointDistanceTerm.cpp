@@ -9,9 +9,15 @@ namespace devsurf::terms {
 ReferencePointDistanceTerm::ReferencePointDistanceTerm(
     std::string name, std::vector<int> pointOffsets,
     std::shared_ptr<const spatial::TriangleMeshProximity> reference)
-    : Term(std::move(name)), offsets_(std::move(pointOffsets)), reference_(std::move(reference)) {
+    : ReferencePointDistanceTerm(std::move(name),
+            reference ? std::make_shared<ReferenceFootPoints>(std::move(reference), std::move(pointOffsets))
+                      : nullptr) {}
+
+ReferencePointDistanceTerm::ReferencePointDistanceTerm(std::string name, std::shared_ptr<ReferenceFootPoints> feet)
+    : Term(std::move(name)), footPoints_(std::move(feet)) {
   const std::string who = "ReferencePointDistanceTerm";
-  if (!reference_) throw std::invalid_argument(who + ": no reference mesh");
+  if (!footPoints_) throw std::invalid_argument(who + ": no reference mesh");
+  offsets_ = footPoints_->pointOffsets();
   std::vector<std::pair<int, int>> blocks;
   appendPointBlocks(offsets_, blocks);
   requireDisjointBlocks(who, std::move(blocks));
@@ -25,8 +31,8 @@ void ReferencePointDistanceTerm::jacobianStructure(
 }
 
 void ReferencePointDistanceTerm::linearizeAt(const Eigen::VectorXd& x) {
-  for (std::size_t i = 0; i < offsets_.size(); ++i)
-    feet_[i] = reference_->closest(x.segment<3>(offsets_[i])).point;
+  const std::vector<spatial::ClosestPoint>& closest = footPoints_->at(x);
+  for (std::size_t i = 0; i < offsets_.size(); ++i) feet_[i] = closest[i].point;
 }
 
 void ReferencePointDistanceTerm::evaluate(const Eigen::VectorXd& x, double* residuals,

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "devsurf/spatial/TriangleMeshProximity.h"
+#include "devsurf/terms/ReferenceFootPoints.h"
 #include "devsurf/terms/ReferencePlaneDistanceTerm.h"
 #include "devsurf/terms/ReferencePointDistanceTerm.h"
 
@@ -101,11 +103,61 @@ TEST(ReferencePlaneDistanceTerm, PlanesAreRenewedOnlyByLinearizeAt) {
   EXPECT_GT(r, 0.0);
 }
 
+TEST(ReferenceFootPoints, TwoTermsOnOneSetQueryOncePerPositionAndLinearizeAsTermsOfTheirOwn) {
+  const auto reference = saddle();
+  const std::vector<int> offsets{3, 9, 0, 13};
+  auto feet = std::make_shared<ReferenceFootPoints>(reference, offsets);
+  ReferencePointDistanceTerm sharedPoint("proximity point", feet);
+  ReferencePlaneDistanceTerm sharedPlane("proximity plane", feet);
+  ReferencePointDistanceTerm ownPoint("proximity point", offsets, reference);
+  ReferencePlaneDistanceTerm ownPlane("proximity plane", offsets, reference);
+  for (int round = 0; round < 3; ++round) {
+    const Eigen::VectorXd x = randomVector(16, 1360 + round);
+    for (engine::Term* term : std::vector<engine::Term*>{&sharedPoint, &sharedPlane, &ownPoint, &ownPlane})
+      term->linearizeAt(x);
+    EXPECT_EQ(feet->queryCount(), 4 * (round + 1)) << "one query per point and position";
+    for (int i = 0; i < 4; ++i) {
+      const spatial::ClosestPoint direct = reference->closest(x.segment<3>(offsets[i]));
+      EXPECT_EQ(sharedPoint.footPoint(i), direct.point);
+      EXPECT_EQ(sharedPlane.footPoint(i), direct.point);
+      EXPECT_EQ(sharedPlane.normal(i), direct.normal);
+      EXPECT_EQ(ownPoint.footPoint(i), direct.point);
+      EXPECT_EQ(ownPlane.normal(i), direct.normal);
+    }
+    EXPECT_EQ(residuals(sharedPoint, x), residuals(ownPoint, x));
+    EXPECT_EQ(residuals(sharedPlane, x), residuals(ownPlane, x));
+  }
+}
+
+TEST(ReferenceFootPoints, APointMovedByOneUlpIsQueriedAgainAndOtherUnknownsAreIgnored) {
+  auto feet = std::make_shared<ReferenceFootPoints>(saddle(), std::vector<int>{0, 4});
+  Eigen::VectorXd x(7);
+  x << -0.9, 0.05, 1.0, 42.0, 0.9, -0.05, 1.0;
+  const std::vector<spatial::ClosestPoint> first = feet->at(x);
+  EXPECT_EQ(feet->queryCount(), 2);
+  x[3] = -7.0;  // not a point of the set
+  feet->at(x);
+  EXPECT_EQ(feet->queryCount(), 2);
+  x[5] = std::nextafter(x[5], 1.0);
+  feet->at(x);
+  EXPECT_EQ(feet->queryCount(), 4);
+  x << 0.9, -0.05, 1.0, 0.0, -0.9, 0.05, 1.0;  // the two points swapped
+  const std::vector<spatial::ClosestPoint>& swapped = feet->at(x);
+  EXPECT_EQ(feet->queryCount(), 6);
+  EXPECT_EQ(swapped[0].point, first[1].point);
+  EXPECT_EQ(swapped[1].point, first[0].point);
+}
+
 TEST(ReferenceDistanceTerms, RejectInvalidInput) {
   EXPECT_THROW(ReferencePointDistanceTerm("p", {0}, nullptr), std::invalid_argument);
   EXPECT_THROW(ReferencePlaneDistanceTerm("p", {0}, nullptr), std::invalid_argument);
   EXPECT_THROW(ReferencePointDistanceTerm("p", {0, 2}, unitSquare()), std::invalid_argument);
   EXPECT_THROW(ReferencePlaneDistanceTerm("p", {-3}, unitSquare()), std::invalid_argument);
+  EXPECT_THROW(ReferencePointDistanceTerm("p", std::shared_ptr<ReferenceFootPoints>()), std::invalid_argument);
+  EXPECT_THROW(ReferencePlaneDistanceTerm("p", std::make_shared<ReferenceFootPoints>(unitSquare(), std::vector<int>{0, 1})),
+               std::invalid_argument);
+  EXPECT_THROW(ReferenceFootPoints(nullptr, {0}), std::invalid_argument);
+  EXPECT_THROW(ReferenceFootPoints(unitSquare(), {0, -1}), std::invalid_argument);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "devsurf/engine/Term.h"
 #include "devsurf/spatial/TriangleMeshProximity.h"
+#include "devsurf/terms/ReferenceFootPoints.h"
 
 namespace devsurf::terms {
 
@@ -24,6 +25,11 @@ class ReferencePlaneDistanceTerm final : public engine::Term {
   /// @throws std::invalid_argument on a null reference, a negative offset or overlapping blocks
   ReferencePlaneDistanceTerm(std::string name, std::vector<int> pointOffsets,
                              std::shared_ptr<const spatial::TriangleMeshProximity> reference);
+  /// The same term on a foot-point set it may share with other terms at the same points (the
+  /// closest points are then queried once per x for all of them).
+  /// @param[in] feet  the points (their offsets in x) and Φ
+  /// @throws std::invalid_argument on a null set or overlapping blocks
+  ReferencePlaneDistanceTerm(std::string name, std::shared_ptr<ReferenceFootPoints> feet);
 
   int numResiduals() const override { return static_cast<int>(offsets_.size()); }
   void jacobianStructure(std::vector<engine::JacobianEntry>& entries) const override;
@@ -37,7 +43,7 @@ class ReferencePlaneDistanceTerm final : public engine::Term {
 
  private:
   std::vector<int> offsets_;
-  std::shared_ptr<const spatial::TriangleMeshProximity> reference_;
+  std::shared_ptr<ReferenceFootPoints> footPoints_;
   std::vector<Eigen::Vector3d> feet_, normals_;
 };
 

@@ -21,6 +21,7 @@
 #include "devsurf/terms/LinearPointMapTerm.h"
 #include "devsurf/terms/MappingRegularityTerm.h"
 #include "devsurf/terms/PolylineFairnessTerm.h"
+#include "devsurf/terms/ReferenceFootPoints.h"
 #include "devsurf/terms/ReferencePlaneDistanceTerm.h"
 #include "devsurf/terms/ReferencePointDistanceTerm.h"
 #include "devsurf/terms/TriangleOrientationTerm.h"
@@ -352,11 +353,14 @@ void QuadMeshModel::buildProblem() {
     Eigen::MatrixX3d reference = design_.reference->vertices;
     meshNormalization_.normalizeRows(reference);
     auto proximity = std::make_shared<const spatial::TriangleMeshProximity>(reference, design_.reference->triangles);
+    // One foot-point set for both terms: the closest points of M's vertices are queried once per
+    // linearization, not once per term.
+    auto feet = std::make_shared<terms::ReferenceFootPoints>(proximity, meshOffsets);
     if (w.proximityPoint > 0)
-      problem_.addTerm(std::make_unique<terms::ReferencePointDistanceTerm>("proximity_point", meshOffsets, proximity),
+      problem_.addTerm(std::make_unique<terms::ReferencePointDistanceTerm>("proximity_point", feet),
                        w.proximityPoint, engine::Strength::Soft);
     if (w.proximityPlane > 0)
-      problem_.addTerm(std::make_unique<terms::ReferencePlaneDistanceTerm>("proximity_plane", meshOffsets, proximity),
+      problem_.addTerm(std::make_unique<terms::ReferencePlaneDistanceTerm>("proximity_plane", feet),
                        w.proximityPlane, engine::Strength::Soft);
   }
   if (unfoldingVariable && design_.unfoldingPlanar) {
