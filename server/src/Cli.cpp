@@ -1,3 +1,4 @@
+#include <algorithm>
 #include "devsurf/server/Cli.h"
 
 #include "CliArguments.h"
@@ -602,6 +603,12 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   }
   const std::string& command = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());
+  // `devsurf COMMAND --help` (or -h anywhere among its arguments) prints the usage, for every
+  // command, rather than "unknown option" or a start.
+  if (command != "help" && std::any_of(rest.begin(), rest.end(), [](const std::string& a) { return a == "--help" || a == "-h"; })) {
+    out << kUsage;
+    return 0;
+  }
   if (command == "solve") return solveCommand(rest, in, out, err);
   if (command == "serve") return serveCommand(rest, out, err);
   if (command == "job") return jobCommand(rest, out, err);

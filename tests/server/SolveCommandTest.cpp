@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -186,6 +188,26 @@ TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
   EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--export", "dwg:x.dwg"}).code, 2);
   EXPECT_EQ(runCommand({"frobnicate"}).code, 2);
   EXPECT_EQ(runCommand({"help"}).code, 0);
+}
+
+TEST(Cli, EveryCommandInTheUsageAnswersHelpWithTheUsageAndStartsNothing) {
+  const std::string usage = runCommand({"help"}).out;
+  std::istringstream lines(usage.substr(usage.find("commands:")));
+  std::vector<std::string> commands;
+  for (std::string line; std::getline(lines, line);)
+    if (line.size() > 2 && line.rfind("  ", 0) == 0 && line[2] != ' ')  // "  solve SCENE …", not its text
+      commands.push_back(line.substr(2, line.find(' ', 2) - 2));
+  EXPECT_GE(commands.size(), 8u) << usage;
+  for (const std::string& command : commands)
+    for (const std::string flag : {"--help", "-h"}) {
+      const auto result = runCommand({command, flag});
+      EXPECT_EQ(result.code, 0) << command << " " << flag << ": " << result.err;
+      EXPECT_EQ(result.out, usage) << command << " " << flag;
+      EXPECT_EQ(result.err, "") << command << " " << flag;
+    }
+  const auto late = runCommand({"solve", examplePath("strip-twisted.json"), "--iterations", "3", "--help"});
+  EXPECT_EQ(late.code, 0);
+  EXPECT_EQ(late.out, usage) << "help anywhere among the arguments, nothing solved";
 }
 
 }  // namespace
