@@ -341,8 +341,14 @@ void Daemon::routes() {
     if (!body) return;
     if (static_cast<int>(sessionCount()) >= options_.maxSessions)
       return replyError(res, 503, "limit", "this server holds its maximum of " + std::to_string(options_.maxSessions) + " sessions");
+    // ?solved=true: the session starts from the scene's solved state, as a demo does (the web app's
+    // "New session from an example": the design as its picture shows it, not its unsolved start).
+    const std::string solved = req.has_param("solved") ? req.get_param_value("solved") : "false";
+    if (solved != "true" && solved != "false")
+      return replyError(res, 400, "invalid", "solved must be true or false, not \"" + solved.substr(0, 40) + "\"", "solved");
     try {
-      const proto::Scene scene = proto::sceneFromJson(*body, options_.session.resources);
+      proto::Scene scene = proto::sceneFromJson(*body, options_.session.resources);
+      if (solved == "true") scene = SceneSolver::solvedScene(scene);
       const std::string id = randomToken().substr(0, 16), edit = randomToken(), view = viewTokenFor(edit);
       createSession(scene, edit, view, false, id);
       res.set_header("Location", "/api/sessions/" + id);

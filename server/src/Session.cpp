@@ -787,10 +787,9 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     if (!std::isfinite(distance) || distance > reach) {
       std::ostringstream why;
       why.precision(3);
-      why << "position is ";
-      if (std::isfinite(distance)) why << distance; else why << "infinitely far";
-      why << " from the model's centre; it must lie within " << reach << " (" << proto::kMaxReach
-          << "× the model's size)";
+      if (std::isfinite(distance)) why << "position is " << distance << " from the model's centre";
+      else why << "position is too far from the model's centre to measure";
+      why << "; it must lie within " << reach << " (" << proto::kMaxReach << "× the model's size)";
       return reject("invalid", why.str(), "position");
     }
   }
@@ -820,7 +819,14 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
                                    proto::modelKind(current.model),
                     "type");
-    if (type == "fold_end") return true;  // the release iterations follow (handle())
+    if (type == "fold_end") {
+      // The release iterations follow (handle()) — for a gesture that folded: after a refused
+      // first fold ("nothing to fold") the slider's let-go must not solve the design.
+      if (replaying) return true;
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto p = participants_.find(participant);
+      return p != participants_.end() && p->second.folding;
+    }
     return applyFold(participant, edit, replaying);
   }
   if (keepsInput()) return applyCurveEdit(participant, edit, replaying, target);
@@ -1045,6 +1051,7 @@ bool Session::applyFold(int participant, const json& edit, bool replaying) {
     dragHandles_.clear();
     releasedHandles_.clear();
     scheduleIteration_ = 0;
+    if (!replaying) foldTargetsCaptured_ = true;  // handle() sends the new scene before the fold's iterations
     return true;
   }
   bool started = true;  // the first fold message of a gesture is one undo step
@@ -1267,7 +1274,8 @@ bool Session::runSolver(SolveLimits limits, bool final) {
     broadcast({{"type", "solved"}, {"seq", seq}, {"revision", revision_}, {"metrics", metricsJson()},
                {"reason", engine::terminationReasonName(summary.reason)},
                {"iterations", summary.stepsTaken()},
-               {"quality", solver_->quality().toJson()}});
+               {"quality", solver_->quality().toJson()},
+               {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
   }
   return !interrupted;
 }
@@ -1447,6 +1455,14 @@ void Session::handle(const Work& work) {
       auto it = participants_.find(pid);
       if (it != participants_.end()) it->second.folding = true;
     }
+    if (foldTargetsCaptured_ && showState()) {
+      // The first fold took the design's folds as targets and let go of its handles: every
+      // client gets the scene without them and the undo step (the iterations carry geometry only).
+      broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
+                 {"metrics", metricsJson()}, {"geometry", geometryJson()},
+                 {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
+    }
+    foldTargetsCaptured_ = false;
     SolveLimits frame;
     frame.iterations = settings_.dragIterations;
     frame.timeBudgetMs = settings_.dragTimeBudgetMs;

@@ -67,6 +67,45 @@ TEST(FoldSliderSession, ACurvedCreasePresetUnfoldsAlongTheSliderAndUndoGoesBackT
   EXPECT_EQ(undone["model"]["vertices"], designed["model"]["vertices"]);
 }
 
+TEST(FoldSliderSession, TheFirstFoldSendsTheSceneWithoutTheHandlesItLetGoOfAndTheUndoStep) {
+  ExampleEditor e("composite-two-creases");
+  e.send({{"type", "solve"}, {"op", 1}, {"iterations", 40}});
+  ASSERT_FALSE(e.session->sceneJson()["model"]["handles"].empty());
+  const std::size_t updatesBefore = e.inbox.ofType("update").size();
+  e.send(foldMessage(2, 0.8));
+  ASSERT_EQ(firstErrorOf(e.inbox), "");
+  const auto updates = e.inbox.ofType("update");
+  ASSERT_EQ(updates.size(), updatesBefore + 1) << "the clients learn the design's new scene";
+  const json update = updates.back();
+  EXPECT_TRUE(!update["scene"]["model"].contains("handles") || update["scene"]["model"]["handles"].empty())
+      << "the fold targets took over from the handles: a client must not keep drawing them";
+  EXPECT_TRUE(update["scene"]["model"].contains("fold_angles"));
+  EXPECT_GE(update["undo"]["available"].get<int>(), 2) << "the solve and the fold";
+  // The next fold of the gesture is no new capture: no further update.
+  e.send(foldMessage(3, 0.7));
+  EXPECT_EQ(e.inbox.ofType("update").size(), updatesBefore + 1);
+  e.send({{"type", "fold_end"}, {"op", 4}});
+  e.send({{"type", "undo"}, {"op", 5}});
+  EXPECT_FALSE(e.session->sceneJson()["model"]["handles"].empty()) << "undo brings the handles back";
+}
+
+TEST(FoldSliderSession, LettingGoOfTheSliderAfterARefusedFoldSolvesNothingAndLeavesNoUndoStep) {
+  // The preset as shipped, unsolved: flat, its handles not yet pulled, nothing to fold.
+  ExampleEditor e("composite-curved-fold");
+  const json before = e.session->sceneJson();
+  const std::size_t solvedBefore = e.inbox.ofType("solved").size();
+  const std::size_t iteratesBefore = e.inbox.ofType("iterate").size();
+  e.send(foldMessage(1, 0.5));
+  ASSERT_TRUE(e.inbox.last("error").is_object());
+  EXPECT_EQ(e.inbox.last("error")["path"], "amount");
+  e.send({{"type", "fold_end"}, {"op", 2}});
+  EXPECT_EQ(e.inbox.ofType("solved").size(), solvedBefore) << "a fold_end without a fold is no release";
+  EXPECT_EQ(e.inbox.ofType("iterate").size(), iteratesBefore);
+  EXPECT_EQ(e.session->sceneJson()["model"]["vertices"], before["model"]["vertices"]);
+  e.send({{"type", "undo"}, {"op", 3}});
+  EXPECT_EQ(e.session->sceneJson()["model"]["vertices"], before["model"]["vertices"]);
+}
+
 TEST(FoldSliderSession, AnImportedCreasePatternFoldsToItsFileAnglesAndTheJournalReplaysIt) {
   ExampleEditor e(importedFoldScene(foldExampleFile("diagonal-cp.fold")));
   ASSERT_EQ(e.session->sceneJson()["model"]["fold_amount"], 0.0);  // flat, with the file's 180° valley

@@ -180,3 +180,49 @@ test('the Solver panel switches a composite to normal splines, and a drag keeps 
     await h.screenshotPage(page, '06-composite-normal-splines');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
+
+test('an example opens as its picture shows it, and its first fold lets go of the handle and can be undone', { timeout: 240000 }, () =>
+  ctx.guard('composite-example-fold', async () => {
+    const { daemon } = ctx;
+    // "New session from an example": the curved fold with its corner's handle, solved at opening.
+    const page = await ctx.page();
+    await page.goto(daemon.url);
+    await page.getByTestId('start-page').waitFor();
+    await page.getByTestId('preset-select').selectOption('composite-curved-fold');
+    await page.getByTestId('new-session').click();
+    await page.getByTestId('editor').waitFor({ timeout: 30000 });
+    await h.waitForConnected(page);
+    await h.waitState(page, (st) => st.kind === 'composite' && st.scene, undefined, { what: 'the new composite session' });
+    const url = new URL(page.url());
+    const s = { id: url.searchParams.get('session'), token: url.searchParams.get('token') };
+    const opened = await daemon.session(s.id, s.token);
+    assert.ok(opened.scene.model.vertices[3][2] > 0.5, `the corner is lifted as the example's picture shows: z = ${opened.scene.model.vertices[3][2]}`);
+    assert.equal(opened.scene.model.handles.length, 1);
+    const undoButton = page.getByTestId('undo');
+    assert.ok(await undoButton.isDisabled(), 'nothing to undo yet');
+
+    // The first fold takes the design's folds as 100 % and lets go of the handle: the editor
+    // learns it at once (no handle drawn) and can undo it.
+    await page.getByTestId('fold-slider').fill('50');
+    await h.waitState(page, (st) => st.constraints.handles.length === 0, undefined, { what: 'the handle let go in the editor' });
+    await h.waitState(page, (st) => st.metrics && Math.abs(st.metrics.fold_amount - 0.5) < 1e-9, undefined, { what: 'fold 50 %' });
+    await h.waitQuiet(page, { quietMs: 1000 });
+    assert.ok(await undoButton.isEnabled(), `undo offered after the fold: ${await undoButton.getAttribute('title')}`);
+    const folded = await daemon.session(s.id, s.token);
+    assert.equal((folded.scene.model.handles || []).length, 0, 'the server let go of it too');
+    assert.ok(folded.scene.model.vertices[3][2] < opened.scene.model.vertices[3][2], 'half folded, the corner is lower');
+
+    // A second gesture is one more step; undoing both brings the handle and the lifted corner back.
+    await page.getByTestId('fold-slider').fill('30');
+    await h.waitState(page, (st) => st.metrics && Math.abs(st.metrics.fold_amount - 0.3) < 1e-9, undefined, { what: 'fold 30 %' });
+    await h.waitQuiet(page, { quietMs: 1000 });
+    await h.waitState(page, (st) => st.undo.available >= 2, undefined, { what: 'two undo steps known to the editor' });
+    await undoButton.click();
+    await h.waitState(page, (st) => st.metrics && Math.abs(st.metrics.fold_amount - 0.5) < 1e-9, undefined, { what: 'back to 50 %' });
+    await undoButton.click();
+    await h.waitState(page, (st) => st.constraints.handles.length === 1, undefined, { what: 'the handle back in the editor' });
+    const back = await daemon.session(s.id, s.token);
+    assert.equal(back.scene.model.handles.length, 1);
+    assert.ok(Math.abs(back.scene.model.vertices[3][2] - opened.scene.model.vertices[3][2]) < 1e-6, 'the design as it opened');
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));

@@ -2,7 +2,8 @@
 //     (a drag and its release, one undo step); a drag held to the z axis moves along z only and
 //     snaps to the grid; the units setting relabels the design and the exports follow (FOLD's
 //     frame_unit, read back with npm fold). An editor opened by the edit link knows the view link
-//     (item 6). Screenshot: test-artifacts/web/12-exact-input.png.
+//     (item 6). Typed text that is not a value (a coordinate, a solver setting) is refused naming
+//     the field and nothing is sent (item 7). Screenshot: test-artifacts/web/12-exact-input.png.
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { test } from 'node:test';
@@ -49,6 +50,46 @@ test('typed coordinates, an axis-held snapped drag and the units setting', { tim
     const moved = await vertexOnServer(daemon, s, 6);
     assert.ok(Math.abs(moved[2] - target) < 0.03, `z after the typed move: ${moved[2]}, typed ${target}`);
     assert.equal((await h.state(page)).lastError, null);
+
+    // Text a coordinate field cannot read ("1e999" hands over '') is refused naming the axis and
+    // nothing is sent; a valid value clears the message.
+    const moveError = page.locator('[data-source="selection:move"]');
+    const seq1 = (await h.state(page)).seq;
+    await page.getByTestId('coord-x').click();
+    await page.keyboard.press('Control+A');
+    await page.keyboard.type('1e999');
+    await page.keyboard.press('Enter');
+    await moveError.waitFor({ state: 'visible', timeout: 5000 });
+    assert.equal(await moveError.textContent(), 'x: enter a number');
+    await new Promise((r) => setTimeout(r, 500));
+    assert.equal((await h.state(page)).seq, seq1, 'nothing sent for a coordinate that is not a number');
+    await page.getByTestId('coord-x').fill(String(moved[0]));
+    await page.getByTestId('coord-x').press('Enter');
+    await moveError.waitFor({ state: 'hidden', timeout: 5000 });
+    await h.waitQuiet(page, { quietMs: 1000 });
+
+    // A solver setting typed as text, out of its range or infinite: refused under the field, the
+    // server's value stays; a valid one clears the message and reaches the scene.
+    const fairness = page.locator('[data-setting="fairness"] input');
+    const fairnessError = page.locator('[data-source="solver:fairness"]');
+    const fairness0 = (await daemon.session(s.id, s.edit_token)).scene.solver.fairness;
+    for (const [typed, why] of [['abc', 'enter a number'], ['-1', 'at least 0'], ['1e999', 'enter a finite number']]) {
+      await fairness.fill(typed);
+      await fairness.press('Enter');
+      await fairnessError.waitFor({ state: 'visible', timeout: 5000 });
+      assert.equal(await fairnessError.textContent(), `fairness: ${why}`, `typed ${typed}`);
+      assert.equal(Number(await fairness.inputValue()), fairness0, `the field shows the server's value again after ${typed}`);
+    }
+    await new Promise((r) => setTimeout(r, 500));
+    assert.equal((await daemon.session(s.id, s.edit_token)).scene.solver.fairness, fairness0, 'nothing refused was sent');
+    await fairness.fill('0.02');
+    await fairness.press('Enter');
+    await fairnessError.waitFor({ state: 'hidden', timeout: 5000 });
+    const fairnessSet = await h.poll(async () => {
+      const scene = (await daemon.session(s.id, s.edit_token)).scene;
+      return { ok: scene.solver.fairness === 0.02 };
+    });
+    assert.ok(fairnessSet.ok, 'a valid fairness reaches the scene');
 
     // A drag held to the z axis with the grid on: every position sent keeps x and y, z on the grid.
     await page.getByTestId('drag-constraint').selectOption('z');

@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { EditorState, RESIDUAL_HISTORY_LIMIT } from '../src/state/EditorState.js';
 import { DragCommand, SetSolverCommand } from '../src/commands/index.js';
-import { decadeRange, decadeSplits } from '../src/ui/logScale.js';
+import { MAX_DECADES, decadeRange, decadeSplits } from '../src/ui/logScale.js';
 
 describe('EditorState', () => {
   it('signals changes with on/emit and can unsubscribe', () => {
@@ -40,6 +40,19 @@ describe('EditorState', () => {
     expect(s.undo).toEqual({ available: 1, redo_available: 0 });
   });
 
+  it('notes the undo step a fold gesture starts, and takes the exact counts from solved', () => {
+    const s = new EditorState();
+    s.applyEdit({ type: 'edit', seq: 4, by: 2, edit: { type: 'fold', amount: 0.5 } });
+    expect(s.undo).toEqual({ available: 1, redo_available: 0 });
+    const seen = [];
+    s.on('undo', (u) => seen.push(u));
+    s.applyServerMessage({ type: 'solved', seq: 6, reason: 'max_iterations', iterations: 3, metrics: {}, undo: { available: 3, redo_available: 0 } });
+    expect(s.undo).toEqual({ available: 3, redo_available: 0 });
+    expect(seen).toEqual([{ available: 3, redo_available: 0 }]);
+    s.applyServerMessage({ type: 'solved', seq: 7, reason: 'max_iterations', iterations: 3, metrics: {} });  // an older server
+    expect(s.undo).toEqual({ available: 3, redo_available: 0 });
+  });
+
   it('takes the drag settings from acked and others\' set_solver edits', () => {
     const s = new EditorState();
     s.applyAck({ type: 'ack', op: 1, seq: 1 }, new SetSolverCommand({}, { drag_iterations: 3 }));
@@ -54,6 +67,10 @@ describe('residual plot log scale', () => {
     expect(decadeRange([[0.5, null, 2e-7], [0, 3]])).toEqual([1e-7, 10]);
     expect(decadeRange([[null, 0]])).toEqual([1e-12, 1]);
     expect(decadeRange([[1]])).toEqual([1, 10]);
+  });
+  it('shows at most MAX_DECADES below the largest value, whatever reached rounding level', () => {
+    expect(decadeRange([[3e-203, 0.4], [2e-5]])).toEqual([Math.pow(10, -MAX_DECADES), 1]);
+    expect(decadeRange([[5e-300, 2e-290]])).toEqual([1e-300, 1e-289]);
   });
   it('thins decade ticks', () => {
     expect(decadeSplits(1e-6, 1, 10).length).toBe(7);

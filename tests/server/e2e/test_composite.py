@@ -29,6 +29,23 @@ class CompositeProtocolTest(DaemonTestCase):
         self.assertEqual(status, 201, body)
         return body
 
+    def test_a_session_opened_solved_starts_where_the_scene_solves_to_and_a_bad_flag_is_400(self):
+        with open(COMPOSITE) as f:
+            scene = json.load(f)  # flat, its handle pulling vertex 3 up to z = 0.8
+        states = {}
+        for flag in ("", "?solved=false", "?solved=true"):
+            status, _, body = self.daemon.json("POST", "/api/sessions" + flag, scene)
+            self.assertEqual(status, 201, body)
+            status, _, shown = self.daemon.json("GET", f"/api/sessions/{body['id']}",
+                                                headers={"Authorization": "Bearer " + body["view_token"]})
+            self.assertEqual(status, 200, shown)
+            states[flag] = shown["scene"]["model"]["vertices"][3][2]
+        self.assertEqual(states[""], 0.0)
+        self.assertEqual(states["?solved=false"], 0.0)
+        self.assertGreater(states["?solved=true"], 0.5, "the handle pulled the corner up before anyone joined")
+        status, _, body = self.daemon.json("POST", "/api/sessions?solved=yes", scene)
+        self.assertEqual((status, body["error"]["path"]), (400, "solved"), body)
+
     def test_the_composite_demo_joins_with_composite_geometry(self):
         demos = {d["id"]: d for d in self.daemon.json("GET", "/api/sessions")[2]["sessions"]}
         self.assertIn("demo-composite-curved-fold", demos)

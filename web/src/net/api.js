@@ -34,11 +34,14 @@ export async function listSessions() {
   return (body && body.sessions) || [];
 }
 
-/** POST /api/sessions (scene) → {id, edit_token, view_token, links} */
-export async function createSession(scene, apiKey) {
+/**
+ * POST /api/sessions (scene) → {id, edit_token, view_token, links}; `solved`: the session starts
+ * from the scene's solved state (?solved=true).
+ */
+export async function createSession(scene, apiKey, { solved = false } = {}) {
   const headers = { 'Content-Type': 'application/json' };
   if (apiKey) headers.Authorization = `Bearer ${apiKey}`;
-  const res = await fetch(apiUrl('sessions'), { method: 'POST', headers, body: typeof scene === 'string' ? scene : JSON.stringify(scene) });
+  const res = await fetch(apiUrl(solved ? 'sessions?solved=true' : 'sessions'), { method: 'POST', headers, body: typeof scene === 'string' ? scene : JSON.stringify(scene) });
   const body = await readJson(res);
   if (!res.ok) throw new ApiError(res.status, body);
   return body;

@@ -258,6 +258,11 @@ export class EditorState {
     this._seenSeq(msg.seq);
     if (msg.metrics) this.metrics = { ...(this.metrics || {}), ...msg.metrics };
     this.lastSolved = { reason: msg.reason, iterations: msg.iterations, seq: msg.seq, quality: msg.quality || null };
+    if (msg.undo && Number.isInteger(msg.undo.available)) {
+      // The exact history counts once the interaction has settled (drags and folds only note "≥ 1").
+      this.undo = { available: msg.undo.available, redo_available: msg.undo.redo_available || 0 };
+      this.emit('undo', this.undo);
+    }
     this.emit('solved', msg);
     this.emit('metrics', this.metrics);
   }
@@ -274,12 +279,13 @@ export class EditorState {
   }
 
   /**
-   * A drag, a solve and a group rotation (rotate_points) start an undo step on the server without
-   * an `update` (structural edits, undo, redo and reset send one with the exact counts): note
-   * that there is something to undo.
+   * A drag, a fold of the slider, a solve and a group rotation (rotate_points) start an undo step
+   * on the server without an `update` (structural edits, undo, redo, reset and a first fold that
+   * takes the design's folds as targets send one with the exact counts): note that there is
+   * something to undo.
    */
   _noteDragHistory(type) {
-    if (type !== 'drag' && type !== 'solve' && type !== 'rotate_points') return;
+    if (type !== 'drag' && type !== 'fold' && type !== 'solve' && type !== 'rotate_points') return;
     if (this.undo.available > 0 && this.undo.redo_available === 0) return;
     this.undo = { available: Math.max(1, this.undo.available), redo_available: 0 };
     this.emit('undo', this.undo);

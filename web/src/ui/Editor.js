@@ -254,6 +254,13 @@ export class Editor {
     for (const ev of ['group', 'rotate-axis', 'rotate-centre']) st.on(ev, () => this.viewport.requestRender());
     st.on('edge-selection', () => this.viewport.updateComposite());
     st.on('solved', () => this.development.refit());
+    // The scale bar speaks the design's units (the scene's `units`; absent means mm).
+    st.on('scene', (scene) => {
+      const units = (scene && scene.units) || 'mm';
+      if (this.development.units === units) return;
+      this.development.units = units;
+      this.development.render();
+    });
     st.on('scene', () => {
       const model = (st.scene && st.scene.model) || {};
       this.viewport.setReferencePoints(model.approximation ? model.approximation.points : null);

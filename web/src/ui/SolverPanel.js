@@ -24,12 +24,29 @@ const DEFAULTS = {
   developability_weight: 1, handle_weight: 1, drag_iterations: 20, release_iterations: 200,
 };
 
+/**
+ * Why `text`, typed into a number field, is not a value for it (null: it is one): not a number,
+ * not finite, out of [min, max], or not a whole number where one is wanted.
+ */
+export function typedNumberProblem(text, { min, max, integer = false } = {}) {
+  const t = String(text).trim();
+  if (t === '' || !/^[-+]?(\d+\.?\d*|\.\d+)(e[-+]?\d+)?$/i.test(t)) return 'enter a number';
+  const v = Number(t);
+  if (!Number.isFinite(v)) return 'enter a finite number';
+  if (min !== undefined && v < min) return `at least ${min}`;
+  if (max !== undefined && v > max) return `at most ${max}`;
+  if (integer && !Number.isInteger(v)) return 'enter a whole number';
+  return null;
+}
+
 export class SolverPanel {
   constructor(parent, { state, send, errorSlots }) {
     this.state = state;
     this.send = send;
     this.params = { ...DEFAULTS };
     this.controllers = new Map();
+    this.errorSlots = errorSlots;
+    this.refused = new Map();  // key → why the text last typed into its field was not taken
     this.pending = new PendingControls('set_solver', 'solver:', (key) => this.controllers.get(key));
     this.gui = new GUI({ container: parent, title: 'Solver' });
     this.gui.domElement.classList.add('solver-gui');
@@ -38,6 +55,9 @@ export class SolverPanel {
       c.name(label);
       c.domElement.dataset.setting = key;
       c.onFinishChange((value) => this._changed(key, kind, value));
+      // lil-gui ignores text that is not a number and clamps to the range without a word: say why a
+      // typed value is not taken (its 'change' comes before lil-gui's own finish on blur/Enter).
+      if (c.$input) c.$input.addEventListener('change', () => this._checkTyped(key, label, o, c.$input.value));
       const slot = errorSlots.slot(`solver:${key}`);
       c.domElement.after(slot);
       this.controllers.set(key, c);
@@ -89,8 +109,24 @@ export class SolverPanel {
     return !!model && model.kind === 'composite';
   }
 
+  /** Checks the text typed into `key`'s field; a refused one is shown under it and not sent. */
+  _checkTyped(key, label, { min, max }, text) {
+    const why = typedNumberProblem(text, { min, max, integer: FIELDS.find((f) => f[0] === key)[2] === 'session' });
+    if (why) {
+      this.refused.set(key, why);
+      this.errorSlots.show(`solver:${key}`, `${label}: ${why}`);
+      this.refresh(true);  // back to the server's value
+      return;
+    }
+    this.refused.delete(key);
+    this.errorSlots.clear(`solver:${key}`);
+  }
+
   _changed(key, kind, value) {
-    if (typeof value !== 'number' || !Number.isFinite(value)) return;
+    if (this.refused.has(key) || typeof value !== 'number' || !Number.isFinite(value)) {
+      this.refresh(true);
+      return;
+    }
     const command = kind === 'solver'
       ? new SetSolverCommand({ [key]: value }, {}, { source: `solver:${key}` })
       : new SetSolverCommand({}, { [key]: Math.round(value) }, { source: `solver:${key}` });

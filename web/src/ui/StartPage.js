@@ -291,12 +291,13 @@ export class StartPage {
     this.toasts.showError({ code: e.code || 'error', message: e.message, path: e.path }, what);
   }
 
-  async _create(scene, what) {
+  /** Opens a session on `scene`; `solved`: from its solved state (an example, as its picture shows it). */
+  async _create(scene, what, { solved = false } = {}) {
     this.createError.hidden = true;
     this.busy.hidden = false;
     this.newButton.disabled = true;
     try {
-      const res = await createSession(scene, this.apiKeyInput.value.trim() || apiKey());
+      const res = await createSession(scene, this.apiKeyInput.value.trim() || apiKey(), { solved });
       rememberSessionTokens(res.id, { edit: res.edit_token, view: res.view_token, name: typeof scene === 'object' ? scene.name : undefined });
       window.location.assign(editorUrl(res.id, res.edit_token));
     } catch (e) {
@@ -491,7 +492,7 @@ export class StartPage {
 
   _newFromPreset() {
     const p = PRESETS.find((x) => x.id === this.presetSelect.value);
-    if (p) this._create(p.scene, `new session from ${p.file}`);
+    if (p) this._create(p.scene, `new session from ${p.file}`, { solved: true });
   }
 
   async _openFile(file) {

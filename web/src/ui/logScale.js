@@ -1,6 +1,13 @@
 // Decade ranges and ticks for the residual plot's log scale.
 
-/** [10^floor(log10 min), 10^ceil(log10 max)] over the finite positive values, at least one decade. */
+/** Decades the plot shows at most below its largest value: a term that has reached rounding level
+ * (1e-200 after a long drag) would squash every other curve into one line at the top. */
+export const MAX_DECADES = 16;
+
+/**
+ * [10^floor(log10 min), 10^ceil(log10 max)] over the finite positive values, at least one decade
+ * and at most MAX_DECADES (values below lie under the plot's floor).
+ */
 export function decadeRange(series) {
   let lo = Infinity;
   let hi = -Infinity;
@@ -16,7 +23,7 @@ export function decadeRange(series) {
   let a = Math.floor(Math.log10(lo));
   let b = Math.ceil(Math.log10(hi));
   if (b <= a) b = a + 1;
-  a = Math.max(a, -300);
+  a = Math.max(a, b - MAX_DECADES, -300);
   b = Math.min(b, 300);
   return [Math.pow(10, a), Math.pow(10, b)];
 }

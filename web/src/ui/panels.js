@@ -111,7 +111,7 @@ export class StatusBar {
       this.apply.textContent = (recent.reduce((a, b) => a + b, 0) / recent.length).toFixed(1);
     }
     this.seq.textContent = String(st.seq);
-    if (st.lastSolved) this.solved.textContent = `solved: ${st.lastSolved.reason.replace(/_/g, ' ')} after ${st.lastSolved.iterations} iterations`;
+    if (st.lastSolved) this.solved.textContent = solvedText(st.lastSolved);
     const q = st.lastSolved && st.lastSolved.quality;
     this.quality.hidden = !q || !q.checks || q.checks.length === 0;
     if (q && q.checks && q.checks.length) {
@@ -121,6 +121,29 @@ export class StatusBar {
       this.quality.classList.toggle('quality-miss', !q.met);
       this.quality.title = q.checks.map((c) => `${c.ok ? '✓' : '✗'} ${c.metric} = ${formatNumber(c.value)} (limit ${formatNumber(c.limit)})`).join('\n');
     }
+  }
+}
+
+/**
+ * The last solve in words: how it ended (the report's termination reason) and after how many
+ * iterations. A release that used all its iterations is not a failure: the quality verdict beside
+ * it says whether the design is good.
+ */
+export function solvedText({ reason, iterations }) {
+  const n = `${iterations} iteration${iterations === 1 ? '' : 's'}`;
+  switch (reason) {
+    case 'max_iterations': return `solved: ran its ${n}`;
+    case 'residual_tolerance':
+    case 'relative_change':
+    case 'hard_tolerance':
+    case 'hard_plateau':
+    case 'completed': return `solved: converged after ${n}`;
+    case 'time_budget': return `solved: stopped at its time budget after ${n}`;
+    case 'stalled': return `solved: stalled after ${n} (no step was accepted)`;
+    case 'diverged': return `solve diverged after ${n}; the last good state is kept`;
+    case 'aborted': return `solve interrupted after ${n}`;
+    case 'identity_fallback': return `solved: kept the identity mapping (${n})`;
+    default: return `solved: ${String(reason || '').replace(/_/g, ' ')} after ${n}`;
   }
 }
 
@@ -386,10 +409,16 @@ export class SelectionPanel {
     const sel = this.state.selection;
     const current = sel && this.pointOf(sel);
     if (!current) return;
+    // A number input hands over '' for text it cannot read ("abc", "1e999"): its validity says so.
+    const unreadable = this.inputs.findIndex((input) => input.validity && input.validity.badInput);
+    if (unreadable >= 0) {
+      this.errorSlots.show('selection:move', `${'xyz'[unreadable]}: enter a number`);
+      return;
+    }
     const position = this.inputs.map((input, k) => (input.value.trim() === '' ? current[k] : Number(input.value)));
     const bad = position.findIndex((x) => !Number.isFinite(x));
     if (bad >= 0) {
-      this.errorSlots.show('selection:move', `${'xyz'[bad]}: enter a number`);
+      this.errorSlots.show('selection:move', `${'xyz'[bad]}: enter a finite number`);
       return;
     }
     this.errorSlots.clear('selection:move');

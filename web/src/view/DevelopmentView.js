@@ -24,6 +24,8 @@ export class DevelopmentView extends CanvasPanel {
     /** 'strip' | 'composite'. */
     this.kind = 'strip';
     this.highContrast = false;
+    /** What one coordinate is (the scene's units), for the scale bar. */
+    this.units = 'mm';
     this._rgb = [0, 0, 0];
     this.canvas.addEventListener('dblclick', () => this.refit());
     this._observeResize();
@@ -327,6 +329,6 @@ export class DevelopmentView extends CanvasPanel {
     ctx.stroke();
     ctx.font = `${this.highContrast ? 13 : 11}px system-ui, sans-serif`;
     ctx.textAlign = 'left';
-    ctx.fillText(`${len >= 1 ? len : len.toPrecision(1)} ${len === 1 ? 'unit' : 'units'}`, x + px + 6, y + 1);
+    ctx.fillText(`${len >= 1 ? len : len.toPrecision(1)} ${this.units}`, x + px + 6, y + 1);
   }
 }
