@@ -1,8 +1,8 @@
-#include <algorithm>
 #include "devsurf/server/Cli.h"
 
 #include "CliArguments.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>

@@ -729,7 +729,14 @@ json Session::stateMessage(int participant) const {
           {"participants", participantsJson()},
           {"settings", {{"drag_iterations", settings_.dragIterations},
                         {"release_iterations", settings_.releaseIterations}}},
-          {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}};
+          {"undo", undoCountsJson()}};
+}
+
+json Session::undoCountsJson() const { return {{"available", undo_.size()}, {"redo_available", redo_.size()}}; }
+
+void Session::broadcastUpdate() {
+  broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
+             {"metrics", metricsJson()}, {"geometry", geometryJson()}, {"undo", undoCountsJson()}});
 }
 
 void Session::pushUndo() { pushUndo(persistentScene()); }
@@ -1275,7 +1282,7 @@ bool Session::runSolver(SolveLimits limits, bool final) {
                {"reason", engine::terminationReasonName(summary.reason)},
                {"iterations", summary.stepsTaken()},
                {"quality", solver_->quality().toJson()},
-               {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
+               {"undo", undoCountsJson()}});
   }
   return !interrupted;
 }
@@ -1458,9 +1465,7 @@ void Session::handle(const Work& work) {
     if (foldTargetsCaptured_ && showState()) {
       // The first fold took the design's folds as targets and let go of its handles: every
       // client gets the scene without them and the undo step (the iterations carry geometry only).
-      broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
-                 {"metrics", metricsJson()}, {"geometry", geometryJson()},
-                 {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
+      broadcastUpdate();
     }
     foldTargetsCaptured_ = false;
     SolveLimits frame;
@@ -1490,18 +1495,14 @@ void Session::handle(const Work& work) {
     // A structural edit that then solves: its scene first (the solve's messages carry geometry
     // and metrics only, and a client keeps editing by the scene's indices).
     if (type != "solve" && showState())
-      broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
-                 {"metrics", metricsJson()}, {"geometry", geometryJson()},
-                 {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
+      broadcastUpdate();
     SolveLimits limits;
     limits.iterations = std::min(m.value("iterations", settings_.releaseIterations), settings_.maxIterationsPerRequest);
     limits.timeBudgetMs = settings_.releaseTimeBudgetMs;
     limits.hardTolerance = settings_.releaseHardTolerance;
     runSolver(limits, true);
   } else if (showState()) {
-    broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
-               {"metrics", metricsJson()}, {"geometry", geometryJson()},
-               {"undo", {{"available", undo_.size()}, {"redo_available", redo_.size()}}}});
+    broadcastUpdate();
   }
 }
 

@@ -57,7 +57,7 @@ export class SolverPanel {
       c.onFinishChange((value) => this._changed(key, kind, value));
       // lil-gui ignores text that is not a number and clamps to the range without a word: say why a
       // typed value is not taken (its 'change' comes before lil-gui's own finish on blur/Enter).
-      if (c.$input) c.$input.addEventListener('change', () => this._checkTyped(key, label, o, c.$input.value));
+      if (c.$input) c.$input.addEventListener('change', () => this._checkTyped(key, label, { ...o, integer: kind === 'session' }, c.$input.value));
       const slot = errorSlots.slot(`solver:${key}`);
       c.domElement.after(slot);
       this.controllers.set(key, c);
@@ -110,8 +110,8 @@ export class SolverPanel {
   }
 
   /** Checks the text typed into `key`'s field; a refused one is shown under it and not sent. */
-  _checkTyped(key, label, { min, max }, text) {
-    const why = typedNumberProblem(text, { min, max, integer: FIELDS.find((f) => f[0] === key)[2] === 'session' });
+  _checkTyped(key, label, { min, max, integer }, text) {
+    const why = typedNumberProblem(text, { min, max, integer });
     if (why) {
       this.refused.set(key, why);
       this.errorSlots.show(`solver:${key}`, `${label}: ${why}`);

@@ -417,6 +417,10 @@ class Session : public std::enable_shared_from_this<Session> {
   /// The streamed geometry (proto::stripGeometryJson or proto::compositeGeometryJson) and the
   /// metrics an iterate carries.
   nlohmann::json geometryJson(nlohmann::json* iterateMetrics = nullptr) const;
+  /// {"available", "redo_available"}: the undo and redo steps the session holds.
+  nlohmann::json undoCountsJson() const;
+  /// An `update` to every participant: seq, revision, scene, metrics, geometry and undo counts.
+  void broadcastUpdate();
   /// Releases the temporary handle of a drag on `target` (rebuilds the model) if there is one.
   void releaseDragHandle(const nlohmann::json& target);
   const engine::Problem& problem() const;
