@@ -538,7 +538,8 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       break;
     }
     if (options.projectionOnly && options.hardTolerance > 0.0 && options.hardPlateau.steps > 0 &&
-        last.hardResidualMax <= options.hardPlateau.range * options.hardTolerance &&
+        last.hardResidualMax <=
+            (alternate_ ? options.hardPlateau.alternatingRange : options.hardPlateau.range) * options.hardTolerance &&
         summary.iterations.size() > static_cast<std::size_t>(options.hardPlateau.steps)) {
       const double before =
           summary.iterations[summary.iterations.size() - 1 - static_cast<std::size_t>(options.hardPlateau.steps)]

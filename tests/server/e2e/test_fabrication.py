@@ -24,6 +24,9 @@ import ezdxf
 
 from daemon import ROOT, Daemon
 
+# Run against SQLite alone (tests/CMakeLists.txt): exports and thumbnails read the session, never the store.
+ONE_STORE_IS_ENOUGH = True
+
 EXAMPLES = sorted(os.path.join(ROOT, "examples", f) for f in os.listdir(os.path.join(ROOT, "examples"))
                   if f.endswith(".json"))
 MM = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4}

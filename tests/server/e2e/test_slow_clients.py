@@ -13,6 +13,9 @@ import http.client
 
 from daemon import DaemonTestCase, drag, join, recv_until
 
+# Run against SQLite alone (tests/CMakeLists.txt): what is tested is the HTTP transport, before any session or store.
+ONE_STORE_IS_ENOUGH = True
+
 MB = 1 << 20
 
 

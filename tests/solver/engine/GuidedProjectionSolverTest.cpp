@@ -278,6 +278,40 @@ TEST(GuidedProjectionSolver, APolishFarAboveTheToleranceOrWithThePlateauOffRunsO
   }
 }
 
+/// heldAboveTheTolerance with a second block b that alternates (hard row b = 0 from b = 0.5): the
+/// polish holds x at x* = pull/(1 + pull) while b reaches its row.
+Problem heldAboveTheToleranceWithAnAlternatingSide(double pull) {
+  Problem problem;
+  problem.addBlock("x", 1);
+  const int b = problem.addBlock("b", 1);
+  problem.layout().setAlternating(b);
+  problem.x() << 0.5, 0.5;
+  using Row = testing::SparseLinearTerm::Row;
+  problem.addTerm(std::make_unique<testing::SparseLinearTerm>("hard", std::vector<Row>{{{{0, 1.0}}, 0.0}, {{{1, 1.0}}, 0.0}}),
+                  1.0, Strength::Hard);
+  problem.addTerm(std::make_unique<testing::SparseLinearTerm>("pull", std::vector<Row>{{{{0, 1.0}}, 1.0}}), std::sqrt(pull),
+                  Strength::Soft);
+  return problem;
+}
+
+TEST(GuidedProjectionSolver, AnAlternatingPolishHeldFarAboveTheToleranceStopsOnItsPlateauWithinItsWiderRange) {
+  {  // x* = 1e-5: a hundred tolerances, within the alternating range of a thousand
+    Problem problem = heldAboveTheToleranceWithAnAlternatingSide(1e-5);
+    GuidedProjectionSolver solver(problem);
+    ASSERT_TRUE(solver.alternates());
+    const SolveSummary summary = solver.solve(polishOptions());
+    EXPECT_EQ(terminationReasonName(summary.reason), std::string("hard_plateau"));
+    EXPECT_LT(summary.stepsTaken(), 80);
+    EXPECT_NEAR(problem.x()[0], 1e-5 / (1 + 1e-5), 1e-8);
+    EXPECT_LT(std::abs(problem.x()[1]), 1e-7);
+  }
+  {  // x* = 2e-3: twenty thousand tolerances, beyond it
+    Problem problem = heldAboveTheToleranceWithAnAlternatingSide(2e-3);
+    GuidedProjectionSolver solver(problem);
+    EXPECT_EQ(terminationReasonName(solver.solve(polishOptions()).reason), std::string("max_iterations"));
+  }
+}
+
 TEST(GuidedProjectionSolver, CallbackCanAbortTheSolve) {
   Problem problem = productProblem();
   GuidedProjectionSolver solver(problem);
