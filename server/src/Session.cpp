@@ -732,6 +732,13 @@ json Session::stateMessage(int participant) const {
           {"undo", undoCountsJson()}};
 }
 
+bool Session::gestureApplied(int participant, const std::string& letGo) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto p = participants_.find(participant);
+  if (p == participants_.end()) return true;  // the session's own let-go (_release)
+  return letGo == "fold_end" ? p->second.folding : !p->second.dragging.is_null();
+}
+
 json Session::undoCountsJson() const { return {{"available", undo_.size()}, {"redo_available", redo_.size()}}; }
 
 void Session::broadcastUpdate() {
@@ -826,14 +833,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       return reject("invalid", std::string("the fold slider applies to composite sessions (sheets with creases); this session edits a ") +
                                    proto::modelKind(current.model),
                     "type");
-    if (type == "fold_end") {
-      // The release iterations follow (handle()) — for a gesture that folded: after a refused
-      // first fold ("nothing to fold") the slider's let-go must not solve the design.
-      if (replaying) return true;
-      std::lock_guard<std::mutex> lock(mutex_);
-      const auto p = participants_.find(participant);
-      return p != participants_.end() && p->second.folding;
-    }
+    if (type == "fold_end") return true;  // the release iterations follow (handle())
     return applyFold(participant, edit, replaying);
   }
   if (keepsInput()) return applyCurveEdit(participant, edit, replaying, target);
@@ -1433,6 +1433,15 @@ void Session::handle(const Work& work) {
   }
   if (isEdit(type) && role != Role::Edit) {
     error(pid, op, "forbidden", "this connection joined with a view-only token", "type");
+    return;
+  }
+  if ((type == "drag_end" || type == "fold_end") && !gestureApplied(pid, type)) {
+    // The let-go of a gesture the session refused whole — a typed position too far away, a first
+    // fold with nothing to fold: acknowledged without an edit. Nothing is solved or journalled;
+    // its release would otherwise move a design no edit changed.
+    json ack{{"type", "ack"}, {"seq", seq_.load()}};
+    if (!op.is_null()) ack["op"] = op;
+    send(pid, ack);
     return;
   }
   if (!apply(pid, m, false)) return;

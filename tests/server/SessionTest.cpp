@@ -614,6 +614,32 @@ TEST(CompositeSession, DraggingAVertexStreamsIteratesAndReleaseSolvesToSmallResi
   EXPECT_FALSE(scene["model"].contains("handles"));
 }
 
+TEST(CompositeSession, TheLetGoOfARefusedDragIsAcknowledgedAndSolvesMovesAndJournalsNothing) {
+  // A position typed far outside the design (the web app sends a drag there and its drag_end):
+  // the drag is refused naming the position, and its let-go must not run a release.
+  JoinedCompositeEditor e;
+  const json before = e.session->sceneJson();
+  const std::size_t edits = e.journal.edits.size();
+  const json seq = e.inbox.last("state")["seq"];
+  e.inbox.messages.clear();
+  e.send({{"type", "drag"}, {"op", 1}, {"target", {{"vertex", 3}}}, {"position", {1e6, 2.0, 0.0}}});
+  ASSERT_EQ(e.inbox.ofType("error").size(), 1u);
+  EXPECT_EQ(e.inbox.last("error")["path"], "position");
+  e.send({{"type", "drag_end"}, {"op", 2}, {"target", {{"vertex", 3}}}});
+  ASSERT_EQ(e.inbox.ofType("ack").size(), 1u) << "the let-go is answered";
+  EXPECT_EQ(e.inbox.last("ack")["op"], 2);
+  EXPECT_EQ(e.inbox.last("ack")["seq"], seq) << "no edit";
+  EXPECT_TRUE(e.inbox.ofType("solved").empty());
+  EXPECT_TRUE(e.inbox.ofType("iterate").empty());
+  EXPECT_EQ(e.journal.edits.size(), edits);
+  EXPECT_EQ(e.session->sceneJson()["model"]["vertices"], before["model"]["vertices"]);
+  // An accepted drag of the same vertex is released as always.
+  e.send(dragVertex3(3, 0.4));
+  e.send({{"type", "drag_end"}, {"op", 4}, {"target", {{"vertex", 3}}}, {"iterations", 30}});
+  EXPECT_EQ(e.inbox.ofType("solved").size(), 1u);
+  EXPECT_EQ(e.journal.edits.size(), edits + 2);
+}
+
 TEST(CompositeSession, ItsThumbnailIsAPngThatFollowsTheDesign) {
   JoinedCompositeEditor e;
   const ExportedFile before = e.session->thumbnail();

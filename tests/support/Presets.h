@@ -18,7 +18,8 @@ namespace devsurf::testing {
 
 /// Every devsurf scene document in examples/ by file name, read and parsed once per process: the
 /// parameterized suites ask for the presets at static initialization, in every process CTest
-/// starts for one test (parsing 1.5 MB of examples once per suite took 0.3 s of each).
+/// starts for one test (parsing the 1.4 MB of examples once per suite: test_server started in 0.41 s,
+/// now in 0.18 s).
 inline const std::map<std::string, nlohmann::json>& presetDocuments() {
   static const std::map<std::string, nlohmann::json> documents = [] {
     std::map<std::string, nlohmann::json> out;

@@ -68,6 +68,26 @@ test('typed coordinates, an axis-held snapped drag and the units setting', { tim
     await moveError.waitFor({ state: 'hidden', timeout: 5000 });
     await h.waitQuiet(page, { quietMs: 1000 });
 
+    // A number the server refuses (far outside the model), sent with the Move button: the message
+    // names the position, the field keeps the refused text to correct, the vertex stays.
+    const beforeRefused = await vertexOnServer(daemon, s, 6);
+    await page.getByTestId('coord-x').fill('1e6');
+    await page.getByTestId('move-to').click();
+    await moveError.waitFor({ state: 'visible', timeout: 5000 });
+    assert.match(await moveError.textContent(), /position is .* from the model's centre/);
+    await new Promise((r) => setTimeout(r, 500));
+    assert.equal(await page.getByTestId('coord-x').inputValue(), '1e6', 'the refused text stays in the field');
+    const stayed = await vertexOnServer(daemon, s, 6);
+    assert.deepEqual(stayed, beforeRefused, 'the vertex stays where it was');
+    // Corrected and sent again, the field follows the point once more.
+    await page.getByTestId('coord-x').fill(String(stayed[0] + 0.05));
+    await page.getByTestId('move-to').click();
+    await moveError.waitFor({ state: 'hidden', timeout: 5000 });
+    await h.waitQuiet(page, { quietMs: 1000 });
+    const corrected = await vertexOnServer(daemon, s, 6);
+    assert.ok(Math.abs(corrected[0] - (stayed[0] + 0.05)) < 0.03, `x after the corrected move: ${corrected[0]}`);
+    assert.ok(Math.abs(Number(await page.getByTestId('coord-x').inputValue()) - corrected[0]) < 1e-5, 'the field shows the point again');
+
     // A solver setting typed as text, out of its range or infinite: refused under the field, the
     // server's value stays; a valid one clears the message and reaches the scene.
     const fairness = page.locator('[data-setting="fairness"] input');

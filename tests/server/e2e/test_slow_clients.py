@@ -13,7 +13,8 @@ import http.client
 
 from daemon import DaemonTestCase, drag, join, recv_until
 
-# Run against SQLite alone (tests/CMakeLists.txt): what is tested is the HTTP transport, before any session or store.
+# Run against SQLite alone (tests/CMakeLists.txt): what is tested is the HTTP transport; its sessions and
+# edits use the store as every module's do.
 ONE_STORE_IS_ENOUGH = True
 
 MB = 1 << 20

@@ -375,6 +375,12 @@ export class SelectionPanel {
     this.errorSlots = errorSlots;
     parent.appendChild(this.root);
     for (const ev of ['selection', 'scene', 'session', 'iterate']) state.on(ev, () => this.render());
+    // A release answers a typed move: from then on the fields follow the point again (a move the
+    // server accepts may leave it where it was: a fixed point, the coordinates it had).
+    state.on('solved', () => {
+      this.typed = null;
+      this.render();
+    });
     // The grid step follows the design's size until the user types one.
     const autoStep = () => {
       if (this.stepTyped) return;
@@ -422,6 +428,10 @@ export class SelectionPanel {
       return;
     }
     this.errorSlots.clear('selection:move');
+    // The fields are left as typed until the point moves or a release answers (render): a move
+    // the server refuses — no release follows it — leaves the text there to correct, beside the
+    // message that names it.
+    this.typed = { target: sel, at: current.slice() };
     this.moveTo(sel, position);
   }
 
@@ -438,6 +448,7 @@ export class SelectionPanel {
     if (!p) {
       this.title.textContent = 'Nothing selected';
       this.shownFor = null;
+      this.typed = null;
       return;
     }
     const fixed = st.constraints.fixed.some((f) => sameTarget(f, sel));
@@ -445,11 +456,15 @@ export class SelectionPanel {
     const label = targetLabel(sel);
     this.title.textContent = `${sel.curve !== undefined ? `Control point ${label}` : label[0].toUpperCase() + label.slice(1)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;
     this.coords.textContent = `x ${p[0].toFixed(3)}   y ${p[1].toFixed(3)}   z ${p[2].toFixed(3)}`;
-    // The inputs follow the point unless being typed in (a new selection always refills them).
+    // The inputs follow the point unless being typed in (a new selection always refills them),
+    // or typed and sent until the point moves or a release answers (submitCoordinates).
     const fresh = !sameTarget(this.shownFor, sel);
     this.shownFor = sel;
+    const typed = !fresh && editable && this.typed && sameTarget(this.typed.target, sel) &&
+      this.typed.at.every((v, k) => v === p[k]) ? this.typed : null;
+    this.typed = typed;
     this.inputs.forEach((input, k) => {
-      if (fresh || document.activeElement !== input) input.value = String(Number(p[k].toFixed(6)));
+      if (!typed && (fresh || document.activeElement !== input)) input.value = String(Number(p[k].toFixed(6)));
       input.disabled = !editable;
     });
     this.moveButton.disabled = !editable;

@@ -421,6 +421,9 @@ class Session : public std::enable_shared_from_this<Session> {
   nlohmann::json undoCountsJson() const;
   /// An `update` to every participant: seq, revision, scene, metrics, geometry and undo counts.
   void broadcastUpdate();
+  /// Whether `participant`'s gesture that `letGo` ("drag_end" or "fold_end") ends applied a drag
+  /// or a fold (true for the session's own let-go, participant 0).
+  bool gestureApplied(int participant, const std::string& letGo) const;
   /// Releases the temporary handle of a drag on `target` (rebuilds the model) if there is one.
   void releaseDragHandle(const nlohmann::json& target);
   const engine::Problem& problem() const;
