@@ -621,10 +621,17 @@ class Worker:
                     # release, which other participants' newer work interrupts and postpones (the
                     # settle comes when the session is idle): under ten hostile connections on
                     # shared demo sessions it may come much later, which is counted, not failed.
-                    answer = await ws.wait_for(lambda m, end=end: m.get("op") == end and m.get("type") in ("ack", "error"), 120)
+                    applied = []  # acks of the drags: a let-go of drags all refused gets an ack and no release
+
+                    def let_go_answered(m, end=end, op=op, applied=applied):
+                        if m.get("op") == op and m.get("type") == "ack":
+                            applied.append(m)
+                        return m.get("op") == end and m.get("type") in ("ack", "error")
+
+                    answer = await ws.wait_for(let_go_answered, 120)
                     if answer is None:
                         self.no_answer(ws, "drag_end", t0)
-                    elif answer["type"] == "ack":
+                    elif answer["type"] == "ack" and applied:
                         if await ws.wait_for(lambda m, end=end: m.get("type") == "solved" or (m.get("type") == "error" and m.get("op") == end), 120):
                             self.solved_after.append(time.monotonic() - t0)
                         else:
