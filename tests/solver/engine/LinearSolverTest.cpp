@@ -154,5 +154,24 @@ TEST(LinearSolver, CholmodFactorizesOnTheCallingThreadOnly) {
 }
 #endif
 
+TEST(LinearSolver, CholmodsOpenMpRegionsEnterTheExecutablesOwnInlineEntry) {
+  if (!cholmodAvailable()) GTEST_SKIP() << "CHOLMOD not compiled in";
+  // A supernodal factorization opens OpenMP regions; each must reach the engine's GOMP_parallel
+  // (one call, no team, no futex) and not libgomp's. If the executable did not export it, or
+  // linked without it, the count would stay where it was.
+  const SymmetricUpper large = gridLaplacian(200);
+  auto solver = makeLinearSolver(LinearSolverKind::Auto);
+  solver->analyzePattern(large);
+  const std::uint64_t before = inlineOpenMpRegions();
+  ASSERT_TRUE(solver->factorize(large));
+  EXPECT_GT(inlineOpenMpRegions(), before);
+  // And the factor is still right with every region run inline.
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(200 * 200, 1.0, -3.0);
+  Eigen::VectorXd x(200 * 200);
+  solver->solve(b, x);
+  const SymmetricUpper full = large.selfadjointView<Eigen::Upper>();
+  EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm());
+}
+
 }  // namespace
 }  // namespace devsurf::engine

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -58,5 +59,10 @@ std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind);
 /// "auto" / "ldlt" / "cholmod".
 LinearSolverKind linearSolverKindFromName(const std::string& name);
 bool cholmodAvailable();
+
+/// How many OpenMP parallel regions this process has run inline, on the thread that entered
+/// them, since it started (CHOLMOD's supernodal kernels: see LinearSolver.cpp). 0 without CHOLMOD.
+/// Tests read it to check that the executable's own region entry is the one CHOLMOD calls.
+std::uint64_t inlineOpenMpRegions();
 
 }  // namespace devsurf::engine
