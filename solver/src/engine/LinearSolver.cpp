@@ -13,29 +13,33 @@
 
 #include <Eigen/CholmodSupport>
 
+namespace devsurf::engine {
 namespace {
 std::atomic<std::uint64_t> inlineRegionCount{0};
 }  // namespace
+}  // namespace devsurf::engine
 
 /// The entry of every `#pragma omp parallel` region GCC compiles (libgomp's GOMP_parallel,
 /// GOMP_4.0), defined in the executable so that it comes before libgomp's in the dynamic
 /// linker's search: the only OpenMP user in the process is CHOLMOD, whose regions run on the
 /// calling thread anyway (see CholmodSolver), and this runs them there without a team.
+/// That rests on the BLAS underneath being serial (scripts/setup.sh installs
+/// libopenblas0-serial): an OpenMP build of OpenBLAS would have its regions run inline too, and
+/// its threads, which wait for one another, would then wait forever.
 ///
 /// Why: libgomp builds a team for every region, even a one-thread one, and ends it with a
 /// barrier that always wakes its futex — a system call per region. CHOLMOD's supernodal
 /// factorization enters a few regions per supernode: 766 000 futex calls in one drag-stress test
-/// of a composite preset, a fifth of its CPU time on this VM, where system calls are dear.
-/// Measured (bench/composite_iteration, one core, factorization medians): folded annulus with
-/// development 4.6 → 1.9 ms, 40 × 40 sheet 23.0 → 19.4 ms, with development 107 → 90 ms.
+/// of a composite preset; libgomp and its system calls took a fifth of that test's CPU time on
+/// this VM, where system calls are dear. Measured back to back (bench/composite_iteration, one
+/// core, factorization medians): folded annulus with development 4.6 → 1.8–2.0 ms, 40 × 40
+/// sheet 23.0 → 19.4–20.6 ms, with development 107–109 → 90–95 ms.
 ///
 /// Inside a region called so, omp_get_num_threads() is 1 and omp_get_thread_num() 0 (no team),
 /// which is what CHOLMOD's static-schedule loops divide their ranges by: the whole range runs
-/// here. `numThreads` and `flags` (proc_bind) have nothing to choose between.
-extern "C" void GOMP_parallel(void (*region)(void*), void* data, unsigned numThreads, unsigned flags) {
-  (void)numThreads;
-  (void)flags;
-  inlineRegionCount.fetch_add(1, std::memory_order_relaxed);
+/// here. The thread count and the flags (proc_bind) have nothing to choose between.
+extern "C" void GOMP_parallel(void (*region)(void*), void* data, unsigned /*numThreads*/, unsigned /*flags*/) {
+  devsurf::engine::inlineRegionCount.fetch_add(1, std::memory_order_relaxed);
   region(data);
 }
 #endif
@@ -92,7 +96,8 @@ class SimplicialLdltSolver final : public LinearSolver {
 /// 1.04 s per iteration, 0.51 s on one thread). So analyzePattern and factorize first set the
 /// calling thread's max-active-levels ICV to 0, which runs every OpenMP region on that thread,
 /// and GOMP_parallel above runs the region without asking libgomp for a team at all; the ICV
-/// stays as the fallback should libgomp's entry be the one found (a preloaded runtime).
+/// stays as the fallback should the executable stop exporting its own (hidden visibility, or
+/// the engine linked into a shared object).
 class CholmodSolver final : public LinearSolver {
  public:
   explicit CholmodSolver(bool ownOrdering = false) {

@@ -148,7 +148,7 @@ struct SolverOptions {
     /// drag. Coupled steps would close that gap; alternating ones do not in any time a user waits.
     /// Not wider: at 1e3 (stop 46) a release of the same annulus stopped on a ten-step stall at
     /// 2.6e-5 with its development's lengths 0.57 % off; it runs on from there and converges
-    /// (lengths 0.03 %, 1.4 s; stop 47, once the factorization got faster).
+    /// (lengths 0.035 %, 1.4 s; stop 47, once the factorization got faster).
     double alternatingRange = 1e2;
   } hardPlateau;
   /// Correction steps after each Gauss–Newton step (0 = none): the hard rows are evaluated again at
