@@ -477,20 +477,18 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
       // Quad meshes: up and inward only (a D-form's release runs to its iteration cap, ~7 s a drag:
       // the sideways drags cost CI ~45 s).
       if (kind == "quad_mesh" && std::string(dirName) == "sideways") continue;
+      const bool targetsOwnDirection = directionIndex++ == shortDirection;
       // The solver variants of the composites drag each target in two directions, leaving out a
       // different one per target (every direction still twice a preset): 6 drags, not 9 (the
       // third direction cost CI ~55 CPU-seconds, stop 47).
-      if (variant && directionIndex == shortDirection) {
-        ++directionIndex;
-        continue;
-      }
+      if (variant && targetsOwnDirection) continue;
       // Every drag goes to 40 % of the diagonal (the long drag, in every direction), and one
       // direction of each target also gets a shorter one, 10 % and 25 % in turn; quad_mesh
       // presets one length per direction (a D-form's release takes ~1 s). 12 drags a preset: a
       // shorter drag in every direction (18) cost CI ~65 s more, all three lengths (27) ~165 s.
       // The solver variants of the composites (ruling crease rows, the development apart) take
       // the long drags alone (their shorter drags cost CI ~50 s).
-      const bool withShorter = directionIndex++ == shortDirection && !variant;
+      const bool withShorter = targetsOwnDirection && !variant;
       const double shorter = withShorter && pair++ % 2 == 0 ? 0.10 : 0.25;
       const std::vector<double> fractions = kind == "quad_mesh" ? std::vector<double>{0.25}
                                             : withShorter       ? std::vector<double>{shorter, 0.40}
