@@ -201,6 +201,10 @@ void JobQueue::run(JobRecord job) {
       earlier->second.cancelled->store(true);
     }
     running_[job.id] = Running{attempt, 0, job.progressOf, cancelled, false};
+    // Claimed in the store before the shutdown began but registered here after it: the destructor
+    // did not see this job, so it stops now and is handed back with the rest (under a busy CI run
+    // such a job once ran to its end while the queue shut down).
+    if (stopping_) cancelled->store(true);
   }
   // This attempt's entry, or end() once a later attempt replaced it. Under mutex_.
   auto mine = [this, &job, attempt]() {

@@ -1211,6 +1211,11 @@ bool Session::runSolver(SolveLimits limits, bool final) {
   const std::int64_t seq = seq_.load();
   if (!(limits.hardBand > 0.0)) limits.hardBand = settings_.dragHardBand;
   limits.firstIteration = scheduleIteration_;
+  // Every budget of a session counts the CPU time of this thread: on a busy machine a drag frame
+  // or a release takes longer but ends where it would on an idle one (a release's fold under a CI
+  // run's load once stopped at 35° of 90°). Newer work still interrupts a solve at once
+  // (onIteration), so the pointer does not wait for a frame's budget.
+  limits.budgetClock = engine::BudgetClock::ThreadCpu;
   bool interrupted = false;
   std::string failure;  // a state that must not be shown: rolled back after the solve returns
   int streamedIteration = 0;
@@ -1288,8 +1293,7 @@ bool Session::runSolver(SolveLimits limits, bool final) {
 }
 
 void Session::release(const json& target, int iterations) {
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point start = Clock::now();
+  const engine::ThreadCpuClock::time_point start = engine::ThreadCpuClock::now();
   // Phase 1: the handle catches up with the pointer as far as the hard rows allow.
   SolveLimits withHandle;
   withHandle.iterations = iterations;
@@ -1321,8 +1325,7 @@ bool Session::holdsFoldTargets() const {
 }
 
 void Session::releaseFold(int iterations) {
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point start = Clock::now();
+  const engine::ThreadCpuClock::time_point start = engine::ThreadCpuClock::now();
   // Phase 1: the creases catch up with the slider's amount as far as the hard rows allow (the
   // fold-angle rows are relaxable, like a handle).
   SolveLimits withTargets;
@@ -1336,8 +1339,8 @@ void Session::releaseFold(int iterations) {
   polishRelease(start, iterations, true);  // the slider's position holds through the projections
 }
 
-void Session::polishRelease(std::chrono::steady_clock::time_point start, int iterations, bool holdFoldTargets) {
-  using Clock = std::chrono::steady_clock;
+void Session::polishRelease(engine::ThreadCpuClock::time_point start, int iterations, bool holdFoldTargets) {
+  using Clock = engine::ThreadCpuClock;  // as every budget of a session (runSolver)
   // Phase 2: projection steps (no handles, no fairness) until every hard row is within the
   // tolerance: feasibility restored with the least motion.
   SolveLimits polish;

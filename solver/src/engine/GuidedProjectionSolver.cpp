@@ -1,5 +1,7 @@
 #include "devsurf/engine/GuidedProjectionSolver.h"
 
+#include "devsurf/engine/ThreadCpuClock.h"
+
 #include <chrono>
 #include <sched.h>
 #include <cmath>
@@ -139,6 +141,13 @@ int availableCores() {
 
 SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   const Clock::time_point start = Clock::now();
+  const ThreadCpuClock::time_point cpuStart = ThreadCpuClock::now();
+  // What the time budget measures (SolverOptions::budgetClock).
+  auto budgetSpentMs = [&options, start, cpuStart]() {
+    return options.budgetClock == BudgetClock::ThreadCpu
+               ? std::chrono::duration<double, std::milli>(ThreadCpuClock::now() - cpuStart).count()
+               : millisecondsSince(start);
+  };
   // Targets, weights and term data may have changed since the last solve: nothing evaluated before
   // it is taken for this one's first assembly.
   equations_.setKeepEvaluations(options.keepEvaluations);  // and forgets what was kept
@@ -555,7 +564,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       summary.reason = TerminationReason::RelativeChange;
       break;
     }
-    if (options.timeBudgetMs > 0.0 && millisecondsSince(start) >= options.timeBudgetMs) {
+    if (options.timeBudgetMs > 0.0 && budgetSpentMs() >= options.timeBudgetMs) {
       summary.reason = TerminationReason::TimeBudget;
       break;
     }

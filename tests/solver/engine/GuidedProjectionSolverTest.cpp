@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "solver/engine/TestProblems.h"
 #include "solver/engine/TestTerms.h"
@@ -353,6 +354,34 @@ TEST(GuidedProjectionSolver, StopsWhenTheTimeBudgetRunsOut) {
   const SolveSummary summary = solver.solve(options);
   EXPECT_EQ(summary.reason, TerminationReason::TimeBudget);
   EXPECT_EQ(summary.stepsTaken(), 1);
+}
+
+TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockIgnoresTimeTheThreadSpentWaiting) {
+  // Each iteration's callback sleeps 40 ms (the thread off the CPU, as under a busy machine's
+  // load): a 60 ms wall-clock budget ends the solve after its first step, the same budget on the thread's
+  // CPU clock runs all six (one step of this problem costs microseconds).
+  for (const BudgetClock clock : {BudgetClock::Wall, BudgetClock::ThreadCpu}) {
+    Problem problem = productProblem();
+    GuidedProjectionSolver solver(problem);
+    SolverOptions options;
+    options.maxIterations = 6;
+    options.residualTolerance = -1.0;
+    options.relativeChangeTolerance = -1.0;
+    options.timeBudgetMs = 60.0;
+    options.budgetClock = clock;
+    options.callback = [](const IterationRecord&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(40));
+      return true;
+    };
+    const SolveSummary summary = solver.solve(options);
+    if (clock == BudgetClock::Wall) {
+      EXPECT_EQ(summary.reason, TerminationReason::TimeBudget);
+      EXPECT_EQ(summary.stepsTaken(), 1);  // iteration 0 and step 1 slept 80 ms
+    } else {
+      EXPECT_EQ(summary.reason, TerminationReason::MaxIterations);
+      EXPECT_EQ(summary.stepsTaken(), 6);
+    }
+  }
 }
 
 TEST(GuidedProjectionSolver, StopsWhenTheObjectiveNoLongerChanges) {

@@ -50,7 +50,10 @@ class ExportFailed : public std::invalid_argument {
 /// scene's own).
 struct SolveLimits {
   int iterations = -1;         ///< iterations at most (quasi_strip: the optimizer's limit)
-  double timeBudgetMs = -1.0;  ///< wall-clock budget (0 = none)
+  double timeBudgetMs = -1.0;  ///< time budget (0 = none) …
+  /// … measured by this clock: a session's budgets count the CPU time of its solving thread, so a
+  /// busy machine delays a drag's or a release's result instead of cutting it short.
+  engine::BudgetClock budgetClock = engine::BudgetClock::Wall;
   double hardTolerance = -1.0; ///< stop once every hard row is within this (0 = not used)
   double hardBand = -1.0;      ///< step control's band (engine::StepControlOptions::hardBand)
   int correctionSteps = -1;    ///< engine::SolverOptions::correctionSteps

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "devsurf/engine/ThreadCpuClock.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/SceneSolver.h"
 
@@ -69,7 +70,10 @@ struct SessionSettings {
   /// Iterations per drag message at most: as many as fit in dragTimeBudgetMs run (at least one),
   /// and a newer message interrupts them (000_… §4.1 runs one round per mouse move).
   int dragIterations = 20;
-  double dragTimeBudgetMs = 25.0;   ///< per drag message (a frame at 40 frames/s)
+  /// Per drag message (a frame at 40 frames/s). This and releaseTimeBudgetMs count the CPU time
+  /// of the session's solving thread (engine::BudgetClock::ThreadCpu), not wall time: a busy
+  /// machine delays a result rather than cutting it short, and newer work interrupts a solve.
+  double dragTimeBudgetMs = 25.0;
   /// Step control band of every streamed iterate (engine::StepControlOptions::hardBand): no hard
   /// row of what a participant sees is above it.
   double dragHardBand = 1e-3;
@@ -333,7 +337,7 @@ class Session : public std::enable_shared_from_this<Session> {
   /// within the tolerance, within what is left of the release time budget since `start`.
   /// Projection steps to the hard tolerance; `holdFoldTargets` keeps the fold slider's targets (a
   /// fold gesture's release), otherwise every relaxable term drops out (a drag's release).
-  void polishRelease(std::chrono::steady_clock::time_point start, int iterations, bool holdFoldTargets = false);
+  void polishRelease(engine::ThreadCpuClock::time_point start, int iterations, bool holdFoldTargets = false);
   /// The two release phases after drag_end (see SessionSettings::releaseIterations).
   void release(const nlohmann::json& target, int iterations);
   /// Finishes a release or solve that newer work interrupted (settlePending_): the projection

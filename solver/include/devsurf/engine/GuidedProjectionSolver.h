@@ -112,6 +112,13 @@ struct FactorizationReuseOptions {
   double tolerance = 1e-8;  ///< ‖H δ + g‖ ≤ tolerance · ‖g‖ (reduced system)
 };
 
+/// What SolverOptions::timeBudgetMs measures.
+enum class BudgetClock {
+  Wall,       ///< elapsed wall time: a limit someone waits for (a batch job, a command-line run)
+  ThreadCpu,  ///< CPU time of the solving thread (ThreadCpuClock): a busy machine gets the same
+              ///< result later instead of a worse one on time (a session's interactive budgets)
+};
+
 /// Options of a guided-projection solve; every field has a documented default
 /// (000_… §3.2 eq. 6 and §7; 003_… §4.1, §5.6).
 struct SolverOptions {
@@ -119,7 +126,8 @@ struct SolverOptions {
   double fairness = 0.01;                ///< ε_fair: weight of Fairness-scheduled terms at k = 0
   double fairnessDecay = 0.8;            ///< ε_fair is multiplied by this every iteration
   double regularization = 1e-2;          ///< ε_reg: Tikhonov weight of ‖x − x_k‖² (Tang Fig. 17)
-  double timeBudgetMs = 0.0;             ///< stop after this much wall time (0 = no budget)
+  double timeBudgetMs = 0.0;             ///< stop after this much time (0 = no budget) …
+  BudgetClock budgetClock = BudgetClock::Wall;  ///< … measured by this clock (default: wall time)
   /// A hard limit of whoever runs the solve (a job's time limit): checked before every iteration;
   /// once passed, solve() throws DeadlineExceeded with x at the last iterate. Unlike
   /// timeBudgetMs, which ends a solve normally (TimeBudget). Default: never.

@@ -22,6 +22,7 @@
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
+#include "devsurf/terms/RulingNormalMatchTerm.h"
 #include "devsurf/terms/NormalSplineUnitTerm.h"
 #include "devsurf/terms/PlanarPolygonTerm.h"
 #include "devsurf/terms/StraightUnfoldingTerm.h"
@@ -322,6 +323,12 @@ void CompositeModel::buildProblem() {
     problem_.addTerm(std::make_unique<terms::UnitNormalTerm>("unit_normal", softUnit), options_.unitNormalWeight,
                      Strength::Soft);
 
+  // Smooth rows on the faces' rulings where both faces have them (a planar face has one free
+  // normal, which NormalMatchTerm compares).
+  auto bothStripLike = [&topo](const EdgeInfo& info) {
+    return info.faces[0] >= 0 && info.faces[1] >= 0 && stripLike(topo.face(info.faces[0])) &&
+           stripLike(topo.face(info.faces[1]));
+  };
   for (int e = 0; e < E; ++e) {
     const CreaseKind kind = design_.edges[e].crease;
     const EdgeInfo& info = topo.edge(e);
@@ -380,7 +387,9 @@ void CompositeModel::buildProblem() {
       terms::LinearPoints n2 = normalsAlongEdge(info.faces[1], e);
       if (n1.rows() != static_cast<int>(params.size()) || n2.rows() != static_cast<int>(params.size()))
         throw std::logic_error("edge " + std::to_string(e) + ": crease and face parameters differ");
-      if (kind == CreaseKind::Smooth) {
+      if (kind == CreaseKind::Smooth && rulingCreases_ && bothStripLike(info)) {
+        addRulingSmoothTerm(e);
+      } else if (kind == CreaseKind::Smooth) {
         problem_.addTerm(std::make_unique<terms::NormalMatchTerm>("smooth", n1, n2), options_.developabilityWeight,
                          Strength::Hard);
       } else if (rulingCreases_) {
@@ -397,6 +406,8 @@ void CompositeModel::buildProblem() {
                                     : std::vector<double>{}),
                          options_.developabilityWeight, Strength::Hard);
       }
+    } else if (kind == CreaseKind::Smooth && rulingCreases_ && bothStripLike(info)) {
+      addRulingSmoothTerm(e);
     } else if (kind == CreaseKind::Smooth) {
       problem_.addTerm(std::make_unique<terms::NormalMatchTerm>("smooth", normalAtRuling(info.faces[0], e),
                                                                 normalAtRuling(info.faces[1], e)),
@@ -421,7 +432,27 @@ void CompositeModel::buildProblem() {
   solver_ = std::make_unique<engine::GuidedProjectionSolver>(problem_, options_.linearSolver, options_.deadline);
 }
 
-void CompositeModel::addRulingCreaseTerm(int e) {
+namespace {
+
+/// ±1 per entry: the sign of dots[i], or where that is 0 (no direction at build time; the guards
+/// keep that from happening later) the sign of the nearest nonzero entry; +1 when all are 0.
+std::vector<double> orientationSigns(const std::vector<double>& dots) {
+  const int n = static_cast<int>(dots.size());
+  std::vector<double> sign(dots.size(), 1.0);
+  for (int i = 0; i < n; ++i) {
+    int best = -1;
+    for (int d = 0; d < n && best < 0; ++d) {
+      if (i - d >= 0 && dots[static_cast<std::size_t>(i - d)] != 0.0) best = i - d;
+      else if (i + d < n && dots[static_cast<std::size_t>(i + d)] != 0.0) best = i + d;
+    }
+    if (best >= 0) sign[static_cast<std::size_t>(i)] = dots[static_cast<std::size_t>(best)] > 0.0 ? 1.0 : -1.0;
+  }
+  return sign;
+}
+
+}  // namespace
+
+CompositeModel::CreaseSides CompositeModel::creaseSides(int e) const {
   const CompositeTopology& topo = *topology_;
   const EdgeInfo& info = topo.edge(e);
   const spline::KnotVector knots = topo.knots(e);
@@ -431,14 +462,13 @@ void CompositeModel::addRulingCreaseTerm(int e) {
   // at a vertex has a ruling of no length).
   const std::vector<double> all = evaluationParams(knots);
   const int K = static_cast<int>(all.size());
-  const std::vector<double> params(all.begin() + 1, all.end() - 1);
+  CreaseSides sides;
+  sides.params.assign(all.begin() + 1, all.end() - 1);
   const int rows = K - 2;
-  const terms::LinearPoints da = curveRows(knots, slots, params, 1);
+  sides.da = curveRows(knots, slots, sides.params, 1);
   const Eigen::VectorXd& x = problem_.x();
   // Per side: the face's ruling b − a at each row's parameter and the orientation that makes
   // a′ × (b − a) point like the face's normal.
-  terms::LinearPoints across[2];
-  std::vector<double> orientation[2];
   for (int side = 0; side < 2; ++side) {
     const int f = info.faces[side];
     const FaceRows& face = faceRows_[f];
@@ -451,32 +481,67 @@ void CompositeModel::addRulingCreaseTerm(int e) {
     for (int i = 0; i < rows; ++i) {
       const int k = i + 1, r = runs ? k : K - 1 - k;
       faceRows.push_back(r);
-      const Eigen::Vector3d g = da.point(x, i).cross(face.b.point(x, r) - face.a.point(x, r));
+      const Eigen::Vector3d g = sides.da.point(x, i).cross(face.b.point(x, r) - face.a.point(x, r));
       const Eigen::Vector3d n = normalVariable(f, r);
       const double dot = g.dot(n);
       dots.push_back(std::abs(dot) > 1e-9 * g.norm() * n.norm() ? dot : 0.0);
     }
-    across[side] = {selectRows(ruling, faceRows), 0};
-    // Where a′ × (b − a) is no direction at build time (the guards keep that from happening
-    // later), the orientation of the nearest parameter where it is.
-    orientation[side].assign(static_cast<std::size_t>(rows), 1.0);
-    for (int i = 0; i < rows; ++i) {
-      int best = -1;
-      for (int d = 0; d < rows && best < 0; ++d) {
-        if (i - d >= 0 && dots[static_cast<std::size_t>(i - d)] != 0.0) best = i - d;
-        else if (i + d < rows && dots[static_cast<std::size_t>(i + d)] != 0.0) best = i + d;
-      }
-      if (best >= 0) orientation[side][static_cast<std::size_t>(i)] = dots[static_cast<std::size_t>(best)] > 0.0 ? 1.0 : -1.0;
-    }
+    sides.across[static_cast<std::size_t>(side)] = {selectRows(ruling, faceRows), 0};
+    sides.orientation[static_cast<std::size_t>(side)] = orientationSigns(dots);
   }
+  return sides;
+}
+
+void CompositeModel::addRulingCreaseTerm(int e) {
+  const spline::KnotVector knots = topology_->knots(e);
+  CreaseSides sides = creaseSides(e);
   const bool fold = design_.edges[e].crease == CreaseKind::Fold;
   const bool soften = options_.softening != terms::SofteningBreakpoints{0.0, 0.0, 1.0, 1.0};
   problem_.addTerm(std::make_unique<terms::CurvedFoldRulingTerm>(
-                       fold ? "crease_fold" : "crease_geodesic", da, curveRows(knots, slots, params, 2), across[0],
-                       across[1], std::move(orientation[0]), std::move(orientation[1]),
+                       fold ? "crease_fold" : "crease_geodesic", sides.da,
+                       curveRows(knots, topology_->controlSlots(e), sides.params, 2), sides.across[0], sides.across[1],
+                       std::move(sides.orientation[0]), std::move(sides.orientation[1]),
                        fold ? terms::CurvedFoldTerm::Mode::CurvedFold : terms::CurvedFoldTerm::Mode::Geodesic,
-                       soften ? terms::softeningWeights(params, options_.softening, knots.domainBegin(), knots.domainEnd())
+                       soften ? terms::softeningWeights(sides.params, options_.softening, knots.domainBegin(), knots.domainEnd())
                               : std::vector<double>{}),
+                   options_.developabilityWeight, Strength::Hard);
+}
+
+void CompositeModel::addRulingSmoothTerm(int e) {
+  const CompositeTopology& topo = *topology_;
+  const EdgeInfo& info = topo.edge(e);
+  if (topo.edgeType(e) == EdgeType::Spline) {
+    // Across a smooth S edge both faces' tangent planes hold the edge's tangent a′: they agree
+    // where a′ × (b − a) of the two faces point alike (each oriented like its face's normal).
+    CreaseSides sides = creaseSides(e);
+    problem_.addTerm(std::make_unique<terms::RulingNormalMatchTerm>("smooth", sides.da, sides.across[0], sides.da,
+                                                                   sides.across[1], std::move(sides.orientation[0]),
+                                                                   std::move(sides.orientation[1])),
+                     options_.developabilityWeight, Strength::Hard);
+    return;
+  }
+  // A smooth ruling shared by two faces: each face's tangent plane there is spanned by a′ + b′ of
+  // that face and the ruling b − a (one pair of rows).
+  const Eigen::VectorXd& x = problem_.x();
+  terms::LinearPoints tangent[2], ruling[2];
+  std::vector<double> orientation[2];
+  for (int side = 0; side < 2; ++side) {
+    const int f = info.faces[side];
+    const FaceRows& face = faceRows_[f];
+    const int K = static_cast<int>(faceParams_[f].size());
+    const int end = topo.rulingEnd(f, e);
+    if (end < 0) throw std::logic_error("edge " + std::to_string(e) + " is not a ruling of face " + std::to_string(f));
+    const int r = end == 0 ? 0 : K - 1;
+    EvaluationMatrix t = face.da.weights + face.db.weights, d = face.b.weights - face.a.weights;
+    tangent[side] = {selectRows(t, {r}), 0};
+    ruling[side] = {selectRows(d, {r}), 0};
+    const Eigen::Vector3d g = tangent[side].point(x, 0).cross(ruling[side].point(x, 0));
+    const Eigen::Vector3d n = normalVariable(f, r);
+    const double dot = g.dot(n);
+    orientation[side] = orientationSigns({std::abs(dot) > 1e-9 * g.norm() * n.norm() ? dot : 0.0});
+  }
+  problem_.addTerm(std::make_unique<terms::RulingNormalMatchTerm>("smooth", tangent[0], ruling[0], tangent[1], ruling[1],
+                                                                 std::move(orientation[0]), std::move(orientation[1])),
                    options_.developabilityWeight, Strength::Hard);
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "devsurf/engine/NormalEquations.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/proto/Scene.h"
+#include "devsurf/terms/NormalMatchTerm.h"
 
 namespace devsurf::models::composite {
 namespace {
@@ -33,16 +35,19 @@ std::vector<std::filesystem::path> compositeExamples() {
   return paths;
 }
 
-/// Free scalars of the blocks that hold strip-like faces' per-parameter normals, less those a
-/// "smooth" row holds (NormalMatchTerm still compares two faces' free normals across a smooth
-/// edge, so those stay in the factorized system).
+/// Free scalars of the blocks that hold strip-like faces' per-parameter normals. With the ruling
+/// rows no crease and no smooth row between two strip-like faces holds them (RulingNormalMatchTerm
+/// compares the faces' tangent planes), so all of them are the elimination's; a smooth row beside a
+/// planar face still compares free normals (NormalMatchTerm), and those it touches are left out.
 int eliminableNormalScalars(const engine::Problem& problem) {
-  std::vector<char> smooth(static_cast<std::size_t>(problem.x().size()), 0);
+  std::vector<char> matched(static_cast<std::size_t>(problem.x().size()), 0);
   for (int t = 0; t < problem.numTerms(); ++t) {
-    if (problem.term(t).term->name() != "smooth") continue;
+    if (problem.term(t).term->name() != "smooth" ||
+        dynamic_cast<const terms::NormalMatchTerm*>(problem.term(t).term.get()) == nullptr)
+      continue;
     std::vector<engine::JacobianEntry> entries;
     problem.term(t).term->jacobianStructure(entries);
-    for (const engine::JacobianEntry& e : entries) smooth[static_cast<std::size_t>(e.variable)] = 1;
+    for (const engine::JacobianEntry& e : entries) matched[static_cast<std::size_t>(e.variable)] = 1;
   }
   int count = 0;
   const engine::VariableLayout& layout = problem.layout();
@@ -50,8 +55,17 @@ int eliminableNormalScalars(const engine::Problem& problem) {
     const engine::VariableBlock& block = layout.block(b);
     if (block.name.rfind("face ", 0) != 0 || block.name.find(" normals") == std::string::npos) continue;
     for (int v = block.offset; v < block.offset + block.size; ++v)
-      count += layout.isFixed(v) || smooth[static_cast<std::size_t>(v)] ? 0 : 1;
+      count += layout.isFixed(v) || matched[static_cast<std::size_t>(v)] ? 0 : 1;
   }
+  return count;
+}
+
+/// Terms named "smooth" that compare free normals (NormalMatchTerm).
+int freeNormalSmoothTerms(const engine::Problem& problem) {
+  int count = 0;
+  for (int t = 0; t < problem.numTerms(); ++t)
+    count += problem.term(t).term->name() == "smooth" &&
+             dynamic_cast<const terms::NormalMatchTerm*>(problem.term(t).term.get()) != nullptr;
   return count;
 }
 
@@ -83,6 +97,26 @@ TEST(CompositeCreaseNormals, RulingNormalsLeaveEveryFoldedSheetsFreeNormalsToThe
     EXPECT_LT(withRulings.numReduced(), withFree.numReduced());
   }
   EXPECT_GE(creased, 4);
+}
+
+TEST(CompositeCreaseNormals, WithRulingRowsTheAnnulusSmoothEdgesCompareTangentPlanesAndLeaveTheirNormalsToTheElimination) {
+  // The folded annulus: 33 smooth edges between strip-like faces. With Tang's free normals each
+  // is a NormalMatchTerm; with the ruling rows none is, and every face normal is eliminated.
+  const proto::Scene scene = compositeExample(std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-folded-annulus.json");
+  CompositeOptions options = scene.solver.compositeOptions();
+  options.creaseNormals = CreaseNormals::Free;
+  const CompositeModel free(std::get<CompositeDesign>(scene.model), options);
+  options.creaseNormals = CreaseNormals::Ruling;
+  const CompositeModel ruling(std::get<CompositeDesign>(scene.model), options);
+  EXPECT_GE(freeNormalSmoothTerms(free.problem()), 30);
+  EXPECT_EQ(freeNormalSmoothTerms(ruling.problem()), 0);
+  int smooth = 0;
+  for (int t = 0; t < ruling.problem().numTerms(); ++t) smooth += ruling.problem().term(t).term->name() == "smooth";
+  EXPECT_EQ(smooth, freeNormalSmoothTerms(free.problem()));
+  const engine::NormalEquations equations(ruling.problem());
+  EXPECT_GE(equations.numEliminated(), eliminableNormalScalars(ruling.problem()));
+  std::printf("folded annulus, ruling rows: %d unknowns factorized, %d eliminated\n", equations.numReduced(),
+              equations.numEliminated());
 }
 
 TEST(CompositeCreaseNormals, BothFormulationsFoldTheCurvedFoldPresetAlike) {

@@ -375,8 +375,21 @@ class CompositeModel {
   /// Point index of the control point next to vertex v on edge e (S edges: c₁ from v's end; R
   /// edges and S edges without interior points: the other vertex).
   int neighbourPoint(int e, int v) const;
+  /// Interior S edge e seen from its two faces at its interior parameters (the crease rows'
+  /// parameters): a′ there, each face's ruling b − a, and the sign that orients a′ × (b − a) like
+  /// that face's normal.
+  struct CreaseSides {
+    std::vector<double> params;
+    terms::LinearPoints da;
+    std::array<terms::LinearPoints, 2> across;
+    std::array<std::vector<double>, 2> orientation;
+  };
+  CreaseSides creaseSides(int e) const;
   /// The crease rows of interior S edge e with the faces' normals from their rulings (CreaseNormals::Ruling).
   void addRulingCreaseTerm(int e);
+  /// The smooth rows of edge e (S or R) with both faces' normals from their tangent planes
+  /// (terms::RulingNormalMatchTerm; CreaseNormals::Ruling, both faces strip-like).
+  void addRulingSmoothTerm(int e);
   bool rulingCreases_ = false;
   void addTangentContinuityTerms();
   /// The soft "fold_angle" rows of design.foldAngles (CompositeCreaseFolding.cpp).
