@@ -51,3 +51,8 @@ if [ ! -f "$BUILD_DIR/build.ninja" ]; then
 fi
 # Ninja rebuilds only what is stale (and re-runs CMake when a CMakeLists or globbed folder changed).
 cmake --build "$BUILD_DIR" -j "$JOBS"
+# The Google Benchmark programs (bench/), unless DEVSURF_BENCHES=0 (scripts/test.sh: no test runs
+# them).
+if [ "${DEVSURF_BENCHES:-1}" != 0 ] && grep -q "^build benches:" "$BUILD_DIR/build.ninja"; then
+  cmake --build "$BUILD_DIR" -j "$JOBS" --target benches
+fi

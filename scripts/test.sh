@@ -8,7 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS=0
-scripts/setup.sh
+# No test runs the benchmark programs: not compiled here unless asked (DEVSURF_BENCHES=1).
+DEVSURF_BENCHES="${DEVSURF_BENCHES:-0}" scripts/setup.sh
 echo "test.sh: setup and Release build ${SECONDS} s"
 BUILD_DIR="${DEVSURF_BUILD_DIR:-build}"
 JOBS="${DEVSURF_JOBS:-$(nproc)}"

@@ -252,6 +252,7 @@ engine::SolveSummary SceneSolver::solve(const SolveLimits& limits,
   if (iterationsOverride >= 0) options.maxIterations = iterationsOverride;
   if (limits.timeBudgetMs >= 0.0) options.timeBudgetMs = limits.timeBudgetMs;
   options.budgetClock = limits.budgetClock;
+  options.budgetWallCapMs = limits.budgetWallCapMs;
   if (limits.hardTolerance >= 0.0) options.hardTolerance = limits.hardTolerance;
   if (limits.hardBand > 0.0) options.stepControl.hardBand = limits.hardBand;
   if (limits.correctionSteps >= 0) options.correctionSteps = limits.correctionSteps;

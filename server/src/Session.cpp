@@ -1211,11 +1211,13 @@ bool Session::runSolver(SolveLimits limits, bool final) {
   const std::int64_t seq = seq_.load();
   if (!(limits.hardBand > 0.0)) limits.hardBand = settings_.dragHardBand;
   limits.firstIteration = scheduleIteration_;
-  // Every budget of a session counts the CPU time of this thread: on a busy machine a drag frame
-  // or a release takes longer but ends where it would on an idle one (a release's fold under a CI
-  // run's load once stopped at 35° of 90°). Newer work still interrupts a solve at once
+  // The solve budgets of a session (drag frames, releases, solve) count the CPU time of this
+  // thread: on a busy machine a drag frame or a release takes longer but ends where it would on an
+  // idle one (a release's fold under a CI run's load once stopped at 35° of 90°), within
+  // budgetWallCap times its budget of wall time. Newer work still interrupts a solve at once
   // (onIteration), so the pointer does not wait for a frame's budget.
   limits.budgetClock = engine::BudgetClock::ThreadCpu;
+  if (limits.timeBudgetMs > 0.0) limits.budgetWallCapMs = settings_.budgetWallCap * limits.timeBudgetMs;
   bool interrupted = false;
   std::string failure;  // a state that must not be shown: rolled back after the solve returns
   int streamedIteration = 0;

@@ -309,9 +309,8 @@ TEST(SessionDrawing, ADrawnSheetFoldedByTheSliderKeepsWhatADragMakesOfIt) {
   // unfolded flat (before, the release's projections dropped the fold targets and walked the
   // sheet back to its flat drawing, 92° → 0°). The fold targets follow the drag: the corner
   // ends at 58.9 mm of a pull from 49.4 to 69.4 mm (57.4 mm with six busy loops on the two cores:
-  // the budgets count the solving thread's CPU time). The sheet's
-  // lengths rest within 0.5 %: measured 0.12–0.13 % here alone (0.13 % with this test's
-  // budgets), with the developed sheet's drag
+  // the budgets count the solving thread's CPU time). The sheet's lengths rest within 0.5 %:
+  // measured 0.11–0.13 % (0.125 % idle, 0.109 % loaded this stop), with the developed sheet's drag
   // band of 1e-4 and two correction steps per drag step (SessionSettings); 0.42 % with the band
   // of 1e-3 and no corrections before (1.06 % under CI load) — docs/architecture.md "Drags of a
   // design folded by its targets". A sheet that unfolded or tore is far beyond this.

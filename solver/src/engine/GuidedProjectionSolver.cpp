@@ -142,11 +142,15 @@ int availableCores() {
 SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
   const Clock::time_point start = Clock::now();
   const ThreadCpuClock::time_point cpuStart = ThreadCpuClock::now();
-  // What the time budget measures (SolverOptions::budgetClock).
-  auto budgetSpentMs = [&options, start, cpuStart]() {
-    return options.budgetClock == BudgetClock::ThreadCpu
-               ? std::chrono::duration<double, std::milli>(ThreadCpuClock::now() - cpuStart).count()
-               : millisecondsSince(start);
+  // What the time budget measures (SolverOptions::budgetClock): on the thread's CPU clock, plus
+  // the time this thread waited for a second assembly thread (its share of an assembly's work).
+  auto assemblyWaitMs = [this]() { return equations_.assemblyWaitMs() + (alternate_ ? alternate_->assemblyWaitMs() : 0.0); };
+  const double waitStart = assemblyWaitMs();
+  auto budgetSpent = [&options, start, cpuStart, waitStart, &assemblyWaitMs]() {
+    if (options.budgetClock == BudgetClock::Wall) return millisecondsSince(start) >= options.timeBudgetMs;
+    const double cpuMs = std::chrono::duration<double, std::milli>(ThreadCpuClock::now() - cpuStart).count();
+    return cpuMs + assemblyWaitMs() - waitStart >= options.timeBudgetMs ||
+           (options.budgetWallCapMs > 0.0 && millisecondsSince(start) >= options.budgetWallCapMs);
   };
   // Targets, weights and term data may have changed since the last solve: nothing evaluated before
   // it is taken for this one's first assembly.
@@ -564,7 +568,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       summary.reason = TerminationReason::RelativeChange;
       break;
     }
-    if (options.timeBudgetMs > 0.0 && budgetSpentMs() >= options.timeBudgetMs) {
+    if (options.timeBudgetMs > 0.0 && budgetSpent()) {
       summary.reason = TerminationReason::TimeBudget;
       break;
     }

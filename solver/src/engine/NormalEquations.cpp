@@ -1,6 +1,7 @@
 #include "devsurf/engine/NormalEquations.h"
 #include "devsurf/engine/VectorClones.h"
 
+#include <chrono>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -811,7 +812,11 @@ void NormalEquations::assemble(Problem& problem, const std::vector<double>& term
       accumulateDirectRows(splitTerm_, numTerms, workerMatrix_.data(), workerRhs_.data(), workerRow_.data());
     }
     accumulateDirectRows(0, splitTerm_, H, rhs, rowValues_.data());
-    if (second.joinable()) second.join();
+    if (second.joinable()) {
+      const auto waitFrom = std::chrono::steady_clock::now();
+      second.join();
+      assemblyWaitMs_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - waitFrom).count();
+    }
     const Eigen::Index nnz = S_.nonZeros();
     for (Eigen::Index k = 0; k < nnz; ++k) H[k] += workerMatrix_[static_cast<std::size_t>(k)];
     for (Eigen::Index k = 0; k < rhs_.size(); ++k) rhs[k] += workerRhs_[static_cast<std::size_t>(k)];

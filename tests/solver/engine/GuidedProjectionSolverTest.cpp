@@ -384,6 +384,27 @@ TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockIgnoresTimeTheThreadSpen
   }
 }
 
+TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockStillEndsAtItsWallClockCap) {
+  // As above, on the CPU clock with a wall-clock cap of 100 ms: iteration 0 and two steps have
+  // slept 120 ms when the cap is checked after step 2.
+  Problem problem = productProblem();
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 6;
+  options.residualTolerance = -1.0;
+  options.relativeChangeTolerance = -1.0;
+  options.timeBudgetMs = 60.0;
+  options.budgetClock = BudgetClock::ThreadCpu;
+  options.budgetWallCapMs = 100.0;
+  options.callback = [](const IterationRecord&) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+    return true;
+  };
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.reason, TerminationReason::TimeBudget);
+  EXPECT_EQ(summary.stepsTaken(), 2);
+}
+
 TEST(GuidedProjectionSolver, StopsWhenTheObjectiveNoLongerChanges) {
   // An inconsistent pair of targets: the objective settles at a positive value.
   Problem problem;

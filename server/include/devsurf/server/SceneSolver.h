@@ -54,6 +54,7 @@ struct SolveLimits {
   /// … measured by this clock: a session's budgets count the CPU time of its solving thread, so a
   /// busy machine delays a drag's or a release's result instead of cutting it short.
   engine::BudgetClock budgetClock = engine::BudgetClock::Wall;
+  double budgetWallCapMs = 0.0;  ///< engine::SolverOptions::budgetWallCapMs (0 = none)
   double hardTolerance = -1.0; ///< stop once every hard row is within this (0 = not used)
   double hardBand = -1.0;      ///< step control's band (engine::StepControlOptions::hardBand)
   int correctionSteps = -1;    ///< engine::SolverOptions::correctionSteps

@@ -74,6 +74,10 @@ struct SessionSettings {
   /// of the session's solving thread (engine::BudgetClock::ThreadCpu), not wall time: a busy
   /// machine delays a result rather than cutting it short, and newer work interrupts a solve.
   double dragTimeBudgetMs = 25.0;
+  /// A solve on the thread's CPU clock also ends after this many times its budget of wall time
+  /// (engine::SolverOptions::budgetWallCapMs): a starved machine gets a shorter result rather
+  /// than a session held for minutes.
+  double budgetWallCap = 10.0;
   /// Step control band of every streamed iterate (engine::StepControlOptions::hardBand): no hard
   /// row of what a participant sees is above it.
   double dragHardBand = 1e-3;

@@ -115,8 +115,9 @@ struct FactorizationReuseOptions {
 /// What SolverOptions::timeBudgetMs measures.
 enum class BudgetClock {
   Wall,       ///< elapsed wall time: a limit someone waits for (a batch job, a command-line run)
-  ThreadCpu,  ///< CPU time of the solving thread (ThreadCpuClock): a busy machine gets the same
-              ///< result later instead of a worse one on time (a session's interactive budgets)
+  ThreadCpu,  ///< CPU time of the solving thread (ThreadCpuClock) and the time it waited for a
+              ///< second assembly thread: a busy machine gets the same result later instead of a
+              ///< worse one on time (a session's interactive budgets); see budgetWallCapMs
 };
 
 /// Options of a guided-projection solve; every field has a documented default
@@ -128,6 +129,10 @@ struct SolverOptions {
   double regularization = 1e-2;          ///< ε_reg: Tikhonov weight of ‖x − x_k‖² (Tang Fig. 17)
   double timeBudgetMs = 0.0;             ///< stop after this much time (0 = no budget) …
   BudgetClock budgetClock = BudgetClock::Wall;  ///< … measured by this clock (default: wall time)
+  /// With BudgetClock::ThreadCpu and a time budget: the solve also ends (TimeBudget) once this
+  /// much wall time has passed, so a starved thread does not hold its caller indefinitely
+  /// (0 = no cap; default 0).
+  double budgetWallCapMs = 0.0;
   /// A hard limit of whoever runs the solve (a job's time limit): checked before every iteration;
   /// once passed, solve() throws DeadlineExceeded with x at the last iterate. Unlike
   /// timeBudgetMs, which ends a solve normally (TimeBudget). Default: never.

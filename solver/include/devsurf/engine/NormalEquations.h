@@ -69,6 +69,10 @@ class NormalEquations {
   void setAssemblyThreads(int threads, long minProducts = kParallelAssemblyProducts);
   /// 1 or 2: what setAssemblyThreads chose.
   int assemblyThreads() const { return assemblyThreads_; }
+  /// Wall time the calling thread has waited for the second assembly thread so far (ms, summed
+  /// over every assembly): with it, a budget on the calling thread's CPU clock still counts the
+  /// time an assembly on two threads takes (SolverOptions::budgetClock).
+  double assemblyWaitMs() const { return assemblyWaitMs_; }
   /// Products per assembly (Σ over direct rows of n(n+1)/2) from which a second thread pays for
   /// itself (starting and joining a thread, summing a copy of S: well under a millisecond).
   static constexpr long kParallelAssemblyProducts = 2'000'000;
@@ -246,6 +250,7 @@ class NormalEquations {
   int numVariablesForKeeping_ = 0;  ///< size of x (keptX_'s when keeping)
   int assemblyThreads_ = 1;
   int splitTerm_ = 0;                ///< the second thread accumulates terms [splitTerm_, end)
+  double assemblyWaitMs_ = 0.0;      ///< see assemblyWaitMs()
   std::vector<double> workerMatrix_, workerRhs_, workerRow_;  ///< the second thread's copies
   std::vector<double> jn_, localResidual_, v_, pr_, jstack_, ystack_, blockMatrix_, blockRhs_,
       work_;

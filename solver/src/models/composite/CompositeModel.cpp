@@ -532,13 +532,22 @@ void CompositeModel::addRulingSmoothTerm(int e) {
     const int end = topo.rulingEnd(f, e);
     if (end < 0) throw std::logic_error("edge " + std::to_string(e) + " is not a ruling of face " + std::to_string(f));
     const int r = end == 0 ? 0 : K - 1;
-    EvaluationMatrix t = face.da.weights + face.db.weights, d = face.b.weights - face.a.weights;
+    const EvaluationMatrix t = face.da.weights + face.db.weights, d = face.b.weights - face.a.weights;
     tangent[side] = {selectRows(t, {r}), 0};
     ruling[side] = {selectRows(d, {r}), 0};
-    const Eigen::Vector3d g = tangent[side].point(x, 0).cross(ruling[side].point(x, 0));
-    const Eigen::Vector3d n = normalVariable(f, r);
-    const double dot = g.dot(n);
-    orientation[side] = orientationSigns({std::abs(dot) > 1e-9 * g.norm() * n.norm() ? dot : 0.0});
+    // The orientation at the ruling, or where (t × d) is no direction there at build time (a
+    // curve's end tangent of no length) at the nearest of the face's parameters where it is.
+    std::vector<double> dots;
+    for (int step = 0; step < K; ++step) {
+      const int k = end == 0 ? step : K - 1 - step;
+      const terms::LinearPoints tk{selectRows(t, {k}), 0}, dk{selectRows(d, {k}), 0};
+      const Eigen::Vector3d g = tk.point(x, 0).cross(dk.point(x, 0));
+      const Eigen::Vector3d n = normalVariable(f, k);
+      const double dot = g.dot(n);
+      dots.push_back(std::abs(dot) > 1e-9 * g.norm() * n.norm() ? dot : 0.0);
+      if (dots.back() != 0.0) break;
+    }
+    orientation[side] = {orientationSigns(dots).front()};
   }
   problem_.addTerm(std::make_unique<terms::RulingNormalMatchTerm>("smooth", tangent[0], ruling[0], tangent[1], ruling[1],
                                                                  std::move(orientation[0]), std::move(orientation[1])),
