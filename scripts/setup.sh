@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what devsurf needs on Debian 12 (idempotent) and builds what is stale.
 # Usage: scripts/setup.sh            (dependencies + Release build in ./build)
+#        scripts/setup.sh --packages (the Debian packages only)
 # Environment: DEVSURF_BUILD_DIR (default build), DEVSURF_JOBS (default: number of cores).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -32,6 +33,7 @@ if ((${#missing[@]})); then
   $SUDO apt-get update -q
   $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
+if [ "${1:-}" = "--packages" ]; then exit 0; fi
 
 # The web app: npm packages when the lock file changed, a Vite build when a source is newer.
 if [ -f web/package.json ]; then

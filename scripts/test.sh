@@ -8,21 +8,24 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS=0
-# No test runs the benchmark programs: not compiled here unless asked (DEVSURF_BENCHES=1).
-DEVSURF_BENCHES="${DEVSURF_BENCHES:-0}" scripts/setup.sh
-echo "test.sh: setup and Release build ${SECONDS} s"
 BUILD_DIR="${DEVSURF_BUILD_DIR:-build}"
 JOBS="${DEVSURF_JOBS:-$(nproc)}"
 FUZZ="${DEVSURF_FUZZ_PASS:-1}"
-# The sanitizer tree builds at the lowest priority while the Release tests run: they leave about a
-# quarter of the machine idle (browser and restart tests wait on the daemon), which the build takes
-# up without taking CPU from the tests. Its output goes to build-fuzz/build.log.
+# The packages first; then the sanitizer tree builds at the lowest priority from the start, on the
+# CPU the rest leaves idle: npm and Vite (one core), the Release build's links, the Release tests
+# waiting on daemons and browsers. It takes nothing from them. Its output goes to
+# build-fuzz/build.log.
+scripts/setup.sh --packages
 fuzz_build=""
 if [ "$FUZZ" != 0 ]; then
   [ -f build-fuzz/build.ninja ] || cmake --preset fuzz >/dev/null
   nice -n 19 cmake --build build-fuzz -j "$JOBS" > build-fuzz/build.log 2>&1 &
   fuzz_build=$!
+  trap '[ -z "$fuzz_build" ] || kill -- "$fuzz_build" 2>/dev/null || true' EXIT
 fi
+# No test runs the benchmark programs: not compiled here unless asked (DEVSURF_BENCHES=1).
+DEVSURF_BENCHES="${DEVSURF_BENCHES:-0}" scripts/setup.sh
+echo "test.sh: setup and Release build ${SECONDS} s"
 release=0
 ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$JOBS" || release=$?
 echo "test.sh: Release tests done at ${SECONDS} s"
