@@ -273,7 +273,9 @@ void StripModel::buildProblem() {
     for (const int off : {offA, offB}) {
       std::vector<int> offsets;
       for (int i = 0; i < n; ++i) offsets.push_back(off + 3 * i);
-      problem_.addTerm(std::make_unique<terms::PolygonBacktrackTerm>("curve_backtrack", offsets, problem_.x(), m),
+      // The window pairs legs up to m apart, and at least consecutive ones (a degree-1 strip's
+      // polygon is its curve: the fuzzer's degree-1 strip was refused with this term's message).
+      problem_.addTerm(std::make_unique<terms::PolygonBacktrackTerm>("curve_backtrack", offsets, problem_.x(), std::max(2, m)),
                        1.0, Strength::Hard);
       // … nor do its legs collapse (coalescing control points turn back unseen).
       spline::EvaluationMatrix W(n - 1, n);
