@@ -356,37 +356,10 @@ TEST(GuidedProjectionSolver, StopsWhenTheTimeBudgetRunsOut) {
   EXPECT_EQ(summary.stepsTaken(), 1);
 }
 
-TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockIgnoresTimeTheThreadSpentWaiting) {
-  // Each iteration's callback sleeps 40 ms (the thread off the CPU, as under a busy machine's
-  // load): a 60 ms wall-clock budget ends the solve after its first step, the same budget on the thread's
-  // CPU clock runs all six (one step of this problem costs microseconds).
-  for (const BudgetClock clock : {BudgetClock::Wall, BudgetClock::ThreadCpu}) {
-    Problem problem = productProblem();
-    GuidedProjectionSolver solver(problem);
-    SolverOptions options;
-    options.maxIterations = 6;
-    options.residualTolerance = -1.0;
-    options.relativeChangeTolerance = -1.0;
-    options.timeBudgetMs = 60.0;
-    options.budgetClock = clock;
-    options.callback = [](const IterationRecord&) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(40));
-      return true;
-    };
-    const SolveSummary summary = solver.solve(options);
-    if (clock == BudgetClock::Wall) {
-      EXPECT_EQ(summary.reason, TerminationReason::TimeBudget);
-      EXPECT_EQ(summary.stepsTaken(), 1);  // iteration 0 and step 1 slept 80 ms
-    } else {
-      EXPECT_EQ(summary.reason, TerminationReason::MaxIterations);
-      EXPECT_EQ(summary.stepsTaken(), 6);
-    }
-  }
-}
-
-TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockStillEndsAtItsWallClockCap) {
-  // As above, on the CPU clock with a wall-clock cap of 100 ms: iteration 0 and two steps have
-  // slept 120 ms when the cap is checked after step 2.
+/// Six steps of productProblem() with a 60 ms budget on `clock`, each iteration's callback sleeping
+/// 40 ms (the thread off the CPU, as under a busy machine's load; one step of this problem costs
+/// microseconds); `wallCapMs` > 0 caps a CPU-clock budget's wall time.
+SolveSummary solveSleepingIterations(BudgetClock clock, double wallCapMs = 0.0) {
   Problem problem = productProblem();
   GuidedProjectionSolver solver(problem);
   SolverOptions options;
@@ -394,13 +367,30 @@ TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockStillEndsAtItsWallClockC
   options.residualTolerance = -1.0;
   options.relativeChangeTolerance = -1.0;
   options.timeBudgetMs = 60.0;
-  options.budgetClock = BudgetClock::ThreadCpu;
-  options.budgetWallCapMs = 100.0;
+  options.budgetClock = clock;
+  options.budgetWallCapMs = wallCapMs;
   options.callback = [](const IterationRecord&) {
     std::this_thread::sleep_for(std::chrono::milliseconds(40));
     return true;
   };
-  const SolveSummary summary = solver.solve(options);
+  return solver.solve(options);
+}
+
+TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockIgnoresTimeTheThreadSpentWaiting) {
+  // A 60 ms wall-clock budget ends the solve after its first step (iteration 0 and step 1 slept
+  // 80 ms); the same budget on the thread's CPU clock runs all six.
+  const SolveSummary wall = solveSleepingIterations(BudgetClock::Wall);
+  EXPECT_EQ(wall.reason, TerminationReason::TimeBudget);
+  EXPECT_EQ(wall.stepsTaken(), 1);
+  const SolveSummary cpu = solveSleepingIterations(BudgetClock::ThreadCpu);
+  EXPECT_EQ(cpu.reason, TerminationReason::MaxIterations);
+  EXPECT_EQ(cpu.stepsTaken(), 6);
+}
+
+TEST(GuidedProjectionSolver, ABudgetOnTheThreadsCpuClockStillEndsAtItsWallClockCap) {
+  // With a wall-clock cap of 100 ms: iteration 0 and two steps have slept 120 ms when the cap is
+  // checked after step 2.
+  const SolveSummary summary = solveSleepingIterations(BudgetClock::ThreadCpu, 100.0);
   EXPECT_EQ(summary.reason, TerminationReason::TimeBudget);
   EXPECT_EQ(summary.stepsTaken(), 2);
 }

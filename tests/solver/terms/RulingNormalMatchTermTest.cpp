@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/CreaseFixture.h"
 #include "support/TermTesting.h"
 
 #include <cmath>
@@ -19,36 +20,11 @@
 namespace devsurf::terms {
 namespace {
 
+using SmoothEdgeFixture = devsurf::testing::CreaseFixture;
 using devsurf::testing::expectJacobianMatches;
 using devsurf::testing::expectNoDuplicateEntries;
 using devsurf::testing::randomVector;
 using devsurf::testing::residuals;
-
-/// `m` with its columns moved to start at `first`, in a map over `columns` points.
-spline::EvaluationMatrix shiftedColumns(const spline::EvaluationMatrix& m, int first, int columns) {
-  std::vector<Eigen::Triplet<double>> t;
-  for (int k = 0; k < m.rows(); ++k)
-    for (spline::EvaluationMatrix::InnerIterator it(m, k); it; ++it) t.emplace_back(k, first + static_cast<int>(it.col()), it.value());
-  spline::EvaluationMatrix out(m.rows(), columns);
-  out.setFromTriplets(t.begin(), t.end());
-  out.makeCompressed();
-  return out;
-}
-
-/// A smooth curved edge a (points 0–5) between two faces whose other curves are b1 (points 6–11)
-/// and b2 (points 12–17): t_1 = t_2 = a′, d_i = b_i − a.
-struct SmoothEdgeFixture {
-  spline::KnotVector knots = spline::KnotVector::clampedUniform(3, 6);
-  std::vector<double> params = knots.spanSamples(7);
-  int K = static_cast<int>(params.size());
-  LinearPoints da{shiftedColumns(spline::evaluationMatrix(knots, params, 1), 0, 18), 0};
-  LinearPoints across(int face) const {
-    const spline::EvaluationMatrix e = spline::evaluationMatrix(knots, params, 0);
-    spline::EvaluationMatrix d = shiftedColumns(e, 6 * face, 18) - shiftedColumns(e, 0, 18);
-    d.makeCompressed();
-    return {d, 0};
-  }
-};
 
 TEST(RulingNormalMatchTerm, JacobianMatchesFiniteDifferencesAcrossACurvedEdge) {
   SmoothEdgeFixture f;

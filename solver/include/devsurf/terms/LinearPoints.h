@@ -21,13 +21,27 @@ struct LinearPoints {
   /// Free vectors: W = I (count×count).
   static LinearPoints identity(int count, int offset);
   int rows() const { return static_cast<int>(weights.rows()); }
-  Eigen::Vector3d point(const Eigen::VectorXd& x, int k) const;
+  Eigen::Vector3d point(const Eigen::VectorXd& x, int k) const {
+    // Inline: every term evaluates its points through here, several per residual row.
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (spline::EvaluationMatrix::InnerIterator it(weights, k); it; ++it)
+      p += it.value() * x.segment<3>(offset + 3 * static_cast<int>(it.col()));
+    return p;
+  }
   /// Appends one Jacobian entry per (nonzero control point j of point k, coordinate c) to
   /// residual row `row`, in the order writeJacobian() uses.
   void appendStructure(int k, int row, std::vector<engine::JacobianEntry>& out) const;
   /// Writes ∂⟨p_k, v⟩/∂x for all entries appendStructure(k, …) declared: scale · W(k,j) · v_c.
   /// Returns the pointer past the last value written.
-  double* writeJacobian(int k, const Eigen::Vector3d& v, double scale, double* out) const;
+  double* writeJacobian(int k, const Eigen::Vector3d& v, double scale, double* out) const {
+    for (spline::EvaluationMatrix::InnerIterator it(weights, k); it; ++it) {
+      const double w = scale * it.value();
+      *out++ = w * v[0];
+      *out++ = w * v[1];
+      *out++ = w * v[2];
+    }
+    return out;
+  }
 };
 
 /// Row scale 1/|v| of 003_… §5.2.1, or 1 where |v| vanishes (a cone's apex curve has b′ ≡ 0 and
