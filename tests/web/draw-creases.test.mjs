@@ -594,3 +594,39 @@ test('two straight creases drawn across each other: the editor says the crossing
     assert.equal(await marks.count(), 0, 'no mark left');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   }));
+
+// 15d. The start page's blank-sheet button while its import runs (a busy daemon can take
+//      seconds): it says "Creating…" and is disabled where the user clicked (the page's own busy
+//      line is below the fold at 1280 × 720), so a second click makes no second sheet; the
+//      editor then opens on the one sheet. The import is held back 1.5 s by the test (a route),
+//      so the state is seen, not raced.
+test('the blank-sheet button says it is creating while the import runs, and a second click makes no second sheet', { timeout: 120000 }, () =>
+  ctx.guard('blank-sheet-busy', async () => {
+    const { daemon } = ctx;
+    const page = await ctx.page();
+    let imports = 0;
+    let sessions = 0;
+    await page.route('**/api/imports*', async (route) => {
+      imports += 1;
+      await new Promise((resolve) => setTimeout(resolve, 1500));
+      await route.continue();
+    });
+    page.on('request', (r) => { if (r.method() === 'POST' && /\/api\/sessions(\?|$)/.test(r.url())) sessions += 1; });
+    await page.goto(daemon.url);
+    await page.getByTestId('start-page').waitFor();
+    const button = page.getByTestId('blank-sheet');
+    assert.equal(await button.textContent(), 'Start drawing');
+    await button.click();
+    await page.waitForFunction(() => {
+      const b = document.querySelector('[data-testid="blank-sheet"]');
+      return b.disabled && b.textContent === 'Creating…' && b.getAttribute('aria-busy') === 'true';
+    });
+    await button.click({ force: true });  // on the disabled button: nothing
+    await page.keyboard.press('Enter');   // nor from the focused size fields' Enter path
+    await page.getByTestId('editor').waitFor({ timeout: 60000 });
+    await h.waitForConnected(page);
+    await h.waitState(page, (s) => s.kind === 'composite' && !!(s.scene && s.scene.model.drawing), undefined, { what: 'the blank sheet' });
+    assert.equal(imports, 1, 'one import for one sheet');
+    assert.equal(sessions, 1, 'one session for one sheet');
+    await page.unroute('**/api/imports*');
+  }));

@@ -45,7 +45,8 @@ export function blankSheetName(width, height, units) {
 }
 
 /**
- * The start page's card: width, height, units and a button; `create({svg, name})` imports it.
+ * The start page's card: width, height, units and a button; `create({svg, name})` imports it (a
+ * promise: the button is disabled and says "Creating…" until it settles).
  * Returns {root, error (element for messages), button}.
  */
 export function blankSheetCard(create) {
@@ -54,7 +55,9 @@ export function blankSheetCard(create) {
   const units = h('select', { class: 'input fit', testid: 'blank-units', 'aria-label': 'Units' },
     BLANK_UNITS.map((u) => h('option', { value: u, selected: u === BLANK_DEFAULT.units }, u)));
   const error = h('div', { class: 'field-error', hidden: true, role: 'alert' });
-  const go = () => {
+  let button;
+  const go = async () => {
+    if (button.disabled) return;  // one sheet per click, even while the import takes its time
     const w = Number(width.value);
     const ht = Number(height.value);
     let svg;
@@ -66,10 +69,21 @@ export function blankSheetCard(create) {
       return;
     }
     error.hidden = true;
-    create({ svg, name: blankSheetName(w, ht, units.value) });
+    // The start page's own busy line is at its foot, out of sight at 1280 × 720: the button says
+    // what is happening where it was clicked, until the editor opens (or an error is shown).
+    button.disabled = true;
+    button.textContent = 'Creating…';
+    button.setAttribute('aria-busy', 'true');
+    try {
+      await create({ svg, name: blankSheetName(w, ht, units.value) });
+    } finally {
+      button.disabled = false;
+      button.textContent = 'Start drawing';
+      button.removeAttribute('aria-busy');
+    }
   };
   for (const input of [width, height]) input.addEventListener('keydown', (e) => { if (e.key === 'Enter') go(); });
-  const button = h('button', { class: 'btn primary', testid: 'blank-sheet', onclick: go }, 'Start drawing');
+  button = h('button', { class: 'btn primary', testid: 'blank-sheet', onclick: go }, 'Start drawing');
   const root = h('section', { class: 'card', testid: 'blank-sheet-card' },
     h('h2', {}, 'Start from a blank sheet'),
     h('div', { class: 'row blank-size' },
