@@ -18,8 +18,6 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-using models::strip::ControlPointRef;
-using models::strip::Curve;
 using models::strip::StripDesign;
 namespace composite = models::composite;
 namespace qm = models::quad_mesh;
@@ -34,13 +32,8 @@ bool isEdit(const std::string& type) {
 }  // namespace
 
 using detail::codeOf;
-using detail::compositeRefOf;
 using detail::compositeTargetJson;
-using detail::nonFiniteMetric;
-using detail::point3Json;
-using detail::quadRefOf;
 using detail::quadTargetJson;
-using detail::refOf;
 using detail::targetJson;
 
 Session::Session(std::string id, proto::Scene scene, Tokens tokens, SessionSettings settings,

@@ -15,8 +15,6 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-using models::strip::ControlPointRef;
-using models::strip::Curve;
 using models::strip::StripDesign;
 namespace composite = models::composite;
 namespace qm = models::quad_mesh;
@@ -25,18 +23,12 @@ namespace qm = models::quad_mesh;
 /// fold angles as its 100 % (degrees).
 constexpr double kFoldCaptureMinDeg = 0.5;
 
-
 }  // namespace
 
 using detail::codeOf;
 using detail::compositeRefOf;
-using detail::compositeTargetJson;
-using detail::nonFiniteMetric;
-using detail::point3Json;
 using detail::quadRefOf;
-using detail::quadTargetJson;
 using detail::refOf;
-using detail::targetJson;
 
 bool Session::apply(int participant, const json& edit, bool replaying) {
   const std::string type = edit.at("type").get<std::string>();

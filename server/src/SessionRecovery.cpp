@@ -10,22 +10,10 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-using models::strip::ControlPointRef;
-using models::strip::Curve;
-using models::strip::StripDesign;
-namespace composite = models::composite;
-namespace qm = models::quad_mesh;
 
 }  // namespace
 
-using detail::compositeRefOf;
-using detail::compositeTargetJson;
 using detail::nonFiniteMetric;
-using detail::point3Json;
-using detail::quadRefOf;
-using detail::quadTargetJson;
-using detail::refOf;
-using detail::targetJson;
 
 json Session::sessionStateJson() const {
   return {{"drag_iterations", settings_.dragIterations}, {"release_iterations", settings_.releaseIterations}};

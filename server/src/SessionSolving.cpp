@@ -14,22 +14,12 @@ namespace devsurf::server {
 namespace {
 
 using nlohmann::json;
-using models::strip::ControlPointRef;
-using models::strip::Curve;
-using models::strip::StripDesign;
 namespace composite = models::composite;
 namespace qm = models::quad_mesh;
 
 }  // namespace
 
-using detail::compositeRefOf;
-using detail::compositeTargetJson;
 using detail::nonFiniteMetric;
-using detail::point3Json;
-using detail::quadRefOf;
-using detail::quadTargetJson;
-using detail::refOf;
-using detail::targetJson;
 
 const engine::Problem& Session::problem() const {
   if (isComposite()) return solver_->compositeModel().problem();

@@ -21,7 +21,6 @@ namespace qm = models::quad_mesh;
 
 using detail::compositeRefOf;
 using detail::compositeTargetJson;
-using detail::nonFiniteMetric;
 using detail::point3Json;
 using detail::quadRefOf;
 using detail::quadTargetJson;
