@@ -1,14 +1,11 @@
 #include "devsurf/server/Session.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <sstream>
 
 #include <spdlog/spdlog.h>
 
 #include "devsurf/proto/BoundedJson.h"
-#include "devsurf/proto/Geometry.h"
 #include "devsurf/proto/Report.h"
 #include "devsurf/server/Tokens.h"
 

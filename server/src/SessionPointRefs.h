@@ -1,8 +1,7 @@
 #pragma once
 
 // Private to server/src/Session*.cpp: the point references of targets and scene entries, read from
-// and written to JSON, and the codes of refusals, shared by the session's target, edit and solve
-// code.
+// and written to JSON, the first non-finite metric of a state, and the codes of refused scenes.
 
 #include <string>
 

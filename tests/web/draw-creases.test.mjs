@@ -597,17 +597,23 @@ test('two straight creases drawn across each other: the editor says the crossing
 
 // 15d. The start page's blank-sheet button while its import runs (a busy daemon can take
 //      seconds): it says "Creating…" and is disabled where the user clicked (the page's own busy
-//      line is below the fold at 1280 × 720), so a second click makes no second sheet; the
-//      editor then opens on the one sheet. The import is held back 1.5 s by the test (a route),
-//      so the state is seen, not raced.
+//      line is below the fold at 1280 × 720), and stays so while the editor opens, so a second
+//      click or Enter in a size field makes no second sheet; an import that fails gives the button
+//      back with the error shown. The import is answered by the test (a route): refused once, then
+//      held back 1.5 s, so each state is seen, not raced.
 test('the blank-sheet button says it is creating while the import runs, and a second click makes no second sheet', { timeout: 120000 }, () =>
   ctx.guard('blank-sheet-busy', async () => {
     const { daemon } = ctx;
     const page = await ctx.page();
     let imports = 0;
     let sessions = 0;
+    let refuse = true;
     await page.route('**/api/imports*', async (route) => {
       imports += 1;
+      if (refuse) {
+        await route.fulfill({ status: 400, contentType: 'application/json', body: JSON.stringify({ error: { code: 'invalid', path: 'svg', message: 'refused by the test' } }) });
+        return;
+      }
       await new Promise((resolve) => setTimeout(resolve, 1500));
       await route.continue();
     });
@@ -616,17 +622,33 @@ test('the blank-sheet button says it is creating while the import runs, and a se
     await page.getByTestId('start-page').waitFor();
     const button = page.getByTestId('blank-sheet');
     assert.equal(await button.textContent(), 'Start drawing');
+    const buttonState = () => page.evaluate(() => {
+      const b = document.querySelector('[data-testid="blank-sheet"]');
+      return { disabled: b.disabled, text: b.textContent, busy: b.getAttribute('aria-busy') };
+    });
+
+    // Refused: the button comes back, the error is shown.
+    await button.click();
+    await page.getByText('refused by the test').first().waitFor();
+    await page.waitForFunction(() => !document.querySelector('[data-testid="blank-sheet"]').disabled);
+    assert.deepEqual(await buttonState(), { disabled: false, text: 'Start drawing', busy: null });
+    assert.equal(imports, 1);
+    assert.equal(sessions, 0);
+
+    // Held back: busy from the click until the editor is open.
+    refuse = false;
     await button.click();
     await page.waitForFunction(() => {
       const b = document.querySelector('[data-testid="blank-sheet"]');
       return b.disabled && b.textContent === 'Creating…' && b.getAttribute('aria-busy') === 'true';
     });
     await button.click({ force: true });  // on the disabled button: nothing
-    await page.keyboard.press('Enter');   // nor from the focused size fields' Enter path
+    await page.getByTestId('blank-width').press('Enter');  // nor the size fields' Enter
+    assert.equal(imports, 2, 'no import for the second click or Enter');
     await page.getByTestId('editor').waitFor({ timeout: 60000 });
     await h.waitForConnected(page);
-    await h.waitState(page, (s) => s.kind === 'composite' && !!(s.scene && s.scene.model.drawing), undefined, { what: 'the blank sheet' });
-    assert.equal(imports, 1, 'one import for one sheet');
-    assert.equal(sessions, 1, 'one session for one sheet');
+    await h.waitState(page, (st) => st.kind === 'composite' && !!(st.scene && st.scene.model.drawing), undefined, { what: 'the blank sheet' });
+    assert.equal(imports, 2, 'one import for the one sheet');
+    assert.equal(sessions, 1, 'one session for the one sheet');
     await page.unroute('**/api/imports*');
   }));

@@ -5,7 +5,7 @@
 namespace devsurf::engine::detail {
 
 /// Row stride of the dense elimination buffers: c rounded up to whole chunks, so the kernels
-/// below run on fixed-width chunks that the compiler vectorizes (the padding stays zero).
+/// (NormalEquationsElimination.cpp) run on fixed-width chunks that the compiler vectorizes (the padding stays zero).
 inline constexpr int kChunk = 8;
 inline int paddedStride(int c) { return (c + kChunk - 1) / kChunk * kChunk; }
 

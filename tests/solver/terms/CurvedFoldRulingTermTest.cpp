@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "support/CreaseFixture.h"
+#include "support/CurvedEdgeFixture.h"
 #include "support/TermTesting.h"
 
 #include <algorithm>
@@ -22,7 +22,7 @@
 namespace devsurf::terms {
 namespace {
 
-using TwoFaceFixture = devsurf::testing::CreaseFixture;
+using TwoFaceFixture = devsurf::testing::CurvedEdgeFixture;
 using devsurf::testing::expectJacobianMatches;
 using devsurf::testing::expectNoDuplicateEntries;
 using devsurf::testing::randomVector;

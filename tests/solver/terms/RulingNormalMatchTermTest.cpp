@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "support/CreaseFixture.h"
+#include "support/CurvedEdgeFixture.h"
 #include "support/TermTesting.h"
 
 #include <cmath>
@@ -20,7 +20,7 @@
 namespace devsurf::terms {
 namespace {
 
-using SmoothEdgeFixture = devsurf::testing::CreaseFixture;
+using SmoothEdgeFixture = devsurf::testing::CurvedEdgeFixture;
 using devsurf::testing::expectJacobianMatches;
 using devsurf::testing::expectNoDuplicateEntries;
 using devsurf::testing::randomVector;

@@ -291,7 +291,10 @@ export class StartPage {
     this.toasts.showError({ code: e.code || 'error', message: e.message, path: e.path }, what);
   }
 
-  /** Opens a session on `scene`; `solved`: from its solved state (an example, as its picture shows it). */
+  /**
+   * Opens a session on `scene`; `solved`: from its solved state (an example, as its picture shows
+   * it). Resolves to true once the editor is being opened, false if the session was not made.
+   */
   async _create(scene, what, { solved = false } = {}) {
     this.createError.hidden = true;
     this.busy.hidden = false;
@@ -300,8 +303,10 @@ export class StartPage {
       const res = await createSession(scene, this.apiKeyInput.value.trim() || apiKey(), { solved });
       rememberSessionTokens(res.id, { edit: res.edit_token, view: res.view_token, name: typeof scene === 'object' ? scene.name : undefined });
       window.location.assign(editorUrl(res.id, res.edit_token));
+      return true;
     } catch (e) {
       this._showCreateError(e, what);
+      return false;
     } finally {
       this.busy.hidden = true;
       this.newButton.disabled = false;
@@ -526,7 +531,7 @@ export class StartPage {
   /**
    * A FOLD file or SVG drawing → a composite scene (POST /api/imports). Without notes (or with
    * `openAtOnce`) its session opens at once; with notes they are listed first, with a button to
-   * open the session.
+   * open the session. Resolves to true when the editor is being opened.
    */
   async _importCreasePattern(file, text, format = 'fold', { openAtOnce = false } = {}) {
     const what = `import ${file.name}`;
@@ -540,22 +545,20 @@ export class StartPage {
       result = await importCreasePattern(text, { format, name: file.name.replace(/\.[^.]*$/, '') }, this.apiKeyInput.value.trim() || apiKey());
     } catch (e) {
       this._showCreateError(e, what);
-      return;
+      return false;
     } finally {
       this.busy.hidden = true;
       this.busy.textContent = 'Creating the session…';
     }
     const notes = (result.summary && result.summary.notes) || [];
-    if (notes.length === 0 || openAtOnce) {
-      await this._create(result.scene, what);
-      return;
-    }
+    if (notes.length === 0 || openAtOnce) return this._create(result.scene, what);
     const s = result.summary;
     this.importNotes.append(
       h('p', { class: 'small' }, `${file.name}: ${s.faces} faces, ${s.edges.mountain} mountain and ${s.edges.valley} valley creases${s.curved_creases ? ` (${s.curved_creases} curved strokes)` : ''}${s.folded_state ? ', in its folded form' : ', flat'}. The import noted:`),
       h('ul', { class: 'small' }, ...notes.map((n) => h('li', { testid: 'import-note' }, h('span', { class: 'mono' }, n.element), `: ${n.message}`))),
       h('button', { class: 'btn primary', testid: 'open-imported', onclick: () => this._create(result.scene, what) }, 'Open it'));
     this.importNotes.hidden = false;
+    return false;
   }
 
   _bindDrop() {

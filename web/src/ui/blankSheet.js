@@ -45,8 +45,9 @@ export function blankSheetName(width, height, units) {
 }
 
 /**
- * The start page's card: width, height, units and a button; `create({svg, name})` imports it (a
- * promise: the button is disabled and says "Creating…" until it settles).
+ * The start page's card: width, height, units and a button; `create({svg, name})` imports it and
+ * resolves to true when the editor is being opened: the button is disabled and says "Creating…"
+ * from the click on, and is given back only if the sheet was not made.
  * Returns {root, error (element for messages), button}.
  */
 export function blankSheetCard(create) {
@@ -71,15 +72,20 @@ export function blankSheetCard(create) {
     error.hidden = true;
     // The start page's own busy line is at its foot, out of sight at 1280 × 720: the button says
     // what is happening where it was clicked, until the editor opens (or an error is shown).
+    // It stays so while the browser opens the editor (create resolves true): a click in that
+    // gap would make a second sheet and leave the first behind.
     button.disabled = true;
     button.textContent = 'Creating…';
     button.setAttribute('aria-busy', 'true');
+    let opening = false;
     try {
-      await create({ svg, name: blankSheetName(w, ht, units.value) });
+      opening = (await create({ svg, name: blankSheetName(w, ht, units.value) })) === true;
     } finally {
-      button.disabled = false;
-      button.textContent = 'Start drawing';
-      button.removeAttribute('aria-busy');
+      if (!opening) {
+        button.disabled = false;
+        button.textContent = 'Start drawing';
+        button.removeAttribute('aria-busy');
+      }
     }
   };
   for (const input of [width, height]) input.addEventListener('keydown', (e) => { if (e.key === 'Enter') go(); });

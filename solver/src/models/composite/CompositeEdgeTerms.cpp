@@ -1,5 +1,6 @@
-// CompositeModel: the rows along edges and at vertices — crease rows (free normals or the rulings'
-// tangent planes), smooth edges on the ruling rows, tangent continuity and vertex developability.
+// CompositeModel: the rows built from the faces' rulings along an edge — crease rows and smooth
+// edges without free normals (`crease_normals: ruling`) — and the vertex rows (tangent continuity,
+// vertex developability). The free-normal rows and the per-edge choice are in CompositeModel.cpp.
 #include "devsurf/models/composite/CompositeModel.h"
 
 #include "CompositeModelState.h"

@@ -19,27 +19,25 @@
 #include "devsurf/terms/RulingLengthTerm.h"
 #include "devsurf/terms/StripWidthTerm.h"
 #include "devsurf/spline/Basis.h"
-#include "devsurf/terms/CurvedFoldRulingTerm.h"
 #include "devsurf/terms/CurvedFoldTerm.h"
 #include "devsurf/terms/HandleTargetTerm.h"
 #include "devsurf/terms/NormalMatchTerm.h"
-#include "devsurf/terms/RulingNormalMatchTerm.h"
 #include "devsurf/terms/NormalSplineUnitTerm.h"
 #include "devsurf/terms/PlanarPolygonTerm.h"
 #include "devsurf/terms/StraightUnfoldingTerm.h"
 #include "devsurf/terms/StripDevelopabilityTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
-#include "devsurf/terms/VertexAngleSumTerm.h"
-#include "devsurf/terms/VertexTangentContinuityTerm.h"
 
 namespace devsurf::models::composite {
+
+using detail::evaluationParams;
+using detail::selectRows;
+
 namespace {
 
 using engine::Strength;
 using engine::WeightSchedule;
 using spline::EvaluationMatrix;
-using detail::evaluationParams;
-using detail::selectRows;
 
 bool stripLike(const FaceInfo& f) { return f.type != FaceType::Planar; }
 

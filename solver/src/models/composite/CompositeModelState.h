@@ -1,7 +1,7 @@
 #pragma once
 
-// What CompositeModel.cpp (the problem) and CompositeMeasurement.cpp (metrics and sampling of the
-// current state) share; private to the composite model's sources.
+// What CompositeModel.cpp and CompositeEdgeTerms.cpp (the problem) and CompositeMeasurement.cpp
+// (metrics and sampling of the current state) share; private to the composite model's sources.
 
 #include <array>
 #include <map>

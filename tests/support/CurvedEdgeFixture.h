@@ -33,7 +33,7 @@ inline spline::EvaluationMatrix placedColumns(const spline::EvaluationMatrix& m,
 
 /// An edge a (points 0–5), a crease or a smooth edge, between two faces whose other curves are b1
 /// (points 6–11) and b2 (points 12–17): a′ and a″ at the parameters, across_i = b_i − a.
-struct CreaseFixture {
+struct CurvedEdgeFixture {
   spline::KnotVector knots = spline::KnotVector::clampedUniform(3, 6);
   std::vector<double> params = knots.spanSamples(7);
   int K = static_cast<int>(params.size());
