@@ -46,7 +46,7 @@ class JobsOnThreeDaemonsTest(unittest.TestCase):
 
         # Kill node2 while it runs a job, about a third of the way through. Seeing a job running
         # on node2 and killing it are two steps, and node2 may finish that job and be between
-        # two claims by the time the kill lands (a busy CI machine did: no job ran again). So
+        # two claims by the time the kill lands (a busy CI run did: no job ran again). So
         # node2 is frozen (SIGSTOP) first, what it holds is read while it cannot change (after
         # 0.2 s for a commit already sent to reach the server), and it is killed only while it
         # holds a job; otherwise it is let go on and caught again.
