@@ -738,9 +738,15 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
     const auto& d = std::get<models::quad_mesh::QuadMeshDesign>(scene.model);
     try {
       models::quad_mesh::QuadMeshModel::validateDesign(d);
-      models::quad_mesh::QuadMeshTopology check(static_cast<int>(d.mesh.rows()), d.faces);
     } catch (const std::invalid_argument& e) {
       throw semanticError("model", e.what(), "model");
+    }
+    try {
+      models::quad_mesh::QuadMeshTopology check(static_cast<int>(d.mesh.rows()), d.faces);
+    } catch (const std::invalid_argument& e) {
+      // The topology names a face as faces[f]; in a scene the faces are model.mesh.faces.
+      const std::string message = e.what();
+      throw semanticError("model", message.rfind("faces[", 0) == 0 ? "mesh." + message : message, "model");
     }
   } else {
     throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");

@@ -49,8 +49,10 @@ constexpr const char* kUsage =
     "commands:\n"
     "  solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]...\n"
     "        [--reference SHAPE [--coverage-tolerance T]]\n"
-    "        [--memory-budget-mb MB]\n"
+    "        [--memory-budget-mb MB] [--require-quality]\n"
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
+    "        The report's quality says whether the result meets its kind's thresholds\n"
+    "        (a warning on standard error if not; exit status 3 with --require-quality).\n"
     "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
     "        20 000 control points); --memory-budget-mb raises the first.\n"
     "        FORMAT is obj, off, ply or stl (the sampled surface as quads; stl: two\n"
@@ -151,6 +153,26 @@ constexpr const char* kUsage =
 
 constexpr std::size_t kMaxSceneBytes = 64u << 20;  // 64 MiB
 
+/// The part of kUsage about one command (every entry of it: import has two), as
+/// "usage: devsurf COMMAND …"; all of kUsage for a command it does not list.
+std::string commandUsage(const std::string& command) {
+  std::istringstream lines(kUsage);
+  std::string line, entries;
+  bool inEntry = false;
+  while (std::getline(lines, line)) {
+    const bool starts = line.rfind("  " + command + " ", 0) == 0 || line == "  " + command;
+    if (starts) {
+      entries += "usage: devsurf " + line.substr(2) + "\n";
+      inEntry = true;
+    } else if (inEntry && line.rfind("        ", 0) == 0) {
+      entries += line + "\n";
+    } else {
+      inEntry = false;
+    }
+  }
+  return entries.empty() ? std::string(kUsage) : entries;
+}
+
 /// Writes a command's document to --out, or to standard output without one.
 void writeOutput(const std::string& text, const std::string& outPath, std::ostream& out) {
   if (outPath.empty()) {
@@ -190,6 +212,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   std::string scenePath, outPath, referencePath;
   double coverageTolerance = 0.0;
   int iterations = -1;
+  bool requireQuality = false;
   std::vector<std::string> exports;
   proto::ResourceLimits limits;
   try {
@@ -203,6 +226,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
       else if (a == "--export") exports.push_back(value());
       else if (a == "--reference") referencePath = value();
       else if (a == "--coverage-tolerance") coverageTolerance = parseLength(a, value());
+      else if (a == "--require-quality") requireQuality = true;
       else if (!a.empty() && a[0] == '-' && a != "-") throw std::invalid_argument("unknown option " + a);
       else if (scenePath.empty()) scenePath = a;
       else throw std::invalid_argument("unexpected argument " + a);
@@ -276,6 +300,15 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
       err << "devsurf solve: the solver diverged after " << summary.stepsTaken()
           << " iterations; the report holds the last good state\n";
       return 1;
+    }
+    if (const auto quality = report.find("quality"); quality != report.end() && !quality->at("met").get<bool>()) {
+      err << "devsurf solve: warning: the result misses its quality thresholds:";
+      for (const nlohmann::json& check : quality->at("checks"))
+        if (!check.at("ok").get<bool>())
+          err << " " << check.at("metric").get<std::string>() << " " << check.at("value").get<double>()
+              << " (limit " << check.at("limit").get<double>() << ");";
+      err << " more --iterations may help; targets the sheet cannot reach stretch it (the report's quality)\n";
+      if (requireQuality) return 3;
     }
     return 0;
   } catch (const proto::SceneError& e) {
@@ -408,7 +441,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
       const std::string& a = args[i];
       auto value = [&args, &i]() -> const std::string& { return flagValue(args, i); };
       if (a == "--help" || a == "-h") {
-        out << kUsage;
+        out << commandUsage("serve");
         return 0;
       }
       if (a == "--port") o.port = static_cast<int>(parseNumber(a, value(), 0, 65535));
@@ -606,7 +639,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   // `devsurf COMMAND --help` (or -h anywhere among its arguments) prints the usage, for every
   // command, rather than "unknown option" or a start.
   if (command != "help" && std::any_of(rest.begin(), rest.end(), [](const std::string& a) { return a == "--help" || a == "-h"; })) {
-    out << kUsage;
+    out << commandUsage(command);
     return 0;
   }
   if (command == "solve") return solveCommand(rest, in, out, err);

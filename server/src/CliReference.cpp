@@ -252,6 +252,23 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     // Fig. 10c: the control-point sequences joined, end points averaged; solved again by `solve`.
     const models::strip::StripMerge merge = models::strip::mergeStrips(
         std::get<models::strip::StripDesign>(scenes[0].model), std::get<models::strip::StripDesign>(scenes[1].model));
+    // Strips apart (no control point of one within a strip's width of the other's) are not one
+    // strip: the join would bridge the gap with a span no solve makes developable.
+    const auto& first = std::get<models::strip::StripDesign>(scenes[0].model);
+    const auto& second = std::get<models::strip::StripDesign>(scenes[1].model);
+    const auto width = [](const models::strip::StripDesign& d) { return (d.a.points - d.b.points).rowwise().norm().mean(); };
+    const double widest = std::max(width(first), width(second));
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Eigen::MatrixXd* p : {&first.a.points, &first.b.points})
+      for (const Eigen::MatrixXd* q : {&second.a.points, &second.b.points})
+        for (Eigen::Index i = 0; i < p->rows(); ++i)
+          nearest = std::min(nearest, (q->rowwise() - p->row(i)).rowwise().norm().minCoeff());
+    if (nearest > widest) {
+      err << "devsurf merge: the strips do not meet: their nearest control points are " << nearest
+          << " apart, more than a strip is wide (" << widest
+          << "); nothing written (fit one strip over both regions, or cover them with several)\n";
+      return 2;
+    }
     proto::Scene scene = scenes[0];
     scene.name = name.empty() ? scenes[0].name + " + " + scenes[1].name : name;
     scene.description = "Strips of " + paths[0] + " and " + paths[1] + " merged (devsurf merge; Tang et al. 2016 Fig. 10c).";

@@ -8,6 +8,7 @@
 #include "devsurf/io/SvgImport.h"
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
 #include "devsurf/models/composite/CompositeFromDrawing.h"
+#include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/composite/CompositeTopology.h"
 #include "devsurf/server/ShapeUpload.h"
 
@@ -95,7 +96,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         pattern.vertices2d *= scale;
         if (pattern.hasFoldedState()) pattern.vertices3d *= scale;
         std::ostringstream note;
-        note << "none given: the sheet, " << side << " units across, is scaled to " << kUnitlessSheetMm
+        note << "none given: the sheet, " << side << (side == 1.0 ? " unit" : " units") << " across, is scaled to " << kUnitlessSheetMm
              << " mm (pass units to keep the file's numbers in cm, m or in)";
         result.notes.push_back({"frame_unit", note.str()});
       } else {
@@ -151,6 +152,14 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
     result.scene = proto::sceneFromJson(proto::sceneToJson(scene));
   } catch (const proto::SceneError& e) {
     throw ApproximationInputError("body", std::string("body: the imported scene does not validate: ") + e.what());
+  }
+  // And opened as a session opens it (the model's own checks: a fold-angle target needs a hinge):
+  // an import answers with a scene that opens, or with what stops it, never with one that cannot.
+  try {
+    const models::composite::CompositeModel model(std::get<models::composite::CompositeDesign>(result.scene.model));
+    (void)model;
+  } catch (const std::invalid_argument& e) {
+    throw ApproximationInputError("body", std::string("body: the imported design cannot be solved: ") + e.what());
   }
   return result;
 }

@@ -412,6 +412,7 @@ proto::Metrics SceneSolver::metrics() const {
     m["displacement_max"] = moved;
     if (composite_->hasDevelopment()) {
       m["development_length_error"] = composite_->developmentLengthError();
+      m["development_edge_strain_max"] = composite_->developmentEdgeStrainMax();
       m["development_flipped_faces"] = composite_->flippedDevelopmentFaces();
     }
     m["ruling_length_min_ratio"] = composite_->rulingLengthMinRatio();
@@ -458,6 +459,10 @@ proto::Metrics SceneSolver::metrics() const {
 nlohmann::json SceneSolver::report(const engine::SolveSummary& summary, double timeMs) const {
   nlohmann::json report = proto::reportToJson(summary, metrics(), proto::sceneToJson(currentScene()), timeMs);
   if (!termination_.empty()) report["termination"] = termination_;
+  // The thresholds the shape is held to, as a session's `solved` message carries them: a solve can
+  // end on its iteration count with the sheet stretched (fold targets it cannot reach), and a
+  // batch user reads that here rather than from every metric.
+  if (const QualityVerdict verdict = quality(); !verdict.checks.empty()) report["quality"] = verdict.toJson();
   if (quasi_) {
     report["result"] = proto::quasiStripResultJson(quasi_->results(), quasiSummary_);
     report["result"]["termination"] = quasiSummary_.termination;
@@ -513,21 +518,11 @@ void SceneSolver::exportTo(const std::string& spec) const {
     throw std::invalid_argument("--export: expected FORMAT:FILE, e.g. obj:strip.obj, got \"" + spec + "\"");
   const std::string format = spec.substr(0, colon);
   const std::string path = spec.substr(colon + 1);
-  if (quadMesh_ && format == "stl") {
-    // M as triangles (io::triangulateQuads; a triangle travels as a quad with its last vertex
-    // repeated, whose zero-area half is left out).
-    const io::QuadMesh m = sampledSurface();
-    const std::string staging = path + ".partial.stl";
-    io::writeMesh(m, staging);
-    if (std::rename(staging.c_str(), path.c_str()) != 0) {
-      std::remove(staging.c_str());
-      throw std::runtime_error("cannot write " + path);
-    }
-    return;
-  }
   const bool flatPattern = (format == "svg" && !(composite_ && composite_->hasDevelopment())) ||
                            (format == "fold" && cutAlongSeams());
-  if (quadMesh_ || format == "step" || format == "dxf" || format == "png" || flatPattern) {  // the bytes of exportAs, written as they are
+  // The bytes of exportAs, written as they are (STL: in millimetres, triangles; a quad mesh's
+  // triangle travels as a quad with its last vertex repeated, whose zero-area half is left out).
+  if (quadMesh_ || format == "step" || format == "dxf" || format == "png" || format == "stl" || flatPattern) {
     ExportedFile file;
     try {
       file = exportAs(format);

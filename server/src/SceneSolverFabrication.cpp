@@ -124,8 +124,12 @@ ExportedFile SceneSolver::fabricationExport(const std::string& format) const {
     });
   }
   if (format == "stl") {
+    // STL has no unit; slicers and CAD read it in millimetres: the scene's units are scaled to mm,
+    // as the DXF and SVG patterns are (a sheet of 200 units in cm is a 2000 mm part).
     return orExportFailed(format, "the surface in its current state cannot be written", [this]() {
-      return ExportedFile{io::meshString(sampledSurface(), "stl"), "model/stl", "stl"};
+      io::QuadMesh mesh = sampledSurface();
+      mesh.vertices *= proto::millimetresPerUnit(scene_.units);
+      return ExportedFile{io::meshString(mesh, "stl"), "model/stl", "stl"};
     });
   }
   if (format == "fold") {

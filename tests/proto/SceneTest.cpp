@@ -126,6 +126,7 @@ TEST(Scene, MalformedDocumentsNameTheFieldAndRule) {
       {[](json& d) { d["solver"]["speed"] = 11; }, "solver.speed", "unknown field"},
       {[](json& d) { d["model"]["b"]["weights"] = {1, 1, 1}; }, "model.b.weights", "expected 5 weights"},
       {[](json& d) { d["format"] = "obj"; }, "format", ""},
+      {[](json& d) { d["model"]["b"]["points"] = d["model"]["a"]["points"]; }, "model.b.points", "no width"},
   };
   for (const Case& c : cases) {
     json doc = validScene();
@@ -164,6 +165,30 @@ TEST(Scene, NonFiniteAndNonJsonInputIsRejected) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.rule(), "json");
     EXPECT_NE(std::string(e.what()).find("(root): not valid JSON"), std::string::npos);
+  }
+}
+
+// Degenerate quad meshes are refused naming the field: an unfolding (or a mesh) shrunk to a point
+// has no size to bend from, and a face's index is named where it is, in model.mesh.faces.
+TEST(Scene, DegenerateQuadMeshesNameTheirField) {
+  std::ifstream file(std::filesystem::path(DEVSURF_SOURCE_DIR) / "examples" / "quad-bend-sheet.json");
+  const json sheet = json::parse(file);
+  struct Case {
+    std::function<void(json&)> breakIt;
+    std::string path;
+    std::string messagePart;
+  };
+  const std::vector<Case> cases = {
+      {[](json& d) { for (json& v : d["model"]["unfolding"]["vertices"]) v = {0.0, 0.0}; }, "model.unfolding.vertices", "one point"},
+      {[](json& d) { for (json& v : d["model"]["mesh"]["vertices"]) v = {1.0, 2.0, 3.0}; }, "model.mesh.vertices", "one point"},
+      {[](json& d) { d["model"]["mesh"]["faces"][0] = {0, 0, 0, 0}; }, "model.mesh.faces[0]", ""},
+  };
+  for (const Case& c : cases) {
+    json doc = sheet;
+    c.breakIt(doc);
+    const SceneError e = errorOf(doc);
+    EXPECT_EQ(e.path(), c.path) << e.what();
+    EXPECT_NE(std::string(e.what()).find(c.messagePart), std::string::npos) << e.what();
   }
 }
 

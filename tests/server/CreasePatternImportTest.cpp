@@ -16,6 +16,7 @@
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/ShapeUpload.h"
 #include "server/CliTesting.h"
+#include "support/TempDir.h"
 
 namespace devsurf::server {
 namespace {
@@ -225,6 +226,51 @@ TEST(CreasePatternImport, ASlitInAFoldFileOrAGreenSvgLineIsCutAndOpensWhenTheShe
   const CreasePatternImportResult s = importCreasePattern(svg, svgRequest);
   EXPECT_EQ(s.cut, 1);
   EXPECT_EQ(proto::sceneToJson(s.scene)["model"]["vertices"].size(), 10u) << s.summaryJson().dump();
+}
+
+// box.fold's folded form folds creases against their letters (its faces wind the other way): the
+// import keeps the folded form and says so, naming the creases; a consistent file has no such note.
+TEST(CreasePatternImport, CreasesFoldedAgainstTheirLettersAreNoted) {
+  auto againstNote = [](const CreasePatternImportResult& r) {
+    for (const io::ImportNote& n : r.notes)
+      if (n.element == "edges_assignment" && n.message.find("against their letter") != std::string::npos) return n.message;
+    return std::string();
+  };
+  const std::string box = againstNote(importCreasePattern(foldExampleText("box.fold"), foldRequest()));
+  EXPECT_NE(box.find("edges_assignment["), std::string::npos) << box;
+  EXPECT_EQ(againstNote(importCreasePattern(foldExampleText("diagonal-folded.fold"), foldRequest())), "");
+}
+
+// A stroke that is a point (a path of zero length, a Bézier whose points coincide) on the outline
+// is left out whole: it leaves no vertex behind, and the scene opens and folds (it left a vertex on
+// the outline whose faces were degenerate there: "fold_angles[1]: edge 26 has no hinge there").
+TEST(CreasePatternImport, AStrokeOfNoLengthIsLeftOutWithANoteAndTheSceneOpens) {
+  for (const std::string point : {R"(<path d="M 20 0 L 20 0" stroke="#0000ff"/>)",
+                                  R"(<path d="M 20 0 C 20 0, 20 0, 20 0" stroke="#0000ff"/>)",
+                                  R"(<line x1="50" y1="50" x2="50" y2="50" stroke="#0000ff"/>)"}) {
+    SCOPED_TRACE(point);
+    const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+      <rect x="0" y="0" width="100" height="100" fill="none" stroke="#000000"/>)" + point +
+                            R"(<line x1="50" y1="0" x2="50" y2="100" stroke="#ff0000"/></svg>)";
+    CreasePatternImportRequest request;
+    request.format = "svg";
+    const CreasePatternImportResult r = importCreasePattern(svg, request);
+    bool noted = false;
+    for (const io::ImportNote& n : r.notes) noted = noted || n.message.find("no length") != std::string::npos;
+    EXPECT_TRUE(noted) << r.summaryJson().dump();
+    const nlohmann::json scene = proto::sceneToJson(r.scene);
+    for (const nlohmann::json& v : scene["model"]["vertices"])
+      EXPECT_FALSE(std::abs(v[0].get<double>() - 20.0) < 1e-9 && std::abs(v[1].get<double>() - 100.0) < 1e-9)
+          << "a vertex where the point was";
+    // Folded to 100 % as `devsurf solve` solves it.
+    devsurf::testing::TempDir dir;
+    nlohmann::json folded = scene;
+    folded["model"]["fold_amount"] = 1.0;
+    const std::string path = (dir.path() / "point.json").string(), report = (dir.path() / "r.json").string();
+    std::ofstream(path) << folded.dump();
+    const CliRun solve = runCommand({"solve", path, "--iterations", "30", "--out", report});
+    EXPECT_EQ(solve.code, 0) << solve.err;
+  }
 }
 
 }  // namespace

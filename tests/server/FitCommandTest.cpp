@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <random>
 
@@ -126,6 +127,17 @@ TEST(MergeCommand, TwoStripsFittedToHalvesOfACloudMergeIntoOneThatSolvesOverTheW
   EXPECT_EQ(composite.code, 2);
   EXPECT_NE(composite.err.find("model.kind"), std::string::npos) << composite.err;
   EXPECT_EQ(runCommand({"merge", merged}).code, 2);
+  // Strips that do not meet (the left one moved 30 units along x, its ends far from the right
+  // one's): refused, and nothing written.
+  nlohmann::json far = nlohmann::json::parse(std::ifstream(left));
+  for (const char* curve : {"a", "b"})
+    for (nlohmann::json& p : far["model"][curve]["points"]) p[0] = p[0].get<double>() + 30.0;
+  const std::string farPath = (dir.path() / "far.json").string(), notWritten = (dir.path() / "none.json").string();
+  std::ofstream(farPath) << far.dump();
+  const CliRun apart = runCommand({"merge", farPath, right, "--out", notWritten});
+  EXPECT_EQ(apart.code, 2) << apart.err;
+  EXPECT_NE(apart.err.find("do not meet"), std::string::npos) << apart.err;
+  EXPECT_FALSE(std::filesystem::exists(notWritten));
 }
 
 TEST(FitCommand, TheLampshadeScanSceneSolvesOntoItsPoints) {

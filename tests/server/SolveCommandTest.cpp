@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +41,42 @@ TEST(SolveCommand, WritesAValidReportForTheTwistedStripExample) {
   EXPECT_EQ(std::get<models::strip::StripDesign>(again.model).b.points.rows(), 7);
 }
 
+// The report carries the quality verdict a session's `solved` message carries. A sheet pulled to
+// fold angles it cannot reach without stretching (two opposite arcs at ±90°, folded to 100 % in
+// one solve) ends stretched: the report says so, a warning names the failed checks, and with
+// --require-quality the exit status is 3. A shipped example meets its thresholds: exit 0.
+TEST(SolveCommand, AResultThatMissesItsQualityThresholdsIsReportedAndRequireQualityExitsThree) {
+  const CliRun good = runCommand({"solve", examplePath("composite-curved-fold.json"), "--require-quality"});
+  ASSERT_EQ(good.code, 0) << good.err;
+  const nlohmann::json goodReport = nlohmann::json::parse(good.out);
+  EXPECT_TRUE(goodReport["quality"]["met"].get<bool>()) << goodReport["quality"].dump();
+  EXPECT_EQ(good.err.find("warning"), std::string::npos) << good.err;
+
+  const std::string svg = tempPath("arcs.svg"), scene = tempPath("arcs.json"), folded = tempPath("arcs-100.json");
+  std::ofstream(svg) << R"(<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="100mm" viewBox="0 0 200 100">
+    <rect x="0" y="0" width="200" height="100" fill="none" stroke="#000000"/>
+    <path d="M 60 0 C 80 30, 80 70, 60 100" fill="none" stroke="#ff0000" stroke-opacity="0.5"/>
+    <path d="M 140 0 C 120 30, 120 70, 140 100" fill="none" stroke="#0000ff" stroke-opacity="0.5"/></svg>)";
+  ASSERT_EQ(runCommand({"import", svg, "--out", scene}).code, 0);
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(scene));
+  doc["model"]["fold_amount"] = 1.0;
+  std::ofstream(folded) << doc.dump();
+  const CliRun bad = runCommand({"solve", folded, "--iterations", "20"});
+  ASSERT_EQ(bad.code, 0) << bad.err;
+  const nlohmann::json report = nlohmann::json::parse(bad.out);
+  const auto errors = proto::schemaRegistry().validate(report, "report.schema.json");
+  EXPECT_TRUE(errors.empty()) << errors[0].toString();
+  ASSERT_FALSE(report["quality"]["met"].get<bool>()) << report["metrics"].dump(1);
+  for (const nlohmann::json& check : report["quality"]["checks"])
+    if (!check["ok"].get<bool>())
+      EXPECT_NE(bad.err.find(check["metric"].get<std::string>()), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("warning: the result misses its quality thresholds"), std::string::npos) << bad.err;
+  const CliRun strict = runCommand({"solve", folded, "--iterations", "20", "--require-quality"});
+  EXPECT_EQ(strict.code, 3) << strict.err;
+  EXPECT_FALSE(strict.out.empty()) << "the report is still written";
+  for (const std::string& p : {svg, scene, folded}) std::remove(p.c_str());
+}
+
 TEST(SolveCommand, HonoursIterationsOutAndExport) {
   const std::string reportPath = tempPath("report.json");
   const std::string objPath = tempPath("surface.mesh");  // any name: the format says OBJ
@@ -67,6 +104,20 @@ TEST(SolveCommand, ExportsTheFoldPatternOfACompositeWithADevelopment) {
   EXPECT_LT(report["metrics"]["warp_angle_max_deg"].get<double>(), 0.05);
   const nlohmann::json doc = nlohmann::json::parse(std::ifstream(fold));
   EXPECT_EQ(doc["file_spec"], 1.2);
+  // development_edge_strain_max, recomputed from the file: each edge's length in the folded frame
+  // against the crease pattern's.
+  double strain = 0.0;
+  const nlohmann::json& flat = doc["vertices_coords"];
+  const nlohmann::json& folded = doc["file_frames"][0]["vertices_coords"];
+  for (const nlohmann::json& e : doc["edges_vertices"]) {
+    const int i = e[0], j = e[1];
+    double l2 = 0.0, l3 = 0.0;
+    for (int c = 0; c < 2; ++c) l2 += std::pow(flat[i][c].get<double>() - flat[j][c].get<double>(), 2);
+    for (int c = 0; c < 3; ++c) l3 += std::pow(folded[i][c].get<double>() - folded[j][c].get<double>(), 2);
+    strain = std::max(strain, std::abs(std::sqrt(l3) - std::sqrt(l2)) / std::sqrt(l2));
+  }
+  EXPECT_NEAR(report["metrics"]["development_edge_strain_max"].get<double>(), strain, 1e-9 + 1e-6 * strain);
+  EXPECT_GT(strain, 0.0);
   int creases = 0;
   for (std::size_t e = 0; e < doc["edges_assignment"].size(); ++e) {
     const std::string a = doc["edges_assignment"][e];
@@ -190,7 +241,7 @@ TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
   EXPECT_EQ(runCommand({"help"}).code, 0);
 }
 
-TEST(Cli, EveryCommandInTheUsageAnswersHelpWithTheUsageAndStartsNothing) {
+TEST(Cli, EveryCommandInTheUsageAnswersHelpWithItsOwnPartOfTheUsageAndStartsNothing) {
   const std::string usage = runCommand({"help"}).out;
   std::istringstream lines(usage.substr(usage.find("commands:")));
   std::vector<std::string> commands;
@@ -202,12 +253,26 @@ TEST(Cli, EveryCommandInTheUsageAnswersHelpWithTheUsageAndStartsNothing) {
     for (const std::string flag : {"--help", "-h"}) {
       const auto result = runCommand({command, flag});
       EXPECT_EQ(result.code, 0) << command << " " << flag << ": " << result.err;
-      EXPECT_EQ(result.out, usage) << command << " " << flag;
       EXPECT_EQ(result.err, "") << command << " " << flag;
+      if (command == "help") {  // its part is all of it
+        EXPECT_EQ(result.out, usage);
+        continue;
+      }
+      // Its own entries of the usage, each line as the full usage has it, and no other command's.
+      EXPECT_EQ(result.out.rfind("usage: devsurf " + command, 0), 0u) << command << " " << flag << ": " << result.out;
+      std::istringstream own(result.out);
+      for (std::string line; std::getline(own, line);) {
+        const std::string asListed = line.rfind("usage: devsurf ", 0) == 0 ? "  " + line.substr(15) : line;
+        EXPECT_NE(usage.find(asListed + "\n"), std::string::npos) << command << ": " << line;
+        if (line.rfind("usage: devsurf ", 0) == 0) EXPECT_EQ(line.rfind("usage: devsurf " + command, 0), 0u) << line;
+      }
+      EXPECT_LT(result.out.size(), usage.size() / 2) << command;
     }
   const auto late = runCommand({"solve", examplePath("strip-twisted.json"), "--iterations", "3", "--help"});
   EXPECT_EQ(late.code, 0);
-  EXPECT_EQ(late.out, usage) << "help anywhere among the arguments, nothing solved";
+  EXPECT_EQ(late.out.rfind("usage: devsurf solve SCENE", 0), 0u) << "help anywhere among the arguments, nothing solved";
+  EXPECT_NE(late.out.find("--require-quality"), std::string::npos);
+  EXPECT_EQ(late.out.find("serve [--port"), std::string::npos);
 }
 
 }  // namespace

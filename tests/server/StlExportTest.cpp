@@ -1,5 +1,6 @@
 // STL exports (issue 11, item 6): every preset in examples/ exported as STL is made of triangles —
-// two per quad of its OBJ export, less the ones of zero area — and covers the same area. Both files
+// two per quad of its OBJ export, less the ones of zero area — and covers the same area, in
+// millimetres where the OBJ is in the scene's units (cm, m, in presets among them). Both files
 // are read back by the small parsers here, not by OpenMesh that wrote them.
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -100,7 +102,11 @@ TEST(StlExport, EveryPresetIsWrittenAsTwoTrianglesPerQuadCoveringTheObjExportsAr
     const std::string name = file.stem().string();
     SCOPED_TRACE(name);
     std::ifstream in(file);
-    SceneSolver solver(proto::sceneFromJson(nlohmann::json::parse(in)));
+    const nlohmann::json scene = nlohmann::json::parse(in);
+    // STL in millimetres, OBJ in the scene's units (mm per unit by the scene's own word).
+    const std::map<std::string, double> mmPer = {{"mm", 1.0}, {"cm", 10.0}, {"m", 1000.0}, {"in", 25.4}};
+    const double mm = mmPer.at(scene.value("units", std::string("mm")));
+    SceneSolver solver(proto::sceneFromJson(scene));
     solver.solve();
     const std::string obj = (dir.path() / (name + ".obj")).string(), stl = (dir.path() / (name + ".stl")).string();
     solver.exportTo("obj:" + obj);
@@ -125,7 +131,7 @@ TEST(StlExport, EveryPresetIsWrittenAsTwoTrianglesPerQuadCoveringTheObjExportsAr
     }
     EXPECT_EQ(facets.size(), 2 * quads.size() - static_cast<std::size_t>(degenerates));
     EXPECT_EQ(zeroFacets, 0);
-    EXPECT_NEAR(stlArea, objArea, 1e-7 * objArea);
+    EXPECT_NEAR(stlArea, mm * mm * objArea, 1e-7 * mm * mm * objArea);
     degenerateTotal += degenerates;
     std::cout << name << ": " << quads.size() << " quads, " << facets.size() << " triangles (" << degenerates
               << " of zero area left out), area " << stlArea << " (OBJ " << objArea << ")\n";

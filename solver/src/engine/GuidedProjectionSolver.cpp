@@ -220,6 +220,14 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     }
   };
 
+  // The constants a term holds for an iteration (foot points, row scales) taken at the initial
+  // state, as the first assembly takes them: a term built since the last solve (a rebuild) has
+  // none of its own yet, and one solved before holds those of an earlier iterate. Evaluated with
+  // stale ones, the initial hard rows measured what they do not mean (a new tangent-distance row
+  // measured a vertex's x against the foot (0, 0): 0.9 where the vertex lay on its curve), and
+  // the first step was judged against that (step control let a step tear the sheet by 0.39).
+  for (int t = 0; t < numTerms; ++t) problem_.term(t).term->linearizeAt(problem_.x());
+
   // Iteration 0: the initial state, weighed with the first iteration's weights.
   {
     IterationRecord rec;

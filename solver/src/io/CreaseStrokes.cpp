@@ -23,7 +23,23 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
     }
   const double diagonal = (hi - lo).norm();
   if (!(diagonal > 0.0)) throw std::invalid_argument("SVG: the drawing has no extent");
-  for (CreaseStroke& s : strokes) {
+  // A stroke no longer than the merge tolerance is a point: given to the arrangement it would
+  // still split what it touches (a vertex left on the outline, its faces degenerate there), and
+  // as a "curve" it would make every straight stroke be cut into pieces.
+  std::vector<bool> pointLike(strokes.size(), false);
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    const CreaseStroke& stroke = strokes[i];
+    double length = 0.0;
+    for (std::size_t k = 1; k < stroke.points.size(); ++k) length += (stroke.points[k] - stroke.points[k - 1]).norm();
+    if (stroke.closed && stroke.points.size() > 1) length += (stroke.points.front() - stroke.points.back()).norm();
+    pointLike[i] = length <= options.mergeFraction * diagonal;
+  }
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    CreaseStroke& s = strokes[i];
+    if (pointLike[i]) {
+      s.curved = false;
+      continue;
+    }
     if (s.closed) {
       s.curved = true;
       continue;
@@ -45,6 +61,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   std::vector<int> strokeOfSegment;
   for (std::size_t s = 0; s < strokes.size(); ++s) {
     const CreaseStroke& stroke = strokes[s];
+    if (pointLike[s]) continue;
     std::vector<Eigen::Vector2d> pts = stroke.points;
     if (!stroke.curved && anyCurved && options.straightPieces > 1) {
       pts.clear();
@@ -90,6 +107,11 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);
   result.strokeLeftOut.assign(strokes.size(), false);
   for (int s : leftOut) result.strokeLeftOut[static_cast<std::size_t>(s)] = true;
+  for (std::size_t s = 0; s < strokes.size(); ++s)
+    if (pointLike[s]) {
+      result.strokeLeftOut[s] = true;
+      result.notes.push_back({strokes[s].element, "a stroke of no length (a point); left out"});
+    }
   std::set<int> usedStrokes;
   for (int source : arrangement.sourceOfSegment)
     if (source >= 0) usedStrokes.insert(strokeOfSegment[static_cast<std::size_t>(source)]);

@@ -11,7 +11,29 @@
 namespace devsurf::io {
 namespace {
 
-std::string hollerith(const std::string& s) { return std::to_string(s.size()) + "H" + s; }
+/// IGES text is ASCII (its columns are counted in bytes, and readers take bytes for characters):
+/// a UTF-8 character of a scene's name becomes one ASCII character, "×" an "x", others "?";
+/// control characters become spaces.
+std::string asciiText(const std::string& s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c < 0x80) {
+      out += c < 0x20 || c == 0x7F ? ' ' : static_cast<char>(c);
+      ++i;
+      continue;
+    }
+    const std::size_t length = c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 1;
+    out += s.compare(i, 2, "\xC3\x97") == 0 ? 'x' : '?';
+    i += std::min(length, s.size() - i);
+  }
+  return out;
+}
+
+std::string hollerith(const std::string& text) {
+  const std::string s = asciiText(text);
+  return std::to_string(s.size()) + "H" + s;
+}
 
 std::string igesNumber(double v) {
   if (v == 0.0) return "0.0";

@@ -86,6 +86,8 @@ PolyMesh polyMeshOf(const QuadMesh& mesh, bool triangles, const std::string& wha
     } catch (const std::runtime_error& e) {
       throw std::runtime_error(what + ": " + e.what());
     }
+    // An STL of no facets reads as an empty part, not as an error: say it instead.
+    if (t.rows() == 0) throw std::runtime_error(what + ": the surface has no triangle of positive area");
     for (Eigen::Index k = 0; k < t.rows(); ++k) addFace({t(k, 0), t(k, 1), t(k, 2)}, "triangle " + std::to_string(k));
   } else {
     for (Eigen::Index f = 0; f < mesh.quads.rows(); ++f) {

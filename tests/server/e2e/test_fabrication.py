@@ -211,7 +211,9 @@ class FabricationExportsOfEveryPreset(unittest.TestCase):
                     area += a
                 status, obj = self.export(demo, "obj")
                 self.assertEqual(status, 200)
-                reference = obj_area(obj.decode())
+                # The STL in millimetres (what slicers read), the OBJ in the scene's units.
+                mm = MM[scene.get("units", "mm")]
+                reference = obj_area(obj.decode()) * mm * mm
                 self.assertAlmostEqual(area / reference, 1.0, delta=1e-6)
 
     def test_every_preset_exports_a_dxf_whose_cut_outline_encloses_the_surfaces_area(self):

@@ -198,6 +198,24 @@ class BadInputAnswersTest(DaemonTestCase):
                 if path:
                     self.assertEqual(answer["error"]["path"], path, answer)
 
+    def test_a_route_that_does_not_exist_answers_a_json_error_naming_method_and_path(self):
+        # Unknown paths, a method a path does not take, an id no route pattern matches: each a
+        # 404 in the API's error form (it was a 404 with an empty body), and the daemon works on.
+        for method, path in (("PUT", "/api/jobs"), ("GET", "/api/imports"), ("DELETE", "/api/health"),
+                             ("GET", "/api/jobs/1'%20OR%201=1"), ("GET", "/api/no-such-thing")):
+            status, headers, raw = self.daemon.request(method, path)
+            self.assertEqual(status, 404, (method, path, raw[:200]))
+            self.assertTrue(headers.get("Content-Type", "").startswith("application/json"), (method, path, headers))
+            error = json.loads(raw)["error"]
+            self.assertEqual(error["code"], "not_found", error)
+            self.assertIn(method + " ", error["message"])
+            self.assertIn("/api/openapi.json", error["message"])
+        # An error a route answers keeps its own body.
+        status, _, body = self.daemon.json("GET", "/api/jobs/nope")
+        self.assertEqual(status, 404)
+        self.assertNotIn("no route answers", body["error"]["message"])
+        self.assertEqual(self.daemon.json("GET", "/api/health")[0], 200)
+
     def test_invalid_utf8_in_a_body_is_400_invalid_json_in_valid_json_without_the_bytes(self):
         body = b'{"format":"devsurf-scene","version":1,"name":"\xff\xfe' + b"A" * 5000 + b'"}'
         for route in ("/api/sessions", "/api/jobs"):

@@ -205,6 +205,26 @@ TEST(GuidedProjectionSolver, SummaryRecordsEveryIterationWithTimesAndTermResidua
   }
 }
 
+// A term's per-iteration constants are taken at the initial state before it is measured: a point
+// on its line has no hard residual at iteration 0, and the first step is judged against that (with
+// the constructor's foot (0, 0) it measured 0.5, and step control let a step break the row by 0.4).
+TEST(GuidedProjectionSolver, MeasuresTheInitialStateWithTheTermsConstantsTakenThere) {
+  Problem problem;
+  problem.addBlock("p", 2);
+  problem.x() << 0.3, 0.5;
+  problem.addTerm(std::make_unique<testing::LineFootTerm>("on the line", 0, 0.5), 1.0, Strength::Hard);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(2, 2);
+  problem.addTerm(std::make_unique<LinearRowsTerm>("pull", A, Eigen::Vector2d(0.9, 0.5)), 0.1, Strength::Soft);
+  GuidedProjectionSolver solver(problem);
+  SolverOptions options;
+  options.maxIterations = 3;
+  const SolveSummary summary = solver.solve(options);
+  EXPECT_EQ(summary.iterations[0].hardResidual, 0.0);
+  EXPECT_EQ(summary.iterations[0].hardResidualMax, 0.0);
+  EXPECT_LT(std::abs(problem.x()[1] - 0.5), 1e-12);  // the point slid along its line
+  EXPECT_GT(problem.x()[0], 0.3);
+}
+
 TEST(GuidedProjectionSolver, StopsOnResidualTolerance) {
   Problem problem;
   problem.addBlock("x", 1);

@@ -223,4 +223,24 @@ std::vector<ForwardingTerm*> forwardTerms(Problem& problem, Predicate fromXAlone
   return out;
 }
 
+/// A point (x_i, x_{i+1}) held on the horizontal line y = c as a tangent-distance row is: the
+/// foot point is a constant of the iteration, taken in linearizeAt(); r = (p − foot) · (0, 1).
+/// Before any linearizeAt() the foot is (0, 0), as a new terms::TangentDistanceTerm's is.
+class LineFootTerm final : public Term {
+ public:
+  LineFootTerm(std::string name, int i, double c) : Term(std::move(name)), i_(i), c_(c) {}
+  int numResiduals() const override { return 1; }
+  void jacobianStructure(std::vector<JacobianEntry>& e) const override { e.push_back({0, i_ + 1}); }
+  void linearizeAt(const Eigen::VectorXd& x) override { foot_ = Eigen::Vector2d(x[i_], c_); }
+  void evaluate(const Eigen::VectorXd& x, double* r, double* J) const override {
+    r[0] = x[i_ + 1] - foot_.y();
+    if (J) J[0] = 1.0;
+  }
+
+ private:
+  int i_;
+  double c_;
+  Eigen::Vector2d foot_ = Eigen::Vector2d::Zero();
+};
+
 }  // namespace devsurf::engine::testing

@@ -4,12 +4,14 @@
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <functional>
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -467,6 +469,21 @@ double CompositeModel::developmentLengthError() const {
   return den > 0 ? std::sqrt(num / den) : 0.0;
 }
 
+double CompositeModel::developmentEdgeStrainMax() const {
+  if (!hasDevelopment()) return 0.0;
+  const Eigen::VectorXd& x = problem_.x();
+  const int offset = problem_.layout().block(developmentBlock_).offset;
+  double worst = 0.0;
+  for (const CompositeDevelopment::Pair& p : devMesh_.pairs) {
+    if (p.kind == PairKind::Diagonal) continue;
+    const double l3 = (devSpatial_.point(x, p.v0) - devSpatial_.point(x, p.v1)).norm();
+    const double l2 = (x.segment<2>(offset + 2 * p.v0) - x.segment<2>(offset + 2 * p.v1)).norm();
+    const double base = l2 > 0.0 ? l2 : l3;  // a 2D edge of length 0: its whole 3D length, ratio 1
+    if (base > 0.0) worst = std::max(worst, std::abs(l3 - l2) / base);
+  }
+  return worst;
+}
+
 void CompositeModel::addDevelopmentTerms() {
   const CompositeTopology& topo = *topology_;
   const int n = devSpatial_.rows();
@@ -638,6 +655,11 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
   cp.vertices3d = d.vertices3d;
   std::map<int, Eigen::VectorXd> angles;
   for (const CreaseGeometry& c : creases(design_.developmentSamples)) angles[c.edge] = c.foldAngleDeg;
+  // The designed fold angles (design.foldAngles, at 100 %) per edge end: a crease of a sheet that
+  // is still flat (fold amount 0, or not yet folded) keeps its mountain or valley and its angle.
+  std::map<int, std::array<std::optional<double>, 2>> designed;
+  for (const FoldAngleTarget& t : design_.foldAngles)
+    if (t.angleDeg != 0.0 && (t.end == 0 || t.end == 1)) designed[t.edge][static_cast<std::size_t>(t.end)] = t.angleDeg;
   auto assign = [](double angle) {
     if (angle > 1e-6) return io::EdgeAssignment::Valley;
     if (angle < -1e-6) return io::EdgeAssignment::Mountain;
@@ -675,6 +697,15 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
           const int s = p.kind == PairKind::Spline ? p.segment : 0;
           angle = 0.5 * (a[std::min<Eigen::Index>(s, a.size() - 1)] + a[std::min<Eigen::Index>(s + 1, a.size() - 1)]);
           angle = std::clamp(angle, -180.0, 180.0);
+          const auto d = designed.find(p.edge);
+          if (d != designed.end() && (design_.foldAmount == 0.0 || assign(angle) == io::EdgeAssignment::Flat)) {
+            // Not folded (the slider at 0 %, or flat here): the designed angle, between the two
+            // ends' along an S edge.
+            const auto& [atStart, atEnd] = d->second;
+            const double f = a.size() > 1 ? std::clamp((s + 0.5) / static_cast<double>(a.size() - 1), 0.0, 1.0) : 0.5;
+            angle = atStart && atEnd ? (1.0 - f) * *atStart + f * *atEnd : atStart ? *atStart : *atEnd;
+            angle = std::clamp(angle, -180.0, 180.0);
+          }
           ce.assignment = assign(angle);
           if (ce.assignment == io::EdgeAssignment::Flat) angle = 0.0;
         }

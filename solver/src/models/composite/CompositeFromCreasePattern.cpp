@@ -131,6 +131,26 @@ CreasePatternComposite compositeFromCutPattern(const io::CreasePattern& pattern,
     members[b].clear();
   }
 
+  // A folded form whose creases fold against their letters (a file whose faces wind the other
+  // way, or whose M and V were exchanged): the folded form is what opens, and the notes say so.
+  {
+    int against = 0;
+    std::string first;
+    for (std::size_t e = 0; e < pattern.edges.size(); ++e) {
+      const io::EdgeAssignment a = pattern.edges[e].assignment;
+      if ((a != io::EdgeAssignment::Mountain && a != io::EdgeAssignment::Valley) || !measured[e] || std::abs(*measured[e]) < 1.0)
+        continue;
+      if ((a == io::EdgeAssignment::Valley) == (*measured[e] > 0.0)) continue;
+      if (++against <= 5)
+        first += std::string(first.empty() ? "" : ", ") + "edges_assignment[" + std::to_string(e) + "] " +
+                 (a == io::EdgeAssignment::Valley ? "V" : "M") + " folded by " + std::to_string(std::lround(*measured[e])) + "°";
+    }
+    if (against > 0)
+      result.notes.push_back({"edges_assignment", std::to_string(against) + " crease(s) fold against their letter in the "
+                                                  "folded form (" + first + (against > 5 ? ", …" : "") +
+                                                  "; + is valley): the folded form is kept, so they export as it folds them"});
+  }
+
   // The faces of the design, as vertex loops of the pattern.
   std::vector<std::vector<int>> loops;
   for (int f = 0; f < faceCount; ++f) {

@@ -98,6 +98,8 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
   const int V = static_cast<int>(d.mesh.rows());
   if (V < 3) failQuadMesh("mesh: at least 3 vertices are needed");
   if (!finiteRows(d.mesh)) failQuadMesh("mesh: every coordinate must be a finite number");
+  if (!((d.mesh.colwise().maxCoeff() - d.mesh.colwise().minCoeff()).norm() > 0.0))
+    failQuadMesh("mesh.vertices: they all lie at one point");
   if (d.unfolding.rows() == 0) {
     if (d.variable == VariableMeshes::Mesh)
       failQuadMesh("unfolding: required when only the mesh is variable (the unfolding is what it is bent from)");
@@ -105,6 +107,12 @@ void QuadMeshModel::validateDesign(const QuadMeshDesign& d) {
     if (d.unfolding.rows() != V)
       failQuadMesh("unfolding: " + std::to_string(d.unfolding.rows()) + " vertices, the mesh has " + std::to_string(V));
     if (!finiteRows(d.unfolding)) failQuadMesh("unfolding: every coordinate must be a finite number");
+    // An unfolding shrunk to a point (or a mesh) has no shape to bend from or to: every length
+    // and area of it is 0, and no solve gets away from there.
+    const double meshExtent = (d.mesh.colwise().maxCoeff() - d.mesh.colwise().minCoeff()).norm();
+    const double unfoldingExtent = (d.unfolding.colwise().maxCoeff() - d.unfolding.colwise().minCoeff()).norm();
+    if (!(unfoldingExtent > 1e-9 * meshExtent) || !(unfoldingExtent > 0.0))
+      failQuadMesh("unfolding.vertices: they all lie at one point (an unfolding needs the size of the sheet)");
   }
   if (d.control) {
     const long long refined = splineRefinement(*d.control).subdivision.rows();  // throws naming the field

@@ -100,6 +100,13 @@ void StripModel::validateDesign(StripDesign& design) {
   }
   if (degenerate(a.points) && degenerate(b.points))
     throw std::invalid_argument("a.points: a and b are both single points; the strip is degenerate");
+  {
+    // b on a: every ruling has length 0, a strip of no width (no surface to solve or export).
+    const double extent = (a.points.colwise().maxCoeff() - a.points.colwise().minCoeff()).norm() +
+                          (b.points.colwise().maxCoeff() - b.points.colwise().minCoeff()).norm();
+    if ((a.points - b.points).rowwise().norm().maxCoeff() <= 1e-12 * extent)
+      throw std::invalid_argument("b.points: b coincides with a; the strip has no width");
+  }
   const int n = static_cast<int>(a.points.rows());
   auto checkRef = [n](const ControlPointRef& r, const std::string& path) {
     if (r.index < 0 || r.index >= n)

@@ -165,6 +165,24 @@ TEST(IgesWriter, FollowsTheFixedColumnLayout) {
   EXPECT_NE(text.find("     128"), std::string::npos);
 }
 
+// A scene's name in UTF-8 ("40 × 40 sheet") reaches the global section as ASCII, one character
+// per character, so that the Hollerith counts and the 80 columns stay counts of bytes.
+TEST(IgesWriter, WritesNonAsciiNamesAsAscii) {
+  const std::string text = igesDocument({ruledSurface()}, {},
+                                        IgesHeader{"40 \xC3\x97 40 sheet \xE2\x80\x94 n\xC2\xB0 1.igs", "Jos\xC3\xA9", "o",
+                                                   "20261122.120000", "mm"});
+  for (const char c : text) EXPECT_TRUE(static_cast<unsigned char>(c) < 0x80) << "byte " << static_cast<int>(static_cast<unsigned char>(c));
+  EXPECT_NE(text.find("24H40 x 40 sheet ? n? 1.igs"), std::string::npos);
+  EXPECT_NE(text.find("4HJos?"), std::string::npos);
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = text.find('\n', start);
+    ASSERT_NE(end, std::string::npos);
+    EXPECT_EQ(end - start, 80u);
+    start = end + 1;
+  }
+}
+
 TEST(IgesWriter, RejectsInconsistentEntitiesNamingThem) {
   IgesSurface s = ruledSurface();
   s.knotsU.pop_back();

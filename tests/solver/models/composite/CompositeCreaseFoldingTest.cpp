@@ -112,6 +112,42 @@ TEST(CompositeCreaseFolding, ACurvedCreasePresetUnfoldsToFlatAndFoldsBack) {
   }
 }
 
+// An imported crease pattern exported before it is folded (fold amount 0) is the pattern a
+// cutter scores: its valley stays a valley with its designed angle, not a flat line.
+TEST(CompositeCreaseFolding, AFlatSheetsCreasePatternKeepsItsDesignedMountainsAndValleys) {
+  for (const double designed : {120.0, -75.0}) {
+    SCOPED_TRACE(designed);
+    CompositeDesign d = squareWithValleyDiagonal();
+    ASSERT_EQ(d.foldAngles.size(), 1u);
+    d.foldAngles[0].angleDeg = designed;
+    CompositeModel model(d);
+    auto diagonal = [&model]() {
+      const io::CreasePattern cp = model.creasePattern();
+      for (const io::CreaseEdge& e : cp.edges)
+        if (e.assignment != io::EdgeAssignment::Boundary) return e;
+      return io::CreaseEdge{};
+    };
+    const io::EdgeAssignment expected = designed > 0 ? io::EdgeAssignment::Valley : io::EdgeAssignment::Mountain;
+    io::CreaseEdge flat = diagonal();
+    EXPECT_EQ(flat.assignment, expected);
+    ASSERT_TRUE(flat.foldAngle);
+    EXPECT_NEAR(*flat.foldAngle, designed, 1e-9);
+    // Folded part way, the pattern says what the sheet does; back at 0 % the design again.
+    model.setFoldAmount(0.5);
+    model.solve(foldSliderSolve(40));
+    const io::CreaseEdge half = diagonal();
+    EXPECT_EQ(half.assignment, expected);
+    ASSERT_TRUE(half.foldAngle);
+    EXPECT_NEAR(*half.foldAngle, 0.5 * designed, 1.0);
+    model.setFoldAmount(0.0);
+    model.solve(foldSliderSolve(40));
+    flat = diagonal();
+    EXPECT_EQ(flat.assignment, expected);
+    ASSERT_TRUE(flat.foldAngle);
+    EXPECT_NEAR(*flat.foldAngle, designed, 1.0);
+  }
+}
+
 TEST(CompositeCreaseFolding, BadTargetsAreRefusedNamingTheField) {
   CompositeDesign d = squareWithValleyDiagonal();
   auto messageOf = [](const CompositeDesign& design) {

@@ -302,6 +302,10 @@ class CompositeModel {
   /// [development_length_error] sqrt(Σ(l3 − l2)²)/sqrt(Σ l3²) over all pairs (sampled edges and
   /// quad diagonals) of the sampled mesh (l3) and the development (l2). 0 without a development.
   double developmentLengthError() const;
+  /// [development_edge_strain_max] max |l3 − l2| / l2 over the sampled edges (the crease
+  /// pattern's edges: quad diagonals left out) — where developmentLengthError, weighted by l3²,
+  /// hides a short edge stretched by a few percent. 0 without a development.
+  double developmentEdgeStrainMax() const;
   /// Unfolds the current 3D sampled mesh face after face (BFS over faces through shared edges,
   /// each quad as two triangles keeping its edges and one diagonal), anchor0 at the origin and
   /// anchor1 on the +x axis; design units. What the development variables start from.
