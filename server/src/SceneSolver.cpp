@@ -622,7 +622,7 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
   if (quadMesh_) return quadMeshExport(format);
   if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step" &&
       format != "stl" && format != "dxf")
-    throw ExportUnavailable("format: expected json, obj, stl, iges, step, svg, dxf or fold, got \"" + format + "\"");
+    throw ExportUnavailable("format: expected json, obj, stl, iges, step, svg, dxf, png or fold, got \"" + format + "\"");
   if (format == "stl" || format == "dxf") return fabricationExport(format);
   if (format == "iges" || format == "step") {
     io::IgesHeader header;

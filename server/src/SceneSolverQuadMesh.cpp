@@ -85,7 +85,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
   if (format == "iges" || format == "step") {
     if (!initialQuadMesh_.control)
       throw ExportUnavailable("format: " + format + " exports B-spline surfaces; this quad_mesh scene is a mesh without "
-                              "a control net (use obj, unfolding_obj, svg or fold)");
+                              "a control net (use obj, unfolding_obj, stl, svg, dxf, fold or png)");
     std::vector<io::IgesSurface> surfaces;
     std::vector<io::IgesCurve> curves;
     igesEntities(surfaces, curves);
@@ -138,7 +138,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
       throw ExportFailed("format: " + format + ": the mesh in its current state cannot be written (" + e.what() + ")");
     }
   }
-  throw ExportUnavailable("format: expected json, obj, unfolding_obj, stl, svg, dxf, fold, or iges, step with a control "
+  throw ExportUnavailable("format: expected json, obj, unfolding_obj, stl, svg, dxf, fold, png, or iges, step with a control "
                           "net, for a quad_mesh scene, got \"" +
                           format + "\"");
 }
@@ -147,7 +147,7 @@ void SceneSolver::quadMeshIgesEntities(std::vector<io::IgesSurface>& surfaces) c
   const qm::QuadMeshModel& model = *quadMesh_;
   if (!initialQuadMesh_.control)
     throw ExportUnavailable("format: iges exports B-spline surfaces; a quad_mesh scene without a control net is a mesh "
-                            "(use obj, unfolding_obj, svg or fold)");
+                            "(use obj, unfolding_obj, stl, svg, dxf, fold or png)");
   const std::vector<qm::SplinePatchSurface> patches =
       qm::splinePatchSurfaces(*initialQuadMesh_.control, model.controlPoints());
   for (std::size_t k = 0; k < patches.size(); ++k) {

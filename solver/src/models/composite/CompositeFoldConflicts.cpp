@@ -69,7 +69,34 @@ std::vector<FoldConflict> foldConflicts(const CompositeDesign& design, const Com
   std::vector<FoldConflict> conflicts;
   for (int v = 0; v < numVertices; ++v) {
     const std::vector<int>& edges = edgesAt[static_cast<std::size_t>(v)];
-    if (topology.boundaryVertex()[static_cast<std::size_t>(v)] || bends[static_cast<std::size_t>(v)] || edges.empty()) continue;
+    if (topology.boundaryVertex()[static_cast<std::size_t>(v)] || edges.empty()) continue;
+    {
+      // Curved creases too: where exactly three creases fold, one of them curved (any other edge
+      // at v smooth, a proposed ruling), their tangent planes at v form a vertex of degree three,
+      // which folds only with one of them flat there: a crease that ends on a curved one (a T)
+      // cannot fold at that end, and its target pulls against the sheet (4° of −45° at 100 %).
+      int folds = 0, straightFolds = 0, curvedFolds = 0;
+      bool othersSmooth = true;
+      for (int e : edges) {
+        if (topology.edge(e).interior() && target[static_cast<std::size_t>(e)] != 0.0) {
+          ++folds;
+          ++(topology.edgeType(e) == EdgeType::Ruling ? straightFolds : curvedFolds);
+        } else if (design.edges[static_cast<std::size_t>(e)].crease != CreaseKind::Smooth) {
+          othersSmooth = false;
+        }
+      }
+      if (folds == 3 && othersSmooth && curvedFolds > 0) {
+        conflicts.push_back({v, straightFolds > 0
+                                    ? "a straight crease ends on a curved one here: three creases meeting at a point fold "
+                                      "only with one of them flat there, so it cannot fold (end it at the sheet's edge, "
+                                      "continue it across, or make it flat)"
+                                    : "three curved creases meet here: a point where three folds meet is rigid and does "
+                                      "not fold unless one of them stays flat (make one of them flat, or add a fourth "
+                                      "crease)"});
+        continue;
+      }
+    }
+    if (bends[static_cast<std::size_t>(v)]) continue;
     const bool allFold = std::all_of(edges.begin(), edges.end(), [&topology, &target](int e) {
       return topology.edge(e).interior() && topology.edgeType(e) == EdgeType::Ruling && target[static_cast<std::size_t>(e)] != 0.0;
     });

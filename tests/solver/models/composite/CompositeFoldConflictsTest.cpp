@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -70,6 +71,26 @@ TEST(CompositeFoldConflicts, ACreaseEndingOnAnotherMakesARigidPointOfThree) {
   ASSERT_EQ(conflicts.size(), 1u);
   EXPECT_EQ(conflicts[0].vertex, vertexAt(built.design, V2(100, 100)));
   EXPECT_NE(conflicts[0].reason.find("three creases"), std::string::npos);
+}
+
+// A straight crease drawn to end on a curved one (a T): at that point three creases fold, their
+// tangent planes a vertex of degree three, so the one that ends cannot fold there. Two curved
+// creases that do not meet, and the curved one alone, are not flagged.
+TEST(CompositeFoldConflicts, AStraightCreaseEndingOnACurvedOneIsARigidPointOfThree) {
+  std::vector<V2> arc;
+  for (int k = 0; k <= 16; ++k) {
+    const double x = 12.5 * k;
+    arc.emplace_back(x, 80.0 + 30.0 * (1.0 - std::pow((x - 100.0) / 100.0, 2)));
+  }
+  const DrawingComposite tee = sheetWith({conflictStroke(arc, M), conflictStroke({V2(100, 110), V2(100, 200)}, Vl)});
+  const std::vector<FoldConflict> conflicts = foldConflicts(tee.design);
+  ASSERT_EQ(conflicts.size(), 1u);
+  EXPECT_EQ(conflicts[0].vertex, vertexAt(tee.design, V2(100, 110)));
+  EXPECT_NE(conflicts[0].reason.find("ends on a curved one"), std::string::npos) << conflicts[0].reason;
+  EXPECT_TRUE(foldConflicts(sheetWith({conflictStroke(arc, M)}).design).empty());
+  std::vector<V2> lower = arc;
+  for (V2& p : lower) p.y() -= 50.0;
+  EXPECT_TRUE(foldConflicts(sheetWith({conflictStroke(arc, M), conflictStroke(lower, Vl)}).design).empty());
 }
 
 TEST(CompositeFoldConflicts, AFourCreasePointFoldsWithThreeOfOneKindAndOneOfTheOther) {
