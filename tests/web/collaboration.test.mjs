@@ -1,4 +1,5 @@
-// 3. Two browser contexts share a session through the edit link; 4. a view link cannot edit.
+// 3. Two browser contexts share a session through the edit link; 4. a view link cannot edit: a
+//    press on a point selects it and starts no drag (nothing is sent, no error comes back).
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { test } from 'node:test';
@@ -94,6 +95,9 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     const idx = first.scene.model.b.points.length - 1;
 
     const v = await ctx.page();
+    // Every message the view page sends: a view-only editor starts no drag, so sends none.
+    const sent = [];
+    v.on('websocket', (ws) => ws.on('framesent', ({ payload }) => sent.push(String(payload))));
     await h.openEditor(v, url.href);
     const sv = await h.state(v);
     assert.equal(sv.role, 'view');
@@ -104,19 +108,16 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
 
     const from = await h.controlPointPagePosition(v, 'b', idx);
     await h.dragBy(v, from, { dy: -60, steps: 12, pauseMs: 40 });
-    // Either the server answers forbidden (shown as an error), or the UI does not send the drag at all.
-    await h.poll(async () => (await h.state(v)).lastError, { timeout: 3000 });
-    await h.sleep(500);
+    await h.sleep(1000);
     const after = await h.state(v);
     const server = await daemon.session(id, viewToken);
-    if (after.lastError) {
-      assert.equal(after.lastError.code, 'forbidden', `lastError ${JSON.stringify(after.lastError)}`);
-      const msg = v.getByTestId('error-message');
-      await msg.first().waitFor({ state: 'visible' });
-      console.log(`view-only drag: forbidden, shown as ${JSON.stringify((await msg.first().textContent()).trim())}`);
-    } else {
-      console.log('view-only drag: the UI sent nothing (no error); checking the server did not change');
-    }
+    // The view page does not drag (a drag the server then refused ended in a "forbidden" toast):
+    // the press selects the point, no drag message leaves the page, no error comes back.
+    const drags = sent.filter((m) => /"type":"drag/.test(m));
+    assert.deepEqual(drags, [], 'the view page sent no drag');
+    assert.equal(after.lastError, null, `no error: ${JSON.stringify(after.lastError)}`);
+    assert.equal(await v.getByTestId('error-message').first().isVisible(), false, 'no error toast');
+    assert.ok(after.selection && after.selection.curve === 'b' && after.selection.index === idx, `the pressed point is selected: ${JSON.stringify(after.selection)}`);
     await h.screenshotPage(v, '04-view-only-after-drag');
     assert.equal(server.seq, seqBefore, 'the server applied no edit');
     assert.deepEqual(server.scene.model.b.points[idx], pointBefore, 'the control point did not move');

@@ -2,7 +2,8 @@
 //     SVG drawing (tests/data/svg) is imported through POST /api/imports; every FOLD file in
 //     tests/data/fold is imported through POST /api/imports and opens as a session; the FOLD
 //     project's crease-pattern example is chosen on the start page as a user would, opened, folded
-//     with the slider to 0 %, 50 % and 100 % and by Play, and exported as FOLD, which FOLD's
+//     with the slider to 0 %, 50 % and 100 % and by Play (paused at 30 % or more and played on:
+//     the amount shown never goes back), and exported as FOLD, which FOLD's
 //     reference library (npm fold) reads back: its development and folded form are the same sheet
 //     (edge lengths) and the valley is folded by the slider's amount of its 180°.
 //     An SVG drawing with two curved creases is dropped on the start page, folded by the slider
@@ -140,14 +141,34 @@ test('a crease pattern chosen on the start page folds with the slider and export
     assert.ok(Math.abs(key.edges_foldAngle[e] - 1.8 * percent) < 1, `${percent} %: the valley folds ${key.edges_foldAngle[e]}°`);
   }
 
-  // Play from 100 % starts over at 0 % and runs up to 100 %.
+  // Play from 100 % starts over at 0 %; Pause at 30 % or more holds the amount shown — the label
+  // read "0 %" until the release was solved, as the fold's iterates carry no fold_amount — and
+  // Play again runs on from there up to 100 %, the label never going back.
+  await page.evaluate(() => {
+    const label = document.querySelector('[data-testid="fold-amount"]');
+    window.foldLabels = [];
+    new MutationObserver(() => window.foldLabels.push(label.textContent)).observe(label, { childList: true, characterData: true, subtree: true });
+  });
+  const labels = () => page.evaluate(() => window.foldLabels.splice(0).map((t) => Number.parseInt(t, 10)));
   await page.getByTestId('fold-play').click();
-  await page.waitForFunction(() => document.querySelector('[data-testid="fold-play"]').textContent === 'Pause');
+  await page.waitForFunction(() => Number.parseInt(document.querySelector('[data-testid="fold-amount"]').textContent, 10) >= 30);
+  await labels();
+  await page.getByTestId('fold-play').click();
+  const paused = Number.parseInt(await page.getByTestId('fold-amount').textContent(), 10);
+  await h.waitQuiet(page, { quietMs: 800 });
+  const afterPause = await labels();
+  assert.ok(afterPause.every((p, k) => p >= 30 && (k === 0 || p >= afterPause[k - 1])) && afterPause.at(-1) === paused,
+    `up to Pause at ${paused} % and after it the label never goes back: ${afterPause.join(', ')}`);
+  assert.equal(Math.round(100 * (await h.state(page)).metrics.fold_amount), paused, 'the session stopped where Pause was pressed');
+  await page.getByTestId('fold-play').click();
   await page.waitForFunction(() => document.querySelector('[data-testid="fold-play"]').textContent === 'Play', null, { timeout: 60000 })
     .catch(async (e) => {
       throw new Error(`${e.message}; slider at ${await page.getByTestId('fold-amount').textContent()}; logs ${JSON.stringify(page.logs.slice(-5))}`);
     });
   await h.waitQuiet(page, { quietMs: 800 });
+  const played = await labels();
+  assert.ok(played.every((p, k) => p >= paused && (k === 0 || p >= played[k - 1])) && played.at(-1) === 100,
+    `Play runs on from ${paused} % to 100 %, never back: ${played.join(', ')}`);
   const m = (await h.state(page)).metrics;
   assert.equal(m.fold_amount, 1);
   assert.ok(m.fold_angle_error_max_deg < 1, `after Play: ${m.fold_angle_error_max_deg}°`);

@@ -1,7 +1,8 @@
 // 13. Drawing the crease pattern (issue 16, item 3): a blank sheet made on the start page opens
 //     as a flat composite with its drawing; on the crease-pattern board a curved valley crease is
 //     drawn from the left edge to the right edge (its ends snapped onto the outline), which splits
-//     the sheet into faces (2 sides, split again by proposed rulings) along folding S edges; relabelled mountain, undone back to valley; a
+//     the sheet into faces (2 sides, split again by proposed rulings) along folding S edges; relabelled mountain, undone back to valley;
+//     its fold angle typed and entered (one edit, one undo step), undone; a
 //     straight crease ending in the middle of the sheet is refused by the server (an error toast,
 //     the drawing unchanged); the Fold slider then folds the design to 100 %, and the FOLD export
 //     (read with npm fold) has the curved valley folded by about 90°.
@@ -99,6 +100,20 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
     await h.waitState(page, (s, i) => s.scene.model.drawing.strokes[i].assignment === 'V', index, { what: 'a valley again after undo' });
     assert.equal((await h.state(page)).scene.model.drawing.strokes.length, outline.length + 1);
 
+    // A fold angle typed and entered is one edit and one undo step (Enter and the field's change
+    // both sent it: seq went up by two and the first undo seemed to do nothing); undone, 90° again.
+    const typedFrom = await h.state(page);
+    await page.getByTestId('crease-angle').fill('60');
+    await page.getByTestId('crease-angle').press('Enter');
+    await h.waitState(page, (s, i) => s.scene.model.drawing.strokes[i].fold_angle === 60, index, { what: 'the valley at 60°' });
+    await page.getByTestId('crease-angle').blur();
+    await h.sleep(500);
+    const typed = await h.state(page);
+    assert.equal(typed.seq, typedFrom.seq + 1, `one edit for the typed angle: seq ${typedFrom.seq} → ${typed.seq}`);
+    assert.equal(typed.undo.available, typedFrom.undo.available + 1, `one undo step: ${JSON.stringify(typedFrom.undo)} → ${JSON.stringify(typed.undo)}`);
+    await page.getByTestId('undo').click();
+    await h.waitState(page, (s, i) => s.scene.model.drawing.strokes[i].fold_angle === 90, index, { what: 'the valley at 90° after one undo' });
+
     // A straight crease ending in the middle of the sheet: the server refuses it (a toast), the
     // drawing stays.
     await page.getByTestId('crease-tool-line').click();
@@ -185,6 +200,8 @@ async function openBlankSheet(page, daemon) {
   await h.waitState(page, (s) => s.kind === 'composite' && !!(s.scene && s.scene.model.drawing), undefined, { what: 'a composite with a drawing' });
   const start = await h.state(page);
   assert.equal(start.scene.units ?? 'mm', 'mm', 'the blank sheet is drawn in millimetres');
+  // The drag grid follows the sheet from the start: a fiftieth of its 250 mm diagonal.
+  assert.equal(await page.evaluate(() => document.querySelector('[data-testid="snap-step"]').value), '5', 'grid step of a 200 × 150 mm sheet');
   const outline = strokesOf(start);
   const xs = outline.flatMap((s) => s.points.map((p) => p[0]));
   const ys = outline.flatMap((s) => s.points.map((p) => p[1]));
@@ -599,7 +616,8 @@ test('two straight creases drawn across each other: the editor says the crossing
 //      seconds): it says "Creating…" and is disabled where the user clicked (the page's own busy
 //      line is below the fold at 1280 × 720), and stays so while the editor opens, so a second
 //      click or Enter in a size field makes no second sheet; an import that fails gives the button
-//      back with the error shown. The import is answered by the test (a route): refused once, then
+//      back with the error shown. The sheet is made in cm (300 × 100): it opens in cm, its numbers
+//      as typed, the drag grid a fiftieth of its diagonal. The import is answered by the test (a route): refused once, then
 //      held back 1.5 s, so each state is seen, not raced.
 test('the blank-sheet button says it is creating while the import runs, and a second click makes no second sheet', { timeout: 120000 }, () =>
   ctx.guard('blank-sheet-busy', async () => {
@@ -635,7 +653,11 @@ test('the blank-sheet button says it is creating while the import runs, and a se
     assert.equal(imports, 1);
     assert.equal(sessions, 0);
 
-    // Held back: busy from the click until the editor is open.
+    // Held back: busy from the click until the editor is open. This sheet is 300 × 100 cm: it
+    // opens in cm, its numbers as typed, the drag grid a fiftieth of its diagonal (316 cm: 5).
+    await page.getByTestId('blank-width').fill('300');
+    await page.getByTestId('blank-height').fill('100');
+    await page.getByTestId('blank-units').selectOption('cm');
     refuse = false;
     await button.click();
     await page.waitForFunction(() => {
@@ -651,4 +673,11 @@ test('the blank-sheet button says it is creating while the import runs, and a se
     assert.equal(imports, 2, 'one import for the one sheet');
     assert.equal(sessions, 1, 'one session for the one sheet');
     await page.unroute('**/api/imports*');
+    const sheet = await h.state(page);
+    assert.equal(sheet.scene.units, 'cm', 'the sheet keeps the unit it was made in');
+    const points = strokesOf(sheet).flatMap((s) => s.points);
+    const extent = (k) => Math.max(...points.map((p) => p[k])) - Math.min(...points.map((p) => p[k]));
+    assert.ok(Math.abs(extent(0) - 300) < 1e-6 && Math.abs(extent(1) - 100) < 1e-6, `300 × 100 in cm: ${extent(0)} × ${extent(1)}`);
+    assert.equal(await page.getByTestId('units-select').inputValue(), 'cm');
+    assert.equal(await page.evaluate(() => document.querySelector('[data-testid="snap-step"]').value), '5', 'grid step of a 300 × 100 cm sheet');
   }));

@@ -1,6 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { EditorState, RESIDUAL_HISTORY_LIMIT } from '../src/state/EditorState.js';
-import { DragCommand, SetSolverCommand } from '../src/commands/index.js';
+import { DragCommand, FoldCommand, FoldEndCommand, SetSolverCommand } from '../src/commands/index.js';
+import { sessionFoldAmount } from '../src/ui/FoldPanel.js';
 import { MAX_DECADES, decadeRange, decadeSplits } from '../src/ui/logScale.js';
 
 describe('EditorState', () => {
@@ -29,6 +30,26 @@ describe('EditorState', () => {
     expect(s.residualHistory.x.length).toBe(RESIDUAL_HISTORY_LIMIT);
     expect(s.residualHistory.terms.handle.length).toBe(RESIDUAL_HISTORY_LIMIT);
     expect(s.iterateCount).toBe(RESIDUAL_HISTORY_LIMIT + 12);
+  });
+
+  it('takes the amount of an applied fold as the session\'s: the fold\'s iterates carry no fold_amount', () => {
+    const s = new EditorState();
+    s.applyState({ type: 'state', session: 'x', role: 'edit', seq: 1, scene: { model: { kind: 'composite', fold_amount: 0 } }, metrics: { fold_amount: 0 } });
+    const shown = [];
+    s.on('metrics', (m) => shown.push(sessionFoldAmount(m, s.scene)));
+    s.applyAck({ type: 'ack', op: 1, seq: 2 }, new FoldCommand(0.4));
+    s.applyIterate({ type: 'iterate', seq: 2, iteration: 1, residuals: {}, metrics: { face_flatness_max: 1e-9 } });
+    expect(s.metrics.fold_amount).toBe(0.4);
+    s.applyAck({ type: 'ack', op: 2, seq: 3 }, new FoldCommand(0.94));
+    s.applyIterate({ type: 'iterate', seq: 3, iteration: 1, residuals: {}, metrics: { face_flatness_max: 1e-9 } });
+    s.applyAck({ type: 'ack', op: 3, seq: 4 }, new FoldEndCommand());
+    expect(sessionFoldAmount(s.metrics, s.scene)).toBe(0.94);
+    // A collaborator's fold, then the solved release (its metrics have the settled amount).
+    s.applyEdit({ type: 'edit', seq: 5, by: 2, edit: { type: 'fold', amount: 0.3 } });
+    expect(s.metrics.fold_amount).toBe(0.3);
+    s.applySolved({ type: 'solved', seq: 6, reason: 'max_iterations', iterations: 5, metrics: { fold_amount: 0.3 } });
+    expect(shown.filter((a) => a === 0)).toEqual([]);
+    expect(shown).toEqual([0.4, 0.4, 0.94, 0.94, 0.3, 0.3]);
   });
 
   it('notes the undo step a drag starts (drags send no update)', () => {

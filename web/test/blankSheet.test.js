@@ -1,21 +1,26 @@
 import { describe, expect, it } from 'vitest';
-import { BLANK_DEFAULT, blankSheetName, blankSheetSvg, checkBlankSheet } from '../src/ui/blankSheet.js';
+import { BLANK_DEFAULT, blankSheetImport, blankSheetName, blankSheetSvg, checkBlankSheet } from '../src/ui/blankSheet.js';
 
 describe('a blank sheet', () => {
-  it('is the SVG of a rectangle outline, its size in the width and height attributes', () => {
+  it('is the SVG of a rectangle outline, its numbers as typed', () => {
     const svg = blankSheetSvg(200, 150, 'mm');
     expect(svg).toBe('<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="150mm" viewBox="0 0 200 150">\n'
       + '  <rect x="0" y="0" width="200" height="150" fill="none" stroke="#000" stroke-width="0.5"/>\n</svg>\n');
     expect(BLANK_DEFAULT).toEqual({ width: 200, height: 150, units: 'mm' });
   });
 
-  it('carries other units in its width and height (what the import converts to millimetres)', () => {
+  it('keeps the typed numbers in other units: one user unit reads as one, the import is told the unit', () => {
+    // The SVG reader converts to millimetres and the import's `units` keeps the numbers it read:
+    // a width of "20cm" would make a scene of 200 labelled cm.
     const cm = blankSheetSvg(20, 15, 'cm');
-    expect(cm).toContain('width="20cm" height="15cm" viewBox="0 0 20 15"');
-    expect(cm).toContain('<rect x="0" y="0" width="20" height="15" fill="none" stroke="#000"');
-    expect(blankSheetSvg(8.5, 11, 'in')).toContain('width="8.5in" height="11in" viewBox="0 0 8.5 11"');
-    expect(blankSheetSvg(1.2, 0.8, 'm')).toContain('width="1.2m" height="0.8m" viewBox="0 0 1.2 0.8"');
+    expect(cm).toContain('width="20mm" height="15mm" viewBox="0 0 20 15"');
+    expect(cm).toContain('<rect x="0" y="0" width="20" height="15" fill="none" stroke="#000" stroke-width="0.05"/>');
+    expect(blankSheetSvg(8.5, 11, 'in')).toContain('width="8.5mm" height="11mm" viewBox="0 0 8.5 11"');
+    expect(blankSheetSvg(1.2, 0.8, 'm')).toContain('width="1.2mm" height="0.8mm" viewBox="0 0 1.2 0.8"');
     expect(blankSheetSvg(0.1 + 0.2, 1, 'mm')).toContain('width="0.3mm"');
+    expect(blankSheetImport(300, 100, 'cm')).toEqual({ svg: blankSheetSvg(300, 100, 'cm'), name: 'Blank sheet 300 × 100 cm', units: 'cm' });
+    expect(blankSheetImport(200, 150, 'mm').units).toBe('mm');
+    expect(() => blankSheetImport(0, 1, 'cm')).toThrow(/width/);
   });
 
   it('refuses sizes that are not positive numbers, or too large, naming the field', () => {

@@ -1,5 +1,6 @@
 import { describe, expect, it } from 'vitest';
 import { constrainedDragPosition, defaultGridStep, DRAG_CONSTRAINTS } from '../src/view/dragConstraint.js';
+import { drawingDiagonal } from '../src/geometry/creaseDrawing.js';
 
 const norm = (v) => { const l = Math.hypot(...v); return v.map((x) => x / l); };
 
@@ -64,10 +65,42 @@ describe('constrainedDragPosition', () => {
 });
 
 describe('defaultGridStep', () => {
-  it('is 1, 2 or 5 times a power of ten near a fiftieth of the size', () => {
+  it('is 1, 2 or 5 times a power of ten nearest a fiftieth of the size', () => {
     expect(defaultGridStep(200)).toBe(5);
-    expect(defaultGridStep(3)).toBe(0.1);
+    expect(defaultGridStep(250)).toBe(5);
+    expect(defaultGridStep(3)).toBe(0.05);
     expect(defaultGridStep(1)).toBe(0.02);
+    expect(defaultGridStep(Math.hypot(3000, 1000))).toBe(50);
+    expect(defaultGridStep(Math.hypot(300, 100))).toBe(5);
+    expect(defaultGridStep(0.04)).toBe(0.001);
     expect(defaultGridStep(0)).toBe(1);
+  });
+
+  it('keeps its step when the size changes a little (a sheet folding): no jump from 5 to 10', () => {
+    expect(defaultGridStep(251)).toBe(5);
+    expect(defaultGridStep(240)).toBe(5);
+    for (let size = 1; size < 1e4; size *= 1.07) {
+      const step = defaultGridStep(size);
+      expect(step / (size / 50)).toBeGreaterThan(0.6);
+      expect(step / (size / 50)).toBeLessThan(1.6);
+    }
+  });
+});
+
+describe('drawingDiagonal', () => {
+  const sheet = (w, ht, creases = []) => ({ model: { kind: 'composite', drawing: { strokes: [
+    { assignment: 'B', points: [[0, 0], [w, 0], [w, ht], [0, ht]], closed: true }, ...creases] } } });
+
+  it('is the diagonal of the drawn sheet, whatever the surface does', () => {
+    expect(drawingDiagonal(sheet(200, 150))).toBe(250);
+    expect(drawingDiagonal(sheet(200, 150, [{ assignment: 'V', points: [[0, 75], [100, 90], [200, 75]], curved: true }]))).toBe(250);
+    expect(defaultGridStep(drawingDiagonal(sheet(3000, 1000)))).toBe(50);
+    expect(defaultGridStep(drawingDiagonal(sheet(200, 150)))).toBe(5);
+  });
+
+  it('is null for a scene without a drawing (the surface then gives the size)', () => {
+    expect(drawingDiagonal(null)).toBeNull();
+    expect(drawingDiagonal({ model: { kind: 'strip' } })).toBeNull();
+    expect(drawingDiagonal({ model: { kind: 'composite', drawing: { strokes: [] } } })).toBeNull();
   });
 });

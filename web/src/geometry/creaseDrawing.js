@@ -37,6 +37,25 @@ export function drawingStrokes(scene) {
   return d && Array.isArray(d.strokes) ? d.strokes : null;
 }
 
+/**
+ * The diagonal of the sheet a scene is drawn on (the bounding box of its drawing's points, in
+ * scene units), or null for a scene without a drawing. Folding does not change it.
+ */
+export function drawingDiagonal(scene) {
+  const strokes = drawingStrokes(scene);
+  if (!strokes) return null;
+  let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
+  for (const s of strokes) {
+    for (const p of s.points || []) {
+      if (!Number.isFinite(p[0]) || !Number.isFinite(p[1])) continue;
+      x0 = Math.min(x0, p[0]); x1 = Math.max(x1, p[0]);
+      y0 = Math.min(y0, p[1]); y1 = Math.max(y1, p[1]);
+    }
+  }
+  const d = Math.hypot(x1 - x0, y1 - y0);
+  return d > 0 && Number.isFinite(d) ? d : null;
+}
+
 /** The fold angle magnitude of a stroke (degrees): |fold_angle|, 180 for M/V without, undefined for others. */
 export function foldAngleMagnitude(stroke) {
   if (!stroke || (stroke.assignment !== 'M' && stroke.assignment !== 'V')) return undefined;

@@ -291,10 +291,23 @@ export class EditorState {
     this.emit('undo', this.undo);
   }
 
+  /**
+   * The fold amount a `fold` applied (ours acknowledged, or a collaborator's edit) is the session's
+   * now: the iterates that follow carry no `fold_amount` in their metrics (only `state`, `update`
+   * and `solved` do), and without this the metrics would keep the amount from before the fold.
+   */
+  _noteFoldAmount(type, amount) {
+    if (type !== 'fold' || typeof amount !== 'number' || !Number.isFinite(amount)) return;
+    if (this.metrics && this.metrics.fold_amount === amount) return;
+    this.metrics = { ...(this.metrics || {}), fold_amount: amount };
+    this.emit('metrics', this.metrics);
+  }
+
   applyEdit(msg) {
     this._seenSeq(msg.seq);
     const e = msg.edit || {};
     this._noteDragHistory(e.type);
+    this._noteFoldAmount(e.type, e.amount);
     if (e.type === 'set_solver') {
       const s = { ...this.settings };
       if (e.drag_iterations !== undefined) s.drag_iterations = e.drag_iterations;
@@ -313,7 +326,10 @@ export class EditorState {
   /** Our own command was applied (ProtocolClient matched the ack to it). */
   applyAck(msg, command) {
     this._seenSeq(msg.seq);
-    if (command) this._noteDragHistory(command.type);
+    if (command) {
+      this._noteDragHistory(command.type);
+      this._noteFoldAmount(command.type, command.amount);
+    }
     if (command && command.type === 'set_solver') {
       const s = { ...this.settings };
       if (command.drag_iterations !== undefined) s.drag_iterations = command.drag_iterations;

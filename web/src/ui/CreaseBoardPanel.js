@@ -12,7 +12,7 @@
 // off the sheet are refused. Every edit is a command (draw_crease, erase_crease, relabel_crease,
 // reshape_crease) the server answers with an `update` of the scene, or an error (toast).
 
-import { h } from './dom.js';
+import { formatFixed, h } from './dom.js';
 import { CreaseBoard } from '../view/CreaseBoard.js';
 import {
   ASSIGNMENT_NAMES, DRAW_ASSIGNMENTS, DrawCreaseCommand, EraseCreaseCommand, RelabelCreaseCommand, ReshapeCreaseCommand,
@@ -38,6 +38,22 @@ const PICK_PX = 8;
 /** A press this close to the last placed point is a double-click's second press, not a point (px). */
 const SAME_POINT_PX = 3;
 
+/**
+ * Which toolbar controls are off: a view-only editor changes nothing (not even the defaults of new
+ * creases, which it cannot draw), the outline has no assignment, and only mountain and valley
+ * creases have a fold angle.
+ * @param {{editable: boolean, crease: boolean, outline: boolean, assignment: string}} shown
+ *   crease/outline: what is selected; assignment: the selected crease's or the new creases'
+ */
+export function boardControlStates({ editable, crease, outline, assignment }) {
+  const folds = assignment === 'M' || assignment === 'V';
+  return {
+    assignmentDisabled: outline || !editable,
+    angleDisabled: outline || !folds || !editable,
+    editsDisabled: !editable || !crease,
+  };
+}
+
 export class CreaseBoardPanel {
   /**
    * @param {object} deps {host (element the board covers, positioned), sidebar, state, send, errorSlots}
@@ -54,6 +70,7 @@ export class CreaseBoardPanel {
     this.drag = null;      // {index, point, points, start, moved}
     this.pending = [];     // draws sent, not yet applied
     this.edit = null;      // a reshape sent, shown until the scene comes
+    this.relabelSent = null;  // {index, assignment, angle} of a relabel sent, until the scene comes
     this.defaults = { assignment: 'V', angle: DEFAULT_FOLD_ANGLE };
     this.strokes = [];
 
@@ -72,8 +89,8 @@ export class CreaseBoardPanel {
         h('span', { class: 'assign-swatch', style: { background: STROKE_STYLES[a].color } }), a)]));
     this.angleInput = h('input', { type: 'number', class: 'input small crease-angle', min: '1', max: '180', step: 'any', value: String(DEFAULT_FOLD_ANGLE),
       testid: 'crease-angle', 'aria-label': 'Fold angle (degrees)', title: 'Fold angle in degrees (mountain and valley creases)' });
+    // 'change' comes on Enter and when the field loses focus with a new value: one edit per value.
     this.angleInput.addEventListener('change', () => this.chooseAngle());
-    this.angleInput.addEventListener('keydown', (e) => { if (e.key === 'Enter') this.chooseAngle(); });
     this.targetLabel = h('span', { class: 'small crease-target', testid: 'crease-target' });
     this.deleteButton = h('button', { class: 'btn small', testid: 'crease-delete', title: 'Erase the selected crease (Delete)', onclick: () => this.eraseSelected() }, 'Delete');
     this.removePointButton = h('button', { class: 'btn small', testid: 'crease-remove-point', title: 'Remove the selected point of the crease (Alt-click a point)', onclick: () => this.removePoint(this.selectedPoint) }, 'Remove point');
@@ -167,6 +184,7 @@ export class CreaseBoardPanel {
     this.strokes = strokes;
     this.pending = [];
     this.edit = null;
+    this.relabelSent = null;
     if (this.selected !== null && !strokes[this.selected]) this._select(null);
     const creases = strokes.filter((s) => s.assignment !== 'B').length;
     const units = (st.scene && st.scene.units) || 'mm';  // absent = mm (scene schema)
@@ -182,6 +200,7 @@ export class CreaseBoardPanel {
     if (!command || !String(command.source || '').startsWith('crease-board')) return;
     this.pending = [];
     this.edit = null;
+    this.relabelSent = null;
     this._render();
   }
 
@@ -237,20 +256,20 @@ export class CreaseBoardPanel {
     } else {
       this.targetLabel.textContent = 'New creases:';
     }
+    const controls = boardControlStates({ editable, crease: !!crease, outline: !!outline, assignment });
     for (const [a, b] of Object.entries(this.assignButtons)) {
       b.setAttribute('aria-pressed', String(!outline && a === assignment));
-      b.disabled = outline || (crease && !editable);
+      b.disabled = controls.assignmentDisabled;
     }
-    const folds = assignment === 'M' || assignment === 'V';
     if (document.activeElement !== this.angleInput || this._shownFor !== this.selected) {
       this.angleInput.value = angle !== undefined ? String(+angle.toFixed(3)) : '';
     }
     this._shownFor = this.selected;
-    this.angleInput.disabled = outline || !folds || (crease && !editable);
+    this.angleInput.disabled = controls.angleDisabled;
     this.deleteButton.hidden = !crease;
-    this.deleteButton.disabled = !editable;
+    this.deleteButton.disabled = controls.editsDisabled;
     this.removePointButton.hidden = !crease || this.selectedPoint === null;
-    this.removePointButton.disabled = !editable;
+    this.removePointButton.disabled = controls.editsDisabled;
   }
 
   chooseAssignment(a) {
@@ -263,7 +282,7 @@ export class CreaseBoardPanel {
     }
     if (!this.editable || crease.assignment === a) return;
     const angle = a === 'M' || a === 'V' ? foldAngleMagnitude(crease) || this.defaults.angle : undefined;
-    this._sendSafely(() => new RelabelCreaseCommand(this.selected, a, angle, { source: 'crease-board:relabel' }));
+    this._sendRelabel(a, angle);
   }
 
   chooseAngle() {
@@ -278,7 +297,20 @@ export class CreaseBoardPanel {
       return;
     }
     if (!this.editable || (crease.assignment !== 'M' && crease.assignment !== 'V') || angle === foldAngleMagnitude(crease)) return;
-    this._sendSafely(() => new RelabelCreaseCommand(this.selected, crease.assignment, angle, { source: 'crease-board:relabel' }));
+    this._sendRelabel(crease.assignment, angle);
+  }
+
+  /**
+   * Relabels the selected crease, unless the same relabel is already on its way: the scene that
+   * answers it has not come yet, so the crease still shows its old label or angle (Enter and the
+   * field's change, a second click on M), and a second one would be a second undo step.
+   */
+  _sendRelabel(assignment, angle) {
+    const index = this.selected;
+    const sent = this.relabelSent;
+    if (sent && sent.index === index && sent.assignment === assignment && sent.angle === angle) return;
+    const command = this._sendSafely(() => new RelabelCreaseCommand(index, assignment, angle, { source: 'crease-board:relabel' }));
+    if (command) this.relabelSent = { index, assignment, angle };
   }
 
   eraseSelected() {
@@ -378,7 +410,7 @@ export class CreaseBoardPanel {
   _pointerMove(e) {
     const p = this._sheetPoint(e);
     if (!p) return;
-    this.coords.textContent = `x ${p[0].toFixed(1)}  y ${p[1].toFixed(1)} ${this.units || ''}`;
+    this.coords.textContent = `x ${formatFixed(p[0], 1)}  y ${formatFixed(p[1], 1)} ${this.units || ''}`;
     if (this.drag) {
       const d = this.drag;
       if (!d.moved && Math.hypot(e.clientX - d.start[0], e.clientY - d.start[1]) < 3) return;

@@ -15,6 +15,7 @@ import { DevelopmentView } from '../view/DevelopmentView.js';
 import { SolverPanel } from './SolverPanel.js';
 import { FoldPanel } from './FoldPanel.js';
 import { CreaseBoardPanel } from './CreaseBoardPanel.js';
+import { drawingDiagonal } from '../geometry/creaseDrawing.js';
 import { ResidualPlot } from './ResidualPlot.js';
 import { HelpOverlay } from './HelpOverlay.js';
 import { GroupRotateControls } from './GroupRotateControls.js';
@@ -183,7 +184,8 @@ export class Editor {
         this.send(new DragCommand(t, position, { source: 'selection:move' }));
         this.send(new DragEndCommand(t, undefined, { source: 'selection:move' }));
       },
-      designSize: () => this.viewport.designSize(),
+      // A sheet drawn flat keeps its size as it folds: the grid follows the sheet, else the surface.
+      designSize: () => drawingDiagonal(st.scene) ?? this.viewport.designSize(),
     });
     // Composites: insert or remove a control point of the selected S-edge point.
     this.curvePoints = new CurvePointControls(this.selectionPanel.root, {
@@ -300,6 +302,7 @@ export class Editor {
     // view follows when the sheet leaves it.
     else if (this.foldPanel && this.foldPanel.recentlyFolding() && this.viewport.surfaceOutsideView()) this.viewport.fit();
     this._updateLegend();
+    this.selectionPanel.followDesignSize();
     this.viewport.renderNow();
     // Page-load measurements (bench/page_load.mjs, CONTRACT.md): the first surface drawn.
     if (!this.firstSurfaceMarked && this.viewport.renderer && typeof performance !== 'undefined' && performance.mark) {

@@ -2,7 +2,9 @@
 // fold angles (100 %), driven by the solver. Moving the slider sends FoldCommands at most once per
 // animation frame (latest wins on the server too) and a FoldEndCommand when it is let go; Play
 // animates the amount up to 100 % (from 0 when it is there already), Pause stops wherever it is.
-// The position follows the session (fold_amount in the metrics) unless this editor is moving it.
+// The position follows the session (fold_amount in the metrics) unless this editor is moving it,
+// or has let go and its fold_end is not yet answered: the folds sent before it are answered first,
+// so from its answer on the session's amount is the one this editor last showed.
 
 import { FoldCommand, FoldEndCommand } from '../commands/FoldCommand.js';
 import { h } from './dom.js';
@@ -25,8 +27,10 @@ export class FoldPanel {
     this.state = state;
     this.send = send;
     this.moving = false;   // this editor is moving the slider (by hand or playing)
+    this.letGo = null;     // the FoldEndCommand of this editor's last gesture, until it is answered
     this.playing = false;
     this.pending = null;   // amount to send at the next frame
+    this.playUnsent = null;  // amount Play has shown and not sent yet
     this.raf = 0;
     this.slider = h('input', { type: 'range', min: '0', max: '100', step: '1', value: '100', class: 'fold-slider',
       testid: 'fold-slider', 'aria-label': 'Fold amount (%)' });
@@ -48,7 +52,16 @@ export class FoldPanel {
       this.conflicts,
       h('p', { class: 'muted small' }, '0 %: the flat sheet · 100 %: the design\'s fold angles. The solver keeps every state developable; the first move takes the current folds as 100 %.'));
     parent.appendChild(this.root);
+    // A fresh state (a re-join) is the session's own: a let-go sent before it is not waited for.
+    state.on('session', () => { this.letGo = null; });
     for (const ev of ['scene', 'session', 'metrics']) state.on(ev, () => this.render());
+    const answered = ({ command }) => {
+      if (!command || command !== this.letGo) return;
+      this.letGo = null;
+      this.render();
+    };
+    state.on('ack', answered);
+    state.on('error', answered);
     state.on('geometry', ({ geometry }) => this.showConflicts(geometry && geometry.kind === 'composite' ? geometry.fold_conflicts : null));
     this.render();
   }
@@ -78,7 +91,7 @@ export class FoldPanel {
     this.slider.disabled = !editable;
     this.playButton.disabled = !editable;
     this.playButton.textContent = this.playing ? 'Pause' : 'Play';
-    if (this.moving) return;
+    if (this.moving || this.letGo) return;
     const amount = sessionFoldAmount(st.metrics, st.scene);
     this.slider.value = String(Math.round(amount * 100));
     this._showAmount(amount);
@@ -108,7 +121,9 @@ export class FoldPanel {
     if (this.raf) cancelAnimationFrame(this.raf);
     this.raf = 0;
     this._flush();
-    this.send(new FoldEndCommand({ source: 'fold:amount' }));
+    const letGo = new FoldEndCommand({ source: 'fold:amount' });
+    this.letGo = letGo;
+    this.send(letGo);
     this.moving = false;
     this.endedAt = Date.now();
   }
@@ -137,10 +152,11 @@ export class FoldPanel {
       last = now;
       this.slider.value = String(Math.round(amount * 100));
       this._showAmount(amount);
+      this.playUnsent = amount;
       // At most FOLD_PLAY_RATE messages a second (the server coalesces, but every message it
       // takes streams geometry back), and always the last one.
       if (amount >= 1 || now - lastSent >= 1000 / FOLD_PLAY_RATE) {
-        this.send(new FoldCommand(amount, { source: 'fold:amount' }));
+        this._sendPlayed();
         lastSent = now;
       }
       if (amount >= 1) {
@@ -149,16 +165,32 @@ export class FoldPanel {
       }
       this.playRaf = requestAnimationFrame(step);
     };
-    this.send(new FoldCommand(amount, { source: 'fold:amount' }));
+    this.playUnsent = amount;
+    this._sendPlayed();
     this.playRaf = requestAnimationFrame(step);
   }
 
-  /** Stops playing; `settle` ends the gesture (fold_end). */
+  /** Sends the amount Play shows when it has not been sent yet. */
+  _sendPlayed() {
+    if (this.playUnsent === null) return;
+    const amount = this.playUnsent;
+    this.playUnsent = null;
+    this.send(new FoldCommand(amount, { source: 'fold:amount' }));
+  }
+
+  /**
+   * Stops playing; `settle` ends the gesture (fold_end) where the slider shows it: the amount
+   * shown since the last message goes first, so the session stops where Pause was pressed.
+   */
   pause(settle) {
     this.playing = false;
     if (this.playRaf) cancelAnimationFrame(this.playRaf);
     this.playRaf = 0;
-    if (settle) this._end();
+    if (settle) {
+      this._sendPlayed();
+      this._end();
+    }
+    this.playUnsent = null;
     this.render();
   }
 }

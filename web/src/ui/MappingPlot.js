@@ -4,7 +4,7 @@
 
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';
-import { h, clear } from './dom.js';
+import { h, clear, formatSignificant } from './dom.js';
 
 export const MAPPING_COLORS = { initial: '#8d99ae', sigma: '#ffd166' };
 
@@ -71,7 +71,7 @@ export class MappingPlot {
     const m = this.buffers.mapping;
     if (!m) return;
     const data = mappingColumns(m);
-    this.change.textContent = `max |σ − t| ${mappingChange(data).toPrecision(3)}`;
+    this.change.textContent = `max |σ − t| ${formatSignificant(mappingChange(data), 3)}`;
     this.container.dataset.points = String(data[0].length);
     if (this.plot) {
       this.plot.setData(data);

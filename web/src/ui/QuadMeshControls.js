@@ -6,7 +6,7 @@
 // (L-Err, A-Err in %, glue gap, …) with, for a spline, M^∞'s scale-free curvature and normal
 // jumps from the streamed geometry (live with every iterate).
 
-import { h, clear } from './dom.js';
+import { NEGLIGIBLE_MAGNITUDE, h, clear, formatExponential, formatSignificant } from './dom.js';
 import { QUAD_COLOR_MODES, SPLINE_DISPLAYS } from '../geometry/QuadMeshBuffers.js';
 import { SetParamsCommand } from '../commands/SetParamsCommand.js';
 import { SolveCommand } from '../commands/SolveCommand.js';
@@ -17,17 +17,16 @@ const PAIRS_LISTED = 300;
 /** A fraction as a percentage with 3 significant digits ('0.0931 %'; tiny values exponential). */
 export function percent(x) {
   if (typeof x !== 'number' || !Number.isFinite(x)) return '–';
+  if (Math.abs(x) < NEGLIGIBLE_MAGNITUDE) return '0 %';
   const p = 100 * x;
-  if (p === 0) return '0 %';
-  return `${Math.abs(p) < 1e-3 ? p.toExponential(2) : Number(p.toPrecision(3))} %`;
+  return `${Math.abs(p) < 1e-3 ? formatExponential(p, 2) : formatSignificant(p, 3)} %`;
 }
 
 /** A number with 3 significant digits (tiny and huge ones exponential). */
 export function significant(x) {
   if (typeof x !== 'number' || !Number.isFinite(x)) return '–';
-  if (x === 0) return '0';
   const a = Math.abs(x);
-  return a < 1e-3 || a >= 1e5 ? x.toExponential(2) : String(Number(x.toPrecision(3)));
+  return a < 1e-3 || a >= 1e5 ? formatExponential(x, 2) : formatSignificant(x, 3);
 }
 
 /**
@@ -58,11 +57,11 @@ function withBefore(now, before) {
 const METRICS = [
   ['length_error', 'L-Err', percent, 'Edge length error ‖L′ − L‖/‖L‖ over all edges (Jiang et al. Fig. 22)', 'metric-length-error'],
   ['area_error', 'A-Err', percent, 'Face area error ‖A′ − A‖/‖A‖ over the faces (Fig. 22)', 'metric-area-error'],
-  ['glue_gap_max', 'glue gap', (x) => (x === 0 ? '0' : x.toExponential(2)), 'Largest distance of a glued pair ÷ the bounding-box diagonal of M', 'metric-glue-gap'],
-  ['isometry_residual_max', 'isometry residual', (x) => x.toExponential(2), 'Largest residual of the checkerboard isometry (eq. 1)', 'metric-isometry'],
-  ['handle_distance_max', 'handle distance', (x) => x.toExponential(2), 'Largest distance of a handle vertex from its target', 'metric-handle'],
+  ['glue_gap_max', 'glue gap', (x) => formatExponential(x, 2), 'Largest distance of a glued pair ÷ the bounding-box diagonal of M', 'metric-glue-gap'],
+  ['isometry_residual_max', 'isometry residual', (x) => formatExponential(x, 2), 'Largest residual of the checkerboard isometry (eq. 1)', 'metric-isometry'],
+  ['handle_distance_max', 'handle distance', (x) => formatExponential(x, 2), 'Largest distance of a handle vertex from its target', 'metric-handle'],
   ['unfolding_flipped_faces', 'flipped faces in M′', (x) => String(x), 'Faces of M′ turned over (0 for a valid unfolding)', 'metric-flipped'],
-  ['gauss_curvature_max_abs', 'max |K|', (x) => x.toExponential(2), 'Largest |Gauss curvature| of a face (with the Gauss image)', 'metric-gauss'],
+  ['gauss_curvature_max_abs', 'max |K|', (x) => formatExponential(x, 2), 'Largest |Gauss curvature| of a face (with the Gauss image)', 'metric-gauss'],
   ['rounds', 'rounds', (x) => String(x), 'Rounds of Algorithm 1 in the last solve', 'metric-rounds'],
   ['unknowns', 'unknowns', (x) => String(x), 'Scalar unknowns of the problem', 'metric-unknowns'],
 ];

@@ -187,7 +187,7 @@ export class StartPage {
     this.createError = h('div', { class: 'field-error', hidden: true, role: 'alert' });
     this.busy = h('div', { class: 'muted small', hidden: true }, 'Creating the session…');
     // A blank sheet: its outline imported as an SVG drawing, opened at once.
-    this.blankSheet = blankSheetCard(({ svg, name }) => this._importCreasePattern({ name: `${name}.svg` }, svg, 'svg', { openAtOnce: true }));
+    this.blankSheet = blankSheetCard(({ svg, name, units }) => this._importCreasePattern({ name: `${name}.svg` }, svg, 'svg', { openAtOnce: true, units }));
 
     this.root = h('div', { class: 'start-page', testid: 'start-page' },
       h('header', { class: 'start-header' },
@@ -531,9 +531,10 @@ export class StartPage {
   /**
    * A FOLD file or SVG drawing → a composite scene (POST /api/imports). Without notes (or with
    * `openAtOnce`) its session opens at once; with notes they are listed first, with a button to
-   * open the session. Resolves to true when the editor is being opened.
+   * open the session. `units`: the scene units of the file's numbers (the import's parameter;
+   * absent: the file's own). Resolves to true when the editor is being opened.
    */
-  async _importCreasePattern(file, text, format = 'fold', { openAtOnce = false } = {}) {
+  async _importCreasePattern(file, text, format = 'fold', { openAtOnce = false, units } = {}) {
     const what = `import ${file.name}`;
     this.createError.hidden = true;
     this.importNotes.hidden = true;
@@ -542,7 +543,7 @@ export class StartPage {
     this.busy.hidden = false;
     let result;
     try {
-      result = await importCreasePattern(text, { format, name: file.name.replace(/\.[^.]*$/, '') }, this.apiKeyInput.value.trim() || apiKey());
+      result = await importCreasePattern(text, { format, name: file.name.replace(/\.[^.]*$/, ''), units }, this.apiKeyInput.value.trim() || apiKey());
     } catch (e) {
       this._showCreateError(e, what);
       return false;

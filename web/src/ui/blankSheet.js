@@ -1,6 +1,6 @@
 // "Start from a blank sheet" (start page): a rectangle outline as an SVG crease pattern, imported
-// like a dropped SVG file, so the editor opens on a flat sheet with its drawing, ready to draw
-// creases on.
+// like a dropped SVG file (with the sheet's unit as the import's `units`), so the editor opens on
+// a flat sheet with its drawing, in the unit chosen, ready to draw creases on.
 
 import { h } from './dom.js';
 
@@ -25,8 +25,11 @@ export function checkBlankSheet(width, height, units) {
 }
 
 /**
- * The SVG text of a blank sheet: a black rectangle outline of width × height `units`. The width
- * and height attributes carry the unit, the viewBox the same numbers, so one user unit is one unit.
+ * The SVG text of a blank sheet: a black rectangle outline of width × height `units`, its numbers
+ * as typed. The SVG reader converts a drawing's units to millimetres and the import's `units`
+ * keeps the numbers it read (POST /api/imports: "scene units, the file's numbers kept"), so the
+ * width and height attributes say mm whatever the unit — one user unit reads as one — and the
+ * import is told `units` (blankSheetImport): a 20 × 15 cm sheet is a scene in cm, 20 × 15.
  */
 export function blankSheetSvg(width, height, units = 'mm') {
   checkBlankSheet(width, height, units);
@@ -34,9 +37,17 @@ export function blankSheetSvg(width, height, units = 'mm') {
   const ht = num(height);
   // Stroke width: a thin line, ~0.5 mm on the sheet.
   const sw = num(Math.min(0.5 / MM_PER[units], Math.min(width, height) / 100));
-  return `<svg xmlns="http://www.w3.org/2000/svg" width="${w}${units}" height="${ht}${units}" viewBox="0 0 ${w} ${ht}">\n`
+  return `<svg xmlns="http://www.w3.org/2000/svg" width="${w}mm" height="${ht}mm" viewBox="0 0 ${w} ${ht}">\n`
     + `  <rect x="0" y="0" width="${w}" height="${ht}" fill="none" stroke="#000" stroke-width="${sw}"/>\n`
     + '</svg>\n';
+}
+
+/**
+ * What the start page imports for a blank sheet: {svg, name, units} — the SVG of its outline, the
+ * session's name, and the scene units the import gives the drawing's numbers.
+ */
+export function blankSheetImport(width, height, units) {
+  return { svg: blankSheetSvg(width, height, units), name: blankSheetName(width, height, units), units };
 }
 
 /** The session name of a blank sheet: "Blank sheet 200 × 150 mm". */
@@ -45,7 +56,7 @@ export function blankSheetName(width, height, units) {
 }
 
 /**
- * The start page's card: width, height, units and a button; `create({svg, name})` imports it and
+ * The start page's card: width, height, units and a button; `create({svg, name, units})` imports it and
  * resolves to true when the editor is being opened: the button is disabled and says "Creating…"
  * from the click on, and is given back only if the sheet was not made.
  * Returns {root, error (element for messages), button}.
@@ -61,9 +72,9 @@ export function blankSheetCard(create) {
     if (button.disabled) return;  // one sheet per click, even while the import takes its time
     const w = Number(width.value);
     const ht = Number(height.value);
-    let svg;
+    let sheet;
     try {
-      svg = blankSheetSvg(w, ht, units.value);
+      sheet = blankSheetImport(w, ht, units.value);
     } catch (e) {
       error.textContent = e.message;
       error.hidden = false;
@@ -79,7 +90,7 @@ export function blankSheetCard(create) {
     button.setAttribute('aria-busy', 'true');
     let opening = false;
     try {
-      opening = (await create({ svg, name: blankSheetName(w, ht, units.value) })) === true;
+      opening = (await create(sheet)) === true;
     } finally {
       if (!opening) {
         button.disabled = false;

@@ -77,11 +77,38 @@ export function slug(name, fallback = 'devsurf') {
   return s || fallback;
 }
 
-/** Formats a number for display: fixed for ordinary values, exponential for tiny ones. */
+/**
+ * Numbers smaller than this in magnitude are shown as 0: a metric or residual this small has
+ * reached zero up to rounding (the solver's denormals, 6.3e-321), it is not a measurement.
+ */
+export const NEGLIGIBLE_MAGNITUDE = 1e-300;
+
+/** Formats a number for display: fixed for ordinary values, exponential for tiny ones, 0 for negligible ones. */
 export function formatNumber(v, digits = 3) {
   if (typeof v !== 'number' || !Number.isFinite(v)) return '–';
-  if (v === 0) return '0';
   const a = Math.abs(v);
-  if (a >= 0.01 && a < 1e5) return v.toFixed(digits);
+  if (a < NEGLIGIBLE_MAGNITUDE) return '0';
+  if (a >= 0.01 && a < 1e5) return formatFixed(v, digits);
   return v.toExponential(2);
+}
+
+/** x in exponent notation with `digits` decimals ('6.30e-5'); '0' for 0 and negligible values. */
+export function formatExponential(x, digits = 2) {
+  if (typeof x !== 'number' || !Number.isFinite(x)) return '–';
+  if (Math.abs(x) < NEGLIGIBLE_MAGNITUDE) return '0';
+  return x.toExponential(digits);
+}
+
+/** x to `digits` significant digits, no trailing zeros ('0.0931', '4e-7'); '0' for negligible values. */
+export function formatSignificant(x, digits = 3) {
+  if (typeof x !== 'number' || !Number.isFinite(x)) return '–';
+  if (Math.abs(x) < NEGLIGIBLE_MAGNITUDE) return '0';
+  return String(Number(x.toPrecision(digits)));
+}
+
+/** x with `digits` decimals; a value that rounds to zero has no minus sign ('0.000', not '-0.000'). */
+export function formatFixed(x, digits = 3) {
+  if (typeof x !== 'number' || !Number.isFinite(x)) return '–';
+  const text = x.toFixed(digits);
+  return Number(text) === 0 ? (0).toFixed(digits) : text;
 }

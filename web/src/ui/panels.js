@@ -1,6 +1,6 @@
 // The editor's smaller panels: status line, participants, share links, export, selection, legend.
 
-import { h, clear, copyText, download, formatNumber, slug } from './dom.js';
+import { h, clear, copyText, download, formatExponential, formatFixed, formatNumber, formatSignificant, slug } from './dom.js';
 import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
 import { MergeFacesCommand, RelabelEdgeCommand, RemoveVertexCommand, SplitAlongRulingCommand, SplitEdgeCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
@@ -81,15 +81,15 @@ export class StatusBar {
     // quad meshes (Jiang et al.): L-Err instead of a warp angle.
     const quad = typeof m.length_error === 'number' && typeof m.warp_angle_max_deg !== 'number';
     this.lengthErrorItem.hidden = !quad;
-    if (quad) this.lengthError.textContent = Number((100 * m.length_error).toPrecision(3)).toString();
+    if (quad) this.lengthError.textContent = formatSignificant(100 * m.length_error, 3);
     const fitted = typeof m.approximation_distance_rms_relative === 'number';
     this.fitItem.hidden = !fitted;
     if (fitted) {
-      const pct = (x) => Number((100 * x).toPrecision(2)).toString();
+      const pct = (x) => formatSignificant(100 * x, 2);
       this.fit.textContent = `RMS ${pct(m.approximation_distance_rms_relative)} % · max ${pct(m.approximation_distance_max_relative)} % · ${pct(m.approximation_coverage)} % covered`;
     }
     this.flatnessItem.hidden = typeof m.face_flatness_max !== 'number';
-    if (!this.flatnessItem.hidden) this.flatness.textContent = m.face_flatness_max.toExponential(1);
+    if (!this.flatnessItem.hidden) this.flatness.textContent = formatExponential(m.face_flatness_max, 1);
     // Conical strips (Chu et al.) report patches and normal jumps instead of a warp angle.
     const conical = typeof m.n3 === 'number' && typeof m.warp_angle_max_deg !== 'number';
     this.patchesItem.hidden = !conical;
@@ -99,7 +99,7 @@ export class StatusBar {
     if (conical) {
       this.patches.textContent = `${m.n3 + m.n4} (▲ ${m.n3} · ▮ ${m.n4})`;
       const jump = ((m.normal_jump_max_rad || 0) * 180) / Math.PI;
-      this.normalJump.textContent = jump !== 0 && Math.abs(jump) < 0.01 ? jump.toExponential(1) : formatNumber(jump);
+      this.normalJump.textContent = Math.abs(jump) < 0.01 ? formatExponential(jump, 1) : formatNumber(jump);
     }
     if (st.lastIterate) {
       this.iteration.textContent = String(st.lastIterate.iteration);
@@ -342,13 +342,14 @@ export class ExportPanel {
 export class SelectionPanel {
   /**
    * @param {object} deps  {state, pointOf(target) → [x,y,z]|null, errorSlots, toggleFixed, toggleHandle,
-   *   moveTo(target, [x,y,z]) — a drag to typed coordinates and its release, designSize() → number}
+   *   moveTo(target, [x,y,z]) — a drag to typed coordinates and its release, designSize() → number
+   *   or null (not known yet)}
    */
   constructor(parent, { state, pointOf, errorSlots, toggleFixed, toggleHandle, moveTo, designSize }) {
     this.state = state;
     this.pointOf = pointOf;
     this.moveTo = moveTo;
-    this.designSize = designSize || (() => 1);
+    this.designSize = designSize || (() => null);
     this.title = h('div', { class: 'sel-title' });
     this.coords = h('div', { class: 'sel-coords num' });
     this.fixButton = h('button', { class: 'btn', testid: 'toggle-fixed', title: 'Fix / unfix the selected point (F)', onclick: toggleFixed }, 'Fix');
@@ -381,21 +382,28 @@ export class SelectionPanel {
       this.typed = null;
       this.render();
     });
-    // The grid step follows the design's size until the user types one.
-    const autoStep = () => {
-      if (this.stepTyped) return;
-      const step = String(defaultGridStep(this.designSize()));
-      if (this.step.value !== step) {
-        this.step.value = step;
-        this.storeDragOptions();
-      }
-    };
-    state.on('scene', autoStep);
-    state.on('iterate', autoStep);
+    // The grid step follows the design's size until the user types one (the editor also calls
+    // followDesignSize once new geometry is drawn).
+    state.on('scene', () => this.followDesignSize());
     this.step.addEventListener('input', () => { this.stepTyped = true; });
     this.storeDragOptions();
     state.on('drag-options', (o) => { if (o && o.constraint) this.constraint.value = o.constraint; });
     this.render();
+  }
+
+  /**
+   * Sets the grid step from the design's size (`designSize()`: a drawn sheet's diagonal, else the
+   * drawn surface's; null while neither is known, when the step waits) unless one was typed.
+   */
+  followDesignSize() {
+    if (this.stepTyped) return;
+    const size = this.designSize();
+    if (!(size > 0)) return;
+    const step = String(defaultGridStep(size));
+    if (this.step.value !== step) {
+      this.step.value = step;
+      this.storeDragOptions();
+    }
   }
 
   /** The drag options, read by the 3D view's pointer handling. */
@@ -455,7 +463,7 @@ export class SelectionPanel {
     const handle = st.constraints.handles.find((x) => sameTarget(x, sel));
     const label = targetLabel(sel);
     this.title.textContent = `${sel.curve !== undefined ? `Control point ${label}` : label[0].toUpperCase() + label.slice(1)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;
-    this.coords.textContent = `x ${p[0].toFixed(3)}   y ${p[1].toFixed(3)}   z ${p[2].toFixed(3)}`;
+    this.coords.textContent = `x ${formatFixed(p[0], 3)}   y ${formatFixed(p[1], 3)}   z ${formatFixed(p[2], 3)}`;
     // The inputs follow the point unless being typed in (a new selection always refills them),
     // or typed and sent until the point moves or a release answers (submitCoordinates).
     const fresh = !sameTarget(this.shownFor, sel);
@@ -501,7 +509,7 @@ export class Legend {
     this.showCategories(null);
     const unit = scale.unit;
     this.title.textContent = scale.title;
-    const fmt = (x) => (x !== 0 && Math.abs(x) < 0.01 ? x.toExponential(1) : formatNumber(x, 2));
+    const fmt = (x) => (Math.abs(x) < 0.01 ? formatExponential(x, 1) : formatNumber(x, 2));
     const diverging = !!scale.diverging;
     if (this._diverging !== diverging) {
       this.bar.style.background = diverging ? cssDivergingGradient() : cssGradient();
@@ -707,7 +715,7 @@ export class CreasePanel {
       return;
     }
     const name = { M: 'mountain', V: 'valley', F: 'flat', B: 'boundary' }[edge.assignment] || edge.assignment;
-    this.info.textContent = `${edge.type} edge, vertices ${edge.v[0]}→${edge.v[1]} · ${name} · fold ${edge.foldAngleDeg.toFixed(1)}°`;
+    this.info.textContent = `${edge.type} edge, vertices ${edge.v[0]}→${edge.v[1]} · ${name} · fold ${formatFixed(edge.foldAngleDeg, 1)}°`;
   }
 
   /** The crease type as the scene says. */

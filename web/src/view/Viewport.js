@@ -615,14 +615,14 @@ export class Viewport {
 
   // ---- camera ---------------------------------------------------------------------------------
 
-  /** The diagonal of the surface's bounding box (design units), 1 before there is one. */
+  /** The diagonal of the surface's bounding box (design units), null before there is one. */
   designSize() {
     const b = this.activeBuffers();
     const pos = b.hasData && b.surface.getAttribute('position');
-    if (!pos || !pos.count) return 1;
+    if (!pos || !pos.count) return null;
     const box = new THREE.Box3().setFromBufferAttribute(pos);
     const d = box.getSize(new THREE.Vector3()).length();
-    return d > 0 && Number.isFinite(d) ? d : 1;
+    return d > 0 && Number.isFinite(d) ? d : null;
   }
 
   /** Whether part of the surface lies outside the view (the camera's frustum; ≤ 400 vertices tested). */

@@ -7,7 +7,8 @@
 // (latest wins, DragCommandStream), pointerup sends the last position and a DragEndCommand.
 // Shift/Ctrl/⌘-click on a point of a composite adds it to / removes it from the group selection
 // (`toggleGroup`; no drag, no pan); elsewhere those modifiers still pan.
-// Hovering sets the cursor; a click on empty space clears the selection. The view draws what this
+// A view-only editor (role 'view') selects points but starts no drag: nothing to send that the
+// server would refuse. Hovering sets the cursor; a click on empty space clears the selection. The view draws what this
 // sets on it: view.drag ({target, pointerId, plane, offset, position: the dragged point's latest
 // position, commands}) and view.hovered.
 
@@ -45,6 +46,12 @@ export class ViewportPointer {
     const view = this.view;
     const rect = view.canvas.getBoundingClientRect();
     return new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
+  }
+
+  /** Whether this editor may move points (it joined with an edit token). */
+  editable() {
+    const st = this.view.state;
+    return !!st && st.role === 'edit';
   }
 
   /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
@@ -118,8 +125,15 @@ export class ViewportPointer {
       view.requestRender();
       return;
     }
-    view.controls.enabled = false;
     view.select(hit);
+    if (!this.editable()) {
+      // A view-only editor selects the point (its coordinates are shown) but cannot move it: no
+      // drag, nothing sent; the press orbits the camera as on empty space.
+      view.controls.enabled = true;
+      view.requestRender();
+      return;
+    }
+    view.controls.enabled = false;
     const p = view.activeBuffers().pointOf(hit);
     const point = new THREE.Vector3(p[0], p[1], p[2]);
     const normal = view.camera.getWorldDirection(new THREE.Vector3());
@@ -185,7 +199,7 @@ export class ViewportPointer {
       this._hoverRaf = requestAnimationFrame(() => {
         this._hoverRaf = 0;
         const hit = this.pick(this._hoverEvent);
-        view.canvas.style.cursor = hit ? 'grab' : '';
+        view.canvas.style.cursor = hit ? (this.editable() ? 'grab' : 'pointer') : '';
         if (!sameTarget(hit, view.hovered)) {
           view.hovered = hit;
           view.requestRender();

@@ -50,11 +50,19 @@ export function constrainedDragPosition(start, free, ray, { constraint = 'free',
   return p.map((x) => (Object.is(x, -0) ? 0 : x));
 }
 
-/** A grid step for a design of this size: 1, 2 or 5 × a power of ten, about a fiftieth of it. */
+/**
+ * A grid step for a design of this size (its diagonal): 1, 2 or 5 × a power of ten, the one
+ * nearest (by ratio) to a fiftieth of it — 250 → 5, 3162 → 50 — so a design a little larger or
+ * smaller keeps its step.
+ */
 export function defaultGridStep(size) {
   if (!(size > 0) || !Number.isFinite(size)) return 1;
   const raw = size / 50;
   const power = 10 ** Math.floor(Math.log10(raw));
-  for (const m of [1, 2, 5]) if (m * power >= raw) return m * power;
-  return 10 * power;
+  let best = power;
+  for (const m of [2, 5, 10]) {
+    const step = m * power;
+    if (Math.max(step / raw, raw / step) < Math.max(best / raw, raw / best)) best = step;
+  }
+  return Number(best.toPrecision(1));
 }
