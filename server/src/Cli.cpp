@@ -56,7 +56,7 @@ constexpr const char* kUsage =
     "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
     "        20 000 control points); --memory-budget-mb raises the first.\n"
     "        FORMAT is obj, off, ply or stl (the sampled surface as quads; stl: two\n"
-    "        triangles per quad, zero-area ones left out), iges and step (B-spline\n"
+    "        triangles per quad, zero-area ones left out, in mm), iges and step (B-spline\n"
     "        surfaces), svg and dxf (flat patterns at true size in mm: a composite's\n"
     "        crease pattern, or the pieces cut along its seams; a strip's unfolding);\n"
     "        png (a 320 x 240 picture of the surface); fold (FOLD 1.2) for\n"

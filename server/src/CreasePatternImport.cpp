@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "devsurf/io/SvgImport.h"
@@ -73,6 +75,17 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   }
   io::CreasePattern& pattern = imported.pattern;
   result.notes = imported.notes;
+  // A "folded form" in which no crease folds (a flat sheet's export: its frame inherits the
+  // designed fold angles) is the crease pattern itself: read as folded it would open at 100 %
+  // with its targets unmet, and the first solve would snap it.
+  if (pattern.hasFoldedState()) {
+    bool folds = false;
+    for (const std::optional<double>& angle : io::measuredFoldAngles(pattern)) folds = folds || (angle && std::abs(*angle) >= 0.5);
+    if (!folds) {
+      pattern.vertices3d.resize(0, 3);
+      result.notes.push_back({"file_frames", "the folded form folds no crease; read as the flat crease pattern"});
+    }
+  }
 
   // Units: a FOLD unit the scene knows is kept; others become millimetres.
   std::string sceneUnits = units;
@@ -156,9 +169,12 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   // And opened as a session opens it (the model's own checks: a fold-angle target needs a hinge):
   // an import answers with a scene that opens, or with what stops it, never with one that cannot.
   try {
-    const models::composite::CompositeModel model(std::get<models::composite::CompositeDesign>(result.scene.model));
+    const models::composite::CompositeModel model(std::get<models::composite::CompositeDesign>(result.scene.model),
+                                                  result.scene.solver.compositeOptions());
     (void)model;
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
     throw ApproximationInputError("body", std::string("body: the imported design cannot be solved: ") + e.what());
   }
   return result;

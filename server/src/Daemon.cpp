@@ -269,9 +269,9 @@ void Daemon::routes() {
   // A request no route answers (an unknown path, or a method a path does not take) gets an error
   // in the API's own form, not an empty 404; error responses with a body are left as they are.
   s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
-    if (!res.body.empty() || req.path.rfind("/api/", 0) != 0) return httplib::Server::HandlerResponse::Unhandled;
-    const int status = res.status;
-    replyError(res, status, status == 404 ? "not_found" : "invalid",
+    if (res.status != 404 || !res.body.empty() || req.path.rfind("/api/", 0) != 0)
+      return httplib::Server::HandlerResponse::Unhandled;
+    replyError(res, 404, "not_found",
                "no route answers " + req.method + " " + req.path + " (GET /api/openapi.json lists the routes and their methods)");
     return httplib::Server::HandlerResponse::Handled;
   }));

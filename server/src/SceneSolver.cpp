@@ -204,9 +204,13 @@ nlohmann::json QualityVerdict::toJson() const {
 }
 
 QualityVerdict SceneSolver::quality() const {
+  if (keepsInputGeometry()) return {};
+  return quality(metrics());
+}
+
+QualityVerdict SceneSolver::quality(const proto::Metrics& m) const {
   QualityVerdict v;
   if (keepsInputGeometry()) return v;
-  const proto::Metrics m = metrics();
   auto atMost = [&v, &m](const std::string& name, double limit) {
     const auto it = m.find(name);
     if (it == m.end()) return;
@@ -457,12 +461,13 @@ proto::Metrics SceneSolver::metrics() const {
 }
 
 nlohmann::json SceneSolver::report(const engine::SolveSummary& summary, double timeMs) const {
-  nlohmann::json report = proto::reportToJson(summary, metrics(), proto::sceneToJson(currentScene()), timeMs);
+  const proto::Metrics measured = metrics();
+  nlohmann::json report = proto::reportToJson(summary, measured, proto::sceneToJson(currentScene()), timeMs);
   if (!termination_.empty()) report["termination"] = termination_;
   // The thresholds the shape is held to, as a session's `solved` message carries them: a solve can
   // end on its iteration count with the sheet stretched (fold targets it cannot reach), and a
   // batch user reads that here rather than from every metric.
-  if (const QualityVerdict verdict = quality(); !verdict.checks.empty()) report["quality"] = verdict.toJson();
+  if (const QualityVerdict verdict = quality(measured); !verdict.checks.empty()) report["quality"] = verdict.toJson();
   if (quasi_) {
     report["result"] = proto::quasiStripResultJson(quasi_->results(), quasiSummary_);
     report["result"]["termination"] = quasiSummary_.termination;
@@ -529,10 +534,15 @@ void SceneSolver::exportTo(const std::string& spec) const {
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("--export " + std::string(e.what()).substr(8));
     }
-    std::FILE* out = std::fopen(path.c_str(), "wb");
+    // Staged and renamed, so that a failed write leaves no partial file under the requested name.
+    const std::string staging = path + ".partial";
+    std::FILE* out = std::fopen(staging.c_str(), "wb");
     if (!out) throw std::runtime_error("cannot write " + path);
     const bool ok = std::fwrite(file.content.data(), 1, file.content.size(), out) == file.content.size();
-    if (std::fclose(out) != 0 || !ok) throw std::runtime_error("cannot write " + path);
+    if (std::fclose(out) != 0 || !ok || std::rename(staging.c_str(), path.c_str()) != 0) {
+      std::remove(staging.c_str());
+      throw std::runtime_error("cannot write " + path);
+    }
     return;
   }
   if (format == "fold" || format == "svg") {

@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "devsurf/io/FoldWriter.h"
+#include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/ShapeUpload.h"
 #include "server/CliTesting.h"
@@ -239,6 +241,22 @@ TEST(CreasePatternImport, CreasesFoldedAgainstTheirLettersAreNoted) {
   const std::string box = againstNote(importCreasePattern(foldExampleText("box.fold"), foldRequest()));
   EXPECT_NE(box.find("edges_assignment["), std::string::npos) << box;
   EXPECT_EQ(againstNote(importCreasePattern(foldExampleText("diagonal-folded.fold"), foldRequest())), "");
+}
+
+// A flat sheet's crease pattern exported before it is folded (its folded frame flat, inheriting the
+// designed angles) imports again as that flat pattern at 0 %, its valley still a valley at 180°.
+TEST(CreasePatternImport, AFlatSheetsFoldExportImportsAgainAsTheFlatPatternWithItsDesign) {
+  const CreasePatternImportResult first = importCreasePattern(foldExampleText("diagonal-cp.fold"), foldRequest());
+  const auto& design = std::get<models::composite::CompositeDesign>(first.scene.model);
+  ASSERT_EQ(design.foldAmount, 0.0);
+  const models::composite::CompositeModel model(design);
+  const std::string exported = io::foldDocument(model.creasePattern()).dump();
+  const CreasePatternImportResult again = importCreasePattern(exported, foldRequest());
+  const nlohmann::json scene = proto::sceneToJson(again.scene);
+  EXPECT_EQ(scene["model"]["fold_amount"].get<double>(), 0.0) << again.summaryJson().dump();
+  EXPECT_EQ(again.valley, 1);
+  ASSERT_EQ(scene["model"]["fold_angles"].size(), 1u);
+  EXPECT_NEAR(scene["model"]["fold_angles"][0]["angle"].get<double>(), 180.0, 1e-9);
 }
 
 // A stroke that is a point (a path of zero length, a Bézier whose points coincide) on the outline

@@ -142,9 +142,12 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
     await h.settleFrames(page);
     await page.screenshot({ path: path.join(h.ARTIFACTS, '13-draw-creases-board.png') });
 
-    // Back to 3D, folded by the slider to 100 %.
+    // Back to 3D. A drawn design's crease kinds are the board's: the Crease panel's type cannot be
+    // set here (the next board edit would drop it).
     await page.getByTestId('crease-board-close').click();
     await page.getByTestId('crease-board').waitFor({ state: 'hidden' });
+    assert.ok(await page.getByTestId('crease-type').isDisabled(), 'the crease type is set on the board');
+    // Folded by the slider to 100 %.
     await page.getByTestId('fold-slider').fill('100');
     await h.waitState(page, (s) => s.metrics && Math.abs(s.metrics.fold_amount - 1) < 1e-9, undefined, { what: 'fold amount 100 %' });
     await h.waitQuiet(page, { quietMs: 1500 });

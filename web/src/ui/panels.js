@@ -260,8 +260,8 @@ export { cutAlongSeams } from './exportFormats.js';
 export class ExportPanel {
   constructor(parent, { state, toasts, errorSlots, token, currentScene, send }) {
     this.state = state;
-    // What one coordinate is: STL, STEP and IGES are written in it, FOLD names it, SVG and DXF are
-    // drawn at true size from it (set_units; undoable, shared with collaborators).
+    // What one coordinate is: STEP and IGES are written in it, FOLD names it, STL, SVG and DXF are
+    // written at true size in millimetres from it (set_units; undoable, shared with collaborators).
     this.units = h('select', { testid: 'units-select', title: 'What one coordinate of the design is; the exports follow (the numbers stay)',
       onchange: () => send && send(new SetUnitsCommand(this.units.value, { source: 'export:units' })) },
     ...UNITS.map((u) => h('option', { value: u }, u)));
@@ -284,7 +284,7 @@ export class ExportPanel {
         this.foldButton = h('button', { class: 'btn', testid: 'export-fold', title: 'The crease pattern as FOLD 1.2 (composites with a development)', onclick: run('fold') }, 'Export FOLD'),
         this.svgButton = h('button', { class: 'btn', testid: 'export-svg', title: 'The fold pattern as SVG in millimetres: mountain red dash-dot, valley blue dashed', onclick: run('svg') }, 'Export SVG'),
         this.unfoldingObjButton = h('button', { class: 'btn', testid: 'export-unfolding-obj', title: 'The unfolding M′ as an OBJ mesh (from the server)', onclick: run('unfolding_obj') }, 'Export OBJ of M′'),
-        this.stlButton = h('button', { class: 'btn', testid: 'export-stl', title: 'The surface as STL triangles in the scene\'s units, for 3D printing and CAD (from the server)', onclick: run('stl') }, 'Export STL'),
+        this.stlButton = h('button', { class: 'btn', testid: 'export-stl', title: 'The surface as STL triangles in millimetres, for 3D printing and CAD (from the server)', onclick: run('stl') }, 'Export STL'),
         this.dxfButton = h('button', { class: 'btn', testid: 'export-dxf', title: 'The flat pattern as DXF in millimetres, one layer per tool (from the server)', onclick: run('dxf') }, 'Export DXF'),
         this.igesButton = h('button', { class: 'btn', testid: 'export-iges', title: 'The spline surface as IGES B-spline surfaces, one per patch, in the scene\'s units (from the server)', onclick: run('iges') }, 'Export IGES'),
         this.stepButton = h('button', { class: 'btn', testid: 'export-step', title: 'The spline surface as STEP, its patches sewn into one shell (from the server)', onclick: run('step') }, 'Export STEP'),
@@ -313,8 +313,8 @@ export class ExportPanel {
         : 'The surface as STEP B-spline faces, for CAD (from the server)';
       this.objButton.textContent = quad ? 'Export OBJ of M' : 'Export OBJ';
       this.objButton.title = quad ? 'The mesh M as an OBJ mesh (from the server)' : 'The sampled surface as OBJ quads (from the server)';
-      this.stlButton.title = quad ? 'The mesh M as STL triangles (from the server)'
-        : 'The surface as STL triangles in the scene\'s units, for 3D printing and CAD (from the server)';
+      this.stlButton.title = quad ? 'The mesh M as STL triangles in millimetres (from the server)'
+        : 'The surface as STL triangles in millimetres, for 3D printing and CAD (from the server)';
       this.foldButton.title = quad ? 'M and M′ as FOLD 1.2 with both frames'
         : pieces ? 'The flat pieces and their places on the surface as FOLD 1.2: seams as joins (J), numbered as on the SVG'
           : 'The crease pattern as FOLD 1.2 (composites with a development)';
@@ -581,7 +581,7 @@ export class CreasePanel {
       h('div', { class: 'row' }, this.cutButton, h('label', { class: 'small' }, 'at ', this.cutAt, ' % of the curve')),
       h('div', { class: 'row' }, this.addVertexButton, this.removeVertexButton),
       errorSlots.slot('crease:mesh'));
-    this.drawnNote = h('p', { class: 'muted small', hidden: true }, 'Made from a drawing: split and join faces, and bend creases, on the crease board.');
+    this.drawnNote = h('p', { class: 'muted small', hidden: true }, 'Made from a drawing: split and join faces, bend creases and set their kind on the crease board.');
     this.root = h('section', { class: 'panel', testid: 'crease-panel', hidden: true },
       h('h3', {}, 'Crease'),
       h('label', { class: 'row' }, h('span', { class: 'muted' }, 'Edge'), this.edgeSelect),
@@ -708,7 +708,11 @@ export class CreasePanel {
     this.edgeSelect.value = st.selectedEdge === null ? '' : String(st.selectedEdge);
     const edge = st.selectedEdge === null ? null : this.composite.edge(st.selectedEdge);
     this.typeSelect.value = edge ? this._sceneCrease(edge.edge) : 'none';
-    this.typeSelect.disabled = !edge || !edge.interior || st.role !== 'edit';
+    // A drawn design is rebuilt from its drawing at every board edit, which would drop a type set
+    // here without a word: its creases are what the board says (M/V/F, curved creases as folds).
+    const drawn = !!(st.scene && st.scene.model && st.scene.model.drawing);
+    this.typeSelect.disabled = !edge || !edge.interior || st.role !== 'edit' || drawn;
+    this.typeSelect.title = drawn ? 'Made from a drawing: its creases are set on the crease board' : '';
     for (const o of this.typeSelect.options) o.disabled = !!edge && edge.type === 'R' && (o.value === 'fold' || o.value === 'geodesic');
     if (!edge) {
       this.info.textContent = '';

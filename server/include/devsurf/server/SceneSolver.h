@@ -123,6 +123,8 @@ class SceneSolver {
                              std::function<bool(const engine::IterationRecord&)> onIteration = {});
   /// The quality thresholds of this kind against metrics() (see QualityVerdict).
   QualityVerdict quality() const;
+  /// The same against metrics already computed (a report computes them once).
+  QualityVerdict quality(const proto::Metrics& m) const;
   /// Starts the step control of the model's solver afresh (a new drag; see
   /// engine::StepControlOptions). No-op for kinds without guided projection.
   void resetStepControl();

@@ -656,10 +656,12 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
   std::map<int, Eigen::VectorXd> angles;
   for (const CreaseGeometry& c : creases(design_.developmentSamples)) angles[c.edge] = c.foldAngleDeg;
   // The designed fold angles (design.foldAngles, at 100 %) per edge end: a crease of a sheet that
-  // is still flat (fold amount 0, or not yet folded) keeps its mountain or valley and its angle.
+  // is not folded (fold amount 0, or folded by less than kUnfoldedDeg) keeps its mountain or
+  // valley and its angle.
+  constexpr double kUnfoldedDeg = 0.5;
   std::map<int, std::array<std::optional<double>, 2>> designed;
   for (const FoldAngleTarget& t : design_.foldAngles)
-    if (t.angleDeg != 0.0 && (t.end == 0 || t.end == 1)) designed[t.edge][static_cast<std::size_t>(t.end)] = t.angleDeg;
+    if (t.end == 0 || t.end == 1) designed[t.edge][static_cast<std::size_t>(t.end)] = t.angleDeg;
   auto assign = [](double angle) {
     if (angle > 1e-6) return io::EdgeAssignment::Valley;
     if (angle < -1e-6) return io::EdgeAssignment::Mountain;
@@ -697,11 +699,11 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
           const int s = p.kind == PairKind::Spline ? p.segment : 0;
           angle = 0.5 * (a[std::min<Eigen::Index>(s, a.size() - 1)] + a[std::min<Eigen::Index>(s + 1, a.size() - 1)]);
           angle = std::clamp(angle, -180.0, 180.0);
-          const auto d = designed.find(p.edge);
-          if (d != designed.end() && (design_.foldAmount == 0.0 || assign(angle) == io::EdgeAssignment::Flat)) {
-            // Not folded (the slider at 0 %, or flat here): the designed angle, between the two
-            // ends' along an S edge.
-            const auto& [atStart, atEnd] = d->second;
+          const auto designedAt = designed.find(p.edge);
+          if (designedAt != designed.end() && std::abs(angle) < kUnfoldedDeg) {
+            // Not folded here (the slider at 0 %, or not yet this far): the designed angle,
+            // between the two ends' along an S edge. A crease folded by a drag keeps its own.
+            const auto& [atStart, atEnd] = designedAt->second;
             const double f = a.size() > 1 ? std::clamp((s + 0.5) / static_cast<double>(a.size() - 1), 0.0, 1.0) : 0.5;
             angle = atStart && atEnd ? (1.0 - f) * *atStart + f * *atEnd : atStart ? *atStart : *atEnd;
             angle = std::clamp(angle, -180.0, 180.0);
