@@ -249,9 +249,6 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     }
   }
   try {
-    // Fig. 10c: the control-point sequences joined, end points averaged; solved again by `solve`.
-    const models::strip::StripMerge merge = models::strip::mergeStrips(
-        std::get<models::strip::StripDesign>(scenes[0].model), std::get<models::strip::StripDesign>(scenes[1].model));
     // Strips apart (no control point of one within a strip's width of the other's) are not one
     // strip: the join would bridge the gap with a span no solve makes developable.
     const auto& first = std::get<models::strip::StripDesign>(scenes[0].model);
@@ -269,6 +266,9 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
           << "); nothing written (fit one strip over both regions, or cover them with several)\n";
       return 2;
     }
+    // Fig. 10c: the control-point sequences joined, end points averaged; solved again by `solve`.
+    const models::strip::StripMerge merge = models::strip::mergeStrips(
+        std::get<models::strip::StripDesign>(scenes[0].model), std::get<models::strip::StripDesign>(scenes[1].model));
     proto::Scene scene = scenes[0];
     scene.name = name.empty() ? scenes[0].name + " + " + scenes[1].name : name;
     scene.description = "Strips of " + paths[0] + " and " + paths[1] + " merged (devsurf merge; Tang et al. 2016 Fig. 10c).";

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <random>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "server/CliTesting.h"
@@ -137,6 +138,23 @@ TEST(MergeCommand, TwoStripsFittedToHalvesOfACloudMergeIntoOneThatSolvesOverTheW
   const CliRun apart = runCommand({"merge", farPath, right, "--out", notWritten});
   EXPECT_EQ(apart.code, 2) << apart.err;
   EXPECT_NE(apart.err.find("do not meet"), std::string::npos) << apart.err;
+  EXPECT_FALSE(std::filesystem::exists(notWritten));
+  // The right strip beside itself (moved across by a third of its width): side by side, not end
+  // to end; refused, and nothing written.
+  nlohmann::json beside = nlohmann::json::parse(std::ifstream(right));
+  const nlohmann::json& a = beside["model"]["a"]["points"];
+  const nlohmann::json& b = beside["model"]["b"]["points"];
+  Eigen::Vector3d across = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (int k = 0; k < 3; ++k) across[k] += (b[i][k].get<double>() - a[i][k].get<double>()) / static_cast<double>(a.size());
+  for (const char* curve : {"a", "b"})
+    for (nlohmann::json& p : beside["model"][curve]["points"])
+      for (int k = 0; k < 3; ++k) p[k] = p[k].get<double>() + across[k] / 3.0;
+  const std::string besidePath = (dir.path() / "beside.json").string();
+  std::ofstream(besidePath) << beside.dump();
+  const CliRun sideBySide = runCommand({"merge", right, besidePath, "--out", notWritten});
+  EXPECT_EQ(sideBySide.code, 2) << sideBySide.err;
+  EXPECT_NE(sideBySide.err.find("continue one another"), std::string::npos) << sideBySide.err;
   EXPECT_FALSE(std::filesystem::exists(notWritten));
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -190,6 +191,38 @@ StripMerge mergeStrips(const StripDesign& first, const StripDesign& second) {
   best.overlap = iStar < K1 - 1 || jStar > 0;
   const Eigen::Index iCut = best.overlap ? (iStar + K1 - 1) / 2 : K1 - 1;
   const Eigen::Index jCut = best.overlap ? jStar / 2 : 0;
+  best.keptFirst = static_cast<double>(iCut + 1) / K1;
+  best.keptSecond = static_cast<double>(K2 - jCut) / K2;
+  best.joinOffset = (Pm.row(iCut) - Qm.row(jCut)).norm();
+  // Side by side, not end to end: the merged strip would step across (a user's two fits of
+  // neighbouring bands merged into one strip warped by 18°).
+  const double narrower = std::min((Pa - Pb).rowwise().norm().mean(), (Qa - Qb).rowwise().norm().mean());
+  // The directions the middle lines run in where they are joined, over a few samples.
+  const Eigen::RowVector3d runFirst = Pm.row(iCut) - Pm.row(std::max<Eigen::Index>(0, iCut - 6));
+  const Eigen::RowVector3d runSecond = Qm.row(std::min<Eigen::Index>(K2 - 1, jCut + 6)) - Qm.row(jCut);
+  const double turn = runFirst.norm() > 0.0 && runSecond.norm() > 0.0
+                          ? std::acos(std::clamp(runFirst.normalized().dot(runSecond.normalized()), -1.0, 1.0))
+                          : 0.0;
+  if (turn > 0.5 * M_PI) {
+    std::ostringstream message;
+    message << "second: the strips lie side by side, not end to end: joined, the strip would turn back by "
+            << std::lround(turn * 180.0 / M_PI) << "°; merge strips that continue one another";
+    throw std::invalid_argument(message.str());
+  }
+  if (std::min(best.keptFirst, best.keptSecond) < 0.6) {
+    std::ostringstream message;
+    message << "second: the strips lie side by side, not end to end: joined at the middle of their overlap, "
+            << std::lround(100.0 * (1.0 - std::min(best.keptFirst, best.keptSecond)))
+            << " % of one would be dropped; merge strips that continue one another";
+    throw std::invalid_argument(message.str());
+  }
+  if (best.joinOffset > 0.5 * narrower) {
+    std::ostringstream message;
+    message << "second: the strips do not continue one another: where they are joined their middle lines are "
+            << best.joinOffset << " apart, more than half the narrower strip's width (" << narrower
+            << "); merge strips that continue one another";
+    throw std::invalid_argument(message.str());
+  }
   const Eigen::Index count = (iCut + 1) + (K2 - jCut);
   Eigen::MatrixXd joinedA(count, 3), joinedB(count, 3);
   joinedA << Pa.topRows(iCut + 1), Qa.bottomRows(K2 - jCut);

@@ -196,6 +196,39 @@ TEST(StripApproximation, MergingLinesUpStripsWhicheverWayTheyRun) {
   EXPECT_THROW(mergeStrips(closed, second), std::invalid_argument);
 }
 
+TEST(StripApproximation, StripsSideBySideOrSteppedAcrossAreNotMerged) {
+  // Flat strips 1 wide along x. Side by side (the second beside the first, over the same x): the
+  // cut at the overlap's middle would drop half of each. End to end with a sideways step of 0.7:
+  // the join steps across the strip. End to end with a step of 0.2: merged.
+  const spline::KnotVector knots = spline::KnotVector::clampedUniform(3, 4);
+  auto strip = [&knots](double x0, double y0) {
+    StripDesign d;
+    Eigen::MatrixXd A(4, 3), B(4, 3);
+    for (int i = 0; i < 4; ++i) {
+      A.row(i) << x0 + i, y0, 0;
+      B.row(i) << x0 + i, y0 + 1, 0;
+    }
+    d.a = {knots, A, {}}, d.b = {knots, B, {}};
+    return d;
+  };
+  try {
+    mergeStrips(strip(0, 0), strip(0, 0.6));
+    ADD_FAILURE() << "strips side by side were merged";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("side by side"), std::string::npos) << e.what();
+  }
+  try {
+    mergeStrips(strip(0, 0), strip(3, 0.7));
+    ADD_FAILURE() << "a step across the strip was merged";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("do not continue"), std::string::npos) << e.what();
+  }
+  const StripMerge merge = mergeStrips(strip(0, 0), strip(3, 0.2));
+  EXPECT_NEAR(merge.joinOffset, 0.2, 1e-9);
+  EXPECT_DOUBLE_EQ(merge.keptFirst, 1.0);
+  EXPECT_DOUBLE_EQ(merge.keptSecond, 1.0);
+}
+
 /// A random developable patch a user might scan: a cylinder or a cone piece of random size, arc
 /// and height, rotated and moved anywhere, 1500 points with noise σ = 0.1 % of its diagonal.
 NoisyPatch randomDevelopablePatch(std::mt19937& rng) {

@@ -70,6 +70,9 @@ struct StripMerge {
   bool swappedSecond = false;   ///< the second strip's a and b were exchanged
   double gap = 0.0;             ///< distance between the joined end rulings (mean of both ends)
   bool overlap = false;         ///< the strips overlapped (each was cut at the overlap's middle)
+  double keptFirst = 1.0;       ///< fraction of the first strip's samples kept (1: not cut)
+  double keptSecond = 1.0;      ///< fraction of the second strip's samples kept
+  double joinOffset = 0.0;      ///< distance between the middle lines where they are joined
 };
 
 /// Merges two strips into one (000_… Fig. 10c: "merged by putting together their respective
@@ -82,6 +85,10 @@ struct StripMerge {
 /// b are least-squares fits of the joined samples with n₁ + n₂ − 1 control points on clamped
 /// uniform knots, at common chord-length parameters of the middle line, so rulings stay paired;
 /// for strips that meet end to end this reproduces the joined sequences up to the fit.
+/// Strips that do not continue one another are refused (std::invalid_argument): joined, the middle
+/// line would turn back by more than 90°; the cut at the overlap's middle would drop more than 40 %
+/// of one of them (side by side); or it would join middle lines farther apart than half the
+/// narrower strip's mean width (a step across the strip).
 /// Approximation targets are concatenated (weights of the first); fixed points and handles are
 /// dropped; normals become a normal spline with one control point per curve control point.
 /// @throws std::invalid_argument for closed or rational curves, or differing degrees
