@@ -79,6 +79,14 @@ test('a demo opened from the start page shows the editor, connected, with a rend
       return img && img.dataset.state === 'loaded' && img.naturalWidth === 320;
     }, undefined, { timeout: 30000 });
     await h.screenshotPage(page, '01-start-page-your-sessions');
+    // With sessions listed, the ways to start are still above the fold at 1280 × 720, unscrolled.
+    assert.equal(await page.evaluate(() => window.scrollY), 0);
+    for (const [what, locator] of [['Start drawing', page.getByTestId('blank-sheet')], ['New session', page.getByTestId('new-session')],
+      ['the file drop zone', page.locator('.drop-zone')]]) {
+      const box = await locator.boundingBox();
+      assert.ok(box && box.y >= 0 && box.y + box.height <= h.VIEWPORT.height,
+        `${what} is in view at ${h.VIEWPORT.width} × ${h.VIEWPORT.height}: ${JSON.stringify(box)}`);
+    }
     await mine.first().getByTestId('forget-session').click();
     assert.equal(await page.getByTestId('my-sessions').isVisible(), false, 'forgotten');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
