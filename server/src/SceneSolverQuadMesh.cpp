@@ -32,6 +32,7 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
   const qm::QuadMeshQuality q = model.quality();
   proto::Metrics m;
   m["length_error"] = q.lengthError;
+  m["edge_length_error_max"] = q.edgeLengthErrorMax;
   m["area_error"] = q.areaError;
   m["isometry_residual_max"] = q.isometryResidualMax;
   m["glue_gap_max"] = q.glueGapMax;

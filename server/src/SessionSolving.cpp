@@ -37,7 +37,8 @@ json Session::geometryJson(json* iterateMetrics) const {
     const qm::QuadMeshModel& model = solver_->quadMeshModel();
     const qm::QuadMeshQuality q = model.quality();
     if (iterateMetrics)
-      *iterateMetrics = {{"length_error", q.lengthError}, {"area_error", q.areaError},
+      *iterateMetrics = {{"length_error", q.lengthError}, {"edge_length_error_max", q.edgeLengthErrorMax},
+                         {"area_error", q.areaError},
                          {"isometry_residual_max", q.isometryResidualMax}, {"glue_gap_max", q.glueGapMax},
                          {"unfolding_flipped_faces", q.unfoldingFlippedFaces}};
     // Approximating a reference (issue 15): its distance to M, every iterate (watch it fit).

@@ -67,6 +67,21 @@ inline double objEdgeLengthError(const ObjMesh& mesh, const ObjMesh& unfolding) 
   return std::sqrt(diff / norm);
 }
 
+/// The largest |l′ − l| / l of one edge, recomputed from the same two OBJ files.
+inline double objEdgeLengthErrorMax(const ObjMesh& mesh, const ObjMesh& unfolding) {
+  if (mesh.faces != unfolding.faces || mesh.vertices.size() != unfolding.vertices.size())
+    throw std::runtime_error("objEdgeLengthErrorMax: the two OBJ files have different faces");
+  double worst = 0.0;
+  for (const auto& f : mesh.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) {
+      const int a = f[k], b = f[(k + 1) % f.size()];
+      const double l = (mesh.vertices[a] - mesh.vertices[b]).norm();
+      const double lp = (unfolding.vertices[a] - unfolding.vertices[b]).norm();
+      if (l > 0.0) worst = std::max(worst, std::abs(lp - l) / l);
+    }
+  return worst;
+}
+
 /// Tang et al. 2016 Fig. 17 face flatness of one quad: distance of the lines of its diagonals over
 /// the mean of its two shortest edges; 0 for a quad with a (near) zero-length edge (a triangle) or
 /// parallel diagonals (two parallel lines share a plane).

@@ -56,6 +56,7 @@ function withBefore(now, before) {
 /** Metrics shown for a quad mesh: [metric, label, format, title]. */
 const METRICS = [
   ['length_error', 'L-Err', percent, 'Edge length error ‖L′ − L‖/‖L‖ over all edges (Jiang et al. Fig. 22)', 'metric-length-error'],
+  ['edge_length_error_max', 'max edge error', percent, 'Largest |l′ − l|/l of one edge: a short edge stretched, which L-Err hides among long ones', 'metric-edge-length-error'],
   ['area_error', 'A-Err', percent, 'Face area error ‖A′ − A‖/‖A‖ over the faces (Fig. 22)', 'metric-area-error'],
   ['glue_gap_max', 'glue gap', (x) => formatExponential(x, 2), 'Largest distance of a glued pair ÷ the bounding-box diagonal of M', 'metric-glue-gap'],
   ['isometry_residual_max', 'isometry residual', (x) => formatExponential(x, 2), 'Largest residual of the checkerboard isometry (eq. 1)', 'metric-isometry'],

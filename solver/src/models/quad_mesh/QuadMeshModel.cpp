@@ -556,6 +556,7 @@ QuadMeshQuality QuadMeshModel::quality() const {
     L[e] = (m.row(edges[e][0]) - m.row(edges[e][1])).norm();
     Lp[e] = (u.row(edges[e][0]) - u.row(edges[e][1])).norm();
     q.edgeLengthError[e] = L[e] > 0 ? (Lp[e] - L[e]) / L[e] : 0.0;
+    q.edgeLengthErrorMax = std::max(q.edgeLengthErrorMax, std::abs(q.edgeLengthError[e]));
   }
   q.lengthError = L.norm() > 0 ? (Lp - L).norm() / L.norm() : 0.0;
   const auto& faces = design_.faces;

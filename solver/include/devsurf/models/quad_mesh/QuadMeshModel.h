@@ -45,6 +45,8 @@ inline constexpr double kReuseTolerance = 1e-3;
 /// The isometry quality of Fig. 22 and the gluing, in the design's units.
 struct QuadMeshQuality {
   double lengthError = 0.0;     ///< L-Err: ‖L′ − L‖ / ‖L‖ over all edges (a fraction, not %)
+  double edgeLengthErrorMax = 0.0;  ///< max over edges of |l′ − l| / l: one edge stretched, which
+                                    ///< L-Err (weighted by l²) hides among many long ones
   double areaError = 0.0;       ///< A-Err: ‖A′ − A‖ / ‖A‖ over faces (a quad: mean of both
                                 ///< triangulations)
   double isometryResidualMax = 0.0;  ///< max |c_iso,j(f)| ÷ diameter(M)² (eq. 1; conformal: eq. 2)
