@@ -193,7 +193,6 @@ StripMerge mergeStrips(const StripDesign& first, const StripDesign& second) {
   const Eigen::Index jCut = best.overlap ? jStar / 2 : 0;
   best.keptFirst = static_cast<double>(iCut + 1) / K1;
   best.keptSecond = static_cast<double>(K2 - jCut) / K2;
-  best.joinOffset = (Pm.row(iCut) - Qm.row(jCut)).norm();
   // Side by side, not end to end: the merged strip would step across (a user's two fits of
   // neighbouring bands merged into one strip warped by 18°).
   const double narrower = std::min((Pa - Pb).rowwise().norm().mean(), (Qa - Qb).rowwise().norm().mean());
@@ -203,6 +202,13 @@ StripMerge mergeStrips(const StripDesign& first, const StripDesign& second) {
   const double turn = runFirst.norm() > 0.0 && runSecond.norm() > 0.0
                           ? std::acos(std::clamp(runFirst.normalized().dot(runSecond.normalized()), -1.0, 1.0))
                           : 0.0;
+  // The step across: the join's offset less its part along the way the strips run there (a gap
+  // between ends in line is bridged, as before; the CLI refuses ends farther apart than a width).
+  const Eigen::RowVector3d offset = Qm.row(jCut) - Pm.row(iCut);
+  Eigen::RowVector3d along = Eigen::RowVector3d::Zero();
+  if (runFirst.norm() > 0.0) along += runFirst.normalized();
+  if (runSecond.norm() > 0.0) along += runSecond.normalized();
+  best.joinOffset = along.norm() > 0.0 ? (offset - offset.dot(along.normalized()) * along.normalized()).norm() : offset.norm();
   if (turn > 0.5 * M_PI) {
     std::ostringstream message;
     message << "second: the strips lie side by side, not end to end: joined, the strip would turn back by "
@@ -216,10 +222,10 @@ StripMerge mergeStrips(const StripDesign& first, const StripDesign& second) {
             << " % of one would be dropped; merge strips that continue one another";
     throw std::invalid_argument(message.str());
   }
-  if (best.joinOffset > 0.5 * narrower) {
+  if (narrower > 0.0 && best.joinOffset > 0.5 * narrower) {
     std::ostringstream message;
     message << "second: the strips do not continue one another: where they are joined their middle lines are "
-            << best.joinOffset << " apart, more than half the narrower strip's width (" << narrower
+            << best.joinOffset << " apart across the strip, more than half the narrower strip's width (" << narrower
             << "); merge strips that continue one another";
     throw std::invalid_argument(message.str());
   }

@@ -198,8 +198,9 @@ TEST(StripApproximation, MergingLinesUpStripsWhicheverWayTheyRun) {
 
 TEST(StripApproximation, StripsSideBySideOrSteppedAcrossAreNotMerged) {
   // Flat strips 1 wide along x. Side by side (the second beside the first, over the same x): the
-  // cut at the overlap's middle would drop half of each. End to end with a sideways step of 0.7:
-  // the join steps across the strip. End to end with a step of 0.2: merged.
+  // cut at the overlap's middle would drop half of each, or, run the other way, the join turns
+  // back. End to end with a sideways step of 0.7: the join steps across the strip. End to end
+  // with a step of 0.2, or in line with a gap: merged.
   const spline::KnotVector knots = spline::KnotVector::clampedUniform(3, 4);
   auto strip = [&knots](double x0, double y0) {
     StripDesign d;
@@ -227,6 +228,11 @@ TEST(StripApproximation, StripsSideBySideOrSteppedAcrossAreNotMerged) {
   EXPECT_NEAR(merge.joinOffset, 0.2, 1e-9);
   EXPECT_DOUBLE_EQ(merge.keptFirst, 1.0);
   EXPECT_DOUBLE_EQ(merge.keptSecond, 1.0);
+  // In line with a gap of 0.6 between the ends (more than half the width): a gap, not a step
+  // across; merged (the CLI refuses ends farther apart than a strip's width).
+  const StripMerge gap = mergeStrips(strip(0, 0), strip(3.6, 0));
+  EXPECT_NEAR(gap.joinOffset, 0.0, 1e-9);
+  EXPECT_NEAR(gap.gap, 0.6, 1e-9);
 }
 
 /// A random developable patch a user might scan: a cylinder or a cone piece of random size, arc

@@ -72,7 +72,8 @@ struct StripMerge {
   bool overlap = false;         ///< the strips overlapped (each was cut at the overlap's middle)
   double keptFirst = 1.0;       ///< fraction of the first strip's samples kept (1: not cut)
   double keptSecond = 1.0;      ///< fraction of the second strip's samples kept
-  double joinOffset = 0.0;      ///< distance between the middle lines where they are joined
+  double joinOffset = 0.0;      ///< step across between the middle lines where they are joined
+                                ///< (their offset less its part along the way they run there)
 };
 
 /// Merges two strips into one (000_… Fig. 10c: "merged by putting together their respective
@@ -87,11 +88,13 @@ struct StripMerge {
 /// for strips that meet end to end this reproduces the joined sequences up to the fit.
 /// Strips that do not continue one another are refused (std::invalid_argument): joined, the middle
 /// line would turn back by more than 90°; the cut at the overlap's middle would drop more than 40 %
-/// of one of them (side by side); or it would join middle lines farther apart than half the
-/// narrower strip's mean width (a step across the strip).
+/// of one of them (side by side, as a fraction of its samples, uniform in its parameter); or it
+/// would join middle lines stepping across by more than half the narrower strip's mean width (a
+/// gap between ends in line is not a step across).
 /// Approximation targets are concatenated (weights of the first); fixed points and handles are
 /// dropped; normals become a normal spline with one control point per curve control point.
-/// @throws std::invalid_argument for closed or rational curves, or differing degrees
+/// @throws std::invalid_argument for closed or rational curves, differing degrees, or strips that
+///         do not continue one another (above)
 StripMerge mergeStrips(const StripDesign& first, const StripDesign& second);
 
 }  // namespace devsurf::models::strip
