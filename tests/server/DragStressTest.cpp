@@ -475,8 +475,14 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
     const bool variant = preset.find(':') != std::string::npos;
     for (const auto& [dirName, dir] : directions) {
       // Quad meshes: up and inward only (a D-form's release runs to its iteration cap, ~7 s a drag:
-      // the sideways drags cost CI ~45 s).
-      if (kind == "quad_mesh" && std::string(dirName) == "sideways") continue;
+      // the sideways drags cost CI ~45 s), one of them per point in turn, the last of a single
+      // point both: every direction at least once a preset (both on every point cost CI ~80
+      // CPU-seconds more, stop 51).
+      if (kind == "quad_mesh") {
+        if (std::string(dirName) == "sideways") continue;
+        const bool quadOwn = (std::string(dirName) == "up") == ((targetIndex - 1) % 2 == 0);
+        if (!quadOwn && targets.size() > 1) continue;
+      }
       const int thisDirection = directionIndex++;
       const bool targetsOwnDirection = thisDirection == shortDirection;
       // The solver variants of the composites drag each target in one direction, a different one
