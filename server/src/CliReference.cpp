@@ -24,6 +24,7 @@
 #include "devsurf/reference/PointThinning.h"
 #include "devsurf/reference/ReferenceShape.h"
 #include "devsurf/server/Cli.h"
+#include "devsurf/server/SceneSolver.h"
 #include "devsurf/server/ShapeFitting.h"
 
 namespace devsurf::server {
@@ -211,20 +212,38 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
   }
 }
 
+namespace {
+
+/// The warp check of a strip scene's quality verdict after a solve with its own settings.
+QualityCheck solvedWarpCheck(const proto::Scene& scene) {
+  SceneSolver solver(scene);
+  solver.solve();
+  for (const QualityCheck& check : solver.quality().checks)
+    if (check.metric == "warp_angle_max_deg") return check;
+  throw std::logic_error("a strip's quality verdict has no warp_angle_max_deg check");
+}
+
+constexpr const char* kMergeUsage =
+    "usage: devsurf merge FIRST.json SECOND.json [--name NAME] [--unchecked] [--out SCENE.json]\n";
+
+}  // namespace
+
 int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   std::vector<std::string> paths;
   std::string outPath, name;
+  bool checked = true;
   try {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       if (a == "--out") outPath = cli::flagValue(args, i);
       else if (a == "--name") name = cli::flagValue(args, i);
+      else if (a == "--unchecked") checked = false;
       else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
       else paths.push_back(a);
     }
     if (paths.size() != 2) throw std::invalid_argument("expected two strip scenes, got " + std::to_string(paths.size()));
   } catch (const std::invalid_argument& e) {
-    err << "devsurf merge: " << e.what() << "\nusage: devsurf merge FIRST.json SECOND.json [--name NAME] [--out SCENE.json]\n";
+    err << "devsurf merge: " << e.what() << "\n" << kMergeUsage;
     return 2;
   }
   std::vector<proto::Scene> scenes;
@@ -273,6 +292,19 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     scene.name = name.empty() ? scenes[0].name + " + " + scenes[1].name : name;
     scene.description = "Strips of " + paths[0] + " and " + paths[1] + " merged (devsurf merge; Tang et al. 2016 Fig. 10c).";
     scene.model = merge.merged;
+    // The layout checks of mergeStrips cannot tell whether the joined strip can be developable (two
+    // overlapping kitten fits running crosswise passed them and solved to a warp of 65°): solve it
+    // as `solve` would and refuse a strip that misses the warp limit where its parts did better.
+    if (checked) {
+      const QualityCheck merged = solvedWarpCheck(scene);
+      const double parts = std::max(solvedWarpCheck(scenes[0]).value, solvedWarpCheck(scenes[1]).value);
+      if (!merged.ok && merged.value > 2.0 * parts) {
+        err << "devsurf merge: the strips do not make one developable strip: merged and solved, it warps by "
+            << merged.value << "° (a strip's limit " << merged.limit << "°), its parts solved by at most " << parts
+            << "°; nothing written (--unchecked writes it anyway)\n";
+        return 2;
+      }
+    }
     if (!writeScene(scene, outPath, "merge", out, err)) return 1;
     err << "devsurf merge: joined with a gap of " << merge.gap << (merge.reversedFirst ? "; first reversed" : "")
         << (merge.reversedSecond ? "; second reversed" : "") << (merge.swappedSecond ? "; second's a and b exchanged" : "")

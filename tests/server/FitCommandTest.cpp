@@ -158,6 +158,52 @@ TEST(MergeCommand, TwoStripsFittedToHalvesOfACloudMergeIntoOneThatSolvesOverTheW
   EXPECT_FALSE(std::filesystem::exists(notWritten));
 }
 
+TEST(MergeCommand, KittenFitsThatDoNotMakeOneDevelopableStripAreRefusedAndOnesThatDoAreMerged) {
+  devsurf::testing::TempDir dir;
+  const std::string command = "tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C '" + dir.str() +
+                              "' data/points_3/kitten.xyz 2>/dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << "libcgal-demo's data (scripts/setup.sh installs it)";
+  const std::string kitten = (dir.path() / "data/points_3/kitten.xyz").string();
+  // Two brush strokes as a user makes them: a fit, then the next ball 0.2 further along the way
+  // the first strip runs; each solved, and the solved scenes merged.
+  const auto fitAndSolve = [&dir, &kitten](const std::string& centre, const std::string& stem) {
+    const std::string path = (dir.path() / (stem + ".json")).string();
+    EXPECT_EQ(runCommand({"fit", kitten, "--centre", centre, "--radius", "0.12", "--out", path}).code, 0);
+    EXPECT_EQ(runCommand({"solve", path, "--out", path}).code, 0);
+    const nlohmann::json report = nlohmann::json::parse(std::ifstream(path));
+    std::ofstream(path) << report["scene"].dump();
+    return path;
+  };
+  const auto solvedWarp = [&dir](const std::string& scene) {
+    const std::string report = (dir.path() / "warp.json").string();
+    EXPECT_EQ(runCommand({"solve", scene, "--out", report}).code, 0);
+    return nlohmann::json::parse(std::ifstream(report))["metrics"]["warp_angle_max_deg"].get<double>();
+  };
+  // On the back: the strips continue one another; merged, the strip solves within a strip's
+  // warp limit (measured 0.01°).
+  const std::string backFirst = fitAndSolve("0.1049,0.0531,0.2720", "back1");
+  const std::string backSecond = fitAndSolve("0.1906,0.2336,0.2815", "back2");
+  const std::string merged = (dir.path() / "merged.json").string();
+  const CliRun merge = runCommand({"merge", backFirst, backSecond, "--out", merged});
+  ASSERT_EQ(merge.code, 0) << merge.err;
+  EXPECT_LE(solvedWarp(merged), 0.05);
+  // Round the flank: the layout checks pass, but no one developable strip follows both (as stop
+  // 51's overlapping fits, whose merge solved to a warp of 65°). Refused naming why, nothing
+  // written; --unchecked writes it, and `solve` confirms it misses the limit by far.
+  const std::string flankFirst = fitAndSolve("0.2141,-0.0210,-0.0634", "flank1");
+  const std::string flankSecond = fitAndSolve("0.0793,-0.1229,-0.1704", "flank2");
+  const std::string notWritten = (dir.path() / "none.json").string();
+  const CliRun refused = runCommand({"merge", flankFirst, flankSecond, "--out", notWritten});
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("do not make one developable strip"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(notWritten));
+  const CliRun unchecked = runCommand({"merge", flankFirst, flankSecond, "--unchecked", "--out", merged});
+  ASSERT_EQ(unchecked.code, 0) << unchecked.err;
+  const double warp = solvedWarp(merged);
+  std::printf("kitten flank merged anyway: warp %.3g°\n", warp);
+  EXPECT_GT(warp, 0.5);
+}
+
 TEST(FitCommand, TheLampshadeScanSceneSolvesOntoItsPoints) {
   // tests/data/fit/strip-fit-lampshade.json: made by `devsurf fit` from a synthetic 6 000-point
   // scan of a conical lampshade (σ = 0.157 mm on 157 mm), served by the browser test as a demo.
