@@ -23,6 +23,7 @@ json iterationToJson(const engine::SolveSummary& summary, const engine::Iteratio
            {{"assembly", r.assemblyMs},
             {"factorization", r.factorizationMs},
             {"solve", r.solveMs},
+            {"evaluation", r.evaluationMs},
             {"total", r.totalMs}}}};
   if (summary.alternating) out["alternating_step_scale"] = r.alternatingStepScale;
   return out;

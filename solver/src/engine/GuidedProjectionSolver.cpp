@@ -203,8 +203,11 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     }
     if (std::isnan(rec.hardResidualMax)) rec.totalResidual = rec.hardResidualMax;
   };
-  auto evaluate = [this, &weights](const Eigen::VectorXd& x, std::vector<double>& out) {
+  double evaluationMs = 0.0;  // this iteration's residual evaluations (IterationRecord::evaluationMs)
+  auto evaluate = [this, &weights, &evaluationMs](const Eigen::VectorXd& x, std::vector<double>& out) {
+    const Clock::time_point t0 = Clock::now();
     equations_.residuals(problem_, x, weights, out, &termMaxAbs_);
+    evaluationMs += millisecondsSince(t0);
   };
 
   // The weights of a projection step: the targets (handles) drop out. Fairness stays: the hard
@@ -346,6 +349,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     options.deadline.check();  // throws: x is the last iterate
     if (factorAge >= 0) ++factorAge;
     const Clock::time_point iterStart = Clock::now();
+    evaluationMs = 0.0;
     const IterationRecord& previous = summary.iterations.back();
     const double previousObjective = previous.objective;
     const double previousHard = previous.hardResidual;
@@ -537,6 +541,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
       summary.reason = TerminationReason::Diverged;
       break;
     }
+    rec.evaluationMs = evaluationMs;
     rec.totalMs = millisecondsSince(iterStart);
     summary.iterations.push_back(std::move(rec));
     const IterationRecord& last = summary.iterations.back();

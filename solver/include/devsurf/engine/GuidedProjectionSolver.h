@@ -59,6 +59,8 @@ struct IterationRecord {
                                        ///< of elimination groups, see NormalEquations)
   double solveMs = 0.0;                ///< triangular solves and the update of x (with
                                        ///< factorization reuse: the whole PCG solve)
+  double evaluationMs = 0.0;           ///< residual evaluations that judge the step (step control,
+                                       ///< corrections; NormalEquations::residuals)
   /// Triangular-solve pairs spent on conjugate gradients preconditioned with an earlier
   /// factorization (FactorizationReuseOptions; also when CG gave up and the matrix was then
   /// factorized); 0: none.
