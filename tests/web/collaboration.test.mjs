@@ -123,4 +123,16 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     assert.deepEqual(server.scene.model.b.points[idx], pointBefore, 'the control point did not move');
     assert.equal(after.seq, seqBefore, 'the view page saw no edit');
     assert.equal((await h.state(a)).seq, aBefore.seq, 'the editor saw no edit');
+
+    // Keyboard shortcuts that edit (S solve, F fix, H handle, Ctrl+Z undo, Ctrl+Shift+Z redo) send
+    // nothing from the view page: each says locally that the link is view only.
+    await v.locator('canvas').first().click({ position: { x: 5, y: 5 } }).catch(() => {});
+    const sentBefore = sent.length;
+    for (const key of ['s', 'f', 'h', 'Control+z', 'Control+Shift+z']) {
+      await v.keyboard.press(key);
+      await h.sleep(150);
+    }
+    const edits = sent.slice(sentBefore).filter((m) => !/"type":"(presence|ping)"/.test(m));
+    assert.deepEqual(edits, [], 'no edit left the view page');
+    assert.equal((await daemon.session(id, viewToken)).seq, seqBefore, 'the server applied no edit');
   }));

@@ -3,7 +3,8 @@
 //     snaps to the grid; the units setting relabels the design and the exports follow (FOLD's
 //     frame_unit, read back with npm fold). An editor opened by the edit link knows the view link
 //     (item 6). Typed text that is not a value (a coordinate, a solver setting) is refused naming
-//     the field and nothing is sent (item 7). Screenshot: test-artifacts/web/12-exact-input.png.
+//     the field and nothing is sent (item 7); so are a fixed point's typed coordinates and drags.
+//     Screenshot: test-artifacts/web/12-exact-input.png.
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { test } from 'node:test';
@@ -140,6 +141,28 @@ test('typed coordinates, an axis-held snapped drag and the units setting', { tim
     }
     assert.ok(positions[positions.length - 1][2] > before[2] + 0.04, `the drag went up: ${positions.map((p) => p[2])}`);
     await h.waitQuiet(page, { quietMs: 1000 });
+
+    // A fixed vertex (4) does not move: coordinates typed for it are refused saying how to move
+    // it, and a press-drag on it selects it, says so and sends nothing (a drag would only pull
+    // against it; a new user's drag of a fixed point of a folded sheet changed the fold targets).
+    await page.getByTestId('drag-constraint').selectOption('free');
+    const fixedAt = await h.pointPagePosition(page, { vertex: 4 });
+    await page.mouse.click(fixedAt.x, fixedAt.y);
+    await h.waitState(page, (st) => st.selection && st.selection.vertex === 4, undefined, { what: 'vertex 4 selected' });
+    const seqFixed = (await h.state(page)).seq;
+    const fixedStart = await vertexOnServer(daemon, s, 4);
+    await page.getByTestId('coord-z').fill(String(fixedStart[2] + 0.3));
+    await page.getByTestId('coord-z').press('Enter');
+    await moveError.waitFor({ state: 'visible', timeout: 5000 });
+    assert.equal(await moveError.textContent(), 'this point is fixed: unfix it (F) to move it');
+    await page.mouse.move(fixedAt.x, fixedAt.y);
+    await page.mouse.down();
+    for (let k = 1; k <= 8; k++) await page.mouse.move(fixedAt.x + 5 * k, fixedAt.y - 5 * k);
+    await page.mouse.up();
+    await page.getByText('This point is fixed: unfix it (F) to drag it.').waitFor({ timeout: 5000 });
+    await new Promise((r) => setTimeout(r, 500));
+    assert.equal((await h.state(page)).seq, seqFixed, 'nothing sent for the fixed vertex');
+    assert.deepEqual(await vertexOnServer(daemon, s, 4), fixedStart, 'the fixed vertex stays');
 
     // Units: centimetres; the scene says so and the FOLD export names them.
     await page.getByTestId('units-select').selectOption('cm');

@@ -1,7 +1,7 @@
 import { beforeEach, describe, expect, it } from 'vitest';
 import { ProtocolClient, backoffDelay, openEarlyJoin, sessionSocketUrl } from '../src/net/ProtocolClient.js';
 import { EditorState } from '../src/state/EditorState.js';
-import { DragCommand, SetSolverCommand, SolveCommand, UndoCommand } from '../src/commands/index.js';
+import { DragCommand, PresenceCommand, SetSolverCommand, SolveCommand, UndoCommand } from '../src/commands/index.js';
 
 // A fake WebSocket: records what the client sends; the test plays the server.
 class FakeSocket {
@@ -102,6 +102,24 @@ describe('ProtocolClient', () => {
     expect(state.participants).toHaveLength(1);
     expect(state.constraints.fixed).toEqual([{ curve: 'a', index: 0 }]);
     expect(connections).toEqual(['connecting', 'connected']);
+  });
+
+  it('sends no edits from a view-only link: each is refused locally as forbidden, presence still goes', () => {
+    client.connect('s1', 'view-token', 'bob');
+    const ws = socket();
+    ws.open();
+    ws.receive({ ...stateMessage(3), role: 'view' });
+    expect(state.role).toBe('view');
+    const before = ws.sent.length;
+    for (const command of [new UndoCommand(), new SolveCommand(), new SetSolverCommand({ fairness: 0.1 }),
+      new DragCommand({ curve: 'a', index: 0 }, [0, 0, 1])]) {
+      expect(client.send(command)).toBeNull();
+      expect(state.lastError.code).toBe('forbidden');
+      expect(state.lastError.message).toMatch(/view only/);
+    }
+    expect(ws.sent.length).toBe(before);
+    expect(client.send(new PresenceCommand({ curve: 'a', index: 0 }, 'bob'))).not.toBeNull();
+    expect(ws.sent.at(-1).type).toBe('presence');
   });
 
   it('joins on a socket the page opened early: at once when open, on open when still connecting', () => {

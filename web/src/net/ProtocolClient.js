@@ -11,6 +11,9 @@
 
 import { JoinCommand } from '../commands/JoinCommand.js';
 
+/** The messages a view-only connection may send (server/src/Session.cpp: the others edit). */
+const VIEWER_MESSAGES = new Set(['presence', 'ping', 'join']);
+
 export const BACKOFF_INITIAL_MS = 250;
 export const BACKOFF_MAX_MS = 8000;
 
@@ -139,6 +142,13 @@ export class ProtocolClient {
   send(command) {
     if (!this.connected) {
       this.state.applyError({ type: 'error', code: 'offline', message: 'Not connected to the server: the action was not sent.' }, command);
+      return null;
+    }
+    // A view-only link changes nothing: its edits (a keyboard shortcut, say) are not sent at all,
+    // as the server would refuse them (Session: every type but presence, ping and join edits).
+    if (this.state.role === 'view' && !VIEWER_MESSAGES.has(command.type)) {
+      this.state.applyError({ type: 'error', code: 'forbidden',
+        message: 'This link is view only: it cannot change the design (ask for the edit link).' }, command);
       return null;
     }
     const op = this.nextOp++;

@@ -219,6 +219,8 @@ export class Editor {
     this.help = new HelpOverlay(this.root);
     this.toasts = new Toasts(document.body);
     this.exportPanel.toasts = this.toasts;
+    // A word from a view (a press on a fixed point, say): shown as a toast.
+    st.on('notice', (text) => this.toasts.showInfo(text));
   }
 
   // ---- wiring ---------------------------------------------------------------------------------

@@ -78,6 +78,9 @@ export class ErrorSlots {
 
   clear(source) {
     const el = this.slots.get(source);
-    if (el) el.hidden = true;
+    if (!el) return;
+    el.hidden = true;
+    el.textContent = '';  // nothing stale left to read (a screen reader, a test reading the text)
+    clearTimeout(this.timers.get(el));
   }
 }

@@ -435,6 +435,10 @@ export class SelectionPanel {
       this.errorSlots.show('selection:move', `${'xyz'[bad]}: enter a finite number`);
       return;
     }
+    if (this.state.constraints.fixed.some((f) => sameTarget(f, sel))) {
+      this.errorSlots.show('selection:move', 'this point is fixed: unfix it (F) to move it');
+      return;
+    }
     this.errorSlots.clear('selection:move');
     // The fields are left as typed until the point moves or a release answers (render): a move
     // the server refuses — no release follows it — leaves the text there to correct, beside the

@@ -54,6 +54,12 @@ export class ViewportPointer {
     return !!st && st.role === 'edit';
   }
 
+  /** Whether `target` is one of the session's fixed points. */
+  isFixed(target) {
+    const st = this.view.state;
+    return !!(st && st.constraints && st.constraints.fixed.some((f) => sameTarget(f, target)));
+  }
+
   /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
   pick(event) {
     const view = this.view;
@@ -129,6 +135,15 @@ export class ViewportPointer {
     if (!this.editable()) {
       // A view-only editor selects the point (its coordinates are shown) but cannot move it: no
       // drag, nothing sent; the press orbits the camera as on empty space.
+      view.controls.enabled = true;
+      view.requestRender();
+      return;
+    }
+    if (this.isFixed(hit)) {
+      // A fixed point does not move: a drag would only pull against it (and its release would
+      // take the sheet's fold as the design's, a fold the drag did not change). Selected, with a
+      // word on how to move it; the press orbits the camera.
+      view.state.emit('notice', 'This point is fixed: unfix it (F) to drag it.');
       view.controls.enabled = true;
       view.requestRender();
       return;
