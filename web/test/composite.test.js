@@ -139,3 +139,22 @@ describe('fold slider position', () => {
     expect(sessionFoldAmount(null, { model: {} })).toBe(1);
   });
 });
+
+describe('fold lag warning', () => {
+  const scene = { model: { fold_angles: [{ edge: 0, angle: 90 }, { edge: 4, angle: -90 }, { edge: 8, angle: 45 }] } };
+  it('says a crease folds the wrong way when it is further from its target than the target itself', async () => {
+    const { foldLagWarning } = await import('../src/ui/FoldPanel.js');
+    // A new user's drawing let go at 100 %: a valley folded as a mountain, 97° from its 90°.
+    const text = foldLagWarning({ fold_amount: 1, fold_angle_error_max_deg: 97.2 }, scene);
+    expect(text).toMatch(/97° from its target at 100 %: it folds the wrong way/);
+    expect(foldLagWarning({ fold_amount: 0.5, fold_angle_error_max_deg: 30 }, scene)).toMatch(/lag behind the slider/);
+  });
+  it('stays quiet for folds near their targets, at 0 %, without targets or without the metric', async () => {
+    const { foldLagWarning } = await import('../src/ui/FoldPanel.js');
+    expect(foldLagWarning({ fold_amount: 1, fold_angle_error_max_deg: 13.5 }, scene)).toBeNull();  // within a quarter of 90°
+    expect(foldLagWarning({ fold_amount: 0.1, fold_angle_error_max_deg: 4.9 }, scene)).toBeNull();  // under 5°
+    expect(foldLagWarning({ fold_amount: 0, fold_angle_error_max_deg: 40 }, scene)).toBeNull();
+    expect(foldLagWarning({ fold_amount: 1, fold_angle_error_max_deg: 40 }, { model: {} })).toBeNull();
+    expect(foldLagWarning({ fold_amount: 1 }, scene)).toBeNull();
+  });
+});

@@ -22,6 +22,26 @@ export function sessionFoldAmount(metrics, scene) {
   return 1;
 }
 
+/**
+ * A warning when the creases lag far behind the slider (a drawing whose fold angles the sheet
+ * cannot take as drawn: it stretches instead, and a crease may fold the wrong way), else null:
+ * the largest error of a crease's fold angle against amount × its target (the metrics'
+ * fold_angle_error_max_deg) above a quarter of amount × the largest target and 5°. An error
+ * above amount × the largest target means a crease folds the wrong way or far past its angle.
+ */
+export function foldLagWarning(metrics, scene) {
+  const model = scene && scene.model;
+  const targets = model && Array.isArray(model.fold_angles) ? model.fold_angles : [];
+  if (!metrics || !targets.length) return null;
+  const amount = metrics.fold_amount, error = metrics.fold_angle_error_max_deg;
+  if (!(typeof amount === 'number' && amount > 0) || !(typeof error === 'number' && Number.isFinite(error))) return null;
+  const aim = amount * Math.max(...targets.map((t) => Math.abs(Number(t.angle) || 0)));
+  if (!(error > Math.max(5, 0.25 * aim))) return null;
+  const at = `${Math.round(amount * 100)} %`;
+  const how = error > aim ? 'it folds the wrong way (or far past its angle)' : 'the creases lag behind the slider';
+  return `⚠ A crease is ${Math.round(error)}° from its target at ${at}: ${how}. The sheet cannot take these fold angles as drawn and stretches instead; change the drawing (fewer or gentler creases, other angles).`;
+}
+
 export class FoldPanel {
   constructor(parent, { state, send, errorSlots }) {
     this.state = state;
@@ -45,11 +65,14 @@ export class FoldPanel {
     // Points whose creases cannot all fold (geometry.fold_conflicts): the slider cannot reach them.
     this.conflicts = h('div', { class: 'fold-conflicts', testid: 'fold-conflicts', role: 'status', hidden: true });
     this.conflictsKey = '';
+    // How far the creases are from their targets once the slider is let go (foldLagWarning).
+    this.lag = h('div', { class: 'fold-conflicts', testid: 'fold-lag', role: 'status', hidden: true });
     this.root = h('section', { class: 'panel', testid: 'fold-panel', hidden: true },
       h('h3', {}, 'Fold'),
       h('div', { class: 'row' }, this.slider, this.label, this.playButton),
       errorSlots.slot('fold:amount'),
       this.conflicts,
+      this.lag,
       h('p', { class: 'muted small' }, '0 %: the flat sheet · 100 %: the design\'s fold angles. The solver keeps every state developable; the first move takes the current folds as 100 %.'));
     parent.appendChild(this.root);
     // A fresh state (a re-join) is the session's own: a let-go sent before it is not waited for.
@@ -92,6 +115,9 @@ export class FoldPanel {
     this.playButton.disabled = !editable;
     this.playButton.textContent = this.playing ? 'Pause' : 'Play';
     if (this.moving || this.letGo) return;
+    const lag = foldLagWarning(st.metrics, st.scene);
+    this.lag.hidden = !lag;
+    this.lag.textContent = lag || '';
     const amount = sessionFoldAmount(st.metrics, st.scene);
     this.slider.value = String(Math.round(amount * 100));
     this._showAmount(amount);
