@@ -398,12 +398,34 @@ FoldImport importFoldDocument(const json& doc) {
     p.edges.push_back(edge);
   }
   const bool anyAssignment = std::any_of(assignments.begin(), assignments.end(), [](const auto& a) { return a.has_value(); });
-  if (!anyAssignment)
+  if (!anyAssignment) {
+    // No edges_assignment (optional in FOLD): the outline is B; an inside edge with a fold angle
+    // folds by its sign (FOLD: positive is a valley), the others are read as U, flat — said in a
+    // note, since a drawn crease silently flat was a new user's surprise.
+    int flat = 0, bySign = 0;
     for (auto& edge : p.edges) {
       const auto it = facesOfPair.find(std::minmax(edge.v0, edge.v1));
       const int count = it == facesOfPair.end() ? 0 : it->second;
-      edge.assignment = count == 1 ? EdgeAssignment::Boundary : EdgeAssignment::Flat;
+      if (count == 1) {
+        edge.assignment = EdgeAssignment::Boundary;
+      } else if (edge.foldAngle && *edge.foldAngle != 0.0) {
+        edge.assignment = *edge.foldAngle > 0.0 ? EdgeAssignment::Valley : EdgeAssignment::Mountain;
+        ++bySign;
+      } else {
+        edge.assignment = EdgeAssignment::Flat;
+        if (!edge.proposed) ++flat;
+      }
     }
+    if (flat > 0 || bySign > 0) {
+      std::string note = "missing: ";
+      if (bySign > 0) note += std::to_string(bySign) + " edge(s) inside the sheet fold by the sign of edges_foldAngle";
+      if (bySign > 0 && flat > 0) note += ", ";
+      if (flat > 0)
+        note += std::to_string(flat) + " edge(s) inside the sheet read as unassigned (U): flat, not folded (give them M or V "
+                                       "in edges_assignment to fold them)";
+      result.notes.push_back({"edges_assignment", note});
+    }
+  }
   // Fold angles must agree with the assignment (CreasePattern::validate): drop those that do not.
   for (std::size_t e = 0; e < p.edges.size(); ++e) {
     CreaseEdge& edge = p.edges[e];

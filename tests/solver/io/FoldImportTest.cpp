@@ -115,6 +115,28 @@ TEST(FoldImport, ClockwiseFacesMirrorThePatternRatherThanTurnTheSheetOver) {
   for (const auto& e : r.pattern.edges) EXPECT_EQ(e.assignment, EdgeAssignment::Boundary);
 }
 
+TEST(FoldImport, WithoutAssignmentsInsideEdgesFoldByTheirAngleOrAreSaidToBeFlat) {
+  // A new user's square with a diagonal and no edges_assignment: the diagonal was dropped as flat
+  // without a word. Now a note says so, and a diagonal with a fold angle folds by its sign.
+  nlohmann::json doc = {{"file_spec", 1.1},
+                        {"vertices_coords", {{0, 0}, {1, 0}, {1, 1}, {0, 1}}},
+                        {"edges_vertices", {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}}}};
+  const FoldImport flat = importFoldDocument(doc);
+  ASSERT_TRUE(hasNoteOn(flat, "edges_assignment"));
+  for (const auto& n : flat.notes)
+    if (n.element == "edges_assignment") EXPECT_NE(n.message.find("1 edge(s) inside the sheet read as unassigned"), std::string::npos) << n.message;
+  int boundary = 0;
+  for (const auto& e : flat.pattern.edges) boundary += e.assignment == EdgeAssignment::Boundary;
+  EXPECT_EQ(boundary, 4);
+  doc["edges_foldAngle"] = {nullptr, nullptr, nullptr, nullptr, -60};
+  const FoldImport folded = importFoldDocument(doc);
+  int mountains = 0;
+  for (const auto& e : folded.pattern.edges) mountains += e.assignment == EdgeAssignment::Mountain && e.foldAngle == -60.0;
+  EXPECT_EQ(mountains, 1);
+  ASSERT_TRUE(hasNoteOn(folded, "edges_assignment"));
+  EXPECT_FALSE(hasNoteOn(folded, "edges_foldAngle"));  // the angle fits: not left out
+}
+
 TEST(FoldImport, FrameUnitsAreRead) {
   const nlohmann::json doc = {{"frame_unit", "cm"},
                               {"vertices_coords", {{0, 0}, {1, 0}, {0, 1}}},
