@@ -557,7 +557,7 @@ export class StartPage {
     if (notes.length === 0 || openAtOnce) return this._create(result.scene, what);
     const s = result.summary;
     this.importNotes.append(
-      h('p', { class: 'small' }, `${file.name}: ${s.faces} faces, ${s.edges.mountain} mountain and ${s.edges.valley} valley creases${s.curved_creases ? ` (${s.curved_creases} curved strokes)` : ''}${s.folded_state ? ', in its folded form' : ', flat'}. The import noted:`),
+      h('p', { class: 'small' }, `${file.name}: ${s.faces} faces; crease edges ${s.edges.mountain} mountain and ${s.edges.valley} valley${s.curved_creases ? ` (${s.curved_creases} curved ${s.curved_creases === 1 ? 'crease' : 'creases'} among them, each in several edges)` : ''}${s.folded_state ? ', in its folded form' : ', flat'}. The import noted:`),
       h('ul', { class: 'small' }, ...notes.map((n) => h('li', { testid: 'import-note' }, h('span', { class: 'mono' }, n.element), `: ${n.message}`))),
       h('button', { class: 'btn primary', testid: 'open-imported', onclick: () => this._create(result.scene, what) }, 'Open it'));
     this.importNotes.hidden = false;
