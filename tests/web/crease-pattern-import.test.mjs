@@ -193,7 +193,7 @@ test('every SVG drawing imports through the REST route and opens as a flat compo
 test('an SVG drawing with curved creases dropped on the start page folds with the slider and exports FOLD read back by npm fold', async () => {
   // The import says what it did (rulings proposed between the curved creases), then opens on request.
   const { page, notes } = await dropOnStartPage(path.join(SVG_DIR, 'two-curved-creases.svg'));
-  assert.match(notes, /2 curved strokes/);
+  assert.match(notes, /2 curved creases among them/);
   assert.match(notes, /ruling\(s\) proposed/);
   const { id, token } = await openImportedAtZero(page, '11-svg-curved-0');
   for (const [percent, name] of [[50, '11-svg-curved-50'], [100, '11-svg-curved-100']]) {
