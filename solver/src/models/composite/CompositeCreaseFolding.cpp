@@ -13,6 +13,8 @@ namespace devsurf::models::composite {
 
 namespace {
 constexpr double kDegreesPerRadian = 57.29577951308232;
+/// A hinge folded by less than this is flat to captureFoldTargets (the first fold's threshold).
+constexpr double kFoldedHingeDeg = 0.5;
 }  // namespace
 
 void CompositeModel::addFoldAngleTerm() {
@@ -65,6 +67,11 @@ void CompositeModel::captureFoldTargets() {
   for (std::size_t i = 0; i < design_.foldAngles.size() && i < foldTargetHinge_.size(); ++i) {
     const FoldHinge& h = hinges_[static_cast<std::size_t>(foldTargetHinge_[i])];
     const double angle = kDegreesPerRadian * terms::hingeFoldAngle(pointValue(h.a), pointValue(h.b), pointValue(h.c), pointValue(h.d));
+    // A hinge left flat or folded against its target keeps the target: a drag does not erase a
+    // crease's fold or turn a valley into a mountain (its letter says which way it folds; a new
+    // user's drag of a sheet stuck near flat did both, without a word).
+    const double target = design_.foldAngles[i].angleDeg;
+    if (std::abs(angle) < kFoldedHingeDeg || (target != 0.0 && angle * target < 0.0)) continue;
     design_.foldAngles[i].angleDeg = std::clamp(angle / design_.foldAmount, -180.0, 180.0);
   }
   setFoldAmount(design_.foldAmount);

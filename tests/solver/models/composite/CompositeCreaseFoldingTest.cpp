@@ -74,6 +74,36 @@ TEST(CompositeCreaseFolding, TheSliderFoldsAStraightCreaseToItsAmountOfTheTarget
   EXPECT_GT(folded.vertices(freeCorner, 2), 50.0);
 }
 
+TEST(CompositeCreaseFolding, CapturingTheFoldKeepsTargetsOfHingesLeftFlatOrFoldedTheWrongWay) {
+  CompositeDesign d = squareWithValleyDiagonal();  // valley, 120°
+  {
+    CompositeModel model(d);
+    model.setFoldAmount(0.5);
+    model.solve(foldSliderSolve(40));
+    d = model.design();  // folded to 60° at half
+  }
+  ASSERT_NEAR(d.foldAmount, 0.5, 1e-12);
+  // Folded the way of its target, by 60° at half: the target becomes 120° whatever it was.
+  CompositeDesign asked = d;
+  asked.foldAngles[0].angleDeg = 100.0;
+  CompositeModel same(asked);
+  same.captureFoldTargets();
+  EXPECT_NEAR(same.design().foldAngles[0].angleDeg, 120.0, 1.0);
+  // The sheet mirrored (every fold the other way, −60°): the valley keeps its 120°.
+  CompositeDesign mirrored = d;
+  mirrored.vertices.col(2) *= -1.0;
+  CompositeModel against(mirrored);
+  ASSERT_LT(against.hingeAngles()[0].angleDeg, -50.0);
+  against.captureFoldTargets();
+  EXPECT_EQ(against.design().foldAngles[0].angleDeg, 120.0);
+  // Flat at half (a drag that left the sheet unfolded): the target stays too.
+  CompositeDesign flat = squareWithValleyDiagonal();
+  flat.foldAmount = 0.5;
+  CompositeModel unfolded(flat);
+  unfolded.captureFoldTargets();
+  EXPECT_EQ(unfolded.design().foldAngles[0].angleDeg, 120.0);
+}
+
 TEST(CompositeCreaseFolding, HingeAnglesAgreeWithTheCreasePatternsMeasurement) {
   CompositeDesign d = squareWithValleyDiagonal();
   d.foldAmount = 0.6;
