@@ -214,12 +214,17 @@ int fitCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
 
 namespace {
 
-/// The warp check of a strip scene's quality verdict after a solve with its own settings.
-QualityCheck solvedWarpCheck(const proto::Scene& scene) {
-  SceneSolver solver(scene);
-  solver.solve();
-  for (const QualityCheck& check : solver.quality().checks)
-    if (check.metric == "warp_angle_max_deg") return check;
+/// The warp check of a strip scene's quality verdict after a solve with its own settings; what
+/// is solved is named in an error (std::invalid_argument: a refusal, exit 2).
+QualityCheck solvedWarpCheck(const proto::Scene& scene, const std::string& what) {
+  try {
+    SceneSolver solver(scene);
+    solver.solve();
+    for (const QualityCheck& check : solver.quality().checks)
+      if (check.metric == "warp_angle_max_deg") return check;
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(what + " could not be solved to check it: " + e.what());
+  }
   throw std::logic_error("a strip's quality verdict has no warp_angle_max_deg check");
 }
 
@@ -295,14 +300,21 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
     // The layout checks of mergeStrips cannot tell whether the joined strip can be developable (two
     // overlapping kitten fits running crosswise passed them and solved to a warp of 65°): solve it
     // as `solve` would and refuse a strip that misses the warp limit where its parts did better.
+    // Each part is solved with its own settings, the merged strip with the first's (its scene's).
     if (checked) {
-      const QualityCheck merged = solvedWarpCheck(scene);
-      const double parts = std::max(solvedWarpCheck(scenes[0]).value, solvedWarpCheck(scenes[1]).value);
-      if (!merged.ok && merged.value > 2.0 * parts) {
-        err << "devsurf merge: the strips do not make one developable strip: merged and solved, it warps by "
-            << merged.value << "° (a strip's limit " << merged.limit << "°), its parts solved by at most " << parts
-            << "°; nothing written (--unchecked writes it anyway)\n";
-        return 2;
+      const QualityCheck merged = solvedWarpCheck(scene, "the merged strip");
+      if (!merged.ok) {  // within the limit: nothing to compare (the parts' solves are skipped)
+        const double first = solvedWarpCheck(scenes[0], paths[0]).value;
+        const double second = solvedWarpCheck(scenes[1], paths[1]).value;
+        const double parts = std::isfinite(first) && std::isfinite(second) ? std::max(first, second)
+                                                                           : std::numeric_limits<double>::infinity();
+        // A warp that is not a number is no strip at all (NaN compares false: tested first).
+        if (!std::isfinite(merged.value) || merged.value > 2.0 * parts) {
+          err << "devsurf merge: the strips do not make one developable strip: merged and solved, it warps by "
+              << merged.value << "° (a strip's limit " << merged.limit << "°), its parts solved by at most " << parts
+              << "°; nothing written (--unchecked writes it anyway)\n";
+          return 2;
+        }
       }
     }
     if (!writeScene(scene, outPath, "merge", out, err)) return 1;

@@ -125,12 +125,15 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     assert.equal((await h.state(a)).seq, aBefore.seq, 'the editor saw no edit');
 
     // Keyboard shortcuts that edit (S solve, F fix, H handle, Ctrl+Z undo, Ctrl+Shift+Z redo) send
-    // nothing from the view page: each says locally that the link is view only.
-    await v.locator('canvas').first().click({ position: { x: 5, y: 5 } }).catch(() => {});
+    // nothing from the view page (the pressed point still selected, so F and H have a target):
+    // each is answered locally, "view only".
     const sentBefore = sent.length;
     for (const key of ['s', 'f', 'h', 'Control+z', 'Control+Shift+z']) {
+      await v.evaluate(() => { window.__devsurf.state.lastError = null; });
       await v.keyboard.press(key);
       await h.sleep(150);
+      const error = (await h.state(v)).lastError;
+      assert.ok(error && error.code === 'forbidden' && /view only/.test(error.message), `${key}: ${JSON.stringify(error)}`);
     }
     const edits = sent.slice(sentBefore).filter((m) => !/"type":"(presence|ping)"/.test(m));
     assert.deepEqual(edits, [], 'no edit left the view page');

@@ -155,11 +155,13 @@ test('typed coordinates, an axis-held snapped drag and the units setting', { tim
     await page.getByTestId('coord-z').press('Enter');
     await moveError.waitFor({ state: 'visible', timeout: 5000 });
     assert.equal(await moveError.textContent(), 'this point is fixed: unfix it (F) to move it');
+    const notice = page.getByText('This point is fixed: unfix it (F) to drag it.');
+    assert.equal(await notice.count(), 0, 'a click to select a fixed point says nothing');
     await page.mouse.move(fixedAt.x, fixedAt.y);
     await page.mouse.down();
     for (let k = 1; k <= 8; k++) await page.mouse.move(fixedAt.x + 5 * k, fixedAt.y - 5 * k);
     await page.mouse.up();
-    await page.getByText('This point is fixed: unfix it (F) to drag it.').waitFor({ timeout: 5000 });
+    await notice.waitFor({ timeout: 5000 });
     await new Promise((r) => setTimeout(r, 500));
     assert.equal((await h.state(page)).seq, seqFixed, 'nothing sent for the fixed vertex');
     assert.deepEqual(await vertexOnServer(daemon, s, 4), fixedStart, 'the fixed vertex stays');

@@ -239,6 +239,7 @@ SolveSummary GuidedProjectionSolver::solve(const SolverOptions& options) {
     rec.pullLimit = anyRelaxable ? pullLimit_ : 0.0;
     evaluate(problem_.x(), rec.termResiduals);
     record(rec, rec.termResiduals);
+    rec.evaluationMs = evaluationMs;  // iteration 0 is this evaluation
     rec.totalMs = millisecondsSince(start);
     summary.iterations.push_back(std::move(rec));
     if (options.callback && !options.callback(summary.iterations.back())) {

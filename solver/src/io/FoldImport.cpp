@@ -408,7 +408,7 @@ FoldImport importFoldDocument(const json& doc) {
       const int count = it == facesOfPair.end() ? 0 : it->second;
       if (count == 1) {
         edge.assignment = EdgeAssignment::Boundary;
-      } else if (edge.foldAngle && *edge.foldAngle != 0.0) {
+      } else if (edge.foldAngle && *edge.foldAngle != 0.0 && !edge.proposed) {  // smooth stays flat
         edge.assignment = *edge.foldAngle > 0.0 ? EdgeAssignment::Valley : EdgeAssignment::Mountain;
         ++bySign;
       } else {

@@ -179,7 +179,7 @@ class KillUnderAnEditStreamTest(unittest.TestCase):
     client saw holds the numbers it saw), every acknowledged seq is stored, and the restart
     restores the stored state bit for bit (when no acknowledged edit came after it)."""
 
-    TRIALS = int(os.environ.get("DEVSURF_KILL_TRIALS", "28"))
+    TRIALS = int(os.environ.get("DEVSURF_KILL_TRIALS", "18"))  # 28 until stop 52 (CI time)
     KINDS = (
         ("strip", "strip-lifted-corner.json",
          [{"curve": "b", "index": 6}, {"curve": "a", "index": 6}, {"curve": "b", "index": 3}]),

@@ -141,10 +141,10 @@ export class ViewportPointer {
     }
     if (this.isFixed(hit)) {
       // A fixed point does not move: a drag would only pull against it (and its release would
-      // take the sheet's fold as the design's, a fold the drag did not change). Selected, with a
-      // word on how to move it; the press orbits the camera.
-      view.state.emit('notice', 'This point is fixed: unfix it (F) to drag it.');
-      view.controls.enabled = true;
+      // take the sheet's fold as the design's, a fold the drag did not change). The press selects
+      // it; a drag from it moves nothing (not even the camera) and says how to move it.
+      this._fixedPress = { x: e.clientX, y: e.clientY, pointerId: e.pointerId, told: false };
+      view.controls.enabled = false;
       view.requestRender();
       return;
     }
@@ -188,6 +188,14 @@ export class ViewportPointer {
 
   _onPointerMove(e) {
     const view = this.view;
+    const fixed = this._fixedPress;
+    if (fixed && e.pointerId === fixed.pointerId) {
+      if (!fixed.told && Math.hypot(e.clientX - fixed.x, e.clientY - fixed.y) >= 4) {
+        fixed.told = true;
+        view.state.emit('notice', 'This point is fixed: unfix it (F) to drag it.');
+      }
+      return;
+    }
     const d = view.drag;
     if (d) {
       if (e.pointerId !== d.pointerId) return;
@@ -236,6 +244,7 @@ export class ViewportPointer {
       view.requestRender();
       return;
     }
+    this._fixedPress = null;
     view.controls.enabled = true;
     // A click (no orbit) on empty space clears the selection (with Shift/Ctrl/⌘: keeps it).
     if (this._downAt && !this._downAt.modified && e.button === 0 && Math.hypot(e.clientX - this._downAt.x, e.clientY - this._downAt.y) < 4) {
