@@ -134,6 +134,11 @@ export class EditorState {
     return this.group.some((t) => sameTarget(t, target));
   }
 
+  /** Whether a point is one of the session's fixed points. */
+  isFixed(target) {
+    return !!(this.constraints && this.constraints.fixed.some((f) => sameTarget(f, target)));
+  }
+
   /** The points a rotation turns: the group, or the single selected point, or none. */
   rotationTargets() {
     if (this.group.length) return this.group.map((t) => ({ ...t }));

@@ -530,7 +530,7 @@ export class Editor {
   toggleFixed() {
     const sel = this._requireSelection();
     if (!sel) return;
-    const fixed = this.state.constraints.fixed.some((f) => sameTarget(f, sel));
+    const fixed = this.state.isFixed(sel);
     this.send(new SetFixedCommand(sel, !fixed, { source: 'selection:fix' }));
   }
 

@@ -435,7 +435,7 @@ export class SelectionPanel {
       this.errorSlots.show('selection:move', `${'xyz'[bad]}: enter a finite number`);
       return;
     }
-    if (this.state.constraints.fixed.some((f) => sameTarget(f, sel))) {
+    if (this.state.isFixed(sel)) {
       this.errorSlots.show('selection:move', 'this point is fixed: unfix it (F) to move it');
       return;
     }
@@ -463,7 +463,7 @@ export class SelectionPanel {
       this.typed = null;
       return;
     }
-    const fixed = st.constraints.fixed.some((f) => sameTarget(f, sel));
+    const fixed = st.isFixed(sel);
     const handle = st.constraints.handles.find((x) => sameTarget(x, sel));
     const label = targetLabel(sel);
     this.title.textContent = `${sel.curve !== undefined ? `Control point ${label}` : label[0].toUpperCase() + label.slice(1)} — ${fixed ? 'fixed' : 'free'}${handle ? ', with handle' : ''}`;

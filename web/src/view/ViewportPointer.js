@@ -54,12 +54,6 @@ export class ViewportPointer {
     return !!st && st.role === 'edit';
   }
 
-  /** Whether `target` is one of the session's fixed points. */
-  isFixed(target) {
-    const st = this.view.state;
-    return !!(st && st.constraints && st.constraints.fixed.some((f) => sameTarget(f, target)));
-  }
-
   /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
   pick(event) {
     const view = this.view;
@@ -139,7 +133,7 @@ export class ViewportPointer {
       view.requestRender();
       return;
     }
-    if (this.isFixed(hit)) {
+    if (view.state && view.state.isFixed(hit)) {
       // A fixed point does not move: a drag would only pull against it (and its release would
       // take the sheet's fold as the design's, a fold the drag did not change). The press selects
       // it; a drag from it moves nothing (not even the camera) and says how to move it.
