@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <mutex>
 
 namespace devsurf::proto {
@@ -631,6 +632,37 @@ void checkModelNumbers(const json& j, const std::string& path, bool coordinates)
   }
 }
 
+void collectControlPoints(const json& j, bool inside, Eigen::Vector3d& lo, Eigen::Vector3d& hi, int& count);
+
+/// Every handle of the model ("handles"[i].position) within kMaxReach × the diagonal of the
+/// control points from their centre, as a session refuses a drag or a handle farther away: a
+/// handle a hundred million units off is a typo, and would pull the design out of any scale.
+void checkHandleReach(const json& model) {
+  if (!model.is_object() || !model.contains("handles") || !model["handles"].is_array()) return;
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+  int count = 0;
+  collectControlPoints(model, false, lo, hi, count);
+  if (count == 0) return;
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double reach = kMaxReach * std::max((hi - lo).norm(), 1e-9);
+  const json& handles = model["handles"];
+  for (std::size_t i = 0; i < handles.size(); ++i) {
+    const json& h = handles[i];
+    if (!h.is_object() || !h.contains("position")) continue;
+    const json& p = h["position"];
+    if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) continue;
+    const double distance =
+        (Eigen::Vector3d(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()) - centre).norm();
+    if (distance > reach) {
+      std::ostringstream why;
+      why.precision(3);
+      why << "the handle is " << distance << " from the model's centre; it must lie within " << reach << " ("
+          << kMaxReach << "× the model's size)";
+      throw SceneError("model.handles[" + std::to_string(i) + "].position", "range", why.str());
+    }
+  }
+}
+
 }  // namespace
 
 Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
@@ -751,6 +783,7 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
   } else {
     throw SceneError("model.kind", "enum", "unknown kind \"" + kind + "\"");
   }
+  checkHandleReach(model);
   return scene;
 }
 

@@ -49,12 +49,14 @@ constexpr const char* kUsage =
     "commands:\n"
     "  solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]...\n"
     "        [--reference SHAPE [--coverage-tolerance T]]\n"
-    "        [--memory-budget-mb MB] [--require-quality]\n"
+    "        [--memory-budget-mb MB] [--max-control-points N] [--require-quality]\n"
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
     "        The report's quality says whether the result meets its kind's thresholds\n"
     "        (a warning on standard error if not; exit status 3 with --require-quality).\n"
     "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
-    "        20 000 control points); --memory-budget-mb raises the first.\n"
+    "        20 000 control points or mesh vertices); --memory-budget-mb and\n"
+    "        --max-control-points raise them. Every --export is checked before the solve;\n"
+    "        the report is written before the exports.\n"
     "        FORMAT is obj, off, ply or stl (the sampled surface as quads; stl: two\n"
     "        triangles per quad, zero-area ones left out, in mm), iges and step (B-spline\n"
     "        surfaces), svg and dxf (flat patterns at true size in mm: a composite's\n"
@@ -225,6 +227,8 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
       if (a == "--iterations") iterations = static_cast<int>(parseNumber(a, value(), 0, 10000));
       else if (a == "--memory-budget-mb")
         limits.memoryBudgetBytes = static_cast<double>(parseNumber(a, value(), 16, 1L << 30)) * 1024.0 * 1024.0;
+      else if (a == "--max-control-points")
+        limits.maxControlPoints = static_cast<int>(parseNumber(a, value(), 1, 10000000));
       else if (a == "--out") outPath = value();
       else if (a == "--export") exports.push_back(value());
       else if (a == "--reference") referencePath = value();
@@ -238,7 +242,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     if (coverageTolerance > 0.0 && referencePath.empty())
       throw std::invalid_argument("--coverage-tolerance: needs --reference");
   } catch (const std::invalid_argument& e) {
-    err << "devsurf solve: " << e.what() << "\n" << kUsage;
+    err << "devsurf solve: " << e.what() << "\n" << commandUsage("solve");
     return 2;
   }
   reference::ReferenceShape referenceShape;
@@ -273,6 +277,21 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   try {
     const auto start = std::chrono::steady_clock::now();
     SceneSolver solver(proto::sceneFromText(text, limits));
+    // Every export checked before the solve (a format that does not apply, a folder that does not
+    // exist): a mistake in the last --export costs no solve.
+    for (const std::string& spec : exports) {
+      const std::size_t colon = spec.find(':');
+      if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+        throw std::invalid_argument("--export: expected FORMAT:FILE, e.g. obj:strip.obj, got \"" + spec + "\"");
+      try {
+        solver.checkExportFormat(spec.substr(0, colon));
+      } catch (const ExportUnavailable& e) {
+        throw std::invalid_argument("--export " + std::string(e.what()).substr(8));
+      }
+      const std::filesystem::path folder = std::filesystem::path(spec.substr(colon + 1)).parent_path();
+      if (!folder.empty() && !std::filesystem::is_directory(folder))
+        throw std::invalid_argument("--export " + spec + ": the folder " + folder.string() + " does not exist");
+    }
     const engine::SolveSummary summary = solver.solve(iterations);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     nlohmann::json report = solver.report(summary, ms);
@@ -289,7 +308,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
         return 1;
       }
     }
-    for (const std::string& spec : exports) solver.exportTo(spec);
+    // The report first: an export that fails on the solved state leaves it written.
     if (outPath.empty()) {
       out << report.dump(2) << "\n";
     } else {
@@ -299,11 +318,31 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
         return 1;
       }
     }
+    for (const std::string& spec : exports) {
+      try {
+        solver.exportTo(spec);
+      } catch (const std::invalid_argument& e) {
+        err << "devsurf solve: " << e.what() << (outPath.empty() ? "" : " (the report is written)") << "\n";
+        return 2;
+      } catch (const std::bad_alloc&) {
+        throw;
+      } catch (const std::exception& e) {
+        err << "devsurf solve: " << e.what() << (outPath.empty() ? "" : " (the report is written)") << "\n";
+        return 1;
+      }
+    }
     if (summary.reason == engine::TerminationReason::Diverged) {
       err << "devsurf solve: the solver diverged after " << summary.stepsTaken()
-          << " iterations; the report holds the last good state\n";
+          << " iterations; the report holds the last good state"
+          << (summary.stepsTaken() == 0 ? " (at its first step: the scene's geometry is likely degenerate — control "
+                                          "points on top of each other, an edge or a face of no length or area)"
+                                        : "")
+          << "\n";
       return 1;
     }
+    if (requireQuality && !report.contains("quality"))
+      err << "devsurf solve: note: --require-quality: a " << solver.kindName()
+          << " report has no quality thresholds to require (see its metrics)\n";
     if (const auto quality = report.find("quality"); quality != report.end() && !quality->at("met").get<bool>()) {
       err << "devsurf solve: warning: the result misses its quality thresholds:";
       for (const nlohmann::json& check : quality->at("checks"))
@@ -376,7 +415,7 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
       throw std::invalid_argument("--variables: expected mesh, unfolding or both, got \"" + variables + "\"");
     proto::millimetresPerUnit(units);
   } catch (const std::invalid_argument& e) {
-    err << "devsurf import: " << e.what() << "\n" << kUsage;
+    err << "devsurf import: " << e.what() << "\n" << commandUsage("import");
     return 2;
   }
   if (isCreasePatternFile(meshPath)) return importCreasePatternFile(meshPath, name, unitsGiven ? units : "", outPath, out, err);
@@ -493,7 +532,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
       else throw std::invalid_argument("unknown option " + a);
     }
   } catch (const std::invalid_argument& e) {
-    err << "devsurf serve: " << e.what() << "\n" << kUsage;
+    err << "devsurf serve: " << e.what() << "\n" << commandUsage("serve");
     return 2;
   }
   tuneProcessForServing();
@@ -571,7 +610,7 @@ int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
     }
     if (scenePath.empty() || server.empty()) throw std::invalid_argument("need SCENE and --server URL");
   } catch (const std::invalid_argument& e) {
-    err << "devsurf job: " << e.what() << "\n" << kUsage;
+    err << "devsurf job: " << e.what() << "\n" << commandUsage("job");
     return 2;
   }
   std::ifstream file(scenePath, std::ios::binary);

@@ -12,6 +12,7 @@
 #include "devsurf/models/composite/CompositeFromDrawing.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/models/composite/CompositeTopology.h"
+#include "devsurf/proto/BoundedJson.h"
 #include "devsurf/server/ShapeUpload.h"
 
 namespace devsurf::server {
@@ -57,17 +58,22 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       result.curvedCreases = svg.curvedStrokes;
       drawing = std::move(svg.drawing);
     } else {
-      const nlohmann::json document = nlohmann::json::parse(body);
+      nlohmann::json document;
+      try {
+        document = proto::parseBoundedJson(body);
+      } catch (const std::invalid_argument& e) {  // JsonSyntaxError, JsonTooDeep: a number out of range too
+        throw ApproximationInputError("body", std::string("body: not JSON (a FOLD file is JSON): ") + e.what());
+      }
       if (const auto ev = document.find("edges_vertices");
           ev != document.end() && ev->is_array() && static_cast<long>(ev->size()) > request.maxEdges)
         throw ApproximationInputError("body", "body: " + std::to_string(ev->size()) + " edges; at most " +
                                                   std::to_string(request.maxEdges) + " are imported", true);
       imported = io::importFoldDocument(document);
     }
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ApproximationInputError("body", std::string("body: not JSON (a FOLD file is JSON): ") + e.what());
   } catch (const ApproximationInputError&) {
     throw;
+  } catch (const nlohmann::json::exception& e) {  // a FOLD field of the wrong JSON type
+    throw ApproximationInputError("body", std::string("body: ") + e.what());
   } catch (const std::length_error& e) {
     throw ApproximationInputError("body", std::string("body: ") + e.what(), true);
   } catch (const std::invalid_argument& e) {

@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -85,10 +86,16 @@ void replyJson(httplib::Response& res, int status, const json& body) {
   res.set_content(proto::wireText(body), "application/json");
 }
 
+/// The token of "Authorization: Bearer <token>" (the scheme's case ignored, as HTTP's are; spaces
+/// after it skipped), or empty.
 std::string bearer(const httplib::Request& req) {
   const std::string h = req.get_header_value("Authorization");
-  const std::string prefix = "Bearer ";
-  return h.rfind(prefix, 0) == 0 ? h.substr(prefix.size()) : std::string();
+  const std::string scheme = "bearer";
+  if (h.size() <= scheme.size() || h[scheme.size()] != ' ') return std::string();
+  for (std::size_t i = 0; i < scheme.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(h[i])) != scheme[i]) return std::string();
+  const std::size_t token = h.find_first_not_of(' ', scheme.size());
+  return token == std::string::npos ? std::string() : h.substr(token);
 }
 
 /// Parses a JSON body; on failure answers 400 and returns nullopt.

@@ -248,7 +248,10 @@ void JobQueue::run(JobRecord job) {
       job.state = JobState::Cancelled;
     } else if (summary.reason == engine::TerminationReason::Diverged) {
       job.state = JobState::Failed;
-      job.error = "the solver diverged";
+      job.error = summary.stepsTaken() == 0
+                      ? "the solver diverged at its first step: the scene's geometry is likely degenerate (control "
+                        "points on top of each other, an edge or a face of no length or area)"
+                      : "the solver diverged";
       job.report = solver.report(summary, ms);
     } else {
       json report = solver.report(summary, ms);

@@ -578,7 +578,12 @@ void SceneSolver::exportTo(const std::string& spec) const {
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
-  io::writeMesh(sampledSurface(), staging);
+  try {
+    io::writeMesh(sampledSurface(), staging);
+  } catch (const std::runtime_error&) {  // the writer names the staging file: name the one asked for
+    std::remove(staging.c_str());
+    throw std::runtime_error("cannot write " + path);
+  }
   if (std::rename(staging.c_str(), path.c_str()) != 0) {
     std::remove(staging.c_str());
     throw std::runtime_error("cannot write " + path);
@@ -602,6 +607,51 @@ std::string objText(const io::QuadMesh& mesh, const std::string& title) {
 
 }  // namespace
 
+std::string SceneSolver::kindName() const {
+  if (composite_) return "composite";
+  if (quasi_) return "quasi_strip";
+  if (conical_) return "conical_strip";
+  if (quadMesh_) return "quad_mesh";
+  return "strip";
+}
+
+void SceneSolver::checkExportFormat(const std::string& format) const {
+  if (format == "png" || format == "obj" || format == "stl") return;
+  if (quadMesh_) {
+    if (format == "unfolding_obj") return;
+    if (format == "iges" || format == "step") {
+      if (!initialQuadMesh_.control)
+        throw ExportUnavailable("format: " + format + " exports B-spline surfaces; this quad_mesh scene is a mesh without "
+                                "a control net (use obj, unfolding_obj, stl, svg, dxf, fold or png)");
+      return;
+    }
+    if (format == "svg" || format == "fold" || format == "dxf") {
+      if (!quadMesh_->design().unfoldingPlanar)
+        throw ExportUnavailable("format: " + format + " draws a planar unfolding; this scene's M′ is a second surface "
+                                "(unfolding.planar false)");
+      return;
+    }
+    throw ExportUnavailable("format: expected json, obj, unfolding_obj, stl, svg, dxf, fold, png, or iges, step with a "
+                            "control net, for a quad_mesh scene, got \"" + format + "\"");
+  }
+  if (format == "off" || format == "ply" || format == "iges" || format == "step") return;
+  const bool development = composite_ && composite_->hasDevelopment();
+  if (format == "svg" || format == "dxf") {
+    if (development || cutAlongSeams() || hasFlatStripPattern()) return;
+    creasePattern(format);  // throws: the composite's message (add a development)
+    return;
+  }
+  if (format == "fold") {
+    if (development || cutAlongSeams()) return;
+    creasePattern(format);  // throws: not a composite, or no development
+    return;
+  }
+  if (format == "unfolding_obj")
+    throw ExportUnavailable("format: unfolding_obj is the planar unfolding M′ of a quad_mesh scene; this scene is a " +
+                            kindName());
+  throw ExportUnavailable("format: expected obj, off, ply, stl, iges, step, svg, dxf, png or fold, got \"" + format + "\"");
+}
+
 bool SceneSolver::cutAlongSeams() const {
   return composite_ && !composite_->hasDevelopment() &&
          models::composite::hasSeams(composite_->design(), composite_->topology());
@@ -609,7 +659,8 @@ bool SceneSolver::cutAlongSeams() const {
 
 io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
   if (!composite_)
-    throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a strip");
+    throw ExportUnavailable("format: " + format + " exports the crease pattern of a composite; this scene is a " +
+                            kindName() + (hasFlatStripPattern() ? " (its flat pattern exports as svg and dxf)" : ""));
   if (!composite_->hasDevelopment())
     throw ExportUnavailable("format: " + format +
                             " needs a development; add \"development\": {\"samples\": n} to the composite model" +
@@ -630,6 +681,7 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
   if (format == "png") return fabricationExport(format);
   if (quadMesh_) return quadMeshExport(format);
+  if (format == "unfolding_obj") checkExportFormat(format);  // throws: quad meshes only
   if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step" &&
       format != "stl" && format != "dxf")
     throw ExportUnavailable("format: expected json, obj, stl, iges, step, svg, dxf, png or fold, got \"" + format + "\"");

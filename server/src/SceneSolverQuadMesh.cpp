@@ -1,6 +1,11 @@
 // SceneSolver's quad_mesh parts (Jiang et al. 2020): metrics and exports.
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <sstream>
+#include <utility>
+
+#include <Eigen/Geometry>
 
 #include "devsurf/cad/StepWriter.h"
 #include "devsurf/io/CuttingPatternSvg.h"
@@ -25,6 +30,38 @@ std::vector<std::array<int, 2>> meshGluePairs(const qm::QuadMeshDesign& d) {
   return pairs;
 }
 
+/// Where M creases or folds back: the largest angle between the normals of two faces sharing an
+/// edge (Newell normals of the polygons), in degrees, and how many shared edges exceed 30°.
+struct FaceNormalAngles {
+  double maxDegrees = 0.0;
+  int sharpEdges = 0;
+};
+
+FaceNormalAngles faceNormalAngles(const Eigen::MatrixX3d& vertices, const std::vector<qm::Face>& faces) {
+  std::vector<Eigen::Vector3d> normals(faces.size(), Eigen::Vector3d::Zero());
+  std::map<std::pair<int, int>, std::vector<int>> edgeFaces;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const int n = qm::faceSize(faces[f]);
+    for (int k = 0; k < n; ++k) {
+      const int a = faces[f][static_cast<std::size_t>(k)], b = faces[f][static_cast<std::size_t>((k + 1) % n)];
+      if (a < 0 || b < 0 || a >= vertices.rows() || b >= vertices.rows()) continue;
+      normals[f] += Eigen::Vector3d(vertices.row(a)).cross(Eigen::Vector3d(vertices.row(b)));
+      edgeFaces[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(f));
+    }
+  }
+  FaceNormalAngles out;
+  for (const auto& [edge, shared] : edgeFaces) {
+    if (shared.size() != 2) continue;
+    const Eigen::Vector3d& n0 = normals[static_cast<std::size_t>(shared[0])];
+    const Eigen::Vector3d& n1 = normals[static_cast<std::size_t>(shared[1])];
+    if (!(n0.norm() > 0.0) || !(n1.norm() > 0.0)) continue;
+    const double degrees = std::atan2(n0.cross(n1).norm(), n0.dot(n1)) * 180.0 / 3.14159265358979323846;
+    out.maxDegrees = std::max(out.maxDegrees, degrees);
+    if (degrees > 30.0) ++out.sharpEdges;
+  }
+  return out;
+}
+
 }  // namespace
 
 proto::Metrics SceneSolver::quadMeshMetrics() const {
@@ -42,6 +79,13 @@ proto::Metrics SceneSolver::quadMeshMetrics() const {
   double moved = 0.0;
   if (initialQuadMesh_.mesh.rows() == mesh.rows()) moved = (mesh - initialQuadMesh_.mesh).rowwise().norm().maxCoeff();
   m["displacement_max"] = moved;
+  // Creases and fold-backs that guided projection made (a doubly curved M cannot become one
+  // regular developable: Jiang et al. Fig. 8b), next to M's own before the solve.
+  const FaceNormalAngles now = faceNormalAngles(mesh, model.topology().faces());
+  m["face_normal_angle_max_deg"] = now.maxDegrees;
+  m["sharp_edges"] = now.sharpEdges;
+  if (initialQuadMesh_.mesh.rows() == mesh.rows())
+    m["face_normal_angle_max_deg_initial"] = faceNormalAngles(initialQuadMesh_.mesh, model.topology().faces()).maxDegrees;
   m["rounds"] = quadMeshSummary_.rounds;
   m["unknowns"] = model.numUnknowns();
   if (initialQuadMesh_.control) {

@@ -50,6 +50,14 @@ std::string ApproximationResult::summaryText() const {
 
 ApproximationResult approximateShape(const reference::ReferenceShape& shape, const std::string& source,
                                      const ApproximationRequest& request) {
+  // Faces the reader left out (an index out of range, a coordinate it could not read, an edge a
+  // third face would share): approximating what is left would answer for a different shape.
+  if (shape.facesSkipped > 0)
+    throw ApproximationInputError("mesh", source + ": " + std::to_string(shape.facesSkipped) +
+                                              (shape.facesSkipped == 1 ? " face" : " faces") +
+                                              " of the file could not be read (a vertex index out of range, a "
+                                              "coordinate that is not a number, or an edge shared by more than two "
+                                              "faces); approximating needs every face");
   if (!shape.isMesh())
     throw ApproximationInputError("mesh", source + ": a point cloud; approximating by patches needs a triangle mesh "
                                                    "(fit takes clouds)");
@@ -71,7 +79,13 @@ ApproximationResult approximateShape(const reference::ReferenceShape& shape, con
   try {
     result.approximation = qm::segmentedApproximation(shape.points, shape.triangles, patches, request.options);
   } catch (const std::invalid_argument& e) {
-    throw ApproximationInputError("mesh", source + ": " + e.what());
+    // The grid's spacing (given, or from the quad count) is the request's, not the mesh's fault.
+    const std::string what = e.what();
+    if (what.find("quad spacing") != std::string::npos || what.find("lower the spacing") != std::string::npos) {
+      const std::string field = request.options.spacing > 0.0 ? "spacing" : "faces";
+      throw ApproximationInputError(field, field + ": " + what + " (" + source + ")");
+    }
+    throw ApproximationInputError("mesh", source + ": " + what);
   }
   const qm::SegmentedApproximation& a = result.approximation;
   result.segments = static_cast<int>(std::set<int>(a.facePatch.begin(), a.facePatch.end()).size());

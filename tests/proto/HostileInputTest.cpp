@@ -136,5 +136,36 @@ TEST(HostileScene, AHugeCoordinateIsRefusedByName) {
   EXPECT_EQ(pathOfError(bad), "model.vertices[2][0]");
 }
 
+TEST(HostileScene, AHandleFarFromTheModelIsRefusedByNameAsASessionRefusesTheDrag) {
+  json bad = example("strip-twisted.json");
+  bad["model"]["handles"] = json::array({{{"curve", "b"}, {"index", 1}, {"position", {1e8, 0, 0}}}});
+  EXPECT_EQ(pathOfError(bad), "model.handles[0].position");
+  json near = bad;
+  near["model"]["handles"][0]["position"] = {5, 5, 5};  // far, within 100× the model's size
+  EXPECT_EQ(pathOfError(near), "<accepted>");
+  bad = example("composite-curved-fold.json");
+  ASSERT_FALSE(bad["model"]["handles"].empty());
+  bad["model"]["handles"][0]["position"] = {0, -1e8, 0};
+  EXPECT_EQ(pathOfError(bad), "model.handles[0].position");
+}
+
+TEST(HostileScene, CurvesWithoutLengthOrStripsWithoutWidthAreRefusedByName) {
+  json bad = example("quasi-strip-twisted.json");
+  bad["model"]["c2"] = bad["model"]["c1"];
+  EXPECT_EQ(pathOfError(bad).rfind("model.c2", 0), 0u) << pathOfError(bad);
+  bad = example("quasi-strip-twisted.json");
+  for (json& p : bad["model"]["c1"]["points"]) p = {1, 2, 3};
+  EXPECT_EQ(pathOfError(bad).rfind("model.c1", 0), 0u) << pathOfError(bad);
+  bad = example("composite-curved-fold.json");
+  std::size_t e = 0;
+  while (bad["model"]["edges"][e].value("type", "") != "S") ++e;
+  // The curve's ends are its vertices: both put where its control points all are.
+  const json& v = bad["model"]["edges"][e]["v"];
+  const json first = bad["model"]["vertices"][v[0].get<std::size_t>()];
+  bad["model"]["vertices"][v[1].get<std::size_t>()] = first;
+  for (json& p : bad["model"]["edges"][e]["points"]) p = first;
+  EXPECT_EQ(pathOfError(bad).rfind("model.edges[" + std::to_string(e) + "]", 0), 0u) << pathOfError(bad);
+}
+
 }  // namespace
 }  // namespace devsurf::proto

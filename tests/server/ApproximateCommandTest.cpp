@@ -120,6 +120,10 @@ TEST(ApproximateCommand, RefusesWhatItCannotApproximateNamingTheProblem) {
   std::ofstream(closed) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
   const std::string ids = (dir.path() / "ids.txt").string();
   std::ofstream(ids) << "0 1 2\n";
+  // A square of two triangles whose second face names vertex 9 of 4: the reader drops that face,
+  // and what is left is not the shape the file describes.
+  const std::string outOfRange = (dir.path() / "oob.off").string();
+  std::ofstream(outOfRange) << "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 9\n";
   struct Case {
     std::vector<std::string> args;
     int code;
@@ -134,6 +138,7 @@ TEST(ApproximateCommand, RefusesWhatItCannotApproximateNamingTheProblem) {
       {{"approximate", closed, "--isometry", "-1"}, 2, "--isometry: expected a number"},
       {{"approximate", closed, "--segments", "0"}, 2, "--segments"},
       {{"approximate", (dir.path() / "missing.off").string()}, 2, "missing.off"},
+      {{"approximate", outOfRange}, 2, "1 face of the file could not be read"},
   };
   for (const Case& c : cases) {
     const CliRun run = runCommand(c.args);

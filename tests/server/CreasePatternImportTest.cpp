@@ -121,6 +121,27 @@ TEST(CreasePatternImport, BadRequestsNameTheFieldAndTooManyEdgesIsALimit) {
   CreasePatternImportRequest small = foldRequest();
   small.maxEdges = 10;
   EXPECT_EQ(fieldOf(foldExampleText("box.fold"), small), "body (too large)");
+  // Numbers a double cannot hold, or coordinates too large to arrange: the body, not a failure.
+  const std::string triangle = R"("faces_vertices": [[0,1,2]], "edges_vertices": [[0,1],[1,2],[2,0]],
+                                  "edges_assignment": ["B","B","B"]})";
+  EXPECT_EQ(fieldOf(R"({"vertices_coords": [[0,0],[1e400,0],[0,1]], )" + triangle, foldRequest()), "body");
+  EXPECT_EQ(fieldOf(R"({"vertices_coords": [[0,0],[1e300,0],[0,1]], )" + triangle, foldRequest()), "body");
+  EXPECT_EQ(fieldOf(R"({"vertices_coords": [[0,0],[1,0],[0,1]], "edges_foldAngle": [1e999,0,0], )" + triangle,
+                    foldRequest()),
+            "body");
+}
+
+TEST(CreasePatternImport, TheCommandRefusesNumbersADoubleCannotHoldAsBadInput) {
+  const std::string path = ::testing::TempDir() + "/overflow.fold";
+  {
+    std::ofstream file(path);
+    file << R"({"vertices_coords": [[0,0],[1e400,0],[0,1]], "faces_vertices": [[0,1,2]],
+               "edges_vertices": [[0,1],[1,2],[2,0]], "edges_assignment": ["B","B","B"]})";
+  }
+  const testing::CliRun run = testing::runCommand({"import", path});
+  EXPECT_EQ(run.code, 2) << run.err;  // bad input, not a runtime failure
+  EXPECT_NE(run.err.find("out of the range"), std::string::npos) << run.err;
+  std::filesystem::remove(path);
 }
 
 // Every shipped SVG drawing (tests/data/svg, discovered) imports through the command, solves flat,

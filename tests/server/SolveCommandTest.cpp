@@ -1,10 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -164,6 +166,116 @@ TEST(SolveCommand, AnExportTheSolvedStateCannotProduceExitsWithTwoNamingTheOptio
   EXPECT_FALSE(std::filesystem::exists(svg));
 }
 
+TEST(SolveCommand, EveryExportIsCheckedBeforeTheSolveAndOneThatFailsAfterItLeavesTheReportWritten) {
+  const std::string report = tempPath("checked.json"), obj = tempPath("checked.obj");
+  std::filesystem::remove(report);
+  std::filesystem::remove(obj);
+  // A format that does not apply to the kind, one that does not exist, a folder that does not:
+  // refused before anything is solved or written.
+  struct Refused {
+    std::string spec, says;
+  };
+  for (const Refused& refused : {Refused{"fold:" + tempPath("x.fold"), "this scene is a strip"},
+                                 Refused{"unfolding_obj:" + tempPath("x.obj"), "quad_mesh"},
+                                 Refused{"bogus:" + tempPath("x.bogus"), "expected obj"},
+                                 Refused{"obj:" + tempPath("no-such-folder") + "/x.obj", "does not exist"}}) {
+    SCOPED_TRACE(refused.spec);
+    const CliRun r = runCommand({"solve", examplePath("strip-twisted.json"), "--out", report, "--export", "obj:" + obj,
+                                 "--export", refused.spec});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("devsurf solve: --export ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(refused.says), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(report));
+    EXPECT_FALSE(std::filesystem::exists(obj));
+  }
+  // An export that fails once solved (its path is a folder): the report is written before it.
+  const std::string folder = tempPath("a-folder");
+  std::filesystem::create_directories(folder);
+  const CliRun r = runCommand({"solve", examplePath("strip-twisted.json"), "--iterations", "3", "--out", report,
+                               "--export", "obj:" + obj, "--export", "stl:" + folder});
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("the report is written"), std::string::npos) << r.err;
+  const nlohmann::json written = nlohmann::json::parse(std::ifstream(report));
+  EXPECT_TRUE(written.contains("metrics"));
+  EXPECT_TRUE(std::filesystem::exists(obj));
+  std::filesystem::remove(report);
+  std::filesystem::remove(obj);
+  std::filesystem::remove_all(folder);
+}
+
+/// From an OBJ file's text alone: the largest angle between the normals of two faces sharing an
+/// edge (cross products of the polygon's corners), degrees, and how many exceed 30°.
+std::pair<double, int> objFaceNormalAngles(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::vector<int>> faces;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag == "v") {
+      std::array<double, 3> p{};
+      words >> p[0] >> p[1] >> p[2];
+      v.push_back(p);
+    } else if (tag == "f") {
+      std::vector<int> f;
+      std::string corner;
+      while (words >> corner) f.push_back(std::stoi(corner.substr(0, corner.find('/'))) - 1);
+      faces.push_back(f);
+    }
+  }
+  std::vector<std::array<double, 3>> normal(faces.size(), {0, 0, 0});
+  std::map<std::pair<int, int>, std::vector<std::size_t>> shared;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (std::size_t k = 0; k < faces[f].size(); ++k) {
+      const auto& a = v[static_cast<std::size_t>(faces[f][k])];
+      const auto& b = v[static_cast<std::size_t>(faces[f][(k + 1) % faces[f].size()])];
+      normal[f][0] += a[1] * b[2] - a[2] * b[1];
+      normal[f][1] += a[2] * b[0] - a[0] * b[2];
+      normal[f][2] += a[0] * b[1] - a[1] * b[0];
+      shared[{std::min(faces[f][k], faces[f][(k + 1) % faces[f].size()]),
+              std::max(faces[f][k], faces[f][(k + 1) % faces[f].size()])}]
+          .push_back(f);
+    }
+  double largest = 0.0;
+  int sharp = 0;
+  for (const auto& [edge, fs] : shared) {
+    if (fs.size() != 2) continue;
+    const auto &n0 = normal[fs[0]], &n1 = normal[fs[1]];
+    const double dot = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
+    const double l0 = std::sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
+    const double l1 = std::sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+    const double degrees = std::acos(std::clamp(dot / (l0 * l1), -1.0, 1.0)) * 180.0 / M_PI;
+    largest = std::max(largest, degrees);
+    if (degrees > 30.0) ++sharp;
+  }
+  return {largest, sharp};
+}
+
+TEST(SolveCommand, AQuadMeshReportMeasuresTheCreasesItsExportedMeshShows) {
+  // The exact cylinder: neighbouring quads 7.5° apart, none sharp.
+  const std::string cylinder = tempPath("cylinder.obj");
+  const CliRun exact = runCommand({"solve", examplePath("quad-cylinder-exact.json"), "--export", "obj:" + cylinder});
+  ASSERT_EQ(exact.code, 0) << exact.err;
+  const nlohmann::json metrics = nlohmann::json::parse(exact.out)["metrics"];
+  EXPECT_NEAR(metrics["face_normal_angle_max_deg"].get<double>(), 7.5, 1e-6);
+  EXPECT_EQ(metrics["sharp_edges"].get<int>(), 0);
+  EXPECT_NEAR(objFaceNormalAngles(cylinder).first, 7.5, 1e-5);
+  // A saddle made developable creases (Jiang et al. Fig. 8b); the report says as much as the file.
+  const std::string saddle = tempPath("saddle.obj");
+  const CliRun creased = runCommand({"solve", examplePath("quad-developable-approx.json"), "--export", "obj:" + saddle});
+  ASSERT_EQ(creased.code, 0) << creased.err;
+  const nlohmann::json m = nlohmann::json::parse(creased.out)["metrics"];
+  const auto [largest, sharp] = objFaceNormalAngles(saddle);
+  EXPECT_NEAR(m["face_normal_angle_max_deg"].get<double>(), largest, 1e-3);
+  EXPECT_EQ(m["sharp_edges"].get<int>(), sharp);
+  EXPECT_GT(sharp, 0);
+  EXPECT_LT(m["face_normal_angle_max_deg_initial"].get<double>(), 5.0);  // the saddle as designed is smooth
+  std::filesystem::remove(cylinder);
+  std::filesystem::remove(saddle);
+}
+
 TEST(SolveCommand, TheScenesUnitsSetTheFoldFrameUnitAndTheSvgsTrueSize) {
   nlohmann::json doc = nlohmann::json::parse(std::ifstream(examplePath("composite-curved-fold.json")));
   auto exportIn = [&doc](const std::string& units) {
@@ -237,6 +349,9 @@ TEST(SolveCommand, BadInputExitsWithTwoAndNamesTheField) {
   EXPECT_EQ(runCommand({"solve", "/nonexistent.json"}).code, 2);
   EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--iterations", "many"}).code, 2);
   EXPECT_EQ(runCommand({"solve", examplePath("strip-twisted.json"), "--export", "dwg:x.dwg"}).code, 2);
+  const CliRun few = runCommand({"solve", examplePath("strip-twisted.json"), "--max-control-points", "3"});
+  EXPECT_EQ(few.code, 2);
+  EXPECT_NE(few.err.find("control points"), std::string::npos) << few.err;
   EXPECT_EQ(runCommand({"frobnicate"}).code, 2);
   EXPECT_EQ(runCommand({"help"}).code, 0);
 }

@@ -12,7 +12,7 @@
 namespace devsurf::io {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kCreasePatternPi = 3.14159265358979323846;
 
 [[noreturn]] void failPattern(const std::string& what) {
   throw std::invalid_argument("CreasePattern: " + what);
@@ -184,7 +184,7 @@ std::vector<std::optional<double>> measuredFoldAngles(const CreasePattern& p) {
     // the edge direction v0→v1.
     const double s = nr->cross(*nl).dot(dir.normalized());
     const double c = nl->dot(*nr);
-    out[e] = std::atan2(s, c) * 180.0 / kPi;
+    out[e] = std::atan2(s, c) * 180.0 / kCreasePatternPi;
   }
   return out;
 }

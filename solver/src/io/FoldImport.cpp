@@ -81,6 +81,8 @@ Eigen::MatrixX3d frameCoordinates(const FoldFrame& frame, const char* key = "ver
       if (!c[d].is_number()) refuse(frame.name + ": " + at(key, i) + " must be 2 or 3 numbers");
       const double value = c[d].get<double>();
       if (!std::isfinite(value)) refuse(frame.name + ": " + at(key, i) + " is not finite");
+      // Beyond this the arrangement's tolerances (relative to the extent) lose every short edge.
+      if (std::abs(value) > 1e9) refuse(frame.name + ": " + at(key, i) + " is too large (coordinates are at most 1e9)");
       out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(d)) = value;
     }
   }
@@ -454,7 +456,7 @@ FoldImport importFoldText(const std::string& text) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number out of range (1e400)
     refuse(std::string("not JSON: ") + e.what());
   }
   return importFoldDocument(doc);

@@ -323,7 +323,7 @@ CreasePattern parseFold(const std::string& text) {
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& ex) {
+  } catch (const json::exception& ex) {  // a syntax error, or a number out of range (1e400)
     bad(std::string("not JSON: ") + ex.what());
   }
   return readFoldDocument(doc);

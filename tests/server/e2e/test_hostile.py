@@ -126,6 +126,11 @@ class ApiKeyTest(DaemonTestCase):
             self.assertEqual(body["error"]["code"], "unauthorized")
         status, _, body = self.daemon.json("GET", f"/api/jobs/{job}", headers=key)
         self.assertEqual(status, 200, body)
+        # HTTP's authentication schemes are case-insensitive; the token is not.
+        status, _, body = self.daemon.json("GET", f"/api/jobs/{job}", headers={"Authorization": "bearer  " + "k" * 32})
+        self.assertEqual(status, 200, body)
+        status, _, body = self.daemon.json("GET", f"/api/jobs/{job}", headers={"Authorization": "Bearer " + "K" * 32})
+        self.assertEqual(status, 401, body)
 
 
 def raw_ws(port):

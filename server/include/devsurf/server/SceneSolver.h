@@ -181,6 +181,13 @@ class SceneSolver {
   ///         the model's state cannot be exported (both std::invalid_argument),
   ///         std::runtime_error if writing fails
   void exportTo(const std::string& spec) const;
+  /// Whether `format` applies to this scene's kind and set-up (a development, seams, a control
+  /// net, a planar unfolding), as exportAs and exportTo would find it: what can be known before a
+  /// solve. An export that passes may still fail on the solved state (ExportFailed).
+  /// @throws ExportUnavailable with exportAs's message ("format: …") when it does not apply
+  void checkExportFormat(const std::string& format) const;
+  /// The scene's kind as the scene file names it ("strip", "composite", "quasi_strip", …).
+  std::string kindName() const;
   /// The export as bytes: "obj" (sampled surface as quads: strips 200×8, composites every face at
   /// 50 samples per span, 8 across, as exportTo; quasi_strip the converted surface over the
   /// trimmed range 200×8; conical_strip every patch 24×4), "fold" (FOLD 1.2) and "svg" (fold

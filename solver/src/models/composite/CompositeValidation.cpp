@@ -1,6 +1,7 @@
 // CompositeModel::validateDesign: what a design must be before a model is built from it, each
 // failure naming the field.
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -26,6 +27,19 @@ void CompositeModel::validateDesign(const CompositeDesign& design) {
   if (design.developmentSamples < 0 || design.developmentSamples > 64)
     throw std::invalid_argument("development.samples: must be between 1 and 64 (0: no development), got " +
                                 std::to_string(design.developmentSamples));
+  // An S edge whose control points are all one point has no length: no strip, no crease to fold
+  // (the solve would divide by it).
+  for (std::size_t e = 0; e < design.edges.size(); ++e) {
+    const CompositeEdge& edge = design.edges[e];
+    if (edge.type != EdgeType::Spline || edge.curve.points.rows() < 2 || !edge.curve.points.allFinite()) continue;
+    const Eigen::MatrixXd& p = edge.curve.points;
+    const double span = (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm();
+    const double size = design.vertices.rows() > 0 && design.vertices.allFinite()
+                            ? (design.vertices.colwise().maxCoeff() - design.vertices.colwise().minCoeff()).norm()
+                            : 0.0;
+    if (span <= 1e-12 * std::max(size, 1e-300))
+      throw std::invalid_argument(refPath("edges", e) + ".points: every control point is the same point; the edge has no length");
+  }
   const CompositeTopology topology(design);
   auto checkRef = [&](const PointRef& r, const std::string& path) {
     if (r.vertex >= 0) {
