@@ -70,7 +70,8 @@ constexpr const char* kUsage =
     "        [--demo SCENE]... [--workers N] [--max-sessions N] [--max-clients N]\n"
     "        [--max-body BYTES] [--max-message BYTES] [--message-rate PER_S]\n"
     "        [--max-control-points N] [--max-iterations N] [--job-workers N]\n"
-    "        [--max-jobs N] [--job-timeout-ms MS] [--drag-iterations N] [--release-iterations N]\n"
+    "        [--max-jobs N] [--job-timeout-ms MS] [--job-retention-hours H]\n"
+    "        [--drag-iterations N] [--release-iterations N]\n"
     "        [--log-level trace|debug|info|warn|error|off]\n"
     "        [--max-connections N] [--max-connections-per-address N] [--max-header-bytes BYTES]\n"
     "        [--max-header-fields N] [--header-timeout-ms MS] [--body-timeout-ms MS]\n"
@@ -87,7 +88,9 @@ constexpr const char* kUsage =
     "        daemons (docs/scaling.md): jobs are claimed from one queue and sessions held\n"
     "        by one daemon at a time, under leases of --lease-ms (default 10000) that a\n"
     "        daemon that dies stops renewing; --node-id names this daemon (default\n"
-    "        HOST-PID) in leases, /api/health and /api/metrics.\n"
+    "        HOST-PID) in leases, /api/health and /api/metrics. Finished jobs and their\n"
+    "        reports are deleted --job-retention-hours after they end (default 168; 0 keeps\n"
+    "        them).\n"
     "        serve --help prints this text.\n"
     "  reference SHAPE [--thin RADIUS] [--seed N] [--out CLOUD.xyz]\n"
     "        Read a point cloud (.xyz, .pwn, .ply) or mesh (.obj, .off, .ply, .stl) and print\n"
@@ -148,7 +151,8 @@ constexpr const char* kUsage =
     "        0). Without one, M′ is computed (both meshes move); --proximity keeps M near the\n"
     "        input (Fig. 8: make a mesh developable close to its original).\n"
     "  worker --store postgresql://... [--node-id ID] [--job-workers N] [--lease-ms MS]\n"
-    "        [--job-timeout-ms MS] [--max-iterations N] [--max-control-points N] [--memory-budget-mb MB]\n"
+    "        [--job-timeout-ms MS] [--job-retention-hours H] [--max-iterations N] [--max-control-points N]\n"
+    "        [--memory-budget-mb MB]\n"
     "        Solve batch jobs from the shared PostgreSQL queue of several daemons, serving no\n"
     "        HTTP (docs/scaling.md); SIGTERM hands its running jobs back to the queue.\n"
     "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
@@ -513,6 +517,8 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
       else if (a == "--job-workers") o.jobs.workers = static_cast<int>(parseNumber(a, value(), 1, 256));
       else if (a == "--max-jobs") o.jobs.maxQueued = static_cast<std::size_t>(parseNumber(a, value(), 1, 1000000));
       else if (a == "--job-timeout-ms") o.jobs.maxRunMs = static_cast<double>(parseNumber(a, value(), 1, 86400000));
+      else if (a == "--job-retention-hours")
+        o.jobs.retentionMs = static_cast<double>(parseNumber(a, value(), 0, 87600)) * 3600.0 * 1000.0;
       else if (a == "--memory-budget-mb") o.memoryBudgetMb = static_cast<double>(parseNumber(a, value(), 16, 1L << 30));
       else if (a == "--session-time-budget-ms")
         o.session.rebuildTimeBudgetMs = static_cast<double>(parseNumber(a, value(), 100, 86400000));

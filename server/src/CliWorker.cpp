@@ -24,7 +24,8 @@ using cli::parseNumber;
 int workerCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
   const char* usage =
       "usage: devsurf worker --store postgresql://... [--node-id ID] [--job-workers N] [--lease-ms MS]\n"
-      "                      [--job-timeout-ms MS] [--max-iterations N] [--max-control-points N]\n"
+      "                      [--job-timeout-ms MS] [--job-retention-hours H] [--max-iterations N]\n"
+      "                      [--max-control-points N]\n"
       "                      [--memory-budget-mb MB] [--log-level LEVEL]\n";
   std::string location, nodeId;
   JobLimits limits;
@@ -44,6 +45,8 @@ int workerCommand(const std::vector<std::string>& args, std::ostream& out, std::
       else if (a == "--job-workers") limits.workers = static_cast<int>(parseNumber(a, value(), 1, 256));
       else if (a == "--lease-ms") limits.leaseMs = static_cast<double>(parseNumber(a, value(), 100, 3600000));
       else if (a == "--job-timeout-ms") limits.maxRunMs = static_cast<double>(parseNumber(a, value(), 1, 86400000));
+      else if (a == "--job-retention-hours")
+        limits.retentionMs = static_cast<double>(parseNumber(a, value(), 0, 87600)) * 3600.0 * 1000.0;
       else if (a == "--max-iterations") limits.maxIterations = static_cast<int>(parseNumber(a, value(), 1, 1000000));
       else if (a == "--max-control-points") maxControlPoints = static_cast<int>(parseNumber(a, value(), 4, 10000000));
       else if (a == "--memory-budget-mb") memoryBudgetMb = static_cast<double>(parseNumber(a, value(), 16, 1L << 30));

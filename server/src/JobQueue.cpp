@@ -140,12 +140,25 @@ void JobQueue::work() {
 
 void JobQueue::heartbeat() {
   std::unique_lock<std::mutex> lock(mutex_);
+  const auto prunePeriod =
+      std::chrono::duration<double, std::milli>(std::clamp(limits_.retentionMs / 4.0, 10.0, 60000.0));
+  auto nextPrune = std::chrono::steady_clock::now();
+  const double wait = limits_.retentionMs > 0.0 ? std::min(limits_.heartbeatMs, prunePeriod.count()) : limits_.heartbeatMs;
   for (;;) {
-    wake_.wait_for(lock, std::chrono::duration<double, std::milli>(limits_.heartbeatMs),
-                   [this]() { return stopping_; });
+    wake_.wait_for(lock, std::chrono::duration<double, std::milli>(wait), [this]() { return stopping_; });
     if (stopping_) return;
     std::vector<std::pair<std::string, Running>> mine(running_.begin(), running_.end());
     lock.unlock();
+    if (limits_.retentionMs > 0.0 && std::chrono::steady_clock::now() >= nextPrune) {
+      nextPrune = std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(prunePeriod);
+      try {
+        const int pruned = store_.pruneFinishedJobs(store::wallClockMs() - milliseconds(limits_.retentionMs));
+        if (pruned > 0) spdlog::info("job queue: {} finished job(s) past their retention deleted", pruned);
+      } catch (const std::exception& e) {
+        spdlog::warn("job queue: cannot delete finished jobs past their retention: {}", e.what());
+      }
+    }
     for (const auto& [id, r] : mine) {
       try {
         const store::JobLeaseRenewal renewal = store_.renewJobLease(

@@ -66,6 +66,31 @@ TEST_P(JobQueueOn, SolvesASubmittedSceneAndKeepsTheReport) {
   EXPECT_TRUE(proto::schemaRegistry().validate(*j->report, "report.schema.json").empty());
 }
 
+TEST_P(JobQueueOn, FinishedJobsAreDeletedAfterTheirRetentionAndRunningOnesAreNot) {
+  auto storeOwner = where.open();
+  store::Store& store = *storeOwner;
+  JobLimits limits;
+  limits.retentionMs = 400.0;
+  JobQueue q(store, limits);
+  const auto done = q.submit(exampleScene("strip-twisted.json"), std::string("kept-key"));
+  ASSERT_TRUE(waitFor(q, done.id, JobState::Succeeded));
+  const auto running = q.submit(slowScene(), std::nullopt);
+  ASSERT_TRUE(waitFor(q, running.id, JobState::Running));
+  // Gone within a few prune periods (100 ms) after its 400 ms: deleted, its key free again.
+  std::optional<store::JobRecord> left = q.job(done.id);
+  for (int i = 0; i < 200 && left; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    left = q.job(done.id);
+  }
+  EXPECT_FALSE(left.has_value());
+  EXPECT_FALSE(store.jobByIdempotencyKey("kept-key").has_value());
+  const auto still = q.job(running.id);
+  ASSERT_TRUE(still.has_value());  // running for longer than the retention: kept
+  EXPECT_EQ(still->state, JobState::Running);
+  q.cancel(running.id);
+  ASSERT_TRUE(waitFor(q, running.id, JobState::Cancelled));
+}
+
 TEST_P(JobQueueOn, IdempotencyKeyReturnsTheSameJobAndRejectsADifferentBody) {
   auto storeOwner = where.open();
   store::Store& store = *storeOwner;

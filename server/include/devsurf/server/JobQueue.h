@@ -40,6 +40,11 @@ struct JobLimits {
   /// How often an idle worker looks for jobs other nodes queued (a shared store); a job queued on
   /// this node wakes it at once.
   double pollMs = 200.0;
+  /// How long a finished job (succeeded, failed, cancelled) and its report stay in the store
+  /// (`--job-retention-hours`, default 7 days): the heartbeat deletes older ones (their ids answer
+  /// 404 and their idempotency keys are free again) every min(1 min, retention / 4). 0 keeps them
+  /// for good.
+  double retentionMs = 7.0 * 24 * 3600 * 1000;
 };
 
 class QueueFullError : public std::runtime_error {
