@@ -98,6 +98,48 @@ std::string bearer(const httplib::Request& req) {
   return token == std::string::npos ? std::string() : h.substr(token);
 }
 
+/// The methods the OpenAPI document `api` lists for the path template that `path` fills
+/// ("/api/jobs/{id}" matches "/api/jobs/AbC_1"; a parameter is one segment of [A-Za-z0-9_-]),
+/// upper case and comma-separated, "GET, DELETE"; empty when no template matches.
+std::string allowedMethods(const json& api, const std::string& path) {
+  auto segments = [](const std::string& text) {
+    std::vector<std::string> parts;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+      const std::size_t slash = text.find('/', start);
+      parts.push_back(text.substr(start, slash == std::string::npos ? std::string::npos : slash - start));
+      if (slash == std::string::npos) break;
+      start = slash + 1;
+    }
+    return parts;
+  };
+  const std::vector<std::string> given = segments(path);
+  const auto paths = api.find("paths");
+  if (paths == api.end() || !paths->is_object()) return std::string();
+  for (const auto& [pattern, item] : paths->items()) {
+    const std::vector<std::string> wanted = segments(pattern);
+    if (wanted.size() != given.size() || !item.is_object()) continue;
+    bool same = true;
+    for (std::size_t k = 0; same && k < wanted.size(); ++k) {
+      if (wanted[k].size() > 2 && wanted[k].front() == '{' && wanted[k].back() == '}')
+        same = !given[k].empty() && given[k].find_first_not_of(
+                                        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-") == std::string::npos;
+      else
+        same = wanted[k] == given[k];
+    }
+    if (!same) continue;
+    std::string methods;
+    for (const auto& [method, operation] : item.items()) {
+      if (method != "get" && method != "post" && method != "delete" && method != "put" && method != "patch") continue;
+      std::string upper = method;
+      for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+      methods += (methods.empty() ? "" : ", ") + upper;
+    }
+    return methods;
+  }
+  return std::string();
+}
+
 /// Parses a JSON body; on failure answers 400 and returns nullopt.
 std::optional<json> parseBody(const httplib::Request& req, httplib::Response& res) {
   try {
@@ -273,11 +315,17 @@ void Daemon::routes() {
       counters_.recordError(code);
     }
   });
-  // A request no route answers (an unknown path, or a method a path does not take) gets an error
-  // in the API's own form, not an empty 404; error responses with a body are left as they are.
-  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request& req, httplib::Response& res) {
+  // A request no route answers gets an error in the API's own form, not an empty 404: 405 with
+  // `Allow` for a method a path does not take (the methods from the OpenAPI document, so the two
+  // cannot disagree), 404 for a path no route has; error responses with a body are left as they are.
+  s.set_error_handler(httplib::Server::HandlerWithResponse([this](const httplib::Request& req, httplib::Response& res) {
     if (res.status != 404 || !res.body.empty() || req.path.rfind("/api/", 0) != 0)
       return httplib::Server::HandlerResponse::Unhandled;
+    if (const std::string allowed = allowedMethods(openApi(), req.path); !allowed.empty()) {
+      replyError(res, 405, "method_not_allowed", req.method + " is not a method of " + req.path + "; it takes " + allowed);
+      res.set_header("Allow", allowed);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     replyError(res, 404, "not_found",
                "no route answers " + req.method + " " + req.path + " (GET /api/openapi.json lists the routes and their methods)");
     return httplib::Server::HandlerResponse::Handled;

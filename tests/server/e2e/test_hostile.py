@@ -204,10 +204,20 @@ class BadInputAnswersTest(DaemonTestCase):
                     self.assertEqual(answer["error"]["path"], path, answer)
 
     def test_a_route_that_does_not_exist_answers_a_json_error_naming_method_and_path(self):
-        # Unknown paths, a method a path does not take, an id no route pattern matches: each a
-        # 404 in the API's error form (it was a 404 with an empty body), and the daemon works on.
-        for method, path in (("PUT", "/api/jobs"), ("GET", "/api/imports"), ("DELETE", "/api/health"),
-                             ("GET", "/api/jobs/1'%20OR%201=1"), ("GET", "/api/no-such-thing")):
+        # A method a path does not take: 405 with the methods it does take, as the OpenAPI
+        # document lists them (it was a 404).
+        for method, path, allowed in (("PUT", "/api/jobs", "POST"), ("GET", "/api/imports", "POST"),
+                                      ("DELETE", "/api/health", "GET"), ("POST", "/api/sessions/abc", "DELETE, GET"),
+                                      ("GET", "/api/jobs/abc/cancel", "POST")):
+            status, headers, raw = self.daemon.request(method, path)
+            self.assertEqual(status, 405, (method, path, raw[:200]))
+            self.assertEqual(headers.get("Allow"), allowed, (method, path, headers))
+            error = json.loads(raw)["error"]
+            self.assertEqual(error["code"], "method_not_allowed", error)
+            self.assertIn(method + " ", error["message"])
+        # Unknown paths, an id no route pattern matches: each a 404 in the API's error form (it
+        # was a 404 with an empty body), and the daemon works on.
+        for method, path in (("GET", "/api/jobs/1'%20OR%201=1"), ("GET", "/api/no-such-thing")):
             status, headers, raw = self.daemon.request(method, path)
             self.assertEqual(status, 404, (method, path, raw[:200]))
             self.assertTrue(headers.get("Content-Type", "").startswith("application/json"), (method, path, headers))
