@@ -232,7 +232,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
       else if (a == "--memory-budget-mb")
         limits.memoryBudgetBytes = static_cast<double>(parseNumber(a, value(), 16, 1L << 30)) * 1024.0 * 1024.0;
       else if (a == "--max-control-points")
-        limits.maxControlPoints = static_cast<int>(parseNumber(a, value(), 1, 10000000));
+        limits.maxControlPoints = static_cast<int>(parseNumber(a, value(), 4, 10000000));
       else if (a == "--out") outPath = value();
       else if (a == "--export") exports.push_back(value());
       else if (a == "--reference") referencePath = value();
@@ -282,7 +282,10 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     const auto start = std::chrono::steady_clock::now();
     SceneSolver solver(proto::sceneFromText(text, limits));
     // Every export checked before the solve (a format that does not apply, a folder that does not
-    // exist): a mistake in the last --export costs no solve.
+    // exist), and the report's folder: a mistake in the last --export costs no solve.
+    if (const std::filesystem::path folder = std::filesystem::path(outPath).parent_path();
+        !outPath.empty() && !folder.empty() && !std::filesystem::is_directory(folder))
+      throw std::invalid_argument("--out " + outPath + ": the folder " + folder.string() + " does not exist");
     for (const std::string& spec : exports) {
       const std::size_t colon = spec.find(':');
       if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())

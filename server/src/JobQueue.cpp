@@ -149,16 +149,6 @@ void JobQueue::heartbeat() {
     if (stopping_) return;
     std::vector<std::pair<std::string, Running>> mine(running_.begin(), running_.end());
     lock.unlock();
-    if (limits_.retentionMs > 0.0 && std::chrono::steady_clock::now() >= nextPrune) {
-      nextPrune = std::chrono::steady_clock::now() +
-                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(prunePeriod);
-      try {
-        const int pruned = store_.pruneFinishedJobs(store::wallClockMs() - milliseconds(limits_.retentionMs));
-        if (pruned > 0) spdlog::info("job queue: {} finished job(s) past their retention deleted", pruned);
-      } catch (const std::exception& e) {
-        spdlog::warn("job queue: cannot delete finished jobs past their retention: {}", e.what());
-      }
-    }
     for (const auto& [id, r] : mine) {
       try {
         const store::JobLeaseRenewal renewal = store_.renewJobLease(
@@ -176,6 +166,17 @@ void JobQueue::heartbeat() {
         }
       } catch (const std::exception& e) {
         spdlog::warn("job {}: cannot renew its lease: {}", id, e.what());
+      }
+    }
+    // After the renewals, so that a slow delete never holds up a lease.
+    if (limits_.retentionMs > 0.0 && std::chrono::steady_clock::now() >= nextPrune) {
+      nextPrune = std::chrono::steady_clock::now() +
+                  std::chrono::duration_cast<std::chrono::steady_clock::duration>(prunePeriod);
+      try {
+        const int pruned = store_.pruneFinishedJobs(store::wallClockMs() - milliseconds(limits_.retentionMs));
+        if (pruned > 0) spdlog::info("job queue: {} finished job(s) past their retention deleted", pruned);
+      } catch (const std::exception& e) {
+        spdlog::warn("job queue: cannot delete finished jobs past their retention: {}", e.what());
       }
     }
     lock.lock();

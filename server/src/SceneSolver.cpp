@@ -578,8 +578,9 @@ void SceneSolver::exportTo(const std::string& spec) const {
   // OpenMesh chooses the writer by extension: write with the format's extension, then rename to
   // exactly the requested path.
   const std::string staging = path + ".partial." + format;
+  const io::QuadMesh surface = sampledSurface();
   try {
-    io::writeMesh(sampledSurface(), staging);
+    io::writeMesh(surface, staging);
   } catch (const std::runtime_error&) {  // the writer names the staging file: name the one asked for
     std::remove(staging.c_str());
     throw std::runtime_error("cannot write " + path);
@@ -617,6 +618,7 @@ std::string SceneSolver::kindName() const {
 
 void SceneSolver::checkExportFormat(const std::string& format) const {
   if (format == "png" || format == "obj" || format == "stl") return;
+  if (format == "json") throw ExportUnavailable("format: json is the report itself (--out writes it to a file)");
   if (quadMesh_) {
     if (format == "unfolding_obj") return;
     if (format == "iges" || format == "step") {
@@ -646,10 +648,12 @@ void SceneSolver::checkExportFormat(const std::string& format) const {
     creasePattern(format);  // throws: not a composite, or no development
     return;
   }
-  if (format == "unfolding_obj")
-    throw ExportUnavailable("format: unfolding_obj is the planar unfolding M′ of a quad_mesh scene; this scene is a " +
-                            kindName());
+  if (format == "unfolding_obj") throw ExportUnavailable(unfoldingObjUnavailable());
   throw ExportUnavailable("format: expected obj, off, ply, stl, iges, step, svg, dxf, png or fold, got \"" + format + "\"");
+}
+
+std::string SceneSolver::unfoldingObjUnavailable() const {
+  return "format: unfolding_obj is the planar unfolding M′ of a quad_mesh scene; this scene is a " + kindName();
 }
 
 bool SceneSolver::cutAlongSeams() const {
@@ -681,7 +685,7 @@ io::CreasePattern SceneSolver::creasePattern(const std::string& format) const {
 ExportedFile SceneSolver::exportAs(const std::string& format) const {
   if (format == "png") return fabricationExport(format);
   if (quadMesh_) return quadMeshExport(format);
-  if (format == "unfolding_obj") checkExportFormat(format);  // throws: quad meshes only
+  if (format == "unfolding_obj") throw ExportUnavailable(unfoldingObjUnavailable());
   if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step" &&
       format != "stl" && format != "dxf")
     throw ExportUnavailable("format: expected json, obj, stl, iges, step, svg, dxf, png or fold, got \"" + format + "\"");

@@ -1,5 +1,6 @@
 // SceneSolver's quad_mesh parts (Jiang et al. 2020): metrics and exports.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -40,12 +41,20 @@ struct FaceNormalAngles {
 FaceNormalAngles faceNormalAngles(const Eigen::MatrixX3d& vertices, const std::vector<qm::Face>& faces) {
   std::vector<Eigen::Vector3d> normals(faces.size(), Eigen::Vector3d::Zero());
   std::map<std::pair<int, int>, std::vector<int>> edgeFaces;
+  auto at = [&vertices](int v) { return Eigen::Vector3d(vertices.row(v)); };
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const int n = qm::faceSize(faces[f]);
+    bool inside = true;
+    for (int k = 0; k < n; ++k)
+      inside = inside && faces[f][static_cast<std::size_t>(k)] >= 0 && faces[f][static_cast<std::size_t>(k)] < vertices.rows();
+    if (!inside) continue;
+    const std::array<int, 4>& c = faces[f];
+    // The polygon's vector area, from differences (a quad's: half the cross product of its
+    // diagonals), so that it keeps its digits far from the origin.
+    normals[f] = n == 4 ? Eigen::Vector3d((at(c[2]) - at(c[0])).cross(at(c[3]) - at(c[1])))
+                        : Eigen::Vector3d((at(c[1]) - at(c[0])).cross(at(c[2]) - at(c[0])));
     for (int k = 0; k < n; ++k) {
-      const int a = faces[f][static_cast<std::size_t>(k)], b = faces[f][static_cast<std::size_t>((k + 1) % n)];
-      if (a < 0 || b < 0 || a >= vertices.rows() || b >= vertices.rows()) continue;
-      normals[f] += Eigen::Vector3d(vertices.row(a)).cross(Eigen::Vector3d(vertices.row(b)));
+      const int a = c[static_cast<std::size_t>(k)], b = c[static_cast<std::size_t>((k + 1) % n)];
       edgeFaces[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(f));
     }
   }

@@ -32,7 +32,8 @@ nlohmann::json ApproximationResult::summaryJson() const {
           {"unfoldings_mapped_alone", a.piecesMappedAlone},
           {"border_nodes_aligned", a.bordersAligned},
           {"slivers_merged", a.mergedPieces},
-          {"quads_dropped", a.droppedFaces}};
+          {"quads_dropped", a.droppedFaces},
+          {"faces_skipped", facesSkipped}};
 }
 
 std::string ApproximationResult::summaryText() const {
@@ -45,19 +46,26 @@ std::string ApproximationResult::summaryText() const {
   if (a.bordersAligned > 0) s << "; " << a.bordersAligned << " grid nodes moved onto patch borders";
   if (a.mergedPieces > 0) s << "; " << a.mergedPieces << " slivers joined a neighbour";
   if (a.droppedFaces > 0) s << "; " << a.droppedFaces << " isolated quads left out";
+  if (facesSkipped > 0)
+    s << "; " << facesSkipped
+      << (facesSkipped == 1 ? " face of the file could not be read and was" : " faces of the file could not be read and were")
+      << " left out (a repeated or out-of-range vertex index, or a coordinate that is not a number)";
   return s.str();
 }
 
 ApproximationResult approximateShape(const reference::ReferenceShape& shape, const std::string& source,
                                      const ApproximationRequest& request) {
-  // Faces the reader left out (an index out of range, a coordinate it could not read, an edge a
-  // third face would share): approximating what is left would answer for a different shape.
-  if (shape.facesSkipped > 0)
+  // Faces the reader left out (a repeated or out-of-range vertex index, a coordinate it could not
+  // read): a few degenerate ones are common in exported meshes and are said in the summary; when a
+  // tenth of the file is missing, what is left is not the shape it describes.
+  const long long declaredFaces = static_cast<long long>(shape.triangles.rows()) + shape.facesSkipped;
+  if (shape.facesSkipped > 0 && 10 * shape.facesSkipped >= declaredFaces)
     throw ApproximationInputError("mesh", source + ": " + std::to_string(shape.facesSkipped) +
                                               (shape.facesSkipped == 1 ? " face" : " faces") +
-                                              " of the file could not be read (a vertex index out of range, a "
-                                              "coordinate that is not a number, or an edge shared by more than two "
-                                              "faces); approximating needs every face");
+                                              " could not be read (a repeated or out-of-range vertex index, or a "
+                                              "coordinate that is not a number), against " +
+                                              std::to_string(shape.triangles.rows()) +
+                                              " triangles read; approximating needs the shape the file describes");
   if (!shape.isMesh())
     throw ApproximationInputError("mesh", source + ": a point cloud; approximating by patches needs a triangle mesh "
                                                    "(fit takes clouds)");
@@ -76,6 +84,7 @@ ApproximationResult approximateShape(const reference::ReferenceShape& shape, con
     }
   }
   ApproximationResult result;
+  result.facesSkipped = shape.facesSkipped;
   try {
     result.approximation = qm::segmentedApproximation(shape.points, shape.triangles, patches, request.options);
   } catch (const std::invalid_argument& e) {

@@ -156,6 +156,14 @@ TEST(HostileScene, CurvesWithoutLengthOrStripsWithoutWidthAreRefusedByName) {
   bad = example("quasi-strip-twisted.json");
   for (json& p : bad["model"]["c1"]["points"]) p = {1, 2, 3};
   EXPECT_EQ(pathOfError(bad).rfind("model.c1", 0), 0u) << pathOfError(bad);
+  // Both curves on one line, c2 beside c1: no width either.
+  bad = example("quasi-strip-twisted.json");
+  for (const char* curve : {"c1", "c2"}) {
+    json& points = bad["model"][curve]["points"];
+    for (std::size_t i = 0; i < points.size(); ++i)
+      points[i] = {(curve[1] == '1' ? 0.0 : 2.0) + static_cast<double>(i) / static_cast<double>(points.size() - 1), 0, 0};
+  }
+  EXPECT_EQ(pathOfError(bad).rfind("model.c2", 0), 0u) << pathOfError(bad);
   bad = example("composite-curved-fold.json");
   std::size_t e = 0;
   while (bad["model"]["edges"][e].value("type", "") != "S") ++e;

@@ -70,22 +70,29 @@ TEST_P(JobQueueOn, FinishedJobsAreDeletedAfterTheirRetentionAndRunningOnesAreNot
   auto storeOwner = where.open();
   store::Store& store = *storeOwner;
   JobLimits limits;
-  limits.retentionMs = 400.0;
+  limits.retentionMs = 1500.0;
   JobQueue q(store, limits);
   const auto done = q.submit(exampleScene("strip-twisted.json"), std::string("kept-key"));
   ASSERT_TRUE(waitFor(q, done.id, JobState::Succeeded));
+  const auto finishedAt = std::chrono::steady_clock::now();
   const auto running = q.submit(slowScene(), std::nullopt);
   ASSERT_TRUE(waitFor(q, running.id, JobState::Running));
-  // Gone within a few prune periods (100 ms) after its 400 ms: deleted, its key free again.
+  const auto runningFrom = std::chrono::steady_clock::now();
+  // Kept within its retention (the first deletions ran at start and every 375 ms since).
+  if (std::chrono::steady_clock::now() - finishedAt < std::chrono::milliseconds(1000))
+    EXPECT_TRUE(q.job(done.id).has_value()) << "deleted before its retention";
+  // Gone a few deletion periods after its 1.5 s: its key free again.
   std::optional<store::JobRecord> left = q.job(done.id);
-  for (int i = 0; i < 200 && left; ++i) {
+  for (int i = 0; i < 300 && left; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     left = q.job(done.id);
   }
   EXPECT_FALSE(left.has_value());
   EXPECT_FALSE(store.jobByIdempotencyKey("kept-key").has_value());
+  // Running for twice the retention: still there.
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000) - (std::chrono::steady_clock::now() - runningFrom));
   const auto still = q.job(running.id);
-  ASSERT_TRUE(still.has_value());  // running for longer than the retention: kept
+  ASSERT_TRUE(still.has_value());
   EXPECT_EQ(still->state, JobState::Running);
   q.cancel(running.id);
   ASSERT_TRUE(waitFor(q, running.id, JobState::Cancelled));

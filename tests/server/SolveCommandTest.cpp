@@ -178,6 +178,7 @@ TEST(SolveCommand, EveryExportIsCheckedBeforeTheSolveAndOneThatFailsAfterItLeave
   for (const Refused& refused : {Refused{"fold:" + tempPath("x.fold"), "this scene is a strip"},
                                  Refused{"unfolding_obj:" + tempPath("x.obj"), "quad_mesh"},
                                  Refused{"bogus:" + tempPath("x.bogus"), "expected obj"},
+                                 Refused{"json:" + tempPath("x.json"), "--out"},
                                  Refused{"obj:" + tempPath("no-such-folder") + "/x.obj", "does not exist"}}) {
     SCOPED_TRACE(refused.spec);
     const CliRun r = runCommand({"solve", examplePath("strip-twisted.json"), "--out", report, "--export", "obj:" + obj,
@@ -188,6 +189,11 @@ TEST(SolveCommand, EveryExportIsCheckedBeforeTheSolveAndOneThatFailsAfterItLeave
     EXPECT_FALSE(std::filesystem::exists(report));
     EXPECT_FALSE(std::filesystem::exists(obj));
   }
+  const CliRun noFolder = runCommand({"solve", examplePath("strip-twisted.json"), "--out",
+                                      tempPath("no-such-folder") + "/r.json", "--export", "obj:" + obj});
+  EXPECT_EQ(noFolder.code, 2);
+  EXPECT_EQ(noFolder.err.rfind("devsurf solve: --out ", 0), 0u) << noFolder.err;
+  EXPECT_FALSE(std::filesystem::exists(obj));
   // An export that fails once solved (its path is a folder): the report is written before it.
   const std::string folder = tempPath("a-folder");
   std::filesystem::create_directories(folder);

@@ -42,8 +42,9 @@ struct JobLimits {
   double pollMs = 200.0;
   /// How long a finished job (succeeded, failed, cancelled) and its report stay in the store
   /// (`--job-retention-hours`, default 7 days): the heartbeat deletes older ones (their ids answer
-  /// 404 and their idempotency keys are free again) every min(1 min, retention / 4). 0 keeps them
-  /// for good.
+  /// 404 and their idempotency keys are free again) every min(1 min, retention / 4), after it
+  /// renewed its leases. 0: this node deletes none. Every node sharing a store deletes with its
+  /// own retention, so the shortest among them is the store's.
   double retentionMs = 7.0 * 24 * 3600 * 1000;
 };
 

@@ -188,6 +188,8 @@ class SceneSolver {
   void checkExportFormat(const std::string& format) const;
   /// The scene's kind as the scene file names it ("strip", "composite", "quasi_strip", …).
   std::string kindName() const;
+  /// ExportUnavailable's message for unfolding_obj of a kind other than quad_mesh.
+  std::string unfoldingObjUnavailable() const;
   /// The export as bytes: "obj" (sampled surface as quads: strips 200×8, composites every face at
   /// 50 samples per span, 8 across, as exportTo; quasi_strip the converted surface over the
   /// trimmed range 200×8; conical_strip every patch 24×4), "fold" (FOLD 1.2) and "svg" (fold

@@ -32,6 +32,9 @@ struct ApproximationResult {
   proto::Scene scene;
   models::quad_mesh::SegmentedApproximation approximation;
   int segments = 0;  ///< distinct patch ids the quads belong to
+  /// Faces of the file its reader left out (reference::ReferenceShape::facesSkipped): a repeated
+  /// or out-of-range vertex index, a coordinate it could not read. Said in the summary.
+  long long facesSkipped = 0;
 
   nlohmann::json summaryJson() const;
   std::string summaryText() const;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 #include "devsurf/metrics/StripQuality.h"
 #include "devsurf/terms/MappingDevelopabilityTerm.h"
@@ -77,6 +78,18 @@ void requireWidth(const spline::BSplineCurve& c1, const spline::BSplineCurve& c2
     if (nearest > tolerance) return;
   }
   throw std::invalid_argument("c2.points: c2 lies on c1; the strip between them has no width");
+}
+
+/// Both curves on one straight line: every ruling runs along it, a strip of no width (the line's
+/// samples' second principal extent within 1e-9 of the first).
+void requireOffLine(const spline::BSplineCurve& c1, const spline::BSplineCurve& c2) {
+  Eigen::MatrixXd samples(257 + 65, 3);
+  samples << sampledCurve(c1, 257), sampledCurve(c2, 65);
+  const Eigen::MatrixXd centred = samples.rowwise() - samples.colwise().mean();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred);
+  const Eigen::VectorXd sigma = svd.singularValues();
+  if (sigma(1) <= 1e-9 * sigma(0))
+    throw std::invalid_argument("c2.points: c1 and c2 lie on one straight line; the strip between them has no width");
 }
 
 void requireNonNegative(double v, const std::string& name) {
@@ -182,6 +195,7 @@ QuasiStripModel::QuasiStripModel(QuasiStripDesign design, QuasiStripOptions opti
   validateCurve(design_.c1, "c1");
   validateCurve(design_.c2, "c2");
   requireWidth(design_.c1, design_.c2);
+  requireOffLine(design_.c1, design_.c2);
   if (design_.mapping.degree < 1) throw std::invalid_argument("mapping.degree: must be >= 1");
   if (design_.mapping.coefficients < design_.mapping.degree + 1) {
     throw std::invalid_argument("mapping.coefficients: must be >= mapping.degree + 1");
