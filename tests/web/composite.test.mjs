@@ -226,3 +226,37 @@ test('an example opens as its picture shows it, and its first fold lets go of th
     assert.ok(Math.abs(back.scene.model.vertices[3][2] - opened.scene.model.vertices[3][2]) < 1e-6, 'the design as it opened');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
+
+test('arrow keys on the fold slider are one gesture: one release when the keys rest, where the slider shows', { timeout: 240000 }, () =>
+  ctx.guard('composite-fold-keys', async () => {
+    const { daemon } = ctx;
+    const page = await ctx.page();
+    const sent = [];
+    page.on('websocket', (ws) => ws.on('framesent', ({ payload }) => sent.push(String(payload))));
+    await page.goto(daemon.url);
+    await page.getByTestId('start-page').waitFor();
+    await page.getByTestId('preset-select').selectOption('composite-curved-fold');
+    await page.getByTestId('new-session').click();
+    await page.getByTestId('editor').waitFor({ timeout: 30000 });
+    await h.waitForConnected(page);
+    await h.waitState(page, (st) => st.kind === 'composite' && st.scene, undefined, { what: 'the new composite session' });
+    const ends = () => sent.filter((f) => f.includes('"fold_end"')).length;
+    // To 0 % with a key, then up by twenty presses of → (a range input fires `change` at each one).
+    const slider = page.getByTestId('fold-slider');
+    await slider.focus();
+    await page.keyboard.press('Home');
+    for (let i = 0; i < 20; ++i) await page.keyboard.press('ArrowRight');
+    await h.waitState(page, (st) => st.metrics && Math.abs(st.metrics.fold_amount - 0.2) < 1e-9, undefined, { what: 'fold 20 %' });
+    await h.waitQuiet(page, { quietMs: 1500 });
+    assert.equal(ends(), 1, `one fold_end for the whole key gesture, not one per key: ${ends()}`);
+    assert.equal((await page.getByTestId('fold-amount').textContent()).trim(), '20 %');
+    const url = new URL(page.url());
+    const folded = await daemon.session(url.searchParams.get('session'), url.searchParams.get('token'));
+    assert.ok(Math.abs(folded.scene.model.fold_amount - 0.2) < 1e-9, `the session rests at 20 %: ${folded.scene.model.fold_amount}`);
+    // A mouse-like change (no key) still ends its gesture at once.
+    await slider.fill('40');
+    await h.waitState(page, (st) => st.metrics && Math.abs(st.metrics.fold_amount - 0.4) < 1e-9, undefined, { what: 'fold 40 %' });
+    await h.waitQuiet(page, { quietMs: 1000 });
+    assert.equal(ends(), 2);
+    assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
+  }));

@@ -52,6 +52,17 @@ test('typed coordinates, an axis-held snapped drag and the units setting', { tim
     assert.ok(Math.abs(moved[2] - target) < 0.03, `z after the typed move: ${moved[2]}, typed ${target}`);
     assert.equal((await h.state(page)).lastError, null);
 
+    // Undone, the fields follow the point back (they kept the undone move's values, and Move would
+    // have sent it again); redone, forward again.
+    for (const [button, want] of [['undo', start], ['redo', moved]]) {
+      await page.getByTestId(button).click();
+      await h.waitQuiet(page, { quietMs: 1000 });
+      const now = await vertexOnServer(daemon, s, 6);
+      assert.ok(Math.abs(now[2] - want[2]) < 1e-6, `${button}: the vertex at z ${now[2]}, expected ${want[2]}`);
+      const shown = Number(await page.getByTestId('coord-z').inputValue());
+      assert.ok(Math.abs(shown - now[2]) < 1e-3, `${button}: the z field shows ${shown}, the vertex is at ${now[2]}`);
+    }
+
     // Text a coordinate field cannot read ("1e999" hands over '') is refused naming the axis and
     // nothing is sent; a valid value clears the message.
     const moveError = page.locator('[data-source="selection:move"]');

@@ -13,6 +13,12 @@ import { h } from './dom.js';
 export const FOLD_PLAY_SECONDS = 6;
 /** Fold messages a second while playing. */
 export const FOLD_PLAY_RATE = 15;
+/**
+ * Milliseconds the keys must rest before a keyboard gesture ends: a range input fires `change`
+ * at every arrow or Page key, and a fold_end (a release solve) at every one of them tore the
+ * sheet near the flat state. Key presses closer together than this are one gesture, as a drag is.
+ */
+export const FOLD_KEYS_REST_MS = 700;
 
 /** The fold amount a session is at: its metrics while it folds, its scene, else 1 (the design). */
 export function sessionFoldAmount(metrics, scene) {
@@ -61,7 +67,22 @@ export class FoldPanel {
       this.moving = true;
       this._queue(Number(this.slider.value) / 100);
     });
-    this.slider.addEventListener('change', () => this._end());
+    // A pointer gesture ends at its `change`; a key press's `change` only once the keys rest.
+    this.keyGesture = false;
+    this.keysRest = 0;
+    this.slider.addEventListener('pointerdown', () => { this.keyGesture = false; });
+    this.slider.addEventListener('keydown', () => { this.keyGesture = true; });
+    this.slider.addEventListener('change', () => {
+      this._stopKeysRest();
+      if (!this.keyGesture) {
+        this._end();
+        return;
+      }
+      this.keysRest = setTimeout(() => {
+        this.keysRest = 0;
+        this._end();
+      }, FOLD_KEYS_REST_MS);
+    });
     // Points whose creases cannot all fold (geometry.fold_conflicts): the slider cannot reach them.
     this.conflicts = h('div', { class: 'fold-conflicts', testid: 'fold-conflicts', role: 'status', hidden: true });
     this.conflictsKey = '';
@@ -141,8 +162,14 @@ export class FoldPanel {
     this.send(new FoldCommand(amount, { source: 'fold:amount' }));
   }
 
+  _stopKeysRest() {
+    if (this.keysRest) clearTimeout(this.keysRest);
+    this.keysRest = 0;
+  }
+
   /** The gesture ends: what is still pending, then fold_end. */
   _end() {
+    this._stopKeysRest();
     if (!this.moving) return;
     if (this.raf) cancelAnimationFrame(this.raf);
     this.raf = 0;
@@ -165,6 +192,7 @@ export class FoldPanel {
   }
 
   play() {
+    this._stopKeysRest();  // a keyboard gesture goes on as Play; Play's end is its end
     let amount = Number(this.slider.value) / 100;
     if (amount >= 1) amount = 0;
     this.playing = true;

@@ -376,6 +376,10 @@ export class SelectionPanel {
     this.errorSlots = errorSlots;
     parent.appendChild(this.root);
     for (const ev of ['selection', 'scene', 'session', 'iterate']) state.on(ev, () => this.render());
+    // The point's coordinates come from the drawn geometry, which its listeners update after the
+    // scene and iterate events (an undo's answer: the fields kept the undone drag's values, and
+    // Move would send it again): once every listener has run, the fields follow.
+    state.on('geometry', () => queueMicrotask(() => this.render()));
     // A release answers a typed move: from then on the fields follow the point again (a move the
     // server accepts may leave it where it was: a fixed point, the coordinates it had).
     state.on('solved', () => {
