@@ -26,3 +26,18 @@ describe('cutAlongSeams', () => {
     expect(cutAlongSeams(null)).toBe(false);
   });
 });
+
+describe('print size note', () => {
+  it('says when the flat patterns would print tiny or huge at true size, naming the size', async () => {
+    const { printSizeNote } = await import('../src/ui/panels.js');
+    // The curved-fold demo: 2 × 2 units, a diagonal of 2.83, in mm.
+    expect(printSizeNote(2.83, 'mm')).toMatch(/^At 1 unit = 1 mm this design is 2\.8 mm across/);
+    expect(printSizeNote(1.5, 'cm')).toMatch(/1 cm this design is 15 mm across/);
+    expect(printSizeNote(2.83, 'cm')).toBeNull();  // 28 mm
+    expect(printSizeNote(2.83, 'in')).toBeNull();  // 72 mm
+    expect(printSizeNote(250, 'mm')).toBeNull();
+    expect(printSizeNote(3, 'm')).toMatch(/3 m across/);
+    expect(printSizeNote(0, 'mm')).toBeNull();
+    expect(printSizeNote(undefined, 'mm')).toBeNull();
+  });
+});

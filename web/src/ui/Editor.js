@@ -213,6 +213,7 @@ export class Editor {
     this.exportPanel = new ExportPanel(this.sidebar, {
       state: st, toasts: null, errorSlots: this.errorSlots, token: this.token, currentScene: () => this.currentScene(),
       send: (c) => this.send(c),
+      designSize: () => drawingDiagonal(st.scene) ?? this.viewport.designSize(),
     });
 
     this.status = new StatusBar(this.root, { state: st, client: this.client, applyTimes: () => this.applyTimes });

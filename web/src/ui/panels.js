@@ -257,9 +257,30 @@ export class SharePanel {
 export { cutAlongSeams } from './exportFormats.js';
 
 /** Export (server route, Bearer token) and save-scene buttons. */
+/** Millimetres per design unit (the scene's `units`). */
+const MM_PER_UNIT = { mm: 1, cm: 10, m: 1000, in: 25.4 };
+
+/**
+ * A note when the design would print smaller than 20 mm across (`size`: its diagonal in design
+ * units) or larger than 2 m: the flat patterns are at true size, one unit the scene's `units`.
+ * Else null.
+ */
+export function printSizeNote(size, units) {
+  const mm = MM_PER_UNIT[units] || 1;
+  if (!(size > 0)) return null;
+  const across = size * mm;
+  const shown = across < 10 ? across.toPrecision(2) : String(Math.round(across));
+  if (across < 20)
+    return `At 1 unit = 1 ${units} this design is ${shown} mm across: SVG, DXF and STL come out that size. Pick a larger unit to print it larger.`;
+  if (across > 2000)
+    return `At 1 unit = 1 ${units} this design is ${Math.round(across / 1000)} m across: SVG, DXF and STL come out that size. Pick a smaller unit to print it smaller.`;
+  return null;
+}
+
 export class ExportPanel {
-  constructor(parent, { state, toasts, errorSlots, token, currentScene, send }) {
+  constructor(parent, { state, toasts, errorSlots, token, currentScene, send, designSize }) {
     this.state = state;
+    this.sizeNote = h('p', { class: 'muted small', testid: 'print-size-note', hidden: true });
     // What one coordinate is: STEP and IGES are written in it, FOLD names it, STL, SVG and DXF are
     // written at true size in millimetres from it (set_units; undoable, shared with collaborators).
     this.units = h('select', { testid: 'units-select', title: 'What one coordinate of the design is; the exports follow (the numbers stay)',
@@ -290,6 +311,7 @@ export class ExportPanel {
         this.stepButton = h('button', { class: 'btn', testid: 'export-step', title: 'The spline surface as STEP, its patches sewn into one shell (from the server)', onclick: run('step') }, 'Export STEP'),
         h('button', { class: 'btn', testid: 'save-scene', title: 'Save the scene as shown, with the current control points (Ctrl+S)', onclick: () => this.saveScene(currentScene) }, 'Save scene file')),
       h('label', { class: 'small units-row' }, 'Units ', this.units),
+      this.sizeNote,
       errorSlots.slot('export'), errorSlots.slot('export:units'));
     parent.appendChild(this.root);
     const update = () => {
@@ -329,6 +351,15 @@ export class ExportPanel {
     };
     state.on('scene', update);
     update();
+    // The print size once the design is drawn (its size is the drawn geometry's until a sheet's).
+    const showSize = () => {
+      const note = designSize ? printSizeNote(designSize(), (state.scene && state.scene.units) || 'mm') : null;
+      this.sizeNote.hidden = !note;
+      this.sizeNote.textContent = note || '';
+    };
+    state.on('scene', showSize);
+    state.on('geometry', ({ source }) => { if (source !== 'iterate') queueMicrotask(showSize); });
+    state.on('solved', () => queueMicrotask(showSize));
   }
 
   saveScene(currentScene) {
