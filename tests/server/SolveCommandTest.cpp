@@ -17,6 +17,7 @@
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Cli.h"
 #include "server/CliTesting.h"
+#include "support/ExportChecks.h"
 
 namespace devsurf::server {
 namespace {
@@ -209,50 +210,29 @@ TEST(SolveCommand, EveryExportIsCheckedBeforeTheSolveAndOneThatFailsAfterItLeave
   std::filesystem::remove_all(folder);
 }
 
-/// From an OBJ file's text alone: the largest angle between the normals of two faces sharing an
-/// edge (cross products of the polygon's corners), degrees, and how many exceed 30°.
+/// From an OBJ file alone (read by the tests' own parser): the largest angle between the normals
+/// of two faces sharing an edge (the polygon's vector area by the shoelace sum of its corners),
+/// degrees, and how many exceed 30°.
 std::pair<double, int> objFaceNormalAngles(const std::string& path) {
   std::ifstream in(path);
-  std::vector<std::array<double, 3>> v;
-  std::vector<std::vector<int>> faces;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string tag;
-    words >> tag;
-    if (tag == "v") {
-      std::array<double, 3> p{};
-      words >> p[0] >> p[1] >> p[2];
-      v.push_back(p);
-    } else if (tag == "f") {
-      std::vector<int> f;
-      std::string corner;
-      while (words >> corner) f.push_back(std::stoi(corner.substr(0, corner.find('/'))) - 1);
-      faces.push_back(f);
+  const devsurf::testing::ObjMesh mesh =
+      devsurf::testing::parseObj(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()));
+  std::vector<Eigen::Vector3d> normal(mesh.faces.size(), Eigen::Vector3d::Zero());
+  std::map<std::pair<int, int>, std::vector<std::size_t>> shared;
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const std::vector<int>& c = mesh.faces[f];
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      const int a = c[k], b = c[(k + 1) % c.size()];
+      normal[f] += mesh.vertices[static_cast<std::size_t>(a)].cross(mesh.vertices[static_cast<std::size_t>(b)]);
+      shared[{std::min(a, b), std::max(a, b)}].push_back(f);
     }
   }
-  std::vector<std::array<double, 3>> normal(faces.size(), {0, 0, 0});
-  std::map<std::pair<int, int>, std::vector<std::size_t>> shared;
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    for (std::size_t k = 0; k < faces[f].size(); ++k) {
-      const auto& a = v[static_cast<std::size_t>(faces[f][k])];
-      const auto& b = v[static_cast<std::size_t>(faces[f][(k + 1) % faces[f].size()])];
-      normal[f][0] += a[1] * b[2] - a[2] * b[1];
-      normal[f][1] += a[2] * b[0] - a[0] * b[2];
-      normal[f][2] += a[0] * b[1] - a[1] * b[0];
-      shared[{std::min(faces[f][k], faces[f][(k + 1) % faces[f].size()]),
-              std::max(faces[f][k], faces[f][(k + 1) % faces[f].size()])}]
-          .push_back(f);
-    }
   double largest = 0.0;
   int sharp = 0;
   for (const auto& [edge, fs] : shared) {
     if (fs.size() != 2) continue;
-    const auto &n0 = normal[fs[0]], &n1 = normal[fs[1]];
-    const double dot = n0[0] * n1[0] + n0[1] * n1[1] + n0[2] * n1[2];
-    const double l0 = std::sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]);
-    const double l1 = std::sqrt(n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
-    const double degrees = std::acos(std::clamp(dot / (l0 * l1), -1.0, 1.0)) * 180.0 / M_PI;
+    const Eigen::Vector3d &n0 = normal[fs[0]], &n1 = normal[fs[1]];
+    const double degrees = std::acos(std::clamp(n0.dot(n1) / (n0.norm() * n1.norm()), -1.0, 1.0)) * 180.0 / M_PI;
     largest = std::max(largest, degrees);
     if (degrees > 30.0) ++sharp;
   }

@@ -181,18 +181,23 @@ test('the Solver panel switches a composite to normal splines, and a drag keeps 
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 
+/** "New session from an example" on the start page: the curved fold, in a session of its own. */
+async function openCurvedFoldExample(page, daemon) {
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('preset-select').selectOption('composite-curved-fold');
+  await page.getByTestId('new-session').click();
+  await page.getByTestId('editor').waitFor({ timeout: 30000 });
+  await h.waitForConnected(page);
+  await h.waitState(page, (st) => st.kind === 'composite' && st.scene, undefined, { what: 'the new composite session' });
+}
+
 test('an example opens as its picture shows it, and its first fold lets go of the handle and can be undone', { timeout: 240000 }, () =>
   ctx.guard('composite-example-fold', async () => {
     const { daemon } = ctx;
     // "New session from an example": the curved fold with its corner's handle, solved at opening.
     const page = await ctx.page();
-    await page.goto(daemon.url);
-    await page.getByTestId('start-page').waitFor();
-    await page.getByTestId('preset-select').selectOption('composite-curved-fold');
-    await page.getByTestId('new-session').click();
-    await page.getByTestId('editor').waitFor({ timeout: 30000 });
-    await h.waitForConnected(page);
-    await h.waitState(page, (st) => st.kind === 'composite' && st.scene, undefined, { what: 'the new composite session' });
+    await openCurvedFoldExample(page, daemon);
     const url = new URL(page.url());
     const s = { id: url.searchParams.get('session'), token: url.searchParams.get('token') };
     const opened = await daemon.session(s.id, s.token);
@@ -233,13 +238,7 @@ test('arrow keys on the fold slider are one gesture: one release when the keys r
     const page = await ctx.page();
     const sent = [];
     page.on('websocket', (ws) => ws.on('framesent', ({ payload }) => sent.push(String(payload))));
-    await page.goto(daemon.url);
-    await page.getByTestId('start-page').waitFor();
-    await page.getByTestId('preset-select').selectOption('composite-curved-fold');
-    await page.getByTestId('new-session').click();
-    await page.getByTestId('editor').waitFor({ timeout: 30000 });
-    await h.waitForConnected(page);
-    await h.waitState(page, (st) => st.kind === 'composite' && st.scene, undefined, { what: 'the new composite session' });
+    await openCurvedFoldExample(page, daemon);
     const ends = () => sent.filter((f) => f.includes('"fold_end"')).length;
     // To 0 % with a key, then up by twenty presses of → (a range input fires `change` at each one).
     const slider = page.getByTestId('fold-slider');
