@@ -137,5 +137,9 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     }
     const edits = sent.slice(sentBefore).filter((m) => !/"type":"(presence|ping)"/.test(m));
     assert.deepEqual(edits, [], 'no edit left the view page');
+    // Said once, not once per refused control.
+    const shown = await v.evaluate(() => [...document.querySelectorAll('.field-error')]
+      .filter((el) => !el.hidden && /view only/.test(el.textContent)).length);
+    assert.ok(shown <= 1, `the "view only" message shows in ${shown} places at once`);
     assert.equal((await daemon.session(id, viewToken)).seq, seqBefore, 'the server applied no edit');
   }));

@@ -69,6 +69,13 @@ export class ErrorSlots {
     let el = this.slots.get(source);
     if (!el && source && source.includes(':')) el = this.slots.get(source.split(':')[0]);
     if (!el) return false;
+    // One message once: another slot showing the same text (a view-only page's refusals of F, H
+    // and R each named their own control) makes way for this one.
+    for (const other of this.slots.values())
+      if (other !== el && !other.hidden && other.textContent === text) {
+        other.hidden = true;
+        clearTimeout(this.timers.get(other));
+      }
     el.textContent = text;
     el.hidden = false;
     clearTimeout(this.timers.get(el));
