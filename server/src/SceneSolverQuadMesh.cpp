@@ -137,9 +137,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
   if (format == "unfolding_obj")
     return {io::objString(model.unfoldingVertices(), faces, title + " (unfolding M')"), "model/obj", "unfolding.obj"};
   if (format == "iges" || format == "step") {
-    if (!initialQuadMesh_.control)
-      throw ExportUnavailable("format: " + format + " exports B-spline surfaces; this quad_mesh scene is a mesh without "
-                              "a control net (use obj, unfolding_obj, stl, svg, dxf, fold or png)");
+    checkExportFormat(format);  // throws without a control net
     std::vector<io::IgesSurface> surfaces;
     std::vector<io::IgesCurve> curves;
     igesEntities(surfaces, curves);
@@ -165,9 +163,7 @@ ExportedFile SceneSolver::quadMeshExport(const std::string& format) const {
   if (format == "stl") return fabricationExport(format);
   if (format == "svg" || format == "fold" || format == "dxf") {
     const qm::QuadMeshDesign d = model.design();
-    if (!d.unfoldingPlanar)
-      throw ExportUnavailable("format: " + format + " draws a planar unfolding; this scene's M′ is a second surface "
-                              "(unfolding.planar false)");
+    checkExportFormat(format);  // throws unless M′ is planar
     const double mm = proto::millimetresPerUnit(scene_.units);
     try {
       if (format == "dxf") {
