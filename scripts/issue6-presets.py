@@ -119,7 +119,9 @@ PAIRS = {
         "name": "hat brim",
         "what": "a hat brim around a crown of radius 9 cm: a level inner edge (c1/p) and a wavy outer edge of radius 16 cm (c2/q), open arcs of 300°",
         "c1": fit(brim_inner, 14), "c2": fit(brim_outer, 14),
-        "conical": {"np": 40, "nq": 60, "h3": 9.0, "h4": 1.0, "ra": 2.0},
+        # h3 ≈ 1.08 × the strip width, h4 = 0.5 cm: at 9 / 1.0 (until stop 54) fans ran on until the
+        # greedy strip folded back by 165° and quadrilateral corners stood 0.9 cm off the curves.
+        "conical": {"np": 40, "nq": 60, "h3": 7.8, "h4": 0.5, "ra": 2.0},
     },
     "twisted": {
         "units": "mm",

@@ -356,7 +356,11 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
         if (!check.at("ok").get<bool>())
           err << " " << check.at("metric").get<std::string>() << " " << check.at("value").get<double>()
               << " (limit " << check.at("limit").get<double>() << ");";
-      err << " more --iterations may help; targets the sheet cannot reach stretch it (the report's quality)\n";
+      if (solver.kindName() == "conical_strip")
+        err << " the greedy strip folds back on itself: a smaller h3 (shorter fans of triangles) or h4 may"
+               " help, Chu et al. §5.4 (the report's quality)\n";
+      else
+        err << " more --iterations may help; targets the sheet cannot reach stretch it (the report's quality)\n";
       if (requireQuality) return 3;
     }
     return 0;

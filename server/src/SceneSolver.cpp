@@ -204,13 +204,13 @@ nlohmann::json QualityVerdict::toJson() const {
 }
 
 QualityVerdict SceneSolver::quality() const {
-  if (keepsInputGeometry()) return {};
+  if (quasi_) return {};  // Bo et al. give no thresholds
   return quality(metrics());
 }
 
 QualityVerdict SceneSolver::quality(const proto::Metrics& m) const {
   QualityVerdict v;
-  if (keepsInputGeometry()) return v;
+  if (quasi_) return v;  // Bo et al. give no thresholds; the warp angle is reported, not held
   auto atMost = [&v, &m](const std::string& name, double limit) {
     const auto it = m.find(name);
     if (it == m.end()) return;
@@ -242,6 +242,11 @@ QualityVerdict SceneSolver::quality(const proto::Metrics& m) const {
     atMost("length_error", quadMesh_->design().conformal ? 0.05 : 5e-3);
     atMost("glue_gap_max", 1e-4);
     atMost("unfolding_flipped_faces", 0.0);
+  } else if (conical_) {
+    // Chu et al. give no thresholds; the greedy strip must not fold back on itself: no two
+    // neighbouring patches' tangent planes meet at more than a right angle (the G1 adjustment then
+    // twists the strip around that ruling instead of smoothing a bend).
+    atMost("greedy_normal_jump_max_rad", 1.5707963267948966);  // π/2
   } else {
     atMost("warp_angle_max_deg", 0.05);
     atLeast("ruling_length_min_ratio", 0.25);

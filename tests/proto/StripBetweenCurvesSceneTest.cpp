@@ -101,7 +101,8 @@ TEST(StripBetweenCurvesScene, AConicalStripTakesTheDocumentedDefaultsAndRoundTri
   doc["model"]["objective"] = "bending_energy";
   doc["model"]["g1"] = false;
   doc["model"]["np"] = 9;
-  const auto& again = std::get<conical::ConicalStripDesign>(sceneFromJson(sceneToJson(sceneFromJson(doc))).model);
+  const Scene roundTripped = sceneFromJson(sceneToJson(sceneFromJson(doc)));
+  const auto& again = std::get<conical::ConicalStripDesign>(roundTripped.model);
   EXPECT_EQ(again.objective, conical::Objective::BendingEnergy);
   EXPECT_FALSE(again.g1);
   EXPECT_EQ(again.np, 9);

@@ -48,10 +48,19 @@ ArcLengthCurve::ArcLengthCurve(spline::BSplineCurve curve, int intervalsPerSpan)
   }
 }
 
-Eigen::Vector3d ArcLengthCurve::point(double u) const { return curve_.evaluate(u, 0); }
+// Through derivatives() into stack storage: evaluate() allocates its result, and the greedy march,
+// the plane crossings and the closest points call these some 10⁵ times a strip.
+Eigen::Vector3d ArcLengthCurve::point(double u) const {
+  Eigen::Matrix<double, 3, 1> out;
+  curve_.derivatives(u, 0, out);
+  return out;
+}
 
 Eigen::Vector3d ArcLengthCurve::derivative(double u, int order) const {
-  return curve_.evaluate(u, order);
+  if (order > 3) return curve_.evaluate(u, order);
+  Eigen::Matrix<double, 3, 4> out;
+  curve_.derivatives(u, order, out.leftCols(order + 1));
+  return out.col(order);
 }
 
 Eigen::Vector3d ArcLengthCurve::unitTangent(double u) const {
@@ -119,10 +128,9 @@ std::vector<double> ArcLengthCurve::planeCrossings(const Eigen::Vector3d& x0,
   const auto signedDistance = [this, &x0, &normal](double u) {
     return normal.dot(point(u) - x0);
   };
-  const double s0 = arcLength(uBegin), s1 = arcLength(uEnd);
   double uPrev = uBegin, gPrev = signedDistance(uBegin);
   for (int k = 1; k <= scanSteps; ++k) {
-    const double u = k == scanSteps ? uEnd : parameterAt(s0 + (s1 - s0) * k / scanSteps);
+    const double u = k == scanSteps ? uEnd : uBegin + (uEnd - uBegin) * k / scanSteps;
     const double g = signedDistance(u);
     if (gPrev == 0.0) {
       roots.push_back(uPrev);
@@ -176,28 +184,25 @@ ArcLengthCurve::ClosestPoint ArcLengthCurve::closestPoint(const Eigen::Vector3d&
       best = k;
     }
   }
-  // Golden section on the neighbouring intervals.
+  // Safeguarded Newton on g(u) = (C(u) − x)·C′(u), the derivative of half the squared distance,
+  // in the neighbouring intervals: bisection on the sign of g where a step leaves the bracket or
+  // g′ ≤ 0. A minimum at a bracket end converges to that end.
   double lo = candidates[best > 0 ? best - 1 : 0];
   double hi = candidates[std::min(best + 1, candidates.size() - 1)];
-  constexpr double kInvPhi = 0.6180339887498949;
-  double c = hi - kInvPhi * (hi - lo), d = lo + kInvPhi * (hi - lo);
-  double fc = distance(c), fd = distance(d);
-  for (int iter = 0; iter < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++iter) {
-    if (fc < fd) {
-      hi = d;
-      d = c;
-      fd = fc;
-      c = hi - kInvPhi * (hi - lo);
-      fc = distance(c);
-    } else {
-      lo = c;
-      c = d;
-      fc = fd;
-      d = lo + kInvPhi * (hi - lo);
-      fd = distance(d);
-    }
+  double u = candidates[best];
+  Eigen::Matrix<double, 3, 3> d;  // point, first and second derivative
+  for (int iter = 0; iter < 60 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++iter) {
+    curve_.derivatives(u, 2, d);
+    const Eigen::Vector3d r = d.col(0) - x;
+    const double g = r.dot(d.col(1)), gPrime = d.col(1).squaredNorm() + r.dot(d.col(2));
+    if (g == 0.0) break;
+    if (g < 0.0) lo = u; else hi = u;
+    double next = gPrime > 0.0 ? u - g / gPrime : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    const bool converged = std::abs(next - u) <= 1e-15 * (1.0 + std::abs(u));
+    u = next;
+    if (converged) break;
   }
-  const double u = 0.5 * (lo + hi);
   ClosestPoint result{u, distance(u)};
   if (bestDistance < result.distance) result = {candidates[best], bestDistance};
   return result;

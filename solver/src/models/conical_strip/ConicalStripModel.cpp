@@ -18,6 +18,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+constexpr double kPi = 3.14159265358979323846;
+
 double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -73,6 +75,7 @@ struct Candidate {
   Eigen::Vector3d newCornerX = Eigen::Vector3d::Zero();  ///< corner on the patch's base side
   Eigen::Vector3d newCornerY = Eigen::Vector3d::Zero();  ///< corner on the scaled side
   double newParamY = 0.0;
+  double newRulingLength = 0.0;  ///< |newCornerX − newCornerY|: the ruling the patch ends on
   /// A quadrilateral: the sample of the scaled side its end corner replaces (the sample nearest to
   /// the plane/curve crossing; samples between the start and it are skipped). -1 for triangles.
   int newIndexY = -1;
@@ -111,7 +114,24 @@ Candidate triangle(const SideState& x, const SideState& apexSide, StripSide base
   c.newCornerX = x.sample(x.index + 1);
   c.newCornerY = apexSide.corner;
   c.newParamY = apexSide.param;
+  c.newRulingLength = (c.newCornerX - c.newCornerY).norm();
   return c;
+}
+
+/// The sides after `c` is taken: its base side at its next sample, and for a quadrilateral the
+/// scaled side at the corner it replaces.
+void advanceSides(const Candidate& c, SideState& p, SideState& q) {
+  const bool baseIsP = c.patch.baseSide == StripSide::P;
+  SideState& x = baseIsP ? p : q;
+  SideState& y = baseIsP ? q : p;
+  x.index += 1;
+  x.corner = c.newCornerX;
+  x.param = x.sampleParam(x.index);
+  if (c.patch.type == PatchType::Quadrilateral) {
+    y.index = c.newIndexY;
+    y.corner = c.newCornerY;
+    y.param = c.newParamY;
+  }
 }
 
 struct QuadOutcome {
@@ -218,10 +238,18 @@ double criterion(const ConicalPatch& candidate, const ConicalPatch* previous, Ob
   return arm > 0.0 ? candidate.area() * sin2 / (arm * arm) : 0.0;
 }
 
-const Candidate* best(const std::vector<Candidate>& candidates) {
+const Candidate* best(const std::vector<Candidate*>& candidates) {
   const Candidate* chosen = nullptr;
-  for (const Candidate& c : candidates) {
-    if (chosen == nullptr || c.criterion < chosen->criterion) chosen = &c;
+  for (const Candidate* c : candidates) {
+    if (chosen == nullptr || c->criterion < chosen->criterion) chosen = c;
+  }
+  return chosen;
+}
+
+const Candidate* shortestRuling(const std::vector<Candidate*>& candidates) {
+  const Candidate* chosen = nullptr;
+  for (const Candidate* c : candidates) {
+    if (chosen == nullptr || c->newRulingLength < chosen->newRulingLength) chosen = c;
   }
   return chosen;
 }
@@ -351,30 +379,78 @@ const ConicalStripSummary& ConicalStripModel::solve() {
       ((q.sample(q.index + 1) - p.corner).norm() <= design_.h3 ? triangles : forced)
           .push_back(std::move(c));
     }
-    // Step 4: quadrilaterals first, then feasible triangles, then (forced) any triangle.
-    std::vector<Candidate>& pool = !quads.empty() ? quads : !triangles.empty() ? triangles : forced;
-    assert(!pool.empty());
-    if (&pool == &forced) ++summary_.forcedTriangles;
-    for (Candidate& c : pool) c.criterion = criterion(c.patch, previous, design_.objective);
-    Candidate chosen = *best(pool);
+    // Step 4: quadrilaterals first, then feasible triangles, then (forced) any triangle, the one of
+    // smallest criterion. Not in the paper: each pool without the candidates that fold the strip
+    // back or trap it (options.foldBackAngle), as long as some candidate does neither.
+    const auto foldsBack = [this](const ConicalPatch* before, const ConicalPatch& after) {
+      return before != nullptr &&
+             angleBetween(before->normal(1.0), after.normal(0.0)) > options_.foldBackAngle;
+    };
+    // A trap: after the candidate, a side that is not finished can only advance (by a triangle)
+    // folding back. A fan of triangles on one apex has no normal jump, so the criterion keeps it
+    // going until the other side's next triangle turns by 180° (the hat brim at h3 = 9).
+    // Once a side is finished the rest is determined: a fan on its last corner over the other
+    // side's remaining samples; that fan must not fold back either.
+    const auto trapsOrFoldsBack = [&p, &q, previous, &foldsBack](const Candidate& c) {
+      if (foldsBack(previous, c.patch)) return true;
+      SideState p2 = p, q2 = q;
+      advanceSides(c, p2, q2);
+      const bool pOpen = p2.index < p2.last(), qOpen = q2.index < q2.last();
+      if (pOpen && qOpen) {
+        return foldsBack(&c.patch, triangle(p2, q2, StripSide::P, p2, q2).patch) ||
+               foldsBack(&c.patch, triangle(q2, p2, StripSide::Q, p2, q2).patch);
+      }
+      ConicalPatch before = c.patch;
+      while (p2.index < p2.last() || q2.index < q2.last()) {
+        const bool advanceP = p2.index < p2.last();
+        Candidate fan = advanceP ? triangle(p2, q2, StripSide::P, p2, q2) : triangle(q2, p2, StripSide::Q, p2, q2);
+        if (foldsBack(&before, fan.patch)) return true;
+        advanceSides(fan, p2, q2);
+        before = std::move(fan.patch);
+      }
+      return false;
+    };
+    std::vector<Candidate>* const pools[] = {&quads, &triangles, &forced};
+    int paperPool = -1, guardedPool = -1;
+    std::vector<Candidate*> pool;
+    for (int k = 0; k < 3; ++k) {
+      for (Candidate& c : *pools[k]) c.criterion = criterion(c.patch, previous, design_.objective);
+      if (paperPool < 0 && !pools[k]->empty()) paperPool = k;
+    }
+    assert(paperPool >= 0 && "a triangle always exists");
+    const auto firstPool = [&pools, &pool, &guardedPool](const auto& acceptable) {
+      for (int k = 0; k < 3 && pool.empty(); ++k) {
+        for (Candidate& c : *pools[k])
+          if (acceptable(c)) pool.push_back(&c);
+        guardedPool = k;
+      }
+    };
+    if (options_.foldBackAngle < kPi) {
+      firstPool([&trapsOrFoldsBack](const Candidate& c) { return !trapsOrFoldsBack(c); });
+      if (pool.empty())
+        firstPool([&foldsBack, previous](const Candidate& c) { return !foldsBack(previous, c.patch); });
+    }
+    if (pool.empty()) {  // Step 4 as published
+      for (Candidate& c : *pools[paperPool]) pool.push_back(&c);
+      guardedPool = paperPool;
+    }
+    if (pools[guardedPool] == &forced) ++summary_.forcedTriangles;
+    // A forced step (no triangle within h3) takes the shorter new ruling, not the criterion, which
+    // would keep a fan going.
+    Candidate chosen = pools[guardedPool] == &forced ? *shortestRuling(pool) : *best(pool);
+    if (foldsBack(previous, chosen.patch)) ++summary_.foldBacksTaken;
 
     // Advance.
     const bool baseIsP = chosen.patch.baseSide == StripSide::P;
-    SideState& x = baseIsP ? p : q;
-    SideState& y = baseIsP ? q : p;
-    x.index += 1;
-    x.corner = chosen.newCornerX;
-    x.param = x.sampleParam(x.index);
     if (chosen.patch.type == PatchType::Quadrilateral) {
+      const SideState& y = baseIsP ? q : p;
       std::vector<bool>& skipped = baseIsP ? r.skippedQ : r.skippedP;
       for (int k = y.index + 1; k < chosen.newIndexY; ++k) skipped[k] = true;
-      y.index = chosen.newIndexY;
-      y.corner = chosen.newCornerY;
-      y.param = chosen.newParamY;
       Eigen::MatrixX3d& corners = baseIsP ? r.cornersQ : r.cornersP;
-      corners.row(y.index) = y.corner.transpose();
-      (baseIsP ? r.replacedQ : r.replacedP)[y.index] = true;
+      corners.row(chosen.newIndexY) = chosen.newCornerY.transpose();
+      (baseIsP ? r.replacedQ : r.replacedP)[chosen.newIndexY] = true;
     }
+    advanceSides(chosen, p, q);
     chosen.patch.pEnd = p.index;
     chosen.patch.qEnd = q.index;
     chosen.patch.pParamEnd = p.param;

@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
+#include <random>
 #include <iostream>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include "devsurf/models/conical_strip/ConicalStripPresets.h"
 
@@ -228,6 +231,121 @@ TEST(ConicalStripModel, ParallelStraightBoundariesGiveAFlatStripOfQuadrilaterals
       EXPECT_EQ(patch.scale, 0.0);  // a cylinder
     }
   }
+}
+
+/// The curves of examples/conical-strip-brim.json (a hat brim: a level circle of radius 9 cm and a
+/// wavy one of radius 16 cm, open arcs of 300°), read as shipped, with its own sample counts.
+ConicalStripDesign hatBrimDesign() {
+  std::ifstream file(std::string(DEVSURF_SOURCE_DIR) + "/examples/conical-strip-brim.json");
+  const nlohmann::json model = nlohmann::json::parse(file).at("model");
+  const auto curve = [&model](const char* name) {
+    const nlohmann::json& c = model.at(name);
+    const std::vector<std::vector<double>> rows = c.at("points");
+    Eigen::MatrixX3d points(static_cast<Eigen::Index>(rows.size()), 3);
+    for (size_t k = 0; k < rows.size(); ++k) points.row(static_cast<Eigen::Index>(k)) << rows[k][0], rows[k][1], rows[k][2];
+    spline::BSplineCurve b;
+    b.knots = spline::KnotVector::clampedUniform(c.at("degree").get<int>(), static_cast<int>(rows.size()));
+    b.points = points;
+    return b;
+  };
+  ConicalStripDesign d;
+  d.p = curve("p");
+  d.q = curve("q");
+  d.np = model.at("np").get<int>();
+  d.nq = model.at("nq").get<int>();
+  d.h3 = model.at("h3").get<double>();
+  d.h4 = model.at("h4").get<double>();
+  d.ra = model.at("ra").get<double>();
+  return d;
+}
+
+constexpr double kRightAngle = 1.5707963267948966;
+
+TEST(ConicalStripModel, AFanOfTrianglesIsCutShortBeforeItTrapsTheStripInAFoldBack) {
+  // The hat brim with the parameters it shipped with until stop 54 (h3 = 9 cm on a strip about
+  // 7.2 cm wide, h4 = 1 cm): as published, Step 4 keeps fanning triangles on one apex (no normal
+  // jump) until the other side can only advance by folding the strip back by 165°.
+  ConicalStripDesign d = hatBrimDesign();
+  d.h3 = 9.0;
+  d.h4 = 1.0;
+  ConicalStripOptions published;
+  published.foldBackAngle = 4.0;  // off
+  ConicalStripModel asPublished(d, published);
+  asPublished.solve();
+  EXPECT_GT(asPublished.result().greedyMetrics.normalJumpMaxRad, 2.5);
+
+  ConicalStripModel guarded(d);
+  guarded.solve();
+  const ConicalStripResult& r = guarded.result();
+  EXPECT_LE(r.greedyMetrics.normalJumpMaxRad, kRightAngle);
+  EXPECT_EQ(guarded.summary().foldBacksTaken, 0);
+  EXPECT_LT(r.greedyMetrics.normalVariation, 0.1 * asPublished.result().greedyMetrics.normalVariation);
+  EXPECT_GT(r.metrics.n4, 0) << "quadrilaterals are still preferred";
+  EXPECT_LT(r.metrics.deviationMax, d.h4);
+}
+
+TEST(ConicalStripModel, TheHatBrimAsShippedStaysCloseToItsCurvesAndDoesNotFoldBack) {
+  const ConicalStripDesign d = hatBrimDesign();
+  ConicalStripModel model(d);
+  model.solve();
+  const ConicalStripResult& r = model.result();
+  printMetrics("hat brim as shipped, greedy", r.greedyMetrics);
+  EXPECT_LE(r.greedyMetrics.normalJumpMaxRad, 0.25);
+  EXPECT_LE(r.metrics.deviationMax, 0.3) << "cm: gaps between the strip and its curves";
+  EXPECT_GE(r.metrics.n4, 5);
+}
+
+TEST(ConicalStripModel, RandomCurvePairsRarelyFoldBackWithTheGuardAndSayWhenTheyDo) {
+  // Seeded strips a designer might draw: two cubic curves 3–7 apart, bent in plane and wavy in
+  // height, h3 1.1–1.6 × the width, h4 0.05–0.3 × the width. Fold-backs are rare either way (4 in
+  // 300 such strips as published, none with the guard, at stop 54); the hat brim above is the case
+  // that tells the two apart.
+  int guardedFoldBacks = 0, publishedFoldBacks = 0;
+  const int cases = 100;
+  for (int seed = 0; seed < cases; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const int n = 6;
+    Eigen::MatrixX3d p(n, 3), q(n, 3);
+    const double width = 5.0 + 2.0 * u(rng), length = 30.0 + 10.0 * u(rng), bend = 0.8 * u(rng);
+    for (int k = 0; k < n; ++k) {
+      const double t = static_cast<double>(k) / (n - 1), angle = 2.0 * bend * (t - 0.5);
+      Eigen::Vector3d centre(t * length, 0.0, 0.0), normal(0.0, 1.0, 0.0);
+      if (std::abs(bend) > 1e-3) {
+        const double radius = length / (2.0 * bend);  // signed: the strip bends either way
+        centre = Eigen::Vector3d(radius * std::sin(angle), radius * (1.0 - std::cos(angle)), 0.0);
+        normal = Eigen::Vector3d(-std::sin(angle), std::cos(angle), 0.0);
+      }
+      p.row(k) = (centre + 0.6 * Eigen::Vector3d(u(rng), u(rng), u(rng))).transpose();
+      q.row(k) = (centre + width * normal + Eigen::Vector3d(0.6 * u(rng), 0.6 * u(rng), 0.3 * width * u(rng) + 1.2 * u(rng)))
+                     .transpose();
+    }
+    ConicalStripDesign d;
+    d.p.knots = d.q.knots = spline::KnotVector::clampedUniform(3, n);
+    d.p.points = p;
+    d.q.points = q;
+    d.np = 30 + seed % 20;
+    d.nq = 30 + (7 * seed) % 25;
+    d.h3 = width * (1.35 + 0.25 * u(rng));
+    d.h4 = width * (0.175 + 0.125 * u(rng));
+    ConicalStripOptions options;
+    options.outlineSamples = 4;  // the metrics asked for here are the greedy strip's
+    ConicalStripModel guarded(d, options);
+    guarded.solve();
+    const bool folds = guarded.result().greedyMetrics.normalJumpMaxRad > kRightAngle;
+    guardedFoldBacks += folds ? 1 : 0;
+    EXPECT_EQ(folds, guarded.summary().foldBacksTaken > 0) << "seed " << seed << ": the summary says so";
+    EXPECT_LE(guarded.result().greedyMetrics.cornerDeviationMax, d.h4) << "seed " << seed;
+    EXPECT_LE(guarded.result().metrics.normalJumpMaxRad, 1e-6) << "seed " << seed << ": G1";
+    options.foldBackAngle = 4.0;
+    ConicalStripModel published(d, options);
+    published.solve();
+    publishedFoldBacks += published.result().greedyMetrics.normalJumpMaxRad > kRightAngle ? 1 : 0;
+  }
+  std::cout << "fold-backs in " << cases << " random strips: " << guardedFoldBacks << " with the guard, "
+            << publishedFoldBacks << " as published\n";
+  EXPECT_LE(guardedFoldBacks, cases / 100);
+  EXPECT_LE(guardedFoldBacks, publishedFoldBacks);
 }
 
 TEST(ConicalStripModel, ABadDesignIsRejectedWithTheNameOfTheField) {

@@ -39,8 +39,10 @@ class ArcLengthCurve {
   std::vector<double> equalArcLengthParameters(int count) const;
 
   /// Parameters u in [uBegin, uEnd] where the curve crosses the plane n·(x − x0) = 0, found by
-  /// scanning `scanSteps` equal arc-length steps for sign changes and refining each bracket to
-  /// machine precision (Illinois regula falsi). Empty when the curve does not cross.
+  /// scanning `scanSteps` equal parameter steps for sign changes (the ranges searched span a few
+  /// samples, where a B-spline's speed hardly varies; arc-length steps cost a Newton solve each)
+  /// and refining each bracket to machine precision (Illinois regula falsi). Empty when the curve
+  /// does not cross.
   std::vector<double> planeCrossings(const Eigen::Vector3d& x0, const Eigen::Vector3d& normal,
                                      double uBegin, double uEnd, int scanSteps) const;
 
@@ -49,7 +51,7 @@ class ArcLengthCurve {
     double distance = 0.0;
   };
   /// Closest curve point to x with parameter in [uBegin, uEnd] (coarse search on the table nodes,
-  /// then golden-section refinement around the best node).
+  /// then safeguarded Newton in the intervals next to the best node).
   ClosestPoint closestPoint(const Eigen::Vector3d& x, double uBegin, double uEnd) const;
 
  private:

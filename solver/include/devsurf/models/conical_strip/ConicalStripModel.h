@@ -48,6 +48,15 @@ struct ConicalStripOptions {
   /// cubic's inner control legs onto the G1 tangents, clamped to [min, max] × the chord length.
   double tangentLengthMin = 0.05;
   double tangentLengthMax = 0.6;
+  /// Step 4 guard, not in the paper. A candidate *folds back* when its tangent plane at its start
+  /// ruling turns by more than this (radians) against the previous patch's end, and *traps* the
+  /// strip when, after it, a side that is not finished can only advance by a triangle that folds
+  /// back against it. Step 4 passes over candidates that do either while another (of any type)
+  /// does neither, keeping its order: quadrilaterals, triangles within h3, any triangle; then over
+  /// those that fold back. Without it, a fan of triangles on one apex (no normal jump, so the
+  /// criterion prefers it) runs on until the other side's next triangle turns by 180°.
+  /// Default: a right angle; π or more switches the guard off (Step 4 as published).
+  double foldBackAngle = 1.5707963267948966;
   /// Whoever runs solve() gives up here (a job's time limit, a session's budget): checked in every
   /// greedy step and in the loops over samples and patches; once passed, solve() throws
   /// engine::DeadlineExceeded and the model stays unsolved. Default: never.
@@ -62,6 +71,8 @@ struct ConicalStripSummary {
   int quadrilateral = 0;         ///< n4
   int forcedTriangles = 0;       ///< steps where no candidate passed its test (Step 3) and the
                                  ///< better triangle was taken anyway (a triangle always exists)
+  /// Steps whose patch folds the strip back (options.foldBackAngle): every candidate did.
+  int foldBacksTaken = 0;
   int quadCandidatesTested = 0;  ///< quadrilateral candidates that passed Step 2's side test
   int quadCandidatesFeasible = 0;
   /// Why tested quadrilateral candidates failed Step 3: no plane/curve crossing between the
