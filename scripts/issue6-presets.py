@@ -9,6 +9,8 @@ import json
 import math
 import os
 
+from preset_summaries import with_summary
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -135,7 +137,7 @@ PAIRS = {
 
 def write(path, scene):
     with open(os.path.join(ROOT, "examples", path), "w") as out:
-        json.dump(scene, out, indent=1)
+        json.dump(with_summary(path, scene), out, indent=1)
         out.write("\n")
 
 

@@ -11,6 +11,8 @@ import os
 import subprocess
 import tempfile
 
+from preset_summaries import with_summary
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 EXAMPLES = os.path.join(ROOT, "examples")
 DEVSURF = os.environ.get("DEVSURF_BIN", os.path.join(ROOT, "build", "server", "devsurf"))
@@ -77,7 +79,7 @@ def r_edge(v0, v1, crease=None):
 
 def write(name, scene):
     with open(os.path.join(EXAMPLES, name), "w") as f:
-        json.dump(scene, f, indent=1)
+        json.dump(with_summary(name, scene), f, indent=1)
         f.write("\n")
 
 

@@ -14,6 +14,8 @@ import argparse
 import math
 import os
 
+from preset_summaries import with_summary
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
@@ -709,7 +711,7 @@ def main():
                 assert signed_area(model["unfolding"]["vertices"], face) > 0, "%s: face %d is not ccw" % (name, f)
         path = os.path.join(args.out, name + ".json")
         with open(path, "w") as f:
-            f.write(dump(doc) + "\n")
+            f.write(dump(with_summary(name + ".json", doc)) + "\n")
         print("%s: %d vertices, %d faces" % (path, len(model["mesh"]["vertices"]), len(faces)))
 
 

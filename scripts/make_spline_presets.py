@@ -18,6 +18,8 @@ import importlib.util
 import math
 import os
 
+from preset_summaries import with_summary
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _spec = importlib.util.spec_from_file_location("make_quad_presets", os.path.join(ROOT, "scripts", "make_quad_presets.py"))
 _quad = importlib.util.module_from_spec(_spec)
@@ -107,7 +109,7 @@ def main():
     for name, doc in presets().items():
         path = os.path.join(args.out, name + ".json")
         with open(path, "w") as f:
-            f.write(dump(doc) + "\n")
+            f.write(dump(with_summary(name + ".json", doc)) + "\n")
         print("%s: %d control points" % (path, len(doc["model"]["control"]["points"])))
 
 

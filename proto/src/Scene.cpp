@@ -681,6 +681,7 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
 
   Scene scene;
   scene.name = document.value("name", "");
+  scene.summary = document.value("summary", "");
   scene.description = document.value("description", "");
   scene.units = document.value("units", scene.units);
   const json solver = document.value("solver", json::object());
@@ -804,6 +805,7 @@ json sceneToJson(const Scene& scene) {
   j["format"] = "devsurf-scene";
   j["version"] = 1;
   if (!scene.name.empty()) j["name"] = scene.name;
+  if (!scene.summary.empty()) j["summary"] = scene.summary;
   if (!scene.description.empty()) j["description"] = scene.description;
   if (scene.units != "mm") j["units"] = scene.units;
   if (const auto* c = std::get_if<composite::CompositeDesign>(&scene.model)) {

@@ -75,6 +75,9 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     const options = await select.locator('option').evaluateAll((els) => els.map((o) => ({ value: o.value, label: o.textContent })));
     const preset = options.find((o) => /^strip-lifted/.test(o.value)) || options.find((o) => /lifted/i.test(`${o.value} ${o.label}`)) || options[0];
     await select.selectOption(preset.value);
+    // The example is introduced by its summary as the file has it, not its paper references.
+    const shipped = h.readScene(`${preset.value}.json`);
+    assert.equal((await a.getByTestId('preset-summary').textContent()).trim(), shipped.summary);
     await a.getByTestId('new-session').click();
     await a.getByTestId('editor').waitFor({ timeout: 30000 });
     await h.waitForConnected(a);

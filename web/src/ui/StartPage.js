@@ -98,7 +98,12 @@ export class StartPage {
 
     this.presetSelect = h('select', { class: 'input', testid: 'preset-select', 'aria-label': 'Example scene' },
       PRESETS.map((p) => h('option', { value: p.id }, p.name)));
-    this.presetDescription = h('p', { class: 'muted small preset-description' });
+    // The summary in plain words; the full description (the papers' figures and equations, the
+    // numbers) one click away.
+    this.presetSummary = h('p', { class: 'small preset-summary', testid: 'preset-summary' });
+    this.presetDetailsText = h('p', { class: 'muted small preset-description' });
+    this.presetDescription = h('div', {}, this.presetSummary,
+      h('details', { class: 'preset-details' }, h('summary', { class: 'small' }, 'About this example'), this.presetDetailsText));
     this.presetSelect.addEventListener('change', () => this._describePreset());
     this.newButton = h('button', { class: 'btn primary', testid: 'new-session', onclick: () => this._newFromPreset() }, 'New session');
 
@@ -256,7 +261,8 @@ export class StartPage {
 
   _describePreset() {
     const p = PRESETS.find((x) => x.id === this.presetSelect.value);
-    this.presetDescription.textContent = p ? p.description : '';
+    this.presetSummary.textContent = p ? p.summary : '';
+    this.presetDetailsText.textContent = p ? p.description : '';
   }
 
   async _loadDemos() {
@@ -274,7 +280,7 @@ export class StartPage {
         this.demoList.appendChild(h('a', { class: 'demo-card', testid: 'demo-session', dataset: { sessionId: s.id }, href: editorUrl(s.id, s.edit_token), title: `Open “${s.name}” for editing` },
           this.thumbnails.image(s.id, s.view_token, { alt: `${s.name || s.id}: the current surface` }),
           h('span', { class: 'demo-name' }, s.name || s.id),
-          h('span', { class: 'muted small demo-desc' }, preset ? preset.description : s.id),
+          h('span', { class: 'muted small demo-desc', title: preset ? preset.description : '' }, preset ? preset.summary : s.id),
           h('span', { class: 'demo-meta' },
             h('span', { class: 'badge' }, `${s.participants} online`),
             h('span', { class: 'demo-view', role: 'link', tabindex: '0', title: 'Open read-only',

@@ -90,6 +90,9 @@ const char* modelKind(const ModelData& model);
 /// input and a session's starting point.
 struct Scene {
   std::string name;
+  /// One plain sentence for lists and the start page's cards (scene field "summary"); empty: the
+  /// web app shows the first sentence of `description`.
+  std::string summary;
   std::string description;
   /// Length unit of the design coordinates (scene field "units": "mm", "cm", "m" or "in"; default
   /// "mm"): what one model unit is on paper. Scales the fold/svg exports of the development.
