@@ -2,7 +2,8 @@
 
 The generator scripts (issue6-presets.py, make_composite_presets.py, make_quad_presets.py,
 make_spline_presets.py) put it into the scenes they write; hand-written examples carry it in the
-file. `description` keeps the full text with the papers' figures and equations.
+file, and composite-cylinder-crease.json's comes from its C++ builder (ClosedFormCreaseTest.cpp,
+`cylinderCreasePreset`), which must say the same. `description` keeps the full text with the papers' figures and equations.
 """
 
 SUMMARIES = {
@@ -26,7 +27,7 @@ SUMMARIES = {
     "quad-cut-glue-diagonal.json": "A sheet with a diamond-shaped hole whose edges are glued together.",
     "quad-cut-glue.json": "A sheet with a rectangular hole whose edges are glued together.",
     "quad-cylinder-exact.json": "A piece of a cylinder and its exact flat pattern: nothing to correct.",
-    "quad-developable-approx.json": "A saddle-shaped patch made into panels that bend from flat sheet.",
+    "quad-developable-approx.json": "A saddle-shaped patch made to bend from flat sheet: it gives way by creasing sharply.",
     "quad-dform-convex.json": "A circle and an ellipse of the same perimeter sewn together into a pillow-like D-form.",
     "quad-dform-nonconvex.json": "A peanut shape and a circle of the same perimeter sewn together.",
     "quasi-strip-brim.json": "A hat brim as one smooth bendable strip between a level inner edge and a wavy outer one.",

@@ -295,6 +295,7 @@ int mergeCommand(const std::vector<std::string>& args, std::ostream& out, std::o
         std::get<models::strip::StripDesign>(scenes[0].model), std::get<models::strip::StripDesign>(scenes[1].model));
     proto::Scene scene = scenes[0];
     scene.name = name.empty() ? scenes[0].name + " + " + scenes[1].name : name;
+    scene.summary.clear();  // the first strip's sentence is not the merged strip's
     scene.description = "Strips of " + paths[0] + " and " + paths[1] + " merged (devsurf merge; Tang et al. 2016 Fig. 10c).";
     scene.model = merge.merged;
     // The layout checks of mergeStrips cannot tell whether the joined strip can be developable (two

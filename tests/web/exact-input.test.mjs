@@ -188,5 +188,28 @@ test('typed coordinates, an axis-held snapped drag and the units setting', { tim
     assert.ok(fold.filter.numType(doc, 'faces') > 0);
     await h.settleFrames(page);
     await page.screenshot({ path: path.join(h.ARTIFACTS, '12-exact-input.png') });
+
+    // A phone's width: one column — the view wide and tall, the toolbar within the screen, the side
+    // panel below the view (reached by scrolling), its fields usable.
+    await page.setViewportSize({ width: 390, height: 844 });
+    await h.settleFrames(page);
+    const phoneView = await page.getByTestId('viewport').boundingBox();
+    assert.ok(phoneView.width >= 380 && phoneView.height >= 400, `3D view ${phoneView.width} × ${phoneView.height} px`);
+    for (const id of ['undo', 'redo']) {
+      const b = await page.getByTestId(id).boundingBox();
+      assert.ok(b && b.x >= 0 && b.x + b.width <= 390, `${id} within the screen: ${JSON.stringify(b)}`);
+    }
+    const phonePanel = await page.getByTestId('sidebar').boundingBox();
+    assert.ok(phonePanel.y >= phoneView.y + phoneView.height - 1 && phonePanel.width >= 380, `side panel ${JSON.stringify(phonePanel)}`);
+    // The page scrolls by hand (the wheel over the side panel), not only by script.
+    await page.mouse.move(195, 835);
+    await page.mouse.wheel(0, 600);
+    await page.waitForFunction(() => window.scrollY > 100, null, { timeout: 5000, polling: 50 });
+    await page.getByTestId('coord-z').scrollIntoViewIfNeeded();
+    const field = await page.getByTestId('coord-z').boundingBox();
+    assert.ok(field && field.x + field.width <= 390, `coordinate field ${JSON.stringify(field)}`);
+    await page.evaluate(() => window.scrollTo(0, 0));
+    await h.settleFrames(page);
+    await page.screenshot({ path: path.join(h.ARTIFACTS, '12-exact-input-phone.png'), fullPage: true });
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   }));

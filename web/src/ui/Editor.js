@@ -154,7 +154,7 @@ export class Editor {
     const bottom = h('div', { class: 'bottom-panels' },
       this.developmentSection, this.quadControls.metricsSection, this.mappingSection, this.residualSection);
 
-    this.sidebar = h('aside', { class: 'sidebar' });
+    this.sidebar = h('aside', { class: 'sidebar', testid: 'sidebar' });
     const main = h('main', { class: 'main' }, viewportWrap, bottom);
     this.root = h('div', { class: 'editor', testid: 'editor' }, header, main, this.sidebar);
     root.appendChild(this.root);

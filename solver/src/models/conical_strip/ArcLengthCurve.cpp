@@ -111,6 +111,15 @@ double ArcLengthCurve::parameterAt(double s) const {
   return u;
 }
 
+double ArcLengthCurve::tableParameterAt(double s) const {
+  s = std::clamp(s, 0.0, length());
+  const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), s);
+  const int k = std::clamp(static_cast<int>(it - cumulative_.begin()) - 1, 0,
+                           static_cast<int>(nodes_.size()) - 2);
+  const double ds = cumulative_[k + 1] - cumulative_[k];
+  return ds > 0.0 ? nodes_[k] + (nodes_[k + 1] - nodes_[k]) * (s - cumulative_[k]) / ds : nodes_[k];
+}
+
 std::vector<double> ArcLengthCurve::equalArcLengthParameters(int count) const {
   if (count < 2) throw std::invalid_argument("count: need at least 2 samples");
   std::vector<double> params(static_cast<size_t>(count));
@@ -128,9 +137,10 @@ std::vector<double> ArcLengthCurve::planeCrossings(const Eigen::Vector3d& x0,
   const auto signedDistance = [this, &x0, &normal](double u) {
     return normal.dot(point(u) - x0);
   };
+  const double s0 = arcLength(uBegin), s1 = arcLength(uEnd);
   double uPrev = uBegin, gPrev = signedDistance(uBegin);
   for (int k = 1; k <= scanSteps; ++k) {
-    const double u = k == scanSteps ? uEnd : uBegin + (uEnd - uBegin) * k / scanSteps;
+    const double u = k == scanSteps ? uEnd : tableParameterAt(s0 + (s1 - s0) * k / scanSteps);
     const double g = signedDistance(u);
     if (gPrev == 0.0) {
       roots.push_back(uPrev);
@@ -195,7 +205,13 @@ ArcLengthCurve::ClosestPoint ArcLengthCurve::closestPoint(const Eigen::Vector3d&
     curve_.derivatives(u, 2, d);
     const Eigen::Vector3d r = d.col(0) - x;
     const double g = r.dot(d.col(1)), gPrime = d.col(1).squaredNorm() + r.dot(d.col(2));
-    if (g == 0.0) break;
+    if (g == 0.0) {
+      if (gPrime > 0.0) break;  // a minimum
+      // Stationary but no minimum (a point of zero speed, or a maximum): keep the nearer half.
+      if (distance(0.5 * (lo + u)) < distance(0.5 * (u + hi))) hi = u; else lo = u;
+      u = 0.5 * (lo + hi);
+      continue;
+    }
     if (g < 0.0) lo = u; else hi = u;
     double next = gPrime > 0.0 ? u - g / gPrime : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);

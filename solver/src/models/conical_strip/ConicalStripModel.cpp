@@ -19,6 +19,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kRightAngle = 0.5 * kPi;  ///< a fold-back, as counted and as the quality holds it
 
 double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -49,6 +50,7 @@ const ConicalStripDesign& validated(const ConicalStripDesign& d, const ConicalSt
   if (o.arcLengthIntervalsPerSpan < 1) failConical("options.arcLengthIntervalsPerSpan: must be >= 1");
   if (o.intersectionScanSteps < 1) failConical("options.intersectionScanSteps: must be >= 1");
   if (o.outlineSamples < 1) failConical("options.outlineSamples: must be >= 1");
+  if (!(o.foldBackAngle > 0.0)) failConical("options.foldBackAngle: must be positive (π or more: off)");
   if (!(o.tangentLengthMin > 0.0 && o.tangentLengthMax >= o.tangentLengthMin)) {
     failConical("options.tangentLengthMin/tangentLengthMax: need 0 < min <= max");
   }
@@ -425,7 +427,8 @@ const ConicalStripSummary& ConicalStripModel::solve() {
         guardedPool = k;
       }
     };
-    if (options_.foldBackAngle < kPi) {
+    const size_t candidates = quads.size() + triangles.size() + forced.size();
+    if (options_.foldBackAngle < kPi && candidates > 1) {  // one candidate: nothing to choose
       firstPool([&trapsOrFoldsBack](const Candidate& c) { return !trapsOrFoldsBack(c); });
       if (pool.empty())
         firstPool([&foldsBack, previous](const Candidate& c) { return !foldsBack(previous, c.patch); });
@@ -438,7 +441,8 @@ const ConicalStripSummary& ConicalStripModel::solve() {
     // A forced step (no triangle within h3) takes the shorter new ruling, not the criterion, which
     // would keep a fan going.
     Candidate chosen = pools[guardedPool] == &forced ? *shortestRuling(pool) : *best(pool);
-    if (foldsBack(previous, chosen.patch)) ++summary_.foldBacksTaken;
+    if (previous != nullptr && angleBetween(previous->normal(1.0), chosen.patch.normal(0.0)) > kRightAngle)
+      ++summary_.foldBacksTaken;
 
     // Advance.
     const bool baseIsP = chosen.patch.baseSide == StripSide::P;

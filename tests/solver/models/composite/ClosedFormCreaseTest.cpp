@@ -328,6 +328,7 @@ INSTANTIATE_TEST_SUITE_P(ClosedFormCrease, CylinderCreaseRecovery, ::testing::Va
 proto::Scene cylinderCreasePreset() {
   proto::Scene scene;
   scene.name = "cylinder crease (catenary)";
+  scene.summary = "A cylinder folded along a crease that keeps one angle all along; flat, the crease is a catenary.";
   scene.description =
       "Curved crease of constant angle 1 rad on the unit cylinder (Mundilova, Part I §3.1.3): the crease develops "
       "to a catenary; the second sheet reflects the cylinder's tangent planes in the crease's osculating planes. "

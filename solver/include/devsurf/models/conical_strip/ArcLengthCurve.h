@@ -35,14 +35,16 @@ class ArcLengthCurve {
   double arcLength(double u) const;
   /// Parameter u with arcLength(u) = s (s clamped into [0, length]).
   double parameterAt(double s) const;
+  /// parameterAt(s) interpolated linearly in the arc-length table (no Newton solve): exact at the
+  /// table's nodes, within the speed's variation over one table interval between them.
+  double tableParameterAt(double s) const;
   /// `count` ≥ 2 parameters at equal arc-length spacing, both ends included.
   std::vector<double> equalArcLengthParameters(int count) const;
 
   /// Parameters u in [uBegin, uEnd] where the curve crosses the plane n·(x − x0) = 0, found by
-  /// scanning `scanSteps` equal parameter steps for sign changes (the ranges searched span a few
-  /// samples, where a B-spline's speed hardly varies; arc-length steps cost a Newton solve each)
-  /// and refining each bracket to machine precision (Illinois regula falsi). Empty when the curve
-  /// does not cross.
+  /// scanning `scanSteps` nearly equal arc-length steps for sign changes (tableParameterAt: an
+  /// exact arc-length step costs a Newton solve of Gauss integrals) and refining each bracket to
+  /// machine precision (Illinois regula falsi). Empty when the curve does not cross.
   std::vector<double> planeCrossings(const Eigen::Vector3d& x0, const Eigen::Vector3d& normal,
                                      double uBegin, double uEnd, int scanSteps) const;
 

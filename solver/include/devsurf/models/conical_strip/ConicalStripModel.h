@@ -55,7 +55,8 @@ struct ConicalStripOptions {
   /// does neither, keeping its order: quadrilaterals, triangles within h3, any triangle; then over
   /// those that fold back. Without it, a fan of triangles on one apex (no normal jump, so the
   /// criterion prefers it) runs on until the other side's next triangle turns by 180°.
-  /// Default: a right angle; π or more switches the guard off (Step 4 as published).
+  /// Default: a right angle; π or more switches the guard off (Step 4 as published, but for the
+  /// forced step, which is ours either way: it takes the shortest new ruling). Must be positive.
   double foldBackAngle = 1.5707963267948966;
   /// Whoever runs solve() gives up here (a job's time limit, a session's budget): checked in every
   /// greedy step and in the loops over samples and patches; once passed, solve() throws
@@ -69,9 +70,11 @@ struct ConicalStripSummary {
   int patches = 0;
   int triangular = 0;            ///< n3
   int quadrilateral = 0;         ///< n4
-  int forcedTriangles = 0;       ///< steps where no candidate passed its test (Step 3) and the
-                                 ///< better triangle was taken anyway (a triangle always exists)
-  /// Steps whose patch folds the strip back (options.foldBackAngle): every candidate did.
+  /// Steps that took a triangle beyond h3 (the shortest new ruling): no candidate passed its
+  /// test (Step 3), or the fold-back guard passed over those that did.
+  int forcedTriangles = 0;
+  /// Steps whose patch turns the strip by more than a right angle against the previous one (with
+  /// the guard on: every candidate did).
   int foldBacksTaken = 0;
   int quadCandidatesTested = 0;  ///< quadrilateral candidates that passed Step 2's side test
   int quadCandidatesFeasible = 0;
