@@ -92,13 +92,10 @@ double ArcLengthCurve::parameterAt(double s) const {
   s = std::clamp(s, 0.0, length());
   if (s <= 0.0) return domainBegin();
   if (s >= length()) return domainEnd();
-  const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), s);
-  const int k = std::clamp(static_cast<int>(it - cumulative_.begin()) - 1, 0,
-                           static_cast<int>(nodes_.size()) - 2);
+  const int k = lengthIntervalIndex(s);
   double lo = nodes_[k], hi = nodes_[k + 1];
-  // Initial guess by linear interpolation in the interval, then safeguarded Newton.
-  const double ds = cumulative_[k + 1] - cumulative_[k];
-  double u = ds > 0.0 ? lo + (hi - lo) * (s - cumulative_[k]) / ds : lo;
+  // Initial guess by linear interpolation in the table, then safeguarded Newton.
+  double u = tableParameterAt(s);
   for (int iter = 0; iter < 50; ++iter) {
     const double f = cumulative_[k] + integrate(nodes_[k], u) - s;
     if (f > 0.0) hi = u; else lo = u;
@@ -111,11 +108,15 @@ double ArcLengthCurve::parameterAt(double s) const {
   return u;
 }
 
+int ArcLengthCurve::lengthIntervalIndex(double s) const {
+  const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), s);
+  return std::clamp(static_cast<int>(it - cumulative_.begin()) - 1, 0,
+                    static_cast<int>(nodes_.size()) - 2);
+}
+
 double ArcLengthCurve::tableParameterAt(double s) const {
   s = std::clamp(s, 0.0, length());
-  const auto it = std::upper_bound(cumulative_.begin(), cumulative_.end(), s);
-  const int k = std::clamp(static_cast<int>(it - cumulative_.begin()) - 1, 0,
-                           static_cast<int>(nodes_.size()) - 2);
+  const int k = lengthIntervalIndex(s);
   const double ds = cumulative_[k + 1] - cumulative_[k];
   return ds > 0.0 ? nodes_[k] + (nodes_[k + 1] - nodes_[k]) * (s - cumulative_[k]) / ds : nodes_[k];
 }

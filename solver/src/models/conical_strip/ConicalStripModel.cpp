@@ -240,18 +240,12 @@ double criterion(const ConicalPatch& candidate, const ConicalPatch* previous, Ob
   return arm > 0.0 ? candidate.area() * sin2 / (arm * arm) : 0.0;
 }
 
-const Candidate* best(const std::vector<Candidate*>& candidates) {
+/// The candidate with the smallest `key` (the first of equals).
+template <class Key>
+const Candidate* smallest(const std::vector<Candidate*>& candidates, Key key) {
   const Candidate* chosen = nullptr;
   for (const Candidate* c : candidates) {
-    if (chosen == nullptr || c->criterion < chosen->criterion) chosen = c;
-  }
-  return chosen;
-}
-
-const Candidate* shortestRuling(const std::vector<Candidate*>& candidates) {
-  const Candidate* chosen = nullptr;
-  for (const Candidate* c : candidates) {
-    if (chosen == nullptr || c->newRulingLength < chosen->newRulingLength) chosen = c;
+    if (chosen == nullptr || key(*c) < key(*chosen)) chosen = c;
   }
   return chosen;
 }
@@ -440,7 +434,9 @@ const ConicalStripSummary& ConicalStripModel::solve() {
     if (pools[guardedPool] == &forced) ++summary_.forcedTriangles;
     // A forced step (no triangle within h3) takes the shorter new ruling, not the criterion, which
     // would keep a fan going.
-    Candidate chosen = pools[guardedPool] == &forced ? *shortestRuling(pool) : *best(pool);
+    const auto byCriterion = [](const Candidate& c) { return c.criterion; };
+    const auto byRulingLength = [](const Candidate& c) { return c.newRulingLength; };
+    Candidate chosen = pools[guardedPool] == &forced ? *smallest(pool, byRulingLength) : *smallest(pool, byCriterion);
     if (previous != nullptr && angleBetween(previous->normal(1.0), chosen.patch.normal(0.0)) > kRightAngle)
       ++summary_.foldBacksTaken;
 

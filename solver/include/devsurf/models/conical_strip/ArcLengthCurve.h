@@ -60,6 +60,8 @@ class ArcLengthCurve {
   double speed(double u) const { return derivative(u).norm(); }
   double integrate(double u0, double u1) const;
   int intervalIndex(double u) const;
+  /// The table interval k with cumulative_[k] ≤ s < cumulative_[k+1] (clamped to the table).
+  int lengthIntervalIndex(double s) const;
 
   spline::BSplineCurve curve_;
   std::vector<double> nodes_;       ///< table parameters, strictly increasing
