@@ -10,6 +10,7 @@
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+#include <variant>
 
 #include "devsurf/io/QuadMesh.h"
 #include "devsurf/proto/BoundedJson.h"
@@ -50,7 +51,11 @@ constexpr const char* kUsage =
     "  solve SCENE [--iterations N] [--out REPORT.json] [--export FORMAT:FILE]...\n"
     "        [--reference SHAPE [--coverage-tolerance T]]\n"
     "        [--memory-budget-mb MB] [--max-control-points N] [--require-quality]\n"
+    "        [--fold-amount A]\n"
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
+    "        --fold-amount folds a composite with fold angles (an imported crease pattern,\n"
+    "        a drawn sheet) to A of its designed angles, 0..1 or 0%..100% (the slider's\n"
+    "        amount; an import starts flat, at 0).\n"
     "        The report's quality says whether the result meets its kind's thresholds\n"
     "        (a warning on standard error if not; exit status 3 with --require-quality).\n"
     "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
@@ -221,6 +226,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   std::string scenePath, outPath, referencePath;
   double coverageTolerance = 0.0;
   int iterations = -1;
+  double foldAmount = -1.0;  // < 0: the scene's own
   bool requireQuality = false;
   std::vector<std::string> exports;
   proto::ResourceLimits limits;
@@ -238,6 +244,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
       else if (a == "--reference") referencePath = value();
       else if (a == "--coverage-tolerance") coverageTolerance = parseLength(a, value());
       else if (a == "--require-quality") requireQuality = true;
+      else if (a == "--fold-amount") foldAmount = cli::parseFraction(a, value());
       else if (!a.empty() && a[0] == '-' && a != "-") throw std::invalid_argument("unknown option " + a);
       else if (scenePath.empty()) scenePath = a;
       else throw std::invalid_argument("unexpected argument " + a);
@@ -280,7 +287,17 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
 
   try {
     const auto start = std::chrono::steady_clock::now();
-    SceneSolver solver(proto::sceneFromText(text, limits));
+    proto::Scene scene = proto::sceneFromText(text, limits);
+    if (foldAmount >= 0.0) {
+      auto* design = std::get_if<models::composite::CompositeDesign>(&scene.model);
+      if (!design)
+        throw std::invalid_argument("--fold-amount: only a composite (a crease pattern, a drawn sheet) folds by an "
+                                    "amount; this scene's model is of another kind");
+      if (design->foldAngles.empty())
+        throw std::invalid_argument("--fold-amount: the composite has no fold angles (model.fold_angles) to fold to");
+      design->foldAmount = foldAmount;
+    }
+    SceneSolver solver(std::move(scene));
     // Every export checked before the solve (a format that does not apply, a folder that does not
     // exist), and the report's folder: a mistake in the last --export costs no solve.
     if (const std::filesystem::path folder = std::filesystem::path(outPath).parent_path();

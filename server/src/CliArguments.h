@@ -45,6 +45,25 @@ inline double parseLength(const std::string& flag, const std::string& value) {
   return x;
 }
 
+/// A fraction from 0 to 1, or a percentage from 0% to 100% ("0.5", "50%"). @throws
+/// std::invalid_argument naming the flag.
+inline double parseFraction(const std::string& flag, const std::string& value) {
+  const bool percent = !value.empty() && value.back() == '%';
+  const std::string number = percent ? value.substr(0, value.size() - 1) : value;
+  std::size_t used = 0;
+  double x = -1.0;
+  try {
+    x = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (percent) x /= 100.0;
+  if (number.empty() || used != number.size() || !(x >= 0.0 && x <= 1.0))
+    throw std::invalid_argument(flag + ": expected a fraction from 0 to 1 or a percentage from 0% to 100%, got \"" +
+                                value + "\"");
+  return x;
+}
+
 /// A --log-level value. @throws std::invalid_argument naming the flag and the levels.
 inline spdlog::level::level_enum parseLogLevel(const std::string& flag, const std::string& value) {
   const spdlog::level::level_enum level = spdlog::level::from_str(value);

@@ -38,6 +38,16 @@ bool isCreasePatternFile(const std::string& path) {
   return extension == ".fold" || extension == ".svg";
 }
 
+std::string creasePatternFormatOf(const std::string& body, const std::string& fileName) {
+  std::string extension = std::filesystem::path(fileName).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (extension == ".svg") return "svg";
+  if (extension == ".fold") return "fold";
+  std::size_t k = body.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  while (k < body.size() && std::isspace(static_cast<unsigned char>(body[k]))) ++k;
+  return k < body.size() && body[k] == '<' ? "svg" : "fold";
+}
+
 CreasePatternImportResult importCreasePattern(const std::string& body, const CreasePatternImportRequest& request) {
   if (request.format != "fold" && request.format != "svg")
     throw ApproximationInputError("format", "format: expected fold or svg, got \"" + request.format + "\"");
@@ -93,8 +103,23 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
     }
   }
 
-  // Units: a FOLD unit the scene knows is kept; others become millimetres.
+  // Units: a FOLD unit the scene knows is kept; others become millimetres. Units asked for are the
+  // scene's: a file that says its own (an SVG's width and height, a FOLD frame_unit) is converted
+  // to them, so the sheet keeps its size; a unitless file's numbers are read in them.
   std::string sceneUnits = units;
+  if (!units.empty() && !imported.unit.empty()) {
+    const bool known = imported.unit == "mm" || imported.unit == "cm" || imported.unit == "m" || imported.unit == "in";
+    const double fileMm = known ? proto::millimetresPerUnit(imported.unit) : pattern.unitToMm;
+    const double factor = fileMm / proto::millimetresPerUnit(units);
+    if (factor != 1.0) {
+      pattern.vertices2d *= factor;
+      if (pattern.hasFoldedState()) pattern.vertices3d *= factor;
+      for (io::CreaseStroke& stroke : drawing)
+        for (Eigen::Vector2d& point : stroke.points) point *= factor;
+      const std::string from = request.format == "svg" ? "the drawing's size (in mm)" : "frame_unit \"" + imported.unit + "\"";
+      result.notes.push_back({request.format == "svg" ? "svg" : "frame_unit", from + " converted to " + units});
+    }
+  }
   if (sceneUnits.empty()) {
     if (imported.unit == "mm" || imported.unit == "cm" || imported.unit == "m" || imported.unit == "in") {
       sceneUnits = imported.unit;
@@ -147,6 +172,13 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       case io::EdgeAssignment::Cut: ++result.cut; break;
     }
   }
+  // Creases as drawn (an SVG's strokes, a FOLD file's edges), not the pieces the faces cut them into.
+  int mountainCreases = 0, valleyCreases = 0, flatCreases = 0;
+  for (const io::CreaseStroke& stroke : composite.design.drawing) {
+    mountainCreases += stroke.assignment == io::EdgeAssignment::Mountain;
+    valleyCreases += stroke.assignment == io::EdgeAssignment::Valley;
+    flatCreases += stroke.assignment == io::EdgeAssignment::Flat;
+  }
   result.faces = static_cast<int>(composite.design.faces.size());
   result.foldedState = pattern.hasFoldedState();
 
@@ -156,13 +188,13 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   const bool curved = composite.design.developmentDomain.boundary.size() > 0;
   description << "Imported from " << (request.format == "svg" ? "an SVG drawing" : "a FOLD file") << ": " << result.faces
               << (curved ? " faces between curved and straight creases (" : " planar faces between straight creases (")
-              << result.mountain << " mountain, " << result.valley << " valley";
-  if (result.flat > 0) description << ", " << result.flat << " flat";
+              << mountainCreases << " mountain and " << valleyCreases << (valleyCreases == 1 ? " valley crease" : " valley creases");
+  if (flatCreases > 0) description << ", " << flatCreases << " flat";
   description << "). "
               << (result.foldedState ? "It starts in the file's folded form; the largest face is fixed, and every crease "
                                        "folds freely: drag a corner to fold it."
-                                     : "It starts flat; the largest face is fixed. Fold it with the Fold slider, or drag a "
-                                       "corner.");
+                                     : "It starts flat; the largest face is fixed. Fold it with the Fold slider (devsurf "
+                                       "solve --fold-amount), or drag a corner.");
   scene.description = description.str();
   scene.units = sceneUnits;
   scene.model = std::move(composite.design);

@@ -539,14 +539,24 @@ void Daemon::routes() {
     if (!needApiKey(req, res)) return;
     try {
       CreasePatternImportRequest request;
-      request.format = "fold";
       for (const auto& [key, value] : req.params) {
         if (key == "format") request.format = value;
         else if (key == "name") request.name = value;
         else if (key == "units") request.units = value;
         else throw ApproximationInputError(key, key + ": unknown parameter (format, name, units)");
       }
-      const CreasePatternImportResult result = importCreasePattern(req.body, request);
+      // The file is the body, or the one file of a form upload (curl -F file=@pattern.svg).
+      const std::string* body = &req.body;
+      std::string fileName;
+      if (req.is_multipart_form_data()) {
+        if (req.files.size() != 1)
+          throw ApproximationInputError("body", "body: a form upload carries one file (the crease pattern); this one has " +
+                                                    std::to_string(req.files.size()) + " parts");
+        body = &req.files.begin()->second.content;
+        fileName = req.files.begin()->second.filename;
+      }
+      if (request.format.empty()) request.format = creasePatternFormatOf(*body, fileName);
+      const CreasePatternImportResult result = importCreasePattern(*body, request);
       replyJson(res, 200, {{"scene", proto::sceneToJson(result.scene)}, {"summary", result.summaryJson()}});
     } catch (const ApproximationInputError& e) {
       replyError(res, e.tooLarge() ? 413 : 400, e.tooLarge() ? "limit" : "invalid", e.what(), e.field());

@@ -20,6 +20,9 @@ namespace conical = models::conical_strip;
 
 namespace {
 
+/// A composite's quality: the largest relative change of length of an edge of its crease pattern.
+constexpr double kEdgeStrainLimit = 0.1;
+
 /// Entity 126 of a curve (periodic curves with their wrapped control points written out).
 io::IgesCurve igesCurve(const spline::BSplineCurve& c, const std::string& label) {
   io::IgesCurve out;
@@ -236,6 +239,19 @@ QualityVerdict SceneSolver::quality(const proto::Metrics& m) const {
     // C¹ ramp of width 0.05, so a converged polygon held by it may sit slightly past 90°.
     atMost("crease_backtrack_max", 0.05);
     atLeast("ruling_length_min_ratio", 0.25);
+    // No edge of the crease pattern stretched or shrunk by a tenth: a sheet torn or crumpled to
+    // meet what it cannot (the length error, weighted by l², hides a short edge stretched several
+    // times over; the shipped presets measure at most 0.067, the folded annulus's short edges).
+    atMost("development_edge_strain_max", kEdgeStrainLimit);
+    // A design folded by fold-angle targets reaches them: within 15 % of the largest target at
+    // this amount, and 1° (a sheet that stays flat under a 90° target misses by 90°).
+    if (m.count("fold_angle_error_max_deg") != 0) {
+      double largest = 0.0;
+      for (const models::composite::FoldAngleTarget& t : composite_->design().foldAngles)
+        largest = std::max(largest, std::abs(t.angleDeg));
+      const double amount = m.count("fold_amount") != 0 ? m.at("fold_amount") : 1.0;
+      atMost("fold_angle_error_max_deg", 1.0 + 0.15 * amount * largest);
+    }
   } else if (quadMesh_) {
     // Fig. 22: L-Err up to 0.38 % for solvable isometry tasks (8b), 4.2 % for the conformal map of
     // Fig. 4; glued pairs together; M′ not folded over.

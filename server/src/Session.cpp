@@ -26,6 +26,27 @@ bool isEdit(const std::string& type) {
   return type != "presence" && type != "ping" && type != "join";
 }
 
+/// What the targets of edits address in a scene, without the coordinates: how many vertices, each
+/// edge's ends, type and number of control points (composites), how many points each curve and
+/// mesh has. Two scenes with one key number their points alike.
+std::string numberingKey(const proto::Scene& scene) {
+  const json model = proto::sceneToJson(scene)["model"];
+  json key = json::object();
+  for (const auto& [name, value] : model.items()) {
+    if (name == "vertices" && value.is_array()) {
+      key[name] = value.size();
+    } else if (name == "edges" && value.is_array()) {
+      json edges = json::array();
+      for (const json& e : value)
+        edges.push_back({e.value("v", json()), e.value("type", json()), e.value("points", json::array()).size()});
+      key[name] = std::move(edges);
+    } else if (value.is_object() && (value.contains("points") || value.contains("vertices"))) {
+      key[name] = {value.value("points", json::array()).size(), value.value("vertices", json::array()).size()};
+    }
+  }
+  return key.dump();
+}
+
 }  // namespace
 
 using detail::codeOf;
@@ -336,7 +357,7 @@ json Session::participantsJson() const {
   for (const auto& [id, p] : participants_)
     list.push_back({{"id", id}, {"name", p.name}, {"color", p.color},
                     {"role", p.role == Role::Edit ? "edit" : "view"},
-                    {"selection", p.selection}, {"dragging", p.dragging}});
+                    {"selection", p.selection}, {"dragging", p.dragInterrupted ? json() : p.dragging}});
   return list;
 }
 
@@ -364,6 +385,63 @@ json Session::stateMessage(int participant) const {
           {"settings", {{"drag_iterations", settings_.dragIterations},
                         {"release_iterations", settings_.releaseIterations}}},
           {"undo", undoCountsJson()}};
+}
+
+void Session::dropDragHandles() {
+  dragHandles_.clear();
+  releasedHandles_.clear();
+}
+
+bool Session::anyDrag() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [id, p] : participants_)
+    if (!p.dragging.is_null()) return true;
+  return false;
+}
+
+bool Session::endInterruptedDrag(int participant, const std::string& type, const json& op,
+                                 const std::vector<json>& coalescedOps) {
+  bool tell = false, ended = false;
+  std::string by;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = participants_.find(participant);
+    if (it == participants_.end()) return false;
+    Participant& p = it->second;
+    if (p.dragging.is_null() || (!p.dragInterrupted && p.dragEpoch == dragInterruptions_)) return false;
+    tell = !p.dragInterrupted;
+    p.dragInterrupted = true;
+    if (type == "drag_end") {
+      p.dragging = nullptr;
+      p.dragInterrupted = false;
+      ended = true;
+    }
+    if (interruptedBy_ == participant) {
+      by = "your own " + interruptingEdit_;
+    } else {
+      const auto other = participants_.find(interruptedBy_);
+      by = (other != participants_.end() && !other->second.name.empty() ? other->second.name + "'s "
+                                                                         : std::string("another participant's ")) +
+           interruptingEdit_;
+    }
+  }
+  if (tell) {
+    // One error for the gesture, on the first message that finds it over: the target's numbers may
+    // now name another point (a vertex removed renumbers those after it), so nothing is applied.
+    error(participant, op, "conflict",
+          type + ": " + by + " changed the design while you dragged (its points may have other numbers now); "
+                             "the drag is over — grab the point again",
+          "target");
+  }
+  std::vector<json> acked = coalescedOps;
+  if (!tell) acked.push_back(op);
+  for (const json& o : acked) {
+    json ack{{"type", "ack"}, {"seq", seq_.load()}};
+    if (!o.is_null()) ack["op"] = o;
+    send(participant, ack);
+  }
+  if (tell || ended) broadcast(presenceMessage());
+  return true;
 }
 
 bool Session::gestureApplied(int participant, const std::string& letGo) const {
@@ -479,6 +557,7 @@ void Session::handle(const Work& work) {
     error(pid, op, "forbidden", "this connection joined with a view-only token", "type");
     return;
   }
+  if ((type == "drag" || type == "drag_end") && endInterruptedDrag(pid, type, op, work.coalescedOps)) return;
   if ((type == "drag_end" || type == "fold_end") && !gestureApplied(pid, type)) {
     // The let-go of a gesture the session refused whole — a typed position too far away, a first
     // fold with nothing to fold: acknowledged without an edit. Nothing is solved or journalled;
@@ -488,7 +567,17 @@ void Session::handle(const Work& work) {
     send(pid, ack);
     return;
   }
+  // An edit that renumbers the points (a vertex removed, a crease drawn), or undo, redo or reset,
+  // ends the drags in progress: their targets may name other points now, or their start is gone.
+  const bool watchDrags = type != "drag" && type != "drag_end" && anyDrag();
+  const std::string numberingBefore = watchDrags ? numberingKey(solver_->currentScene()) : std::string();
   if (!apply(pid, m, false)) return;
+  if (watchDrags && (type == "undo" || type == "redo" || type == "reset" ||
+                     numberingKey(solver_->currentScene()) != numberingBefore)) {
+    ++dragInterruptions_;
+    interruptedBy_ = pid;
+    interruptingEdit_ = type;
+  }
   std::vector<json> ops = work.coalescedOps;
   ops.push_back(op);
   // Undo and redo restore a scene from a history that is not persisted: the journal keeps the
@@ -502,7 +591,10 @@ void Session::handle(const Work& work) {
       std::lock_guard<std::mutex> lock(mutex_);
       auto it = participants_.find(pid);
       started = it != participants_.end() && it->second.dragging != m["target"];
-      if (it != participants_.end()) it->second.dragging = m["target"];
+      if (it != participants_.end()) {
+        it->second.dragging = m["target"];
+        if (started) it->second.dragEpoch = dragInterruptions_;
+      }
     }
     if (started) broadcast(presenceMessage());
     SolveLimits frame;

@@ -132,8 +132,9 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       setHandleTarget(handle, pos);
     }
     // A drag may change the fold of a design folded by its targets: they let go while the point
-    // is pulled and take the new fold when it is released (release()).
-    if (holdsFoldTargets()) solver_->compositeModel().holdFoldTargets(false);
+    // is pulled and take the new fold when it is released (release()). So may a drag of the flat
+    // design (the slider at 0 %), whose targets would hold every crease at 0°.
+    if (hasFoldAngles()) solver_->compositeModel().holdFoldTargets(false);
     return true;
   }
   if (type == "drag_end") {
@@ -151,15 +152,13 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     to.push_back(persistentScene());
     const proto::Scene previous = from.back();
     from.pop_back();
-    dragHandles_.clear();
-    releasedHandles_.clear();
+    dropDragHandles();
     rebuild(previous);
     return true;
   }
   if (type == "reset") {
     pushUndo();
-    dragHandles_.clear();
-    releasedHandles_.clear();
+    dropDragHandles();
     rebuild(initialScene_);
     return true;
   }
@@ -240,8 +239,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
     const proto::Scene before = persistentScene();
     rebuild(next);  // throws (a design the model rejects, the time budget): nothing changed
     pushUndo(before);
-    dragHandles_.clear();
-    releasedHandles_.clear();
+    dropDragHandles();
   } catch (const proto::SceneError& e) {
     return reject(codeOf(e), e.what(), e.path());
   }
@@ -268,8 +266,7 @@ bool Session::rebuildForEdit(int participant, const json& edit, bool replaying, 
     return refuse(participant, edit, replaying, e.code(), e.what(), solvePath);
   }
   pushUndo(before);
-  dragHandles_.clear();
-  releasedHandles_.clear();
+  dropDragHandles();
   scheduleIteration_ = 0;
   return true;
 }
@@ -306,8 +303,7 @@ bool Session::applyFold(int participant, const json& edit, bool replaying) {
       return false;
     }
     pushUndo(before);
-    dragHandles_.clear();
-    releasedHandles_.clear();
+    dropDragHandles();
     scheduleIteration_ = 0;
     if (!replaying) foldTargetsCaptured_ = true;  // handle() sends the new scene before the fold's iterations
     return true;

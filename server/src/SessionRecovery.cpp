@@ -73,8 +73,7 @@ bool Session::showState() {
 void Session::rollBack(const std::string& why) {
   if (counters_) counters_->recordError("diverged");
   rebuild(proto::sceneFromJson(sceneJson(), settings_.resources));  // the last checkpoint: what everyone was last shown
-  dragHandles_.clear();
-  releasedHandles_.clear();
+  dropDragHandles();
   unshownEdits_.clear();  // their effect went with the state: the checkpoint below takes their seq
   // Checkpointed again at the current seq, so a restart does not re-apply the edits that led here.
   checkpoint(nullptr);
@@ -114,8 +113,7 @@ void Session::applyUnsolved(const std::vector<std::pair<std::int64_t, json>>& ed
     const std::string type = edit.value("type", "");
     if ((type == "undo" || type == "redo") && edit.contains("result")) {
       rebuild(proto::sceneFromJson(edit["result"], settings_.resources));
-      dragHandles_.clear();
-      releasedHandles_.clear();
+      dropDragHandles();
     } else if (type == "drag_end") {
       releaseDragHandle(edit["target"]);
     } else if (!apply(0, edit, true)) {
@@ -126,15 +124,13 @@ void Session::applyUnsolved(const std::vector<std::pair<std::int64_t, json>>& ed
     // Temporary handles end with their participants (after a restart there are none).
     const proto::Scene scene = persistentScene();
     rebuild(scene);
-    dragHandles_.clear();
-    releasedHandles_.clear();
+    dropDragHandles();
   }
 }
 
 void Session::recover() {
   rebuild(proto::sceneFromJson(sceneJson(), settings_.resources));  // the last checkpoint
-  dragHandles_.clear();
-  releasedHandles_.clear();
+  dropDragHandles();
   const auto edits = unshownEdits_;
   applyUnsolved(edits);
   changed_ = true;

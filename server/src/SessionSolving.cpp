@@ -227,13 +227,19 @@ void Session::release(const json& target, int iterations) {
     return;
   }
   // A design folded by fold-angle targets keeps the fold the drag left: its angles become the
-  // targets at the slider's amount, held through the projections (holdsFoldTargets).
-  const bool hold = holdsFoldTargets();
-  if (hold && dragHandles_.empty()) {
+  // targets at the slider's amount, held through the projections (holdsFoldTargets). A flat one
+  // (0 %) that the drag folded takes the amount it folded to first.
+  if (hasFoldAngles() && dragHandles_.empty()) {
     solver_->compositeModel().captureFoldTargets();
     solver_->compositeModel().holdFoldTargets(true);
   }
-  polishRelease(start, iterations, hold);
+  polishRelease(start, iterations, holdsFoldTargets());
+}
+
+bool Session::hasFoldAngles() const {
+  if (!isComposite()) return false;
+  const proto::Scene current = solver_->currentScene();
+  return !std::get<models::composite::CompositeDesign>(current.model).foldAngles.empty();
 }
 
 bool Session::holdsFoldTargets() const {
@@ -284,11 +290,11 @@ void Session::settle() {
   polish.iterations = settings_.maxIterationsPerRequest;
   polish.hardTolerance = settings_.releaseHardTolerance;
   polish.projectionOnly = true;
-  polish.holdTargetsInProjection = holdsFoldTargets();
-  if (polish.holdTargetsInProjection && dragHandles_.empty()) {  // as release()
+  if (hasFoldAngles() && dragHandles_.empty()) {  // as release()
     solver_->compositeModel().captureFoldTargets();
     solver_->compositeModel().holdFoldTargets(true);
   }
+  polish.holdTargetsInProjection = holdsFoldTargets();
   polish.regularization = settings_.polishRegularization;
   polish.timeBudgetMs = settings_.releaseTimeBudgetMs;
   runSolver(polish, true);

@@ -314,3 +314,97 @@ TEST(CreasePatternImport, AStrokeOfNoLengthIsLeftOutWithANoteAndTheSceneOpens) {
 
 }  // namespace
 }  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+CreasePatternImportRequest svgRequest(const std::string& units = "") {
+  CreasePatternImportRequest r;
+  r.format = "svg";
+  r.units = units;
+  return r;
+}
+
+/// The smallest and largest x and y of a scene's composite vertices.
+Eigen::Vector4d extentOf(const proto::Scene& scene) {
+  const auto& v = std::get<models::composite::CompositeDesign>(scene.model).vertices;
+  return {v.col(0).minCoeff(), v.col(0).maxCoeff(), v.col(1).minCoeff(), v.col(1).maxCoeff()};
+}
+
+// What a new user's Inkscape, Illustrator and FOLD 1.0 files met (stop 55's tryout): units asked
+// for relabelled the file's millimetres (a 120 mm drawing became a 1.2 m sheet in cm), a page
+// whose shape differs from its viewBox was stretched, a drawing without a viewBox landed below
+// the x axis, and FOLD 1.0's edges_foldAngles was ignored (its 60° became 180°).
+TEST(CreasePatternImport, UnitsAskedForConvertAFileThatStatesItsOwnAndKeepAUnitlessFilesNumbers) {
+  const std::string drawing = R"(<svg xmlns="http://www.w3.org/2000/svg" width="120mm" height="80mm" viewBox="0 0 120 80">
+    <rect width="120" height="80" fill="none" stroke="#000"/><line x1="60" y1="0" x2="60" y2="80" stroke="#f00"/></svg>)";
+  const CreasePatternImportResult cm = importCreasePattern(drawing, svgRequest("cm"));
+  EXPECT_EQ(cm.scene.units, "cm");
+  EXPECT_TRUE(extentOf(cm.scene).isApprox(Eigen::Vector4d(0.0, 12.0, 0.0, 8.0), 1e-12)) << extentOf(cm.scene).transpose();
+  bool noted = false;
+  for (const io::ImportNote& n : cm.notes) noted = noted || n.message.find("converted to cm") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // The drawing travels in the same numbers (layout edits rebuild from it).
+  for (const io::CreaseStroke& s : std::get<models::composite::CompositeDesign>(cm.scene.model).drawing)
+    for (const Eigen::Vector2d& p : s.points) EXPECT_LE(p.x(), 12.0 + 1e-9);
+  // A FOLD file in mm asked for in inches; a unitless one keeps its numbers in the units asked for.
+  const std::string square = R"({"file_spec": 1.1, "frame_unit": "mm", "vertices_coords": [[0,0],[254,0],[254,254],[0,254]],
+    "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[0,2]], "edges_assignment": ["B","B","B","B","V"]})";
+  CreasePatternImportRequest inches = foldRequest();
+  inches.units = "in";
+  EXPECT_TRUE(extentOf(importCreasePattern(square, inches).scene).isApprox(Eigen::Vector4d(0.0, 10.0, 0.0, 10.0), 1e-12));
+  nlohmann::json unitless = nlohmann::json::parse(square);
+  unitless.erase("frame_unit");
+  EXPECT_TRUE(extentOf(importCreasePattern(unitless.dump(), inches).scene).isApprox(Eigen::Vector4d(0.0, 254.0, 0.0, 254.0), 1e-12));
+}
+
+TEST(CreasePatternImport, APageShapedUnlikeItsViewBoxIsFittedAsAViewerFitsItAndAPageWithoutOneSitsAboveTheAxis) {
+  auto sheet = [](const std::string& svgAttributes, const std::string& side) {
+    return "<svg xmlns=\"http://www.w3.org/2000/svg\" " + svgAttributes + "><rect width=\"" + side + "\" height=\"" + side +
+           "\" fill=\"none\" stroke=\"#000\"/></svg>";
+  };
+  // A 100 × 100 viewBox on a 200 × 100 mm page: by default uniform (1 mm per unit), centred.
+  EXPECT_TRUE(extentOf(importCreasePattern(sheet(R"(width="200mm" height="100mm" viewBox="0 0 100 100")", "100"), svgRequest()).scene)
+                  .isApprox(Eigen::Vector4d(50.0, 150.0, 0.0, 100.0), 1e-12));
+  EXPECT_TRUE(extentOf(importCreasePattern(sheet(R"(width="200mm" height="100mm" viewBox="0 0 100 100" preserveAspectRatio="xMinYMin meet")", "100"),
+                                           svgRequest()).scene)
+                  .isApprox(Eigen::Vector4d(0.0, 100.0, 0.0, 100.0), 1e-12));
+  EXPECT_TRUE(extentOf(importCreasePattern(sheet(R"(width="200mm" height="100mm" viewBox="0 0 100 100" preserveAspectRatio="none")", "100"),
+                                           svgRequest()).scene)
+                  .isApprox(Eigen::Vector4d(0.0, 200.0, 0.0, 100.0), 1e-12));
+  // No viewBox: user units are px on a page of the given height, y up from its bottom edge.
+  const Eigen::Vector4d px = extentOf(importCreasePattern(sheet(R"(width="960" height="960")", "96"), svgRequest()).scene);
+  EXPECT_TRUE(px.isApprox(Eigen::Vector4d(0.0, 25.4, 254.0 - 25.4, 254.0), 1e-9)) << px.transpose();
+  const Eigen::Vector4d bare = extentOf(importCreasePattern(sheet("", "96"), svgRequest()).scene);
+  EXPECT_TRUE(bare.isApprox(Eigen::Vector4d(0.0, 25.4, 0.0, 25.4), 1e-9)) << bare.transpose();
+}
+
+TEST(CreasePatternImport, Fold10sEdgesFoldAnglesAreReadAndTheDescriptionCountsCreasesNotTheirPieces) {
+  const std::string fold10 = R"({"file_spec": 1, "vertices_coords": [[0,0],[100,0],[100,100],[0,100]],
+    "edges_vertices": [[0,1],[1,2],[2,3],[3,0],[0,2]], "edges_assignment": ["B","B","B","B","V"],
+    "edges_foldAngles": [0,0,0,0,60]})";
+  const CreasePatternImportResult r = importCreasePattern(fold10, foldRequest());
+  const auto& design = std::get<models::composite::CompositeDesign>(r.scene.model);
+  ASSERT_FALSE(design.foldAngles.empty());
+  for (const models::composite::FoldAngleTarget& t : design.foldAngles) EXPECT_DOUBLE_EQ(t.angleDeg, 60.0);
+  // One curved valley cut into pieces by the proposed rulings is one crease.
+  const CreasePatternImportResult curved = importCreasePattern(
+      R"(<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="100mm" viewBox="0 0 200 100">
+      <rect width="200" height="100" fill="none" stroke="#000"/>
+      <path d="M 60 0 C 80 30 40 70 60 100" fill="none" stroke="#00f" stroke-opacity="0.5"/></svg>)",
+      svgRequest());
+  EXPECT_GT(curved.valley, 1);  // the summary's edges: the pieces
+  EXPECT_NE(curved.scene.description.find("(0 mountain and 1 valley crease)"), std::string::npos) << curved.scene.description;
+}
+
+TEST(CreasePatternImport, ARequestThatDoesNotSayTheFormatIsReadByTheFilesNameOrItsFirstCharacter) {
+  EXPECT_EQ(creasePatternFormatOf("<svg/>"), "svg");
+  EXPECT_EQ(creasePatternFormatOf("\xEF\xBB\xBF\n  <?xml version=\"1.0\"?><svg/>"), "svg");
+  EXPECT_EQ(creasePatternFormatOf(" {\"file_spec\": 1.1}"), "fold");
+  EXPECT_EQ(creasePatternFormatOf("not a pattern"), "fold");  // then refused as not JSON, naming body
+  EXPECT_EQ(creasePatternFormatOf("{}", "pattern.SVG"), "svg");
+  EXPECT_EQ(creasePatternFormatOf("<svg/>", "pattern.fold"), "fold");
+}
+
+}  // namespace
+}  // namespace devsurf::server

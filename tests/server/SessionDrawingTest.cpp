@@ -339,3 +339,74 @@ TEST(SessionDrawing, WithTheRulingCreaseRowsTheSameDragStillFollowsThePointer) {
 
 }  // namespace
 }  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+// A drawn sheet still flat (the slider at 0 %) whose free corner is pulled up by a mouse: its fold
+// targets held every crease at 0° while the point was pulled, so the corner stayed on the table
+// (stop 50's "drags that do not move"). The targets now let go during the drag as they do at any
+// amount, and the release moves the slider to what the drag folded: the sheet stays folded, with
+// its lengths, and the slider then folds it on from there.
+TEST(SessionDrawing, AFlatDrawnSheetFoldsUnderADragOfAFreeCornerAndTheSliderMovesWithIt) {
+  for (const bool curved : {true, false}) {
+    SCOPED_TRACE(curved ? "a curved valley" : "a straight valley");
+    ExampleEditor e(blankSheet());
+    if (curved)
+      e.send(drawMessage(1, {{0.0, 60.0}, {70.0, 85.0}, {130.0, 65.0}, {200.0, 90.0}}, true, "V"));
+    else
+      e.send(drawMessage(1, {{0.0, 75.0}, {200.0, 75.0}}, false, "V"));
+    ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+    const json flat = e.session->sceneJson();
+    ASSERT_EQ(flat["model"].value("fold_amount", 1.0), 0.0);
+    // A corner of the sheet away from the fixed face: the first whose drag lifts it (a corner beside
+    // the fixed face rises only as far as the sheet bends there).
+    const json& dev = flat["model"]["development"]["vertices"];
+    int corner = -1;
+    for (const auto& [x, y] : {std::pair{kSheetWidth, 0.0}, {kSheetWidth, kSheetHeight}, {0.0, 0.0}, {0.0, kSheetHeight}}) {
+      for (std::size_t v = 0; v < dev.size() && corner < 0; ++v)
+        if (std::abs(dev[v][0].get<double>() - x) < 1e-6 && std::abs(dev[v][1].get<double>() - y) < 1e-6) {
+          bool fixed = false;
+          for (const json& f : flat["model"].value("fixed", json::array())) fixed = fixed || f.value("vertex", -1) == static_cast<int>(v);
+          if (!fixed) corner = static_cast<int>(v);
+        }
+      if (corner >= 0) {
+        // The drag must be able to move it: try it, and take it if it left the table.
+        const json p0 = flat["model"]["vertices"][static_cast<std::size_t>(corner)];
+        for (int k = 1; k <= 40; ++k)
+          e.send({{"type", "drag"}, {"op", 100 + k}, {"target", {{"vertex", corner}}},
+                  {"position", {p0[0].get<double>(), p0[1].get<double>(), 80.0 * k / 40.0}}});
+        e.send({{"type", "drag_end"}, {"op", 200}, {"target", {{"vertex", corner}}}});
+        ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+        if (std::abs(e.session->sceneJson()["model"]["vertices"][static_cast<std::size_t>(corner)][2].get<double>()) > 20.0) break;
+        e.send({{"type", "undo"}, {"op", 300}});
+        corner = -1;
+      }
+    }
+    ASSERT_GE(corner, 0) << "no corner of the flat sheet followed a drag up by more than 20 mm of 80";
+    const json after = e.session->sceneJson();
+    const json metrics = e.inbox.last("solved")["metrics"];
+    const double z = after["model"]["vertices"][static_cast<std::size_t>(corner)][2].get<double>();
+    const double amount = after["model"].value("fold_amount", 1.0);
+    std::printf("%s: corner %d pulled 80 mm up → z %.1f mm; fold amount %.3f, largest fold %.1f°, fold error %.3g°, "
+                "development error %.3g\n",
+                curved ? "curved" : "straight", corner, z, amount, metrics["crease_fold_angle_max_deg"].get<double>(),
+                metrics["fold_angle_error_max_deg"].get<double>(), metrics["development_length_error"].get<double>());
+    EXPECT_GT(amount, 0.1);
+    EXPECT_LE(amount, 1.0);
+    EXPECT_GT(metrics["crease_fold_angle_max_deg"].get<double>(), 10.0);
+    EXPECT_LT(metrics["fold_angle_error_max_deg"].get<double>(), 1.0);  // the slider holds what the drag folded
+    EXPECT_LT(metrics["development_length_error"].get<double>(), 5e-3);
+    EXPECT_TRUE(e.inbox.last("solved")["quality"]["met"].get<bool>()) << e.inbox.last("solved")["quality"].dump();
+    // The slider takes it on to 100 % from there.
+    for (int k = 1; k <= 5; ++k) e.send({{"type", "fold"}, {"op", 400 + k}, {"amount", amount + (1.0 - amount) * k / 5.0}});
+    e.send({{"type", "fold_end"}, {"op", 410}});
+    ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+    const json full = e.inbox.last("solved")["metrics"];
+    EXPECT_DOUBLE_EQ(full["fold_amount"].get<double>(), 1.0);
+    EXPECT_GT(full["crease_fold_angle_max_deg"].get<double>(), metrics["crease_fold_angle_max_deg"].get<double>());
+  }
+}
+
+}  // namespace
+}  // namespace devsurf::server

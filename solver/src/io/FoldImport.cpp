@@ -226,13 +226,23 @@ FoldImport importFoldDocument(const json& doc) {
       }
     }
   }
-  if (const auto ef = topology.keys.find("edges_foldAngle"); ef != topology.keys.end()) {
-    if (!ef->is_array() || ef->size() != fileEdges) refuse("edges_foldAngle must have one entry per edge of edges_vertices");
+  // FOLD 1.1 and later spell it edges_foldAngle; FOLD 1.0 files (and tools that still write them)
+  // edges_foldAngles, in the same degrees.
+  std::string foldAngleKey = "edges_foldAngle";
+  auto ef = topology.keys.find(foldAngleKey);
+  if (ef == topology.keys.end()) {
+    foldAngleKey = "edges_foldAngles";
+    ef = topology.keys.find(foldAngleKey);
+    if (ef != topology.keys.end())
+      result.notes.push_back({foldAngleKey, "read as edges_foldAngle (its FOLD 1.0 spelling)"});
+  }
+  if (ef != topology.keys.end()) {
+    if (!ef->is_array() || ef->size() != fileEdges) refuse(foldAngleKey + " must have one entry per edge of edges_vertices");
     for (std::size_t e = 0; e < fileEdges; ++e) {
       const json& a = (*ef)[e];
       if (a.is_null()) continue;
       if (!a.is_number() || !std::isfinite(a.get<double>()) || std::abs(a.get<double>()) > 180.0)
-        refuse(at("edges_foldAngle", e) + " must be a number of degrees in [-180, 180]");
+        refuse(at(foldAngleKey, e) + " must be a number of degrees in [-180, 180]");
       foldAngles[e] = a.get<double>();
     }
   }

@@ -6,6 +6,8 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <limits>
+#include <sstream>
 #include <map>
 #include <optional>
 #include <set>
@@ -423,6 +425,7 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
   const std::optional<double> widthMm = lengthMm(root.attribute("width").value());
   const std::optional<double> heightMm = lengthMm(root.attribute("height").value());
   double sx = kMmPerPx, sy = kMmPerPx;
+  double shiftX = 0.0, shiftY = 0.0;  // where the viewBox lands in the page (millimetres, y up)
   if (!viewBox.empty()) {
     if (widthMm) sx = *widthMm / viewBox[2];
     if (heightMm) sy = *heightMm / viewBox[3];
@@ -430,20 +433,51 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
     if (heightMm && !widthMm) sx = sy;
     if (!widthMm && !heightMm)
       result.notes.push_back({"svg", "no width or height: one user unit is read as one px (1/96 in)"});
+    if (std::abs(sx - sy) > 1e-9 * std::max(sx, sy)) {
+      // A page whose shape differs from the viewBox's: preserveAspectRatio says how a viewer fits
+      // it — by default ("xMidYMid meet") uniformly, the smaller scale, centred; "none" stretches.
+      std::istringstream aspect(root.attribute("preserveAspectRatio").as_string("xMidYMid meet"));
+      std::string align = "xMidYMid", fit = "meet";
+      aspect >> align >> fit;
+      if (align == "none") {
+        result.notes.push_back({"svg", "preserveAspectRatio=\"none\": the drawing is stretched to the page, as a viewer shows it"});
+      } else {
+        const double scale = fit == "slice" ? std::max(sx, sy) : std::min(sx, sy);
+        auto fraction = [&align](const char* axis) {  // where the viewBox sits along the axis: 0, ½ or 1
+          if (align.find(std::string(axis) + "Min") != std::string::npos) return 0.0;
+          if (align.find(std::string(axis) + "Max") != std::string::npos) return 1.0;
+          return 0.5;
+        };
+        shiftX = (viewBox[2] * sx - viewBox[2] * scale) * fraction("x");
+        shiftY = (viewBox[3] * sy - viewBox[3] * scale) * (1.0 - fraction("Y"));  // y up: the bottom margin
+        sx = sy = scale;
+        result.notes.push_back({"svg", "the page's shape differs from the viewBox's: the drawing is scaled uniformly "
+                                       "and placed as preserveAspectRatio says, as a viewer shows it"});
+      }
+    }
   }
-  if (std::abs(sx - sy) > 1e-9 * std::max(sx, sy))
-    result.notes.push_back({"svg", "width and height scale the viewBox unequally; the drawing is stretched as a viewer shows it"});
 
   Reader::Inherited top;
   reader.visit(doc, top);
   std::vector<CreaseStroke>& strokes = reader.strokes;
   if (strokes.empty()) refuseSvg("no strokes in a crease colour (black, red, blue, green, yellow, magenta)");
 
-  // Millimetres, y up.
-  const double originY = !viewBox.empty() ? viewBox[1] + viewBox[3] : 0.0;
+  // Millimetres, y up, the page's bottom left corner at the origin. Without a viewBox the page is
+  // the width and height in px from (0, 0) (without a height, the drawing's own lowest point).
+  double originY = 0.0;
+  if (!viewBox.empty()) {
+    originY = viewBox[1] + viewBox[3];
+  } else if (heightMm) {
+    originY = *heightMm / kMmPerPx;
+  } else {
+    originY = -std::numeric_limits<double>::infinity();
+    for (const CreaseStroke& s : strokes)
+      for (const Eigen::Vector2d& p : s.points) originY = std::max(originY, p.y());
+  }
   const double originX = !viewBox.empty() ? viewBox[0] : 0.0;
   for (CreaseStroke& s : strokes)
-    for (Eigen::Vector2d& p : s.points) p = Eigen::Vector2d((p.x() - originX) * sx, (originY - p.y()) * sy);
+    for (Eigen::Vector2d& p : s.points)
+      p = Eigen::Vector2d((p.x() - originX) * sx + shiftX, (originY - p.y()) * sy + shiftY);
 
   CreaseStrokesOptions strokeOptions;
   strokeOptions.straightPieces = options.straightPieces;

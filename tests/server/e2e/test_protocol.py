@@ -182,6 +182,40 @@ class ProtocolTest(DaemonTestCase):
                                              {"Content-Type": "application/x-www-form-urlencoded"})
         self.assertEqual(status, 202, raw[:300])
 
+    def test_a_crease_pattern_uploaded_as_a_form_or_without_its_format_imports(self):
+        # curl -F file=@pattern.svg, and a drawing posted as it is without ?format=svg: both were
+        # refused as "not JSON (a FOLD file is JSON)" (stop 55's tryout).
+        with open(os.path.join(ROOT, "tests", "data", "svg", "pleat.svg"), "rb") as f:
+            drawing = f.read()
+        status, _, doc = self.daemon.json("POST", "/api/imports", drawing, {"Content-Type": "image/svg+xml"})
+        self.assertEqual(status, 200, doc)
+        self.assertEqual(doc["summary"]["format"], "svg")
+        self.assertEqual(doc["scene"]["model"]["kind"], "composite")
+
+        def form(*files):
+            boundary = "devsurf-e2e-boundary"
+            body = b""
+            for name, content in files:
+                body += (f"--{boundary}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"{name}\"\r\n"
+                         f"Content-Type: application/octet-stream\r\n\r\n").encode() + content + b"\r\n"
+            body += f"--{boundary}--\r\n".encode()
+            return body, {"Content-Type": f"multipart/form-data; boundary={boundary}"}
+
+        body, headers = form(("pleat.svg", drawing))
+        status, _, doc = self.daemon.json("POST", "/api/imports", body, headers)
+        self.assertEqual(status, 200, doc)
+        self.assertEqual(doc["summary"]["format"], "svg")
+        with open(os.path.join(ROOT, "tests", "data", "fold", "simple.fold"), "rb") as f:
+            body, headers = form(("simple.fold", f.read()))
+        status, _, doc = self.daemon.json("POST", "/api/imports", body, headers)
+        self.assertEqual(status, 200, doc)
+        self.assertEqual(doc["summary"]["format"], "fold")
+        body, headers = form(("a.svg", drawing), ("b.svg", drawing))
+        status, _, doc = self.daemon.json("POST", "/api/imports", body, headers)
+        self.assertEqual(status, 400, doc)
+        self.assertEqual(doc["error"]["path"], "body")
+        self.assertIn("one file", doc["error"]["message"])
+
     def test_job_lifecycle_with_idempotency_and_cancel(self):
         with open(os.path.join(ROOT, "examples", "strip-twisted.json")) as f:
             scene = json.load(f)

@@ -37,6 +37,13 @@ struct CreasePatternImportResult {
   nlohmann::json summaryJson() const;
 };
 
+/// The format of a crease pattern whose request did not say: "svg" for a file ending in .svg or a
+/// body that starts (after white space and a byte-order mark) with "<", else "fold" (a FOLD file
+/// is JSON; anything else is then refused as not JSON).
+/// @param[in] body      the file's bytes
+/// @param[in] fileName  its name if known (a form upload's), else empty
+std::string creasePatternFormatOf(const std::string& body, const std::string& fileName = "");
+
 /// Reads a crease pattern (`body`, the file's text) and builds a composite scene from it
 /// (io::importFoldDocument or io::importSvgText, models::composite::compositeFromCreasePattern;
 /// an SVG with curved strokes gets curved creases and proposed rulings). The scene is read back

@@ -283,6 +283,8 @@ class Session : public std::enable_shared_from_this<Session> {
     MessageSink sink;
     nlohmann::json selection;  // null or a target
     nlohmann::json dragging;   // null or a target
+    std::uint64_t dragEpoch = 0;   // dragInterruptions_ when this drag began
+    bool dragInterrupted = false;  // an edit dropped the drag handles meanwhile: the gesture is over
     bool folding = false;      // moving the fold slider (between its first fold and fold_end)
     bool ready = false;        // got its state: from then on it receives broadcasts
   };
@@ -404,6 +406,8 @@ class Session : public std::enable_shared_from_this<Session> {
   bool isComposite() const { return solver_->isComposite(); }
   /// A composite whose fold-angle targets fold it (foldAmount > 0): releases hold them.
   bool holdsFoldTargets() const;
+  /// Whether the session's composite has fold-angle targets (model.fold_angles), at any amount.
+  bool hasFoldAngles() const;
   /// The canonical form of a client's target in this session's model, or null with `path` and
   /// `message` saying what is wrong (wrong addressing for the model kind, index out of range).
   nlohmann::json canonicalTarget(const nlohmann::json& target, std::string& path, std::string& message) const;
@@ -432,6 +436,14 @@ class Session : public std::enable_shared_from_this<Session> {
   /// Whether `participant`'s gesture that `letGo` ("drag_end" or "fold_end") ends applied a drag
   /// or a fold (true for the session's own let-go, participant 0).
   bool gestureApplied(int participant, const std::string& letGo) const;
+  /// Forgets the temporary handles of drags (the model was rebuilt without them).
+  void dropDragHandles();
+  /// Whether some participant is dragging.
+  bool anyDrag() const;
+  /// A drag or drag_end of a gesture an edit interrupted: the first is answered with an error
+  /// that says so, the rest with acks; drag_end ends the gesture. False for any other message.
+  bool endInterruptedDrag(int participant, const std::string& type, const nlohmann::json& op,
+                          const std::vector<nlohmann::json>& coalescedOps);
   /// Releases the temporary handle of a drag on `target` (rebuilds the model) if there is one.
   void releaseDragHandle(const nlohmann::json& target);
   const engine::Problem& problem() const;
@@ -453,6 +465,12 @@ class Session : public std::enable_shared_from_this<Session> {
   int scheduleIteration_ = 0;  // iterations of the current interaction (drag, solve): the fairness schedule resumes there
   bool foldTargetsCaptured_ = false;  // the fold just applied took the design's folds as targets (worker thread)
   std::vector<nlohmann::json> releasedHandles_;  // … of ended drags (weight 0 in the model until a rebuild)
+  /// Counts the edits that ended the drags in progress — those that renumbered the points
+  /// (numberingKey) and undo, redo and reset: a drag begun under another count was interrupted
+  /// (worker thread).
+  std::uint64_t dragInterruptions_ = 0;
+  int interruptedBy_ = 0;         ///< the participant whose edit last interrupted the drags
+  std::string interruptingEdit_;  ///< … and that edit's type
   std::deque<proto::Scene> undo_, redo_;
   std::atomic<std::int64_t> seq_{0};
   std::int64_t revision_ = 0;  // of the last checkpoint (worker only; cachedRevision_ for readers)

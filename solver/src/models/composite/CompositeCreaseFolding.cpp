@@ -63,7 +63,22 @@ void CompositeModel::setFoldAmount(double amount) {
 }
 
 void CompositeModel::captureFoldTargets() {
-  if (foldTerm_ < 0 || !(design_.foldAmount > 0.0)) return;
+  if (foldTerm_ < 0) return;
+  auto hingeAngleDeg = [this](std::size_t i) {
+    const FoldHinge& h = hinges_[static_cast<std::size_t>(foldTargetHinge_[i])];
+    return kDegreesPerRadian * terms::hingeFoldAngle(pointValue(h.a), pointValue(h.b), pointValue(h.c), pointValue(h.d));
+  };
+  if (!(design_.foldAmount > 0.0)) {
+    // A flat design (the slider at 0 %) that a drag folded: the slider moves to the amount the
+    // drag folded, the hinge folded furthest toward its target setting it.
+    double folded = 0.0;
+    for (std::size_t i = 0; i < design_.foldAngles.size() && i < foldTargetHinge_.size(); ++i) {
+      const double angle = hingeAngleDeg(i), target = design_.foldAngles[i].angleDeg;
+      if (std::abs(angle) >= kFoldedHingeDeg && angle * target > 0.0) folded = std::max(folded, angle / target);
+    }
+    if (!(folded > 0.0)) return;
+    design_.foldAmount = std::min(1.0, folded);
+  }
   for (std::size_t i = 0; i < design_.foldAngles.size() && i < foldTargetHinge_.size(); ++i) {
     const FoldHinge& h = hinges_[static_cast<std::size_t>(foldTargetHinge_[i])];
     const double angle = kDegreesPerRadian * terms::hingeFoldAngle(pointValue(h.a), pointValue(h.b), pointValue(h.c), pointValue(h.d));

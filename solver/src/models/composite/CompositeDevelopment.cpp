@@ -26,6 +26,11 @@
 namespace devsurf::models::composite {
 namespace {
 
+/// A development triangle whose area is under this fraction of its longest side squared (its
+/// height under 2e-6 of its base) has its three corners on a line, up to the accuracy of the
+/// unfolding that placed them: the orientation guard leaves it out.
+constexpr double kSliverAreaRatio = 1e-6;
+
 /// Second differences of a polyline of 2D points anywhere in x (the developed boundary and crease
 /// curves): one row per interior point and coordinate; linear. The 2D counterpart of
 /// terms::PolygonFairnessTerm.
@@ -625,7 +630,13 @@ void CompositeModel::addDevelopmentTerms() {
       const Eigen::Vector2d p0 = start.row(tri[0]).transpose(), p1 = start.row(tri[1]).transpose(),
                             p2 = start.row(tri[2]).transpose();
       const double area = 0.5 * ((p1.x() - p0.x()) * (p2.y() - p0.y()) - (p2.x() - p0.x()) * (p1.y() - p0.y()));
-      minArea[t] = options_.developmentAreaRatio * area;  // ≤ 0 (flipped at build): not guarded
+      // ≤ 0 (flipped at build): not guarded; nor is a sliver of three points on a line (a vertex
+      // added on a straight side, area 1.5e-10 for sides of 0.12): a row scaled by the inverse of
+      // such an area blew a drag's first step up by 1e12, and its Jacobian made the next
+      // normal matrix numerically indefinite.
+      const double longest =
+          std::max({(p1 - p0).squaredNorm(), (p2 - p1).squaredNorm(), (p0 - p2).squaredNorm()});
+      minArea[t] = area > kSliverAreaRatio * longest ? options_.developmentAreaRatio * area : 0.0;
     }
     problem_.addTerm(std::make_unique<terms::TriangleOrientationTerm>("development_orientation", offset, devTriangles_,
                                                                      minArea),
@@ -698,16 +709,24 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
           const Eigen::VectorXd& a = it->second;
           const int s = p.kind == PairKind::Spline ? p.segment : 0;
           angle = 0.5 * (a[std::min<Eigen::Index>(s, a.size() - 1)] + a[std::min<Eigen::Index>(s + 1, a.size() - 1)]);
-          angle = std::clamp(angle, -180.0, 180.0);
           const auto designedAt = designed.find(p.edge);
-          if (designedAt != designed.end() && std::abs(angle) < kUnfoldedDeg) {
-            // Not folded here (the slider at 0 %, or not yet this far): the designed angle,
-            // between the two ends' along an S edge. A crease folded by a drag keeps its own.
+          std::optional<double> designedAngle;  // between the two ends' along an S edge
+          if (designedAt != designed.end()) {
             const auto& [atStart, atEnd] = designedAt->second;
             const double f = a.size() > 1 ? std::clamp((s + 0.5) / static_cast<double>(a.size() - 1), 0.0, 1.0) : 0.5;
-            angle = atStart && atEnd ? (1.0 - f) * *atStart + f * *atEnd : atStart ? *atStart : *atEnd;
-            angle = std::clamp(angle, -180.0, 180.0);
+            designedAngle = atStart && atEnd ? (1.0 - f) * *atStart + f * *atEnd : atStart ? *atStart : *atEnd;
           }
+          if (designedAngle && std::abs(angle) < kUnfoldedDeg) {
+            // Not folded here (the slider at 0 %, or not yet this far): the designed angle. A
+            // crease folded by a drag keeps its own.
+            angle = *designedAngle;
+          } else if (designedAngle && std::abs(angle) > 90.0 && angle * *designedAngle < 0.0) {
+            // Folded flat or nearly: a measured angle is defined up to a full turn, and past 180°
+            // it comes out with the other sign (a mountain folded to 180° measures 179.9° as
+            // readily as −180.1°). The turn nearer the designed angle is the fold's.
+            angle -= std::copysign(360.0, angle);
+          }
+          angle = std::clamp(angle, -180.0, 180.0);
           ce.assignment = assign(angle);
           if (ce.assignment == io::EdgeAssignment::Flat) angle = 0.0;
         }

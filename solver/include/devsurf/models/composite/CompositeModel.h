@@ -344,8 +344,10 @@ class CompositeModel {
   double foldAmount() const { return design_.foldAmount; }
   /// Takes the current fold angles as the targets at the current amount (each target becomes
   /// angle / amount, within ±180°), so what a drag made of the fold is what the slider now holds;
-  /// no re-analysis. Nothing happens at amount 0 (flat is all the targets can say there). A hinge
-  /// folded by less than 0.5°, or against the sign of its target, keeps its target.
+  /// no re-analysis. At amount 0 (a flat design a drag folded) the amount first becomes what the
+  /// drag folded: the largest ratio of a hinge's angle to its target, at most 1 — nothing happens
+  /// if no hinge folded. A hinge folded by less than 0.5°, or against the sign of its target, keeps
+  /// its target.
   void captureFoldTargets();
   /// Lets go of the fold-angle targets (weight 0: a drag may change the fold) or holds them again
   /// (their weight, options.foldWeight); no re-analysis.
