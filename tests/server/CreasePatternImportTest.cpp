@@ -408,3 +408,41 @@ TEST(CreasePatternImport, ARequestThatDoesNotSayTheFormatIsReadByTheFilesNameOrI
 
 }  // namespace
 }  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+// A flat drawing's own SVG fold pattern imports again with its fold angles: the export writes them
+// as Origami Simulator does, as the stroke's opacity (it wrote none, and every crease came back at
+// 180°), and the importer leaves the legend's line samples out. Every shipped drawing, discovered.
+TEST(CreasePatternImport, EveryShippedSvgDrawingsFoldPatternImportsAgainWithItsFoldAngles) {
+  devsurf::testing::TempDir dir;
+  int drawings = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg")) {
+    if (entry.path().extension() != ".svg") continue;
+    ++drawings;
+    SCOPED_TRACE(entry.path().filename().string());
+    const testing::CliRun imported = testing::runCommand({"import", entry.path().string()});
+    ASSERT_EQ(imported.code, 0) << imported.err;
+    const std::string exported = (dir.path() / entry.path().filename()).string();
+    const testing::CliRun solved = testing::runCommand({"solve", "-", "--iterations", "2", "--export", "svg:" + exported}, imported.out);
+    ASSERT_EQ(solved.code, 0) << solved.err;
+    const testing::CliRun again = testing::runCommand({"import", exported});
+    ASSERT_EQ(again.code, 0) << again.err;
+    EXPECT_NE(again.err.find("a legend (g#legend); left out"), std::string::npos) << again.err;
+    auto angles = [](const std::string& sceneText) {
+      std::vector<double> out;
+      for (const auto& t : nlohmann::json::parse(sceneText)["model"]["fold_angles"]) out.push_back(t["angle"].get<double>());
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 0.5; }), out.end());
+      return out;
+    };
+    const std::vector<double> designed = angles(imported.out), read = angles(again.out);
+    ASSERT_EQ(designed.size(), read.size());
+    for (std::size_t k = 0; k < designed.size(); ++k) EXPECT_NEAR(read[k], designed[k], 0.5);
+  }
+  EXPECT_GE(drawings, 3);
+}
+
+}  // namespace
+}  // namespace devsurf::server

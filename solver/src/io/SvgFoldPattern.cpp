@@ -1,6 +1,7 @@
 #include "devsurf/io/SvgFoldPattern.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -119,7 +120,16 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
       const int k = ++curveUses[c.curve];
       el += " id=\"curve-" + std::to_string(c.curve) + (k > 1 ? "-" + std::to_string(k) : "") + "\"";
     }
-    el += strokeAttributes(svgEdgeStyle(c.assignment), num(w), style, num) + " points=\"" + points + "\"/>\n";
+    el += strokeAttributes(svgEdgeStyle(c.assignment), num(w), style, num);
+    if (c.assignment == EdgeAssignment::Mountain || c.assignment == EdgeAssignment::Valley) {
+      // Origami Simulator's convention: the stroke's opacity is the fold angle over 180° (the
+      // mean along the chain), so the drawing imports again with its angles.
+      double sum = 0.0;
+      for (int e : c.edges) sum += std::abs(p.edges[static_cast<std::size_t>(e)].foldAngle.value_or(180.0));
+      const double opacity = c.edges.empty() ? 1.0 : std::clamp(sum / (180.0 * static_cast<double>(c.edges.size())), 0.0, 1.0);
+      if (opacity < 1.0 - 1e-9) el += " stroke-opacity=\"" + num(opacity) + "\"";
+    }
+    el += " points=\"" + points + "\"/>\n";
     body[c.assignment] += el;
   }
   for (EdgeAssignment a : {EdgeAssignment::Flat, EdgeAssignment::Valley, EdgeAssignment::Mountain,

@@ -270,6 +270,12 @@ struct Reader {
         result.notes.push_back({element, "hidden (display: none); left out"});
         continue;
       }
+      if (tag == "g" && id == "legend") {
+        // The key that devsurf's own fold patterns draw in their margin (line samples in the
+        // crease colours): not creases.
+        result.notes.push_back({element, "a legend (g#legend); left out"});
+        continue;
+      }
       if (tag == "g" || tag == "svg" || tag == "a") {
         visit(child, here, depth + 1);
         continue;
