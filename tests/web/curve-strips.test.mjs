@@ -82,4 +82,18 @@ test('a quasi_strip demo drags a control point of c1, the warp metric updates an
     const dev = await page2.getByTestId('development-view').screenshot({ path: path.join(h.ARTIFACTS, '07-conical-strip-development.png') });
     const devStats = h.pixelStats(h.decodePNG(dev));
     assert.ok(devStats.distinct >= 16 && devStats.dominantShare < 0.97, `the development view has content: ${JSON.stringify(devStats)}`);
+
+    // A value typed below a parameter's range is refused with the reason, not clamped and sent
+    // (a new user's "1" sample on P became 2 without a word, and the strip was rebuilt).
+    const seqBefore = (await daemon.session(conical.id, conical.view_token)).seq;
+    const np = page2.locator('[data-param="np"] input');
+    await np.fill('1');
+    await np.press('Enter');
+    const slot = page2.locator('.field-error[data-source="params:np"]');
+    await slot.waitFor({ state: 'visible', timeout: 5000 });
+    assert.match(await slot.textContent(), /samples on P: at least 2/);
+    await h.sleep(500);
+    assert.equal((await daemon.session(conical.id, conical.view_token)).seq, seqBefore, 'nothing was sent');
+    assert.equal(await np.inputValue(), String(metrics.np ?? (await daemon.session(conical.id, conical.view_token)).scene.model.np),
+      'the field shows the server\'s value again');
   }));

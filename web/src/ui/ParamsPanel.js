@@ -7,6 +7,7 @@
 import GUI from 'lil-gui';
 import { SetParamsCommand } from '../commands/SetParamsCommand.js';
 import { PendingControls } from './PendingControls.js';
+import { typedNumberProblem } from './SolverPanel.js';
 
 // [key, label, options]; options: {min, max, step} for numbers, {choices} for selects, {bool}.
 // Keys "mapping.degree" / "mapping.coefficients" go into the params' mapping object.
@@ -57,6 +58,7 @@ export class ParamsPanel {
     this.gui = null;
     this.values = {};
     this.controllers = new Map();
+    this.refused = new Map();  // key → why the text last typed into its field was not taken
     this.pending = new PendingControls('set_params', 'params:', (key) => this.controllers.get(key));
     state.on('scene', () => this.refresh());
     state.on('session', () => this.refresh());
@@ -87,12 +89,34 @@ export class ParamsPanel {
       c.name(label);
       c.domElement.dataset.param = key;
       c.onFinishChange((value) => this._changed(key, value));
+      // lil-gui clamps typed text to the range without a word (1 sample became 2): say why a typed
+      // value is not taken, as the Solver panel does (its 'change' comes before lil-gui's finish).
+      if (c.$input && o.min !== undefined && !o.choices && !o.bool) {
+        c.$input.addEventListener('change', () =>
+          this._checkTyped(key, label, { ...o, integer: INTEGER_KEYS.includes(key) }, c.$input.value));
+      }
       c.domElement.after(this.errorSlots.slot(`params:${key}`));
       this.controllers.set(key, c);
     }
   }
 
+  _checkTyped(key, label, { min, max, integer }, text) {
+    const why = typedNumberProblem(text, { min, max, integer });
+    if (why) {
+      this.refused.set(key, why);
+      this.errorSlots.show(`params:${key}`, `${label}: ${why}`);
+      this.refresh(true);  // back to the server's value
+      return;
+    }
+    this.refused.delete(key);
+    this.errorSlots.clear(`params:${key}`);
+  }
+
   _changed(key, value) {
+    if (this.refused.has(key)) {
+      this.refresh(true);
+      return;
+    }
     let command;
     try {
       command = new SetParamsCommand(this.kind, paramsFor(key, value), { source: `params:${key}` });

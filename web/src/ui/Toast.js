@@ -11,6 +11,39 @@ export function describeError(msg) {
   return `${text}${path}`;
 }
 
+/** A toast's title in words for an error code of the protocol (docs/protocol.md, "Errors"). */
+const CODE_TITLES = {
+  invalid: 'Not accepted',
+  invalid_json: 'Not readable',
+  limit: 'Too large',
+  conflict: 'Not possible now',
+  diverged: 'The solver gave up',
+  forbidden: 'View only',
+  unauthorized: 'Not allowed',
+  time_budget: 'Took too long',
+  quarantined: 'Session unavailable',
+  unavailable: 'Session unavailable',
+  store_unavailable: 'Storage unavailable',
+  session_full: 'Session full',
+  rate_limited: 'Too many messages',
+  queue_full: 'Server busy',
+  not_ready: 'Not ready yet',
+  not_joined: 'Not connected',
+  unprocessable: 'Cannot export this state',
+  too_large: 'Too large',
+  too_deep: 'Not readable',
+  session_moved: 'Session moved',
+  solve_failed: 'The solve failed',
+  offline: 'Offline',
+  internal: 'Server error',
+};
+
+/** The title of an error toast: the code in words (an unknown code as it is). */
+export function errorTitle(code) {
+  if (!code) return 'Error';
+  return CODE_TITLES[code] || code;
+}
+
 export class Toasts {
   constructor(parent) {
     this.errorText = h('span', { class: 'toast-text' });
@@ -28,7 +61,8 @@ export class Toasts {
 
   /** Shows a server (or connection) error; `context` names the action that caused it. */
   showError(msg, context) {
-    this.errorTitle.textContent = `${context ? `${context}: ` : ''}${msg.code || 'error'}`;
+    this.errorTitle.textContent = `${context ? `${context}: ` : ''}${errorTitle(msg.code)}`;
+    this.errorTitle.title = msg.code ? `error code: ${msg.code}` : '';
     this.errorText.textContent = describeError(msg);
     this.error.hidden = false;
     clearTimeout(this._errorTimer);
