@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -432,7 +433,8 @@ TEST(CreasePatternImport, EveryShippedSvgDrawingsFoldPatternImportsAgainWithItsF
     EXPECT_NE(again.err.find("a legend (g#legend); left out"), std::string::npos) << again.err;
     auto angles = [](const std::string& sceneText) {
       std::vector<double> out;
-      for (const auto& t : nlohmann::json::parse(sceneText)["model"]["fold_angles"]) out.push_back(t["angle"].get<double>());
+      const nlohmann::json scene = nlohmann::json::parse(sceneText);  // alive through the loop
+      for (const auto& t : scene["model"]["fold_angles"]) out.push_back(t["angle"].get<double>());
       std::sort(out.begin(), out.end());
       out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 0.5; }), out.end());
       return out;
@@ -442,6 +444,71 @@ TEST(CreasePatternImport, EveryShippedSvgDrawingsFoldPatternImportsAgainWithItsF
     for (std::size_t k = 0; k < designed.size(); ++k) EXPECT_NEAR(read[k], designed[k], 0.5);
   }
   EXPECT_GE(drawings, 3);
+}
+
+}  // namespace
+}  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+// A crease drawn by hand 0.3 mm short of the outline at both ends was left out ("a stroke with a
+// free end") and the import went on without it; it now meets the outline, as the editor's drawing
+// tool snaps (within 1 % of the drawing's diagonal), the drawing kept with it, and a note says
+// where. A crease ending far inside is still left out, the note saying where it runs.
+TEST(CreasePatternImport, ACreaseStoppingJustShortOfTheOutlineMeetsItAndOneEndingInsideIsLeftOutSayingWhere) {
+  const std::string shortOfIt = R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+    <rect width="100" height="100" fill="none" stroke="black"/>
+    <line x1="50" y1="0.3" x2="50" y2="99.7" stroke="blue" stroke-opacity="0.5"/></svg>)";
+  const CreasePatternImportResult r = importCreasePattern(shortOfIt, svgRequest());
+  EXPECT_EQ(r.faces, 2);
+  int joined = 0;
+  for (const io::ImportNote& n : r.notes) joined += n.element == "line[0]" && n.message.find("joined to it") != std::string::npos;
+  EXPECT_EQ(joined, 2);
+  for (const io::CreaseStroke& s : std::get<models::composite::CompositeDesign>(r.scene.model).drawing)
+    if (s.assignment == io::EdgeAssignment::Valley) {
+      EXPECT_NEAR(std::min(s.points.front().y(), s.points.back().y()), 0.0, 1e-9);
+      EXPECT_NEAR(std::max(s.points.front().y(), s.points.back().y()), 100.0, 1e-9);
+    }
+  const std::string inside = R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+    <rect width="100" height="100" fill="none" stroke="black"/>
+    <line x1="50" y1="0" x2="50" y2="100" stroke="red"/>
+    <line x1="50" y1="50" x2="80" y2="50" stroke="blue"/></svg>)";
+  const CreasePatternImportResult free = importCreasePattern(inside, svgRequest());
+  bool said = false;
+  for (const io::ImportNote& n : free.notes)
+    said = said || (n.element == "line[1]" && n.message.find("free end") != std::string::npos &&
+                    n.message.find("(80, 50)") != std::string::npos);
+  EXPECT_TRUE(said) << free.summaryJson().dump();
+}
+
+}  // namespace
+}  // namespace devsurf::server
+
+namespace devsurf::server {
+namespace {
+
+// Colours as Illustrator and Inkscape write them (stop 55's tryout left each out with a note): an
+// id rule of a <style> (over a class rule, by specificity), 8- and 4-digit hex and rgba() whose
+// alpha multiplies the opacity (the fold angle), and currentColor naming an inherited color.
+TEST(CreasePatternImport, IdRulesColoursWithAlphaAndCurrentColorAreReadAsAViewerDrawsThem) {
+  const std::string drawing = R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+    <style>.crease { stroke: #ff0000 } #valley { stroke: blue }</style>
+    <rect width="100" height="100" fill="none" stroke="black"/>
+    <line id="valley" class="crease" x1="20" y1="0" x2="20" y2="100"/>
+    <line x1="40" y1="0" x2="40" y2="100" stroke="#0000ff80"/>
+    <line x1="60" y1="0" x2="60" y2="100" stroke="rgba(255, 0, 0, 0.25)"/>
+    <g color="#f00"><line x1="80" y1="0" x2="80" y2="100" stroke="currentColor" stroke-opacity="0.5"/></g></svg>)svg";
+  const CreasePatternImportResult r = importCreasePattern(drawing, svgRequest());
+  std::map<long, double> angleAtX;  // the creases' x → their fold-angle target
+  const auto& design = std::get<models::composite::CompositeDesign>(r.scene.model);
+  for (const io::CreaseStroke& s : design.drawing)
+    if (s.foldAngle && s.assignment != io::EdgeAssignment::Boundary) angleAtX[std::lround(s.points.front().x())] = *s.foldAngle;
+  ASSERT_EQ(angleAtX.size(), 4u) << r.summaryJson().dump();
+  EXPECT_NEAR(angleAtX[20], 180.0, 1e-9);                 // the id rule's blue, over the class's red
+  EXPECT_NEAR(angleAtX[40], 180.0 * 128.0 / 255.0, 1e-9);  // #0000ff80: a valley at half opacity
+  EXPECT_NEAR(angleAtX[60], -45.0, 1e-9);                  // rgba red at 0.25
+  EXPECT_NEAR(angleAtX[80], -90.0, 1e-9);                  // currentColor: the group's red
 }
 
 }  // namespace

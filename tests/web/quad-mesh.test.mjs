@@ -143,6 +143,7 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
       return { s, ok: s.seq > seq1 && s.scene.model.gauss_image === true };
     });
     assert.ok(withK.ok, 'the scene has gauss_image true');
+    assert.equal(sent.filter((x) => x.type === 'set_params' && x.params.gauss_image === true).length, 1, 'one edit');
     await page.waitForFunction(() => window.__devsurf.editor.quad.hasCurvature, null, { timeout: 30000 });
     assert.equal(await page.getByTestId('gauss-image').isChecked(), true);
     assert.match((await page.getByTestId('legend-title').textContent()).trim(), /^Gauss curvature K/);
@@ -150,6 +151,27 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
     const k = await h.screenshotViewport(page, '13-quad-m-gauss');
     assert.ok(h.diffFraction(after.image, k.image) > 0.005, 'the colours changed');
     await h.screenshotPage(page, '13-quad-gauss');
+
+    // Off by its box, then the box ticked and H picked at once (a tryout's order): one edit on, one
+    // undo step — picking H sent a second set_params while the box's was in flight.
+    await page.getByTestId('quad-color-mode').selectOption('length_error');
+    await page.getByTestId('gauss-image').uncheck();
+    const off = await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { s, ok: s.scene.model.gauss_image === false };
+    });
+    assert.ok(off.ok, 'the Gauss image is off again');
+    const sentBefore = sent.length;
+    await page.getByTestId('gauss-image').check();
+    await page.getByTestId('quad-color-mode').selectOption('mean');
+    const on = await h.poll(async () => {
+      const s = await daemon.session(demo.id, demo.view_token);
+      return { s, ok: s.scene.model.gauss_image === true };
+    });
+    assert.ok(on.ok, 'the Gauss image is on');
+    await h.sleep(500);
+    const turnedOn = sent.slice(sentBefore).filter((x) => x.type === 'set_params' && x.params.gauss_image === true);
+    assert.equal(turnedOn.length, 1, `one set_params turned it on (${turnedOn.length})`);
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 

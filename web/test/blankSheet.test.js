@@ -9,14 +9,14 @@ describe('a blank sheet', () => {
     expect(BLANK_DEFAULT).toEqual({ width: 200, height: 150, units: 'mm' });
   });
 
-  it('keeps the typed numbers in other units: one user unit reads as one, the import is told the unit', () => {
-    // The SVG reader converts to millimetres and the import's `units` keeps the numbers it read:
-    // a width of "20cm" would make a scene of 200 labelled cm.
+  it('says its size in the unit chosen, the typed numbers in its viewBox; the import is told the unit', () => {
+    // The import converts a drawing that states its units to the units asked for: a "20cm" wide
+    // drawing imported in cm is 20 wide (it was read as 200 mm and kept as 200 "cm" before).
     const cm = blankSheetSvg(20, 15, 'cm');
-    expect(cm).toContain('width="20mm" height="15mm" viewBox="0 0 20 15"');
+    expect(cm).toContain('width="20cm" height="15cm" viewBox="0 0 20 15"');
     expect(cm).toContain('<rect x="0" y="0" width="20" height="15" fill="none" stroke="#000" stroke-width="0.05"/>');
-    expect(blankSheetSvg(8.5, 11, 'in')).toContain('width="8.5mm" height="11mm" viewBox="0 0 8.5 11"');
-    expect(blankSheetSvg(1.2, 0.8, 'm')).toContain('width="1.2mm" height="0.8mm" viewBox="0 0 1.2 0.8"');
+    expect(blankSheetSvg(8.5, 11, 'in')).toContain('width="8.5in" height="11in" viewBox="0 0 8.5 11"');
+    expect(blankSheetSvg(1.2, 0.8, 'm')).toContain('width="1200mm" height="800mm" viewBox="0 0 1.2 0.8"');
     expect(blankSheetSvg(0.1 + 0.2, 1, 'mm')).toContain('width="0.3mm"');
     expect(blankSheetImport(300, 100, 'cm')).toEqual({ svg: blankSheetSvg(300, 100, 'cm'), name: 'Blank sheet 300 × 100 cm', units: 'cm' });
     expect(blankSheetImport(200, 150, 'mm').units).toBe('mm');

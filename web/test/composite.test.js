@@ -149,6 +149,13 @@ describe('fold lag warning', () => {
     expect(text).toMatch(/97° from its target at 100 %: it folds the wrong way/);
     expect(foldLagWarning({ fold_amount: 0.5, fold_angle_error_max_deg: 30 }, scene)).toMatch(/lag behind the slider/);
   });
+  it('names the drawing as the thing to change only when the design has one', async () => {
+    const { foldLagWarning } = await import('../src/ui/FoldPanel.js');
+    // A preset (no drawing) whose crease a co-designer made smooth: there was "no drawing" to change.
+    expect(foldLagWarning({ fold_amount: 1, fold_angle_error_max_deg: 60 }, scene)).toMatch(/change the creases \(their types/);
+    const drawn = { model: { ...scene.model, drawing: { strokes: [] } } };
+    expect(foldLagWarning({ fold_amount: 1, fold_angle_error_max_deg: 60 }, drawn)).toMatch(/change the drawing/);
+  });
   it('stays quiet for folds near their targets, at 0 %, without targets or without the metric', async () => {
     const { foldLagWarning } = await import('../src/ui/FoldPanel.js');
     expect(foldLagWarning({ fold_amount: 1, fold_angle_error_max_deg: 13.5 }, scene)).toBeNull();  // within a quarter of 90°

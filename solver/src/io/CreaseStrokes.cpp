@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
+#include <sstream>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -11,6 +13,66 @@
 #include "devsurf/spatial/PlanarArrangement.h"
 
 namespace devsurf::io {
+
+std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes, double mergeFraction, double snapFraction) {
+  std::vector<ImportNote> notes;
+  if (strokes.empty()) return notes;
+  Eigen::Vector2d lo = strokes[0].points[0], hi = lo;
+  for (const CreaseStroke& s : strokes)
+    for (const Eigen::Vector2d& p : s.points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  const double diagonal = (hi - lo).norm();
+  const double merge = mergeFraction * diagonal, snap = snapFraction * diagonal;
+  if (!(snap > merge)) return notes;
+  auto length = [](const CreaseStroke& s) {
+    double l = 0.0;
+    for (std::size_t k = 1; k < s.points.size(); ++k) l += (s.points[k] - s.points[k - 1]).norm();
+    return l;
+  };
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    CreaseStroke& stroke = strokes[i];
+    if (stroke.closed || stroke.points.size() < 2 || length(stroke) <= 2.0 * snap) continue;
+    for (const bool front : {true, false}) {
+      Eigen::Vector2d& end = front ? stroke.points.front() : stroke.points.back();
+      double nearestPoint = snap, nearestLine = std::numeric_limits<double>::infinity();
+      Eigen::Vector2d atPoint = end, atLine = end;
+      std::size_t onStroke = strokes.size(), onPointStroke = strokes.size();
+      for (std::size_t j = 0; j < strokes.size(); ++j) {
+        if (j == i) continue;
+        const std::vector<Eigen::Vector2d>& q = strokes[j].points;
+        for (const Eigen::Vector2d& point : q)
+          if ((point - end).norm() <= nearestPoint) {
+            nearestPoint = (point - end).norm();
+            atPoint = point;
+            onPointStroke = j;
+          }
+        const std::size_t n = q.size(), pieces = strokes[j].closed ? n : n - 1;
+        for (std::size_t k = 0; k < pieces; ++k) {
+          const Eigen::Vector2d a = q[k], d = q[(k + 1) % n] - a;
+          const double t = d.squaredNorm() > 0.0 ? std::clamp((end - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+          const double gap = (a + t * d - end).norm();
+          if (gap < nearestLine) {
+            nearestLine = gap;
+            atLine = a + t * d;
+            onStroke = j;
+          }
+        }
+      }
+      if (onStroke == strokes.size() || nearestLine <= merge || nearestLine > snap) continue;  // meets, or is free
+      const bool toPoint = onPointStroke < strokes.size();
+      const Eigen::Vector2d to = toPoint ? atPoint : atLine;
+      std::ostringstream note;
+      note.precision(3);
+      note << "its " << (front ? "start" : "end") << " at (" << end.x() << ", " << end.y() << ") was " << nearestLine
+           << " from " << strokes[toPoint ? onPointStroke : onStroke].element << "; joined to it";
+      notes.push_back({stroke.element, note.str()});
+      end = to;
+    }
+  }
+  return notes;
+}
 
 StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const CreaseStrokesOptions& options) {
   if (strokes.empty()) throw std::invalid_argument("SVG: no strokes in a crease colour (black, red, blue, green, yellow, magenta)");
@@ -116,9 +178,15 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   for (int source : arrangement.sourceOfSegment)
     if (source >= 0) usedStrokes.insert(strokeOfSegment[static_cast<std::size_t>(source)]);
   for (int s : leftOut)
-    if (!usedStrokes.count(s))
-      result.notes.push_back({strokes[static_cast<std::size_t>(s)].element,
-                              "a stroke with a free end, or apart from the sheet; left out"});
+    if (!usedStrokes.count(s)) {
+      const CreaseStroke& stroke = strokes[static_cast<std::size_t>(s)];
+      std::ostringstream note;
+      note.precision(4);
+      note << "a stroke with a free end, or apart from the sheet (from (" << stroke.points.front().x() << ", "
+           << stroke.points.front().y() << ") to (" << stroke.points.back().x() << ", " << stroke.points.back().y()
+           << ")); left out — a crease ends on another crease or on the outline";
+      result.notes.push_back({stroke.element, note.str()});
+    }
   if (arrangement.islands > 0)
     result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet not bridged (no straight "
                                    "bridge fits, or past the bound on bridging work); left out"});

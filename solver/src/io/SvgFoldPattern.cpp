@@ -122,12 +122,11 @@ std::string svgFoldPattern(const CreasePattern& p, const SvgFoldOptions& o) {
     }
     el += strokeAttributes(svgEdgeStyle(c.assignment), num(w), style, num);
     if (c.assignment == EdgeAssignment::Mountain || c.assignment == EdgeAssignment::Valley) {
-      // Origami Simulator's convention: the stroke's opacity is the fold angle over 180° (the
-      // mean along the chain), so the drawing imports again with its angles.
+      // The fold angle (the mean along the chain, FOLD's sign), for devsurf's own import: Origami
+      // Simulator's convention, the stroke's opacity, would print a 30° score line nearly white.
       double sum = 0.0;
-      for (int e : c.edges) sum += std::abs(p.edges[static_cast<std::size_t>(e)].foldAngle.value_or(180.0));
-      const double opacity = c.edges.empty() ? 1.0 : std::clamp(sum / (180.0 * static_cast<double>(c.edges.size())), 0.0, 1.0);
-      if (opacity < 1.0 - 1e-9) el += " stroke-opacity=\"" + num(opacity) + "\"";
+      for (int e : c.edges) sum += p.edges[static_cast<std::size_t>(e)].foldAngle.value_or(c.assignment == EdgeAssignment::Valley ? 180.0 : -180.0);
+      if (!c.edges.empty()) el += " data-fold-angle=\"" + num(sum / static_cast<double>(c.edges.size())) + "\"";
     }
     el += " points=\"" + points + "\"/>\n";
     body[c.assignment] += el;

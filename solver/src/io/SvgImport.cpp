@@ -71,13 +71,16 @@ std::map<std::string, std::string> cssDeclarations(const std::string& text) {
   return out;
 }
 
-/// Class and type rules of the document's <style> elements (simple selectors only: ".a", "path",
-/// "path.a" and comma lists of them), in document order.
+/// Id, class and type rules of the document's <style> elements (simple selectors only: ".a",
+/// "path", "path.a", "#a", "path#a" and comma lists of them), applied by specificity (id over class
+/// over type), then in document order.
 struct StyleSheet {
   struct Rule {
     std::string tag;        ///< empty = any
     std::string className;  ///< empty = any
+    std::string id;         ///< empty = any
     std::map<std::string, std::string> declarations;
+    int specificity() const { return (id.empty() ? 0 : 100) + (className.empty() ? 0 : 10) + (tag.empty() ? 0 : 1); }
   };
   std::vector<Rule> rules;
 
@@ -100,11 +103,15 @@ struct StyleSheet {
         if (comma == std::string::npos) comma = selectors.size();
         const std::string selector = trimmed(selectors.substr(s, comma - s));
         s = comma + 1;
-        if (selector.empty() || selector.find_first_of(" >+~[:#*") != std::string::npos) continue;
+        if (selector.empty() || selector.find_first_of(" >+~[:*") != std::string::npos) continue;
         Rule rule;
-        const std::size_t dot = selector.find('.');
-        rule.tag = lowered(selector.substr(0, dot));
-        if (dot != std::string::npos) rule.className = selector.substr(dot + 1);
+        const std::size_t mark = selector.find_first_of(".#");
+        rule.tag = lowered(selector.substr(0, mark));
+        if (mark != std::string::npos) {
+          const std::string rest = selector.substr(mark + 1);
+          if (rest.find_first_of(".#") != std::string::npos) continue;  // compound: not read
+          (selector[mark] == '.' ? rule.className : rule.id) = rest;
+        }
         rule.declarations = declarations;
         rules.push_back(std::move(rule));
       }
@@ -113,7 +120,8 @@ struct StyleSheet {
   }
 
   /// Declarations for an element: rules in order, later ones winning.
-  void apply(const std::string& tag, const std::string& classAttribute, std::map<std::string, std::string>& into) const {
+  void apply(const std::string& tag, const std::string& classAttribute, const std::string& id,
+             std::map<std::string, std::string>& into) const {
     std::set<std::string> classes;
     std::size_t s = 0;
     while (s < classAttribute.size()) {
@@ -123,11 +131,17 @@ struct StyleSheet {
       if (e > s) classes.insert(classAttribute.substr(s, e - s));
       s = e;
     }
+    std::vector<const Rule*> matching;
     for (const Rule& r : rules) {
       if (!r.tag.empty() && r.tag != tag) continue;
       if (!r.className.empty() && !classes.count(r.className)) continue;
-      for (const auto& [k, v] : r.declarations) into[k] = v;
+      if (!r.id.empty() && r.id != id) continue;
+      matching.push_back(&r);
     }
+    std::stable_sort(matching.begin(), matching.end(),
+                     [](const Rule* a, const Rule* b) { return a->specificity() < b->specificity(); });
+    for (const Rule* r : matching)
+      for (const auto& [k, v] : r->declarations) into[k] = v;
   }
 };
 
@@ -150,8 +164,30 @@ std::optional<double> lengthMm(const std::string& text) {
 }
 
 /// Origami Simulator's colours. nullopt: not a crease colour.
-std::optional<EdgeAssignment> assignmentOfColour(const std::string& raw) {
+/// The alpha of a colour with one (#rgba, #rrggbbaa, rgba(r, g, b, a)), else 1: it multiplies the
+/// stroke's opacity, which is the fold angle.
+double alphaOfColour(const std::string& raw) {
   const std::string c = lowered(trimmed(raw));
+  double alpha = 1.0;
+  if (c.size() == 5 && c[0] == '#') alpha = static_cast<double>(std::strtol(std::string(2, c[4]).c_str(), nullptr, 16)) / 255.0;
+  if (c.size() == 9 && c[0] == '#') alpha = static_cast<double>(std::strtol(c.substr(7, 2).c_str(), nullptr, 16)) / 255.0;
+  if (c.rfind("rgba(", 0) == 0 && c.back() == ')') {
+    const std::size_t comma = c.rfind(',');
+    if (comma != std::string::npos) {
+      const std::string part = trimmed(c.substr(comma + 1, c.size() - comma - 2));
+      alpha = std::strtod(part.c_str(), nullptr);
+      if (!part.empty() && part.back() == '%') alpha /= 100.0;
+    }
+  }
+  return std::isfinite(alpha) ? std::clamp(alpha, 0.0, 1.0) : 1.0;
+}
+
+std::optional<EdgeAssignment> assignmentOfColour(const std::string& raw) {
+  std::string c = lowered(trimmed(raw));
+  // With an alpha (read by alphaOfColour): the colour without it.
+  if (c.size() == 5 && c[0] == '#') c = c.substr(0, 4);
+  if (c.size() == 9 && c[0] == '#') c = c.substr(0, 7);
+  if (c.rfind("rgba(", 0) == 0 && c.back() == ')') c = "rgb(" + c.substr(5, c.rfind(',') - 5) + ")";
   static const std::map<std::string, EdgeAssignment> named{
       {"black", EdgeAssignment::Boundary}, {"red", EdgeAssignment::Mountain},  {"blue", EdgeAssignment::Valley},
       {"green", EdgeAssignment::Cut},      {"lime", EdgeAssignment::Cut},      {"yellow", EdgeAssignment::Flat},
@@ -227,6 +263,7 @@ struct Reader {
   struct Inherited {
     Affine ctm = identityAffine();
     std::optional<std::string> stroke;
+    std::optional<std::string> color;  // the `color` property, what currentColor names
     double opacity = 1.0;
     double strokeOpacity = 1.0;
     bool hidden = false;
@@ -249,13 +286,18 @@ struct Reader {
         continue;
       }
       std::map<std::string, std::string> props;
-      for (const char* name : {"stroke", "opacity", "stroke-opacity", "display", "visibility", "transform"})
+      for (const char* name : {"stroke", "color", "opacity", "stroke-opacity", "display", "visibility", "transform"})
         if (const pugi::xml_attribute a = child.attribute(name)) props[name] = a.value();
-      sheet.apply(tag, child.attribute("class").value(), props);
+      sheet.apply(tag, child.attribute("class").value(), id, props);
       for (const auto& [k, v] : cssDeclarations(child.attribute("style").value())) props[k] = v;
       Inherited here = inherited;
       if (props.count("transform")) here.ctm = compose(inherited.ctm, parseTransform(props["transform"], element));
-      if (props.count("stroke")) here.stroke = props["stroke"];
+      if (props.count("color")) here.color = props["color"];
+      if (props.count("stroke")) {
+        // currentColor: the element's (inherited) color, as a viewer draws it.
+        here.stroke = lowered(trimmed(props["stroke"])) == "currentcolor" ? (here.color ? here.color : std::optional<std::string>("black"))
+                                                                           : std::optional<std::string>(props["stroke"]);
+      }
       const auto fraction = [&props](const char* name) {
         if (!props.count(name)) return 1.0;
         const std::string v = trimmed(props[name]);
@@ -298,10 +340,18 @@ struct Reader {
                                                "valley, green cut, yellow or magenta flat); such strokes are left out"});
         continue;
       }
-      const double amount = here.opacity * here.strokeOpacity;
+      const double amount = here.opacity * here.strokeOpacity * alphaOfColour(*here.stroke);
       std::optional<double> angle;
       if (*assignment == EdgeAssignment::Mountain) angle = -180.0 * amount;
       if (*assignment == EdgeAssignment::Valley) angle = 180.0 * amount;
+      // devsurf's own fold patterns write the angle itself (their strokes stay opaque to print);
+      // the colour says mountain or valley.
+      if (angle) {
+        if (const pugi::xml_attribute written = child.attribute("data-fold-angle")) {
+          const double degrees = std::strtod(written.value(), nullptr);
+          if (std::isfinite(degrees) && std::abs(degrees) <= 180.0) angle = std::copysign(std::abs(degrees), *angle);
+        }
+      }
       for (Subpath& sub : geometry) {
         for (Piece& piece : sub.pieces)
           for (Eigen::Vector2d& p : piece.points) p = applyAffine(here.ctm, p);
@@ -485,6 +535,11 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
     for (Eigen::Vector2d& p : s.points)
       p = Eigen::Vector2d((p.x() - originX) * sx + shiftX, (originY - p.y()) * sy + shiftY);
 
+  // Hand-drawn ends that stop short of the stroke they are meant to meet (or run a little past
+  // it) meet it, within 1 % of the drawing's diagonal as the editor's drawing tool snaps — in the
+  // kept drawing too, so layout edits rebuild the same pattern.
+  for (ImportNote& note : snapNearlyMeetingEnds(strokes, options.mergeFraction, options.snapFraction))
+    result.notes.push_back(std::move(note));
   CreaseStrokesOptions strokeOptions;
   strokeOptions.straightPieces = options.straightPieces;
   strokeOptions.maxSegments = options.maxSegments;

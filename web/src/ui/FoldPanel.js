@@ -45,7 +45,12 @@ export function foldLagWarning(metrics, scene) {
   if (!(error > Math.max(5, 0.25 * aim))) return null;
   const at = `${Math.round(amount * 100)} %`;
   const how = error > aim ? 'it folds the wrong way (or far past its angle)' : 'the creases lag behind the slider';
-  return `⚠ A crease is ${Math.round(error)}° from its target at ${at}: ${how}. The sheet cannot take these fold angles as drawn and stretches instead; change the drawing (fewer or gentler creases, other angles).`;
+  // What to change: a drawn or imported pattern's drawing; a design made otherwise (a preset, a
+  // scene file) has no drawing, so its creases and their types.
+  const remedy = model.drawing
+    ? 'change the drawing (fewer or gentler creases, other angles)'
+    : 'change the creases (their types — a smooth crease does not fold — or their angles)';
+  return `⚠ A crease is ${Math.round(error)}° from its target at ${at}: ${how}. The sheet cannot take these fold angles as they are and stretches instead; ${remedy}.`;
 }
 
 export class FoldPanel {

@@ -129,7 +129,9 @@ export class QuadMeshControls {
   setColorMode(mode) {
     this.colorSelect.value = mode;
     this.quad.setColorMode(mode);
-    if (QUAD_COLOR_MODES[mode].needsCurvature && !this.model.gauss_image && this.state.role === 'edit') {
+    // Not again when the box was just ticked (its set_params in flight): one edit, one undo step.
+    if (QUAD_COLOR_MODES[mode].needsCurvature && !this.model.gauss_image && !this.gaussInput.checked && this.state.role === 'edit') {
+      this.gaussInput.checked = true;  // what is on its way; the scene's value replaces it
       this._sendGaussImage(true);
     }
     this.changed();

@@ -26,10 +26,10 @@ export function checkBlankSheet(width, height, units) {
 
 /**
  * The SVG text of a blank sheet: a black rectangle outline of width × height `units`, its numbers
- * as typed. The SVG reader converts a drawing's units to millimetres and the import's `units`
- * keeps the numbers it read (POST /api/imports: "scene units, the file's numbers kept"), so the
- * width and height attributes say mm whatever the unit — one user unit reads as one — and the
- * import is told `units` (blankSheetImport): a 20 × 15 cm sheet is a scene in cm, 20 × 15.
+ * as typed in the viewBox, its width and height in that unit (metres as millimetres: SVG has no
+ * "m"). The import is told `units` (blankSheetImport) and converts the drawing's size to them
+ * (POST /api/imports: a file that states its units is converted), so a 20 × 15 cm sheet is a
+ * scene in cm, 20 × 15.
  */
 export function blankSheetSvg(width, height, units = 'mm') {
   checkBlankSheet(width, height, units);
@@ -37,7 +37,8 @@ export function blankSheetSvg(width, height, units = 'mm') {
   const ht = num(height);
   // Stroke width: a thin line, ~0.5 mm on the sheet.
   const sw = num(Math.min(0.5 / MM_PER[units], Math.min(width, height) / 100));
-  return `<svg xmlns="http://www.w3.org/2000/svg" width="${w}mm" height="${ht}mm" viewBox="0 0 ${w} ${ht}">\n`
+  const size = (v) => (units === 'm' ? `${num(v * 1000)}mm` : `${num(v)}${units}`);
+  return `<svg xmlns="http://www.w3.org/2000/svg" width="${size(width)}" height="${size(height)}" viewBox="0 0 ${w} ${ht}">\n`
     + `  <rect x="0" y="0" width="${w}" height="${ht}" fill="none" stroke="#000" stroke-width="${sw}"/>\n`
     + '</svg>\n';
 }

@@ -21,6 +21,9 @@ struct SvgImportOptions {
   /// Points closer than this fraction of the drawing's diagonal are one point, and a stroke ending
   /// this close to another meets it (hand-drawn end points rarely land exactly).
   double mergeFraction = 5e-4;
+  /// An open stroke's end farther than the merge tolerance but within this fraction of the
+  /// drawing's diagonal from another stroke is moved onto it, with a note (snapNearlyMeetingEnds).
+  double snapFraction = 0.01;
 };
 
 /// A crease pattern read from an SVG drawing, and what the reading changed or left out.

@@ -236,11 +236,12 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
           }
         }
         if (!layout && allCurved)
-          throw std::invalid_argument(faceName(f) + ": inside a closed curved crease with no straight crease in it, and "
-                                                    "every face needs straight ends between its curved sides (S R S R, "
-                                                    "S R S or S R R): outline it in black to cut it out as a hole, or draw "
-                                                    "three or more straight creases from a point inside out to the crease "
-                                                    "(cones around that point)");
+          throw std::invalid_argument(faceName(f) + ": bounded by curves only (a closed curved crease, or a round "
+                                                    "sheet's outline) with no straight crease in it, and every face needs "
+                                                    "straight ends between its curved sides (S R S R, S R S or S R R): draw "
+                                                    "three or more straight creases from a point inside out to the curve "
+                                                    "(cones around that point), or, for a closed crease inside the sheet, "
+                                                    "outline it in black to cut it out as a hole");
         if (!layout)
           throw std::invalid_argument(faceName(f) + ": no ruling layout (a face needs straight ends between its curved "
                                                     "sides: S R S R, S R S or S R R)");
