@@ -232,7 +232,8 @@ void Session::leave(int participant) {
     std::lock_guard<std::mutex> lock(mutex_);
     const auto it = participants_.find(participant);
     if (it == participants_.end()) return;
-    dragging = it->second.dragging;
+    // An interrupted drag has no handle left, and its target's number may now be another's drag.
+    if (!it->second.dragInterrupted && it->second.dragEpoch == dragInterruptions_.load()) dragging = it->second.dragging;
     participants_.erase(it);
   }
   // A participant that leaves in the middle of a drag releases it: its temporary handle must not
@@ -408,7 +409,7 @@ bool Session::endInterruptedDrag(int participant, const std::string& type, const
     const auto it = participants_.find(participant);
     if (it == participants_.end()) return false;
     Participant& p = it->second;
-    if (p.dragging.is_null() || (!p.dragInterrupted && p.dragEpoch == dragInterruptions_)) return false;
+    if (p.dragging.is_null() || (!p.dragInterrupted && p.dragEpoch == dragInterruptions_.load())) return false;
     tell = !p.dragInterrupted;
     p.dragInterrupted = true;
     if (type == "drag_end") {
@@ -569,7 +570,8 @@ void Session::handle(const Work& work) {
   }
   // An edit that renumbers the points (a vertex removed, a crease drawn), or undo, redo or reset,
   // ends the drags in progress: their targets may name other points now, or their start is gone.
-  const bool watchDrags = type != "drag" && type != "drag_end" && anyDrag();
+  const bool watchDrags = type != "drag" && type != "drag_end" && type != "fold" && type != "fold_end" &&
+                          type != "solve" && anyDrag();
   const std::string numberingBefore = watchDrags ? numberingKey(solver_->currentScene()) : std::string();
   if (!apply(pid, m, false)) return;
   if (watchDrags && (type == "undo" || type == "redo" || type == "reset" ||
@@ -593,7 +595,7 @@ void Session::handle(const Work& work) {
       started = it != participants_.end() && it->second.dragging != m["target"];
       if (it != participants_.end()) {
         it->second.dragging = m["target"];
-        if (started) it->second.dragEpoch = dragInterruptions_;
+        if (started) it->second.dragEpoch = dragInterruptions_.load();
       }
     }
     if (started) broadcast(presenceMessage());

@@ -407,11 +407,6 @@ TEST(CreasePatternImport, ARequestThatDoesNotSayTheFormatIsReadByTheFilesNameOrI
   EXPECT_EQ(creasePatternFormatOf("<svg/>", "pattern.fold"), "fold");
 }
 
-}  // namespace
-}  // namespace devsurf::server
-
-namespace devsurf::server {
-namespace {
 
 // A flat drawing's own SVG fold pattern imports again with its fold angles: the export writes them
 // as Origami Simulator does, as the stroke's opacity (it wrote none, and every crease came back at
@@ -446,11 +441,6 @@ TEST(CreasePatternImport, EveryShippedSvgDrawingsFoldPatternImportsAgainWithItsF
   EXPECT_GE(drawings, 3);
 }
 
-}  // namespace
-}  // namespace devsurf::server
-
-namespace devsurf::server {
-namespace {
 
 // A crease drawn by hand 0.3 mm short of the outline at both ends was left out ("a stroke with a
 // free end") and the import went on without it; it now meets the outline, as the editor's drawing
@@ -482,15 +472,30 @@ TEST(CreasePatternImport, ACreaseStoppingJustShortOfTheOutlineMeetsItAndOneEndin
   EXPECT_TRUE(said) << free.summaryJson().dump();
 }
 
-}  // namespace
-}  // namespace devsurf::server
-
-namespace devsurf::server {
-namespace {
 
 // Colours as Illustrator and Inkscape write them (stop 55's tryout left each out with a note): an
 // id rule of a <style> (over a class rule, by specificity), 8- and 4-digit hex and rgba() whose
 // alpha multiplies the opacity (the fold angle), and currentColor naming an inherited color.
+// A hand-drawn 1 mm kink where a crease leaves the outline (a polyline, a path's first segment)
+// was refused: "fold_angles[1]: edge 7 has no hinge there (its faces are degenerate at that end)".
+// The jog is smoothed into its stroke with a note, and the pattern imports and folds.
+TEST(CreasePatternImport, AJogAtACreasesEndIsSmoothedIntoItAndThePatternFolds) {
+  const std::string kinked = R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+    <rect width="100" height="100" fill="none" stroke="#000"/>
+    <polyline points="0,50 1,49.5 100,50" stroke="#00f" fill="none" stroke-opacity="0.5"/></svg>)";
+  const CreasePatternImportResult r = importCreasePattern(kinked, svgRequest());
+  EXPECT_EQ(r.faces, 2);
+  bool noted = false;
+  for (const io::ImportNote& n : r.notes) noted = noted || (n.element == "polyline[0]" && n.message.find("a jog of") != std::string::npos);
+  EXPECT_TRUE(noted) << r.summaryJson().dump();
+  nlohmann::json scene = proto::sceneToJson(r.scene);
+  const testing::CliRun solved = testing::runCommand({"solve", "-", "--fold-amount", "1", "--iterations", "60"}, scene.dump());
+  ASSERT_EQ(solved.code, 0) << solved.err;
+  const nlohmann::json report = nlohmann::json::parse(solved.out);
+  EXPECT_NEAR(report["metrics"]["crease_fold_angle_max_deg"].get<double>(), 90.0, 1.0);
+  EXPECT_TRUE(report["quality"]["met"].get<bool>()) << report["quality"].dump();
+}
+
 TEST(CreasePatternImport, IdRulesColoursWithAlphaAndCurrentColorAreReadAsAViewerDrawsThem) {
   const std::string drawing = R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
     <style>.crease { stroke: #ff0000 } #valley { stroke: blue }</style>

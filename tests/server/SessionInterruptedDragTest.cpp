@@ -53,15 +53,27 @@ json presenceOf(const Inbox& inbox, int participant) {
   return json();
 }
 
-TEST(SessionInterruptedDrag, AVertexRemovedByACoDesignerEndsTheDragInsteadOfMovingTheVertexThatTookItsNumber) {
-  ExampleEditor a("composite-curved-box");
-  Inbox bInbox;
-  const int b = a.session->join(Role::Edit, "bea", bInbox.sink());
-  a.ex.runAll();
-  auto fromB = [&a, b](const json& m) {
+/// Designer A's session on the curved-box preset, and designer B joined to it as an editor.
+struct TwoDesigners {
+  explicit TwoDesigners(const std::string& nameOfB) : a("composite-curved-box") {
+    b = a.session->join(Role::Edit, nameOfB, bInbox.sink());
+    a.ex.runAll();
+  }
+  /// B's message, handled at once.
+  void fromB(const json& m) {
     a.session->post(b, m);
     a.ex.runAll();
-  };
+  }
+  ExampleEditor a;
+  Inbox bInbox;
+  int b = -1;
+};
+
+TEST(SessionInterruptedDrag, AVertexRemovedByACoDesignerEndsTheDragInsteadOfMovingTheVertexThatTookItsNumber) {
+  TwoDesigners two("bea");
+  ExampleEditor& a = two.a;
+  const Inbox& bInbox = two.bInbox;
+  auto fromB = [&two](const json& m) { two.fromB(m); };
   const int side = boundarySideOfAFlap(designOf(a));
   ASSERT_GE(side, 0);
   const int w = static_cast<int>(designOf(a).vertices.rows());
@@ -118,14 +130,10 @@ TEST(SessionInterruptedDrag, AVertexRemovedByACoDesignerEndsTheDragInsteadOfMovi
 }
 
 TEST(SessionInterruptedDrag, AnUndoByACoDesignerEndsTheDragAndASettingChangeDoesNot) {
-  ExampleEditor a("composite-curved-box");
-  Inbox bInbox;
-  const int b = a.session->join(Role::Edit, "", bInbox.sink());
-  a.ex.runAll();
-  auto fromB = [&a, b](const json& m) {
-    a.session->post(b, m);
-    a.ex.runAll();
-  };
+  TwoDesigners two("");
+  ExampleEditor& a = two.a;
+  const Inbox& bInbox = two.bInbox;
+  auto fromB = [&two](const json& m) { two.fromB(m); };
   const json start = vertexOf(a, 0);
   json pulled = start;
   pulled[2] = pulled[2].get<double>() + 0.05;

@@ -14,16 +14,72 @@
 
 namespace devsurf::io {
 
-std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes, double mergeFraction, double snapFraction) {
-  std::vector<ImportNote> notes;
-  if (strokes.empty()) return notes;
+namespace {
+
+/// The diagonal of the strokes' bounding box (strokes not empty).
+double strokesDiagonal(const std::vector<CreaseStroke>& strokes) {
   Eigen::Vector2d lo = strokes[0].points[0], hi = lo;
   for (const CreaseStroke& s : strokes)
     for (const Eigen::Vector2d& p : s.points) {
       lo = lo.cwiseMin(p);
       hi = hi.cwiseMax(p);
     }
-  const double diagonal = (hi - lo).norm();
+  return (hi - lo).norm();
+}
+
+}  // namespace
+
+std::vector<ImportNote> absorbEndJogs(std::vector<CreaseStroke>& strokes, double jogFraction) {
+  std::vector<ImportNote> notes;
+  if (strokes.empty()) return notes;
+  const double jog = jogFraction * strokesDiagonal(strokes);
+  auto length = [](const CreaseStroke& s) {
+    double l = 0.0;
+    for (std::size_t k = 1; k < s.points.size(); ++k) l += (s.points[k] - s.points[k - 1]).norm();
+    return l;
+  };
+  std::vector<bool> dropped(strokes.size(), false);
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    const CreaseStroke& piece = strokes[i];
+    if (piece.closed || piece.element.empty() || piece.points.size() < 2 || length(piece) > jog) continue;
+    // A neighbour of the same path that this piece ends: it shares one of the piece's end points,
+    // and the piece's other end touches nothing else of the path (the path starts or ends there).
+    for (std::size_t j = 0; j < strokes.size(); ++j) {
+      CreaseStroke& next = strokes[j];
+      if (j == i || dropped[j] || next.closed || next.element != piece.element || length(next) <= jog) continue;
+      for (const bool nextFront : {true, false}) {
+        Eigen::Vector2d& joint = nextFront ? next.points.front() : next.points.back();
+        const bool atPieceFront = joint == piece.points.front(), atPieceBack = joint == piece.points.back();
+        if (!atPieceFront && !atPieceBack) continue;
+        const Eigen::Vector2d far = atPieceFront ? piece.points.back() : piece.points.front();
+        bool farTouches = false;
+        for (std::size_t k = 0; k < strokes.size(); ++k)
+          if (k != i && strokes[k].element == piece.element)
+            farTouches = farTouches || strokes[k].points.front() == far || strokes[k].points.back() == far;
+        if (farTouches) continue;
+        std::ostringstream note;
+        note.precision(3);
+        note << "a jog of " << length(piece) << " at (" << far.x() << ", " << far.y() << ") where the path "
+             << (nextFront ? "starts" : "ends") << "; smoothed into the stroke";
+        notes.push_back({piece.element, note.str()});
+        joint = far;
+        dropped[i] = true;
+        break;
+      }
+      if (dropped[i]) break;
+    }
+  }
+  std::vector<CreaseStroke> kept;
+  for (std::size_t i = 0; i < strokes.size(); ++i)
+    if (!dropped[i]) kept.push_back(std::move(strokes[i]));
+  strokes = std::move(kept);
+  return notes;
+}
+
+std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes, double mergeFraction, double snapFraction) {
+  std::vector<ImportNote> notes;
+  if (strokes.empty()) return notes;
+  const double diagonal = strokesDiagonal(strokes);
   const double merge = mergeFraction * diagonal, snap = snapFraction * diagonal;
   if (!(snap > merge)) return notes;
   auto length = [](const CreaseStroke& s) {
@@ -77,13 +133,7 @@ std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes
 StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const CreaseStrokesOptions& options) {
   if (strokes.empty()) throw std::invalid_argument("SVG: no strokes in a crease colour (black, red, blue, green, yellow, magenta)");
   StrokePattern result;
-  Eigen::Vector2d lo = strokes[0].points[0], hi = lo;
-  for (const CreaseStroke& s : strokes)
-    for (const Eigen::Vector2d& p : s.points) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  const double diagonal = (hi - lo).norm();
+  const double diagonal = strokesDiagonal(strokes);
   if (!(diagonal > 0.0)) throw std::invalid_argument("SVG: the drawing has no extent");
   // A stroke no longer than the merge tolerance is a point: given to the arrangement it would
   // still split what it touches (a vertex left on the outline, its faces degenerate there), and

@@ -538,6 +538,7 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
   // Hand-drawn ends that stop short of the stroke they are meant to meet (or run a little past
   // it) meet it, within 1 % of the drawing's diagonal as the editor's drawing tool snaps — in the
   // kept drawing too, so layout edits rebuild the same pattern.
+  for (ImportNote& note : absorbEndJogs(strokes, options.snapFraction)) result.notes.push_back(std::move(note));
   for (ImportNote& note : snapNearlyMeetingEnds(strokes, options.mergeFraction, options.snapFraction))
     result.notes.push_back(std::move(note));
   CreaseStrokesOptions strokeOptions;

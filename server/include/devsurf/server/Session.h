@@ -468,7 +468,7 @@ class Session : public std::enable_shared_from_this<Session> {
   /// Counts the edits that ended the drags in progress — those that renumbered the points
   /// (numberingKey) and undo, redo and reset: a drag begun under another count was interrupted
   /// (worker thread).
-  std::uint64_t dragInterruptions_ = 0;
+  std::atomic<std::uint64_t> dragInterruptions_{0};  // read by leave() on a transport thread
   int interruptedBy_ = 0;         ///< the participant whose edit last interrupted the drags
   std::string interruptingEdit_;  ///< … and that edit's type
   std::deque<proto::Scene> undo_, redo_;

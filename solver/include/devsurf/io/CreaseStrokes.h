@@ -44,6 +44,14 @@ struct CreaseStrokesOptions {
 std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes, double mergeFraction = 5e-4,
                                               double snapFraction = 0.01);
 
+/// Absorbs the jogs of hand-drawn paths: a piece of a path (strokes of one `element`, cut where
+/// the path turns) no longer than `jogFraction` × the drawing's diagonal at the path's start or end
+/// is dropped, and the piece it joins runs on to the jog's far end instead — a 1 mm kink where a
+/// crease leaves the outline made a sliver face that no fold could hinge on. One note per jog.
+/// @param[in,out] strokes  in the drawing's units (millimetres for an SVG)
+/// @return the notes, by element
+std::vector<ImportNote> absorbEndJogs(std::vector<CreaseStroke>& strokes, double jogFraction = 0.01);
+
 /// A crease pattern made from strokes, with what the making changed or left out.
 struct StrokePattern {
   CreasePattern pattern;
