@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -37,6 +38,15 @@ CreasePatternImportRequest foldRequest() {
   CreasePatternImportRequest r;
   r.format = "fold";
   return r;
+}
+
+/// Every shipped SVG drawing (tests/data/svg), discovered, in a stable order.
+std::vector<std::filesystem::path> shippedSvgDrawings() {
+  std::vector<std::filesystem::path> paths;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg"))
+    if (entry.path().extension() == ".svg") paths.push_back(entry.path());
+  std::sort(paths.begin(), paths.end());
+  return paths;
 }
 
 TEST(CreasePatternImport, EveryShippedFoldExampleBecomesACompositeSceneThatSolves) {
@@ -150,11 +160,10 @@ TEST(CreasePatternImport, TheCommandRefusesNumbersADoubleCannotHoldAsBadInput) {
 // measured from the solved scene's own exported crease pattern.
 TEST(CreasePatternImport, EveryShippedSvgDrawingImportsSolvesAndFolds) {
   int drawings = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg")) {
-    if (entry.path().extension() != ".svg") continue;
+  for (const std::filesystem::path& drawing : shippedSvgDrawings()) {
     ++drawings;
-    SCOPED_TRACE(entry.path().filename().string());
-    const testing::CliRun imported = testing::runCommand({"import", entry.path().string()});
+    SCOPED_TRACE(drawing.filename().string());
+    const testing::CliRun imported = testing::runCommand({"import", drawing.string()});
     ASSERT_EQ(imported.code, 0) << imported.err;
     nlohmann::json scene = nlohmann::json::parse(imported.out);
     EXPECT_EQ(scene["model"]["kind"], "composite");
@@ -409,18 +418,17 @@ TEST(CreasePatternImport, ARequestThatDoesNotSayTheFormatIsReadByTheFilesNameOrI
 
 
 // A flat drawing's own SVG fold pattern imports again with its fold angles: the export writes them
-// as Origami Simulator does, as the stroke's opacity (it wrote none, and every crease came back at
-// 180°), and the importer leaves the legend's line samples out. Every shipped drawing, discovered.
+// as data-fold-angle (it wrote none, and every crease came back at 180°), and the importer leaves
+// the legend's line samples out. Every shipped drawing, discovered.
 TEST(CreasePatternImport, EveryShippedSvgDrawingsFoldPatternImportsAgainWithItsFoldAngles) {
   devsurf::testing::TempDir dir;
   int drawings = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg")) {
-    if (entry.path().extension() != ".svg") continue;
+  for (const std::filesystem::path& drawing : shippedSvgDrawings()) {
     ++drawings;
-    SCOPED_TRACE(entry.path().filename().string());
-    const testing::CliRun imported = testing::runCommand({"import", entry.path().string()});
+    SCOPED_TRACE(drawing.filename().string());
+    const testing::CliRun imported = testing::runCommand({"import", drawing.string()});
     ASSERT_EQ(imported.code, 0) << imported.err;
-    const std::string exported = (dir.path() / entry.path().filename()).string();
+    const std::string exported = (dir.path() / drawing.filename()).string();
     const testing::CliRun solved = testing::runCommand({"solve", "-", "--iterations", "2", "--export", "svg:" + exported}, imported.out);
     ASSERT_EQ(solved.code, 0) << solved.err;
     const testing::CliRun again = testing::runCommand({"import", exported});
