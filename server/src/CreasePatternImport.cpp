@@ -62,9 +62,21 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       io::SvgImportOptions options;
       options.maxSegments = request.maxEdges;
       io::SvgImport svg = io::importSvgText(body, options);
+      // The reader converts the drawing's units to millimetres. A drawing that states no size (its
+      // user units read as px) is unitless: units asked for read its numbers in them.
+      if (!svg.sizeStated && !units.empty()) {
+        const double toUserUnits = 1.0 / svg.mmPerUserUnit;
+        svg.pattern.vertices2d *= toUserUnits;
+        for (io::CreaseStroke& stroke : svg.drawing)
+          for (Eigen::Vector2d& point : stroke.points) point *= toUserUnits;
+        svg.notes.erase(std::remove_if(svg.notes.begin(), svg.notes.end(),
+                                       [](const io::ImportNote& n) { return n.message.rfind("no width or height", 0) == 0; }),
+                        svg.notes.end());
+        svg.notes.push_back({"svg", "no width or height: one user unit is read as one " + units + " (units)"});
+      }
       imported.pattern = std::move(svg.pattern);
       imported.notes = std::move(svg.notes);
-      imported.unit = "mm";  // the reader converts the drawing's units to millimetres
+      imported.unit = svg.sizeStated || units.empty() ? "mm" : "";
       result.curvedCreases = svg.curvedStrokes;
       drawing = std::move(svg.drawing);
     } else {

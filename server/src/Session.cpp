@@ -217,8 +217,7 @@ int Session::join(Role role, const std::string& name, MessageSink sink) {
     }
     pid = nextParticipant_++;
     Participant p{pid, name.empty() ? "guest " + std::to_string(pid) : name,
-                  kPalette[(pid - 1) % (sizeof(kPalette) / sizeof(kPalette[0]))], role, std::move(sink),
-                  nullptr, nullptr, false};
+                  kPalette[(pid - 1) % (sizeof(kPalette) / sizeof(kPalette[0]))], role, std::move(sink)};
     participants_.emplace(pid, std::move(p));
   }
   // The state is built on the session's worker so it is consistent with the edit order.
@@ -358,7 +357,8 @@ json Session::participantsJson() const {
   for (const auto& [id, p] : participants_)
     list.push_back({{"id", id}, {"name", p.name}, {"color", p.color},
                     {"role", p.role == Role::Edit ? "edit" : "view"},
-                    {"selection", p.selection}, {"dragging", p.dragInterrupted ? json() : p.dragging}});
+                    {"selection", p.selection},
+                    {"dragging", p.dragInterrupted || p.dragEpoch != dragInterruptions_.load() ? json() : p.dragging}});
   return list;
 }
 
@@ -579,6 +579,7 @@ void Session::handle(const Work& work) {
     ++dragInterruptions_;
     interruptedBy_ = pid;
     interruptingEdit_ = type;
+    broadcast(presenceMessage());  // the interrupted drags are over for everyone's eyes at once
   }
   std::vector<json> ops = work.coalescedOps;
   ops.push_back(op);

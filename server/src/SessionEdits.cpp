@@ -71,6 +71,7 @@ bool Session::apply(int participant, const json& edit, bool replaying) {
       return reject(codeOf(e), e.what(), e.path());
     }
     pushUndo(before);
+    dropDragHandles();  // the rebuilt model has none (persistentScene)
     return true;
   }
   if (isDrawingEdit(type)) return applyDrawingEdit(participant, edit, replaying);

@@ -224,16 +224,30 @@ void Session::release(const json& target, int iterations) {
   releaseDragHandle(target);
   if (!finished) {  // newer work waits: it continues from here, and settle() ends the release later
     settlePending_ = true;
+    settleAfterDrag_ = true;
     return;
   }
   // A design folded by fold-angle targets keeps the fold the drag left: its angles become the
   // targets at the slider's amount, held through the projections (holdsFoldTargets). A flat one
-  // (0 %) that the drag folded takes the amount it folded to first.
+  // (0 %) that the drag folded takes the amount it folded to first; one it did not fold the way its
+  // creases go (a mountain pulled up as a valley) keeps its targets, and the projections hold the
+  // sheet to them — flat — rather than leave it folded at 0 %.
   if (hasFoldAngles() && dragHandles_.empty()) {
     solver_->compositeModel().captureFoldTargets();
     solver_->compositeModel().holdFoldTargets(true);
+    if (!(solver_->compositeModel().foldAmount() > 0.0)) {
+      // Still at 0 %: the targets pull the sheet back flat first (the projections alone stop at
+      // once — a hinge turned rigidly breaks no hard row), as the slider's own release does.
+      SolveLimits withTargets;
+      withTargets.iterations = iterations;
+      withTargets.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
+      if (!runSolver(withTargets, false)) {
+        settlePending_ = true;
+        return;
+      }
+    }
   }
-  polishRelease(start, iterations, holdsFoldTargets());
+  polishRelease(start, iterations, hasFoldAngles());
 }
 
 bool Session::hasFoldAngles() const {
@@ -286,15 +300,20 @@ void Session::polishRelease(engine::ThreadCpuClock::time_point start, int iterat
 
 void Session::settle() {
   settlePending_ = false;
+  const bool afterDrag = settleAfterDrag_;
+  settleAfterDrag_ = false;
   SolveLimits polish;
   polish.iterations = settings_.maxIterationsPerRequest;
   polish.hardTolerance = settings_.releaseHardTolerance;
   polish.projectionOnly = true;
-  if (hasFoldAngles() && dragHandles_.empty()) {  // as release()
+  // As release(): a design folded by its targets takes the fold it has as targets. At 0 % only
+  // after a drag's release: the slider let go at 0 % and interrupted must not jump back up to
+  // what the sheet had not yet unfolded.
+  if (hasFoldAngles() && dragHandles_.empty() && (holdsFoldTargets() || afterDrag)) {
     solver_->compositeModel().captureFoldTargets();
     solver_->compositeModel().holdFoldTargets(true);
   }
-  polish.holdTargetsInProjection = holdsFoldTargets();
+  polish.holdTargetsInProjection = hasFoldAngles();
   polish.regularization = settings_.polishRegularization;
   polish.timeBudgetMs = settings_.releaseTimeBudgetMs;
   runSolver(polish, true);

@@ -408,5 +408,38 @@ TEST(SessionDrawing, AFlatDrawnSheetFoldsUnderADragOfAFreeCornerAndTheSliderMove
   }
 }
 
+
+// The same pull on a sheet whose crease is a mountain folds it the other way (as a valley): the
+// drag leaves the slider at 0 % and the release holds the targets, so the sheet goes back flat —
+// before, it stayed folded at 0 %, its quality missed (fold-angle error 40° of a 1° limit), and
+// the next solve snapped it flat (a reviewer's case).
+TEST(SessionDrawing, AFlatSheetPulledAgainstItsCreasesLetterGoesBackFlatAtZeroPercent) {
+  ExampleEditor e(blankSheet());
+  e.send(drawMessage(1, {{0.0, 75.0}, {200.0, 75.0}}, false, "M"));
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  const json flat = e.session->sceneJson();
+  const json& dev = flat["model"]["development"]["vertices"];
+  int corner = -1;
+  for (std::size_t v = 0; v < dev.size(); ++v)
+    if (std::abs(dev[v][0].get<double>() - kSheetWidth) < 1e-6 && std::abs(dev[v][1].get<double>()) < 1e-6) corner = static_cast<int>(v);
+  ASSERT_GE(corner, 0);
+  const json p0 = flat["model"]["vertices"][static_cast<std::size_t>(corner)];
+  double zMax = 0.0;
+  for (int k = 1; k <= 40; ++k) {
+    e.send({{"type", "drag"}, {"op", 100 + k}, {"target", {{"vertex", corner}}},
+            {"position", {p0[0].get<double>(), p0[1].get<double>(), 80.0 * k / 40.0}}});
+    zMax = std::max(zMax, e.session->sceneJson()["model"]["vertices"][static_cast<std::size_t>(corner)][2].get<double>());
+  }
+  e.send({{"type", "drag_end"}, {"op", 200}, {"target", {{"vertex", corner}}}});
+  ASSERT_TRUE(e.inbox.ofType("error").empty()) << e.inbox.last("error").dump();
+  const json after = e.session->sceneJson();
+  const json solved = e.inbox.last("solved");
+  const double z = after["model"]["vertices"][static_cast<std::size_t>(corner)][2].get<double>();
+  std::printf("mountain pulled as a valley: corner up to %.1f mm during the drag, %.3g mm after the release; amount %g\n",
+              zMax, z, after["model"].value("fold_amount", 1.0));
+  EXPECT_EQ(after["model"].value("fold_amount", 1.0), 0.0);
+  EXPECT_LT(std::abs(z), 1.0);
+  EXPECT_TRUE(solved["quality"]["met"].get<bool>()) << solved["quality"].dump();
+}
 }  // namespace
 }  // namespace devsurf::server

@@ -46,7 +46,7 @@ const char* kFlatFoldedPleat = R"(<svg xmlns="http://www.w3.org/2000/svg" width=
   <line x1="40" y1="0" x2="40" y2="100" stroke="#0000ff"/>
 </svg>)";
 
-TEST(SolveFoldAmount, APatternFoldedFlatKeepsItsMountainsAndValleysInEveryExport) {
+TEST(SolveFoldAmount, APatternFoldedFlatKeepsItsMountainsAndValleysInItsFoldAndSvgExports) {
   // At 180° a measured fold angle is as readily +180° as −180°: the exports wrote the mountain as
   // a valley (and swapped both in a pleat) before they took the turn nearer the design.
   devsurf::testing::TempDir dir;
@@ -82,12 +82,21 @@ TEST(SolveFoldAmount, APatternFoldedFlatKeepsItsMountainsAndValleysInEveryExport
   }
   EXPECT_GE(mountains, 1);
   EXPECT_GE(valleys, 1);
-  // The SVG fold pattern draws one mountain and one valley line (its legend aside).
+  // The SVG fold pattern: the mountain line left of the valley line, as drawn (the legend's line
+  // samples, without a fold angle, aside).
   std::ifstream svgFile(svg);
   std::stringstream text;
   text << svgFile.rdbuf();
-  EXPECT_NE(text.str().find("class=\"mountain\""), std::string::npos);
-  EXPECT_NE(text.str().find("class=\"valley\""), std::string::npos);
+  auto firstX = [&text](const std::string& assignment) {
+    const std::string svgText = text.str();
+    const std::size_t at = svgText.find("<polyline class=\"" + assignment + "\"");
+    if (at == std::string::npos) return std::nan("");
+    const std::size_t points = svgText.find("points=\"", at);
+    return std::stod(svgText.substr(points + 8));
+  };
+  const double mountainX = firstX("mountain"), valleyX = firstX("valley");
+  ASSERT_TRUE(std::isfinite(mountainX) && std::isfinite(valleyX)) << text.str();
+  EXPECT_LT(mountainX, valleyX);
 }
 
 TEST(SolveFoldAmount, TheAmountFoldsAnImportedPatternAsTheSliderWouldAndIsCheckedByName) {

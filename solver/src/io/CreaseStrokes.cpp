@@ -52,11 +52,18 @@ std::vector<ImportNote> absorbEndJogs(std::vector<CreaseStroke>& strokes, double
         const bool atPieceFront = joint == piece.points.front(), atPieceBack = joint == piece.points.back();
         if (!atPieceFront && !atPieceBack) continue;
         const Eigen::Vector2d far = atPieceFront ? piece.points.back() : piece.points.front();
-        bool farTouches = false;
-        for (std::size_t k = 0; k < strokes.size(); ++k)
-          if (k != i && strokes[k].element == piece.element)
-            farTouches = farTouches || strokes[k].points.front() == far || strokes[k].points.back() == far;
-        if (farTouches) continue;
+        // The jog is the path's first or last piece: its far end touches nothing else of the
+        // element, and its joint only this neighbour (a compound path's other subpaths may meet
+        // there too: then it is a crease of its own, not a jog).
+        int touchFar = 0, touchJoint = 0;
+        for (std::size_t k = 0; k < strokes.size(); ++k) {
+          if (k == i || dropped[k] || strokes[k].element != piece.element) continue;
+          for (const Eigen::Vector2d& endPoint : {strokes[k].points.front(), strokes[k].points.back()}) {
+            touchFar += endPoint == far;
+            touchJoint += endPoint == joint;
+          }
+        }
+        if (touchFar > 0 || touchJoint != 1) continue;
         std::ostringstream note;
         note.precision(3);
         note << "a jog of " << length(piece) << " at (" << far.x() << ", " << far.y() << ") where the path "
@@ -92,18 +99,12 @@ std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes
     if (stroke.closed || stroke.points.size() < 2 || length(stroke) <= 2.0 * snap) continue;
     for (const bool front : {true, false}) {
       Eigen::Vector2d& end = front ? stroke.points.front() : stroke.points.back();
-      double nearestPoint = snap, nearestLine = std::numeric_limits<double>::infinity();
-      Eigen::Vector2d atPoint = end, atLine = end;
-      std::size_t onStroke = strokes.size(), onPointStroke = strokes.size();
+      double nearestLine = std::numeric_limits<double>::infinity();
+      Eigen::Vector2d atLine = end;
+      std::size_t onStroke = strokes.size();
       for (std::size_t j = 0; j < strokes.size(); ++j) {
         if (j == i) continue;
         const std::vector<Eigen::Vector2d>& q = strokes[j].points;
-        for (const Eigen::Vector2d& point : q)
-          if ((point - end).norm() <= nearestPoint) {
-            nearestPoint = (point - end).norm();
-            atPoint = point;
-            onPointStroke = j;
-          }
         const std::size_t n = q.size(), pieces = strokes[j].closed ? n : n - 1;
         for (std::size_t k = 0; k < pieces; ++k) {
           const Eigen::Vector2d a = q[k], d = q[(k + 1) % n] - a;
@@ -117,12 +118,15 @@ std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes
         }
       }
       if (onStroke == strokes.size() || nearestLine <= merge || nearestLine > snap) continue;  // meets, or is free
-      const bool toPoint = onPointStroke < strokes.size();
-      const Eigen::Vector2d to = toPoint ? atPoint : atLine;
+      // Onto the nearest point of that stroke's line; onto its vertex when the foot is that vertex
+      // up to the merge tolerance (no sliver beside it).
+      Eigen::Vector2d to = atLine;
+      for (const Eigen::Vector2d& point : strokes[onStroke].points)
+        if ((point - atLine).norm() <= merge) to = point;
       std::ostringstream note;
       note.precision(3);
       note << "its " << (front ? "start" : "end") << " at (" << end.x() << ", " << end.y() << ") was " << nearestLine
-           << " from " << strokes[toPoint ? onPointStroke : onStroke].element << "; joined to it";
+           << " from " << strokes[onStroke].element << "; joined to it";
       notes.push_back({stroke.element, note.str()});
       end = to;
     }

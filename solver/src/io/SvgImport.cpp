@@ -549,6 +549,8 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
   for (std::size_t i = 0; i < strokes.size(); ++i) strokes[i].curved = made.strokeCurved[i];
   result.drawing = std::move(strokes);
   result.pattern = std::move(made.pattern);
+  result.sizeStated = widthMm.has_value() || heightMm.has_value();
+  result.mmPerUserUnit = sx;
   if (const pugi::xml_node title = root.child("title")) result.pattern.title = trimmed(title.child_value());
   result.notes.insert(result.notes.end(), made.notes.begin(), made.notes.end());
   result.strokes = made.strokes;

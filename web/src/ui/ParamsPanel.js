@@ -114,6 +114,9 @@ export class ParamsPanel {
 
   _changed(key, value) {
     if (this.refused.has(key)) {
+      // lil-gui's own finish of the refused text (clamped): not sent. The refusal is spent, so the
+      // slider moved next is taken.
+      this.refused.delete(key);
       this.refresh(true);
       return;
     }

@@ -124,6 +124,9 @@ export class SolverPanel {
 
   _changed(key, kind, value) {
     if (this.refused.has(key) || typeof value !== 'number' || !Number.isFinite(value)) {
+      // The finish of a refused text (lil-gui's clamp) is not sent; the refusal is spent, so the
+      // slider moved next is taken.
+      this.refused.delete(key);
       this.refresh(true);
       return;
     }

@@ -476,6 +476,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::int64_t revision_ = 0;  // of the last checkpoint (worker only; cachedRevision_ for readers)
   bool changed_ = false;       // the model's state differs from the last checkpoint
   bool settlePending_ = false; // a release or solve was interrupted before its `solved`
+  bool settleAfterDrag_ = false;  // the pending settle ends a drag's release (it may capture at 0 %)
   /// Edits acknowledged (journalled) since the last checkpoint, as journalled: what a restart
   /// would apply on top of it (recover() does the same).
   std::vector<std::pair<std::int64_t, nlohmann::json>> unshownEdits_;

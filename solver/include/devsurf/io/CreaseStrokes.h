@@ -36,9 +36,9 @@ struct CreaseStrokesOptions {
 /// Moves the open ends of strokes that nearly meet another stroke onto it, as a hand-drawn end
 /// meant to: an end farther from every other stroke than `mergeFraction` × the drawing's diagonal
 /// (the arrangement joins those itself) but within `snapFraction` × the diagonal of one goes onto
-/// the nearest of that stroke's points when one is that near, else onto the nearest point of its
-/// polyline. One note per moved end, naming both strokes and the gap. Strokes of no length and
-/// closed strokes keep their points.
+/// the nearest point of that stroke's polyline (onto its vertex when the foot is within the merge
+/// tolerance of one). One note per moved end, naming both strokes and the gap. Strokes of no
+/// length, strokes no longer than twice the snap distance and closed strokes keep their points.
 /// @param[in,out] strokes  in the drawing's units (millimetres for an SVG)
 /// @return the notes, by the moved stroke's element
 std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes, double mergeFraction = 5e-4,

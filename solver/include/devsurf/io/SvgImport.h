@@ -39,6 +39,10 @@ struct SvgImport {
   /// The strokes themselves (millimetres, y up; `curved` set), the drawing a composite made from
   /// this pattern keeps (CompositeDesign::drawing).
   std::vector<CreaseStroke> drawing;
+  /// Whether the drawing states its size (a width or height in a unit, px included): else one user
+  /// unit was read as one px (1/96 in), `mmPerUserUnit`.
+  bool sizeStated = false;
+  double mmPerUserUnit = 25.4 / 96.0;  ///< the scale the drawing was read at (x, when uneven)
 };
 
 /// Reads a crease pattern drawn as SVG, with Origami Simulator's conventions

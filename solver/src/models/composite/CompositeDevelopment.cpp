@@ -708,7 +708,6 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
         } else {
           const Eigen::VectorXd& a = it->second;
           const int s = p.kind == PairKind::Spline ? p.segment : 0;
-          angle = 0.5 * (a[std::min<Eigen::Index>(s, a.size() - 1)] + a[std::min<Eigen::Index>(s + 1, a.size() - 1)]);
           const auto designedAt = designed.find(p.edge);
           std::optional<double> designedAngle;  // between the two ends' along an S edge
           if (designedAt != designed.end()) {
@@ -716,15 +715,21 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
             const double f = a.size() > 1 ? std::clamp((s + 0.5) / static_cast<double>(a.size() - 1), 0.0, 1.0) : 0.5;
             designedAngle = atStart && atEnd ? (1.0 - f) * *atStart + f * *atEnd : atStart ? *atStart : *atEnd;
           }
+          // A measured angle is defined up to a full turn, and near ±180° it comes out with either
+          // sign (a mountain folded to 180° measures 179.9° as readily as −180.1°): each sample is
+          // taken at the turn nearer the designed angle — or, without one, nearer the first sample
+          // — before the two are averaged (179.9° and −179.9° are a fold of 180°, not of 0°).
+          auto nearer = [](double measured, double to) {
+            const double other = measured - std::copysign(360.0, measured);
+            return std::abs(other - to) < std::abs(measured - to) ? other : measured;
+          };
+          const double first = a[std::min<Eigen::Index>(s, a.size() - 1)];
+          const double reference = designedAngle ? *designedAngle : first;
+          angle = 0.5 * (nearer(first, reference) + nearer(a[std::min<Eigen::Index>(s + 1, a.size() - 1)], reference));
           if (designedAngle && std::abs(angle) < kUnfoldedDeg) {
             // Not folded here (the slider at 0 %, or not yet this far): the designed angle. A
             // crease folded by a drag keeps its own.
             angle = *designedAngle;
-          } else if (designedAngle && std::abs(angle) > 90.0 && angle * *designedAngle < 0.0) {
-            // Folded flat or nearly: a measured angle is defined up to a full turn, and past 180°
-            // it comes out with the other sign (a mountain folded to 180° measures 179.9° as
-            // readily as −180.1°). The turn nearer the designed angle is the fold's.
-            angle -= std::copysign(360.0, angle);
           }
           angle = std::clamp(angle, -180.0, 180.0);
           ce.assignment = assign(angle);
