@@ -251,19 +251,15 @@ void Session::release(const json& target, int iterations) {
 }
 
 bool Session::hasFoldAngles() const {
-  if (!isComposite()) return false;
-  const proto::Scene current = solver_->currentScene();
-  return !std::get<models::composite::CompositeDesign>(current.model).foldAngles.empty();
+  // From the model, not a copy of the scene: asked on every drag message.
+  return isComposite() && solver_->compositeModel().hasFoldTargets();
 }
 
 bool Session::holdsFoldTargets() const {
   // A design folded by its fold-angle targets keeps them through a release's projections: a curved
   // fold's sheet, its short edges strained at the crease ends, would otherwise project back to the
   // flat drawing — the one state every hard row meets exactly (one drag unfolded a drawn sheet).
-  if (!isComposite()) return false;
-  const proto::Scene current = solver_->currentScene();
-  const auto& design = std::get<models::composite::CompositeDesign>(current.model);
-  return !design.foldAngles.empty() && design.foldAmount > 0.0;
+  return hasFoldAngles() && solver_->compositeModel().foldAmount() > 0.0;
 }
 
 void Session::releaseFold(int iterations) {

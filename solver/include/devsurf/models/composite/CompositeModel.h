@@ -342,6 +342,8 @@ class CompositeModel {
   /// @throws std::invalid_argument unless 0 ≤ amount ≤ 1
   void setFoldAmount(double amount);
   double foldAmount() const { return design_.foldAmount; }
+  /// Whether the design has fold-angle targets (model.fold_angles), at any amount.
+  bool hasFoldTargets() const { return !design_.foldAngles.empty(); }
   /// Takes the current fold angles as the targets at the current amount (each target becomes
   /// angle / amount, within ±180°), so what a drag made of the fold is what the slider now holds;
   /// no re-analysis. At amount 0 (a flat design a drag folded) the amount first becomes what the
