@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 
+#include "devsurf/io/FoldCurvedCreases.h"
 #include "devsurf/io/SvgImport.h"
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
 #include "devsurf/models/composite/CompositeFromDrawing.h"
@@ -91,6 +92,22 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         throw ApproximationInputError("body", "body: " + std::to_string(ev->size()) + " edges; at most " +
                                                   std::to_string(request.maxEdges) + " are imported", true);
       imported = io::importFoldDocument(document);
+      // Curved creases drawn as chains of straight edges are laid out again from their lines, as
+      // an SVG's strokes are (rulings proposed anew, the file's facets left out).
+      io::FoldCurvedCreases curved = io::foldCurvedCreases(imported.pattern, imported.edgeCurves);
+      if (!curved.strokes.empty()) {
+        io::CreaseStrokesOptions strokeOptions;
+        strokeOptions.maxSegments = request.maxEdges;
+        io::StrokePattern made = io::creasePatternFromStrokes(curved.strokes, strokeOptions);
+        for (std::size_t i = 0; i < curved.strokes.size(); ++i) curved.strokes[i].curved = made.strokeCurved[i];
+        made.pattern.title = imported.pattern.title;
+        made.pattern.unitToMm = imported.pattern.unitToMm;
+        imported.pattern = std::move(made.pattern);
+        imported.notes.insert(imported.notes.end(), curved.notes.begin(), curved.notes.end());
+        imported.notes.insert(imported.notes.end(), made.notes.begin(), made.notes.end());
+        result.curvedCreases = made.curvedStrokes;
+        drawing = std::move(curved.strokes);
+      }
     }
   } catch (const ApproximationInputError&) {
     throw;
@@ -119,15 +136,18 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   // scene's: a file that says its own (an SVG's width and height, a FOLD frame_unit) is converted
   // to them, so the sheet keeps its size; a unitless file's numbers are read in them.
   std::string sceneUnits = units;
+  const auto scaleDesign = [&pattern, &drawing](double factor) {
+    pattern.vertices2d *= factor;
+    if (pattern.hasFoldedState()) pattern.vertices3d *= factor;
+    for (io::CreaseStroke& stroke : drawing)
+      for (Eigen::Vector2d& point : stroke.points) point *= factor;
+  };
   if (!units.empty() && !imported.unit.empty()) {
     const bool known = imported.unit == "mm" || imported.unit == "cm" || imported.unit == "m" || imported.unit == "in";
     const double fileMm = known ? proto::millimetresPerUnit(imported.unit) : pattern.unitToMm;
     const double factor = fileMm / proto::millimetresPerUnit(units);
     if (factor != 1.0) {
-      pattern.vertices2d *= factor;
-      if (pattern.hasFoldedState()) pattern.vertices3d *= factor;
-      for (io::CreaseStroke& stroke : drawing)
-        for (Eigen::Vector2d& point : stroke.points) point *= factor;
+      scaleDesign(factor);
       const std::string from = request.format == "svg" ? "the drawing's size (in mm)" : "frame_unit \"" + imported.unit + "\"";
       result.notes.push_back({request.format == "svg" ? "svg" : "frame_unit", from + " converted to " + units});
     }
@@ -136,8 +156,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
     if (imported.unit == "mm" || imported.unit == "cm" || imported.unit == "m" || imported.unit == "in") {
       sceneUnits = imported.unit;
     } else if (!imported.unit.empty()) {
-      pattern.vertices2d *= pattern.unitToMm;
-      if (pattern.hasFoldedState()) pattern.vertices3d *= pattern.unitToMm;
+      scaleDesign(pattern.unitToMm);
       sceneUnits = "mm";
       result.notes.push_back({"frame_unit", "\"" + imported.unit + "\" converted to millimetres"});
     } else {
@@ -149,8 +168,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       const double side = extent.maxCoeff();
       if (side > 0.0 && side < 10.0) {
         const double scale = kUnitlessSheetMm / side;
-        pattern.vertices2d *= scale;
-        if (pattern.hasFoldedState()) pattern.vertices3d *= scale;
+        scaleDesign(scale);
         std::ostringstream note;
         note << "none given: the sheet, " << side << (side == 1.0 ? " unit" : " units") << " across, is scaled to " << kUnitlessSheetMm
              << " mm (pass units to keep the file's numbers in cm, m or in)";

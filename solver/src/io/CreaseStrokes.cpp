@@ -83,6 +83,63 @@ std::vector<ImportNote> absorbEndJogs(std::vector<CreaseStroke>& strokes, double
   return notes;
 }
 
+std::vector<ImportNote> splitIntoStraightRuns(std::vector<CreaseStroke>& strokes, double mergeFraction) {
+  std::vector<ImportNote> notes;
+  if (strokes.empty()) return notes;
+  const double diagonal = strokesDiagonal(strokes);
+  const double merge = mergeFraction * diagonal, straight = kStraightStrokeFraction * diagonal;
+  const auto isStraight = [straight](const std::vector<Eigen::Vector2d>& points) {
+    const Eigen::Vector2d a = points.front(), b = points.back();
+    if ((b - a).norm() == 0.0) return false;
+    const Eigen::Vector2d axis = (b - a).normalized();
+    for (const Eigen::Vector2d& p : points)
+      if (std::abs(axis.x() * (p - a).y() - axis.y() * (p - a).x()) > straight) return false;
+    return true;
+  };
+  std::vector<std::array<Eigen::Vector2d, 2>> ends;  // every open stroke's ends, read before any stroke moves
+  for (const CreaseStroke& s : strokes)
+    if (!s.closed && !s.points.empty()) ends.push_back({s.points.front(), s.points.back()});
+  std::vector<CreaseStroke> result;
+  for (std::size_t i = 0; i < strokes.size(); ++i) {
+    CreaseStroke& stroke = strokes[i];
+    if (stroke.closed || stroke.points.size() < 3 || isStraight(stroke.points)) {
+      result.push_back(std::move(stroke));
+      continue;
+    }
+    // Inner points where another stroke ends.
+    std::vector<std::size_t> cuts;
+    for (std::size_t k = 1; k + 1 < stroke.points.size(); ++k) {
+      const bool endsHere = std::any_of(ends.begin(), ends.end(), [&stroke, k, merge](const auto& e) {
+        return (e[0] - stroke.points[k]).norm() <= merge || (e[1] - stroke.points[k]).norm() <= merge;
+      });
+      if (endsHere) cuts.push_back(k);
+    }
+    std::vector<std::vector<Eigen::Vector2d>> parts;
+    std::size_t from = 0;
+    cuts.push_back(stroke.points.size() - 1);
+    for (std::size_t cut : cuts) {
+      parts.emplace_back(stroke.points.begin() + static_cast<std::ptrdiff_t>(from),
+                         stroke.points.begin() + static_cast<std::ptrdiff_t>(cut) + 1);
+      from = cut;
+    }
+    const bool allStraight = parts.size() > 1 && std::all_of(parts.begin(), parts.end(), isStraight);
+    if (!allStraight) {
+      result.push_back(std::move(stroke));
+      continue;
+    }
+    notes.push_back({stroke.element, "not one curve but " + std::to_string(parts.size()) +
+                                         " straight lines meeting at the ends of other strokes (at a small angle); read "
+                                         "as those lines"});
+    for (std::vector<Eigen::Vector2d>& part : parts) {
+      CreaseStroke piece = stroke;
+      piece.points = {part.front(), part.back()};
+      result.push_back(std::move(piece));
+    }
+  }
+  strokes = std::move(result);
+  return notes;
+}
+
 std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes, double mergeFraction, double snapFraction) {
   std::vector<ImportNote> notes;
   if (strokes.empty()) return notes;
@@ -164,7 +221,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
     const Eigen::Vector2d axis = (b - a).norm() > 0 ? Eigen::Vector2d((b - a).normalized()) : Eigen::Vector2d::UnitX();
     double deviation = 0.0;
     for (const Eigen::Vector2d& p : s.points) deviation = std::max(deviation, std::abs(axis.x() * (p - a).y() - axis.y() * (p - a).x()));
-    s.curved = deviation > 1e-6 * diagonal || (b - a).norm() == 0.0;
+    s.curved = deviation > kStraightStrokeFraction * diagonal || (b - a).norm() == 0.0;
   }
   const bool anyCurved = std::any_of(strokes.begin(), strokes.end(), [](const CreaseStroke& s) { return s.curved; });
   result.strokes = static_cast<int>(strokes.size());

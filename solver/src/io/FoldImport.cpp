@@ -247,6 +247,22 @@ FoldImport importFoldDocument(const json& doc) {
     }
   }
 
+  // The curves devsurf's own export drew as chains of edges (one crease each).
+  std::vector<int> curveOfFileEdge;
+  if (const auto ec = topology.keys.find("edges_devsurf:curve"); ec != topology.keys.end()) {
+    if (!ec->is_array() || ec->size() != fileEdges) refuse("edges_devsurf:curve must have one entry per edge of edges_vertices");
+    for (std::size_t e = 0; e < fileEdges; ++e) {
+      const json& c = (*ec)[e];
+      if (!c.is_null() && !(c.is_number_integer() && c.get<long long>() >= 0 && c.get<long long>() <= 1000000000))
+        refuse(at("edges_devsurf:curve", e) + " must be a curve id (an integer ≥ 0) or null");
+      curveOfFileEdge.push_back(c.is_null() ? -1 : c.get<int>());
+    }
+  }
+  const auto curveOf = [&curveOfFileEdge](int source) {
+    return source >= 0 && static_cast<std::size_t>(source) < curveOfFileEdge.size() ? curveOfFileEdge[static_cast<std::size_t>(source)] : -1;
+  };
+  std::vector<int> patternEdgeCurves;  // per p.edges entry, as they are added
+
   // Edges a composite kept smooth (devsurf's own FOLD export, CreaseEdge::proposed): flat ones
   // stay smooth when read back instead of becoming hinges that fold freely.
   std::vector<bool> smooth(fileEdges, false);
@@ -371,6 +387,7 @@ FoldImport importFoldDocument(const json& doc) {
         edge.assignment = faceCount->second == 1 ? EdgeAssignment::Boundary : EdgeAssignment::Flat;
         edgeOfPair[std::minmax(edge.v0, edge.v1)] = static_cast<int>(p.edges.size());
         p.edges.push_back(edge);
+        patternEdgeCurves.push_back(-1);
         continue;
       }
       if (assignmentOf(source)) edge.assignment = *assignmentOf(source);
@@ -378,6 +395,7 @@ FoldImport importFoldDocument(const json& doc) {
       edge.proposed = smooth[static_cast<std::size_t>(source)];
       edgeOfPair[std::minmax(edge.v0, edge.v1)] = static_cast<int>(p.edges.size());
       p.edges.push_back(edge);
+      patternEdgeCurves.push_back(curveOf(source));
     }
   } else {
     for (std::size_t e = 0; e < fileEdges; ++e) {
@@ -394,6 +412,7 @@ FoldImport importFoldDocument(const json& doc) {
       edge.proposed = smooth[e];
       edgeOfPair[key] = static_cast<int>(p.edges.size());
       p.edges.push_back(edge);
+      patternEdgeCurves.push_back(curveOf(static_cast<int>(e)));
     }
   }
   // Edges the faces need but the file does not list, and assignments the file leaves out.
@@ -408,7 +427,9 @@ FoldImport importFoldDocument(const json& doc) {
     edge.assignment = count == 1 ? EdgeAssignment::Boundary : EdgeAssignment::Flat;
     edgeOfPair[key] = static_cast<int>(p.edges.size());
     p.edges.push_back(edge);
+    patternEdgeCurves.push_back(-1);
   }
+  if (!curveOfFileEdge.empty()) result.edgeCurves = std::move(patternEdgeCurves);
   const bool anyAssignment = std::any_of(assignments.begin(), assignments.end(), [](const auto& a) { return a.has_value(); });
   if (!anyAssignment) {
     // No edges_assignment (optional in FOLD): the outline is B; an inside edge with a fold angle

@@ -36,7 +36,12 @@ using svg::numbersOf;
 using svg::refuseSvg;
 
 constexpr double kMmPerPx = 25.4 / 96.0;
-constexpr double kCornerTurnDeg = 10.0;  ///< a path turning more than this starts a new stroke
+constexpr double kCornerTurnDeg = 10.0;  ///< a path turning more than this starts a new stroke…
+/// …unless it turns by at most this much and a neighbouring join turns the same way by at least a
+/// third as much: a sampled curve bending hard (a development's outline near its ends, drawn as a
+/// polyline by devsurf's own export, turns by 18°, 16°, 8° over its first three points), not a
+/// corner between straight lines (a lone turn, or a zigzag's turns of alternating sign).
+constexpr double kSampledCurveTurnDeg = 25.0;
 constexpr int kMaxNesting = 64;          ///< groups deeper than this are refused (the reader recurses)
 
 
@@ -421,10 +426,26 @@ struct Reader {
 
   /// Splits a subpath at its corners into strokes.
   void addStrokes(const Subpath& sub, EdgeAssignment assignment, std::optional<double> angle, const std::string& element) {
+    std::vector<const Piece*> pieces;
+    for (const Piece& piece : sub.pieces)
+      if (piece.points.size() >= 2) pieces.push_back(&piece);
+    // Signed turn (degrees) at the join before pieces[k], k ≥ 1.
+    std::vector<double> turns(pieces.size(), 0.0);
+    for (std::size_t k = 1; k < pieces.size(); ++k) {
+      const Eigen::Vector2d a = endTangent(pieces[k - 1]->points), b = startTangent(pieces[k]->points);
+      turns[k] = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)) * 180.0 / kPi;
+    }
+    const auto smoothAt = [&turns, &pieces](std::size_t k) {
+      const double t = turns[k];
+      if (std::abs(t) <= kCornerTurnDeg) return true;
+      if (std::abs(t) > kSampledCurveTurnDeg) return false;
+      const auto alike = [t](double u) { return u * t > 0.0 && std::abs(u) >= std::abs(t) / 3.0 && std::abs(u) <= kSampledCurveTurnDeg; };
+      return (k >= 2 && alike(turns[k - 1])) || (k + 1 < pieces.size() && alike(turns[k + 1]));
+    };
     std::vector<std::vector<Eigen::Vector2d>> runs;
-    for (const Piece& piece : sub.pieces) {
-      if (piece.points.size() < 2) continue;
-      if (!runs.empty() && smoothJoin(endTangent(runs.back()), startTangent(piece.points))) {
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const Piece& piece = *pieces[k];
+      if (!runs.empty() && smoothAt(k)) {
         runs.back().insert(runs.back().end(), piece.points.begin() + 1, piece.points.end());
       } else {
         runs.push_back(piece.points);
@@ -541,6 +562,7 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
   for (ImportNote& note : absorbEndJogs(strokes, options.snapFraction)) result.notes.push_back(std::move(note));
   for (ImportNote& note : snapNearlyMeetingEnds(strokes, options.mergeFraction, options.snapFraction))
     result.notes.push_back(std::move(note));
+  for (ImportNote& note : splitIntoStraightRuns(strokes, options.mergeFraction)) result.notes.push_back(std::move(note));
   CreaseStrokesOptions strokeOptions;
   strokeOptions.straightPieces = options.straightPieces;
   strokeOptions.maxSegments = options.maxSegments;

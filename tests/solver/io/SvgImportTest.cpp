@@ -251,5 +251,71 @@ TEST(SvgImport, DamagedDrawingsAreReadOrRefusedCleanly) {
   EXPECT_GT(refused, 20);
 }
 
+/// The strokes of the drawing in one assignment, and how many of them are curved.
+std::pair<int, int> strokesOf(const SvgImport& r, EdgeAssignment a) {
+  int all = 0, curved = 0;
+  for (const CreaseStroke& s : r.drawing)
+    if (s.assignment == a) {
+      ++all;
+      curved += s.curved ? 1 : 0;
+    }
+  return {all, curved};
+}
+
+TEST(SvgImport, ASideBentSlightlyWhereCreasesEndOnItIsReadAsStraightSides) {
+  // devsurf's own export draws a development's side through its creases' ends, where the rulings of
+  // neighbouring strips meet at a small angle (1.6° in the two-crease preset): read as one curve,
+  // the faces beside it had no straight end and the import was refused.
+  const std::string body = R"(<polyline points="10,90 90,90 92,50 90,10 10,10 10,90" fill="none" stroke="#000"/>
+    <path d="M10,50 C40,30 60,70 92,50" fill="none" stroke="blue"/>)";
+  const SvgImport r = importSvgText(svgDocument(body));
+  const auto [outline, curvedOutline] = strokesOf(r, EdgeAssignment::Boundary);
+  EXPECT_EQ(curvedOutline, 0) << "the right side is two straight lines meeting where the crease ends";
+  EXPECT_EQ(outline, 5);
+  EXPECT_EQ(strokesOf(r, EdgeAssignment::Valley).second, 1);
+  bool noted = false;
+  for (const ImportNote& n : r.notes) noted = noted || n.message.find("straight lines meeting") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // The same bend with no crease ending there is a corner between two straight strokes (10° and
+  // more), and a curve a crease ends on keeps its points.
+  const SvgImport curve = importSvgText(svgDocument(
+      R"(<path d="M10,90 L90,90 C100,60 100,40 90,10 L10,10 Z" fill="none" stroke="#000"/>
+         <line x1="10" y1="50" x2="97.5" y2="50" stroke="blue"/>)"));
+  EXPECT_EQ(strokesOf(curve, EdgeAssignment::Boundary).second, 1);
+}
+
+TEST(SvgImport, AStraightLineWrittenWithFewDecimalsStaysStraight) {
+  // A 4 mm pattern at four decimals (devsurf's export of a preset in model units): points of a
+  // straight line rounded off it by up to 5e-5 mm, 1e-5 of the diagonal, were read as a curve.
+  // (0.7093, 1.7545) to (1.7602, 3.4984), at a quarter, a half and three quarters, rounded.
+  const std::string body = R"(<polyline points="0.7093,1.7545 0.972,2.1905 1.2348,2.6265 1.4975,3.0624 1.7602,3.4984" fill="none" stroke="blue"/>
+    <rect x="0" y="0" width="4.2556" height="4.2077" fill="none" stroke="#000"/>)";
+  const SvgImport r = importSvgText(svgDocument(body, R"(width="4.2556mm" height="4.2077mm" viewBox="0 0 4.2556 4.2077")"));
+  EXPECT_EQ(r.curvedStrokes, 0);
+}
+
+TEST(SvgImport, APolylineTurningHardAlongACurveIsOneStrokeAndAZigzagIsCutAtEveryCorner) {
+  // A sampled curve that bends by 18°, 16°, 8° over its first points (a development's outline near
+  // its end, as devsurf's export writes it) is one stroke; it was cut into three at 10°.
+  std::string points = "0,20";
+  double x = 0, y = 20, heading = 0.0;
+  for (double turn : {18.0, 16.0, 8.0, 3.0, 1.0, 0.0, -1.0, -2.0}) {
+    heading += turn * 3.14159265358979 / 180.0;
+    x += 8.0 * std::cos(heading);
+    y += 8.0 * std::sin(heading);
+    points += " " + std::to_string(x) + "," + std::to_string(y);
+  }
+  const SvgImport curve = importSvgText(svgDocument(R"(<polyline points=")" + points + R"(" fill="none" stroke="blue"/>)" + kSquare));
+  EXPECT_EQ(strokesOf(curve, EdgeAssignment::Valley).first, 1);
+  // A staircase turns 20° one way and then the other: every turn is a corner between straight creases.
+  const SvgImport zigzag = importSvgText(
+      svgDocument(R"(<polyline points="0,50 20,50 38.79,56.84 58.79,56.84 77.58,63.68 100,63.68" fill="none" stroke="blue"/>)" + kSquare));
+  EXPECT_EQ(strokesOf(zigzag, EdgeAssignment::Valley).first, 5);
+  EXPECT_EQ(strokesOf(zigzag, EdgeAssignment::Valley).second, 0);
+  // A lone turn of 20° is a corner too.
+  const SvgImport bend = importSvgText(svgDocument(R"(<polyline points="0,50 50,50 100,68.2" fill="none" stroke="blue"/>)" + kSquare));
+  EXPECT_EQ(strokesOf(bend, EdgeAssignment::Valley).first, 2);
+}
+
 }  // namespace
 }  // namespace devsurf::io

@@ -11,13 +11,19 @@
 
 namespace devsurf::io {
 
+/// A stroke whose points all lie within this fraction of the drawing's diagonal of its chord is
+/// straight: a tenth of the import's merge tolerance, so a straight line written with a few
+/// decimals (devsurf's own SVG export of a 4 mm pattern at 0.1 µm, a tool's rounded px) is not
+/// read as a curve, while any curve a designer means bends far more.
+inline constexpr double kStraightStrokeFraction = 5e-5;
+
 /// One stroke of a drawn crease pattern: a polyline without corners (a straight line, a sampled
 /// curve, or a closed curve), in millimetres with y up (the front of the sheet faces the viewer).
 struct CreaseStroke {
   std::vector<Eigen::Vector2d> points;  ///< ≥ 2 points; a closed stroke does not repeat its first
   bool closed = false;
-  /// Not straight (set by creasePatternFromStrokes: deviation from the chord above 1e-6 × the
-  /// drawing's diagonal, or closed).
+  /// Not straight (set by creasePatternFromStrokes: deviation from the chord above
+  /// kStraightStrokeFraction × the drawing's diagonal, or closed).
   bool curved = false;
   EdgeAssignment assignment = EdgeAssignment::Flat;
   std::optional<double> foldAngle;  ///< degrees, FOLD convention (+ valley, − mountain)
@@ -51,6 +57,17 @@ std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes
 /// @param[in,out] strokes  in the drawing's units (millimetres for an SVG)
 /// @return the notes, by element
 std::vector<ImportNote> absorbEndJogs(std::vector<CreaseStroke>& strokes, double jogFraction = 0.01);
+
+/// Splits a slightly kinked polyline into the straight lines it is made of: an open stroke of three
+/// or more points that is not straight (kStraightStrokeFraction) is cut at its inner points where
+/// another stroke ends (within `mergeFraction` × the drawing's diagonal) when every part is
+/// straight. A development's side drawn through the ends of its creases (devsurf's own SVG export:
+/// rulings of neighbouring strips meet there at a small angle) is three straight sides, not one
+/// curve with no straight end — read as a curve, the faces beside it had no layout. A curve a
+/// crease ends on keeps its points. One note per split stroke.
+/// @param[in,out] strokes  in the drawing's units; split strokes keep their element and assignment
+/// @return the notes, by element
+std::vector<ImportNote> splitIntoStraightRuns(std::vector<CreaseStroke>& strokes, double mergeFraction = 5e-4);
 
 /// A crease pattern made from strokes, with what the making changed or left out.
 struct StrokePattern {

@@ -25,6 +25,9 @@ struct FoldImport {
   /// The file's frame_unit when it is one FOLD defines ("mm", "cm", "m", "in", "pt", "um", "nm"),
   /// empty for "unit" or none; pattern.unitToMm is its length in millimetres (1 when empty).
   std::string unit;
+  /// Per edge of `pattern`: the curve it lies on as devsurf's own FOLD export marks it
+  /// (`edges_devsurf:curve`), −1 when unmarked; empty when the file has no such key.
+  std::vector<int> edgeCurves;
 };
 
 /// Reads a FOLD 1.0–1.2 document (https://github.com/edemaine/fold, doc/spec.md) as made by other

@@ -13,6 +13,7 @@
 
 #include <Eigen/Dense>
 
+#include "devsurf/io/CreaseStrokes.h"
 #include "devsurf/models/composite/CompositeFromCreasePattern.h"
 #include "devsurf/models/composite/CompositeHinges.h"
 #include "devsurf/models/composite/CompositeTopology.h"
@@ -80,7 +81,7 @@ bool hasCurvedCreases(const io::CreasePattern& pattern) {
     const Eigen::RowVector2d centre = pts.colwise().mean();
     const Eigen::MatrixX2d centred = pts.rowwise() - centre;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> pca(centred.transpose() * centred);
-    if (std::sqrt(std::max(0.0, pca.eigenvalues()(0)) / static_cast<double>(vs.size())) > 1e-6 * diagonal) return true;
+    if (std::sqrt(std::max(0.0, pca.eigenvalues()(0)) / static_cast<double>(vs.size())) > io::kStraightStrokeFraction * diagonal) return true;
   }
   return false;
 }
@@ -128,7 +129,7 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
     for (std::size_t i = 0; i < vs.size(); ++i) pts.row(static_cast<Eigen::Index>(i)) = pattern.vertices2d.row(vs[i]);
     const Eigen::MatrixX2d centred = pts.rowwise() - pts.colwise().mean();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> pca(centred.transpose() * centred);
-    if (std::sqrt(std::max(0.0, pca.eigenvalues()(0)) / static_cast<double>(vs.size())) > 1e-6 * diagonal)
+    if (std::sqrt(std::max(0.0, pca.eigenvalues()(0)) / static_cast<double>(vs.size())) > io::kStraightStrokeFraction * diagonal)
       g.curvedChains.insert(id);
   }
   for (std::size_t e = 0; e < pattern.edges.size(); ++e)

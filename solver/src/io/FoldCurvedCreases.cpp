@@ -1,0 +1,178 @@
+#include "devsurf/io/FoldCurvedCreases.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <sstream>
+#include <string>
+
+namespace devsurf::io {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+/// A crease whose angles spread by more than this along it (degrees) gets a note.
+constexpr double kAngleSpreadNoteDeg = 5.0;
+
+bool isLine(EdgeAssignment a) {
+  return a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley || a == EdgeAssignment::Boundary ||
+         a == EdgeAssignment::Cut;
+}
+
+struct Chain {
+  std::vector<int> vertices;  ///< in order; a closed chain does not repeat its first
+  std::vector<int> edges;
+  bool closed = false;
+};
+
+std::string pointText(const Eigen::Vector2d& p) {
+  std::ostringstream out;
+  out.precision(4);
+  out << "(" << p.x() << ", " << p.y() << ")";
+  return out.str();
+}
+
+}  // namespace
+
+FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vector<int>& edgeCurves, double maxTurnDeg) {
+  FoldCurvedCreases result;
+  const int n = pattern.numVertices();
+  if (n == 0 || pattern.edges.empty()) return result;
+  const auto at = [&pattern](int v) { return Eigen::Vector2d(pattern.vertices2d.row(v).transpose()); };
+  std::vector<std::vector<int>> incident(static_cast<std::size_t>(n));
+  for (std::size_t e = 0; e < pattern.edges.size(); ++e)
+    if (isLine(pattern.edges[e].assignment)) {
+      incident[static_cast<std::size_t>(pattern.edges[e].v0)].push_back(static_cast<int>(e));
+      incident[static_cast<std::size_t>(pattern.edges[e].v1)].push_back(static_cast<int>(e));
+    }
+  const auto other = [&pattern](int e, int v) {
+    const CreaseEdge& edge = pattern.edges[static_cast<std::size_t>(e)];
+    return edge.v0 == v ? edge.v1 : edge.v0;
+  };
+  const double cosMaxTurn = std::cos(maxTurnDeg * kPi / 180.0);
+  // A line runs on through v: exactly two line edges meet there, alike, turning little.
+  const auto runsThrough = [&](int v) {
+    const std::vector<int>& inc = incident[static_cast<std::size_t>(v)];
+    if (inc.size() != 2) return false;
+    if (pattern.edges[static_cast<std::size_t>(inc[0])].assignment != pattern.edges[static_cast<std::size_t>(inc[1])].assignment)
+      return false;
+    if (edgeCurves.size() == pattern.edges.size() &&
+        edgeCurves[static_cast<std::size_t>(inc[0])] != edgeCurves[static_cast<std::size_t>(inc[1])])
+      return false;
+    const Eigen::Vector2d in = at(v) - at(other(inc[0], v)), out = at(other(inc[1], v)) - at(v);
+    const double lengths = in.norm() * out.norm();
+    return lengths > 0.0 && in.dot(out) >= cosMaxTurn * lengths;
+  };
+
+  std::vector<Chain> chains;
+  std::vector<char> used(pattern.edges.size(), 0);
+  for (std::size_t start = 0; start < pattern.edges.size(); ++start) {
+    if (used[start] || !isLine(pattern.edges[start].assignment)) continue;
+    used[start] = 1;
+    const int e0 = static_cast<int>(start);
+    std::deque<int> vertices{pattern.edges[start].v0, pattern.edges[start].v1};
+    std::deque<int> edges{e0};
+    bool closed = false;
+    // Forward from v1; a walk that comes back to the first vertex closes the chain there when the
+    // line runs through it (else the chain starts and ends at a corner).
+    for (int cur = vertices.back(), from = e0; runsThrough(cur);) {
+      const std::vector<int>& inc = incident[static_cast<std::size_t>(cur)];
+      const int next = inc[0] == from ? inc[1] : inc[0];
+      if (used[static_cast<std::size_t>(next)]) break;
+      used[static_cast<std::size_t>(next)] = 1;
+      edges.push_back(next);
+      const int v = other(next, cur);
+      if (v == vertices.front()) {
+        closed = runsThrough(v);
+        if (!closed) vertices.push_back(v);
+        break;
+      }
+      vertices.push_back(v);
+      cur = v;
+      from = next;
+    }
+    const bool backToStart = closed || vertices.back() == vertices.front();
+    for (int cur = vertices.front(), from = e0; !backToStart && runsThrough(cur);) {
+      const std::vector<int>& inc = incident[static_cast<std::size_t>(cur)];
+      const int next = inc[0] == from ? inc[1] : inc[0];
+      if (used[static_cast<std::size_t>(next)]) break;
+      used[static_cast<std::size_t>(next)] = 1;
+      edges.push_front(next);
+      const int v = other(next, cur);
+      vertices.push_front(v);
+      if (v == vertices.back()) break;
+      cur = v;
+      from = next;
+    }
+    chains.push_back({{vertices.begin(), vertices.end()}, {edges.begin(), edges.end()}, closed});
+  }
+
+  const double diagonal = (pattern.vertices2d.colwise().maxCoeff() - pattern.vertices2d.colwise().minCoeff()).norm();
+  const auto bends = [&](const Chain& c) {
+    if (c.closed) return true;
+    if (c.vertices.size() < 3) return false;
+    const Eigen::Vector2d a = at(c.vertices.front()), b = at(c.vertices.back());
+    if ((b - a).norm() == 0.0) return true;
+    const Eigen::Vector2d axis = (b - a).normalized();
+    double deviation = 0.0;
+    for (int v : c.vertices) {
+      const Eigen::Vector2d d = at(v) - a;
+      deviation = std::max(deviation, std::abs(axis.x() * d.y() - axis.y() * d.x()));
+    }
+    return deviation > kStraightStrokeFraction * diagonal;
+  };
+  const bool anyCurvedCrease = std::any_of(chains.begin(), chains.end(), [&](const Chain& c) {
+    const EdgeAssignment a = pattern.edges[static_cast<std::size_t>(c.edges.front())].assignment;
+    return (a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley) && bends(c);
+  });
+  if (!anyCurvedCrease) return result;
+
+  const std::vector<std::optional<double>> angles = exportedFoldAngles(pattern);
+  for (const Chain& c : chains) {
+    CreaseStroke stroke;
+    for (int v : c.vertices) stroke.points.push_back(at(v));
+    stroke.closed = c.closed;
+    stroke.assignment = pattern.edges[static_cast<std::size_t>(c.edges.front())].assignment;
+    stroke.element = "crease from " + pointText(stroke.points.front()) + " to " + pointText(stroke.points.back());
+    if (stroke.assignment == EdgeAssignment::Mountain || stroke.assignment == EdgeAssignment::Valley) {
+      double weighted = 0.0, length = 0.0, lowest = 0.0, highest = 0.0;
+      bool any = false;
+      for (int e : c.edges) {
+        const std::optional<double>& angle = angles[static_cast<std::size_t>(e)];
+        if (!angle) continue;
+        const CreaseEdge& edge = pattern.edges[static_cast<std::size_t>(e)];
+        const double l = (at(edge.v1) - at(edge.v0)).norm();
+        weighted += l * *angle;
+        length += l;
+        lowest = any ? std::min(lowest, *angle) : *angle;
+        highest = any ? std::max(highest, *angle) : *angle;
+        any = true;
+      }
+      if (any && length > 0.0) {
+        stroke.foldAngle = weighted / length;
+        if (highest - lowest > kAngleSpreadNoteDeg) {
+          std::ostringstream note;
+          note.precision(3);
+          note << "its fold angle runs from " << lowest << "° to " << highest << "° along it; the fold slider's 100 % "
+               << "holds their mean, " << *stroke.foldAngle << "°, all along it";
+          result.notes.push_back({stroke.element, note.str()});
+        }
+      }
+    }
+    result.strokes.push_back(std::move(stroke));
+  }
+  const auto flat = std::count_if(pattern.edges.begin(), pattern.edges.end(),
+                                  [](const CreaseEdge& e) { return e.assignment == EdgeAssignment::Flat; });
+  std::ostringstream lines;
+  lines << "curved creases drawn as chains of straight edges: read as " << result.strokes.size()
+        << " lines (creases and outline) and laid out again";
+  if (flat > 0) lines << "; the " << flat << " flat (F, U) edges between them, the facets or rulings of the folded surface, are "
+                      << "left out (rulings are proposed anew)";
+  result.notes.push_back({"edges_vertices", lines.str()});
+  if (pattern.hasFoldedState())
+    result.notes.push_back({"file_frames", "the folded form is left out with the flat edges it was folded on: the sheet is "
+                                           "imported flat, and the fold slider folds it to the file's fold angles"});
+  return result;
+}
+
+}  // namespace devsurf::io
