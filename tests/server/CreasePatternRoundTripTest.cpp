@@ -157,9 +157,9 @@ TEST_P(CreasePatternRoundTrip, TheImportedExportFoldsToItsAnglesWithTheSliderKee
     double largest = 0.0;
     for (double a : fileCreaseAngles(format, r.exported.content)) largest = std::max(largest, std::abs(a));
     // The quality limits of a composite's report (SceneSolver::quality) for the fold and the
-    // lengths; one development edge may stretch more than the report's 0.1 where a ruling the
-    // import proposed meets a crease (measured up to 0.42: a known defect, docs/architecture.md),
-    // not by the multiples of a sheet torn to reach its targets.
+    // lengths; one development edge may stretch more than the report's 0.1 where the ruling the
+    // import proposes halfway along a strip meets the outline (measured up to 0.42: a known
+    // defect, docs/architecture.md), not by the multiples of a sheet torn to reach its targets.
     EXPECT_LT(metrics["fold_angle_error_max_deg"].get<double>(), 1.0 + 0.15 * largest);
     EXPECT_LT(metrics["development_length_error"].get<double>(), 5e-3);
     EXPECT_LT(metrics["development_edge_strain_max"].get<double>(), 0.5);

@@ -172,6 +172,19 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
     await h.sleep(500);
     const turnedOn = sent.slice(sentBefore).filter((x) => x.type === 'set_params' && x.params.gauss_image === true);
     assert.equal(turnedOn.length, 1, `one set_params turned it on (${turnedOn.length})`);
+    // Unticked while the connection is down (it does not come back here): nothing is sent, and the
+    // box shows the scene's value again instead of the click (a reviewer found it stayed unticked).
+    await page.evaluate(() => {
+      const client = window.__devsurf.editor.client;
+      client._open = () => {};
+      client.ws.close();
+    });
+    await h.poll(async () => ({ ok: (await page.evaluate(() => window.__devsurf.state.connection)) !== 'connected' }));
+    const sentOffline = sent.length;
+    await page.getByTestId('gauss-image').click();  // not uncheck(): that insists the state changed
+    await h.sleep(300);
+    assert.equal(await page.getByTestId('gauss-image').isChecked(), true, 'the box is ticked again: the edit was not sent');
+    assert.equal(sent.length, sentOffline, 'nothing sent while offline');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
 

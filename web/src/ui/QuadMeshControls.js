@@ -88,6 +88,11 @@ export class QuadMeshControls {
     st.on('scene', () => this._sceneChanged());
     st.on('metrics', () => this._renderMetrics());
     st.on('session', () => this._sceneChanged());
+    // A Gauss-image edit refused (by the server, or not sent while offline): the box shows the
+    // scene's value again, not the click that did not happen.
+    st.on('error', ({ command }) => {
+      if (command && command.source === 'quad:gauss_image' && this.model) this.gaussInput.checked = !!this.model.gauss_image;
+    });
   }
 
   get model() {
