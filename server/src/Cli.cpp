@@ -55,7 +55,8 @@ constexpr const char* kUsage =
     "        Solve a scene file (\"-\" reads standard input) and write the report as JSON.\n"
     "        --fold-amount folds a composite with fold angles (an imported crease pattern,\n"
     "        a drawn sheet) to A of its designed angles, 0..1 or 0%..100% (the slider's\n"
-    "        amount; an import starts flat, at 0).\n"
+    "        amount; an import starts flat, at 0), with at least 200 iterations unless\n"
+    "        --iterations says otherwise (a session's release runs as many).\n"
     "        The report's quality says whether the result meets its kind's thresholds\n"
     "        (a warning on standard error if not; exit status 3 with --require-quality).\n"
     "        Scenes are held to the server's default limits (512 MiB estimated memory,\n"
@@ -166,6 +167,7 @@ constexpr const char* kUsage =
     "  help      Print this text.\n";
 
 constexpr std::size_t kMaxSceneBytes = 64u << 20;  // 64 MiB
+constexpr int kFoldIterations = 200;  ///< devsurf solve --fold-amount without --iterations: at least these
 
 /// The part of kUsage about one command (every entry of it: import has two), as
 /// "usage: devsurf COMMAND …"; all of kUsage for a command it does not list.
@@ -296,6 +298,9 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
       if (design->foldAngles.empty())
         throw std::invalid_argument("--fold-amount: the composite has no fold angles (model.fold_angles) to fold to");
       design->foldAmount = foldAmount;
+      // A fold from flat takes as many iterations as the slider's release in a session: an import's
+      // own 20 left a 53° crease at 21° (a new user's tryout).
+      if (iterations < 0) iterations = std::max(scene.solver.iterations, kFoldIterations);
     }
     SceneSolver solver(std::move(scene));
     // Every export checked before the solve (a format that does not apply, a folder that does not

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -78,7 +79,6 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       imported.pattern = std::move(svg.pattern);
       imported.notes = std::move(svg.notes);
       imported.unit = svg.sizeStated || units.empty() ? "mm" : "";
-      result.curvedCreases = svg.curvedStrokes;
       drawing = std::move(svg.drawing);
     } else {
       nlohmann::json document;
@@ -98,6 +98,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
       if (!curved.strokes.empty()) {
         io::CreaseStrokesOptions strokeOptions;
         strokeOptions.maxSegments = request.maxEdges;
+        strokeOptions.source = "FOLD";
         io::StrokePattern made = io::creasePatternFromStrokes(curved.strokes, strokeOptions);
         for (std::size_t i = 0; i < curved.strokes.size(); ++i) curved.strokes[i].curved = made.strokeCurved[i];
         made.pattern.title = imported.pattern.title;
@@ -105,7 +106,6 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         imported.pattern = std::move(made.pattern);
         imported.notes.insert(imported.notes.end(), curved.notes.begin(), curved.notes.end());
         imported.notes.insert(imported.notes.end(), made.notes.begin(), made.notes.end());
-        result.curvedCreases = made.curvedStrokes;
         drawing = std::move(curved.strokes);
       }
     }
@@ -120,6 +120,10 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   }
   io::CreasePattern& pattern = imported.pattern;
   result.notes = imported.notes;
+  // Curved creases as drawn (mountain, valley, flat), not curved outline or cut strokes.
+  result.curvedCreases = static_cast<int>(std::count_if(drawing.begin(), drawing.end(), [](const io::CreaseStroke& s) {
+    return s.curved && s.assignment != io::EdgeAssignment::Boundary && s.assignment != io::EdgeAssignment::Cut;
+  }));
   // A "folded form" in which no crease folds (a flat sheet's export: its frame inherits the
   // designed fold angles) is the crease pattern itself: read as folded it would open at 100 %
   // with its targets unmet, and the first solve would snap it.
@@ -171,7 +175,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         scaleDesign(scale);
         std::ostringstream note;
         note << "none given: the sheet, " << side << (side == 1.0 ? " unit" : " units") << " across, is scaled to " << kUnitlessSheetMm
-             << " mm (pass units to keep the file's numbers in cm, m or in)";
+             << " mm (pass units to keep the file's numbers in mm, cm, m or in)";
         result.notes.push_back({"frame_unit", note.str()});
       } else {
         result.notes.push_back({"frame_unit", "none given: one unit of the file is read as 1 mm (pass units to choose another)"});
@@ -243,7 +247,27 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
-    throw ApproximationInputError("body", std::string("body: the imported design cannot be solved: ") + e.what());
+    // A fold target without a hinge: the faces beside a crease's end are degenerate there (two
+    // straight creases meeting alone at a corner, a zigzag): said where, in the file's terms.
+    const std::string what = e.what();
+    const auto& design = std::get<models::composite::CompositeDesign>(result.scene.model);
+    const std::size_t open = what.find("fold_angles["), close = what.find(']', open);
+    if (open != std::string::npos && close != std::string::npos && what.find("has no hinge there") != std::string::npos) {
+      const std::size_t target = std::strtoul(what.c_str() + open + 12, nullptr, 10);
+      if (target < design.foldAngles.size()) {
+        const models::composite::FoldAngleTarget& t = design.foldAngles[target];
+        const models::composite::CompositeEdge& edge = design.edges[static_cast<std::size_t>(t.edge)];
+        const int v = t.end == 0 ? edge.v0 : edge.v1;
+        std::ostringstream where;
+        where.precision(4);
+        where << "body: the crease pattern cannot fold at (" << design.vertices(v, 0) << ", " << design.vertices(v, 1)
+              << ") " << sceneUnits << ": the faces beside the crease there are degenerate (creases meeting alone "
+              << "at a corner, as in a zigzag of two, cannot fold; every crease needs a face on each side); redraw "
+              << "the creases there";
+        throw ApproximationInputError("body", where.str());
+      }
+    }
+    throw ApproximationInputError("body", "body: the imported design cannot be solved: " + what);
   }
   return result;
 }

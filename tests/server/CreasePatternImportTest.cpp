@@ -524,5 +524,28 @@ TEST(CreasePatternImport, IdRulesColoursWithAlphaAndCurrentColorAreReadAsAViewer
   EXPECT_NEAR(angleAtX[80], -90.0, 1e-9);                  // currentColor: the group's red
 }
 
+TEST(CreasePatternImport, AZigzagOfStraightCreasesIsRefusedSayingWhereItCannotFold) {
+  // A new user's zigzag of four mountain lines across a 100 mm square: refused before with the
+  // model's words ("fold_angles[1]: edge 7 has no hinge there"), which name nothing in the file.
+  const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">
+<rect x="0" y="0" width="100" height="100" fill="none" stroke="#000000"/>
+<line stroke="#FF0000" x1="40" y1="0" x2="60" y2="25"/><line stroke="#FF0000" x1="60" y1="25" x2="40" y2="50"/>
+<line stroke="#FF0000" x1="40" y1="50" x2="60" y2="75"/><line stroke="#FF0000" x1="60" y1="75" x2="40" y2="100"/></svg>)";
+  CreasePatternImportRequest request;
+  request.format = "svg";
+  try {
+    importCreasePattern(svg, request);
+    FAIL() << "a zigzag of two-crease corners cannot fold";
+  } catch (const ApproximationInputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("cannot fold at ("), std::string::npos) << message;
+    EXPECT_EQ(message.find("has no hinge"), std::string::npos) << message;
+    // At one of the zigzag's inner corners (y up: (60, 75), (40, 50) or (60, 25)).
+    const bool atACorner = message.find("(60, 75)") != std::string::npos || message.find("(40, 50)") != std::string::npos ||
+                           message.find("(60, 25)") != std::string::npos;
+    EXPECT_TRUE(atACorner) << message;
+  }
+}
+
 }  // namespace
 }  // namespace devsurf::server

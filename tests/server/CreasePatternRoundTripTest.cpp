@@ -52,9 +52,12 @@ std::vector<double> fileCreaseAngles(const std::string& format, const std::strin
   const json fold = json::parse(content);
   // Creases: edges of one curve id; edges on no curve (straight creases) joined where they share a
   // vertex and their letter (union–find over the vertices).
-  std::vector<int> parent(fold["vertices_coords"].size());
-  for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
-  const auto root = [&parent](int v) {
+  // vertex components per letter (a mountain and a valley meeting at a vertex stay two creases)
+  std::map<std::string, std::vector<int>> parents;
+  const auto root = [&parents, &fold](const std::string& letter, int v) {
+    std::vector<int>& parent = parents[letter];
+    if (parent.empty())
+      for (std::size_t k = 0; k < fold["vertices_coords"].size(); ++k) parent.push_back(static_cast<int>(k));
     while (parent[static_cast<std::size_t>(v)] != v) v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
     return v;
   };
@@ -64,7 +67,8 @@ std::vector<double> fileCreaseAngles(const std::string& format, const std::strin
     if (letter != "M" && letter != "V") continue;
     creaseEdges.push_back(e);
     if (fold["edges_devsurf:curve"][e].is_null())
-      parent[static_cast<std::size_t>(root(fold["edges_vertices"][e][0].get<int>()))] = root(fold["edges_vertices"][e][1].get<int>());
+      parents[letter][static_cast<std::size_t>(root(letter, fold["edges_vertices"][e][0].get<int>()))] =
+          root(letter, fold["edges_vertices"][e][1].get<int>());
   }
   std::map<std::pair<std::string, int>, std::pair<double, double>> byCrease;  // → (Σ length·angle, Σ length)
   for (std::size_t e : creaseEdges) {
@@ -73,7 +77,8 @@ std::vector<double> fileCreaseAngles(const std::string& format, const std::strin
     const json& b = fold["vertices_coords"][ends[1].get<int>()];
     const double length = std::hypot(a[0].get<double>() - b[0].get<double>(), a[1].get<double>() - b[1].get<double>());
     const json& curve = fold["edges_devsurf:curve"][e];
-    const auto key = curve.is_null() ? std::make_pair(fold["edges_assignment"][e].get<std::string>(), root(ends[0].get<int>()))
+    const std::string letter = fold["edges_assignment"][e];
+    const auto key = curve.is_null() ? std::make_pair(letter, root(letter, ends[0].get<int>()))
                                      : std::make_pair(std::string("curve"), curve.get<int>());
     auto& sum = byCrease[key];
     sum.first += length * fold["edges_foldAngle"][e].get<double>();
@@ -137,15 +142,20 @@ TEST_P(CreasePatternRoundTrip, ThePresetsFoldAndSvgExportsImportAgainWithEveryCr
 }
 
 TEST_P(CreasePatternRoundTrip, TheImportedExportFoldsToItsAnglesWithTheSliderKeepingItsLengths) {
+  int skipped = 0;
   for (const std::string format : {"fold", "svg"}) {
     SCOPED_TRACE(format);
     RoundTrip r;
     ASSERT_NO_THROW(r = roundTrip(GetParam(), format));
-    const bool ringsAroundAHole = std::any_of(r.imported.notes.begin(), r.imported.notes.end(),
-                                              [](const io::ImportNote& n) { return n.message.find("island") != std::string::npos; });
-    if (ringsAroundAHole)
-      GTEST_SKIP() << "creases in rings around a hole (islands bridged) do not fold from a flat import: a known defect, "
-                      "docs/architecture.md (concentric creases)";
+    // Creases in rings round a hole (islands the import bridged) do not fold from a flat import: a
+    // known defect, docs/architecture.md ("Islands and holes", concentric creases).
+    const bool ringsAroundAHole = std::any_of(r.imported.notes.begin(), r.imported.notes.end(), [](const io::ImportNote& n) {
+      return n.message.find("island(s) inside the sheet") != std::string::npos && n.message.find("joined to") != std::string::npos;
+    });
+    if (ringsAroundAHole) {
+      ++skipped;
+      continue;
+    }
     // The slider, as a user moves it (the web app's FoldPanel: steps of 10 %), to 100 %.
     testing::ExampleEditor e(r.imported.scene);
     int op = 1;
@@ -163,7 +173,28 @@ TEST_P(CreasePatternRoundTrip, TheImportedExportFoldsToItsAnglesWithTheSliderKee
     EXPECT_LT(metrics["fold_angle_error_max_deg"].get<double>(), 1.0 + 0.15 * largest);
     EXPECT_LT(metrics["development_length_error"].get<double>(), 5e-3);
     EXPECT_LT(metrics["development_edge_strain_max"].get<double>(), 0.5);
+
+    // A second trip: the folded import exported and imported again is the same design (the
+    // import's own split creases came back as two each, and the next import split them again).
+    const ExportedFile again = SceneSolver::exportScene(e.session->sceneJson(), format);
+    CreasePatternImportRequest request;
+    request.format = format;
+    CreasePatternImportResult second;
+    ASSERT_NO_THROW(second = importCreasePattern(again.content, request));
+    const auto creasesOf = [](const proto::Scene& scene) {
+      const json document = proto::sceneToJson(scene);  // held: a loop over a temporary's member dangles
+      int creases = 0;
+      for (const json& stroke : document["model"]["drawing"]["strokes"]) creases += stroke["assignment"] == "M" || stroke["assignment"] == "V";
+      return creases;
+    };
+    const int creasesFirst = creasesOf(r.imported.scene);
+    EXPECT_GT(creasesFirst, 0);
+    EXPECT_EQ(creasesOf(second.scene), creasesFirst);
+    // Its layout may gain rulings where the folded development moved (two creases, FOLD: 6 faces,
+    // then 9), but the creases are not cut up trip after trip.
+    EXPECT_LE(second.faces, 2 * r.imported.faces);
   }
+  if (skipped == 2) GTEST_SKIP() << "creases in rings round a hole in both exports (see above)";
 }
 
 /// A 100 × 100 mm FOLD crease pattern as a tool that knows only straight edges writes a curved
@@ -217,7 +248,7 @@ TEST(CreasePatternImportOfFoldCurves, ACurvedCreaseDrawnAsStraightEdgesWithFacet
   for (const json& stroke : scene["model"]["drawing"]["strokes"]) valleys += stroke["assignment"] == "V";
   EXPECT_EQ(valleys, 1) << "one crease, not 16 hinges";
   bool flatNoted = false;
-  for (const io::ImportNote& n : r.notes) flatNoted = flatNoted || n.message.find("30 flat (F, U) edges") != std::string::npos;
+  for (const io::ImportNote& n : r.notes) flatNoted = flatNoted || n.message.find("the 30 flat edges between them") != std::string::npos;
   EXPECT_TRUE(flatNoted);
   // Its target: the mean of the file's angles along it, weighted by the edges' lengths.
   const json& targets = scene["model"]["fold_angles"];

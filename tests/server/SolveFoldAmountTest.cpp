@@ -153,5 +153,25 @@ TEST(SolveFoldAmount, AFoldThatIsMissedOrTearsTheSheetDoesNotMeetItsQuality) {
   EXPECT_NE(solved.err.find("fold_angle_error_max_deg"), std::string::npos) << solved.err;
 }
 
+TEST(SolveFoldAmount, WithoutIterationsAFoldRunsAsLongAsASessionsReleaseAndReachesItsAngles) {
+  // A preset exported as FOLD and imported: its scene asks for 20 iterations, which left a 53°
+  // crease at 21° under `--fold-amount 1` (a new user's tryout).
+  devsurf::testing::TempDir dir;
+  const std::string fold = (dir.path() / "two-creases.fold").string();
+  const CliRun exported = runCommand({"solve", std::string(DEVSURF_SOURCE_DIR) + "/examples/composite-two-creases.json",
+                                      "--export", "fold:" + fold});
+  ASSERT_EQ(exported.code, 0) << exported.err;
+  const CliRun imported = runCommand({"import", fold});
+  ASSERT_EQ(imported.code, 0) << imported.err;
+  ASSERT_EQ(json::parse(imported.out)["solver"]["iterations"], 20);
+  const CliRun solved = runCommand({"solve", "-", "--fold-amount", "1"}, imported.out);
+  ASSERT_EQ(solved.code, 0) << solved.err;
+  const json report = json::parse(solved.out);
+  EXPECT_GT(report["iterations"].get<int>(), 20);
+  const json check = qualityCheck(report, "fold_angle_error_max_deg");
+  ASSERT_FALSE(check.is_null());
+  EXPECT_TRUE(check["ok"].get<bool>()) << check.dump();
+}
+
 }  // namespace
 }  // namespace devsurf::server

@@ -192,10 +192,13 @@ std::vector<ImportNote> snapNearlyMeetingEnds(std::vector<CreaseStroke>& strokes
 }
 
 StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const CreaseStrokesOptions& options) {
-  if (strokes.empty()) throw std::invalid_argument("SVG: no strokes in a crease colour (black, red, blue, green, yellow, magenta)");
+  const bool svg = options.source == "SVG";
+  const std::string prefix = options.source + ": ", noteElement = svg ? "svg" : "edges_vertices";
+  if (strokes.empty())
+    throw std::invalid_argument(prefix + (svg ? "no strokes in a crease colour (black, red, blue, green, yellow, magenta)" : "no lines"));
   StrokePattern result;
   const double diagonal = strokesDiagonal(strokes);
-  if (!(diagonal > 0.0)) throw std::invalid_argument("SVG: the drawing has no extent");
+  if (!(diagonal > 0.0)) throw std::invalid_argument(prefix + "the drawing has no extent");
   // A stroke no longer than the merge tolerance is a point: given to the arrangement it would
   // still split what it touches (a vertex left on the outline, its faces degenerate there), and
   // as a "curve" it would make every straight stroke be cut into pieces.
@@ -255,7 +258,8 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       strokeOfSegment.push_back(static_cast<int>(s));
     }
     if (static_cast<int>(segments.size()) > options.maxSegments)
-      throw std::length_error("SVG: more than " + std::to_string(options.maxSegments) + " segments after sampling the curves");
+      throw std::length_error(prefix + "more than " + std::to_string(options.maxSegments) + " segments after " +
+                              (svg ? "sampling the curves" : "laying out its lines again (straight lines cut into pieces)"));
   }
   Eigen::MatrixX2d pointMatrix(static_cast<Eigen::Index>(points.size()), 2);
   for (std::size_t k = 0; k < points.size(); ++k) pointMatrix.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
@@ -273,8 +277,9 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
         const EdgeAssignment a = strokes[static_cast<std::size_t>(strokeOfSegment[static_cast<std::size_t>(source)])].assignment;
         return a == EdgeAssignment::Boundary || a == EdgeAssignment::Cut;
       }))
-    result.notes.push_back({"svg", std::to_string(holes) + " face(s) inside outline (black) or cut (green) strokes within "
-                                   "the sheet; cut out as holes"});
+    result.notes.push_back({noteElement, std::to_string(holes) + (svg ? " face(s) inside outline (black) or cut (green) strokes "
+                                                                       : " face(s) inside boundary (B) or cut (C) lines ") +
+                                             "within the sheet; cut out as holes"});
 
   std::set<int> leftOut;
   for (int s : arrangement.unusedSegments) leftOut.insert(strokeOfSegment[static_cast<std::size_t>(s)]);
@@ -299,12 +304,14 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       result.notes.push_back({stroke.element, note.str()});
     }
   if (arrangement.islands > 0)
-    result.notes.push_back({"svg", std::to_string(arrangement.islands) + " island(s) inside the sheet not bridged (no straight "
+    result.notes.push_back({noteElement, std::to_string(arrangement.islands) + " island(s) inside the sheet not bridged (no straight "
                                    "bridge fits, or past the bound on bridging work); left out"});
   if (arrangement.bridgedIslands > 0)
-    result.notes.push_back({"svg", std::to_string(arrangement.bridgedIslands) + " island(s) inside the sheet (closed strokes "
+    result.notes.push_back({noteElement, std::to_string(arrangement.bridgedIslands) + " island(s) inside the sheet (closed strokes "
                                    "touching nothing) joined to what surrounds them by two straight rulings each"});
-  if (arrangement.faces.empty()) throw std::invalid_argument("SVG: the strokes enclose no face (draw the sheet's outline in black)");
+  if (arrangement.faces.empty())
+    throw std::invalid_argument(prefix + (svg ? "the strokes enclose no face (draw the sheet's outline in black)"
+                                              : "the lines enclose no face (the sheet needs an outline of B edges)"));
 
   CreasePattern& p = result.pattern;
   p.unitToMm = 1.0;
@@ -379,7 +386,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   try {
     p.validate();
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("SVG: ") + e.what());
+    throw std::invalid_argument(prefix + e.what());
   }
   return result;
 }

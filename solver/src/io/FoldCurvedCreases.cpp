@@ -32,6 +32,21 @@ std::string pointText(const Eigen::Vector2d& p) {
   return out.str();
 }
 
+/// The last decimal the coordinates are written to: the smallest 10^-k (k ≤ 9) of which every
+/// coordinate is a whole multiple, 0 when none is (full precision).
+double coordinateQuantum(const Eigen::MatrixX2d& points) {
+  for (int k = 0; k <= 9; ++k) {
+    const double scale = std::pow(10.0, k);
+    bool whole = true;
+    for (Eigen::Index i = 0; i < points.size() && whole; ++i) {
+      const double v = points.data()[i] * scale;
+      whole = std::abs(v) < 1e12 && std::abs(v - std::round(v)) <= 1e-6;
+    }
+    if (whole) return 1.0 / scale;
+  }
+  return 0.0;
+}
+
 }  // namespace
 
 FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vector<int>& edgeCurves, double maxTurnDeg) {
@@ -108,6 +123,10 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
   }
 
   const double diagonal = (pattern.vertices2d.colwise().maxCoeff() - pattern.vertices2d.colwise().minCoeff()).norm();
+  // A file written with few decimals (0.367 for a point on a straight crease) must not read its
+  // rounding as a bend: the tolerance is at least twice the file's last decimal.
+  const double straight = std::max(kStraightStrokeFraction * diagonal, 2.0 * coordinateQuantum(pattern.vertices2d));
+  const bool marked = edgeCurves.size() == pattern.edges.size();
   const auto bends = [&](const Chain& c) {
     if (c.closed) return true;
     if (c.vertices.size() < 3) return false;
@@ -119,11 +138,13 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
       const Eigen::Vector2d d = at(v) - a;
       deviation = std::max(deviation, std::abs(axis.x() * d.y() - axis.y() * d.x()));
     }
-    return deviation > kStraightStrokeFraction * diagonal;
+    return deviation > straight;
   };
+  // devsurf's own export marks the edges of its curves: a chain it left unmarked is straight.
   const bool anyCurvedCrease = std::any_of(chains.begin(), chains.end(), [&](const Chain& c) {
     const EdgeAssignment a = pattern.edges[static_cast<std::size_t>(c.edges.front())].assignment;
-    return (a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley) && bends(c);
+    const bool onACurve = !marked || edgeCurves[static_cast<std::size_t>(c.edges.front())] >= 0;
+    return (a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley) && onACurve && bends(c);
   });
   if (!anyCurvedCrease) return result;
 
@@ -162,12 +183,12 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     result.strokes.push_back(std::move(stroke));
   }
   const auto flat = std::count_if(pattern.edges.begin(), pattern.edges.end(),
-                                  [](const CreaseEdge& e) { return e.assignment == EdgeAssignment::Flat; });
+                                  [](const CreaseEdge& e) { return e.assignment == EdgeAssignment::Flat && !e.proposed; });
   std::ostringstream lines;
   lines << "curved creases drawn as chains of straight edges: read as " << result.strokes.size()
         << " lines (creases and outline) and laid out again";
-  if (flat > 0) lines << "; the " << flat << " flat (F, U) edges between them, the facets or rulings of the folded surface, are "
-                      << "left out (rulings are proposed anew)";
+  if (flat > 0) lines << "; the " << flat << " flat edges between them (F and U, and sides of the file's faces it does not "
+                      << "list), the facets or rulings of the folded surface, are left out (rulings are proposed anew)";
   result.notes.push_back({"edges_vertices", lines.str()});
   if (pattern.hasFoldedState())
     result.notes.push_back({"file_frames", "the folded form is left out with the flat edges it was folded on: the sheet is "

@@ -42,6 +42,9 @@ constexpr double kCornerTurnDeg = 10.0;  ///< a path turning more than this star
 /// polyline by devsurf's own export, turns by 18°, 16°, 8° over its first three points), not a
 /// corner between straight lines (a lone turn, or a zigzag's turns of alternating sign).
 constexpr double kSampledCurveTurnDeg = 25.0;
+/// …and only in a path of at least this many pieces, at most a quarter of whose joins turn so hard
+/// (a 16-sided polygon turns 22.5° at every join: its corners stay).
+constexpr std::size_t kSampledCurvePieces = 16;
 constexpr int kMaxNesting = 64;          ///< groups deeper than this are refused (the reader recurses)
 
 
@@ -253,9 +256,6 @@ Eigen::Vector2d endTangent(const std::vector<Eigen::Vector2d>& p) {
     if ((p.back() - p[k]).norm() > 0.0) return (p.back() - p[k]).normalized();
   return Eigen::Vector2d::Zero();
 }
-bool smoothJoin(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  return a.dot(b) >= std::cos(kCornerTurnDeg * kPi / 180.0);
-}
 
 struct Reader {
   const SvgImportOptions& options;
@@ -321,6 +321,12 @@ struct Reader {
         // The key that devsurf's own fold patterns draw in their margin (line samples in the
         // crease colours): not creases.
         result.notes.push_back({element, "a legend (g#legend); left out"});
+        continue;
+      }
+      if (tag == "g" && id == "rulings") {
+        // The rulings devsurf's fold patterns draw (thin grey lines, no crease colour): the import
+        // proposes its own.
+        result.notes.push_back({element, "rulings (g#rulings); left out: the import lays out its own"});
         continue;
       }
       if (tag == "g" || tag == "svg" || tag == "a") {
@@ -426,21 +432,39 @@ struct Reader {
 
   /// Splits a subpath at its corners into strokes.
   void addStrokes(const Subpath& sub, EdgeAssignment assignment, std::optional<double> angle, const std::string& element) {
+    // Pieces of no length (a repeated point, an L to where the path is) have no direction: left
+    // out, so the turn across them is measured between their neighbours (a corner stays one).
+    const auto hasLength = [](const Piece& piece) {
+      return std::any_of(piece.points.begin(), piece.points.end(), [&piece](const Eigen::Vector2d& p) { return p != piece.points.front(); });
+    };
+    const bool anyLength = std::any_of(sub.pieces.begin(), sub.pieces.end(), hasLength);
     std::vector<const Piece*> pieces;
     for (const Piece& piece : sub.pieces)
-      if (piece.points.size() >= 2) pieces.push_back(&piece);
-    // Signed turn (degrees) at the join before pieces[k], k ≥ 1.
-    std::vector<double> turns(pieces.size(), 0.0);
-    for (std::size_t k = 1; k < pieces.size(); ++k) {
-      const Eigen::Vector2d a = endTangent(pieces[k - 1]->points), b = startTangent(pieces[k]->points);
-      turns[k] = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)) * 180.0 / kPi;
-    }
-    const auto smoothAt = [&turns, &pieces](std::size_t k) {
-      const double t = turns[k];
+      if (piece.points.size() >= 2 && (!anyLength || hasLength(piece))) pieces.push_back(&piece);
+    // Signed turn (degrees) from one piece to the next.
+    const auto turnBetween = [](const Piece& from, const Piece& to) {
+      const Eigen::Vector2d a = endTangent(from.points), b = startTangent(to.points);
+      return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)) * 180.0 / kPi;
+    };
+    std::vector<double> turns(pieces.size(), 0.0);  // turns[k]: at the join before pieces[k], k ≥ 1
+    for (std::size_t k = 1; k < pieces.size(); ++k) turns[k] = turnBetween(*pieces[k - 1], *pieces[k]);
+    // A sampled curve (many pieces, most joins gentle) may bend hard at a few joins; a polygon or a
+    // polyline of a few straight lines turns at every join and keeps its corners.
+    std::size_t hardJoins = 0;
+    for (std::size_t k = 1; k < pieces.size(); ++k)
+      hardJoins += std::abs(turns[k]) > kCornerTurnDeg && std::abs(turns[k]) <= kSampledCurveTurnDeg;
+    const bool sampledCurve = pieces.size() >= kSampledCurvePieces && 4 * hardJoins <= pieces.size() - 1;
+    const auto smoothTurn = [sampledCurve](double t, std::optional<double> before, std::optional<double> after) {
       if (std::abs(t) <= kCornerTurnDeg) return true;
-      if (std::abs(t) > kSampledCurveTurnDeg) return false;
-      const auto alike = [t](double u) { return u * t > 0.0 && std::abs(u) >= std::abs(t) / 3.0 && std::abs(u) <= kSampledCurveTurnDeg; };
-      return (k >= 2 && alike(turns[k - 1])) || (k + 1 < pieces.size() && alike(turns[k + 1]));
+      if (!sampledCurve || std::abs(t) > kSampledCurveTurnDeg) return false;
+      const auto alike = [t](std::optional<double> u) {
+        return u && *u * t > 0.0 && std::abs(*u) >= std::abs(t) / 3.0 && std::abs(*u) <= kSampledCurveTurnDeg;
+      };
+      return alike(before) || alike(after);
+    };
+    const auto smoothAt = [&turns, &pieces, &smoothTurn](std::size_t k) {
+      return smoothTurn(turns[k], k >= 2 ? std::optional<double>(turns[k - 1]) : std::nullopt,
+                        k + 1 < pieces.size() ? std::optional<double>(turns[k + 1]) : std::nullopt);
     };
     std::vector<std::vector<Eigen::Vector2d>> runs;
     for (std::size_t k = 0; k < pieces.size(); ++k) {
@@ -453,8 +477,12 @@ struct Reader {
     }
     if (runs.empty()) return;
     bool closedLoop = false;
-    if (sub.closed && (runs.back().back() - runs.front().front()).norm() == 0.0 &&
-        smoothJoin(endTangent(runs.back()), startTangent(runs.front()))) {
+    const auto closingSmooth = [&]() {
+      const double t = turnBetween(*pieces.back(), *pieces.front());
+      return smoothTurn(t, pieces.size() >= 2 ? std::optional<double>(turns.back()) : std::nullopt,
+                        pieces.size() >= 2 ? std::optional<double>(turns[1]) : std::nullopt);
+    };
+    if (sub.closed && (runs.back().back() - runs.front().front()).norm() == 0.0 && closingSmooth()) {
       if (runs.size() == 1) {
         closedLoop = true;
       } else {

@@ -1,4 +1,5 @@
 #include "devsurf/io/FoldImport.h"
+#include "devsurf/io/FoldCurvedCreases.h"
 
 #include <cmath>
 #include <fstream>
@@ -197,6 +198,26 @@ TEST(FoldImport, BadInputIsRefusedNamingTheKeyAndIndex) {
   EXPECT_NE(messageOf(smoothNotBoolean).find("edges_devsurf:smooth[2]"), std::string::npos) << messageOf(smoothNotBoolean);
   const nlohmann::json noFaces = {{"vertices_coords", {{0, 0}, {1, 0}}}, {"edges_vertices", {{0, 1}}}};
   EXPECT_NE(messageOf(noFaces).find("enclose no face"), std::string::npos) << messageOf(noFaces);
+}
+
+TEST(FoldCurvedCreases, AStraightCreaseWrittenToThreeDecimalsIsNotReadAsACurve) {
+  // A valley through a T-junction (a flat edge ends on it), its middle point rounded to three
+  // decimals: 4.7e-4 off its chord, above 5e-5 of the diagonal but within the file's last decimal
+  // (a review found such a file re-laid out as curved, its flat edges and folded form dropped).
+  const auto pattern = [](double middleY) {
+    nlohmann::json doc = {{"file_spec", 1.1},
+                          {"vertices_coords", {{0, 0}, {1, 0}, {1, 0.533}, {1, 1}, {0.5, 1}, {0, 1}, {0, 0.2}, {0.5, middleY}}},
+                          {"edges_vertices", {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {4, 5}, {5, 6}, {6, 0}, {6, 7}, {7, 2}, {7, 4}}},
+                          {"edges_assignment", {"B", "B", "B", "B", "B", "B", "B", "V", "V", "F"}}};
+    return importFoldDocument(doc).pattern;
+  };
+  EXPECT_TRUE(foldCurvedCreases(pattern(0.367)).strokes.empty());
+  // Bent by 2 % of the sheet, it is a curve: every line comes back as a stroke.
+  const FoldCurvedCreases bent = foldCurvedCreases(pattern(0.39));
+  EXPECT_FALSE(bent.strokes.empty());
+  int valleys = 0;
+  for (const CreaseStroke& s : bent.strokes) valleys += s.assignment == EdgeAssignment::Valley;
+  EXPECT_EQ(valleys, 1) << "the two valley edges are one crease";
 }
 
 }  // namespace

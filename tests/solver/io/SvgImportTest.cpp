@@ -276,8 +276,7 @@ TEST(SvgImport, ASideBentSlightlyWhereCreasesEndOnItIsReadAsStraightSides) {
   bool noted = false;
   for (const ImportNote& n : r.notes) noted = noted || n.message.find("straight lines meeting") != std::string::npos;
   EXPECT_TRUE(noted);
-  // The same bend with no crease ending there is a corner between two straight strokes (10° and
-  // more), and a curve a crease ends on keeps its points.
+  // A curve a crease ends on keeps its points.
   const SvgImport curve = importSvgText(svgDocument(
       R"(<path d="M10,90 L90,90 C100,60 100,40 90,10 L10,10 Z" fill="none" stroke="#000"/>
          <line x1="10" y1="50" x2="97.5" y2="50" stroke="blue"/>)"));
@@ -295,14 +294,14 @@ TEST(SvgImport, AStraightLineWrittenWithFewDecimalsStaysStraight) {
 }
 
 TEST(SvgImport, APolylineTurningHardAlongACurveIsOneStrokeAndAZigzagIsCutAtEveryCorner) {
-  // A sampled curve that bends by 18°, 16°, 8° over its first points (a development's outline near
-  // its end, as devsurf's export writes it) is one stroke; it was cut into three at 10°.
+  // A sampled curve (17 pieces) that bends by 18°, 16°, 8° over its first points (a development's
+  // outline near its end, as devsurf's export writes it) is one stroke; it was cut into three at 10°.
   std::string points = "0,20";
   double x = 0, y = 20, heading = 0.0;
-  for (double turn : {18.0, 16.0, 8.0, 3.0, 1.0, 0.0, -1.0, -2.0}) {
+  for (double turn : {18.0, 16.0, 8.0, 3.0, 1.0, 0.0, -1.0, -2.0, -1.0, 0.0, 1.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0}) {
     heading += turn * 3.14159265358979 / 180.0;
-    x += 8.0 * std::cos(heading);
-    y += 8.0 * std::sin(heading);
+    x += 5.0 * std::cos(heading);
+    y += 5.0 * std::sin(heading);
     points += " " + std::to_string(x) + "," + std::to_string(y);
   }
   const SvgImport curve = importSvgText(svgDocument(R"(<polyline points=")" + points + R"(" fill="none" stroke="blue"/>)" + kSquare));
@@ -315,6 +314,28 @@ TEST(SvgImport, APolylineTurningHardAlongACurveIsOneStrokeAndAZigzagIsCutAtEvery
   // A lone turn of 20° is a corner too.
   const SvgImport bend = importSvgText(svgDocument(R"(<polyline points="0,50 50,50 100,68.2" fill="none" stroke="blue"/>)" + kSquare));
   EXPECT_EQ(strokesOf(bend, EdgeAssignment::Valley).first, 2);
+  // A repeated point has no direction: the corner across it stays a corner.
+  const SvgImport repeated =
+      importSvgText(svgDocument(R"(<polyline points="0,50 50,50 50,50 100,100" fill="none" stroke="blue"/>)" + kSquare));
+  EXPECT_EQ(strokesOf(repeated, EdgeAssignment::Valley).first, 2);
+  EXPECT_EQ(strokesOf(repeated, EdgeAssignment::Valley).second, 0);
+}
+
+TEST(SvgImport, ASixteenSidedSheetWithStraightCreasesKeepsItsCorners) {
+  // Every join of a regular 16-gon turns 22.5° the same way: a polygon, not a sampled circle (a
+  // reviewer found it read as one curved outline, which sent the straight creases to the curved
+  // import).
+  std::string points;
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2.0 * 3.14159265358979 * k / 16.0;
+    points += std::to_string(50.0 + 45.0 * std::cos(a)) + "," + std::to_string(50.0 + 45.0 * std::sin(a)) + " ";
+  }
+  const std::string body = R"(<polygon points=")" + points + R"(" fill="none" stroke="#000"/>)" +
+                           R"(<line x1="95" y1="50" x2="5" y2="50" stroke="blue"/>)";
+  const SvgImport r = importSvgText(svgDocument(body));
+  EXPECT_EQ(r.curvedStrokes, 0);
+  EXPECT_EQ(strokesOf(r, EdgeAssignment::Boundary).first, 16);
+  EXPECT_EQ(r.pattern.faces.size(), 2u);
 }
 
 }  // namespace

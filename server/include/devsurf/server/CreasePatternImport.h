@@ -31,7 +31,7 @@ struct CreasePatternImportResult {
   int mountain = 0, valley = 0, flat = 0, boundary = 0, cut = 0;  ///< edges of the pattern by assignment
   bool foldedState = false;     ///< the scene starts in the file's folded form (else flat)
   std::string format = "fold";  ///< what was read
-  int curvedCreases = 0;        ///< curved strokes of an SVG drawing (S edges of the composite)
+  int curvedCreases = 0;        ///< curved creases as drawn (mountain, valley, flat strokes; not the outline)
   /// {"format", "curved_creases", "faces", "edges": {"mountain", …}, "folded_state",
   ///  "notes": [{"element", "message"}]}
   nlohmann::json summaryJson() const;

@@ -27,7 +27,8 @@ struct CreaseEdge {
   /// Unset: writers measure it from the folded state when they can (see measuredFoldAngle).
   std::optional<double> foldAngle;
   /// Polyline crease this edge belongs to (an id of CreasePattern::curves, or any id ≥ 0 shared
-  /// by the edges of one chain); −1 for an edge on no curve.
+  /// by the edges of one chain; a composite's S edges joined with one tangent share the first
+  /// one's id, each keeping its own spline in `curves`); −1 for an edge on no curve.
   int curve = -1;
   /// Not a fold line: a straight edge the import added (a bridge that joins an island to the
   /// sheet around it, so that no face has a hole), or an edge a composite keeps smooth (its

@@ -37,6 +37,9 @@ struct CreaseStrokesOptions {
   int straightPieces = 6;
   int maxSegments = 20000;      ///< std::length_error beyond
   double mergeFraction = 5e-4;  ///< merge tolerance as a fraction of the drawing's diagonal
+  /// The kind of file the strokes come from, named in messages and notes: "SVG" (strokes in
+  /// colours) or "FOLD" (lines of edges, foldCurvedCreases).
+  std::string source = "SVG";
 };
 
 /// Moves the open ends of strokes that nearly meet another stroke onto it, as a hand-drawn end

@@ -23,7 +23,9 @@ struct FoldCurvedCreases {
 /// the chains of M, V, B and C edges joined at vertices where exactly two of those edges meet,
 /// with the same assignment, turning by at most `maxTurnDeg` (a straight creases' vertex, where
 /// more lines meet or one turns sharply, ends them). When a mountain or valley chain bends off its
-/// chord by more than kStraightStrokeFraction × the pattern's diagonal, every chain becomes a
+/// chord by more than kStraightStrokeFraction × the pattern's diagonal and twice the file's last
+/// decimal (a straight crease written to three decimals is not bent by its rounding) — and, in a
+/// file devsurf wrote, lies on a curve it marked — every chain becomes a
 /// stroke (closed chains closed), with the fold angle the length-weighted mean of its edges'
 /// `edges_foldAngle` (the edges without one left out of the mean; none: no angle), and the flat
 /// edges are left out: the curved-crease composite proposes its own rulings. Notes say what was

@@ -673,6 +673,19 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
   std::map<int, std::array<std::optional<double>, 2>> designed;
   for (const FoldAngleTarget& t : design_.foldAngles)
     if (t.end == 0 || t.end == 1) designed[t.edge][static_cast<std::size_t>(t.end)] = t.angleDeg;
+  // S edges joined with one tangent (tangent_continuity: a crease the import split at a ruling
+  // halfway along) are one crease line: their edges share the first one's curve id, so a FOLD or
+  // SVG export read back gives one crease, not two that the next import splits again.
+  std::vector<int> lineOf(static_cast<std::size_t>(topo.numEdges()));
+  for (int e = 0; e < topo.numEdges(); ++e) lineOf[static_cast<std::size_t>(e)] = e;
+  const auto lineRoot = [&lineOf](int e) {
+    while (lineOf[static_cast<std::size_t>(e)] != e) e = lineOf[static_cast<std::size_t>(e)] = lineOf[static_cast<std::size_t>(lineOf[static_cast<std::size_t>(e)])];
+    return e;
+  };
+  for (const std::array<int, 2>& pair : design_.tangentContinuity) {
+    const int a = lineRoot(pair[0]), b = lineRoot(pair[1]);
+    lineOf[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
   auto assign = [](double angle) {
     if (angle > 1e-6) return io::EdgeAssignment::Valley;
     if (angle < -1e-6) return io::EdgeAssignment::Mountain;
@@ -696,7 +709,7 @@ io::CreasePattern CompositeModel::creasePattern(const std::string& title) const 
       }
       case PairKind::Spline:
       case PairKind::Ruling: {
-        if (p.kind == PairKind::Spline) ce.curve = p.edge;
+        if (p.kind == PairKind::Spline) ce.curve = lineRoot(p.edge);
         const auto it = angles.find(p.edge);
         if (!topo.edge(p.edge).interior() || seamEdge_[static_cast<std::size_t>(p.edge)] || it == angles.end()) {
           ce.assignment = io::EdgeAssignment::Boundary;

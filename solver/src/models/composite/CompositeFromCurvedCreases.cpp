@@ -66,6 +66,17 @@ using curved::rulingsCross;
 using curved::sidesOf;
 using curved::startVertexOfPosition;
 
+namespace {
+/// The farthest of `pts` from their principal line (the measure the import's straightness test
+/// takes, io::kStraightStrokeFraction, rather than a mean that lets a bend 3× larger pass).
+double offLine(const Eigen::MatrixX2d& pts) {
+  const Eigen::RowVector2d centre = pts.colwise().mean();
+  const Eigen::MatrixX2d centred = pts.rowwise() - centre;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> pca(centred.transpose() * centred);
+  return (centred * pca.eigenvectors().col(0)).cwiseAbs().maxCoeff();
+}
+}  // namespace
+
 bool hasCurvedCreases(const io::CreasePattern& pattern) {
   std::map<int, std::vector<int>> verticesOfChain;
   for (const io::CreaseEdge& e : pattern.edges)
@@ -78,10 +89,7 @@ bool hasCurvedCreases(const io::CreasePattern& pattern) {
   for (const auto& [id, vs] : verticesOfChain) {
     Eigen::MatrixX2d pts(static_cast<Eigen::Index>(vs.size()), 2);
     for (std::size_t i = 0; i < vs.size(); ++i) pts.row(static_cast<Eigen::Index>(i)) = pattern.vertices2d.row(vs[i]);
-    const Eigen::RowVector2d centre = pts.colwise().mean();
-    const Eigen::MatrixX2d centred = pts.rowwise() - centre;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> pca(centred.transpose() * centred);
-    if (std::sqrt(std::max(0.0, pca.eigenvalues()(0)) / static_cast<double>(vs.size())) > io::kStraightStrokeFraction * diagonal) return true;
+    if (offLine(pts) > io::kStraightStrokeFraction * diagonal) return true;
   }
   return false;
 }
@@ -127,10 +135,7 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   for (const auto& [id, vs] : verticesOfChain) {
     Eigen::MatrixX2d pts(static_cast<Eigen::Index>(vs.size()), 2);
     for (std::size_t i = 0; i < vs.size(); ++i) pts.row(static_cast<Eigen::Index>(i)) = pattern.vertices2d.row(vs[i]);
-    const Eigen::MatrixX2d centred = pts.rowwise() - pts.colwise().mean();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> pca(centred.transpose() * centred);
-    if (std::sqrt(std::max(0.0, pca.eigenvalues()(0)) / static_cast<double>(vs.size())) > io::kStraightStrokeFraction * diagonal)
-      g.curvedChains.insert(id);
+    if (offLine(pts) > io::kStraightStrokeFraction * diagonal) g.curvedChains.insert(id);
   }
   for (std::size_t e = 0; e < pattern.edges.size(); ++e)
     if (pattern.edges[e].assignment == io::EdgeAssignment::Cut)
@@ -242,7 +247,7 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
                                                     "straight ends between its curved sides (S R S R, S R S or S R R): draw "
                                                     "three or more straight creases from a point inside out to the curve "
                                                     "(cones around that point), or, for a closed crease inside the sheet, "
-                                                    "outline it in black to cut it out as a hole");
+                                                    "outline it (black in an SVG, B edges in a FOLD file) to cut it out as a hole");
         if (!layout)
           throw std::invalid_argument(faceName(f) + ": no ruling layout (a face needs straight ends between its curved "
                                                     "sides: S R S R, S R S or S R R)");

@@ -350,7 +350,7 @@ TEST(CompositeIslands, AClosedCurvedCreaseWithNothingStraightInsideIsRefusedSayi
     const std::string message = e.what();
     EXPECT_NE(message.find("faces["), std::string::npos) << message;
     EXPECT_NE(message.find("closed curved crease"), std::string::npos) << message;
-    EXPECT_NE(message.find("outline it in black"), std::string::npos) << message;
+    EXPECT_NE(message.find("outline it (black in an SVG"), std::string::npos) << message;
   }
 }
 
