@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <map>
@@ -321,6 +322,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   for (const auto& f : p.faces)
     for (std::size_t k = 0; k < f.size(); ++k) ++facesOfPair[std::minmax(f[k], f[(k + 1) % f.size()])];
   std::set<int> outlineCreases, innerBoundaries;
+  std::vector<int> strokeOfEdge;  // per p.edges entry: its stroke, −1 for a bridge
   std::vector<double> boundingLength(strokes.size(), 0.0), strokeLength(strokes.size(), 0.0);
   for (std::size_t k = 0; k < segments.size(); ++k)
     strokeLength[static_cast<std::size_t>(strokeOfSegment[k])] += (points[static_cast<std::size_t>(segments[k][0])] -
@@ -337,6 +339,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       edge.proposed = true;
       edge.assignment = count->second == 1 ? EdgeAssignment::Boundary : EdgeAssignment::Flat;
       p.edges.push_back(edge);
+      strokeOfEdge.push_back(-1);
       continue;
     }
     boundingLength[static_cast<std::size_t>(strokeId)] +=
@@ -357,11 +360,39 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       if (stroke.foldAngle && *stroke.foldAngle != 0.0) edge.foldAngle = stroke.foldAngle;
     }
     p.edges.push_back(edge);
+    strokeOfEdge.push_back(strokeId);
   }
   // A stroke whose face-bounding pieces do not add up to its length lost a piece (a dangling
   // tail is pruned from the arrangement without a trace).
   for (std::size_t s = 0; s < strokes.size(); ++s)
     if (boundingLength[s] < strokeLength[s] * (1.0 - 1e-6) - 1e-9 * diagonal) result.strokeLeftOut[s] = true;
+  // Two creases meeting alone at a corner (a polyline crease turning, a zigzag): no fold of both
+  // keeps the sheet in one piece there (a crease's vertex needs more creases round it, or none to
+  // turn), so say where before a fold stretches the sheet to reach it.
+  {
+    std::map<int, std::vector<std::size_t>> edgesAt;
+    for (std::size_t e = 0; e < p.edges.size(); ++e) {
+      edgesAt[p.edges[e].v0].push_back(e);
+      edgesAt[p.edges[e].v1].push_back(e);
+    }
+    for (const auto& [v, at] : edgesAt) {
+      if (at.size() != 2) continue;
+      const CreaseEdge& a = p.edges[at[0]];
+      const CreaseEdge& b = p.edges[at[1]];
+      const auto folds = [](const CreaseEdge& e) { return e.assignment == EdgeAssignment::Mountain || e.assignment == EdgeAssignment::Valley; };
+      if (!folds(a) || !folds(b) || strokeOfEdge[at[0]] == strokeOfEdge[at[1]]) continue;
+      const Eigen::Vector2d here = p.vertices2d.row(v).transpose();
+      const Eigen::Vector2d in = here - Eigen::Vector2d(p.vertices2d.row(a.v0 == v ? a.v1 : a.v0).transpose());
+      const Eigen::Vector2d out = Eigen::Vector2d(p.vertices2d.row(b.v0 == v ? b.v1 : b.v0).transpose()) - here;
+      const double turnDeg = std::atan2(std::abs(in.x() * out.y() - in.y() * out.x()), in.dot(out)) * 180.0 / 3.14159265358979323846;
+      if (turnDeg <= 10.0) continue;
+      std::ostringstream note;
+      note.precision(4);
+      note << "two creases meet alone at (" << here.x() << ", " << here.y() << "), turning by " << std::lround(turnDeg)
+           << "°: they cannot both fold there without stretching the sheet (draw a crease on through the corner, or round it)";
+      result.notes.push_back({strokes[static_cast<std::size_t>(strokeOfEdge[at[1]])].element, note.str()});
+    }
+  }
   for (int s : outlineCreases)
     result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a crease colour on the sheet's outline; read as boundary"});
   for (int s : innerBoundaries)

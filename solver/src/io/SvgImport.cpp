@@ -513,6 +513,11 @@ SvgImport importSvgText(const std::string& text, const SvgImportOptions& options
   const pugi::xml_node root = doc.document_element();
   if (std::string(root.name()) != "svg") refuseSvg(std::string("the root element is <") + root.name() + ">, not <svg>");
 
+  // devsurf's cutting pattern of a covering (pieces to cut out and glue edge to edge): its glue
+  // lines are blue, and read as a crease pattern it became 700 valleys with free ends.
+  if (doc.select_node("//*[local-name()='g'][@id='cuts']") && doc.select_node("//*[local-name()='g'][@id='glue']"))
+    refuseSvg("a cutting pattern (pieces to cut out, g#cuts, and glue lines, g#glue), not a crease pattern: its pieces "
+              "are glued, not folded; open the scene it was exported from instead");
   SvgImport result;
   Reader reader{options, {}, result, {}, {}, {}};
   for (const pugi::xpath_node& style : doc.select_nodes("//*[local-name()='style']"))

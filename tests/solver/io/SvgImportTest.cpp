@@ -338,5 +338,28 @@ TEST(SvgImport, ASixteenSidedSheetWithStraightCreasesKeepsItsCorners) {
   EXPECT_EQ(r.pattern.faces.size(), 2u);
 }
 
+TEST(SvgImport, TwoCreasesMeetingAloneAtACornerAreNotedWhere) {
+  // A valley drawn as one polyline that turns by 62° in the middle of the sheet: two creases that
+  // cannot both fold there (a tryout's FOLD file of the same "folded" by stretching 4.8 times).
+  const SvgImport r = importSvgText(svgDocument(R"(<polyline points="0,80 50,50 100,80" fill="none" stroke="blue"/>)" + kSquare));
+  bool noted = false;
+  for (const ImportNote& n : r.notes) noted = noted || n.message.find("two creases meet alone at (50, 50), turning by 62") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // A crease that runs straight on through a point where two strokes meet is not such a corner.
+  const SvgImport straight = importSvgText(svgDocument(
+      R"(<line x1="0" y1="50" x2="50" y2="50" stroke="blue"/><line x1="50" y1="50" x2="100" y2="50" stroke="blue"/>)" + kSquare));
+  for (const ImportNote& n : straight.notes) EXPECT_EQ(n.message.find("meet alone"), std::string::npos) << n.message;
+}
+
+TEST(SvgImport, DevsurfsCuttingPatternOfACoveringIsRefusedAsNoCreasePattern) {
+  try {
+    importSvgText(svgDocument(R"(<g id="cuts" stroke="#000000"><polyline points="0,0 10,0 10,10 0,0"/></g>)"
+                              R"(<g id="glue" stroke="#0050c8"><line x1="0" y1="0" x2="10" y2="10"/></g>)"));
+    FAIL() << "a cutting pattern is not a crease pattern";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("a cutting pattern"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace devsurf::io
