@@ -99,6 +99,7 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         io::CreaseStrokesOptions strokeOptions;
         strokeOptions.maxSegments = request.maxEdges;
         strokeOptions.source = "FOLD";
+        strokeOptions.curvedDecided = true;
         io::StrokePattern made = io::creasePatternFromStrokes(curved.strokes, strokeOptions);
         for (std::size_t i = 0; i < curved.strokes.size(); ++i) curved.strokes[i].curved = made.strokeCurved[i];
         made.pattern.title = imported.pattern.title;
@@ -258,10 +259,14 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         const models::composite::FoldAngleTarget& t = design.foldAngles[target];
         const models::composite::CompositeEdge& edge = design.edges[static_cast<std::size_t>(t.edge)];
         const int v = t.end == 0 ? edge.v0 : edge.v1;
+        // Where the vertex lies in the crease pattern (a folded form's vertices are 3D).
+        Eigen::Vector2d at(design.vertices(v, 0), design.vertices(v, 1));
+        for (const models::composite::DomainCorner& c : design.developmentDomain.corners)
+          if (c.vertex == v) at = c.at;
         std::ostringstream where;
         where.precision(4);
-        where << "body: the crease pattern cannot fold at (" << design.vertices(v, 0) << ", " << design.vertices(v, 1)
-              << ") " << sceneUnits << ": the faces beside the crease there are degenerate (creases meeting alone "
+        where << "body: the crease pattern cannot fold at (" << at.x() << ", " << at.y() << ") " << sceneUnits
+              << (request.format == "svg" ? " from the page's bottom left, y up" : "") << ": the faces beside the crease there are degenerate (creases meeting alone "
               << "at a corner, as in a zigzag of two, cannot fold; every crease needs a face on each side); redraw "
               << "the creases there";
         throw ApproximationInputError("body", where.str());

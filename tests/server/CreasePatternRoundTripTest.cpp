@@ -184,7 +184,8 @@ TEST_P(CreasePatternRoundTrip, TheImportedExportFoldsToItsAnglesWithTheSliderKee
     const auto creasesOf = [](const proto::Scene& scene) {
       const json document = proto::sceneToJson(scene);  // held: a loop over a temporary's member dangles
       int creases = 0;
-      for (const json& stroke : document["model"]["drawing"]["strokes"]) creases += stroke["assignment"] == "M" || stroke["assignment"] == "V";
+      for (const json& stroke : document.at("model").at("drawing").at("strokes"))
+        creases += stroke.at("assignment") == "M" || stroke.at("assignment") == "V";
       return creases;
     };
     const int creasesFirst = creasesOf(r.imported.scene);

@@ -221,6 +221,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       s.curved = true;
       continue;
     }
+    if (options.curvedDecided) continue;
     const Eigen::Vector2d a = s.points.front(), b = s.points.back();
     const Eigen::Vector2d axis = (b - a).norm() > 0 ? Eigen::Vector2d((b - a).normalized()) : Eigen::Vector2d::UnitX();
     double deviation = 0.0;
@@ -299,7 +300,7 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       const CreaseStroke& stroke = strokes[static_cast<std::size_t>(s)];
       std::ostringstream note;
       note.precision(4);
-      note << "a stroke with a free end, or apart from the sheet (from (" << stroke.points.front().x() << ", "
+      note << (svg ? "a stroke" : "a line") << " with a free end, or apart from the sheet (from (" << stroke.points.front().x() << ", "
            << stroke.points.front().y() << ") to (" << stroke.points.back().x() << ", " << stroke.points.back().y()
            << ")); left out — a crease ends on another crease or on the outline";
       result.notes.push_back({stroke.element, note.str()});
@@ -308,8 +309,8 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
     result.notes.push_back({noteElement, std::to_string(arrangement.islands) + " island(s) inside the sheet not bridged (no straight "
                                    "bridge fits, or past the bound on bridging work); left out"});
   if (arrangement.bridgedIslands > 0)
-    result.notes.push_back({noteElement, std::to_string(arrangement.bridgedIslands) + " island(s) inside the sheet (closed strokes "
-                                   "touching nothing) joined to what surrounds them by two straight rulings each"});
+    result.notes.push_back({noteElement, std::to_string(arrangement.bridgedIslands) + " island(s) inside the sheet (closed "
+                                             + (svg ? "strokes" : "lines") + " touching nothing) joined to what surrounds them by two straight rulings each"});
   if (arrangement.faces.empty())
     throw std::invalid_argument(prefix + (svg ? "the strokes enclose no face (draw the sheet's outline in black)"
                                               : "the lines enclose no face (the sheet needs an outline of B edges)"));
@@ -388,15 +389,18 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
       if (turnDeg <= 10.0) continue;
       std::ostringstream note;
       note.precision(4);
-      note << "two creases meet alone at (" << here.x() << ", " << here.y() << "), turning by " << std::lround(turnDeg)
+      note << "two creases meet alone at (" << here.x() << ", " << here.y() << ")" << (svg ? " mm from the page's bottom left, y up" : "")
+           << ", turning by " << std::lround(turnDeg)
            << "°: they cannot both fold there without stretching the sheet (draw a crease on through the corner, or round it)";
       result.notes.push_back({strokes[static_cast<std::size_t>(strokeOfEdge[at[1]])].element, note.str()});
     }
   }
   for (int s : outlineCreases)
-    result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a crease colour on the sheet's outline; read as boundary"});
+    result.notes.push_back({strokes[static_cast<std::size_t>(s)].element,
+                            svg ? "a crease colour on the sheet's outline; read as boundary" : "a crease (M, V, F) on the sheet's outline; read as boundary"});
   for (int s : innerBoundaries)
-    result.notes.push_back({strokes[static_cast<std::size_t>(s)].element, "a boundary (black) line inside the sheet; read as a cut"});
+    result.notes.push_back({strokes[static_cast<std::size_t>(s)].element,
+                            svg ? "a boundary (black) line inside the sheet; read as a cut" : "a boundary (B) line inside the sheet; read as a cut"});
   // Only the points the faces use (merged duplicates and pruned ends would be noted as lone
   // vertices by every later step).
   std::vector<int> newIndex(static_cast<std::size_t>(p.vertices2d.rows()), -1);

@@ -125,7 +125,8 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
   const double diagonal = (pattern.vertices2d.colwise().maxCoeff() - pattern.vertices2d.colwise().minCoeff()).norm();
   // A file written with few decimals (0.367 for a point on a straight crease) must not read its
   // rounding as a bend: the tolerance is at least twice the file's last decimal.
-  const double straight = std::max(kStraightStrokeFraction * diagonal, 2.0 * coordinateQuantum(pattern.vertices2d));
+  const double straight = std::max(kStraightStrokeFraction * diagonal,
+                                   std::min(2.0 * coordinateQuantum(pattern.vertices2d), 1e-3 * diagonal));
   const bool marked = edgeCurves.size() == pattern.edges.size();
   const auto bends = [&](const Chain& c) {
     if (c.closed) return true;
@@ -141,10 +142,12 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     return deviation > straight;
   };
   // devsurf's own export marks the edges of its curves: a chain it left unmarked is straight.
+  const auto curved = [&](const Chain& c) {
+    return (!marked || edgeCurves[static_cast<std::size_t>(c.edges.front())] >= 0) && bends(c);
+  };
   const bool anyCurvedCrease = std::any_of(chains.begin(), chains.end(), [&](const Chain& c) {
     const EdgeAssignment a = pattern.edges[static_cast<std::size_t>(c.edges.front())].assignment;
-    const bool onACurve = !marked || edgeCurves[static_cast<std::size_t>(c.edges.front())] >= 0;
-    return (a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley) && onACurve && bends(c);
+    return (a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley) && curved(c);
   });
   if (!anyCurvedCrease) return result;
 
@@ -153,6 +156,7 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     CreaseStroke stroke;
     for (int v : c.vertices) stroke.points.push_back(at(v));
     stroke.closed = c.closed;
+    stroke.curved = curved(c);  // decided here, with the file's rounding and marks (CreaseStrokesOptions::curvedDecided)
     stroke.assignment = pattern.edges[static_cast<std::size_t>(c.edges.front())].assignment;
     stroke.element = "crease from " + pointText(stroke.points.front()) + " to " + pointText(stroke.points.back());
     if (stroke.assignment == EdgeAssignment::Mountain || stroke.assignment == EdgeAssignment::Valley) {
@@ -183,12 +187,13 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     result.strokes.push_back(std::move(stroke));
   }
   const auto flat = std::count_if(pattern.edges.begin(), pattern.edges.end(),
-                                  [](const CreaseEdge& e) { return e.assignment == EdgeAssignment::Flat && !e.proposed; });
+                                  [](const CreaseEdge& e) { return e.assignment == EdgeAssignment::Flat; });
   std::ostringstream lines;
   lines << "curved creases drawn as chains of straight edges: read as " << result.strokes.size()
         << " lines (creases and outline) and laid out again";
-  if (flat > 0) lines << "; the " << flat << " flat edges between them (F and U, and sides of the file's faces it does not "
-                      << "list), the facets or rulings of the folded surface, are left out (rulings are proposed anew)";
+  if (flat > 0) lines << "; the " << flat << " flat edges between them (F and U, rulings devsurf kept smooth, sides of the "
+                      << "file's faces it does not list), the facets or rulings of the folded surface, are left out "
+                      << "(rulings are proposed anew)";
   result.notes.push_back({"edges_vertices", lines.str()});
   if (pattern.hasFoldedState())
     result.notes.push_back({"file_frames", "the folded form is left out with the flat edges it was folded on: the sheet is "

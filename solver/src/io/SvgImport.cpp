@@ -42,9 +42,9 @@ constexpr double kCornerTurnDeg = 10.0;  ///< a path turning more than this star
 /// polyline by devsurf's own export, turns by 18°, 16°, 8° over its first three points), not a
 /// corner between straight lines (a lone turn, or a zigzag's turns of alternating sign).
 constexpr double kSampledCurveTurnDeg = 25.0;
-/// …and only in a path of at least this many pieces, at most a quarter of whose joins turn so hard
-/// (a 16-sided polygon turns 22.5° at every join: its corners stay).
-constexpr std::size_t kSampledCurvePieces = 16;
+/// …and only in a path of at least this many pieces, and, when it is closed, at most a quarter of
+/// whose joins turn so hard (a 16-sided polygon turns 22.5° at every join: its corners stay).
+constexpr std::size_t kSampledCurvePieces = 8;
 constexpr int kMaxNesting = 64;          ///< groups deeper than this are refused (the reader recurses)
 
 
@@ -453,7 +453,9 @@ struct Reader {
     std::size_t hardJoins = 0;
     for (std::size_t k = 1; k < pieces.size(); ++k)
       hardJoins += std::abs(turns[k]) > kCornerTurnDeg && std::abs(turns[k]) <= kSampledCurveTurnDeg;
-    const bool sampledCurve = pieces.size() >= kSampledCurvePieces && 4 * hardJoins <= pieces.size() - 1;
+    // A closed path turning hard at most joins is a polygon (a 16-gon turns 22.5° at each); an
+    // open one of enough pieces is a sampled curve (a 90° arc in 8 pieces turns 11.25° at each).
+    const bool sampledCurve = pieces.size() >= kSampledCurvePieces && (!sub.closed || 4 * hardJoins <= pieces.size() - 1);
     const auto smoothTurn = [sampledCurve](double t, std::optional<double> before, std::optional<double> after) {
       if (std::abs(t) <= kCornerTurnDeg) return true;
       if (!sampledCurve || std::abs(t) > kSampledCurveTurnDeg) return false;

@@ -220,5 +220,26 @@ TEST(FoldCurvedCreases, AStraightCreaseWrittenToThreeDecimalsIsNotReadAsACurve) 
   EXPECT_EQ(valleys, 1) << "the two valley edges are one crease";
 }
 
+TEST(FoldCurvedCreases, ARoundedStraightCreaseStaysStraightBesideACurvedOne) {
+  // A curved valley and a straight mountain through a T-junction written to three decimals: the
+  // file is laid out again for the valley, and the mountain must come back straight (a review
+  // found every line measured again at 5e-5 of the diagonal, the mountain then a curve).
+  const nlohmann::json doc = {
+      {"file_spec", 1.1},
+      {"vertices_coords", {{0, 0}, {0.5, 0}, {1, 0}, {1, 0.533}, {1, 0.933}, {1, 1}, {0.5, 1}, {0, 1}, {0, 0.7}, {0, 0.2}, {0.5, 0.39}, {0.5, 0.817}}},
+      {"edges_vertices", {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {4, 5}, {5, 6}, {6, 7}, {7, 8}, {8, 9}, {9, 0}, {9, 10}, {10, 3}, {8, 11}, {11, 4}, {1, 10}, {11, 6}}},
+      {"edges_assignment", {"B", "B", "B", "B", "B", "B", "B", "B", "B", "B", "V", "V", "M", "M", "F", "F"}}};
+  const FoldCurvedCreases r = foldCurvedCreases(importFoldDocument(doc).pattern);
+  int curvedValleys = 0, mountains = 0, curvedMountains = 0;
+  for (const CreaseStroke& s : r.strokes) {
+    curvedValleys += s.assignment == EdgeAssignment::Valley && s.curved;
+    mountains += s.assignment == EdgeAssignment::Mountain;
+    curvedMountains += s.assignment == EdgeAssignment::Mountain && s.curved;
+  }
+  EXPECT_EQ(curvedValleys, 1);
+  EXPECT_EQ(mountains, 1);
+  EXPECT_EQ(curvedMountains, 0);
+}
+
 }  // namespace
 }  // namespace devsurf::io

@@ -321,6 +321,19 @@ TEST(SvgImport, APolylineTurningHardAlongACurveIsOneStrokeAndAZigzagIsCutAtEvery
   EXPECT_EQ(strokesOf(repeated, EdgeAssignment::Valley).second, 0);
 }
 
+TEST(SvgImport, AQuarterArcDrawnAsEightStraightPiecesIsOneCurvedCrease) {
+  // 11.25° at every join: a sampled curve (a review found the 16-piece minimum cut it into eight
+  // creases, which then could not fold).
+  std::string points;
+  for (int k = 0; k <= 8; ++k) {
+    const double a = 3.14159265358979 / 2.0 * k / 8.0;
+    points += std::to_string(100.0 - 60.0 * std::cos(a)) + "," + std::to_string(60.0 * std::sin(a)) + " ";
+  }
+  const SvgImport r = importSvgText(svgDocument(R"(<polyline points=")" + points + R"(" fill="none" stroke="blue"/>)" + kSquare));
+  EXPECT_EQ(strokesOf(r, EdgeAssignment::Valley).first, 1);
+  EXPECT_EQ(strokesOf(r, EdgeAssignment::Valley).second, 1);
+}
+
 TEST(SvgImport, ASixteenSidedSheetWithStraightCreasesKeepsItsCorners) {
   // Every join of a regular 16-gon turns 22.5° the same way: a polygon, not a sampled circle (a
   // reviewer found it read as one curved outline, which sent the straight creases to the curved
@@ -343,7 +356,9 @@ TEST(SvgImport, TwoCreasesMeetingAloneAtACornerAreNotedWhere) {
   // cannot both fold there (a tryout's FOLD file of the same "folded" by stretching 4.8 times).
   const SvgImport r = importSvgText(svgDocument(R"(<polyline points="0,80 50,50 100,80" fill="none" stroke="blue"/>)" + kSquare));
   bool noted = false;
-  for (const ImportNote& n : r.notes) noted = noted || n.message.find("two creases meet alone at (50, 50), turning by 62") != std::string::npos;
+  for (const ImportNote& n : r.notes)
+    noted = noted || (n.message.find("two creases meet alone at (50, 50)") != std::string::npos &&
+                      n.message.find("turning by 62") != std::string::npos);
   EXPECT_TRUE(noted);
   // A crease that runs straight on through a point where two strokes meet is not such a corner.
   const SvgImport straight = importSvgText(svgDocument(

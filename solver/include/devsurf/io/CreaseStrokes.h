@@ -40,6 +40,9 @@ struct CreaseStrokesOptions {
   /// The kind of file the strokes come from, named in messages and notes: "SVG" (strokes in
   /// colours) or "FOLD" (lines of edges, foldCurvedCreases).
   std::string source = "SVG";
+  /// The strokes' `curved` flags are already decided (foldCurvedCreases: with the file's rounding
+  /// and devsurf's curve marks): kept instead of measured again.
+  bool curvedDecided = false;
 };
 
 /// Moves the open ends of strokes that nearly meet another stroke onto it, as a hand-drawn end

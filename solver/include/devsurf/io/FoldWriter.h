@@ -31,11 +31,13 @@ namespace devsurf::io {
 /// Custom keys follow the spec's rule for custom properties (a colon; for per-element arrays the
 /// namespace goes after the element prefix, like the spec's "edges_tm:structuralType", so that
 /// FOLD tools treat them as edge data when they renumber edges):
-///  * "edges_devsurf:curve": per edge, its curve id or null (written when any edge has a curve);
+///  * "edges_devsurf:curve": per edge, the id of the crease line it lies on, or null (written when
+///    any edge has one); a composite's S edges joined with one tangent share the first one's id
+///    (one crease), so an id may name a line made of several of the splines below;
 ///  * "edges_devsurf:smooth": per edge, true for CreaseEdge::proposed (a straight edge a composite
 ///    keeps smooth: read back, a flat edge stays smooth instead of folding freely), else false
 ///    (written when any edge has it; read back only on flat (F) edges);
-///  * "devsurf:curves": per curve with spline data, {"id", "degree", "knots", "controlPoints"
+///  * "devsurf:curves": per spline (a composite's S edge, by its edge id), {"id", "degree", "knots", "controlPoints"
 ///    ([x, y, z] in the folded state, in frame_unit), "weights" (rational only)};
 ///  * "devsurf:rulings": per ruling, [[x0, y0], [x1, y1]] in the development (in frame_unit);
 ///  * "devsurf:unitToMm": the model scale, so that readFold can restore model units.

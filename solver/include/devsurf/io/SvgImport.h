@@ -53,10 +53,10 @@ struct SvgImport {
 ///    absolute and relative); transforms of the element and its groups; stroke and opacity from
 ///    attributes, inline style, class rules of <style> elements and inherited from groups. Hidden
 ///    elements, <defs>, <use>, <text> and <image> are left out (noted).
-///  * Paths are split into strokes at corners (tangent turning by more than 10°; in a path of 16
-///    or more pieces with at most a quarter of its joins turning 10°–25°, such a join is no corner
-///    when a neighbouring join turns the same way by a third as much: a sampled curve bending hard
-///    is not cut, a polygon keeps its corners); pieces of no length are passed over; a polyline bent slightly where other strokes end on it is split into its
+///  * Paths are split into strokes at corners (tangent turning by more than 10°; in a path of 8
+///    or more pieces — closed, with at most a quarter of its joins turning 10°–25° — such a join is
+///    no corner when a neighbouring join turns the same way by a third as much: a sampled curve
+///    bending hard is not cut, a polygon keeps its corners); pieces of no length are passed over; a polyline bent slightly where other strokes end on it is split into its
 ///    straight lines (splitIntoStraightRuns); Bézier pieces
 ///    and arcs are sampled (options.samplesPerCurve) into edges sharing one curve id.
 ///  * Units: the root's width/height with viewBox; px at 96 per inch when unitless. Everything is
