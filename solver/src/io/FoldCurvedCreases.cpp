@@ -10,7 +10,7 @@ namespace devsurf::io {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kFoldChainRadiansPerDegree = 3.14159265358979323846 / 180.0;
 /// A crease whose angles spread by more than this along it (degrees) gets a note.
 constexpr double kAngleSpreadNoteDeg = 5.0;
 
@@ -19,7 +19,7 @@ bool isLine(EdgeAssignment a) {
          a == EdgeAssignment::Cut;
 }
 
-struct Chain {
+struct LineChain {
   std::vector<int> vertices;  ///< in order; a closed chain does not repeat its first
   std::vector<int> edges;
   bool closed = false;
@@ -64,7 +64,7 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     const CreaseEdge& edge = pattern.edges[static_cast<std::size_t>(e)];
     return edge.v0 == v ? edge.v1 : edge.v0;
   };
-  const double cosMaxTurn = std::cos(maxTurnDeg * kPi / 180.0);
+  const double cosMaxTurn = std::cos(maxTurnDeg * kFoldChainRadiansPerDegree);
   // A line runs on through v: exactly two line edges meet there, alike, turning little.
   const auto runsThrough = [&](int v) {
     const std::vector<int>& inc = incident[static_cast<std::size_t>(v)];
@@ -79,7 +79,7 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     return lengths > 0.0 && in.dot(out) >= cosMaxTurn * lengths;
   };
 
-  std::vector<Chain> chains;
+  std::vector<LineChain> chains;
   std::vector<char> used(pattern.edges.size(), 0);
   for (std::size_t start = 0; start < pattern.edges.size(); ++start) {
     if (used[start] || !isLine(pattern.edges[start].assignment)) continue;
@@ -128,7 +128,7 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
   const double straight = std::max(kStraightStrokeFraction * diagonal,
                                    std::min(2.0 * coordinateQuantum(pattern.vertices2d), 1e-3 * diagonal));
   const bool marked = edgeCurves.size() == pattern.edges.size();
-  const auto bends = [&](const Chain& c) {
+  const auto bends = [&](const LineChain& c) {
     if (c.closed) return true;
     if (c.vertices.size() < 3) return false;
     const Eigen::Vector2d a = at(c.vertices.front()), b = at(c.vertices.back());
@@ -142,17 +142,17 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     return deviation > straight;
   };
   // devsurf's own export marks the edges of its curves: a chain it left unmarked is straight.
-  const auto curved = [&](const Chain& c) {
+  const auto curved = [&](const LineChain& c) {
     return (!marked || edgeCurves[static_cast<std::size_t>(c.edges.front())] >= 0) && bends(c);
   };
-  const bool anyCurvedCrease = std::any_of(chains.begin(), chains.end(), [&](const Chain& c) {
+  const bool anyCurvedCrease = std::any_of(chains.begin(), chains.end(), [&](const LineChain& c) {
     const EdgeAssignment a = pattern.edges[static_cast<std::size_t>(c.edges.front())].assignment;
     return (a == EdgeAssignment::Mountain || a == EdgeAssignment::Valley) && curved(c);
   });
   if (!anyCurvedCrease) return result;
 
   const std::vector<std::optional<double>> angles = exportedFoldAngles(pattern);
-  for (const Chain& c : chains) {
+  for (const LineChain& c : chains) {
     CreaseStroke stroke;
     for (int v : c.vertices) stroke.points.push_back(at(v));
     stroke.closed = c.closed;
