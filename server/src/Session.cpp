@@ -619,7 +619,7 @@ void Session::handle(const Work& work) {
     SolveLimits frame;
     frame.iterations = settings_.dragIterations;
     frame.timeBudgetMs = settings_.dragTimeBudgetMs;
-    runSolver(frame, false);
+    runSolver(foldLimits(frame), false);
   } else if (type == "fold_end") {
     {
       std::lock_guard<std::mutex> lock(mutex_);

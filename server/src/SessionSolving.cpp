@@ -123,6 +123,11 @@ SolveLimits Session::pointDragLimits(SolveLimits limits) const {
   return limits;
 }
 
+SolveLimits Session::foldLimits(SolveLimits limits) const {
+  if (isComposite() && solver_->compositeModel().hasDevelopment()) limits.correctionSteps = settings_.developedCorrectionSteps;
+  return limits;
+}
+
 bool Session::runSolver(SolveLimits limits, bool final) {
   if (keepsInput()) {  // solved whole when the model was rebuilt
     publishSolve(final);
@@ -269,7 +274,7 @@ void Session::releaseFold(int iterations) {
   SolveLimits withTargets;
   withTargets.iterations = iterations;
   withTargets.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;
-  const bool finished = iterations == 0 || runSolver(withTargets, false);
+  const bool finished = iterations == 0 || runSolver(foldLimits(withTargets), false);
   if (!finished) {
     settlePending_ = true;
     return;

@@ -337,6 +337,8 @@ class Session : public std::enable_shared_from_this<Session> {
   /// the fold slider or a polish): a composite that keeps a development holds
   /// developedDragHardBand with developedCorrectionSteps.
   SolveLimits pointDragLimits(SolveLimits limits) const;
+  /// `limits` for the fold slider's iterations (its frames and fold_end's catch-up).
+  SolveLimits foldLimits(SolveLimits limits) const;
   /// fold_end: iterations with the fold-angle targets, then the release's polish.
   void releaseFold(int iterations);
   /// The second phase of a release (drag_end, fold_end): projection steps until every hard row is
