@@ -81,6 +81,15 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
 
   std::vector<LineChain> chains;
   std::vector<char> used(pattern.edges.size(), 0);
+  // The edge that continues the line through `cur` from `from`, claimed; -1 where the line ends.
+  const auto nextEdge = [&incident, &used, &runsThrough](int cur, int from) {
+    if (!runsThrough(cur)) return -1;
+    const std::vector<int>& inc = incident[static_cast<std::size_t>(cur)];
+    const int next = inc[0] == from ? inc[1] : inc[0];
+    if (used[static_cast<std::size_t>(next)]) return -1;
+    used[static_cast<std::size_t>(next)] = 1;
+    return next;
+  };
   for (std::size_t start = 0; start < pattern.edges.size(); ++start) {
     if (used[start] || !isLine(pattern.edges[start].assignment)) continue;
     used[start] = 1;
@@ -90,11 +99,7 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
     bool closed = false;
     // Forward from v1; a walk that comes back to the first vertex closes the chain there when the
     // line runs through it (else the chain starts and ends at a corner).
-    for (int cur = vertices.back(), from = e0; runsThrough(cur);) {
-      const std::vector<int>& inc = incident[static_cast<std::size_t>(cur)];
-      const int next = inc[0] == from ? inc[1] : inc[0];
-      if (used[static_cast<std::size_t>(next)]) break;
-      used[static_cast<std::size_t>(next)] = 1;
+    for (int cur = vertices.back(), from = e0, next; (next = nextEdge(cur, from)) >= 0; cur = vertices.back(), from = next) {
       edges.push_back(next);
       const int v = other(next, cur);
       if (v == vertices.front()) {
@@ -103,21 +108,15 @@ FoldCurvedCreases foldCurvedCreases(const CreasePattern& pattern, const std::vec
         break;
       }
       vertices.push_back(v);
-      cur = v;
-      from = next;
     }
+    // Backward from v0, unless the walk came round.
     const bool backToStart = closed || vertices.back() == vertices.front();
-    for (int cur = vertices.front(), from = e0; !backToStart && runsThrough(cur);) {
-      const std::vector<int>& inc = incident[static_cast<std::size_t>(cur)];
-      const int next = inc[0] == from ? inc[1] : inc[0];
-      if (used[static_cast<std::size_t>(next)]) break;
-      used[static_cast<std::size_t>(next)] = 1;
+    for (int cur = vertices.front(), from = e0, next; !backToStart && (next = nextEdge(cur, from)) >= 0;
+         cur = vertices.front(), from = next) {
       edges.push_front(next);
       const int v = other(next, cur);
       vertices.push_front(v);
       if (v == vertices.back()) break;
-      cur = v;
-      from = next;
     }
     chains.push_back({{vertices.begin(), vertices.end()}, {edges.begin(), edges.end()}, closed});
   }

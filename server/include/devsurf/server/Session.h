@@ -337,7 +337,10 @@ class Session : public std::enable_shared_from_this<Session> {
   /// the fold slider or a polish): a composite that keeps a development holds
   /// developedDragHardBand with developedCorrectionSteps.
   SolveLimits pointDragLimits(SolveLimits limits) const;
-  /// `limits` for the fold slider's iterations (its frames and fold_end's catch-up).
+  /// `limits` for the fold slider's iterations (its frames and fold_end's catch-up): a composite
+  /// that keeps a development takes developedCorrectionSteps at dragHardBand. Without them a
+  /// folding sheet's plain steps leave the band beyond ~0.5° and are shortened, and a slow machine's
+  /// catch-up ran out of time at 60° of an imported column's 93°.
   SolveLimits foldLimits(SolveLimits limits) const;
   /// fold_end: iterations with the fold-angle targets, then the release's polish.
   void releaseFold(int iterations);
