@@ -242,7 +242,8 @@ void Session::release(const json& target, int iterations) {
     solver_->compositeModel().holdFoldTargets(true);
     if (!(solver_->compositeModel().foldAmount() > 0.0)) {
       // Still at 0 %: the targets pull the sheet back flat first (the projections alone stop at
-      // once — a hinge turned rigidly breaks no hard row), as the slider's own release does.
+      // once — a hinge turned rigidly breaks no hard row), as the slider's own release does, but
+      // with plain steps (the drag's band; foldLimits' correction steps are not measured here).
       SolveLimits withTargets;
       withTargets.iterations = iterations;
       withTargets.timeBudgetMs = settings_.releaseHandleShare * settings_.releaseTimeBudgetMs;

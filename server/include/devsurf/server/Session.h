@@ -92,7 +92,8 @@ struct SessionSettings {
   double developedDragHardBandRulingCreases = 3e-4;
   /// … and the correction steps after each of its steps (engine::SolverOptions::correctionSteps)
   /// that let the drag still follow the pointer within that band: without them each linear step
-  /// leaves a second-order stretch above it, and the drag stalls. Other models take none (each
+  /// leaves a second-order stretch above it, and the drag stalls. The fold slider's frames and
+  /// fold_end's catch-up take them too, at dragHardBand (foldLimits). Other models take none (each
   /// costs two residual evaluations and a solve: a 10 000-unknown composite's drag iterates 35 %
   /// slower with two).
   int developedCorrectionSteps = 2;
