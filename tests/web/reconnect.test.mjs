@@ -34,6 +34,15 @@ test('after SIGKILL and a restart the page reconnects and catches up with the se
     const down = await statusText(page);
     console.log(`daemon killed: status shows ${JSON.stringify(down)}`);
     await h.screenshotPage(page, '05-daemon-down');
+    // Nothing that edits can be used while the page is not connected: the toolbar and the
+    // Solver panel are disabled, and a drag of a point starts nothing (no "not sent" error).
+    const disabled = (id) => page.getByTestId(id).isDisabled();
+    for (const id of ['undo', 'solve', 'reset']) assert.ok(await disabled(id), `${id} is disabled while offline`);
+    const solverInputs = await page.locator('.panel-gui input, .panel-gui select').evaluateAll(
+      (els) => els.filter((e) => e.offsetParent !== null).map((e) => e.disabled));
+    assert.ok(solverInputs.length > 0 && solverInputs.every(Boolean), `the Solver panel's ${solverInputs.length} controls are disabled while offline`);
+    await h.dragBy(page, await h.controlPointPagePosition(page, 'b', idx), { dy: 30, steps: 5, pauseMs: 30 });
+    assert.ok(await page.getByTestId('error-message').isHidden(), 'a drag while offline raises no error: it does not start');
     await h.sleep(1500);   // a few failed reconnect attempts
 
     await daemon.restart();
@@ -49,6 +58,8 @@ test('after SIGKILL and a restart the page reconnects and catches up with the se
     assert.equal(done.st.seq, done.server.seq, 'the page seq matches the server\'s');
     assert.equal(done.st.session, s.id);
     assert.equal(done.st.connection, 'connected');
+    // (Undo stays disabled: a restarted daemon has no history to undo.)
+    for (const id of ['solve', 'reset']) assert.ok(!(await disabled(id)), `${id} is enabled again once connected`);
     await h.screenshotPage(page, '05-reconnected');
 
     // And editing works again.

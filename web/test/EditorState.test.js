@@ -19,6 +19,27 @@ describe('EditorState', () => {
     expect(changes).toEqual(['selection', 'selection']);
   });
 
+  it('can edit only with an edit link while connected, and signals each change of that', () => {
+    const s = new EditorState();
+    const seen = [];
+    s.on('editable', (v) => seen.push(v));
+    s.setConnection('connecting');
+    s.applyState({ type: 'state', session: 'x', role: 'edit', seq: 1, scene: { model: { kind: 'strip' } } });
+    expect(s.canEdit).toBe(false);  // the join is answered before the connection counts as up
+    s.setConnection('connected');
+    expect(s.canEdit).toBe(true);
+    s.setConnection('reconnecting');
+    expect(s.canEdit).toBe(false);
+    s.setConnection('connecting');
+    s.setConnection('offline');
+    s.setConnection('connected');
+    s.applyState({ type: 'state', session: 'x', role: 'edit', seq: 2, scene: { model: { kind: 'strip' } } });  // a resync
+    expect(seen).toEqual([true, false, true]);
+    s.applyState({ type: 'state', session: 'x', role: 'view', seq: 2, scene: { model: { kind: 'strip' } } });
+    expect(s.canEdit).toBe(false);
+    expect(seen).toEqual([true, false, true, false]);
+  });
+
   it('keeps a bounded per-term residual history with gaps for zero terms', () => {
     const s = new EditorState();
     s.applyIterate({ type: 'iterate', seq: 1, iteration: 1, residuals: { developability: 1 }, metrics: {} });

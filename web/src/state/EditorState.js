@@ -4,6 +4,7 @@
 // Signals: connection, session (a fresh `state` after join or resync), scene (scene, constraints
 // or settings changed), geometry ({geometry, source}), iterate (the iterate message), solved,
 // metrics, presence, selection, group (the group selection of a composite), rotate-axis,
+// editable (canEdit changed: an edit link joined and connected, or not),
 // rotate-centre, undo,
 // ack ({message, command}), error ({message, command}), settings, accessibility, change (after
 // any of the above).
@@ -82,10 +83,25 @@ export class EditorState {
 
   // ---- local changes -------------------------------------------------------------------------
 
+  /**
+   * Whether this editor can send edits now: it joined with an edit link and is connected. Offline
+   * or reconnecting, the controls that edit are disabled (an edit would not be sent) until the
+   * resync; the 'editable' signal announces each change.
+   */
+  get canEdit() {
+    return this.role === 'edit' && this.connection === 'connected';
+  }
+
+  _emitEditable(before) {
+    if (this.canEdit !== before) this.emit('editable', this.canEdit);
+  }
+
   setConnection(connection, detail) {
     if (this.connection === connection) return;
+    const editable = this.canEdit;
     this.connection = connection;
     this.emit('connection', { connection, detail });
+    this._emitEditable(editable);
   }
 
   setSelection(target) {
@@ -199,6 +215,7 @@ export class EditorState {
   }
 
   applyState(msg) {
+    const editable = this.canEdit;
     this.session = msg.session;
     this.role = msg.role;
     this.you = msg.you;
@@ -213,6 +230,7 @@ export class EditorState {
     this.emit('metrics', this.metrics);
     this.emit('presence', this.participants);
     this.emit('undo', this.undo);
+    this._emitEditable(editable);
     this.emit('settings', this.settings);
     if (msg.geometry) this.emit('geometry', { geometry: msg.geometry, source: 'state' });
   }

@@ -131,6 +131,7 @@ export class CreaseBoardPanel {
       this._renderOverlay();
     });
     state.on('error', ({ command }) => this._commandFailed(command));
+    state.on('editable', () => this._renderToolbar());
     this._sceneChanged();
     this.setTool('select');
   }
@@ -140,7 +141,7 @@ export class CreaseBoardPanel {
   }
 
   get editable() {
-    return this.state.role === 'edit';
+    return this.state.canEdit;
   }
 
   open() {

@@ -35,7 +35,7 @@ export class CurvePointControls {
     this.send = send;
     this.errorSlots = errorSlots;
     parent.appendChild(this.root);
-    for (const ev of ['selection', 'scene', 'session']) state.on(ev, () => this.render());
+    for (const ev of ['selection', 'scene', 'session', 'editable']) state.on(ev, () => this.render());
     this.render();
   }
 
@@ -49,7 +49,7 @@ export class CurvePointControls {
   render() {
     const point = this.state.kind === 'composite' ? curvePointOf(this.state.selection) : null;
     this.root.hidden = !point;
-    const editable = this.state.role === 'edit';
+    const editable = this.state.canEdit;
     this.addButton.disabled = !editable;
     this.removeButton.disabled = !editable;
   }

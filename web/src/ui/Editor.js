@@ -248,6 +248,10 @@ export class Editor {
     // The server tells editors the view link: remembered for "Your sessions" too.
     st.on('tokens', (t) => { if (t.view && st.session && sessionTokens(st.session).view !== t.view) rememberSessionTokens(st.session, { view: t.view }); });
     st.on('undo', () => this._updateToolbar());
+    st.on('editable', () => {
+      this._updateToolbar();
+      this.viewport.requestRender();  // the group's turn centre is drawn only while editable
+    });
     st.on('connection', ({ connection, detail }) => this._updateBanner(connection, detail));
     st.on('error', ({ message, command }) => this._showError(message, command));
     st.on('selection', (sel) => {
@@ -434,7 +438,7 @@ export class Editor {
 
   _updateToolbar() {
     const st = this.state;
-    const edit = st.role === 'edit';
+    const edit = st.canEdit;
     this.undoButton.disabled = !edit || !(st.undo && st.undo.available > 0);
     this.redoButton.disabled = !edit || !(st.undo && st.undo.redo_available > 0);
     this.solveButton.disabled = !edit;

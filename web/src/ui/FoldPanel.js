@@ -103,7 +103,7 @@ export class FoldPanel {
     parent.appendChild(this.root);
     // A fresh state (a re-join) is the session's own: a let-go sent before it is not waited for.
     state.on('session', () => { this.letGo = null; });
-    for (const ev of ['scene', 'session', 'metrics']) state.on(ev, () => this.render());
+    for (const ev of ['scene', 'session', 'metrics', 'editable']) state.on(ev, () => this.render());
     const answered = ({ command }) => {
       if (!command || command !== this.letGo) return;
       this.letGo = null;
@@ -136,7 +136,7 @@ export class FoldPanel {
   render() {
     const st = this.state;
     this.root.hidden = st.kind !== 'composite';
-    const editable = st.role === 'edit';
+    const editable = st.canEdit;
     this.slider.disabled = !editable;
     this.playButton.disabled = !editable;
     this.playButton.textContent = this.playing ? 'Pause' : 'Play';

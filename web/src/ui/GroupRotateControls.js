@@ -63,7 +63,7 @@ export class GroupRotateControls {
     parent.insertBefore(this.root, before && before.parentNode === parent ? before : null);
     this.centreTyped = false;
     this._groupKey = '';
-    for (const ev of ['group', 'selection', 'rotate-axis', 'scene', 'session', 'iterate']) state.on(ev, () => this.render());
+    for (const ev of ['group', 'selection', 'rotate-axis', 'scene', 'session', 'iterate', 'editable']) state.on(ev, () => this.render());
     this.render();
   }
 
@@ -100,7 +100,7 @@ export class GroupRotateControls {
       });
     }
     this._renderCentreNote();
-    const editable = st.role === 'edit';
+    const editable = st.canEdit;
     for (const el of [...this.axisButtons, ...this.centreInputs, this.centreReset, this.angle, this.iterations, this.rotateButton]) el.disabled = !editable;
   }
 
@@ -126,7 +126,7 @@ export class GroupRotateControls {
    * when the inputs are not a valid rotation.
    */
   rotate(sign = 1) {
-    if (!this.visible || this.state.role !== 'edit') return false;
+    if (!this.visible || !this.state.canEdit) return false;
     const angleText = sign < 0 && this.angle.value.trim() !== '' ? String(-Number(this.angle.value)) : this.angle.value;
     const { command, error } = rotateCommandFrom({
       targets: this.targets(),

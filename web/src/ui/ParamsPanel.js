@@ -62,6 +62,7 @@ export class ParamsPanel {
     this.pending = new PendingControls('set_params', 'params:', (key) => this.controllers.get(key));
     state.on('scene', () => this.refresh());
     state.on('session', () => this.refresh());
+    state.on('editable', () => this.refresh());
     state.on('ack', ({ command }) => this._settled(command, null));
     state.on('error', ({ command, message }) => this._settled(command, message));
     this.refresh();
@@ -152,7 +153,7 @@ export class ParamsPanel {
       const v = modelValue(model, key);
       if (v !== undefined) this.values[key] = v;
       c.updateDisplay();
-      c.enable(this.state.role === 'edit');
+      c.enable(this.state.canEdit);
     }
   }
 }

@@ -88,6 +88,7 @@ export class QuadMeshControls {
     st.on('scene', () => this._sceneChanged());
     st.on('metrics', () => this._renderMetrics());
     st.on('session', () => this._sceneChanged());
+    st.on('editable', () => this._sceneChanged());
     // A Gauss-image edit refused (by the server, or not sent while offline): the box shows the
     // scene's value again, not the click that did not happen.
     st.on('error', ({ command }) => {
@@ -135,7 +136,7 @@ export class QuadMeshControls {
     this.colorSelect.value = mode;
     this.quad.setColorMode(mode);
     // Not again when the box was just ticked (its set_params in flight): one edit, one undo step.
-    if (QUAD_COLOR_MODES[mode].needsCurvature && !this.model.gauss_image && !this.gaussInput.checked && this.state.role === 'edit') {
+    if (QUAD_COLOR_MODES[mode].needsCurvature && !this.model.gauss_image && !this.gaussInput.checked && this.state.canEdit) {
       this.gaussInput.checked = true;  // what is on its way; the scene's value replaces it
       this._sendGaussImage(true);
     }
@@ -245,7 +246,7 @@ export class QuadMeshControls {
     const pairs = gluePairList(this.model.glue);
     this.glueCount.textContent = `(${pairs.length} pair${pairs.length === 1 ? '' : 's'})`;
     clear(this.glueList);
-    const editable = this.state.role === 'edit';
+    const editable = this.state.canEdit;
     for (const [k, p] of pairs.slice(0, PAIRS_LISTED).entries()) {
       const remove = h('button', { class: 'btn small', testid: 'glue-remove', title: `Unglue ${p.pair[0]} and ${p.pair[1]}`, disabled: !editable,
         onclick: () => this.removePair(p.group, p.index) }, '×');
@@ -318,8 +319,8 @@ export class QuadMeshControls {
   _sceneChanged() {
     if (this.state.kind !== 'quad_mesh') return;
     this.gaussInput.checked = !!this.model.gauss_image;
-    this.gaussInput.disabled = this.state.role !== 'edit';
-    this.glueButton.disabled = this.state.role !== 'edit';
+    this.gaussInput.disabled = !this.state.canEdit;
+    this.glueButton.disabled = !this.state.canEdit;
     this._renderGlueList();
     this._renderGlueStatus();
   }

@@ -99,6 +99,7 @@ export class SolverPanel {
     state.on('scene', () => this.refresh());
     state.on('settings', () => this.refresh());
     state.on('session', () => this.refresh());
+    state.on('editable', () => this.refresh());
     state.on('ack', ({ command }) => this._settled(command, null));
     state.on('error', ({ command, message }) => this._settled(command, message));
     this.refresh();
@@ -171,7 +172,7 @@ export class SolverPanel {
     const model = this.state.scene && this.state.scene.model;
     this.developmentSolve.show(this._isComposite() && !!model.development);
     for (const c of this.controllers.values()) c.updateDisplay();
-    const editable = this.state.role === 'edit';
+    const editable = this.state.canEdit;
     for (const c of this.controllers.values()) c.enable(editable);
     if (this.normalsPoints) {
       this.normalsPoints.updateDisplay();

@@ -316,7 +316,7 @@ export class ExportPanel {
     parent.appendChild(this.root);
     const update = () => {
       this.units.value = (state.scene && state.scene.units) || 'mm';
-      this.units.disabled = state.role !== 'edit';
+      this.units.disabled = !state.canEdit;
       const composite = state.kind === 'composite';
       const quad = state.kind === 'quad_mesh';
       const model = state.scene && state.scene.model;
@@ -350,6 +350,7 @@ export class ExportPanel {
           : 'The flat pattern as DXF in millimetres: the strip unrolled, its outline on layer CUT';
     };
     state.on('scene', update);
+    state.on('editable', update);
     update();
     // The print size once the design is drawn (its size is the drawn geometry's until a sheet's).
     const showSize = () => {
@@ -406,7 +407,7 @@ export class SelectionPanel {
       errorSlots.slot('selection:fix'), errorSlots.slot('selection:handle'), errorSlots.slot('selection:move'), this.hint);
     this.errorSlots = errorSlots;
     parent.appendChild(this.root);
-    for (const ev of ['selection', 'scene', 'session', 'iterate']) state.on(ev, () => this.render());
+    for (const ev of ['selection', 'scene', 'session', 'iterate', 'editable']) state.on(ev, () => this.render());
     // The point's coordinates come from the drawn geometry, which its listeners update after the
     // scene and iterate events (an undo's answer: the fields kept the undone drag's values, and
     // Move would send it again): once every listener has run, the fields follow.
@@ -490,8 +491,8 @@ export class SelectionPanel {
     this.coords.hidden = !p;
     this.coordRow.hidden = !p;
     this.hint.hidden = !!p;
-    const editable = st.role === 'edit';
-    this.dragRow.hidden = !editable;
+    const editable = st.canEdit;
+    this.dragRow.hidden = st.role !== 'edit';
     if (!p) {
       this.title.textContent = 'Nothing selected';
       this.shownFor = null;
@@ -630,7 +631,7 @@ export class CreasePanel {
       this.meshEdits, this.drawnNote,
       h('p', { class: 'muted small' }, 'fold: curved fold (eq. 7) · geodesic: mirror-image developments (eq. 8) · smooth: one tangent plane · none: free. Click a diamond in the 3D view to pick an edge; Shift-click two corners of a face to split it; pick a curve and Cut across to add a ruling through its strips.'));
     parent.appendChild(this.root);
-    for (const ev of ['scene', 'edge-selection', 'session', 'group', 'selection']) state.on(ev, () => this.render());
+    for (const ev of ['scene', 'edge-selection', 'session', 'group', 'selection', 'editable']) state.on(ev, () => this.render());
     this.render();
   }
 
@@ -697,14 +698,14 @@ export class CreasePanel {
     const st = this.state;
     const model = st.scene && st.scene.model;
     // render() runs after every iterate's geometry: redo this only when what it reads changed.
-    const key = [st.scene, st.selectedEdge, st.role, JSON.stringify(st.group || []), JSON.stringify(st.selection || null)];
+    const key = [st.scene, st.selectedEdge, st.canEdit, JSON.stringify(st.group || []), JSON.stringify(st.selection || null)];
     if (this._meshKey && key.every((k, i) => k === this._meshKey[i])) return;
     this._meshKey = key;
     const editable = this._editableModel();
     this.drawnNote.hidden = !(model && model.drawing);
     this.meshEdits.hidden = !editable;
     if (!editable) return;
-    const canEdit = st.role === 'edit';
+    const canEdit = st.canEdit;
     const e = st.selectedEdge;
     const edge = e === null ? null : editable.edges[e];
     this.relabelButton.textContent = edge && edge.type === 'S' ? 'Make R' : 'Make S';
@@ -750,7 +751,7 @@ export class CreasePanel {
     // A drawn design is rebuilt from its drawing at every board edit, which would drop a type set
     // here without a word: its creases are what the board says (M/V/F, curved creases as folds).
     const drawn = !!(st.scene && st.scene.model && st.scene.model.drawing);
-    this.typeSelect.disabled = !edge || !edge.interior || st.role !== 'edit' || drawn;
+    this.typeSelect.disabled = !edge || !edge.interior || !st.canEdit || drawn;
     this.typeSelect.title = drawn ? 'Made from a drawing: its creases are set on the crease board' : '';
     for (const o of this.typeSelect.options) o.disabled = !!edge && edge.type === 'R' && (o.value === 'fold' || o.value === 'geodesic');
     if (!edge) {

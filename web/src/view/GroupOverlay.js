@@ -60,7 +60,7 @@ export class GroupOverlay {
   layout() {
     const view = this.view;
     const st = view.state;
-    const c = st.role === 'edit' ? this.centre() : null;
+    const c = st.canEdit ? this.centre() : null;
     const axis = c && st.rotateAxis !== 'view' ? axisVector(st.rotateAxis) : null;
     this.dot.visible = !!c;
     this.line.visible = !!axis;

@@ -284,7 +284,7 @@ export class UnfoldingView extends CanvasPanel {
       return;
     }
     const q = this.quad;
-    const draggable = q.unfoldingVariable && this.state.role === 'edit';
+    const draggable = q.unfoldingVariable && this.state.canEdit;
     this.select(draggable ? target : { vertex: i });
     if (!draggable) {
       this.render();

@@ -48,10 +48,10 @@ export class ViewportPointer {
     return new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, -((event.clientY - rect.top) / rect.height) * 2 + 1);
   }
 
-  /** Whether this editor may move points (it joined with an edit token). */
+  /** Whether this editor may move points (it joined with an edit token and is connected). */
   editable() {
     const st = this.view.state;
-    return !!st && st.role === 'edit';
+    return !!st && st.canEdit;
   }
 
   /** The control point under the pointer: a Raycaster on the point sprites, a few px tolerance. */
