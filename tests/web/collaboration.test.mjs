@@ -54,6 +54,9 @@ test('two contexts on the edit link see each other and each other\'s edits', { t
     assert.equal(done.eb.seq, done.srv.seq, 'B has seen every edit');
     assert.equal(done.ea.seq, done.srv.seq, 'A has seen every edit');
     assert.ok(Math.abs(done.eb.metrics.warp_angle_max_deg - done.ea.metrics.warp_angle_max_deg) < 1e-9, 'same metrics on both');
+    // B's activity list says in words what A did (a drag is one line, at its release).
+    const activity = await b.getByTestId('activity').locator('li').allTextContents();
+    assert.ok(activity.length === 1 && activity[0].endsWith(` moved b[${idx}]`), `B's activity list: ${JSON.stringify(activity)}`);
 
     await h.settleFrames(b);
     const afterB = await h.screenshotViewport(b, '03-b-after');

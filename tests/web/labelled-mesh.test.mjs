@@ -75,19 +75,18 @@ test('split a flap between two corners, join it again, make it a strip, a refusa
     assert.equal(joined.edges.length, model0.edges.length);
     assert.deepEqual([...joined.faces[flap]].sort(), [...model0.faces[flap]].sort(), 'the flap as it was');
 
-    // Make S without the opposite side: refused (S R R R), the error names the face.
+    // Make S without the opposite side: no face type (S R R R, or three S in the strip beside):
+    // the button is disabled, and the hint says in words which face and why; nothing is sent.
     const side = model0.faces[flap].find((e) => model0.faces.filter((l) => l.includes(e)).length === 2);
     assert.ok(side !== undefined, 'the flap has an interior side');
     await page.getByTestId('crease-edge').selectOption(String(side));
     await page.getByTestId('relabel-opposite').uncheck();
-    const seqBefore = (await h.state(page)).seq;
-    await page.getByTestId('relabel-edge').click();
-    const slot = page.locator('.field-error[data-source="crease:mesh"]');
-    await slot.waitFor({ state: 'visible', timeout: 15000 });
-    assert.match(await slot.textContent(), /faces\[\d+\]/, 'the refusal names the face');
-    await h.sleep(300);
-    assert.equal((await h.state(page)).seq, seqBefore, 'nothing applied');
-
+    const relabel = page.getByTestId('relabel-edge');
+    await page.waitForFunction(() => document.querySelector('[data-testid="relabel-edge"]').disabled, null, { timeout: 15000 });
+    const hint = page.getByTestId('labelled-mesh-hint');
+    assert.match(await hint.textContent(), /^Make S: face \d+: it would have .* curved \(S\) side/, 'the hint names the face');
+    assert.match(await relabel.getAttribute('title'), new RegExp(`^Edge ${side} cannot be made S: face \\d+`));
+    await h.screenshotPage(page, '16-labelled-mesh-refused');
     // A strip, where the flap was: its two sides next to that edge (boundary edges) made S together.
     const loop = model0.faces[flap];
     const boundarySide = loop[(loop.indexOf(side) + 1) % 4];

@@ -4,7 +4,7 @@ import { h, clear, copyText, download, formatExponential, formatFixed, formatNum
 import { sameTarget, targetLabel } from '../commands/Command.js';
 import { CREASE_KINDS, SetCreaseCommand } from '../commands/SetCreaseCommand.js';
 import { MergeFacesCommand, RelabelEdgeCommand, RemoveVertexCommand, SplitAlongRulingCommand, SplitEdgeCommand, SplitFaceCommand } from '../commands/LabelledMeshCommands.js';
-import { relabelGroup, splitCandidate } from '../geometry/labelledMesh.js';
+import { mergeProblem, relabelGroup, relabelProblem, splitCandidate } from '../geometry/labelledMesh.js';
 import { PresenceCommand } from '../commands/PresenceCommand.js';
 import { SetUnitsCommand, UNITS } from '../commands/SetUnitsCommand.js';
 import { DRAG_CONSTRAINTS, defaultGridStep } from '../view/dragConstraint.js';
@@ -12,6 +12,7 @@ import { exportSession } from '../net/api.js';
 import { cutAlongSeams, exportFormats } from './exportFormats.js';
 import { cssDivergingGradient, cssGradient } from '../geometry/colormap.js';
 import { displayName, setDisplayName } from './preferences.js';
+import { describeEdit } from './activityText.js';
 
 /** Status line: connection, iteration, max warp, time per iteration, last solve, seq. */
 export class StatusBar {
@@ -161,7 +162,9 @@ export class ParticipantsPanel {
       state.name = name;
       if (state.connection === 'connected') this.send(new PresenceCommand(state.selection, name, { source: 'presence' }));
     });
-    this.activity = h('ul', { class: 'activity' });
+    this.activity = h('ul', { class: 'activity', testid: 'activity' });
+    /** participant id → the amount of its fold gesture's last move */
+    this.foldAmounts = new Map();
     this.root = h('section', { class: 'panel' },
       h('h3', {}, 'Participants'),
       this.list,
@@ -191,23 +194,12 @@ export class ParticipantsPanel {
     const p = this.state.participants.find((x) => x.id === msg.by);
     const who = p ? p.name : `participant ${msg.by}`;
     const e = msg.edit || {};
-    const what = {
-      set_fixed: () => `${e.fixed ? 'fixed' : 'freed'} ${targetLabel(e.target)}`,
-      add_handle: () => `added a handle at ${targetLabel(e.target)}`,
-      remove_handle: () => `removed the handle of ${targetLabel(e.target)}`,
-      set_solver: () => `changed ${[...Object.keys(e.solver || {}), ...['drag_iterations', 'release_iterations'].filter((k) => k in e)].join(', ').replace(/_/g, ' ')}`,
-      solve: () => (e.iterations ? `solved (at most ${e.iterations} iterations)` : 'solved'),
-      undo: () => 'undid an edit',
-      redo: () => 'redid an edit',
-      reset: () => 'reset the scene',
-      drag_end: () => `moved ${targetLabel(e.target)}`,
-      rotate_points: () => `turned ${(e.targets || []).length} point(s) by ${e.angle}°`,
-      relabel_edge: () => `made edge${(e.edges || []).length > 1 ? 's' : ''} ${(e.edges || []).join(', ')} ${e.label}`,
-      split_face: () => `split face ${e.face}`,
-      merge_faces: () => `joined the faces of edge ${e.edge}`,
-    }[e.type];
-    if (!what) return; // drags are shown live in the view
-    this.activity.prepend(h('li', {}, h('span', { class: 'swatch', style: { background: (p && p.color) || '#888' } }), `${who} ${what()}`));
+    // A fold gesture is listed at its let-go, with the amount its last move sent.
+    if (e.type === 'fold') this.foldAmounts.set(msg.by, e.amount);
+    const what = describeEdit(e, { foldAmount: this.foldAmounts.get(msg.by) });
+    if (e.type === 'fold_end') this.foldAmounts.delete(msg.by);
+    if (!what) return; // drags and fold moves are shown live in the view
+    this.activity.prepend(h('li', {}, h('span', { class: 'swatch', style: { background: (p && p.color) || '#888' } }), `${who} ${what}`));
     while (this.activity.children.length > 5) this.activity.lastChild.remove();
   }
 }
@@ -601,8 +593,11 @@ export class CreasePanel {
     // Editing the labelled mesh (000_… §4.1): R ↔ S, a face split between two corners, the two
     // faces of an edge joined. Composites made from a drawing change through their drawing.
     this.relabelButton = h('button', { class: 'btn small', testid: 'relabel-edge', onclick: () => this.relabel() }, 'Make S');
-    this.oppositeToggle = h('input', { type: 'checkbox', checked: true, testid: 'relabel-opposite' });
-    this.mergeButton = h('button', { class: 'btn small', testid: 'merge-faces', title: 'Remove this edge: its two faces become one', onclick: () => this.merge() }, 'Join its faces');
+    this.oppositeToggle = h('input', { type: 'checkbox', checked: true, testid: 'relabel-opposite',
+      onchange: () => { this._meshKey = null; this.render(); } });
+    // Why the picked edge cannot be relabelled or its faces joined (the buttons are disabled then).
+    this.meshHint = h('p', { class: 'muted small', testid: 'labelled-mesh-hint', hidden: true });
+    this.mergeButton = h('button', { class: 'btn small', testid: 'merge-faces', onclick: () => this.merge() }, 'Join its faces');
     this.splitButton = h('button', { class: 'btn small', testid: 'split-face', onclick: () => this.split() }, 'Split the face');
     this.splitHint = h('span', { class: 'muted small', testid: 'split-face-hint' });
     // A vertex added at the middle of the picked ruling, or the selected vertex removed.
@@ -617,6 +612,7 @@ export class CreasePanel {
         h('label', { class: 'small', title: 'The side across each four-sided face of the edge, if it has the same label: a strip needs both its curves, a planar quad made a strip both sides' },
           this.oppositeToggle, ' and the opposite sides'),
         this.mergeButton),
+      this.meshHint,
       h('div', { class: 'row' }, this.splitButton, this.splitHint),
       h('div', { class: 'row' }, this.cutButton, h('label', { class: 'small' }, 'at ', this.cutAt, ' % of the curve')),
       h('div', { class: 'row' }, this.addVertexButton, this.removeVertexButton),
@@ -708,10 +704,21 @@ export class CreasePanel {
     const canEdit = st.canEdit;
     const e = st.selectedEdge;
     const edge = e === null ? null : editable.edges[e];
-    this.relabelButton.textContent = edge && edge.type === 'S' ? 'Make R' : 'Make S';
-    this.relabelButton.title = edge ? `Relabel edge ${e} ${edge.type === 'S' ? 'a ruling (R): its curve becomes its chord' : 'a spline (S): a straight curve you can then bend'}` : 'Pick an edge first';
-    this.relabelButton.disabled = !edge || !canEdit;
-    this.mergeButton.disabled = !edge || !canEdit;
+    const to = edge && edge.type === 'S' ? 'R' : 'S';
+    this.relabelButton.textContent = `Make ${to}`;
+    // The labels the faces would get, judged here as the server judges them: a button that can
+    // only be refused is disabled, and the hint says why in words.
+    const relabelWhy = edge ? relabelProblem(editable, relabelGroup(editable, e, this.oppositeToggle.checked), to) : null;
+    const mergeWhy = edge ? mergeProblem(editable, e) : null;
+    this.relabelButton.title = !edge ? 'Pick an edge first'
+      : relabelWhy ? `Edge ${e} cannot be made ${to}: ${relabelWhy}`
+        : `Relabel edge ${e} ${to === 'R' ? 'a ruling (R): its curve becomes its chord' : 'a spline (S): a straight curve you can then bend'}`;
+    this.relabelButton.disabled = !edge || !canEdit || !!relabelWhy;
+    this.mergeButton.title = mergeWhy ? `The faces of edge ${e} cannot be joined: ${mergeWhy}` : 'Remove this edge: its two faces become one';
+    this.mergeButton.disabled = !edge || !canEdit || !!mergeWhy;
+    const hints = [relabelWhy && `Make ${to}: ${relabelWhy}.`, mergeWhy && `Join: ${mergeWhy}.`].filter(Boolean);
+    this.meshHint.textContent = hints.join(' ');
+    this.meshHint.hidden = !hints.length;
     const split = this._splitTarget();
     this.splitButton.disabled = !split || !canEdit;
     const curve = !!edge && edge.type === 'S';
