@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <set>
 
 #include "devsurf/metrics/QuadFlatness.h"
 #include "devsurf/models/composite/CompositeDesign.h"
 #include "devsurf/models/composite/CompositeTopology.h"
+#include "devsurf/server/SceneSolver.h"
 #include "server/SessionTesting.h"
 #include "support/Presets.h"
 
@@ -35,6 +37,19 @@ std::vector<int> edgesLabelled(const composite::CompositeDesign& d, composite::E
 }
 
 /// The first face whose edges are all rulings, or −1.
+/// The creases of a FOLD export, read from the file: the distinct edges_devsurf:curve ids of its
+/// mountain and valley edges (a curved crease is one id however many facets it runs along).
+std::size_t foldFileCurvedCreases(const json& scene) {
+  const json fold = json::parse(SceneSolver::exportScene(scene, "fold").content);
+  std::set<int> curves;
+  for (std::size_t e = 0; e < fold["edges_vertices"].size(); ++e) {
+    const std::string letter = fold["edges_assignment"][e];
+    const json& curve = fold["edges_devsurf:curve"][e];
+    if ((letter == "M" || letter == "V") && curve.is_number_integer()) curves.insert(curve.get<int>());
+  }
+  return curves.size();
+}
+
 int firstPlanarFace(const composite::CompositeDesign& d) {
   for (std::size_t f = 0; f < d.faces.size(); ++f)
     if (std::all_of(d.faces[f].begin(), d.faces[f].end(),
@@ -230,6 +245,22 @@ TEST(SessionLabelledMesh, AStripCutAcrossAlongANewRulingBecomesTwoStripsThatDoNo
   std::printf("solved cut and uncut sheets: vertices %.3g apart (sheet 3 × 2), δ_max %.2g\n", apart,
               solved["metrics"]["face_flatness_max"].get<double>());
   EXPECT_LT(apart, 0.05 * 3.0);
+  // Each cut curve is still one smooth curve after the solve (its halves meet with one tangent),
+  // and the FOLD export writes as many curved creases as the uncut sheet's.
+  for (int e0 : curves) {
+    const auto& first = d2.edges[static_cast<std::size_t>(e0)].curve.points;
+    int second = -1;
+    for (std::size_t k = 0; k < d2.edges.size(); ++k)
+      if (static_cast<int>(k) != e0 && d2.edges[k].type == composite::EdgeType::Spline && d2.edges[k].v0 == d2.edges[static_cast<std::size_t>(e0)].v1)
+        second = static_cast<int>(k);
+    ASSERT_GE(second, 0) << "the second half of edge " << e0;
+    const auto& next = d2.edges[static_cast<std::size_t>(second)].curve.points;
+    const Eigen::Vector3d in = (first.row(first.rows() - 1) - first.row(first.rows() - 2)).transpose().normalized();
+    const Eigen::Vector3d out = (next.row(1) - next.row(0)).transpose().normalized();
+    EXPECT_GT(in.dot(out), std::cos(1e-3)) << "edge " << e0 << " and " << second << " meet at " << std::acos(std::min(1.0, in.dot(out))) << " rad";
+  }
+  EXPECT_EQ(foldFileCurvedCreases(e.session->sceneJson()), foldFileCurvedCreases(whole.session->sceneJson()));
+  EXPECT_GT(foldFileCurvedCreases(whole.session->sceneJson()), 0u);
   e.send({{"type", "undo"}, {"op", 11}});
   // A ruling cannot be cut across, nor a fraction outside (0, 1): refused naming the field.
   const std::vector<int> rulings = edgesLabelled(d1, composite::EdgeType::Ruling);

@@ -219,6 +219,10 @@ CompositeDesign splitAlongRuling(const CompositeDesign& design, const CompositeT
   for (const auto& [e, half] : secondHalf)
     if (std::find(d.developmentSeam.begin(), d.developmentSeam.end(), e) != d.developmentSeam.end())
       d.developmentSeam.push_back(half);
+  // The two halves of a cut curve stay one smooth curve: cut by knot insertion they meet with one
+  // tangent, and the pair keeps it so under later solves (a crease cut across does not get a
+  // corner at its new ruling), and the exports write the halves as one crease.
+  for (const auto& [e, half] : secondHalf) d.tangentContinuity.push_back({e, half});
   // Control points addressed by index: the nearest control point (by Greville abscissa, in the old
   // curve's parameter) of the half the point lies on; the cut point itself is a vertex of neither.
   const auto follow = [&d, &secondHalf, &cutParameter, &oldKnots](PointRef& r) {

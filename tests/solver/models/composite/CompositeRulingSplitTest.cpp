@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -109,6 +111,17 @@ TEST(CompositeRulingSplit, EveryPresetCutAcrossItsFirstStripKeepsEveryCurveAndAd
       EXPECT_EQ(second.v1, design.edges[static_cast<std::size_t>(e)].v1);
       EXPECT_EQ(first.v1, second.v0);
       EXPECT_LT(halvesDeviation(old, first.curve, second.curve), 1e-9 * size) << "edge " << e;
+      // The halves are one smooth curve: a tangent-continuity pair, and their legs at the cut
+      // point are parallel (knot insertion), so the pair holds from the start.
+      const int secondIndex = static_cast<int>(design.edges.size()) + k - 1;
+      const bool paired = std::any_of(cut.tangentContinuity.begin(), cut.tangentContinuity.end(), [e = e, secondIndex](const std::array<int, 2>& p) {
+        return (p[0] == e && p[1] == secondIndex) || (p[0] == secondIndex && p[1] == e);
+      });
+      EXPECT_TRUE(paired) << "edge " << e << " and its second half " << secondIndex;
+      const Eigen::Index n = first.curve.points.rows();
+      const Eigen::Vector3d in = (first.curve.points.row(n - 1) - first.curve.points.row(n - 2)).transpose().normalized();
+      const Eigen::Vector3d out = (second.curve.points.row(1) - second.curve.points.row(0)).transpose().normalized();
+      EXPECT_GT(in.dot(out), 1.0 - 1e-9) << "edge " << e << ": the halves' legs at the cut";
     }
     // The new rulings lie on the old surface: the cut composite's faces are as flat as before
     // (a chord that left the strip would make its new faces warp), and its model builds.

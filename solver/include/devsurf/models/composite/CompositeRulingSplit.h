@@ -31,7 +31,9 @@ int splitFaceLoop(CompositeDesign& design, int face, int i, int j);
 /// becomes two faces. The cut of edge e keeps index e for its first half (from v0); the second
 /// halves are appended as new edges, the cut points as new vertices, the new rulings after them.
 /// Fold targets at an S edge's v1 end, tangent-continuity pairs at v1 and control points of
-/// fixed points and handles follow the half they are on; a seam edge's halves are both seam edges.
+/// fixed points and handles follow the half they are on; a seam edge's halves are both seam edges;
+/// the two halves of every cut edge are a new tangent-continuity pair (one smooth curve, one crease
+/// in the exports).
 ///
 /// @param[in] design    the composite, consistent with `topology`
 /// @param[in] topology  CompositeTopology(design)
