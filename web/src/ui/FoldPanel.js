@@ -112,6 +112,23 @@ export class FoldPanel {
     state.on('ack', answered);
     state.on('error', answered);
     state.on('geometry', ({ geometry }) => this.showConflicts(geometry && geometry.kind === 'composite' ? geometry.fold_conflicts : null));
+    // The connection dropped (or the link is view only now): a gesture in progress is over — Play
+    // stops, nothing more is sent, and the resync shows where the session stands.
+    state.on('editable', (editable) => { if (!editable) this._interrupt(); });
+    this.render();
+  }
+
+  _interrupt() {
+    if (this.raf) cancelAnimationFrame(this.raf);
+    this.raf = 0;
+    this.pending = null;
+    this._stopKeysRest();
+    this.playing = false;
+    if (this.playRaf) cancelAnimationFrame(this.playRaf);
+    this.playRaf = 0;
+    this.playUnsent = null;
+    this.moving = false;
+    this.letGo = null;
     this.render();
   }
 
