@@ -172,8 +172,9 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
     await h.sleep(500);
     const turnedOn = sent.slice(sentBefore).filter((x) => x.type === 'set_params' && x.params.gauss_image === true);
     assert.equal(turnedOn.length, 1, `one set_params turned it on (${turnedOn.length})`);
-    // Unticked while the connection is down (it does not come back here): nothing is sent, and the
-    // box shows the scene's value again instead of the click (a reviewer found it stayed unticked).
+    // While the connection is down (it does not come back here) the box cannot be unticked: it is
+    // disabled, shows the scene's value, and nothing is sent (a reviewer once found a click sent
+    // nothing yet left the box unticked; since stop 58 the controls that edit are off offline).
     await page.evaluate(() => {
       const client = window.__devsurf.editor.client;
       client._open = () => {};
@@ -181,9 +182,10 @@ test('a quad-mesh demo shows M and M′, a long drag keeps M′ isometric, K tur
     });
     await h.poll(async () => ({ ok: (await page.evaluate(() => window.__devsurf.state.connection)) !== 'connected' }));
     const sentOffline = sent.length;
-    await page.getByTestId('gauss-image').click();  // not uncheck(): that insists the state changed
+    await page.waitForFunction(() => document.querySelector('[data-testid="gauss-image"]').disabled, null, { timeout: 15000 });
+    await page.getByTestId('gauss-image').click({ force: true });  // a click on the disabled box does nothing
     await h.sleep(300);
-    assert.equal(await page.getByTestId('gauss-image').isChecked(), true, 'the box is ticked again: the edit was not sent');
+    assert.equal(await page.getByTestId('gauss-image').isChecked(), true, 'the box stays ticked: the edit was not sent');
     assert.equal(sent.length, sentOffline, 'nothing sent while offline');
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), [], 'no uncaught page errors');
   }));
