@@ -45,13 +45,24 @@ bool sameKnots(const std::vector<double>& x, const std::vector<double>& y) {
   return true;
 }
 
+/// Count of indexFromJson for an index whose range is checked later, against what it names: any
+/// int is taken here.
+constexpr std::int64_t kAnyIndex = -1;
+
 /// An index into a list of `count` elements: an integer in [0, count) (a number that does not
-/// fit an int, a negative one or one past the end names `path`).
+/// fit an int, a negative one or one past the end names `path`); count kAnyIndex: any int.
 int indexFromJson(const json& j, const std::string& path, std::int64_t count, const std::string& what) {
   if (!j.is_number_integer() && !j.is_number_unsigned())
     throw SceneError(path, "type", "must be an integer index");
   const bool negative = j.is_number_integer() && !j.is_number_unsigned() && j.get<std::int64_t>() < 0;
   const std::uint64_t value = negative ? 0 : j.get<std::uint64_t>();
+  if (count == kAnyIndex) {
+    if (negative) throw SceneError(path, "index", "negative index " + j.dump());
+    if (value > static_cast<std::uint64_t>(std::numeric_limits<int>::max()))
+      throw SceneError(path, "index", what + " " + j.dump() + " does not exist (an index is at most " +
+                                          std::to_string(std::numeric_limits<int>::max()) + ")");
+    return static_cast<int>(value);
+  }
   if (negative || value >= static_cast<std::uint64_t>(std::max<std::int64_t>(count, 0)))
     throw SceneError(path, "index", (negative ? std::string("negative index ") + j.dump() : what + " " + j.dump() + " does not exist") +
                                         " (" + std::to_string(count) + " " +
@@ -101,7 +112,7 @@ StripDesign stripFromJson(const json& m) {
     // counts of both curves); a number that does not fit an int is refused now.
     d.fixed.push_back({curveRef(fixed[i].at("curve")),
                        indexFromJson(fixed[i].at("index"), "model.fixed[" + std::to_string(i) + "].index",
-                                     std::numeric_limits<int>::max(), "control point")});
+                                     kAnyIndex, "control point")});
   }
   return d;
 }
@@ -110,11 +121,16 @@ namespace composite = models::composite;
 
 std::string indexPath(const std::string& list, std::size_t i) { return list + "[" + std::to_string(i) + "]"; }
 
-/// {"vertex": i} or {"edge": e, "index": k}; `path` names the object for errors.
+/// {"vertex": i} or {"edge": e, "index": k}; `path` names the object for errors. Each index is
+/// checked to be an int before it is read (a vertex 2^31 read as an int was negative, and the
+/// point was then taken for an edge point without an edge).
 composite::PointRef compositePointFromJson(const json& j, const std::string& path) {
   const bool vertex = j.contains("vertex"), edge = j.contains("edge"), index = j.contains("index");
-  if (vertex && !edge && !index) return composite::PointRef::ofVertex(j["vertex"].get<int>());
-  if (!vertex && edge && index) return composite::PointRef::ofEdgePoint(j["edge"].get<int>(), j["index"].get<int>());
+  if (vertex && !edge && !index)
+    return composite::PointRef::ofVertex(indexFromJson(j.at("vertex"), path + ".vertex", kAnyIndex, "vertex"));
+  if (!vertex && edge && index)
+    return composite::PointRef::ofEdgePoint(indexFromJson(j.at("edge"), path + ".edge", kAnyIndex, "edge"),
+                                            indexFromJson(j.at("index"), path + ".index", kAnyIndex, "control point"));
   if (!vertex && edge) throw SceneError(path + ".index", "required", "is required with \"edge\"");
   if (!vertex && index) throw SceneError(path + ".edge", "required", "is required with \"index\"");
   throw SceneError(path, "point", "give either \"vertex\" or \"edge\" with \"index\"");
@@ -221,17 +237,20 @@ composite::CompositeDesign compositeFromJson(const json& m, double handleWeight)
   }
   // A point {vertex} or {edge, index}: the vertex, the edge and the control point must exist.
   auto point = [&d, nv, ne](const json& j, const std::string& path) {
+    // The ranges first, so that an index past the end is named with the count it exceeds.
+    if (j.is_object() && j.contains("vertex")) indexFromJson(j.at("vertex"), path + ".vertex", nv, "vertex");
+    if (j.is_object() && j.contains("edge")) indexFromJson(j.at("edge"), path + ".edge", ne, "edge");
     const composite::PointRef r = compositePointFromJson(j, path);
     if (r.isVertex()) {
-      indexFromJson(j["vertex"], path + ".vertex", nv, "vertex");
+      indexFromJson(j.at("vertex"), path + ".vertex", nv, "vertex");
     } else {
-      const int e = indexFromJson(j["edge"], path + ".edge", ne, "edge");
+      const int e = indexFromJson(j.at("edge"), path + ".edge", ne, "edge");
       const composite::CompositeEdge& edge = d.edges[static_cast<std::size_t>(e)];
       if (edge.type != composite::EdgeType::Spline)
         throw SceneError(path + ".edge", "ruling", "edge " + std::to_string(e) + " is a ruling and has no control points");
       // The range against the edge's control points: CompositeModel::validateDesign ("7 is out of
       // range (edge 6 has 6 control points)"); here only that it fits an int.
-      indexFromJson(j["index"], path + ".index", std::numeric_limits<int>::max(), "control point");
+      indexFromJson(j.at("index"), path + ".index", kAnyIndex, "control point");
     }
     return r;
   };
@@ -725,7 +744,7 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
     for (std::size_t i = 0; i < handles.size(); ++i) {
       const json& h = handles[i];
       const int index = indexFromJson(h.at("index"), "model.handles[" + std::to_string(i) + "].index",
-                                      std::numeric_limits<int>::max(), "control point");
+                                      kAnyIndex, "control point");
       d.handles.push_back({{curveRef(h.at("curve")), index}, point3(h.at("position")), h.value("weight", s.handleWeight)});
     }
     scene.model = std::move(d);

@@ -161,8 +161,12 @@ constexpr const char* kUsage =
     "        [--memory-budget-mb MB]\n"
     "        Solve batch jobs from the shared PostgreSQL queue of several daemons, serving no\n"
     "        HTTP (docs/scaling.md); SIGTERM hands its running jobs back to the queue.\n"
-    "  job submit SCENE --server URL [--wait] [--api-key KEY] [--idempotency-key KEY] [--out FILE]\n"
-    "        Submit a batch job; with --wait, show progress and write the report.\n"
+    "  job submit SCENE --server URL [--wait [--require-quality]] [--api-key KEY] [--idempotency-key KEY]\n"
+    "        [--out FILE]\n"
+    "        Submit a batch job (SCENE \"-\" reads standard input) to the daemon at URL, as\n"
+    "        `devsurf serve` prints it (http://HOST:PORT/, with a path when a proxy serves it\n"
+    "        under one); with --wait, show progress and write the report, warning when it\n"
+    "        misses its quality thresholds (exit status 3 with --require-quality).\n"
     "  version   Print the version.\n"
     "  help      Print this text.\n";
 
@@ -203,6 +207,46 @@ std::string readAll(std::istream& in) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
   return buffer.str();
+}
+
+/// Warns on `err` when a report misses its quality thresholds, naming each failed check (the
+/// report's `quality`); returns whether it missed them. `kind`: the scene's model kind.
+bool warnQualityMissed(const nlohmann::json& report, const std::string& command, const std::string& kind, std::ostream& err) {
+  const auto quality = report.find("quality");
+  if (quality == report.end() || quality->at("met").get<bool>()) return false;
+  err << "devsurf " << command << ": warning: the result misses its quality thresholds:";
+  for (const nlohmann::json& check : quality->at("checks"))
+    if (!check.at("ok").get<bool>())
+      err << " " << check.at("metric").get<std::string>() << " " << check.at("value").get<double>()
+          << " (limit " << check.at("limit").get<double>() << ");";
+  if (kind == "conical_strip")
+    err << " the greedy strip folds back on itself: a smaller h3 (shorter fans of triangles) or h4 may"
+           " help, Chu et al. §5.4 (the report's quality)\n";
+  else
+    err << " more --iterations may help; targets the sheet cannot reach stretch it (the report's quality)\n";
+  return true;
+}
+
+/// A daemon's address as `devsurf serve` prints it: http://HOST[:PORT][/PREFIX][/]. `origin` is
+/// what httplib connects to, `prefix` the path before /api (a daemon behind a proxy's path).
+struct ServerAddress {
+  std::string origin, prefix;
+};
+
+/// @throws std::invalid_argument naming --server for another scheme or no host
+ServerAddress parseServerAddress(const std::string& url) {
+  const std::size_t schemeEnd = url.find("://");
+  const std::string scheme = schemeEnd == std::string::npos ? std::string("http") : url.substr(0, schemeEnd);
+  if (scheme != "http")
+    throw std::invalid_argument("--server: \"" + scheme + "\" is not a scheme devsurf job speaks (http://HOST:PORT)");
+  const std::string rest = schemeEnd == std::string::npos ? url : url.substr(schemeEnd + 3);
+  const std::size_t slash = rest.find('/');
+  ServerAddress address;
+  address.origin = "http://" + rest.substr(0, slash);
+  if (slash == 0 || rest.empty()) throw std::invalid_argument("--server: no host in \"" + url + "\" (http://HOST:PORT)");
+  if (slash != std::string::npos) address.prefix = rest.substr(slash);
+  while (!address.prefix.empty() && address.prefix.back() == '/') address.prefix.pop_back();
+  return address;
 }
 
 /// Process settings of the daemon. glibc keeps freed memory in its per-thread arenas and raises
@@ -372,19 +416,7 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
     if (requireQuality && !report.contains("quality"))
       err << "devsurf solve: note: --require-quality: a " << solver.kindName()
           << " report has no quality thresholds to require (see its metrics)\n";
-    if (const auto quality = report.find("quality"); quality != report.end() && !quality->at("met").get<bool>()) {
-      err << "devsurf solve: warning: the result misses its quality thresholds:";
-      for (const nlohmann::json& check : quality->at("checks"))
-        if (!check.at("ok").get<bool>())
-          err << " " << check.at("metric").get<std::string>() << " " << check.at("value").get<double>()
-              << " (limit " << check.at("limit").get<double>() << ");";
-      if (solver.kindName() == "conical_strip")
-        err << " the greedy strip folds back on itself: a smaller h3 (shorter fans of triangles) or h4 may"
-               " help, Chu et al. §5.4 (the report's quality)\n";
-      else
-        err << " more --iterations may help; targets the sheet cannot reach stretch it (the report's quality)\n";
-      if (requireQuality) return 3;
-    }
+    if (warnQualityMissed(report, "solve", solver.kindName(), err) && requireQuality) return 3;
     return 0;
   } catch (const proto::SceneError& e) {
     err << "devsurf solve: " << (scenePath == "-" ? "<stdin>" : scenePath) << ": " << e.what() << "\n";
@@ -626,9 +658,10 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
   }
 }
 
-int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+int jobCommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out, std::ostream& err) {
   std::string scenePath, server, apiKey, idemKey, outPath;
-  bool wait = false;
+  bool wait = false, requireQuality = false;
+  ServerAddress address;
   try {
     if (args.empty() || args[0] != "submit") throw std::invalid_argument("expected: job submit SCENE --server URL");
     for (std::size_t i = 1; i < args.size(); ++i) {
@@ -639,30 +672,39 @@ int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
       else if (a == "--idempotency-key") idemKey = value();
       else if (a == "--out") outPath = value();
       else if (a == "--wait") wait = true;
-      else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+      else if (a == "--require-quality") requireQuality = true;
+      else if (a != "-" && !a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
       else if (scenePath.empty()) scenePath = a;
       else throw std::invalid_argument("unexpected argument " + a);
     }
     if (scenePath.empty() || server.empty()) throw std::invalid_argument("need SCENE and --server URL");
+    if (requireQuality && !wait) throw std::invalid_argument("--require-quality needs --wait (the report comes at the end)");
+    address = parseServerAddress(server);
   } catch (const std::invalid_argument& e) {
     err << "devsurf job: " << e.what() << "\n" << commandUsage("job");
     return 2;
   }
-  std::ifstream file(scenePath, std::ios::binary);
-  if (!file) {
-    err << "devsurf job: cannot open " << scenePath << "\n";
-    return 2;
+  std::string body;
+  if (scenePath == "-") {
+    body = readAll(in);
+  } else {
+    std::ifstream file(scenePath, std::ios::binary);
+    if (!file) {
+      err << "devsurf job: cannot open " << scenePath << "\n";
+      return 2;
+    }
+    body = readAll(file);
   }
-  const std::string body = readAll(file);
-  httplib::Client client(server);
+  httplib::Client client(address.origin);
   client.set_connection_timeout(5);
   client.set_read_timeout(60);
   httplib::Headers headers;
   if (!apiKey.empty()) headers.emplace("Authorization", "Bearer " + apiKey);
   if (!idemKey.empty()) headers.emplace("Idempotency-Key", idemKey);
-  auto res = client.Post("/api/jobs", headers, body, "application/json");
+  auto res = client.Post(address.prefix + "/api/jobs", headers, body, "application/json");
   if (!res) {
-    err << "devsurf job: cannot reach " << server << ": " << httplib::to_string(res.error()) << "\n";
+    err << "devsurf job: cannot reach " << server << ": " << httplib::to_string(res.error())
+        << " (is `devsurf serve` running there? --server takes the address it prints, http://HOST:PORT/)\n";
     return 1;
   }
   if (res->status != 202 && res->status != 200) {
@@ -672,12 +714,12 @@ int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
   const nlohmann::json submitted = nlohmann::json::parse(res->body);
   const std::string id = submitted["id"];
   if (!wait) {
-    out << nlohmann::json{{"id", id}, {"location", "/api/jobs/" + id}}.dump() << "\n";
+    out << nlohmann::json{{"id", id}, {"location", address.prefix + "/api/jobs/" + id}}.dump() << "\n";
     return 0;
   }
   const bool terminal = isatty(STDERR_FILENO);
   for (;;) {
-    auto r = client.Get(("/api/jobs/" + id).c_str(), headers);
+    auto r = client.Get(address.prefix + "/api/jobs/" + id, headers);
     if (!r || r->status != 200) {
       err << "devsurf job: lost the job " << id << "\n";
       return 1;
@@ -696,9 +738,14 @@ int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ost
         err << "devsurf job: " << state << (job.contains("error") ? ": " + job["error"].get<std::string>() : "") << "\n";
         return 1;
       }
-      const std::string report = job["report"].dump(2);
-      if (outPath.empty()) out << report << "\n";
-      else std::ofstream(outPath) << report << "\n";
+      const nlohmann::json& report = job["report"];
+      const std::string text = report.dump(2);
+      if (outPath.empty()) out << text << "\n";
+      else std::ofstream(outPath) << text << "\n";
+      // As `devsurf solve`: a missed quality is a warning, and exit status 3 with --require-quality.
+      std::string kind;
+      if (report.contains("scene") && report["scene"].contains("model")) kind = report["scene"]["model"].value("kind", "");
+      if (warnQualityMissed(report, "job", kind, err) && requireQuality) return 3;
       return 0;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -721,7 +768,7 @@ int runCli(const std::vector<std::string>& args, std::istream& in, std::ostream&
   }
   if (command == "solve") return solveCommand(rest, in, out, err);
   if (command == "serve") return serveCommand(rest, out, err);
-  if (command == "job") return jobCommand(rest, out, err);
+  if (command == "job") return jobCommand(rest, in, out, err);
   if (command == "worker") return workerCommand(rest, out, err);
   if (command == "import") return importCommand(rest, out, err);
   if (command == "reference") return referenceCommand(rest, out, err);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "devsurf/cad/StepWriter.h"
+#include "devsurf/io/OneLine.h"
 #include "devsurf/io/CuttingPatternSvg.h"
 #include "devsurf/io/FoldWriter.h"
 #include "devsurf/io/SvgFoldPattern.h"
@@ -618,7 +619,7 @@ namespace {
 std::string objText(const io::QuadMesh& mesh, const std::string& title) {
   std::ostringstream out;
   out.precision(9);
-  out << "# devsurf: " << title << "\n";
+  out << "# devsurf: " << io::oneLine(title) << "\n";
   for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
     out << "v " << mesh.vertices(i, 0) << ' ' << mesh.vertices(i, 1) << ' ' << mesh.vertices(i, 2) << "\n";
   for (Eigen::Index q = 0; q < mesh.quads.rows(); ++q)

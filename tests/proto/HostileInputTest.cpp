@@ -114,6 +114,42 @@ TEST(HostileScene, FacesFixedHandlesAndSeamsMustNameExistingElements) {
   EXPECT_EQ(pathOfError(bad), "model.tangent_continuity[0][1]");
 }
 
+/// The message of the SceneError a document raises ("<accepted>" when none).
+std::string messageOfError(const json& doc) {
+  try {
+    sceneFromJson(doc);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "<accepted>";
+}
+
+TEST(HostileScene, AVertexOrEdgeIndexPastAnIntIsNamedWithTheCountItExceedsEveryTime) {
+  // A tryout's vertex 2^31 was read as a negative int, the point taken for an edge point without
+  // an edge, and its message quoted whatever memory the missing "edge" read (a different edge
+  // number on each of three tries).
+  const json doc = example("composite-curved-fold.json");
+  const std::string nv = std::to_string(doc["model"]["vertices"].size()), ne = std::to_string(doc["model"]["edges"].size());
+  for (const json index : {json(2147483648LL), json(3000000000LL), json(4294967295LL), json(4294967296LL), json(2147483647)}) {
+    SCOPED_TRACE(index.dump());
+    for (const char* list : {"fixed", "handles"}) {
+      json bad = doc;
+      json point = {{"vertex", index}};
+      if (std::string(list) == "handles") point["position"] = {0, 0, 0};
+      bad["model"][list] = json::array({point});
+      const std::string first = messageOfError(bad);
+      EXPECT_EQ(pathOfError(bad), std::string("model.") + list + "[0].vertex");
+      EXPECT_NE(first.find("vertex " + index.dump() + " does not exist (" + nv + " vertices)"), std::string::npos) << first;
+      for (int again = 0; again < 3; ++again) EXPECT_EQ(messageOfError(bad), first);
+      json edgePoint = {{"edge", index}, {"index", 1}};
+      if (std::string(list) == "handles") edgePoint["position"] = {0, 0, 0};
+      bad["model"][list][0] = edgePoint;
+      EXPECT_EQ(pathOfError(bad), std::string("model.") + list + "[0].edge");
+      EXPECT_NE(messageOfError(bad).find("(" + ne + " edges)"), std::string::npos) << messageOfError(bad);
+    }
+  }
+}
+
 TEST(HostileScene, StripIndicesMustNameExistingControlPoints) {
   json bad = example("strip-twisted.json");
   bad["model"]["fixed"] = json::array({{{"curve", "a"}, {"index", 99}}});
@@ -121,6 +157,8 @@ TEST(HostileScene, StripIndicesMustNameExistingControlPoints) {
   bad = example("strip-twisted.json");
   bad["model"]["handles"] = json::array({{{"curve", "b"}, {"index", 2147483648LL}, {"position", {0, 0, 0}}}});
   EXPECT_EQ(pathOfError(bad), "model.handles[0].index");
+  // Not "(2147483647 control points)": the curve's count is checked by the model, later.
+  EXPECT_EQ(messageOfError(bad).find("2147483647 control points"), std::string::npos) << messageOfError(bad);
 }
 
 TEST(HostileScene, AHugeCoordinateIsRefusedByName) {

@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -64,10 +67,20 @@ std::vector<Triangle> readAsciiStl(const std::string& path) {
       EXPECT_EQ(vertices, 3) << path << ": facet " << facets.size() << " has " << vertices << " vertices";
       if (vertices == 3) facets.push_back(current);
       vertices = -1;
+    } else if (token == "normal") {
+      // Read as text: a stream reading a double stops at "-nan" without saying what it saw.
+      for (int k = 0; k < 3; ++k) {
+        std::string value;
+        file >> value;
+        char* end = nullptr;
+        const double x = std::strtod(value.c_str(), &end);
+        EXPECT_TRUE(end != value.c_str() && *end == '\0' && std::isfinite(x))
+            << path << ": facet " << facets.size() << " has the normal component \"" << value << "\"";
+      }
     } else if (token == "endsolid") {
       break;
     }
-    // "normal nx ny nz", "outer loop", "endloop": nothing to keep (the normals are not compared).
+    // "outer loop", "endloop": nothing to keep (the normals' directions are not compared).
   }
   EXPECT_EQ(token, "endsolid") << path << " ends early";
   return facets;
@@ -137,6 +150,62 @@ TEST(StlExport, EveryPresetIsWrittenAsTwoTrianglesPerQuadCoveringTheObjExportsAr
               << " of zero area left out), area " << stlArea << " (OBJ " << objArea << ")\n";
   }
   std::cout << files.size() << " presets, " << degenerateTotal << " zero-area triangles left out\n";
+}
+
+TEST(StlExport, AStripPinchedToAPointWritesNoFacetWithoutANormal) {
+  // A tryout's quasi strip whose second curve ends on the first's end point: its last ruling has
+  // no length, and triangles whose corners were 1e-10 apart (one point in STL's floats) were
+  // written with the normal "-nan -nan -nan".
+  std::ifstream in(std::filesystem::path(DEVSURF_SOURCE_DIR) / "examples" / "quasi-strip-twisted.json");
+  nlohmann::json scene = nlohmann::json::parse(in);
+  scene["model"]["c2"]["points"].back() = scene["model"]["c1"]["points"].back();
+  SceneSolver solver(proto::sceneFromJson(scene));
+  solver.solve();
+  devsurf::testing::TempDir dir;
+  const std::string stl = (dir.path() / "pinched.stl").string();
+  solver.exportTo("stl:" + stl);
+  const std::vector<Triangle> facets = readAsciiStl(stl);  // every normal finite (above)
+  ASSERT_FALSE(facets.empty());
+  int repeated = 0;
+  for (const Triangle& t : facets)
+    for (int k = 0; k < 3; ++k) repeated += t[static_cast<std::size_t>(k)].cast<float>() == t[static_cast<std::size_t>((k + 1) % 3)].cast<float>();
+  EXPECT_EQ(repeated, 0) << "facets with two corners one point in single precision";
+}
+
+TEST(StlExport, ASceneNameWithLineBreaksStaysOneCommentInObjAndDxf) {
+  // A tryout's part named "my part\nv 1 1 1": its OBJ (REST) got a vertex more, every face then
+  // pointing at the wrong one, and its DXF's group codes and values fell out of step.
+  std::ifstream in(std::filesystem::path(DEVSURF_SOURCE_DIR) / "examples" / "strip-twisted.json");
+  nlohmann::json plain = nlohmann::json::parse(in);
+  plain["name"] = "my part";
+  nlohmann::json broken = plain;
+  broken["name"] = "my part\nv 1 1 1\r\n0\nSECTION\t\x7f";
+  for (const std::string format : {"obj", "dxf"}) {
+    SCOPED_TRACE(format);
+    const std::string good = SceneSolver::exportScene(plain, format).content;
+    const std::string text = SceneSolver::exportScene(broken, format).content;
+    std::vector<std::string> goodLines, lines;
+    for (auto [from, to] : {std::pair{&good, &goodLines}, std::pair{&text, &lines}}) {
+      std::istringstream stream(*from);
+      for (std::string line; std::getline(stream, line);) to->push_back(line);
+    }
+    // The same records, line for line; only the comment differs (its breaks written as spaces).
+    ASSERT_EQ(lines.size(), goodLines.size());
+    int differing = 0;
+    for (std::size_t k = 0; k < lines.size(); ++k) differing += lines[k] != goodLines[k];
+    EXPECT_EQ(differing, 1);
+    if (format == "dxf") {
+      // Group code lines are integers, at every other line (an independent check of the pairs).
+      for (std::size_t k = 0; k < lines.size(); k += 2) {
+        std::string code = lines[k];
+        code.erase(0, code.find_first_not_of(' '));
+        if (!code.empty() && code.back() == '\r') code.pop_back();
+        char* end = nullptr;
+        std::strtol(code.c_str(), &end, 10);
+        EXPECT_TRUE(!code.empty() && *end == '\0') << "line " << k + 1 << " is no group code: \"" << lines[k] << "\"";
+      }
+    }
+  }
 }
 
 }  // namespace

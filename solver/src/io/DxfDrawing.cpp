@@ -1,5 +1,6 @@
 // DXF fabrication drawings (issue 16 item 5) written through Debian's dxflib (libdxflib-dev).
 #include "devsurf/io/DxfDrawing.h"
+#include "devsurf/io/OneLine.h"
 
 #include <cmath>
 #include <cstdio>
@@ -110,10 +111,10 @@ std::string dxfDocument(const DxfDrawing& drawing) {
   // The writing sequence of dxflib's programmer's guide for AutoCAD 2000 files.
   DL_Dxf dxf;
   DxfStringWriter dw;
-  dxf.writeComment(dw, "devsurf: " + (drawing.title.empty() ? std::string("fabrication drawing") : drawing.title) +
+  dxf.writeComment(dw, "devsurf: " + (drawing.title.empty() ? std::string("fabrication drawing") : oneLine(drawing.title)) +
                            "; units: millimetres");
   for (const DxfLayer& layer : drawing.layers)
-    if (!layer.description.empty()) dxf.writeComment(dw, "layer " + layer.name + ": " + layer.description);
+    if (!layer.description.empty()) dxf.writeComment(dw, oneLine("layer " + layer.name + ": " + layer.description));
   dxf.writeHeader(dw);
   dw.dxfString(9, "$INSUNITS");
   dw.dxfInt(70, 4);  // millimetres

@@ -52,6 +52,11 @@ Eigen::MatrixX3i triangulateQuads(const QuadMesh& mesh) {
       const Eigen::Vector3d c = mesh.vertices.row(mesh.quads(f, t[2])).transpose();
       const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
       if (!((b - a).cross(c - a).norm() > 1e-12 * longest)) continue;
+      // STL holds single-precision coordinates: corners that are one point once rounded to float
+      // (a strip pinched to a point, sampled 1e-10 apart) would give the facet a NaN normal.
+      const Eigen::Vector3f af = a.cast<float>(), bf = b.cast<float>(), cf = c.cast<float>();
+      const Eigen::Vector3f normal = (bf - af).cross(cf - af);
+      if (!(normal.norm() > 0.0f) || !normal.normalized().allFinite()) continue;
       triangles.row(count++) << mesh.quads(f, t[0]), mesh.quads(f, t[1]), mesh.quads(f, t[2]);
     }
   }

@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <optional>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>

@@ -421,3 +421,25 @@ class ProtocolTest(DaemonTestCase):
                              capture_output=True, text=True, timeout=60)
         self.assertEqual(bad.returncode, 1)
         self.assertIn("cannot reach", bad.stderr)
+        # The address as `devsurf serve` prints it (a trailing slash), the scene on standard input.
+        with open(os.path.join(ROOT, "examples", "strip-cone.json"), "rb") as scene:
+            piped = subprocess.run([BIN, "job", "submit", "-", "--server", f"http://127.0.0.1:{self.daemon.port}/"],
+                                   stdin=scene, capture_output=True, timeout=60)
+        self.assertEqual(piped.returncode, 0, piped.stderr)
+        self.assertTrue(json.loads(piped.stdout)["location"].startswith("/api/jobs/"))
+        # Another scheme is refused by name (it aborted the CLI with an uncaught exception).
+        ftp = subprocess.run([BIN, "job", "submit", DEMO, "--server", "ftp://x"], capture_output=True, text=True, timeout=60)
+        self.assertEqual(ftp.returncode, 2, ftp.stderr)
+        self.assertIn("--server", ftp.stderr)
+        # --wait warns on a missed quality as `devsurf solve` does; --require-quality makes it exit 3.
+        with open(os.path.join(ROOT, "examples", "strip-twisted.json")) as f:
+            scene = json.load(f)
+        scene.setdefault("solver", {})["iterations"] = 1
+        with tempfile.TemporaryDirectory() as tmp:
+            one = os.path.join(tmp, "one-iteration.json")
+            with open(one, "w") as f:
+                json.dump(scene, f)
+            missed = subprocess.run([BIN, "job", "submit", one, "--server", f"http://127.0.0.1:{self.daemon.port}", "--wait",
+                                     "--require-quality"], capture_output=True, text=True, timeout=120)
+        self.assertEqual(missed.returncode, 3, missed.stderr)
+        self.assertIn("misses its quality thresholds", missed.stderr)

@@ -45,7 +45,7 @@ int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::o
 /// queue (issue 18; docs/scaling.md) without serving HTTP, until SIGINT/SIGTERM.
 int workerCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
 
-/// `devsurf job submit SCENE --server URL [--wait] …`
-int jobCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+/// `devsurf job submit SCENE --server URL [--wait [--require-quality]] …` (SCENE "-": `in`).
+int jobCommand(const std::vector<std::string>& args, std::istream& in, std::ostream& out, std::ostream& err);
 
 }  // namespace devsurf::server

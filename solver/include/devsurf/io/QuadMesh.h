@@ -18,7 +18,8 @@ struct QuadMesh {
 /// The quads as triangles for formats that only hold triangles (STL): quad (v0, v1, v2, v3)
 /// becomes (v0, v1, v2) and (v0, v2, v3), in the quad's orientation. A triangle of zero area is
 /// left out — a repeated vertex or a zero-length edge (a strip's rulings meeting in a point):
-/// ‖(b − a) × (c − a)‖ ≤ 1e-12 · (longest edge)².
+/// ‖(b − a) × (c − a)‖ ≤ 1e-12 · (longest edge)², or no normal once its corners are rounded to
+/// float (STL's precision: two corners one point there).
 /// @returns t×3 vertex indices into mesh.vertices
 /// @throws std::runtime_error if a quad has a vertex index out of range
 Eigen::MatrixX3i triangulateQuads(const QuadMesh& mesh);
