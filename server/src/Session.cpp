@@ -455,8 +455,11 @@ bool Session::gestureApplied(int participant, const std::string& letGo) const {
 json Session::undoCountsJson() const { return {{"available", undo_.size()}, {"redo_available", redo_.size()}}; }
 
 void Session::broadcastUpdate() {
+  // The quality verdict of the state shown: after an undo the last `solved`'s verdict no longer
+  // applies (a tryout's status line kept a fold-angle miss the undo had taken back).
   broadcast({{"type", "update"}, {"seq", seq_.load()}, {"revision", revision_}, {"scene", sceneJson()},
-             {"metrics", metricsJson()}, {"geometry", geometryJson()}, {"undo", undoCountsJson()}});
+             {"metrics", metricsJson()}, {"geometry", geometryJson()}, {"quality", solver_->quality().toJson()},
+             {"undo", undoCountsJson()}});
 }
 
 void Session::pushUndo() { pushUndo(persistentScene()); }

@@ -681,6 +681,18 @@ TEST(CompositeSession, SwitchingACreaseTypeIsAStructuralEditWithUndoAndRedo) {
   EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "fold");
   e.send({{"type", "redo"}, {"op", 5}});
   EXPECT_EQ(e.session->sceneJson()["model"]["edges"][0]["crease"], "smooth");
+  // Every update carries the verdict of the state it shows (a status line kept the last solve's
+  // verdict after an undo had taken that state back): the composite's checks, met when all are.
+  const auto allUpdates = e.inbox.ofType("update");
+  ASSERT_EQ(allUpdates.size(), 5u);
+  for (const json& u : allUpdates) {
+    ASSERT_TRUE(u.contains("quality")) << u.dump().substr(0, 200);
+    const json& checks = u["quality"]["checks"];
+    ASSERT_FALSE(checks.empty());
+    bool all = true;
+    for (const json& c : checks) all = all && c["ok"].get<bool>();
+    EXPECT_EQ(u["quality"]["met"].get<bool>(), all);
+  }
   ASSERT_EQ(e.journal.edits.size(), 5u);
   EXPECT_EQ(e.journal.edits[0].second["type"], "set_crease");
   // The journal alone (no checkpoint) restores the same scene: structural edits are applied,

@@ -40,6 +40,18 @@ describe('EditorState', () => {
     expect(seen).toEqual([true, false, true, false]);
   });
 
+  it('shows the quality verdict of the state it shows: an undo\'s update replaces the last solve\'s', () => {
+    const s = new EditorState();
+    s.applyState({ type: 'state', session: 'x', role: 'edit', seq: 1, scene: { model: { kind: 'composite' } } });
+    const miss = { met: false, checks: [{ metric: 'fold_angle_error_max_deg', value: 77.5, limit: 9.1, ok: false }] };
+    s.applySolved({ type: 'solved', seq: 2, reason: 'max_iterations', iterations: 1000, quality: miss, metrics: {} });
+    expect(s.quality).toEqual(miss);
+    const met = { met: true, checks: [{ metric: 'fold_angle_error_max_deg', value: 3.5e-7, limit: 9.1, ok: true }] };
+    s.applyUpdate({ type: 'update', seq: 3, scene: { model: { kind: 'composite' } }, metrics: {}, quality: met, undo: { available: 1, redo_available: 1 } });
+    expect(s.quality).toEqual(met);
+    expect(s.lastSolved.reason).toBe('max_iterations');  // how the last solve ended is still its own
+  });
+
   it('keeps a bounded per-term residual history with gaps for zero terms', () => {
     const s = new EditorState();
     s.applyIterate({ type: 'iterate', seq: 1, iteration: 1, residuals: { developability: 1 }, metrics: {} });

@@ -51,8 +51,13 @@ export class EditorState {
     this.kind = 'strip';
     /** Last iterate: {iteration, time_ms, residuals, seq}. */
     this.lastIterate = null;
-    /** Last `solved`: {reason, iterations, seq}. */
+    /** Last `solved`: {reason, iterations, seq, quality}. */
     this.lastSolved = null;
+    /**
+     * The quality verdict of the state shown ({met, checks}), from the last `solved` or `update`
+     * (an undo's update brings the verdict of the state it restores), or null.
+     */
+    this.quality = null;
     /** Residual history across solves: {x: number[], terms: {name: number[]}}. */
     this.residualHistory = { x: [], terms: {} };
     this.residualStep = 0;
@@ -224,6 +229,7 @@ export class EditorState {
     this.participants = msg.participants || [];
     if (msg.settings) this.settings = { ...this.settings, ...msg.settings };
     if (msg.undo) this.undo = msg.undo;
+    this.quality = msg.quality || null;  // a verdict from before the resync may not apply
     this._setScene(msg.scene, msg.constraints);
     this.emit('session', msg);
     this.emit('scene', this.scene);
@@ -281,6 +287,7 @@ export class EditorState {
     this._seenSeq(msg.seq);
     if (msg.metrics) this.metrics = { ...(this.metrics || {}), ...msg.metrics };
     this.lastSolved = { reason: msg.reason, iterations: msg.iterations, seq: msg.seq, quality: msg.quality || null };
+    this.quality = msg.quality || null;
     if (msg.undo && Number.isInteger(msg.undo.available)) {
       // The exact history counts once the interaction has settled (drags and folds only note "≥ 1").
       this.undo = { available: msg.undo.available, redo_available: msg.undo.redo_available || 0 };
@@ -294,6 +301,7 @@ export class EditorState {
     this._seenSeq(msg.seq);
     if (msg.metrics) this.metrics = msg.metrics;
     if (msg.undo) this.undo = msg.undo;
+    if (msg.quality) this.quality = msg.quality;
     if (msg.scene) this._setScene(msg.scene, msg.constraints);
     this.emit('scene', this.scene);
     this.emit('metrics', this.metrics);

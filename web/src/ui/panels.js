@@ -113,7 +113,7 @@ export class StatusBar {
     }
     this.seq.textContent = String(st.seq);
     if (st.lastSolved) this.solved.textContent = solvedText(st.lastSolved);
-    const q = st.lastSolved && st.lastSolved.quality;
+    const q = st.quality;
     this.quality.hidden = !q || !q.checks || q.checks.length === 0;
     if (q && q.checks && q.checks.length) {
       // The quality thresholds of the kind (server's verdict): ✓ when all are met, else the first miss.
