@@ -41,6 +41,11 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
     assert.equal(start.scene.model.fold_amount ?? 0, 0);
     assert.ok(outline.length >= 1 && outline.every((s) => s.assignment === 'B'), `a blank sheet's drawing is its outline: ${JSON.stringify(outline)}`);
     assert.equal(start.scene.model.faces.length, 1);
+    // Nothing to fold yet: the slider and Play are off and say what to do (a tryout's Play on a
+    // blank sheet sent a refused fold every frame and covered the panel with errors).
+    await page.waitForFunction(() => document.querySelector('[data-testid="fold-play"]').disabled, null, { timeout: 15000 });
+    assert.ok(await page.getByTestId('fold-slider').isDisabled(), 'the slider is off on a blank sheet');
+    assert.match(await page.getByTestId('fold-nothing').textContent(), /Nothing to fold yet: draw a mountain or valley crease/);
 
     // The board, over the 3D view.
     await page.getByTestId('draw-creases').click();
@@ -147,7 +152,8 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
     await page.getByTestId('crease-board-close').click();
     await page.getByTestId('crease-board').waitFor({ state: 'hidden' });
     assert.ok(await page.getByTestId('crease-type').isDisabled(), 'the crease type is set on the board');
-    // Folded by the slider to 100 %.
+    // Folded by the slider to 100 % (a valley drawn: something to fold).
+    assert.ok(await page.getByTestId('fold-nothing').isHidden(), 'the hint is gone once a valley is drawn');
     await page.getByTestId('fold-slider').fill('100');
     await h.waitState(page, (s) => s.metrics && Math.abs(s.metrics.fold_amount - 1) < 1e-9, undefined, { what: 'fold amount 100 %' });
     await h.waitQuiet(page, { quietMs: 1500 });
@@ -166,6 +172,11 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
     const spans = [zx, zy, zs].map((v) => Math.max(...v) - Math.min(...v)).sort((a, b) => a - b);
     assert.ok(spans[0] > 20, `folded: the smallest extent is ${spans[0]} mm`);
     assert.ok(fold.filter.numType(key, 'faces') >= 2);
+    // The scene file saved now reopens where it is: folded, at 100 % (a tryout's file saved
+    // after a slider gesture said 0 %, and reopened folded with the slider at "the flat sheet").
+    const [download] = await Promise.all([page.waitForEvent('download'), page.getByTestId('save-scene').click()]);
+    const saved = JSON.parse(fs.readFileSync(await download.path(), 'utf8'));
+    assert.equal(saved.model.fold_amount, 1, `the saved fold amount: ${saved.model.fold_amount}`);
 
     // The refused crease's toast has been read: dismissed for the picture of the folded design.
     if (await toast.isVisible()) await page.locator('.toast-error .toast-close').click();

@@ -1,7 +1,7 @@
 import { describe, expect, it } from 'vitest';
 import { EditorState, RESIDUAL_HISTORY_LIMIT } from '../src/state/EditorState.js';
 import { DragCommand, FoldCommand, FoldEndCommand, SetSolverCommand } from '../src/commands/index.js';
-import { sessionFoldAmount } from '../src/ui/FoldPanel.js';
+import { nothingToFold, sessionFoldAmount } from '../src/ui/FoldPanel.js';
 import { MAX_DECADES, decadeRange, decadeSplits } from '../src/ui/logScale.js';
 
 describe('EditorState', () => {
@@ -50,6 +50,15 @@ describe('EditorState', () => {
     s.applyUpdate({ type: 'update', seq: 3, scene: { model: { kind: 'composite' } }, metrics: {}, quality: met, undo: { available: 1, redo_available: 1 } });
     expect(s.quality).toEqual(met);
     expect(s.lastSolved.reason).toBe('max_iterations');  // how the last solve ended is still its own
+  });
+
+  it('has nothing to fold on a flat design without targets, and says what to do instead', () => {
+    const blank = { model: { kind: 'composite', drawing: { strokes: [] }, edges: [], faces: [] } };
+    expect(nothingToFold(blank, 0)).toMatch(/draw a mountain or valley crease/);
+    expect(nothingToFold({ model: { kind: 'composite', edges: [] } }, 0.2)).toMatch(/Drag a point/);
+    expect(nothingToFold({ model: { ...blank.model, fold_angles: [{ edge: 1, angle: 90 }] } }, 0)).toBe(null);
+    expect(nothingToFold(blank, 12)).toBe(null);  // a drag folded it: the first move takes that as 100 %
+    expect(nothingToFold({ model: { kind: 'strip' } }, 0)).toBe(null);
   });
 
   it('keeps a bounded per-term residual history with gaps for zero terms', () => {

@@ -200,7 +200,10 @@ export class Editor {
     // Composites made from a drawing: the crease-pattern board over the 3D view and bottom panels.
     this.creaseBoard = new CreaseBoardPanel({ host: main, sidebar: this.sidebar, state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
-    this.foldPanel = new FoldPanel(this.sidebar, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
+    this.foldPanel = new FoldPanel(this.sidebar, {
+      state: st, send: (c) => this.send(c), errorSlots: this.errorSlots,
+      largestFoldDeg: () => Math.max(0, ...this.composite.edges.filter((e) => e.interior).map((e) => Math.abs(e.foldAngleDeg || 0))),
+    });
     this.paramsSection = h('section', { class: 'panel panel-gui', hidden: true });
     this.sidebar.appendChild(this.paramsSection);
     this.paramsPanel = new ParamsPanel(this.paramsSection, { state: st, send: (c) => this.send(c), errorSlots: this.errorSlots });
@@ -558,6 +561,11 @@ export class Editor {
     const scene = JSON.parse(JSON.stringify(st.scene));
     const model = scene.model || {};
     const round = (p) => p.map((v) => Number(v.toPrecision(7)));
+    // The fold slider's amount as the session is at it (its metrics while it folds; the scene's
+    // own value lags behind a slider gesture): a file saved folded at 100 % reopens at 100 %.
+    if (model.kind === 'composite' && model.fold_angles && st.metrics && typeof st.metrics.fold_amount === 'number') {
+      model.fold_amount = st.metrics.fold_amount;
+    }
     if (model.kind === 'composite' && this.composite.hasData) {
       if (Array.isArray(model.vertices)) model.vertices = model.vertices.map((v, i) => round(this.composite.pointOf({ vertex: i }) || v));
       for (const [e, edge] of (model.edges || []).entries()) {

@@ -28,6 +28,26 @@ export function sessionFoldAmount(metrics, scene) {
   return 1;
 }
 
+/** A hinge folded by at least this much is a fold the slider's first move takes as 100 % (server: kFoldCaptureMinDeg). */
+export const FOLD_CAPTURE_MIN_DEG = 0.5;
+
+/**
+ * Why the slider has nothing to fold, or null when it has: a composite without fold-angle targets
+ * whose creases are all flat (a blank sheet; a drawing of flat lines) — its first move would only
+ * be refused ("nothing to fold"), so the slider and Play are off and this says what to do.
+ * @param {object} scene  the session's scene
+ * @param {number} largestFoldDeg  the largest |fold angle| of an interior edge now, degrees
+ */
+export function nothingToFold(scene, largestFoldDeg) {
+  const model = scene && scene.model;
+  if (!model || model.kind !== 'composite') return null;
+  if (Array.isArray(model.fold_angles) && model.fold_angles.length) return null;
+  if (largestFoldDeg >= FOLD_CAPTURE_MIN_DEG) return null;
+  return model.drawing
+    ? 'Nothing to fold yet: draw a mountain or valley crease on the crease board (Draw creases), or drag a corner of the sheet.'
+    : 'Nothing to fold yet: every crease is flat. Drag a point to fold the design; the slider then unfolds and refolds it.';
+}
+
 /**
  * A warning when the creases lag far behind the slider (a drawing whose fold angles the sheet
  * cannot take as drawn: it stretches instead, and a crease may fold the wrong way), else null:
@@ -54,9 +74,14 @@ export function foldLagWarning(metrics, scene) {
 }
 
 export class FoldPanel {
-  constructor(parent, { state, send, errorSlots }) {
+  /**
+   * @param {{state, send, errorSlots, largestFoldDeg?: () => number}} options  largestFoldDeg: the
+   *        largest |fold angle| of an interior edge of the drawn geometry, degrees
+   */
+  constructor(parent, { state, send, errorSlots, largestFoldDeg = () => 0 }) {
     this.state = state;
     this.send = send;
+    this.largestFoldDeg = largestFoldDeg;
     this.moving = false;   // this editor is moving the slider (by hand or playing)
     this.letGo = null;     // the FoldEndCommand of this editor's last gesture, until it is answered
     this.playing = false;
@@ -97,6 +122,7 @@ export class FoldPanel {
       h('h3', {}, 'Fold'),
       h('div', { class: 'row' }, this.slider, this.label, this.playButton),
       errorSlots.slot('fold:amount'),
+      this.nothing = h('p', { class: 'muted small', testid: 'fold-nothing', hidden: true }),
       this.conflicts,
       this.lag,
       h('p', { class: 'muted small' }, '0 %: the flat sheet · 100 %: the design\'s fold angles. The solver keeps every state developable; the first move takes the current folds as 100 %.'));
@@ -111,7 +137,11 @@ export class FoldPanel {
     };
     state.on('ack', answered);
     state.on('error', answered);
-    state.on('geometry', ({ geometry }) => this.showConflicts(geometry && geometry.kind === 'composite' ? geometry.fold_conflicts : null));
+    state.on('geometry', ({ geometry }) => {
+      this.showConflicts(geometry && geometry.kind === 'composite' ? geometry.fold_conflicts : null);
+      // A drag may fold a flat design: the slider then has something to fold.
+      if (!this.moving && !this.letGo) queueMicrotask(() => this.render());
+    });
     // The connection dropped (or the link is view only now): a gesture in progress is over — Play
     // stops, nothing more is sent, and the resync shows where the session stands.
     state.on('editable', (editable) => { if (!editable) this._interrupt(); });
@@ -154,8 +184,11 @@ export class FoldPanel {
     const st = this.state;
     this.root.hidden = st.kind !== 'composite';
     const editable = st.canEdit;
-    this.slider.disabled = !editable;
-    this.playButton.disabled = !editable;
+    const nothing = this.moving || this.playing ? null : nothingToFold(st.scene, this.largestFoldDeg());
+    this.slider.disabled = !editable || !!nothing;
+    this.playButton.disabled = !editable || !!nothing;
+    this.nothing.hidden = !nothing || !editable;
+    this.nothing.textContent = nothing || '';
     this.playButton.textContent = this.playing ? 'Pause' : 'Play';
     if (this.moving || this.letGo) return;
     const lag = foldLagWarning(st.metrics, st.scene);

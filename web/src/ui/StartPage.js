@@ -305,6 +305,7 @@ export class StartPage {
    */
   async _create(scene, what, { solved = false } = {}) {
     this.createError.hidden = true;
+    this.toasts.hideError();
     this.busy.hidden = false;
     this.newButton.disabled = true;
     try {
@@ -532,6 +533,12 @@ export class StartPage {
       await this._importCreasePattern(file, text);
       return;
     }
+    // Neither a scene file nor a crease pattern: say what was expected (the schema's own word,
+    // "format: is required", read as noise to a new user).
+    if (!scene || typeof scene !== 'object' || Array.isArray(scene) || scene.format === undefined) {
+      this._showCreateError({ message: `${file.name} is neither a devsurf scene file (its "format" is "devsurf-scene") nor a FOLD crease pattern (with vertices_coords), nor an SVG drawing`, code: 'invalid' }, what);
+      return;
+    }
     // The server validates against the scene schema and names the offending field.
     this._create(scene, what);
   }
@@ -545,6 +552,7 @@ export class StartPage {
   async _importCreasePattern(file, text, format = 'fold', { openAtOnce = false, units } = {}) {
     const what = `import ${file.name}`;
     this.createError.hidden = true;
+    this.toasts.hideError();  // an earlier file's error would cover this one's notes and "Open it"
     this.importNotes.hidden = true;
     clear(this.importNotes);
     this.busy.textContent = `Importing ${file.name}…`;
