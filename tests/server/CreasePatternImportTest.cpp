@@ -18,6 +18,7 @@
 #include "devsurf/io/FoldWriter.h"
 #include "devsurf/models/composite/CompositeModel.h"
 #include "devsurf/proto/Scene.h"
+#include "devsurf/server/SceneSolver.h"
 #include "devsurf/server/ShapeUpload.h"
 #include "server/CliTesting.h"
 #include "support/TempDir.h"
@@ -198,6 +199,36 @@ TEST(CreasePatternImport, ACurvedSvgDrawingMakesSEdgesAndSaysSoInItsSummary) {
   int curvedFolds = 0;
   for (const auto& e : scene["model"]["edges"]) curvedFolds += e["type"] == "S" && e.value("crease", "") == "fold" ? 1 : 0;
   EXPECT_EQ(curvedFolds, 4);  // two creases, each cut in half by a proposed ruling
+}
+
+TEST(CreasePatternImport, ASheetOfThirtyCurvedPleatsImportsAsAValidSceneThatFolds) {
+  // A tryout's pleated sheet: 20 and more vertical curved creases, mountain and valley in turn,
+  // were refused by the scene's own schema ("model.development.domain.boundary: expected at most
+  // 64 items, got 66": the outline is cut where every crease meets it).
+  std::ostringstream svg;
+  svg << R"(<svg xmlns="http://www.w3.org/2000/svg" width="300mm" height="200mm" viewBox="0 0 300 200">)"
+      << R"(<rect x="0" y="0" width="300" height="200" stroke="#000" fill="none"/>)";
+  for (int k = 0; k < 30; ++k) {
+    const double x = 5.0 + 10.0 * k;
+    svg << "<path d=\"M " << x << " 0 C " << x + 2 << " 60, " << x - 2 << " 140, " << x << " 200\" stroke=\""
+        << (k % 2 ? "#f00" : "#00f") << "\" fill=\"none\"/>";
+  }
+  svg << "</svg>";
+  CreasePatternImportRequest request;
+  request.format = "svg";
+  const CreasePatternImportResult result = importCreasePattern(svg.str(), request);
+  EXPECT_EQ(result.summaryJson()["curved_creases"], 30);
+  const nlohmann::json scene = proto::sceneToJson(result.scene);
+  EXPECT_GT(scene["model"]["development"]["domain"]["boundary"].size(), 64u);
+  EXPECT_NO_THROW(proto::sceneFromJson(scene));  // the schema and the model's own checks
+  // Folded a little, as a batch solve does: the pleats fold and the sheet keeps its lengths.
+  proto::Scene folded = result.scene;
+  std::get<models::composite::CompositeDesign>(folded.model).foldAmount = 0.2;
+  SceneSolver solver(std::move(folded));
+  solver.solve(30);
+  const proto::Metrics m = solver.metrics();
+  EXPECT_GT(m.at("crease_fold_angle_max_deg"), 10.0);
+  EXPECT_LT(m.at("development_length_error"), 5e-3);
 }
 
 TEST(CreasePatternImport, TheCommandRefusesMeshOptionsOnACreasePatternAndReportsNotesOnStderr) {
