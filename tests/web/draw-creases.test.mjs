@@ -182,6 +182,17 @@ test('a design from a blank sheet', { timeout: 240000 }, () =>
     if (await toast.isVisible()) await page.locator('.toast-error .toast-close').click();
     await h.settleFrames(page);
     await page.screenshot({ path: path.join(h.ARTIFACTS, '13-draw-creases.png') });
+    // The crease pattern's line key has a band of its own: no paper under "mountain – valley" (a
+    // sheet as wide as the panel ran under it). Judged from the pixels of the development view.
+    const dev = h.decodePNG(await page.getByTestId('development-view').screenshot());
+    let paperInKey = 0;
+    for (let y = 0; y < 24; y++) {
+      for (let x = Math.floor(dev.width / 2); x < dev.width; x++) {
+        const i = 4 * (y * dev.width + x);
+        paperInKey += Math.abs(dev.data[i] - 0xf3) < 12 && Math.abs(dev.data[i + 1] - 0xee) < 12 && Math.abs(dev.data[i + 2] - 0xe3) < 12;
+      }
+    }
+    assert.equal(paperInKey, 0, `paper pixels in the key's band: ${paperInKey}`);
     assert.deepEqual(page.logs.filter((l) => l.startsWith('pageerror')), []);
   }));
 

@@ -11,6 +11,8 @@ import { PATCH_TYPE_COLORS } from '../geometry/StripBuffers.js';
 import { CanvasPanel, fitStillFills } from './CanvasPanel.js';
 
 const MARGIN = 14;
+/** Height kept clear above a crease pattern for its line key (px). */
+const KEY_BAND = 16;
 
 function css(rgb, alpha = 1) {
   return `rgba(${Math.round(rgb[0] * 255)}, ${Math.round(rgb[1] * 255)}, ${Math.round(rgb[2] * 255)}, ${alpha})`;
@@ -45,9 +47,24 @@ export class DevelopmentView extends CanvasPanel {
     return { x0, y0, x1, y1 };
   }
 
+  /**
+   * The bands the drawing keeps clear: the scale bar below; a crease pattern's line key above (a
+   * sheet as wide as the panel ran under "mountain – valley").
+   */
+  _bands() {
+    return { top: this.kind === 'composite' ? KEY_BAND : 0, bottom: 14 };
+  }
+
+  /** The vertical centre of the drawing area (between the bands). */
+  _centreY() {
+    const { top, bottom } = this._bands();
+    return top + (this.height - top - bottom) / 2;
+  }
+
   _fit(v, n) {
+    const { top, bottom } = this._bands();
     const W = this.width - 2 * MARGIN;
-    const H = this.height - 2 * MARGIN - 14;
+    const H = this.height - 2 * MARGIN - top - bottom;
     let best = null;
     // Lay the strip along the panel's long side.
     for (const rotate of [false, true]) {
@@ -64,7 +81,8 @@ export class DevelopmentView extends CanvasPanel {
   _fitStillGood(v, n) {
     const t = this.transform;
     if (!t) return false;
-    return fitStillFills(this._bounds(v, n, t.rotate), t, this.width - 2 * MARGIN, this.height - 2 * MARGIN - 14, 0.8);
+    const { top, bottom } = this._bands();
+    return fitStillFills(this._bounds(v, n, t.rotate), t, this.width - 2 * MARGIN, this.height - 2 * MARGIN - top - bottom, 0.8);
   }
 
   setKind(kind) {
@@ -93,7 +111,7 @@ export class DevelopmentView extends CanvasPanel {
     if (!this._fitStillGood(v, n)) this.transform = this._fit(v, n);
     const t = this.transform;
     const ox = W / 2;
-    const oy = (H - 14) / 2;
+    const oy = this._centreY();
     const X = (i) => ox + ((t.rotate ? -v[2 * i + 1] : v[2 * i]) - t.cx) * t.scale;
     const Y = (i) => oy - ((t.rotate ? v[2 * i] : v[2 * i + 1]) - t.cy) * t.scale;
 
@@ -217,7 +235,7 @@ export class DevelopmentView extends CanvasPanel {
     if (!this._fitStillGood(v, n)) this.transform = this._fit(v, n);
     const t = this.transform;
     const ox = this.width / 2;
-    const oy = (this.height - 14) / 2;
+    const oy = this._centreY();
     const X = (i) => ox + ((t.rotate ? -v[2 * i + 1] : v[2 * i]) - t.cx) * t.scale;
     const Y = (i) => oy - ((t.rotate ? v[2 * i] : v[2 * i + 1]) - t.cy) * t.scale;
     const P = (x, y) => [ox + ((t.rotate ? -y : x) - t.cx) * t.scale, oy - ((t.rotate ? x : y) - t.cy) * t.scale];
