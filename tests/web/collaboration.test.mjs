@@ -108,6 +108,10 @@ test('a view-only link cannot edit', { timeout: 180000 }, () =>
     const sv = await h.state(v);
     assert.equal(sv.role, 'view');
     assert.equal(sv.session, id);
+    // Its Selection panel does not tell it to drag points (a tryout's student read "drag it to
+    // reshape the design" on a page that cannot).
+    const selectionHint = await v.locator('.panel p.muted.small', { hasText: 'Click a point' }).first().textContent();
+    assert.match(selectionHint, /view only/, `the view page's hint: ${selectionHint}`);
     const seqBefore = (await daemon.session(id, viewToken)).seq;
     const pointBefore = (await daemon.session(id, viewToken)).scene.model.b.points[idx];
     const aBefore = await h.state(a);

@@ -131,7 +131,13 @@ export class CreaseBoardPanel {
       this._renderOverlay();
     });
     state.on('error', ({ command }) => this._commandFailed(command));
-    state.on('editable', () => this._renderToolbar());
+    // The role arrives with the session, the connection after it: the hint follows both.
+    for (const ev of ['editable', 'session']) {
+      state.on(ev, () => {
+        this._renderToolbar();
+        if (!this.hint.classList.contains('warn')) this._setHint(this._toolHint());
+      });
+    }
     this._sceneChanged();
     this.setTool('select');
   }
@@ -212,7 +218,7 @@ export class CreaseBoardPanel {
     this._cancelDraft();
     if (tool !== 'select') this._select(null);
     this.overlay.dataset.tool = tool;
-    this._setHint(HINTS[tool]);
+    this._setHint(this._toolHint());
     this._renderToolbar();
     this._render();
   }
@@ -228,6 +234,14 @@ export class CreaseBoardPanel {
   _selectedCrease() {
     const s = this.selected !== null ? this.strokes[this.selected] : null;
     return s && s.assignment !== 'B' ? s : null;
+  }
+
+  /** The hint of the current tool; a view-only or offline page is told why it cannot draw. */
+  _toolHint() {
+    if (this.editable) return HINTS[this.tool];
+    return this.state.role === 'view'
+      ? 'Click a crease to see its kind and angle · this link is view only: ask for the edit link to draw'
+      : 'Not connected: drawing resumes once the page has reconnected';
   }
 
   _setHint(text, warn = false) {
@@ -379,7 +393,7 @@ export class CreaseBoardPanel {
       return;
     }
     this.draft.push(q);
-    this._setHint(HINTS[this.tool]);
+    this._setHint(this._toolHint());
     if (this.tool === 'line' && this.draft.length === 2) this.finishDraft();
     else this._renderOverlay();
   }

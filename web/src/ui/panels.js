@@ -43,14 +43,16 @@ export class StatusBar {
     this.seq = h('span', { class: 'num' }, '0');
     this.root = h('footer', { class: 'statusbar', role: 'status', 'aria-live': 'polite' },
       h('span', { class: 'status-item conn', title: 'Connection to the daemon' }, this.dot, this.connection, this.retry),
+      // The verdicts first: on a narrow window the line is cut at its end, where the timings are
+      // (a tryout at 1280 px read "solved: ran its 1000 iteratio").
+      this.quality, this.solved,
       h('span', { class: 'status-item', title: 'Iteration number of the last solver iterate' }, 'iteration ', this.iteration),
       this.warpItem = h('span', { class: 'status-item', title: 'Largest warp angle over the strips and strip-like faces (0° = developable)' }, 'max warp ', this.warp, '°'),
       this.warpMeanItem = h('span', { class: 'status-item', title: 'Mean warp angle' }, 'mean ', this.warpMean, '°'),
       this.flatnessItem, this.patchesItem, this.normalJumpItem, this.lengthErrorItem, this.fitItem,
       h('span', { class: 'status-item', title: 'Server time of the last iteration' }, 'time/iter ', this.time, ' ms'),
       h('span', { class: 'status-item', title: 'Client time to decode, update and draw an iterate' }, 'draw ', this.apply, ' ms'),
-      h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq),
-      this.quality, this.solved);
+      h('span', { class: 'status-item', title: 'Last edit sequence number seen' }, 'seq ', this.seq));
     parent.appendChild(this.root);
     state.on('connection', () => this.render());
     state.on('metrics', () => this.render());
@@ -483,6 +485,9 @@ export class SelectionPanel {
     this.coords.hidden = !p;
     this.coordRow.hidden = !p;
     this.hint.hidden = !!p;
+    this.hint.textContent = st.role === 'view'
+      ? 'Click a point to see where it is. This link is view only: it cannot change the design.'
+      : 'Click a point to select it; drag it to reshape the design. The solver keeps it developable.';
     const editable = st.canEdit;
     this.dragRow.hidden = st.role !== 'edit';
     if (!p) {
