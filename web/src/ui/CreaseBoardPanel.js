@@ -205,6 +205,14 @@ export class CreaseBoardPanel {
 
   _commandFailed(command) {
     if (!command || !String(command.source || '').startsWith('crease-board')) return;
+    // A crease the server refused is drawn again as a draft, its points kept (a tryout's curve
+    // with a loose end vanished whole): finish it on the outline or a crease, or Esc drops it.
+    const refused = this.pending.find((p) => p.command === command);
+    if (refused && refused.curved && this.draft.length === 0 && this.tool === 'curve') {
+      this.draft = refused.points.slice();
+      this._setHint('Not drawn — its points are kept: click a point on the outline or on a crease and press Enter; Backspace removes the last point, Esc drops it.', true);
+      this._renderOverlay();
+    }
     this.pending = [];
     this.edit = null;
     this.relabelSent = null;
@@ -536,7 +544,7 @@ export class CreaseBoardPanel {
     const { assignment, angle } = this.defaults;
     const command = this._sendSafely(() => new DrawCreaseCommand(points, { curved, assignment, foldAngle: angle }, { source: 'crease-board:draw' }));
     this.draft = [];
-    if (command) this.pending.push({ points, curved, assignment });
+    if (command) this.pending.push({ points, curved, assignment, command });
     this._render();
   }
 
