@@ -176,10 +176,13 @@ CreasePatternImportResult importCreasePattern(const std::string& body, const Cre
         scaleDesign(scale);
         std::ostringstream note;
         note << "none given: the sheet, " << side << (side == 1.0 ? " unit" : " units") << " across, is scaled to " << kUnitlessSheetMm
-             << " mm (pass units to keep the file's numbers in mm, cm, m or in)";
+             << " mm (choose its units to keep the file's numbers in mm, cm, m or in: the start page's \"Crease pattern "
+                "units\", devsurf import --units, or the request's units)";
         result.notes.push_back({"frame_unit", note.str()});
       } else {
-        result.notes.push_back({"frame_unit", "none given: one unit of the file is read as 1 mm (pass units to choose another)"});
+        result.notes.push_back({"frame_unit",
+                                "none given: one unit of the file is read as 1 mm (choose other units on the start page's \"Crease "
+                                "pattern units\", with devsurf import --units, or with the request's units)"});
       }
     }
   }

@@ -110,6 +110,29 @@ function edgeLengths(frame) {
   });
 }
 
+test('the start page\'s units box keeps a unitless crease pattern\'s numbers in the units chosen', async () => {
+  // The import's note told a tryout to "pass units" to keep the file's numbers, and the page had
+  // no way to: the units box sends them.
+  const page = await h.newPage(browser);
+  await page.goto(daemon.url);
+  await page.getByTestId('start-page').waitFor();
+  await page.getByTestId('import-units').selectOption('cm');
+  await page.getByTestId('scene-file').setInputFiles(path.join(FOLD_DIR, 'diagonal-cp.fold'));
+  await Promise.race([page.getByTestId('import-notes').waitFor({ state: 'visible', timeout: 20000 }), page.getByTestId('editor').waitFor({ timeout: 20000 })]);
+  if (await page.getByTestId('import-notes').isVisible()) {
+    const notes = await page.getByTestId('import-note').allTextContents();
+    assert.ok(!notes.some((n) => /scaled to/.test(n)), `no scaling with units chosen: ${JSON.stringify(notes)}`);
+    await page.getByTestId('open-imported').click();
+  }
+  await page.getByTestId('editor').waitFor({ timeout: 30000 });
+  await h.waitForConnected(page);
+  const st = await h.state(page);
+  assert.equal(st.scene.units, 'cm');
+  const xs = st.scene.model.vertices.map((v) => v[0]);
+  assert.ok(Math.abs(Math.max(...xs) - Math.min(...xs) - 1) < 1e-9, `the unit square kept its numbers: ${Math.max(...xs) - Math.min(...xs)}`);
+  await page.close();
+});
+
 test('a crease pattern chosen on the start page folds with the slider and exports a FOLD file read back by npm fold', async () => {
   const page = await h.newPage(browser);
   await page.goto(daemon.url);

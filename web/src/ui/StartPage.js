@@ -7,6 +7,7 @@ import { approximateMesh, createSession, fitRegion, importCreasePattern, listSes
 import { RegionPicker } from './RegionPicker.js';
 import { blankSheetCard } from './blankSheet.js';
 import { Toasts } from './Toast.js';
+import { UNITS } from '../commands/SetUnitsCommand.js';
 import { apiKey, forgetSession, openedSessions, rememberSessionTokens, setApiKey } from './preferences.js';
 
 export function editorUrl(session, token) {
@@ -114,6 +115,10 @@ export class StartPage {
     });
     this.dropZone = h('label', { class: 'drop-zone', for: 'scene-file' },
       h('strong', {}, 'Choose a file'), h('span', { class: 'muted' }, ' or drop a .json, .fold or .svg file anywhere on this page'));
+    // The units of a crease pattern's numbers: as the file says (FOLD's frame_unit, an SVG's
+    // width in mm), or chosen here (an import note says a file without them is scaled).
+    this.importUnits = h('select', { class: 'input narrow', testid: 'import-units', 'aria-label': 'Units of a crease pattern\'s numbers' },
+      h('option', { value: '' }, 'as the file says'), ...UNITS.map((u) => h('option', { value: u }, u)));
     // What an import changed or left out, by element of the file, before its session is opened.
     this.importNotes = h('div', { class: 'import-notes', testid: 'import-notes', hidden: true });
 
@@ -205,6 +210,7 @@ export class StartPage {
           h('div', { class: 'row' }, this.presetSelect, this.newButton), this.presetDescription),
         this.blankSheet.root,
         h('section', { class: 'card' }, h('h2', {}, 'Open a scene or a crease pattern'), this.fileInput, this.dropZone,
+          h('label', { class: 'row small' }, h('span', { class: 'muted' }, 'Crease pattern units'), this.importUnits),
           h('p', { class: 'muted small' }, 'A devsurf scene (format "devsurf-scene", version 1), or a crease pattern or folded form in FOLD format (.fold, as Origami Simulator and the FOLD tools write it), or a crease pattern drawn as SVG in Origami Simulator\'s colours (black outline, red mountain, blue valley; curves become curved creases). It becomes a new private session that the Fold slider folds.'),
           this.importNotes),
         this.mySessions,
@@ -519,7 +525,7 @@ export class StartPage {
       return;
     }
     if (/\.svg$/i.test(file.name) || /^\s*(<\?xml[^>]*>\s*)?(<!--[\s\S]*?-->\s*)*(<!DOCTYPE[^>]*>\s*)?<svg[\s>]/i.test(text)) {
-      await this._importCreasePattern(file, text, 'svg');
+      await this._importCreasePattern(file, text, 'svg', { units: this.importUnits.value || undefined });
       return;
     }
     let scene;
@@ -530,7 +536,7 @@ export class StartPage {
       return;
     }
     if (/\.fold$/i.test(file.name) || (scene && typeof scene === 'object' && !scene.format && Array.isArray(scene.vertices_coords))) {
-      await this._importCreasePattern(file, text);
+      await this._importCreasePattern(file, text, 'fold', { units: this.importUnits.value || undefined });
       return;
     }
     // Neither a scene file nor a crease pattern: say what was expected (the schema's own word,
