@@ -3,6 +3,7 @@
 #include "CliArguments.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -236,7 +237,8 @@ struct ServerAddress {
 /// @throws std::invalid_argument naming --server for another scheme or no host
 ServerAddress parseServerAddress(const std::string& url) {
   const std::size_t schemeEnd = url.find("://");
-  const std::string scheme = schemeEnd == std::string::npos ? std::string("http") : url.substr(0, schemeEnd);
+  std::string scheme = schemeEnd == std::string::npos ? std::string("http") : url.substr(0, schemeEnd);
+  std::transform(scheme.begin(), scheme.end(), scheme.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (scheme != "http")
     throw std::invalid_argument("--server: \"" + scheme + "\" is not a scheme devsurf job speaks (http://HOST:PORT)");
   const std::string rest = schemeEnd == std::string::npos ? url : url.substr(schemeEnd + 3);
@@ -711,7 +713,11 @@ int jobCommand(const std::vector<std::string>& args, std::istream& in, std::ostr
     err << "devsurf job: server answered " << res->status << ": " << res->body << "\n";
     return res->status >= 400 && res->status < 500 ? 2 : 1;
   }
-  const nlohmann::json submitted = nlohmann::json::parse(res->body);
+  const nlohmann::json submitted = nlohmann::json::parse(res->body, nullptr, false);
+  if (!submitted.is_object() || !submitted.contains("id") || !submitted["id"].is_string()) {
+    err << "devsurf job: " << server << " answered " << res->status << " without a job id (is it a devsurf daemon?)\n";
+    return 1;
+  }
   const std::string id = submitted["id"];
   if (!wait) {
     out << nlohmann::json{{"id", id}, {"location", address.prefix + "/api/jobs/" + id}}.dump() << "\n";
@@ -724,7 +730,11 @@ int jobCommand(const std::vector<std::string>& args, std::istream& in, std::ostr
       err << "devsurf job: lost the job " << id << "\n";
       return 1;
     }
-    const nlohmann::json job = nlohmann::json::parse(r->body);
+    const nlohmann::json job = nlohmann::json::parse(r->body, nullptr, false);
+    if (!job.is_object() || !job.contains("state") || !job["state"].is_string()) {
+      err << "devsurf job: the job " << id << " came back unreadable\n";
+      return 1;
+    }
     const std::string state = job["state"];
     const int it = job["progress"]["iteration"], of = std::max(1, job["progress"]["of"].get<int>());
     if (terminal) {
@@ -745,6 +755,8 @@ int jobCommand(const std::vector<std::string>& args, std::istream& in, std::ostr
       // As `devsurf solve`: a missed quality is a warning, and exit status 3 with --require-quality.
       std::string kind;
       if (report.contains("scene") && report["scene"].contains("model")) kind = report["scene"]["model"].value("kind", "");
+      if (requireQuality && !report.contains("quality"))
+        err << "devsurf job: note: --require-quality: a " << kind << " report has no quality thresholds to require (see its metrics)\n";
       if (warnQualityMissed(report, "job", kind, err) && requireQuality) return 3;
       return 0;
     }

@@ -370,6 +370,9 @@ json Session::presenceMessage() const {
 json Session::stateMessage(int participant) const {
   const json constraints = constraintsJson();
   const json geometry = geometryJson();
+  // The verdict of the state shown, as `solved` and `update` carry it: a page that opens a design
+  // missing its thresholds says so at once (on the session's worker, as broadcastUpdate).
+  const json quality = solver_->quality().toJson();
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = participants_.find(participant);
   return {{"type", "state"},
@@ -381,6 +384,7 @@ json Session::stateMessage(int participant) const {
           {"scene", cachedScene_},
           {"metrics", cachedMetrics_},
           {"geometry", geometry},
+          {"quality", quality},
           {"constraints", constraints},
           {"participants", participantsJson()},
           {"settings", {{"drag_iterations", settings_.dragIterations},

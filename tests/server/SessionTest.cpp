@@ -1,6 +1,8 @@
 #include "devsurf/server/Session.h"
 
 #include "devsurf/proto/Geometry.h"
+#include "devsurf/proto/Scene.h"
+#include "devsurf/server/SceneSolver.h"
 #include "devsurf/server/Tokens.h"
 #include "server/SessionTesting.h"
 
@@ -8,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 
@@ -612,6 +616,35 @@ TEST(CompositeSession, DraggingAVertexStreamsIteratesAndReleaseSolvesToSmallResi
   const json scene = e.session->sceneJson();
   EXPECT_GT(scene["model"]["vertices"][3][2].get<double>(), 0.3);
   EXPECT_FALSE(scene["model"].contains("handles"));
+}
+
+TEST(CompositeSession, JoinAndUndoShowTheVerdictOfTheStateTheyShowNotTheLastSolves) {
+  // A status line kept the verdict of a solve that an undo had taken back. Each state the
+  // session shows carries its own verdict, recomputed here by a solver built from the scene shown.
+  const auto verdictOf = [](const json& scene) { return SceneSolver(proto::sceneFromJson(scene)).quality().toJson(); };
+  const auto sameChecks = [](const json& a, const json& b) {
+    if (a["checks"].size() != b["checks"].size()) return false;
+    for (std::size_t k = 0; k < a["checks"].size(); ++k) {
+      const double x = a["checks"][k]["value"].get<double>(), y = b["checks"][k]["value"].get<double>();
+      if (a["checks"][k]["metric"] != b["checks"][k]["metric"] || std::abs(x - y) > 1e-6 * std::max({1.0, std::abs(x), std::abs(y)}))
+        return false;
+    }
+    return true;
+  };
+  JoinedCompositeEditor e;
+  const json joined = e.inbox.last("state");
+  ASSERT_TRUE(joined.contains("quality"));
+  EXPECT_TRUE(sameChecks(joined["quality"], verdictOf(joined["scene"]))) << joined["quality"].dump();
+  for (int k = 1; k <= 4; ++k) e.send(dragVertex3(k, 0.25 * k));
+  e.send({{"type", "drag_end"}, {"op", 99}, {"target", {{"vertex", 3}}}, {"iterations", 30}});
+  const json solved = e.inbox.last("solved");
+  ASSERT_TRUE(solved.is_object());
+  e.send({{"type", "undo"}, {"op", 100}});
+  const json update = e.inbox.last("update");
+  ASSERT_TRUE(update.contains("quality"));
+  EXPECT_TRUE(sameChecks(update["quality"], verdictOf(update["scene"]))) << update["quality"].dump();
+  // The undo restored another state: the last solve's verdict would not have matched it.
+  EXPECT_FALSE(sameChecks(solved["quality"], update["quality"]));
 }
 
 TEST(CompositeSession, TheLetGoOfARefusedDragIsAcknowledgedAndSolvesMovesAndJournalsNothing) {

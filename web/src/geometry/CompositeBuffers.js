@@ -58,7 +58,7 @@ export class CompositeBuffers {
     this.points = new Float32Array(0);
     this.targets = [];
     this._index = new Map();
-    /** Per edge: {edge, v, type, crease, interior, assignment, midpoint, foldAngleDeg (mean), polyline}. */
+    /** Per edge: {edge, v, type, crease, interior, assignment, midpoint, foldAngleDeg (mean), foldAngleMaxDeg (largest |·| along it), polyline}. */
     this.edges = [];
     this.fields = { face_flatness: new Float32Array(0), vertex_curvature: new Float32Array(0) };
     this.faceFlatness = new Float32Array(0);
@@ -109,13 +109,16 @@ export class CompositeBuffers {
       const midpoint = k % 2 === 1
         ? [polyline[3 * m], polyline[3 * m + 1], polyline[3 * m + 2]]
         : [0, 1, 2].map((c) => 0.5 * (polyline[3 * (m - 1) + c] + polyline[3 * m + c]));
-      let fold = 0;
+      let fold = 0, largest = 0;
       if (e.fold_angle_deg) {
         const a = decodeArray(e.fold_angle_deg).data;
-        for (const x of a) fold += x;
+        for (const x of a) {
+          fold += x;
+          largest = Math.max(largest, Math.abs(x));
+        }
         fold = a.length ? fold / a.length : 0;
       }
-      return { edge: e.edge, v: e.v, type: e.type, crease: e.crease, interior: !!e.interior, assignment: e.assignment, midpoint, foldAngleDeg: fold, polyline };
+      return { edge: e.edge, v: e.v, type: e.type, crease: e.crease, interior: !!e.interior, assignment: e.assignment, midpoint, foldAngleDeg: fold, foldAngleMaxDeg: largest, polyline };
     });
     for (const [name, values] of Object.entries(sets)) realloc = setPositions(this.lines[name], values) || realloc;
 

@@ -130,7 +130,7 @@ export class CreaseBoardPanel {
       this.conflicts = marked;
       this._renderOverlay();
     });
-    state.on('error', ({ command }) => this._commandFailed(command));
+    state.on('error', ({ command, message }) => this._commandFailed(command, message));
     // The role arrives with the session, the connection after it: the hint follows both.
     for (const ev of ['editable', 'session']) {
       state.on(ev, () => {
@@ -203,11 +203,13 @@ export class CreaseBoardPanel {
     this._render();
   }
 
-  _commandFailed(command) {
+  _commandFailed(command, message) {
     if (!command || !String(command.source || '').startsWith('crease-board')) return;
     // A crease the server refused is drawn again as a draft, its points kept (a tryout's curve
     // with a loose end vanished whole): finish it on the outline or a crease, or Esc drops it.
-    const refused = this.pending.find((p) => p.command === command);
+    // Not when the connection failed: its outcome is unknown, and the resync shows it if drawn.
+    const local = !!message && ['offline', 'disconnected', 'closed'].includes(message.code);
+    const refused = local ? null : this.pending.find((p) => p.command === command);
     if (refused && refused.curved && this.draft.length === 0 && this.tool === 'curve') {
       this.draft = refused.points.slice();
       this._setHint('Not drawn — its points are kept: click a point on the outline or on a crease and press Enter; Backspace removes the last point, Esc drops it.', true);
@@ -534,6 +536,11 @@ export class CreaseBoardPanel {
 
   /** Sends the crease being drawn (Line: 2 points; Curve: ≥ 3). */
   finishDraft() {
+    // Offline: the draft waits (its points kept) until the page has reconnected.
+    if (!this.editable) {
+      this._setHint(this._toolHint(), true);
+      return;
+    }
     const curved = this.tool === 'curve';
     const points = this.draft;
     if (curved && points.length < 3) {

@@ -202,7 +202,9 @@ export class Editor {
     this.creasePanel = new CreasePanel(this.sidebar, { state: st, composite: this.composite, send: (c) => this.send(c), errorSlots: this.errorSlots });
     this.foldPanel = new FoldPanel(this.sidebar, {
       state: st, send: (c) => this.send(c), errorSlots: this.errorSlots,
-      largestFoldDeg: () => Math.max(0, ...this.composite.edges.filter((e) => e.interior).map((e) => Math.abs(e.foldAngleDeg || 0))),
+      // The largest along any crease (the server captures hinges at a crease's ends; a crease
+      // folded one way at one end and the other at the other has a mean near 0).
+      largestFoldDeg: () => Math.max(0, ...this.composite.edges.filter((e) => e.interior).map((e) => e.foldAngleMaxDeg || 0)),
     });
     this.paramsSection = h('section', { class: 'panel panel-gui', hidden: true });
     this.sidebar.appendChild(this.paramsSection);

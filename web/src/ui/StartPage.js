@@ -517,6 +517,9 @@ export class StartPage {
 
   async _openFile(file) {
     const what = `open ${file.name}`;
+    // The last import's notes and its "Open it" belong to that file, not to this one.
+    this.importNotes.hidden = true;
+    clear(this.importNotes);
     let text;
     try {
       text = await file.text();

@@ -37,6 +37,18 @@ export class DragCommandStream {
     this.send(new DragCommand(this.target, p, { source: this.source }));
   }
 
+  /**
+   * Drops the drag without a word to the server (the connection went away: nothing could be
+   * sent, and the resync shows where the point is); later moves and the end send nothing.
+   */
+  abandon() {
+    if (this.raf) cancelAnimationFrame(this.raf);
+    this.raf = 0;
+    this.pending = null;
+    this.moved = false;
+    this.send = () => {};
+  }
+
   /** Ends the drag: the pending position, then DragEndCommand when anything moved. */
   end() {
     if (this.raf) cancelAnimationFrame(this.raf);

@@ -34,6 +34,7 @@ export class UnfoldingView extends CanvasPanel {
     this.hovered = null;
     this.visible = false;
     this._bindPointer();
+    if (this.state) this.state.on('editable', (editable) => { if (!editable) this._abandonDrag(); });
     this._observeResize();
   }
 
@@ -328,6 +329,17 @@ export class UnfoldingView extends CanvasPanel {
       this.canvas.style.cursor = i === null ? '' : 'pointer';
       this.render();
     }
+  }
+
+  /** The connection dropped mid-drag: the drag ends, nothing more is sent. */
+  _abandonDrag() {
+    const d = this.drag;
+    if (!d) return;
+    d.commands.abandon();
+    this.drag = null;
+    try { this.canvas.releasePointerCapture(d.pointerId); } catch { /* ignore */ }
+    this.canvas.style.cursor = '';
+    this.render();
   }
 
   _onUp(e) {

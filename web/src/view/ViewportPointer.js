@@ -76,6 +76,8 @@ export class ViewportPointer {
     canvas.addEventListener('pointermove', (e) => this._onPointerMove(e));
     canvas.addEventListener('pointerup', (e) => this._onPointerUp(e));
     canvas.addEventListener('pointercancel', (e) => this._onPointerUp(e));
+    // The connection dropped mid-drag: the drag is over (every frame would raise "not sent").
+    if (view.state) view.state.on('editable', (editable) => { if (!editable) this._abandonDrag(); });
     canvas.addEventListener('pointerleave', () => {
       if (!view.drag && view.hovered) {
         view.hovered = null;
@@ -223,6 +225,18 @@ export class ViewportPointer {
         }
       });
     }
+  }
+
+  _abandonDrag() {
+    const view = this.view;
+    const d = view.drag;
+    if (!d) return;
+    d.commands.abandon();
+    view.drag = null;
+    view.controls.enabled = true;
+    try { view.canvas.releasePointerCapture(d.pointerId); } catch { /* ignore */ }
+    view.canvas.style.cursor = 'grab';
+    view.requestRender();
   }
 
   _onPointerUp(e) {
