@@ -20,14 +20,18 @@ json example(const std::string& name) {
   return json::parse(file);
 }
 
-std::string pathOfError(const json& doc) {
+/// The path (or, with `message`, the whole message) of the SceneError a document raises;
+/// "<accepted>" when none.
+std::string pathOfError(const json& doc, bool message = false) {
   try {
     sceneFromJson(doc);
   } catch (const SceneError& e) {
-    return e.path();
+    return message ? std::string(e.what()) : e.path();
   }
   return "<accepted>";
 }
+
+std::string messageOfError(const json& doc) { return pathOfError(doc, true); }
 
 TEST(BoundedJson, MeasuresNestingOutsideStringsOnly) {
   EXPECT_EQ(jsonNestingDepth("{}"), 1);
@@ -112,16 +116,6 @@ TEST(HostileScene, FacesFixedHandlesAndSeamsMustNameExistingElements) {
   bad = doc;
   bad["model"]["tangent_continuity"] = json::array({{0, ne + 1}});
   EXPECT_EQ(pathOfError(bad), "model.tangent_continuity[0][1]");
-}
-
-/// The message of the SceneError a document raises ("<accepted>" when none).
-std::string messageOfError(const json& doc) {
-  try {
-    sceneFromJson(doc);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "<accepted>";
 }
 
 TEST(HostileScene, AVertexOrEdgeIndexPastAnIntIsNamedWithTheCountItExceedsEveryTime) {

@@ -77,7 +77,7 @@ export class ViewportPointer {
     canvas.addEventListener('pointerup', (e) => this._onPointerUp(e));
     canvas.addEventListener('pointercancel', (e) => this._onPointerUp(e));
     // The connection dropped mid-drag: the drag is over (every frame would raise "not sent").
-    if (view.state) view.state.on('editable', (editable) => { if (!editable) this._abandonDrag(); });
+    if (view.state) view.state.on('editable', (editable) => { if (!editable) this._endDrag(true); });
     canvas.addEventListener('pointerleave', () => {
       if (!view.drag && view.hovered) {
         view.hovered = null;
@@ -227,11 +227,16 @@ export class ViewportPointer {
     }
   }
 
-  _abandonDrag() {
+  /**
+   * Ends the drag in progress: its release is sent (`drag_end`), or, when the connection dropped
+   * (`abandon`), nothing more is.
+   */
+  _endDrag(abandon) {
     const view = this.view;
     const d = view.drag;
     if (!d) return;
-    d.commands.abandon();
+    if (abandon) d.commands.abandon();
+    else d.commands.end();
     view.drag = null;
     view.controls.enabled = true;
     try { view.canvas.releasePointerCapture(d.pointerId); } catch { /* ignore */ }
@@ -243,13 +248,7 @@ export class ViewportPointer {
     const view = this.view;
     const d = view.drag;
     if (d) {
-      if (e.pointerId !== d.pointerId) return;
-      d.commands.end();
-      view.drag = null;
-      view.controls.enabled = true;
-      try { view.canvas.releasePointerCapture(e.pointerId); } catch { /* ignore */ }
-      view.canvas.style.cursor = 'grab';
-      view.requestRender();
+      if (e.pointerId === d.pointerId) this._endDrag(false);
       return;
     }
     this._fixedPress = null;
