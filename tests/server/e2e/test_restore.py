@@ -78,6 +78,9 @@ class ExactRestoreTest(unittest.TestCase):
              ("quasi-strip-twisted.json", {"curve": "c1", "index": 2}),
              ("conical-strip-hull.json", {"curve": "p", "index": 1}),
              ("spline-watertight.json", {"on": "control", "vertex": 60}))
+    # Kill-and-restore rounds: the second restores a store that a restore wrote, the third adds
+    # nothing new to that chain (CMake runs the PostgreSQL store with two, for CI time).
+    ROUNDS = int(os.environ.get("DEVSURF_EXACT_ROUNDS", "3"))
 
     @staticmethod
     def point(model, target):
@@ -97,7 +100,7 @@ class ExactRestoreTest(unittest.TestCase):
                     status, _, body = daemon.json("POST", "/api/sessions", json.load(f))
                 self.assertEqual(status, 201, body)
                 sessions.append((name, target, body))
-            for round_ in range(3):
+            for round_ in range(self.ROUNDS):
                 seen = {}
                 for name, target, s in sessions:
                     async def edit():
