@@ -210,6 +210,12 @@ bool Session::runSolver(SolveLimits limits, bool final) {
   if (final && !interrupted) {
     settlePending_ = false;
     if (!showState()) return true;  // what a client reads after `solved` is what a restart restores
+    if (foldTargetsChangedUnsent_) {
+      // The release took the drag's folds as the design's targets: the scene every client holds
+      // (and saves to a file) gets them, with the amount they go with.
+      foldTargetsChangedUnsent_ = false;
+      broadcastUpdate();
+    }
     broadcast({{"type", "solved"}, {"seq", seq}, {"revision", revision_}, {"metrics", metricsJson()},
                {"reason", engine::terminationReasonName(summary.reason)},
                {"iterations", summary.stepsTaken()},
@@ -238,7 +244,7 @@ void Session::release(const json& target, int iterations) {
   // creases go (a mountain pulled up as a valley) keeps its targets, and the projections hold the
   // sheet to them — flat — rather than leave it folded at 0 %.
   if (hasFoldAngles() && dragHandles_.empty()) {
-    solver_->compositeModel().captureFoldTargets();
+    if (solver_->compositeModel().captureFoldTargets()) foldTargetsChangedUnsent_ = true;
     solver_->compositeModel().holdFoldTargets(true);
     if (!(solver_->compositeModel().foldAmount() > 0.0)) {
       // Still at 0 %: the targets pull the sheet back flat first (the projections alone stop at
@@ -312,7 +318,7 @@ void Session::settle() {
   // after a drag's release: the slider let go at 0 % and interrupted must not jump back up to
   // what the sheet had not yet unfolded.
   if (hasFoldAngles() && dragHandles_.empty() && (holdsFoldTargets() || afterDrag)) {
-    solver_->compositeModel().captureFoldTargets();
+    if (solver_->compositeModel().captureFoldTargets()) foldTargetsChangedUnsent_ = true;
     solver_->compositeModel().holdFoldTargets(true);
   }
   polish.holdTargetsInProjection = hasFoldAngles();

@@ -386,6 +386,20 @@ TEST(SessionDrawing, AFlatDrawnSheetFoldsUnderADragOfAFreeCornerAndTheSliderMove
     ASSERT_GE(corner, 0) << "no corner of the flat sheet followed a drag up by more than 20 mm of 80";
     const json after = e.session->sceneJson();
     const json metrics = e.inbox.last("solved")["metrics"];
+    // What a client holds (and saves to a file): the scene of the last `update` before the last
+    // `solved` carries the targets and the amount the release took from the drag, as the session
+    // has them. Before, no update followed the release: a saved file paired the amount of the
+    // fold with the targets from before the drag (flat here: no amount at all).
+    {
+      json clientScene;
+      for (const json& m : e.inbox.messages) {
+        if (m.value("type", "") == "update" || m.value("type", "") == "state") clientScene = m["scene"];
+      }
+      ASSERT_TRUE(clientScene.is_object());
+      EXPECT_EQ(clientScene["model"].value("fold_amount", 0.0), after["model"].value("fold_amount", 0.0));
+      EXPECT_EQ(clientScene["model"]["fold_angles"], after["model"]["fold_angles"]);
+      EXPECT_EQ(clientScene["model"]["vertices"], after["model"]["vertices"]);
+    }
     const double z = after["model"]["vertices"][static_cast<std::size_t>(corner)][2].get<double>();
     const double amount = after["model"].value("fold_amount", 1.0);
     std::printf("%s: corner %d pulled 80 mm up → z %.1f mm; fold amount %.3f, largest fold %.1f°, fold error %.3g°, "

@@ -469,6 +469,9 @@ class Session : public std::enable_shared_from_this<Session> {
   std::chrono::steady_clock::time_point lastStreamed_{};  // when the last iterate went out
   double lastStreamMs_ = 0.0;  // what building and sending it cost
   int scheduleIteration_ = 0;  // iterations of the current interaction (drag, solve): the fairness schedule resumes there
+  /// A release (or its settle) took the drag's folds as targets: the next `solved` is preceded by
+  /// an `update` with the scene (worker thread).
+  bool foldTargetsChangedUnsent_ = false;
   bool foldTargetsCaptured_ = false;  // the fold just applied took the design's folds as targets (worker thread)
   std::vector<nlohmann::json> releasedHandles_;  // … of ended drags (weight 0 in the model until a rebuild)
   /// Counts the edits that ended the drags in progress — those that renumbered the points

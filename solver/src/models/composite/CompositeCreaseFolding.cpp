@@ -62,12 +62,13 @@ void CompositeModel::setFoldAmount(double amount) {
   static_cast<terms::HingeFoldAngleTerm*>(problem_.term(foldTerm_).term.get())->setTargets(targets);
 }
 
-void CompositeModel::captureFoldTargets() {
-  if (foldTerm_ < 0) return;
+bool CompositeModel::captureFoldTargets() {
+  if (foldTerm_ < 0) return false;
   auto hingeAngleDeg = [this](std::size_t i) {
     const FoldHinge& h = hinges_[static_cast<std::size_t>(foldTargetHinge_[i])];
     return kDegreesPerRadian * terms::hingeFoldAngle(pointValue(h.a), pointValue(h.b), pointValue(h.c), pointValue(h.d));
   };
+  bool changed = false;
   if (!(design_.foldAmount > 0.0)) {
     // A flat design (the slider at 0 %) that a drag folded: the slider moves to the amount the
     // drag folded, the hinge folded furthest toward its target setting it.
@@ -76,8 +77,9 @@ void CompositeModel::captureFoldTargets() {
       const double angle = hingeAngleDeg(i), target = design_.foldAngles[i].angleDeg;
       if (std::abs(angle) >= kFoldedHingeDeg && angle * target > 0.0) folded = std::max(folded, angle / target);
     }
-    if (!(folded > 0.0)) return;
+    if (!(folded > 0.0)) return false;
     design_.foldAmount = std::min(1.0, folded);
+    changed = true;
   }
   for (std::size_t i = 0; i < design_.foldAngles.size() && i < foldTargetHinge_.size(); ++i) {
     const FoldHinge& h = hinges_[static_cast<std::size_t>(foldTargetHinge_[i])];
@@ -87,9 +89,12 @@ void CompositeModel::captureFoldTargets() {
     // user's drag of a sheet stuck near flat did both, without a word).
     const double target = design_.foldAngles[i].angleDeg;
     if (std::abs(angle) < kFoldedHingeDeg || (target != 0.0 && angle * target < 0.0)) continue;
-    design_.foldAngles[i].angleDeg = std::clamp(angle / design_.foldAmount, -180.0, 180.0);
+    const double captured = std::clamp(angle / design_.foldAmount, -180.0, 180.0);
+    changed = changed || captured != design_.foldAngles[i].angleDeg;
+    design_.foldAngles[i].angleDeg = captured;
   }
   setFoldAmount(design_.foldAmount);
+  return changed;
 }
 
 void CompositeModel::holdFoldTargets(bool held) {

@@ -350,7 +350,9 @@ class CompositeModel {
   /// drag folded: the largest ratio of a hinge's angle to its target, at most 1 — nothing happens
   /// if no hinge folded. A hinge folded by less than 0.5°, or against the sign of its target, keeps
   /// its target.
-  void captureFoldTargets();
+  /// @return whether a target or the amount changed (the design's scene then differs from the
+  ///         one clients were last sent).
+  bool captureFoldTargets();
   /// Lets go of the fold-angle targets (weight 0: a drag may change the fold) or holds them again
   /// (their weight, options.foldWeight); no re-analysis.
   void holdFoldTargets(bool held);
