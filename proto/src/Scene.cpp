@@ -627,15 +627,20 @@ double millimetresPerUnit(const std::string& units) {
 
 namespace {
 
-/// Every number of the model is finite and every coordinate (a member of "points", "vertices",
-/// "position", "at", "boundary" arrays) within ±kMaxCoordinate: a coordinate of 1e200 squares to
-/// infinity in the first norm and turns a whole design into NaN.
+/// Every number of the model and of the solver settings is finite, every coordinate (a member of
+/// "points", "vertices", "position", "at", "boundary" arrays) within ±kMaxCoordinate, and so is
+/// every other number written with a fraction or an exponent (weights, tolerances, budgets): a
+/// coordinate of 1e200 squares to infinity in the first norm and turns a whole design into NaN, and
+/// a weight of 1e300 does the same to the first step ("the solve produced a non-finite value").
+/// Integers elsewhere are indices and counts, which the schema and the model check with their own
+/// words ("vertex 3000000000 does not exist").
 void checkModelNumbers(const json& j, const std::string& path, bool coordinates) {
   if (j.is_number_float()) {
     const double x = j.get<double>();
     if (!std::isfinite(x)) throw SceneError(path, "finite", "must be a finite number");
     if (coordinates && std::abs(x) > kMaxCoordinate)
       throw SceneError(path, "range", "coordinate " + j.dump() + " is outside ±1e9 (scene units)");
+    if (std::abs(x) > kMaxCoordinate) throw SceneError(path, "range", j.dump() + " is outside ±1e9");
   } else if (j.is_number_integer() && coordinates) {
     const double x = j.get<double>();
     if (std::abs(x) > kMaxCoordinate)
@@ -697,6 +702,7 @@ Scene sceneFromJson(const json& given, const ResourceLimits& limits) {
   const std::vector<SchemaError> errors = schemaRegistry().validate(document, "scene.schema.json", 1);
   if (!errors.empty()) throw SceneError(errors[0].path, errors[0].rule, errors[0].message);
   if (document.contains("model")) checkModelNumbers(document["model"], "model", false);
+  if (document.contains("solver")) checkModelNumbers(document["solver"], "solver", false);
 
   Scene scene;
   scene.name = document.value("name", "");

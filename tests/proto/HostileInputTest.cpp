@@ -9,6 +9,7 @@
 
 #include "devsurf/proto/BoundedJson.h"
 #include "devsurf/proto/Scene.h"
+#include "support/Presets.h"
 
 namespace devsurf::proto {
 namespace {
@@ -205,6 +206,60 @@ TEST(HostileScene, CurvesWithoutLengthOrStripsWithoutWidthAreRefusedByName) {
   bad["model"]["vertices"][v[1].get<std::size_t>()] = first;
   for (json& p : bad["model"]["edges"][e]["points"]) p = first;
   EXPECT_EQ(pathOfError(bad).rfind("model.edges[" + std::to_string(e) + "]", 0), 0u) << pathOfError(bad);
+}
+
+TEST(HostileScene, AConicalStripBetweenACurveAndItselfAPointOrOneLineIsRefusedByName) {
+  // A tryout's q equal to p solved to a strip folded back on itself (a warning, exit 0), where the
+  // quasi strip refused the same pair.
+  const json good = example("conical-strip-hull.json");
+  ASSERT_EQ(pathOfError(good), "<accepted>");
+  json bad = good;
+  bad["model"]["q"] = bad["model"]["p"];
+  EXPECT_EQ(pathOfError(bad), "model.q.points") << messageOfError(bad);
+  EXPECT_NE(messageOfError(bad).find("q lies on p"), std::string::npos) << messageOfError(bad);
+  bad = good;
+  for (json& p : bad["model"]["p"]["points"]) p = {1, 2, 3};
+  EXPECT_EQ(pathOfError(bad).rfind("model.p", 0), 0u) << messageOfError(bad);
+  bad = good;
+  for (const char* curve : {"p", "q"}) {
+    json& points = bad["model"][curve]["points"];
+    for (std::size_t i = 0; i < points.size(); ++i)
+      points[i] = {(curve[0] == 'p' ? 0.0 : 2.0) + static_cast<double>(i) / static_cast<double>(points.size() - 1), 0, 0};
+  }
+  EXPECT_EQ(pathOfError(bad), "model.q.points") << messageOfError(bad);
+  // q running along p backwards is still on it.
+  bad = good;
+  json reversed = json::array();
+  for (auto it = good["model"]["p"]["points"].rbegin(); it != good["model"]["p"]["points"].rend(); ++it) reversed.push_back(*it);
+  bad["model"]["q"]["points"] = reversed;
+  bad["model"]["q"].erase("knots");
+  bad["model"]["q"]["degree"] = good["model"]["p"].value("degree", 3);
+  EXPECT_EQ(pathOfError(bad), "model.q.points") << messageOfError(bad);
+}
+
+TEST(HostileScene, WeightsAndSettingsPastABillionAreRefusedByNameBeforeTheyOverflowASolve) {
+  // A tryout's handle weight of 1e300 passed validation; its solve then failed with "the solve
+  // produced a non-finite value (history[0].residuals.handle)", a name the scene does not have.
+  json bad = example("strip-lifted-corner.json");
+  ASSERT_FALSE(bad["model"]["handles"].empty());
+  bad["model"]["handles"][0]["weight"] = 1e300;
+  EXPECT_EQ(pathOfError(bad), "model.handles[0].weight");
+  EXPECT_NE(messageOfError(bad).find("outside ±1e9"), std::string::npos) << messageOfError(bad);
+  bad["model"]["handles"][0]["weight"] = 1e6;  // heavy, but a weight
+  EXPECT_EQ(pathOfError(bad), "<accepted>");
+  for (const char* setting : {"fairness", "developability_weight", "handle_weight", "regularization", "time_budget_ms"}) {
+    SCOPED_TRACE(setting);
+    json doc = example("strip-lifted-corner.json");
+    doc["solver"][setting] = 1e300;
+    EXPECT_EQ(pathOfError(doc), std::string("solver.") + setting);
+    doc["solver"][setting] = 2e9;
+    EXPECT_EQ(pathOfError(doc), std::string("solver.") + setting);
+  }
+  json conical = example("conical-strip-hull.json");
+  conical["model"]["h3"] = 1e100;
+  EXPECT_EQ(pathOfError(conical), "model.h3");
+  // Every shipped example stays inside the bound.
+  for (const std::string& name : testing::presetFiles()) EXPECT_EQ(pathOfError(example(name)), "<accepted>") << name;
 }
 
 }  // namespace

@@ -43,6 +43,12 @@ void silenceOpenMesh() {
   throw std::invalid_argument(path + ": " + message);
 }
 
+/// The words for a coordinate past kMaxShapeCoordinate.
+std::string outsideTheBound(const std::string& value) {
+  return "coordinate " + value + " is outside ±1e9 (the surfaces fitted to a shape are scenes in its units, "
+         "whose coordinates stay within ±1e9): shift or scale the shape";
+}
+
 std::string lowerExtension(const std::string& path) {
   std::string e = std::filesystem::path(path).extension().string();
   std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
@@ -76,6 +82,8 @@ ReferenceShape readXyz(const std::string& path, const ReferenceLimits& limits) {
       if (end == token.c_str() || *end != '\0')
         failShape(path, "line " + std::to_string(lineNumber) + ": \"" + token + "\" is not a number");
       if (!std::isfinite(v[n])) failShape(path, "line " + std::to_string(lineNumber) + ": a coordinate is not finite");
+      if (n < 3 && std::abs(v[n]) > kMaxShapeCoordinate)
+        failShape(path, "line " + std::to_string(lineNumber) + ": " + outsideTheBound(token));
       ++n;
     }
     if (n == 0) continue;
@@ -222,6 +230,13 @@ ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& e
     shape.points.row(v.idx()) << p[0], p[1], p[2];
   }
   if (!shape.points.allFinite()) failShape(path, "a coordinate is not finite");
+  for (Eigen::Index v = 0; v < shape.points.rows(); ++v)
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(shape.points(v, k)) > kMaxShapeCoordinate) {
+        std::ostringstream value;
+        value << shape.points(v, k);
+        failShape(path, "vertex " + std::to_string(v + 1) + ": " + outsideTheBound(value.str()));
+      }
   if (options.check(OpenMesh::IO::Options::VertexNormal)) {
     shape.normals.resize(shape.points.rows(), 3);
     for (const auto v : mesh.vertices()) {

@@ -70,6 +70,21 @@ TEST(ReferenceShape, MalformedCloudsAreRefusedNamingTheLine) {
       << refusal(write(dir, "h.obj", "this is not a mesh\n"));
 }
 
+TEST(ReferenceShape, CoordinatesPastTheScenesBoundAreRefusedNamingTheLineOrTheVertex) {
+  // A tryout's cloud at 1e200 reported null distances; a mesh at 1e10 made a fit whose scene
+  // every job then refused. The surfaces fitted to a shape are scenes in its units (±1e9).
+  testing::TempDir dir;
+  const std::string cloud = refusal(write(dir, "far.xyz", "0 0 0\n1 0 0\n0 1e200 0\n"));
+  EXPECT_NE(cloud.find("far.xyz: line 3: coordinate 1e200 is outside ±1e9"), std::string::npos) << cloud;
+  EXPECT_NE(cloud.find("shift or scale"), std::string::npos) << cloud;
+  // Normals are directions: any finite size.
+  EXPECT_EQ(refusal(write(dir, "n.xyz", "0 0 0 0 0 1e12\n1 0 0 0 0 1\n0 1 0 0 0 1\n")), "accepted");
+  const std::string mesh = refusal(write(dir, "far.obj", "v 0 0 0\nv 1e10 0 0\nv 0 1 0\nf 1 2 3\n"));
+  EXPECT_NE(mesh.find("far.obj: vertex 2: coordinate 1e+10 is outside ±1e9"), std::string::npos) << mesh;
+  // At the bound, still read: a scan in large but plausible units.
+  EXPECT_EQ(refusal(write(dir, "near.xyz", "0 0 0\n1e9 0 0\n0 -1e9 0\n")), "accepted");
+}
+
 TEST(ReferenceShape, FilesOverALimitAreRefusedNamingIt) {
   testing::TempDir dir;
   std::string text;

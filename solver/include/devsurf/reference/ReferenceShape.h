@@ -16,6 +16,10 @@ struct ReferenceLimits {
   std::int64_t maxTriangles = 10'000'000;     ///< after polygons are split into triangles
 };
 
+/// Largest coordinate magnitude of a reference shape: a scene's (proto::kMaxCoordinate), since the
+/// surfaces fitted to a shape are scenes in its units. Quoted as "±1e9" in the error.
+inline constexpr double kMaxShapeCoordinate = 1e9;
+
 /// A shape a user brings: a point cloud (no triangles) or a triangle mesh, in the file's units.
 struct ReferenceShape {
   Eigen::MatrixX3d points;     ///< n×3 points (a mesh's vertices)
@@ -40,7 +44,8 @@ struct ReferenceShape {
 /// scans in large coordinates, e.g. UTM metres, should be shifted near the origin first); .xyz
 /// and .pwn keep doubles. Binary OFF is not read.
 /// @throws std::invalid_argument naming the file (and the line, or the limit) on a missing or
-///         unreadable file, an unknown extension, a malformed or non-finite line, a header that
+///         unreadable file, an unknown extension, a malformed or non-finite line, a coordinate
+///         outside ±kMaxShapeCoordinate (the line, or the vertex), a header that
 ///         declares more than a limit (or disagrees with a binary STL's size), a file over a
 ///         limit, or no points at all.
 ReferenceShape readReferenceShape(const std::string& path, const ReferenceLimits& limits = {});

@@ -12,6 +12,8 @@
 
 #include <Eigen/Geometry>
 
+#include "devsurf/models/CurvePairWidth.h"
+
 namespace devsurf::models::conical_strip {
 
 namespace {
@@ -306,7 +308,9 @@ ConicalStripModel::ConicalStripModel(ConicalStripDesign design, ConicalStripOpti
     : design_(validated(design, options)),
       options_(options),
       curveP_(makeCurve(design_.p, "p", options.arcLengthIntervalsPerSpan)),
-      curveQ_(makeCurve(design_.q, "q", options.arcLengthIntervalsPerSpan)) {}
+      curveQ_(makeCurve(design_.q, "q", options.arcLengthIntervalsPerSpan)) {
+  requireCurvePairWidth(design_.p, design_.q, "p", "q");
+}
 
 const ConicalStripResult& ConicalStripModel::result() const {
   if (!solved_) throw std::logic_error("ConicalStripModel::result: call solve() first");

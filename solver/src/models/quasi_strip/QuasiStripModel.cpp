@@ -9,9 +9,9 @@
 #include <string>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 
 #include "devsurf/metrics/StripQuality.h"
+#include "devsurf/models/CurvePairWidth.h"
 #include "devsurf/terms/MappingDevelopabilityTerm.h"
 #include "devsurf/terms/MappingEndPointTerm.h"
 #include "devsurf/terms/UnitNormalTerm.h"
@@ -43,53 +43,6 @@ void validateCurve(const spline::BSplineCurve& c, const std::string& name) {
   if (c.dimension() != 3) {
     throw std::invalid_argument(name + ".points: expected 3 coordinates per control point");
   }
-}
-
-/// Points of c sampled uniformly in its parameter, rows.
-Eigen::MatrixXd sampledCurve(const spline::BSplineCurve& c, int count) {
-  const double u0 = c.knots.domainBegin(), u1 = c.knots.domainEnd();
-  std::vector<double> params(static_cast<std::size_t>(count));
-  for (int k = 0; k < count; ++k) params[static_cast<std::size_t>(k)] = u0 + (u1 - u0) * k / (count - 1);
-  return c.evaluate(params);
-}
-
-/// Neither curve a single point, and c2 not lying on c1 (every sample of c2 within 1e-9 of the
-/// curves' extent from c1's polyline): the strip between them would have no width, and its
-/// solve and exports nothing to work on.
-void requireWidth(const spline::BSplineCurve& c1, const spline::BSplineCurve& c2) {
-  const Eigen::MatrixXd a = sampledCurve(c1, 257), b = sampledCurve(c2, 65);
-  const Eigen::RowVectorXd lo = a.colwise().minCoeff().cwiseMin(b.colwise().minCoeff());
-  const Eigen::RowVectorXd hi = a.colwise().maxCoeff().cwiseMax(b.colwise().maxCoeff());
-  const double extent = (hi - lo).norm();
-  auto span = [](const Eigen::MatrixXd& p) { return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm(); };
-  if (span(c1.points) <= 1e-12 * std::max(extent, 1e-300))
-    throw std::invalid_argument("c1.points: every control point is the same point; c1 has no length");
-  if (span(c2.points) <= 1e-12 * std::max(extent, 1e-300))
-    throw std::invalid_argument("c2.points: every control point is the same point; c2 has no length");
-  const double tolerance = 1e-9 * extent;
-  for (Eigen::Index k = 0; k < b.rows(); ++k) {
-    double nearest = std::numeric_limits<double>::infinity();
-    for (Eigen::Index i = 0; i + 1 < a.rows() && nearest > tolerance; ++i) {
-      const Eigen::RowVectorXd d = a.row(i + 1) - a.row(i);
-      const double length2 = d.squaredNorm();
-      const double t = length2 > 0.0 ? std::clamp((b.row(k) - a.row(i)).dot(d) / length2, 0.0, 1.0) : 0.0;
-      nearest = std::min(nearest, (b.row(k) - a.row(i) - t * d).norm());
-    }
-    if (nearest > tolerance) return;
-  }
-  throw std::invalid_argument("c2.points: c2 lies on c1; the strip between them has no width");
-}
-
-/// Both curves on one straight line: every ruling runs along it, a strip of no width (the line's
-/// samples' second principal extent within 1e-9 of the first).
-void requireOffLine(const spline::BSplineCurve& c1, const spline::BSplineCurve& c2) {
-  Eigen::MatrixXd samples(257 + 65, 3);
-  samples << sampledCurve(c1, 257), sampledCurve(c2, 65);
-  const Eigen::MatrixXd centred = samples.rowwise() - samples.colwise().mean();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred);
-  const Eigen::VectorXd sigma = svd.singularValues();
-  if (sigma(1) <= 1e-9 * sigma(0))
-    throw std::invalid_argument("c2.points: c1 and c2 lie on one straight line; the strip between them has no width");
 }
 
 void requireNonNegative(double v, const std::string& name) {
@@ -194,8 +147,7 @@ QuasiStripModel::QuasiStripModel(QuasiStripDesign design, QuasiStripOptions opti
     : design_(std::move(design)), options_(std::move(options)) {
   validateCurve(design_.c1, "c1");
   validateCurve(design_.c2, "c2");
-  requireWidth(design_.c1, design_.c2);
-  requireOffLine(design_.c1, design_.c2);
+  requireCurvePairWidth(design_.c1, design_.c2, "c1", "c2");
   if (design_.mapping.degree < 1) throw std::invalid_argument("mapping.degree: must be >= 1");
   if (design_.mapping.coefficients < design_.mapping.degree + 1) {
     throw std::invalid_argument("mapping.coefficients: must be >= mapping.degree + 1");
