@@ -71,6 +71,8 @@ describe('the activity list', () => {
     expect(describeEdit(EXAMPLES.set_crease)).toBe('made edge 4 a geodesic crease');
     expect(describeEdit(EXAMPLES.draw_crease)).toBe('drew a curved valley crease (90°)');
     expect(describeEdit({ type: 'draw_crease', points: [[0, 0], [1, 1]], assignment: 'M' })).toBe('drew a straight mountain crease (180°)');
+    expect(describeEdit({ type: 'draw_crease', points: [[0, 0], [1, 1], [2, 0]], curved: true, assignment: 'M' }))
+      .toBe('drew a curved mountain crease (90°)');
     expect(describeEdit({ type: 'draw_crease', points: [[0, 0], [1, 1]], assignment: 'C' })).toBe('drew a straight cut');
     expect(describeEdit(EXAMPLES.relabel_crease)).toBe('made crease 5 a mountain crease (180°)');
     expect(describeEdit(EXAMPLES.fold_end, { foldAmount: 0.64 })).toBe('folded the sheet to 64 %');

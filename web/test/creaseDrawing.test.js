@@ -46,6 +46,10 @@ describe('stroke polylines', () => {
     expect(foldAngleMagnitude({ assignment: 'V', fold_angle: 135 })).toBe(135);
     expect(foldAngleMagnitude({ assignment: 'F' })).toBeUndefined();
     expect(foldAngleMagnitude(outline)).toBeUndefined();
+    // A curved crease cannot fold flat: at 180° or without an angle it aims at 90°, as the server.
+    expect(foldAngleMagnitude({ assignment: 'M', curved: true })).toBe(90);
+    expect(foldAngleMagnitude({ assignment: 'V', curved: true, fold_angle: 180 })).toBe(90);
+    expect(foldAngleMagnitude({ assignment: 'V', curved: true, fold_angle: 120 })).toBe(120);
   });
 
   it('reads the drawing of a scene', () => {

@@ -19,6 +19,11 @@ export const DEFAULT_FOLD_ANGLE = 90;
 /** Fold angle magnitude of an M or V stroke without one: a full fold (scene schema, the server). */
 export const ABSENT_FOLD_ANGLE = 180;
 /**
+ * What a curved M or V crease at a full fold (180°, or none given) aims at: only a straight crease
+ * lays its sides onto each other (the server's composite::kCurvedFullFoldDeg).
+ */
+export const CURVED_FULL_FOLD_ANGLE = 90;
+/**
  * A curved stroke with this many points or more is drawn as its polyline (an SVG curve, already
  * sampled), as the server does (composite::DrawingOptions::curveSegments = 16).
  */
@@ -56,11 +61,15 @@ export function drawingDiagonal(scene) {
   return d > 0 && Number.isFinite(d) ? d : null;
 }
 
-/** The fold angle magnitude of a stroke (degrees): |fold_angle|, 180 for M/V without, undefined for others. */
+/**
+ * The fold angle magnitude a stroke aims at (degrees): |fold_angle|, 180 for M/V without, 90 for a
+ * curved one at 180 or without; undefined for others.
+ */
 export function foldAngleMagnitude(stroke) {
   if (!stroke || (stroke.assignment !== 'M' && stroke.assignment !== 'V')) return undefined;
   const a = stroke.fold_angle;
-  return typeof a === 'number' && Number.isFinite(a) && a !== 0 ? Math.abs(a) : ABSENT_FOLD_ANGLE;
+  const magnitude = typeof a === 'number' && Number.isFinite(a) && a !== 0 ? Math.abs(a) : ABSENT_FOLD_ANGLE;
+  return stroke.curved && magnitude >= 180 ? CURVED_FULL_FOLD_ANGLE : magnitude;
 }
 
 /**

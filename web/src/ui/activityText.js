@@ -5,6 +5,7 @@
 // once at its release ("moved …"), a fold gesture at its let-go ("folded the sheet to 64 %").
 
 import { targetLabel } from '../commands/Command.js';
+import { foldAngleMagnitude } from '../geometry/creaseDrawing.js';
 
 /** The messages that are shown live (or are no edit) and get no line of their own. */
 export const UNLISTED_MESSAGES = new Set(['join', 'presence', 'ping', 'drag', 'fold']);
@@ -17,11 +18,15 @@ const plural = (n, one, many = `${one}s`) => `${n} ${n === 1 ? one : many}`;
 const percent = (x) => `${Math.round(Number(x) * 100)} %`;
 const keysOf = (obj) => Object.keys(obj || {}).map((k) => k.replace(/_/g, ' '));
 
-/** "valley crease (90°)": a drawn line's kind, with the angle a crease folds to (absent: 180°). */
+/**
+ * "valley crease (90°)": a drawn line's kind, with the angle a crease folds to (absent: 180°, a
+ * curved one 90°, as foldAngleMagnitude).
+ */
 function lineWords(e) {
   const what = LINE_WORDS[e.assignment] || 'line';
   if (e.assignment !== 'M' && e.assignment !== 'V') return what;
-  return `${what} (${Number.isFinite(e.fold_angle) ? e.fold_angle : 180}°)`;
+  const curved = e.type === 'draw_crease' && e.curved === true;
+  return `${what} (${foldAngleMagnitude({ assignment: e.assignment, fold_angle: e.fold_angle, curved })}°)`;
 }
 
 /**

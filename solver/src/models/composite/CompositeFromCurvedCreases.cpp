@@ -511,7 +511,7 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   // Fold-angle targets: every hinge of a crease with an angle (flat mountain and valley creases
   // without one aim at a full fold, as Origami Simulator reads them).
   const CompositeTopology topology(d);
-  bool guessed = false;
+  bool guessed = false, curvedFullFolds = false;
   for (std::size_t e = 0; e < d.edges.size(); ++e) {
     const int source = g.patternEdge[static_cast<std::size_t>(graphEdgesOfDesignEdge[e].front())];
     if (source < 0) continue;
@@ -522,6 +522,16 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
       guessed = true;
     }
     if (!angle || *angle == 0.0) continue;
+    const bool curved = d.edges[e].type == EdgeType::Spline;
+    // A full fold (±180°: Origami Simulator's opacity 1, a FOLD crease without an angle, a drawn
+    // crease without one) lays the two sides of a crease onto each other, which only a straight
+    // crease can: a curved one aims at ±kCurvedFullFoldDeg instead (a tryout's SVG of curved
+    // creases ended every fold short of 180° by tens of degrees, its quality missed; at 90° the
+    // same creases fold to their targets).
+    if (curved && std::abs(*angle) >= 180.0) {
+      angle = std::copysign(kCurvedFullFoldDeg, *angle);
+      curvedFullFolds = true;
+    }
     // A curved crease folds in a one-parameter family: its fold angle varies along it as its
     // curvature does, so it gets one target, at a hinge inside it (a proposed ruling's end) when
     // it has one — targets at its ends too ask for one angle at three places, which the sheet meets
@@ -532,7 +542,6 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
       for (int ge : g.incident[static_cast<std::size_t>(v)]) along += g.chain[static_cast<std::size_t>(ge)] == chainId ? 1 : 0;
       return along == 2;
     };
-    const bool curved = d.edges[e].type == EdgeType::Spline;
     bool strokeHasInnerHinge = false;
     if (curved && chainId >= 0)
       for (std::size_t o = 0; o < d.edges.size() && !strokeHasInnerHinge; ++o)
@@ -550,6 +559,10 @@ CreasePatternComposite compositeFromCurvedCreasePattern(const io::CreasePattern&
   if (guessed)
     result.notes.push_back({"edges_foldAngle", "not given for every crease: mountain and valley creases without one aim "
                                                "at a full fold (∓180°)"});
+  if (curvedFullFolds)
+    result.notes.push_back({"fold angles", "curved creases cannot fold flat: those at a full fold (±180°) aim at ±" +
+                                               std::to_string(static_cast<int>(kCurvedFullFoldDeg)) +
+                                               "° (set another angle on the crease board)"});
   d.foldAmount = d.foldAngles.empty() ? 1.0 : 0.0;
   return result;
 }

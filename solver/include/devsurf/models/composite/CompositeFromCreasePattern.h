@@ -46,6 +46,10 @@ CreasePatternComposite compositeFromCreasePattern(const io::CreasePattern& patte
 /// deviation above 1e-6 × the pattern's diagonal).
 bool hasCurvedCreases(const io::CreasePattern& pattern);
 
+/// The fold-angle target (degrees) of a curved crease asked for a full fold (±180°): only a straight
+/// crease lays its two sides onto each other.
+inline constexpr double kCurvedFullFoldDeg = 90.0;
+
 /// Turns a flat crease pattern whose creases may be curved (chains of edges sharing a curve id, as
 /// io::importSvgText makes them) into a composite whose faces are valid (000_… §3.1):
 ///  * sides: a face's boundary is cut at its corners (vertices where strokes meet, turn or end)
@@ -65,7 +69,8 @@ bool hasCurvedCreases(const io::CreasePattern& pattern);
 ///  * development management on (at least 4 samples per span), every corner pinned where the drawing has it and every curved
 ///    side's samples kept on its drawn curve (domain curves), so the sheet is the drawing;
 ///  * fold-angle targets at every hinge of a crease with an angle (CompositeHinges), flat mountain
-///    and valley creases without one aiming at ∓180°; foldAmount 0 (flat).
+///    and valley creases without one aiming at ∓180°, curved ones at a full fold (±180°: no angle,
+///    or one of 180°) at ±kCurvedFullFoldDeg, with a note; foldAmount 0 (flat).
 /// @throws std::invalid_argument naming the face ("faces[3]: …") when no layout exists: a face
 ///         bounded by one closed curve, two curves meeting at both ends, a crease inside a chain,
 ///         or no ruling fitting inside the face
