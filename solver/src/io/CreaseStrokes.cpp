@@ -269,6 +269,18 @@ StrokePattern creasePatternFromStrokes(std::vector<CreaseStroke> strokes, const 
   arrangementOptions.tolerance = options.mergeFraction * diagonal;
   arrangementOptions.bridgeIslands = true;
   spatial::PlanarArrangement arrangement = spatial::planarArrangement(pointMatrix, segments, arrangementOptions);
+  {
+    // Where lines end or meet (a point on one line only, between two of its pieces, is no corner:
+    // the samples of a curve).
+    std::vector<int> degree(static_cast<std::size_t>(arrangement.points.rows()), 0);
+    for (const std::array<int, 2>& piece : arrangement.segments)
+      for (int end : piece) ++degree[static_cast<std::size_t>(end)];
+    const auto corners = std::count_if(degree.begin(), degree.end(), [](int d) { return d > 0 && d != 2; });
+    if (corners > options.maxPoints)
+      throw std::length_error(prefix + "its lines end and meet at " + std::to_string(corners) +
+                              " points; a design holds at most " + std::to_string(options.maxPoints) +
+                              " corners (draw fewer lines, or split the pattern)");
+  }
   const auto strokeOfPiece = [&strokeOfSegment, &arrangement](std::size_t s) {
     const int source = arrangement.sourceOfSegment[s];
     return source < 0 ? -1 : strokeOfSegment[static_cast<std::size_t>(source)];
