@@ -432,27 +432,42 @@ int solveCommand(const std::vector<std::string>& args, std::istream& in, std::os
   }
 }
 
+/// Writes an imported scene to --out or stdout: 0, or 2 when --out cannot be written (as `solve`
+/// refuses an --out or --export it cannot open: a bad argument).
+int writeImportedScene(const std::string& scene, const std::string& outPath, std::ostream& out, std::ostream& err) {
+  try {
+    writeOutput(scene, outPath, out);
+    return 0;
+  } catch (const std::exception& e) {
+    err << "devsurf import: --out: " << e.what() << "\n";
+    return 2;
+  }
+}
+
 /// `devsurf import PATTERN.fold|.svg`: a composite scene from a crease pattern; notes on stderr.
+/// Exit status 2 for what the file holds, a file that cannot be read or written (as `solve`), 1
+/// for a failure of the machine.
 int importCreasePatternFile(const std::string& path, const std::string& name, const std::string& units,
                             const std::string& outPath, std::ostream& out, std::ostream& err) {
+  std::string scene;
   try {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw std::runtime_error("cannot read " + path);
+    if (!in) throw ApproximationInputError("FILE", "cannot read " + path);
     CreasePatternImportRequest request;
     request.format = std::filesystem::path(path).extension() == ".svg" || std::filesystem::path(path).extension() == ".SVG" ? "svg" : "fold";
     request.name = name;
     request.units = units;
     const CreasePatternImportResult result = importCreasePattern(readAll(in), request);
     for (const io::ImportNote& note : result.notes) err << "devsurf import: note: " << note.element << ": " << note.message << "\n";
-    writeOutput(proto::sceneToJson(result.scene).dump(1) + "\n", outPath, out);
-    return 0;
+    scene = proto::sceneToJson(result.scene).dump(1) + "\n";
   } catch (const ApproximationInputError& e) {
-    err << "devsurf import: " << path << ": " << e.what() << "\n";
+    err << "devsurf import: " << (e.field() == "FILE" ? std::string() : path + ": ") << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     err << "devsurf import: " << e.what() << "\n";
     return 1;
   }
+  return writeImportedScene(scene, outPath, out, err);
 }
 
 int importCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -486,6 +501,7 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
     return 2;
   }
   if (isCreasePatternFile(meshPath)) return importCreasePatternFile(meshPath, name, unitsGiven ? units : "", outPath, out, err);
+  std::string scene;
   try {
     int skipped = 0;
     const io::PolygonMeshFile mesh = io::readPolygonMesh(meshPath, &skipped);
@@ -530,15 +546,18 @@ int importCommand(const std::vector<std::string>& args, std::ostream& out, std::
     document["name"] = name.empty() ? std::filesystem::path(meshPath).stem().string() : name;
     if (units != "mm") document["units"] = units;
     // Read back as any scene is: the schema, indices, the model's checks and the limits.
-    const nlohmann::json scene = proto::sceneToJson(proto::sceneFromJson(document));
-    writeOutput(scene.dump(1) + "\n", outPath, out);
-    return 0;
+    scene = proto::sceneToJson(proto::sceneFromJson(document)).dump(1) + "\n";
+  } catch (const std::bad_alloc&) {
+    err << "devsurf import: out of memory reading " << meshPath << "\n";
+    return 1;
   } catch (const proto::SceneError& e) {
     err << "devsurf import: " << meshPath << ": " << e.what() << "\n";
-  } catch (const std::exception& e) {
+    return 2;
+  } catch (const std::exception& e) {  // an unreadable file, faces OpenMesh refuses, an unfolding that does not match
     err << "devsurf import: " << e.what() << "\n";
+    return 2;
   }
-  return 1;
+  return writeImportedScene(scene, outPath, out, err);
 }
 
 int serveCommand(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {

@@ -86,7 +86,7 @@ TEST(ImportCommand, TakesAnUnfoldingWithTheSameFacesAndRefusesOneWithout) {
   EXPECT_EQ(m["unfolding"]["vertices"][3].size(), 2u) << "a planar unfolding is written as [x, y]";
   EXPECT_FALSE(m["unfolding"].contains("planar")) << "planar is the default, written only when false";
   const CliRun bad = runCommand({"import", mesh, "--unfolding", other});
-  EXPECT_EQ(bad.code, 1);
+  EXPECT_EQ(bad.code, 2);  // bad input (README's exit codes)
   EXPECT_NE(bad.err.find("the unfolding must have the mesh's vertices and faces"), std::string::npos) << bad.err;
   for (const std::string& p : {mesh, flat, other}) std::filesystem::remove(p);
 }
@@ -94,15 +94,25 @@ TEST(ImportCommand, TakesAnUnfoldingWithTheSameFacesAndRefusesOneWithout) {
 TEST(ImportCommand, BadFilesAndOptionsAreNamed) {
   EXPECT_EQ(runCommand({"import"}).code, 2);
   EXPECT_EQ(runCommand({"import", "x.obj", "--variables", "all"}).code, 2);
+  // Every kind of bad input exits 2, as `solve` (README): before, a missing mesh or crease pattern
+  // and a mesh the model refuses exited 1, a missing scene for `solve` 2.
   const CliRun missing = runCommand({"import", importTempPath("missing.obj")});
-  EXPECT_EQ(missing.code, 1);
+  EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.err.find("cannot read mesh file"), std::string::npos);
+  const CliRun missingPattern = runCommand({"import", importTempPath("missing.svg")});
+  EXPECT_EQ(missingPattern.code, 2);
+  EXPECT_NE(missingPattern.err.find("cannot read"), std::string::npos) << missingPattern.err;
+  EXPECT_EQ(runCommand({"solve", importTempPath("missing.json")}).code, 2);
   const std::string pentagon = importTempPath("pentagon.obj");
   std::ofstream(pentagon) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\nf 1 2 3 4 5\n";
   const CliRun r = runCommand({"import", pentagon});
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("face 0 has more than four vertices"), std::string::npos) << r.err;
   std::filesystem::remove(pentagon);
+  const std::string drawing = std::string(DEVSURF_SOURCE_DIR) + "/tests/data/svg/pleat.svg";
+  const CliRun unwritable = runCommand({"import", drawing, "--out", importTempPath("no-such-dir") + "/scene.json"});
+  EXPECT_EQ(unwritable.code, 2);
+  EXPECT_NE(unwritable.err.find("--out: cannot write"), std::string::npos) << unwritable.err;
 }
 
 TEST(QuadMeshSpelling, TheContractsSpellingIsWhatIsReadAndWrittenBack) {
