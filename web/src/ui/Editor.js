@@ -437,8 +437,12 @@ export class Editor {
 
   _showError(message, command) {
     const context = command ? command.name : null;
+    // A refusal shown beside the control that sent it is not said again in a toast (a tryout's
+    // refused crease was reported twice, on the crease board and in a corner); one whose control
+    // is out of sight (a collapsed panel, a keyboard shortcut) still gets the toast.
+    if (command && command.source && this.errorSlots.show(command.source, describeError(message))
+        && this.errorSlots.isShown(command.source)) return;
     this.toasts.showError(message, context);
-    if (command && command.source) this.errorSlots.show(command.source, describeError(message));
   }
 
   _updateToolbar() {

@@ -117,6 +117,13 @@ export class ErrorSlots {
     return true;
   }
 
+  /** Whether the slot of `source` (or of its prefix) shows its text on screen now. */
+  isShown(source) {
+    let el = this.slots.get(source);
+    if (!el && source && source.includes(':')) el = this.slots.get(source.split(':')[0]);
+    return !!el && !el.hidden && el.isConnected && el.getClientRects().length > 0;
+  }
+
   clear(source) {
     const el = this.slots.get(source);
     if (!el) return;
