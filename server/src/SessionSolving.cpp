@@ -318,7 +318,10 @@ void Session::settle() {
   // after a drag's release: the slider let go at 0 % and interrupted must not jump back up to
   // what the sheet had not yet unfolded.
   if (hasFoldAngles() && dragHandles_.empty() && (holdsFoldTargets() || afterDrag)) {
-    if (solver_->compositeModel().captureFoldTargets()) foldTargetsChangedUnsent_ = true;
+    // Only a drag's release sends the new targets: after a fold of the slider they are its own
+    // angles again (to rounding), and an `update` would carry a whole scene to every client each
+    // time the session goes idle between two frames of a Play.
+    if (solver_->compositeModel().captureFoldTargets() && afterDrag) foldTargetsChangedUnsent_ = true;
     solver_->compositeModel().holdFoldTargets(true);
   }
   polish.holdTargetsInProjection = hasFoldAngles();
