@@ -499,7 +499,9 @@ TEST_P(DragStress, EveryDragKeepsTheShapeValid) {
       // direction (18) cost CI ~65 s more, all three lengths (27) ~165 s. The solver variants of
       // the composites (ruling crease rows, the development apart) take the long drags alone
       // (their shorter drags cost CI ~50 s).
-      const bool withShorter = targetsOwnDirection && !variant && targetIndex <= 2;
+      // Composites take the long drags alone since stop 59 (their two shorter drags cost a CI run
+      // ~30 test-seconds of the four largest presets' ~120; their solver variants drag them too).
+      const bool withShorter = targetsOwnDirection && !variant && targetIndex <= 2 && kind != "composite";
       const double shorter = withShorter && pair++ % 2 == 0 ? 0.10 : 0.25;
       const std::vector<double> fractions = kind == "quad_mesh" ? std::vector<double>{0.25}
                                             : withShorter       ? std::vector<double>{shorter, 0.40}
