@@ -12,7 +12,7 @@ APT_PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcpp-httplib-dev libboost-dev libsqlite3-dev libsuitesparse-dev
   libocct-data-exchange-dev libtbb-dev liblbfgs-dev libssl-dev libcgal-dev libnanoflann-dev libcgal-demo
-  libopenblas0-serial libpq-dev postgresql haproxy libdxflib-dev libpugixml-dev libpng-dev libbrotli-dev zlib1g-dev
+  libopenblas0-pthread libpq-dev postgresql haproxy libdxflib-dev libpugixml-dev libpng-dev libbrotli-dev zlib1g-dev
   python3 python3-websockets python3-ezdxf
   clang libclang-rt-dev
   chromium fonts-liberation fonts-dejavu-core
@@ -33,6 +33,17 @@ if ((${#missing[@]})); then
   $SUDO apt-get update -q
   $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
+# The BLAS under CHOLMOD: OpenBLAS's pthreads build, which locks its shared buffers (the engine
+# tells it to run each call on the calling thread). A serial OpenBLAS has no locks: two sessions
+# factorizing at once corrupted each other's results. Switch away from one left selected.
+MULTIARCH="$(gcc -print-multiarch 2>/dev/null || echo x86_64-linux-gnu)"
+for lib in libblas.so.3 liblapack.so.3 libopenblas.so.0; do
+  target="/usr/lib/$MULTIARCH/openblas-pthread/$lib"
+  link="/etc/alternatives/$lib-$MULTIARCH"
+  if [ -e "$target" ] && [ "$(readlink -f "$link")" != "$(readlink -f "$target")" ]; then
+    $SUDO update-alternatives --quiet --set "$lib-$MULTIARCH" "$target"
+  fi
+done
 if [ "${1:-}" = "--packages" ]; then exit 0; fi
 
 # The web app: npm packages when the lock file changed, a Vite build when a source is newer.

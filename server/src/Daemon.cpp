@@ -21,6 +21,7 @@
 #include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
 
+#include "devsurf/engine/LinearSolver.h"
 #include "devsurf/proto/Scene.h"
 #include "devsurf/server/Tokens.h"
 #include "devsurf/server/store/PostgresStore.h"
@@ -243,6 +244,9 @@ int Daemon::start() {
   } else {
     restoreSessions();
   }
+  if (engine::blasCallsSerialized())
+    spdlog::warn("the BLAS is a serial OpenBLAS, which is not safe to call from two threads at once: "
+                 "factorizations run one at a time (install libopenblas0-pthread: scripts/setup.sh)");
   openDemos();
   if (startAbandoned_) {
     spdlog::info("stopped during start-up");

@@ -5,9 +5,13 @@
 #include "devsurf/server/Daemon.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <sstream>
+#include <thread>
 
 #include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
@@ -179,6 +183,15 @@ void Daemon::renewSessionLeases() {
 }
 
 void Daemon::openDemos() {
+  // Which demos are built here: not those kept quarantined or restored with their edits, nor one
+  // another node of a shared store created.
+  struct Pending {
+    std::string path, id, edit, view;
+    std::shared_ptr<Session> session;
+    proto::Scene scene;
+    std::string error;
+  };
+  std::vector<Pending> pending;
   for (const std::string& path : options_.demoScenes) {
     if (startAbandoned_) return;
     const std::string id = "demo-" + std::filesystem::path(path).stem().string();
@@ -200,22 +213,82 @@ void Daemon::openDemos() {
     try {
       // A shared store: a demo another node created is adopted on its first request.
       if (store_->shared() && store_->loadSession(id)) continue;
-      // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first drag
-      // must not also carry out the preset's own pending solve.
       std::ifstream file(path, std::ios::binary);
-      std::ostringstream scene;
-      scene << file.rdbuf();
-      createSession(SceneSolver::solvedScene(proto::sceneFromText(scene.str())), edit, view, true, id);
+      std::ostringstream text;
+      text << file.rdbuf();
+      pending.push_back({path, id, edit, view, nullptr, proto::sceneFromText(text.str()), {}});
+    } catch (const std::exception& e) {
+      spdlog::error("demo scene {}: {}", path, e.what());
+    }
+  }
+
+  // Solving and building a demo is most of a start's time (40 demos: 18 s on one core) and
+  // touches nothing shared, so the demos are built on every core; they are then stored and served
+  // in the order given.
+  // The costliest first, so that the last to finish is a short one: spline surfaces (a quad mesh
+  // refined from a control net), then other quad meshes (the larger first), then the rest.
+  std::vector<std::size_t> order(pending.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto expectedCost = [&pending](std::size_t k) -> std::pair<int, std::size_t> {
+    const auto* quad = std::get_if<models::quad_mesh::QuadMeshDesign>(&pending[k].scene.model);
+    if (!quad) return {0, 0};
+    return {quad->control ? 2 : 1, static_cast<std::size_t>(quad->mesh.rows())};
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&expectedCost](std::size_t a, std::size_t b) { return expectedCost(a) > expectedCost(b); });
+  std::atomic<std::size_t> next{0};
+  auto buildDemos = [this, &pending, &order, &next]() {
+    for (std::size_t k = next++; k < order.size(); k = next++) {
+      if (startAbandoned_) return;
+      Pending& demo = pending[order[k]];
+      try {
+        // A demo starts from its solved state (as `devsurf solve` leaves it): a visitor's first
+        // drag must not also carry out the preset's own pending solve.
+        const auto started = std::chrono::steady_clock::now();
+        demo.scene = SceneSolver::solvedScene(std::move(demo.scene));
+        const auto solved = std::chrono::steady_clock::now();
+        demo.session = buildSession(demo.scene, demo.edit, demo.view, true, demo.id);
+        const auto built = std::chrono::steady_clock::now();
+        spdlog::debug("demo {}: solved in {:.0f} ms, built in {:.0f} ms", demo.id,
+                      std::chrono::duration<double, std::milli>(solved - started).count(),
+                      std::chrono::duration<double, std::milli>(built - solved).count());
+      } catch (const std::exception& e) {
+        demo.error = e.what();
+      }
+    }
+  };
+  const std::size_t threads =
+      std::min<std::size_t>(pending.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> workers;
+  for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(buildDemos);
+  buildDemos();
+  for (std::thread& w : workers) w.join();
+  if (startAbandoned_) return;
+
+  for (Pending& demo : pending) {
+    if (!demo.session) {
+      spdlog::error("demo scene {}: {}", demo.path, demo.error);
+      continue;
+    }
+    try {
+      registerSession(demo.session, demo.scene);
     } catch (const store::AlreadyExistsError&) {
       // Another daemon on the shared store created it meanwhile: adopted on its first request.
     } catch (const std::exception& e) {
-      spdlog::error("demo scene {}: {}", path, e.what());
+      spdlog::error("demo scene {}: {}", demo.path, e.what());
     }
   }
 }
 
 std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const std::string& editToken,
                                                const std::string& viewToken, bool demo, const std::string& id) {
+  auto session = buildSession(scene, editToken, viewToken, demo, id);
+  registerSession(session, scene);
+  return session;
+}
+
+std::shared_ptr<Session> Daemon::buildSession(const proto::Scene& scene, const std::string& editToken,
+                                              const std::string& viewToken, bool demo, const std::string& id) {
   const Session::Tokens tokens{tokenHash(editToken), tokenHash(viewToken)};
   // A demo is the operator's own scene (--demo), built at startup: like a restored session it
   // is built without the session's time budget (a slower machine, or a sanitizer build, must not
@@ -226,20 +299,25 @@ std::shared_ptr<Session> Daemon::createSession(const proto::Scene& scene, const 
       id, scene, tokens, settings, [this](std::function<void()> f) { boost::asio::post(pool_, std::move(f)); },
       journal_.get(), &counters_, demo);
   if (demo) session->setRebuildTimeBudget(options_.session.rebuildTimeBudgetMs);
+  return session;
+}
+
+void Daemon::registerSession(const std::shared_ptr<Session>& session, const proto::Scene& scene) {
+  const Session::Tokens tokens = session->tokens();
   store::SessionRecord record;
-  record.id = id;
+  record.id = session->id();
   record.editTokenHash = tokens.editHash;
   record.viewTokenHash = tokens.viewHash;
   record.name = scene.name;
-  record.demo = demo;
+  record.demo = session->demo();
   record.initialScene = proto::sceneToJson(scene);
   record.createdMs = store::wallClockMs();
   std::lock_guard<std::mutex> adopting(adoptMutex_);  // held with its lease before a renewal looks
   store_->createSession(record);
-  if (store_->shared()) store_->acquireSessionLease(id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
+  if (store_->shared())
+    store_->acquireSessionLease(record.id, options_.nodeId, store::wallClockMs(), static_cast<std::int64_t>(options_.leaseMs));
   std::lock_guard<std::mutex> lock(mutex_);
-  sessions_[id] = session;
-  return session;
+  sessions_[record.id] = session;
 }
 
 std::optional<Daemon::Quarantined> Daemon::quarantinedSession(const std::string& id, const std::string& token) const {

@@ -93,6 +93,11 @@ Role Session::authenticate(const std::string& token) const {
   return roleOf(tokens, token);
 }
 
+Session::Tokens Session::tokens() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return tokens_;
+}
+
 void Session::setTokens(Tokens tokens) {
   std::lock_guard<std::mutex> lock(mutex_);
   tokens_ = std::move(tokens);

@@ -8,7 +8,9 @@
 #include <Eigen/SparseCholesky>
 #ifdef DEVSURF_HAVE_CHOLMOD
 #include <atomic>
+#include <mutex>
 
+#include <dlfcn.h>
 #include <omp.h>
 
 #include <Eigen/CholmodSupport>
@@ -46,6 +48,58 @@ extern "C" void GOMP_parallel(void (*region)(void*), void* data, unsigned /*numT
 
 namespace devsurf::engine {
 namespace {
+
+#ifdef DEVSURF_HAVE_CHOLMOD
+/// The BLAS under CHOLMOD's supernodal factorization, called from several threads at once: the
+/// daemon solves its sessions and jobs on a pool, and builds its demos on every core.
+///
+/// OpenBLAS is found by its own symbols, whichever alternative libblas.so.3 points to:
+/// - a threaded build (pthreads; scripts/setup.sh installs libopenblas0-pthread) locks its
+///   shared buffers and is told to run each call on the calling thread
+///   (openblas_set_num_threads(1)): an iteration stays on one core (see CholmodSolver);
+/// - a serial build (libopenblas0-serial) has no locks at all: two factorizations at once share
+///   its buffers and corrupt each other. Measured on Debian 12's 0.3.21: two quad-mesh demos built
+///   at once gave different vertices on each of four starts, and one of them took 4 s instead
+///   of 1.2. Calls into it are then made one at a time (blasLock).
+/// Other BLAS libraries (reference BLAS, BLIS) keep no shared state and need nothing.
+class BlasThreading {
+ public:
+  static BlasThreading& instance() {
+    static BlasThreading threading;
+    return threading;
+  }
+  /// Held around every call that may reach the BLAS; engaged only for a serial OpenBLAS.
+  std::unique_lock<std::mutex> lock() {
+    return serialized_ ? std::unique_lock<std::mutex>(mutex_) : std::unique_lock<std::mutex>();
+  }
+  bool serialized() const { return serialized_; }
+
+ private:
+  BlasThreading() {
+    using GetParallel = int (*)();
+    using SetThreads = void (*)(int);
+    const auto getParallel = reinterpret_cast<GetParallel>(::dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
+    const auto setThreads = reinterpret_cast<SetThreads>(::dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    if (!getParallel) return;  // not OpenBLAS
+    if (getParallel() == 0) {
+      serialized_ = true;  // 0: sequential build, no locking
+      return;
+    }
+    if (setThreads) setThreads(1);  // 1: pthreads, 2: OpenMP
+    // The pthreads build starts its worker threads when it is loaded, before main() can block
+    // SIGTERM for every thread (the daemon takes signals on a thread of its own): a worker left
+    // running could take a SIGTERM and end the process at once (exit −15 instead of a clean
+    // stop). With one thread per call OpenBLAS needs no workers, so they are ended here; it
+    // starts them again itself should a call ever want more than one.
+    using Shutdown = int (*)();
+    if (const auto shutdown = reinterpret_cast<Shutdown>(::dlsym(RTLD_DEFAULT, "blas_thread_shutdown_"));
+        shutdown && getParallel() == 1)
+      shutdown();
+  }
+  std::mutex mutex_;
+  bool serialized_ = false;
+};
+#endif
 
 /// Eigen SimplicialLDLT in natural ordering: the assembler already applied a fill-reducing
 /// permutation and stores the upper triangle, which is the layout Eigen's numeric kernel works on.
@@ -101,6 +155,7 @@ class SimplicialLdltSolver final : public LinearSolver {
 class CholmodSolver final : public LinearSolver {
  public:
   explicit CholmodSolver(bool ownOrdering = false) {
+    BlasThreading::instance();  // before any call into the BLAS (sets OpenBLAS to the calling thread)
     if (ownOrdering) {
       llt_.setMode(Eigen::CholmodSupernodalLLt);
       llt_.cholmod().nmethods = 2;
@@ -127,7 +182,14 @@ class CholmodSolver final : public LinearSolver {
     empty_ = matrix.rows() == 0;  // CHOLMOD rejects a 0×0 matrix (everything eliminated)
     if (empty_) return;
     omp_set_max_active_levels(0);  // one thread: see the class note
-    llt_.analyzePattern(matrix);
+    {
+      // METIS (CHOLMOD's nested dissection) draws from one random generator for the whole
+      // process: two orderings at once interleave its draws and come out different, and so do
+      // the factors' numbers. One analysis at a time (one per model topology, not per iteration).
+      static std::mutex orderingMutex;
+      const std::lock_guard<std::mutex> ordering(orderingMutex);
+      llt_.analyzePattern(matrix);
+    }
     // Size the solve workspaces now (shapes as cholmod_solve2 wants them for one right-hand side).
     const std::size_t n = static_cast<std::size_t>(matrix.rows());
     cholmod_factor* factor = llt_.factor();
@@ -152,7 +214,10 @@ class CholmodSolver final : public LinearSolver {
   bool factorize(const SymmetricUpper& matrix) override {
     if (empty_) return true;
     omp_set_max_active_levels(0);  // per thread (OpenMP 5 ICV); the caller may be a new worker
-    llt_.factorize(matrix);
+    {
+      const auto blas = BlasThreading::instance().lock();
+      llt_.factorize(matrix);
+    }
     if (llt_.info() != Eigen::Success) return false;
     // An LLᵀ factorization fails on a non-positive pivot, but CHOLMOD's simplicial LDLᵀ only on
     // a zero one: require D > 0 (stored first in every column of L) as the Eigen solver does.
@@ -178,7 +243,10 @@ class CholmodSolver final : public LinearSolver {
       y_->ncol = rows;
       y_->d = 4;
     }
-    cholmod_solve2(CHOLMOD_A, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, &llt_.cholmod());
+    {
+      const auto blas = BlasThreading::instance().lock();
+      cholmod_solve2(CHOLMOD_A, llt_.factor(), &b, nullptr, &x_, nullptr, &y_, &e_, &llt_.cholmod());
+    }
     solution = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(x_->x), n);
   }
 
@@ -245,6 +313,20 @@ std::uint64_t inlineOpenMpRegions() {
   return inlineRegionCount.load(std::memory_order_relaxed);
 #else
   return 0;
+#endif
+}
+
+void prepareBlasForThreads() {
+#ifdef DEVSURF_HAVE_CHOLMOD
+  BlasThreading::instance();
+#endif
+}
+
+bool blasCallsSerialized() {
+#ifdef DEVSURF_HAVE_CHOLMOD
+  return BlasThreading::instance().serialized();
+#else
+  return false;
 #endif
 }
 

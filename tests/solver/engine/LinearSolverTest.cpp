@@ -4,8 +4,10 @@
 
 #include <Eigen/Dense>
 
+#include <atomic>
 #include <filesystem>
 #include <iterator>
+#include <thread>
 #include <vector>
 
 namespace devsurf::engine {
@@ -132,6 +134,50 @@ TEST(LinearSolver, AutoKeepsLdltForSmallSystemsAndHandsLargeOnesToCholmod) {
   EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm());
 }
 
+/// The daemon analyzes and factorizes several sessions' systems at once, one per pool thread.
+/// Each must get exactly the numbers it gets alone. Two ways this failed, both measured here:
+/// - a serial OpenBLAS (no locks) shared its buffers between the threads: solutions off by
+///   0.9 to 5e4 in norm, every one of the 50;
+/// - METIS draws from one random generator per process: two analyses at once made other
+///   orderings, and every solution differed by 1e-13 from the one made alone.
+TEST(LinearSolver, FactorizationsOnTwoThreadsAtOnceGiveTheNumbersOfOneAtATime) {
+  const int k = 120;  // supernodal CHOLMOD (Auto), whose supernodes call the BLAS
+  SymmetricUpper first = gridLaplacian(k), second = gridLaplacian(k);
+  for (int c = 0; c < second.outerSize(); ++c)
+    for (SymmetricUpper::InnerIterator it(second, c); it; ++it)
+      it.valueRef() = it.row() == it.col() ? 4.3 + 1e-3 * (c % 7) : -0.9 - 1e-3 * (c % 5);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(k * k, -1.0, 2.0);
+  auto solveAlone = [&b](const SymmetricUpper& matrix) {
+    auto solver = makeLinearSolver(LinearSolverKind::Auto);
+    solver->analyzePattern(matrix);
+    EXPECT_TRUE(solver->factorize(matrix));
+    Eigen::VectorXd x(b.size());
+    solver->solve(b, x);
+    return x;
+  };
+  const Eigen::VectorXd firstAlone = solveAlone(first), secondAlone = solveAlone(second);
+  std::atomic<int> differing{0}, failed{0};
+  auto repeat = [&b, &differing, &failed](const SymmetricUpper& matrix, const Eigen::VectorXd& alone) {
+    auto solver = makeLinearSolver(LinearSolverKind::Auto);
+    solver->analyzePattern(matrix);
+    Eigen::VectorXd x(b.size());
+    for (int round = 0; round < 25; ++round) {
+      if (!solver->factorize(matrix)) {
+        ++failed;
+        continue;
+      }
+      solver->solve(b, x);
+      if (x != alone) ++differing;  // bit for bit: the same arithmetic in the same order
+    }
+  };
+  std::thread other([&repeat, &second, &secondAlone]() { repeat(second, secondAlone); });
+  repeat(first, firstAlone);
+  other.join();
+  EXPECT_EQ(failed.load(), 0);
+  EXPECT_EQ(differing.load(), 0) << "of 50 solves made two at a time"
+                                 << (blasCallsSerialized() ? " (BLAS calls serialized)" : "");
+}
+
 #ifdef __linux__
 /// Threads of this process (Linux: the entries of /proc/self/task).
 long threadCount() {
@@ -144,6 +190,7 @@ TEST(LinearSolver, CholmodFactorizesOnTheCallingThreadOnly) {
   // Large enough for CHOLMOD's supernodal kernel to open its OpenMP regions (num_threads(4) in
   // Debian's build); an iteration must stay on one core, so no worker thread may appear.
   const SymmetricUpper large = gridLaplacian(200);
+  prepareBlasForThreads();  // a threaded OpenBLAS's own workers, started with the library, end here
   const long before = threadCount();
   for (LinearSolverKind kind : {LinearSolverKind::Auto, LinearSolverKind::Cholmod}) {
     auto solver = makeLinearSolver(kind);
@@ -151,6 +198,15 @@ TEST(LinearSolver, CholmodFactorizesOnTheCallingThreadOnly) {
     ASSERT_TRUE(solver->factorize(large));
   }
   EXPECT_EQ(threadCount(), before);
+}
+
+/// The daemon blocks SIGTERM on all its threads but one, which stops it cleanly; a thread the
+/// BLAS started when it was loaded, with signals unblocked, took the signal and killed the
+/// process (exit −15 in every end-to-end test that stops a daemon). None may be left.
+TEST(LinearSolver, PreparingTheBlasLeavesNoThreadButTheCallers) {
+  const long before = threadCount();  // this test program's main thread, and the BLAS's workers
+  prepareBlasForThreads();
+  EXPECT_EQ(threadCount(), 1) << "of " << before << " before";
 }
 
 TEST(LinearSolver, CholmodsOpenMpRegionsEnterTheExecutablesOwnInlineEntry) {

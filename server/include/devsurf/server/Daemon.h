@@ -93,8 +93,15 @@ class Daemon {
   /// session the store does not know (or a store that is not shared).
   std::optional<std::string> sessionHolder(const std::string& id) const;
   void openDemos();
+  /// Builds a session (buildSession), stores it and serves it (registerSession).
   std::shared_ptr<Session> createSession(const proto::Scene& scene, const std::string& editToken,
                                          const std::string& viewToken, bool demo, const std::string& id);
+  /// A session of `scene` (its model built), not yet stored nor served; safe on any thread.
+  std::shared_ptr<Session> buildSession(const proto::Scene& scene, const std::string& editToken,
+                                        const std::string& viewToken, bool demo, const std::string& id);
+  /// Stores a built session's record (and on a shared store takes its lease), then serves it.
+  /// @throws store::AlreadyExistsError when the store has the id already
+  void registerSession(const std::shared_ptr<Session>& session, const proto::Scene& scene);
   /// The session served here; on a shared store one no live node holds is adopted.
   std::shared_ptr<Session> findSession(const std::string& id);
   void onMessage(const std::shared_ptr<transport::Connection>& c, std::string text);

@@ -236,6 +236,8 @@ class Session : public std::enable_shared_from_this<Session> {
   static Role roleOf(const Tokens& tokens, const std::string& token);
   /// Replaces the token hashes (demo sessions: their public tokens are derived anew at start).
   void setTokens(Tokens tokens);
+  /// The token hashes the session authenticates against.
+  Tokens tokens() const;
   /// The scene `reset` returns to (the one the session was created with; a restored session is
   /// built from its last checkpoint and told this separately). Before the session is shared.
   void setInitialScene(proto::Scene scene);

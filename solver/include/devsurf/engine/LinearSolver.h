@@ -59,6 +59,15 @@ std::unique_ptr<LinearSolver> makeLinearSolver(LinearSolverKind kind);
 /// "auto" / "ldlt" / "cholmod".
 LinearSolverKind linearSolverKindFromName(const std::string& name);
 bool cholmodAvailable();
+/// Sets the BLAS up for the engine's threads (LinearSolver.cpp: BlasThreading): a threaded
+/// OpenBLAS runs each call on the calling thread and its own worker threads are ended. Done on
+/// the first CHOLMOD solver anyway; a program that blocks signals for its threads calls it
+/// first thing in main(), since those workers started with the library, signals unblocked.
+void prepareBlasForThreads();
+/// Whether calls into the BLAS are made one thread at a time: the BLAS is a serial OpenBLAS,
+/// which has no locks of its own (LinearSolver.cpp: BlasThreading). With a threaded OpenBLAS
+/// (told to run on the calling thread) or another BLAS, threads factorize at once.
+bool blasCallsSerialized();
 
 /// How many OpenMP parallel regions this process has run inline, on the thread that entered
 /// them, since it started (CHOLMOD's supernodal kernels: see LinearSolver.cpp). 0 without CHOLMOD.
