@@ -245,7 +245,7 @@ int Daemon::start() {
     restoreSessions();
   }
   if (engine::blasCallsSerialized())
-    spdlog::warn("the BLAS is a serial OpenBLAS, which is not safe to call from two threads at once: "
+    spdlog::warn("the BLAS is a serial or OpenMP OpenBLAS, which is not safe to call from two threads at once: "
                  "factorizations run one at a time (install libopenblas0-pthread: scripts/setup.sh)");
   openDemos();
   if (startAbandoned_) {

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <numeric>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 #include <boost/asio/post.hpp>
@@ -222,7 +223,7 @@ void Daemon::openDemos() {
     }
   }
 
-  // Solving and building a demo is most of a start's time (40 demos: 18 s on one core) and
+  // Solving and building a demo is most of a start's time (the 32 examples: 18 s on one core) and
   // touches nothing shared, so the demos are built on every core; they are then stored and served
   // in the order given.
   // The costliest first, so that the last to finish is a short one: spline surfaces (a quad mesh
@@ -254,13 +255,24 @@ void Daemon::openDemos() {
                       std::chrono::duration<double, std::milli>(built - solved).count());
       } catch (const std::exception& e) {
         demo.error = e.what();
+      } catch (...) {  // nothing may leave a worker (std::terminate) or this thread with workers running
+        demo.error = "an unknown error";
       }
     }
   };
-  const std::size_t threads =
-      std::min<std::size_t>(pending.size(), std::max(1u, std::thread::hardware_concurrency()));
+  // As many as the session pool has (--workers; default: the cores).
+  const std::size_t cores = options_.workerThreads > 0 ? static_cast<std::size_t>(options_.workerThreads)
+                                                       : std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t threads = std::min<std::size_t>(pending.size(), cores);
   std::vector<std::thread> workers;
-  for (std::size_t t = 1; t < threads; ++t) workers.emplace_back(buildDemos);
+  workers.reserve(threads);
+  for (std::size_t t = 1; t < threads; ++t) {
+    try {
+      workers.emplace_back(buildDemos);
+    } catch (const std::system_error&) {
+      break;  // no thread to be had (a process at its limit): the ones started and this one build them all
+    }
+  }
   buildDemos();
   for (std::thread& w : workers) w.join();
   if (startAbandoned_) return;

@@ -708,10 +708,28 @@ ExportedFile SceneSolver::exportAs(const std::string& format) const {
   if (format == "png") return fabricationExport(format);
   if (quadMesh_) return quadMeshExport(format);
   if (format == "unfolding_obj") throw ExportUnavailable(unfoldingObjUnavailable());
-  if (format != "obj" && format != "fold" && format != "svg" && format != "iges" && format != "step" &&
-      format != "stl" && format != "dxf")
-    throw ExportUnavailable("format: expected json, obj, stl, iges, step, svg, dxf, png or fold, got \"" + format + "\"");
+  if (format != "obj" && format != "off" && format != "ply" && format != "fold" && format != "svg" &&
+      format != "iges" && format != "step" && format != "stl" && format != "dxf")
+    throw ExportUnavailable("format: expected json, obj, off, ply, stl, iges, step, svg, dxf, png or fold, got \"" +
+                            format + "\"");
   if (format == "stl" || format == "dxf") return fabricationExport(format);
+  if (format == "off" || format == "ply") {
+    // The sampled surface's quads, as the OBJ (and as `--export off:…`/`ply:…` write them):
+    // OpenMesh's ASCII writers, in the scene's units, coordinates in single precision (OpenMesh's
+    // points are floats; the OBJ carries 9 digits).
+    try {
+      return {io::meshString(sampledSurface(), format), "text/plain; charset=utf-8", format};
+    } catch (const ExportFailed&) {
+      throw;  // the surface's own reason (e.g. a strip not solved yet), said once
+    } catch (const ExportUnavailable&) {
+      throw;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw ExportFailed("format: " + format + ": the surface in its current state cannot be written (" +
+                         std::string(e.what()) + ")");
+    }
+  }
   if (format == "iges" || format == "step") {
     io::IgesHeader header;
     header.fileName = (scene_.name.empty() ? std::string("devsurf") : scene_.name) + ".igs";

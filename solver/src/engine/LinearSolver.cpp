@@ -25,9 +25,10 @@ std::atomic<std::uint64_t> inlineRegionCount{0};
 /// GOMP_4.0), defined in the executable so that it comes before libgomp's in the dynamic
 /// linker's search: the only OpenMP user in the process is CHOLMOD, whose regions run on the
 /// calling thread anyway (see CholmodSolver), and this runs them there without a team.
-/// That rests on the BLAS underneath being serial (scripts/setup.sh installs
-/// libopenblas0-serial): an OpenMP build of OpenBLAS would have its regions run inline too, and
-/// its threads, which wait for one another, would then wait forever.
+/// That rests on the BLAS underneath not using OpenMP (scripts/setup.sh installs
+/// libopenblas0-pthread, told to run each call on the calling thread: BlasThreading below): an
+/// OpenMP build of OpenBLAS would have its regions run inline too, and its threads, which wait
+/// for one another, would then wait forever.
 ///
 /// Why: libgomp builds a team for every region, even a one-thread one, and ends it with a
 /// barrier that always wakes its futex — a system call per region. CHOLMOD's supernodal
@@ -57,7 +58,8 @@ namespace {
 /// - a threaded build (pthreads; scripts/setup.sh installs libopenblas0-pthread) locks its
 ///   shared buffers and is told to run each call on the calling thread
 ///   (openblas_set_num_threads(1)): an iteration stays on one core (see CholmodSolver);
-/// - a serial build (libopenblas0-serial) has no locks at all: two factorizations at once share
+/// - a serial build (libopenblas0-serial) has no locks at all (nor, for threads it did not start,
+///   an OpenMP build): two factorizations at once share
 ///   its buffers and corrupt each other. Measured on Debian 12's 0.3.21: two quad-mesh demos built
 ///   at once gave different vertices on each of four starts, and one of them took 4 s instead
 ///   of 1.2. Calls into it are then made one at a time (blasLock).
@@ -81,11 +83,12 @@ class BlasThreading {
     const auto getParallel = reinterpret_cast<GetParallel>(::dlsym(RTLD_DEFAULT, "openblas_get_parallel"));
     const auto setThreads = reinterpret_cast<SetThreads>(::dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
     if (!getParallel) return;  // not OpenBLAS
-    if (getParallel() == 0) {
-      serialized_ = true;  // 0: sequential build, no locking
-      return;
-    }
-    if (setThreads) setThreads(1);  // 1: pthreads, 2: OpenMP
+    const int parallel = getParallel();  // 0: sequential build, 1: pthreads, 2: OpenMP
+    if (setThreads) setThreads(1);
+    // The sequential build has no locks; the OpenMP build takes its buffer lock only when built
+    // for pthreads, and its calls from threads of ours would meet in its unlocked allocator.
+    serialized_ = parallel != 1;
+    if (serialized_) return;
     // The pthreads build starts its worker threads when it is loaded, before main() can block
     // SIGTERM for every thread (the daemon takes signals on a thread of its own): a worker left
     // running could take a SIGTERM and end the process at once (exit −15 instead of a clean

@@ -1,4 +1,5 @@
 #include "devsurf/io/QuadMesh.h"
+#include "devsurf/io/OpenMeshIo.h"
 
 #include <algorithm>
 #include <cctype>
@@ -25,6 +26,12 @@ using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
 void silenceOpenMeshLogs() {
   omlog().disable();
   omout().disable();
+}
+
+/// OpenMesh's read_mesh under openMeshIoMutex (its readers are shared by the whole process).
+bool readLocked(PolyMesh& mesh, const std::string& path) {
+  const std::lock_guard<std::mutex> io(openMeshIoMutex());
+  return OpenMesh::IO::read_mesh(mesh, path);
 }
 
 /// Whether `path` ends in `extension` (ASCII case-insensitive).
@@ -113,7 +120,12 @@ void writeMesh(const QuadMesh& mesh, const std::string& path) {
   silenceOpenMeshLogs();
   const PolyMesh out = polyMeshOf(mesh, hasExtension(path, ".stl"), path);
   OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::write_mesh(out, path, options, 17)) throw std::runtime_error("cannot write mesh file " + path);
+  bool written = false;
+  {
+    const std::lock_guard<std::mutex> io(openMeshIoMutex());
+    written = OpenMesh::IO::write_mesh(out, path, options, 17);
+  }
+  if (!written) throw std::runtime_error("cannot write mesh file " + path);
 }
 
 std::string meshString(const QuadMesh& mesh, const std::string& format) {
@@ -123,15 +135,19 @@ std::string meshString(const QuadMesh& mesh, const std::string& format) {
   const PolyMesh out = polyMeshOf(mesh, format == "stl", format);
   std::ostringstream text;
   OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::write_mesh(out, text, "." + format, options, 17))
-    throw std::runtime_error("cannot write the mesh as " + format);
+  bool written = false;
+  {
+    const std::lock_guard<std::mutex> io(openMeshIoMutex());
+    written = OpenMesh::IO::write_mesh(out, text, "." + format, options, 17);
+  }
+  if (!written) throw std::runtime_error("cannot write the mesh as " + format);
   return text.str();
 }
 
 QuadMesh readQuadMesh(const std::string& path) {
   silenceOpenMeshLogs();
   PolyMesh in;
-  if (!OpenMesh::IO::read_mesh(in, path)) throw std::runtime_error("cannot read mesh file " + path);
+  if (!readLocked(in, path)) throw std::runtime_error("cannot read mesh file " + path);
   QuadMesh mesh;
   mesh.vertices.resize(static_cast<Eigen::Index>(in.n_vertices()), 3);
   for (const auto& v : in.vertices()) {
@@ -153,7 +169,7 @@ QuadMesh readQuadMesh(const std::string& path) {
 PolygonMeshFile readPolygonMesh(const std::string& path, int* facesSkipped) {
   silenceOpenMeshLogs();
   PolyMesh in;
-  if (!OpenMesh::IO::read_mesh(in, path)) throw std::runtime_error("cannot read mesh file " + path);
+  if (!readLocked(in, path)) throw std::runtime_error("cannot read mesh file " + path);
   PolygonMeshFile mesh;
   mesh.vertices.resize(static_cast<Eigen::Index>(in.n_vertices()), 3);
   for (const auto& v : in.vertices()) {

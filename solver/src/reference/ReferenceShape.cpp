@@ -1,6 +1,7 @@
 // Reference shapes a user brings (issue 15): point clouds as text, meshes and clouds through
 // OpenMesh, held to size limits.
 #include "devsurf/reference/ReferenceShape.h"
+#include "devsurf/io/OpenMeshIo.h"
 
 #include <algorithm>
 #include <cctype>
@@ -214,8 +215,12 @@ ReferenceShape readThroughOpenMesh(const std::string& path, const std::string& e
   OpenMesh::IO::Options options;
   options += OpenMesh::IO::Options::VertexNormal;
   try {
-    if (!OpenMesh::IO::read_mesh(mesh, path, options))
-      failShape(path, "OpenMesh could not read it as " + extension.substr(1));
+    bool read = false;
+    {
+      const std::lock_guard<std::mutex> io(io::openMeshIoMutex());  // OpenMesh's readers are shared
+      read = OpenMesh::IO::read_mesh(mesh, path, options);
+    }
+    if (!read) failShape(path, "OpenMesh could not read it as " + extension.substr(1));
   } catch (const std::invalid_argument&) {
     throw;
   } catch (const std::exception& e) {

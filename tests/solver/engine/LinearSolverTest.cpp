@@ -204,6 +204,14 @@ TEST(LinearSolver, CholmodFactorizesOnTheCallingThreadOnly) {
 /// BLAS started when it was loaded, with signals unblocked, took the signal and killed the
 /// process (exit −15 in every end-to-end test that stops a daemon). None may be left.
 TEST(LinearSolver, PreparingTheBlasLeavesNoThreadButTheCallers) {
+  if (!cholmodAvailable()) GTEST_SKIP() << "CHOLMOD not compiled in (no BLAS is prepared)";
+#if defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "ThreadSanitizer runs a thread of its own";
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+  GTEST_SKIP() << "ThreadSanitizer runs a thread of its own";
+#endif
+#endif
   const long before = threadCount();  // this test program's main thread, and the BLAS's workers
   prepareBlasForThreads();
   EXPECT_EQ(threadCount(), 1) << "of " << before << " before";

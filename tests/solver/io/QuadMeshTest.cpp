@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <cstdlib>
 #include <fstream>
+#include <atomic>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace devsurf::io {
@@ -24,6 +26,56 @@ QuadMesh grid() {
   m.quads.resize(2, 4);
   m.quads << 0, 2, 3, 1, 2, 4, 5, 3;
   return m;
+}
+
+/// A k×k grid of quads, its vertices lifted by `lift` (so two grids differ in every number).
+QuadMesh liftedGrid(int k, double lift) {
+  QuadMesh m;
+  m.vertices.resize((k + 1) * (k + 1), 3);
+  for (int i = 0; i <= k; ++i)
+    for (int j = 0; j <= k; ++j) m.vertices.row(i * (k + 1) + j) << i, j, lift * (i + 0.5 * j);
+  m.quads.resize(k * k, 4);
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      const int v = i * (k + 1) + j;
+      m.quads.row(i * k + j) << v, v + k + 1, v + k + 2, v + 1;
+    }
+  return m;
+}
+
+/// OpenMesh reads and writes through one reader and one writer object per format for the whole
+/// process, which keep the file being read in members (the PLY reader: its elements, counts and
+/// options). The daemon reads uploaded shapes and writes exports on several route workers at once:
+/// every file must read back as it does alone. Without io::openMeshIoMutex this test ended in a
+/// segmentation fault.
+TEST(QuadMesh, FilesReadAndWrittenOnTwoThreadsAtOnceAreTheFilesOfOneAtATime) {
+  for (const std::string format : {"ply", "off", "obj"}) {
+    const QuadMesh small = liftedGrid(20, 0.25), large = liftedGrid(50, -0.5);
+    const std::string smallPath = quadMeshTempPath("small." + format), largePath = quadMeshTempPath("large." + format);
+    writeMesh(small, smallPath);
+    writeMesh(large, largePath);
+    std::atomic<int> wrong{0};
+    auto readAndWrite = [&wrong, &format](const std::string& path, const QuadMesh& expected) {
+      const std::string text = meshString(expected, format);
+      for (int round = 0; round < 60; ++round) {
+        try {
+          const QuadMesh back = readQuadMesh(path);
+          if (back.quads != expected.quads || back.vertices.rows() != expected.vertices.rows() ||
+              (back.vertices - expected.vertices).cwiseAbs().maxCoeff() > 1e-12)
+            ++wrong;
+          if (meshString(expected, format) != text) ++wrong;
+        } catch (const std::exception&) {
+          ++wrong;
+        }
+      }
+    };
+    std::thread other([&readAndWrite, &largePath, &large]() { readAndWrite(largePath, large); });
+    readAndWrite(smallPath, small);
+    other.join();
+    EXPECT_EQ(wrong.load(), 0) << format << ": of 120 reads and 120 writes made two at a time";
+    std::remove(smallPath.c_str());
+    std::remove(largePath.c_str());
+  }
 }
 
 TEST(QuadMesh, ObjRoundTripKeepsQuadsAndCoordinates) {

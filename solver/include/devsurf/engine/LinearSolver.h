@@ -64,8 +64,8 @@ bool cholmodAvailable();
 /// the first CHOLMOD solver anyway; a program that blocks signals for its threads calls it
 /// first thing in main(), since those workers started with the library, signals unblocked.
 void prepareBlasForThreads();
-/// Whether calls into the BLAS are made one thread at a time: the BLAS is a serial OpenBLAS,
-/// which has no locks of its own (LinearSolver.cpp: BlasThreading). With a threaded OpenBLAS
+/// Whether calls into the BLAS are made one thread at a time: the BLAS is a serial (or OpenMP)
+/// OpenBLAS, which has no locks of its own for threads it did not start (LinearSolver.cpp: BlasThreading). With a threaded OpenBLAS
 /// (told to run on the calling thread) or another BLAS, threads factorize at once.
 bool blasCallsSerialized();
 
