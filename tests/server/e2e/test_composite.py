@@ -4,6 +4,7 @@ import json
 import os
 import random
 import shutil
+import subprocess
 import tempfile
 import time
 import unittest
@@ -217,6 +218,49 @@ class CompositeProtocolTest(DaemonTestCase):
         self.assertIn(b"<svg", raw)
         fold = json.loads(self.daemon.request("GET", f"/api/jobs/{job}/result?format=fold")[2])
         self.assertTrue({"M", "V"} & set(fold["edges_assignment"]), "the lifted corner folds the crease")
+
+
+class ConcurrentJobsTest(DaemonTestCase):
+    """Jobs solved at the same moment on two job workers give exactly what `devsurf solve` gives
+    each scene alone, in a process of its own. Two scenes whose systems CHOLMOD factorizes (its
+    nested-dissection ordering and the BLAS under it): with Debian's serial OpenBLAS (no locks)
+    two factorizations at once corrupted each other, and METIS's one random generator made two
+    orderings at once differ from the ordering made alone."""
+
+    PREFIX = "devsurf-proto-jobs-"
+    DAEMON_ARGS = ("--job-workers", "2")
+    SCENES = ("composite-pleated-sheet.json", "quad-bend-sheet.json")
+
+    def test_two_jobs_at_once_solve_to_the_models_the_cli_solves_alone(self):
+        alone, jobs = {}, []
+        for name in self.SCENES:
+            path = os.path.join(ROOT, "examples", name)
+            with tempfile.TemporaryDirectory() as tmp:
+                out = os.path.join(tmp, "report.json")
+                run = subprocess.run([BIN, "solve", path, "--out", out], capture_output=True, text=True, timeout=120)
+                self.assertEqual(run.returncode, 0, run.stderr)
+                with open(out) as f:
+                    alone[name] = json.load(f)["scene"]["model"]
+            with open(path) as f:
+                scene = json.load(f)
+            for _ in range(2):  # each scene twice: the four jobs run two at a time
+                jobs.append((name, scene))
+        ids = []
+        for name, scene in jobs:
+            status, _, body = self.daemon.json("POST", "/api/jobs", scene)
+            self.assertEqual(status, 202, body)
+            ids.append((name, body["id"]))
+        for name, job in ids:
+            for _ in range(1200):
+                body = self.daemon.json("GET", "/api/jobs/" + job)[2]
+                if body["state"] in ("succeeded", "failed", "cancelled"):
+                    break
+                time.sleep(0.05)
+            self.assertEqual(body["state"], "succeeded", body)
+            status, _, raw = self.daemon.request("GET", f"/api/jobs/{job}/result?format=json")
+            self.assertEqual(status, 200)
+            with self.subTest(scene=name, job=job):
+                self.assertEqual(json.loads(raw)["scene"]["model"], alone[name], "bit for bit, as the JSON numbers")
 
 
 if __name__ == "__main__":
